@@ -1,0 +1,48 @@
+//! The `rollstack` command line, as a library so that its pieces can be tested.
+//!
+//! Layout: one module per command family in [`commands`], the main job in [`tour`], and
+//! the shared plumbing every command uses: angle parsing ([`angles`]), atomic output
+//! files and JSON ([`output`]), PNG plots with a bundled font ([`plot`]), progress bars
+//! ([`progress`]) and parameter sweeps ([`sweep`]).
+
+pub mod angles;
+pub mod commands;
+pub mod output;
+pub mod plot;
+pub mod progress;
+pub mod sweep;
+pub mod tour;
+
+use clap::{Parser, Subcommand};
+
+/// Dynamics of constrained rigid bodies: rolling spheres and cylinders, stacks of blocks.
+///
+/// Angles are radians unless written as `90deg` or `3pi/2`. Lengths are in the units of
+/// the model (the sphere's radius R, the cylinder's radius r, block widths).
+#[derive(Debug, Parser)]
+#[command(name = "rollstack", version, about, long_about = None)]
+pub struct Cli {
+    /// What to run.
+    #[command(subcommand)]
+    pub command: Command,
+}
+
+/// The subcommands of `rollstack`.
+#[derive(Debug, Subcommand)]
+pub enum Command {
+    /// Convert one rotation between axis-angle, quaternion, matrix and all 12 Euler sets.
+    Rotation(commands::rotation::RotationArgs),
+    /// The main job: headline results of every system, as CSV, PNG and index.html.
+    Tour(tour::TourArgs),
+}
+
+/// Runs a parsed command line.
+///
+/// # Errors
+/// Any failure of the command: bad input, a solver error, an unwritable file.
+pub fn run(cli: Cli) -> anyhow::Result<()> {
+    match cli.command {
+        Command::Rotation(args) => commands::rotation::run(&args),
+        Command::Tour(args) => tour::run(&args),
+    }
+}

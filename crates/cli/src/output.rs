@@ -1,0 +1,159 @@
+//! Output files: atomic writes, CSV with a header row, JSON on stdout, and `run.json`.
+//!
+//! DESIGN.md (Conventions): files are written atomically (temp file, then rename) so an
+//! interrupted run never leaves a partial file; `--json` prints one object on stdout.
+
+use anyhow::{Context, Result};
+use serde::Serialize;
+use std::fs;
+use std::io::Write;
+use std::path::{Path, PathBuf};
+
+/// Creates `dir` (and parents) if needed.
+///
+/// # Errors
+/// When the directory cannot be created.
+pub fn ensure_dir(dir: &Path) -> Result<()> {
+    fs::create_dir_all(dir).with_context(|| format!("cannot create directory {}", dir.display()))
+}
+
+/// A temporary sibling of `path` that keeps its extension (image encoders read it).
+#[must_use]
+pub fn temp_sibling(path: &Path) -> PathBuf {
+    let name = path
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    path.with_file_name(format!(".tmp-{}-{name}", std::process::id()))
+}
+
+/// Writes `bytes` to `path` atomically: a temporary sibling first, then a rename.
+///
+/// # Errors
+/// When the file cannot be written or renamed.
+pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
+    let tmp = temp_sibling(path);
+    {
+        let mut f =
+            fs::File::create(&tmp).with_context(|| format!("cannot write {}", tmp.display()))?;
+        f.write_all(bytes)
+            .with_context(|| format!("cannot write {}", tmp.display()))?;
+    }
+    fs::rename(&tmp, path).with_context(|| format!("cannot write {}", path.display()))
+}
+
+/// Finishes a file produced at [`temp_sibling`]`(path)` by renaming it into place.
+///
+/// # Errors
+/// When the rename fails.
+pub fn commit_temp(path: &Path) -> Result<()> {
+    fs::rename(temp_sibling(path), path).with_context(|| format!("cannot write {}", path.display()))
+}
+
+/// Writes a CSV file with a header row, atomically.
+///
+/// Non-finite numbers must not reach a file: rows are strings the caller formatted.
+///
+/// # Errors
+/// When a row has the wrong length or the file cannot be written.
+pub fn write_csv<I, R>(path: &Path, header: &[&str], rows: I) -> Result<()>
+where
+    I: IntoIterator<Item = R>,
+    R: IntoIterator,
+    R::Item: AsRef<str>,
+{
+    let mut w = csv::Writer::from_writer(Vec::new());
+    w.write_record(header)?;
+    for row in rows {
+        let row: Vec<String> = row.into_iter().map(|c| c.as_ref().to_owned()).collect();
+        anyhow::ensure!(
+            row.len() == header.len(),
+            "internal: CSV row of {} cells for {} columns in {}",
+            row.len(),
+            header.len(),
+            path.display()
+        );
+        w.write_record(&row)?;
+    }
+    let bytes = w.into_inner().context("cannot flush CSV")?;
+    write_atomic(path, &bytes)
+}
+
+/// Writes rows of numbers as CSV (shortest round-trip formatting, `NaN` refused).
+///
+/// # Errors
+/// When a value is not finite or the file cannot be written.
+pub fn write_csv_f64(path: &Path, header: &[&str], rows: &[Vec<f64>]) -> Result<()> {
+    for row in rows {
+        if let Some(v) = row.iter().find(|v| !v.is_finite()) {
+            anyhow::bail!("refusing to write non-finite value {v} to {}", path.display());
+        }
+    }
+    write_csv(path, header, rows.iter().map(|r| r.iter().map(f64::to_string)))
+}
+
+/// Serialises `value` as pretty JSON into `path`, atomically.
+///
+/// # Errors
+/// When serialisation or writing fails.
+pub fn write_json(path: &Path, value: &impl Serialize) -> Result<()> {
+    let text = serde_json::to_string_pretty(value)?;
+    write_atomic(path, text.as_bytes())
+}
+
+/// Prints one JSON object on stdout (the `--json` contract).
+///
+/// # Errors
+/// When serialisation fails.
+pub fn print_json(value: &impl Serialize) -> Result<()> {
+    println!("{}", serde_json::to_string(value)?);
+    Ok(())
+}
+
+/// Writes `run.json` into `dir`: the command, its inputs, the rollstack version and timings.
+///
+/// # Errors
+/// When the file cannot be written.
+pub fn write_run_json(
+    dir: &Path,
+    command: &str,
+    inputs: &impl Serialize,
+    timings: &impl Serialize,
+) -> Result<()> {
+    let record = serde_json::json!({
+        "command": command,
+        "version": env!("CARGO_PKG_VERSION"),
+        "inputs": inputs,
+        "timings": timings,
+    });
+    write_json(&dir.join("run.json"), &record)
+}
+
+/// Rejects a non-finite number with a message naming it.
+///
+/// # Errors
+/// When `value` is NaN or infinite.
+pub fn require_finite(name: &str, value: f64) -> Result<f64> {
+    anyhow::ensure!(value.is_finite(), "{name} must be a finite number, got {value}");
+    Ok(value)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn atomic_csv_roundtrip() {
+        let dir = std::env::temp_dir().join(format!("rollstack-out-{}", std::process::id()));
+        ensure_dir(&dir).unwrap();
+        let p = dir.join("a.csv");
+        write_csv_f64(&p, &["x", "y"], &[vec![1.0, 2.5], vec![-0.1, 3.0]]).unwrap();
+        let text = fs::read_to_string(&p).unwrap();
+        assert_eq!(text, "x,y\n1,2.5\n-0.1,3\n");
+        assert!(write_csv_f64(&p, &["x"], &[vec![f64::NAN]]).is_err());
+        assert!(write_csv(&p, &["x", "y"], [["1"]]).is_err());
+        // the failed writes left the good file in place
+        assert_eq!(fs::read_to_string(&p).unwrap(), text);
+        fs::remove_dir_all(dir).unwrap();
+    }
+}

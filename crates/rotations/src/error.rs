@@ -1,0 +1,26 @@
+//! Errors of the rotation constructors.
+
+/// Why an input does not describe a rotation.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum RotationError {
+    /// The axis of rotation has zero length, so it has no direction.
+    #[error("the axis of rotation is zero")]
+    ZeroAxis,
+    /// A quaternion of zero norm cannot be normalised.
+    #[error("the quaternion is zero")]
+    ZeroQuaternion,
+    /// An input value is NaN or infinite.
+    #[error("{0} is not finite")]
+    NonFinite(&'static str),
+    /// A matrix is not close to a proper orthogonal one.
+    #[error("the matrix is not a rotation (|RᵀR − I| = {orthogonality:.2e}, det = {det:.6})")]
+    NotARotation {
+        /// Frobenius norm of RᵀR − I.
+        orthogonality: f64,
+        /// Determinant of the matrix.
+        det: f64,
+    },
+    /// The name of an Euler-angle set is not one of the twelve.
+    #[error("unknown Euler-angle set '{0}' (expected one of 1-2-1, 1-2-3, 1-3-1, 1-3-2, 2-1-2, 2-1-3, 2-3-1, 2-3-2, 3-1-2, 3-1-3, 3-2-1, 3-2-3)")]
+    UnknownEulerSet(String),
+}
