@@ -26,7 +26,11 @@ impl FromStr for Angle {
 /// # Errors
 /// A message naming the offending text when it is not an angle or not finite.
 pub fn parse_angle(text: &str) -> Result<f64, String> {
-    let s = text.trim().to_ascii_lowercase().replace('π', "pi").replace(' ', "");
+    let s = text
+        .trim()
+        .to_ascii_lowercase()
+        .replace('π', "pi")
+        .replace(' ', "");
     if s.is_empty() {
         return Err("empty angle".into());
     }
@@ -87,14 +91,28 @@ pub fn parse_angle_list(text: &str) -> Result<Vec<f64>, String> {
     text.split(',').map(parse_angle).collect()
 }
 
+/// Parses one plain finite number (no units).
+///
+/// # Errors
+/// When `text` is not a finite number.
+pub fn parse_finite(text: &str) -> Result<f64, String> {
+    let v: f64 = text
+        .trim()
+        .parse()
+        .map_err(|_| format!("cannot read number '{text}'"))?;
+    if v.is_finite() {
+        Ok(v)
+    } else {
+        Err(format!("'{text}' is not a finite number"))
+    }
+}
+
 /// Parses a comma-separated list of plain finite numbers.
 ///
 /// # Errors
 /// The first entry that is not a finite number.
 pub fn parse_number_list(text: &str) -> Result<Vec<f64>, String> {
-    text.split(',')
-        .map(|s| parse_number(s.trim(), s))
-        .collect()
+    text.split(',').map(parse_finite).collect()
 }
 
 #[cfg(test)]

@@ -86,10 +86,17 @@ where
 pub fn write_csv_f64(path: &Path, header: &[&str], rows: &[Vec<f64>]) -> Result<()> {
     for row in rows {
         if let Some(v) = row.iter().find(|v| !v.is_finite()) {
-            anyhow::bail!("refusing to write non-finite value {v} to {}", path.display());
+            anyhow::bail!(
+                "refusing to write non-finite value {v} to {}",
+                path.display()
+            );
         }
     }
-    write_csv(path, header, rows.iter().map(|r| r.iter().map(f64::to_string)))
+    write_csv(
+        path,
+        header,
+        rows.iter().map(|r| r.iter().map(f64::to_string)),
+    )
 }
 
 /// Serialises `value` as pretty JSON into `path`, atomically.
@@ -134,7 +141,10 @@ pub fn write_run_json(
 /// # Errors
 /// When `value` is NaN or infinite.
 pub fn require_finite(name: &str, value: f64) -> Result<f64> {
-    anyhow::ensure!(value.is_finite(), "{name} must be a finite number, got {value}");
+    anyhow::ensure!(
+        value.is_finite(),
+        "{name} must be a finite number, got {value}"
+    );
     Ok(value)
 }
 

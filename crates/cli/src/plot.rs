@@ -70,13 +70,21 @@ impl Series {
     /// A line through `points`.
     #[must_use]
     pub fn line(label: impl Into<String>, points: Vec<(f64, f64)>) -> Self {
-        Self { label: label.into(), points, markers: false }
+        Self {
+            label: label.into(),
+            points,
+            markers: false,
+        }
     }
 
     /// Markers at `points`.
     #[must_use]
     pub fn markers(label: impl Into<String>, points: Vec<(f64, f64)>) -> Self {
-        Self { label: label.into(), points, markers: true }
+        Self {
+            label: label.into(),
+            points,
+            markers: true,
+        }
     }
 }
 
@@ -112,7 +120,11 @@ pub struct LinePlot {
 impl LinePlot {
     /// An empty plot with a title and axis labels.
     #[must_use]
-    pub fn new(title: impl Into<String>, x_label: impl Into<String>, y_label: impl Into<String>) -> Self {
+    pub fn new(
+        title: impl Into<String>,
+        x_label: impl Into<String>,
+        y_label: impl Into<String>,
+    ) -> Self {
         Self {
             title: title.into(),
             x_label: x_label.into(),
@@ -132,9 +144,16 @@ impl LinePlot {
 
     /// The data range of all series, padded by 5 % (and made non-empty).
     fn bounds(&self) -> (Range<f64>, Range<f64>) {
-        let pts = self.series.iter().flat_map(|s| s.points.iter()).filter(|p| {
-            p.0.is_finite() && p.1.is_finite() && (!self.log.0 || p.0 > 0.0) && (!self.log.1 || p.1 > 0.0)
-        });
+        let pts = self
+            .series
+            .iter()
+            .flat_map(|s| s.points.iter())
+            .filter(|p| {
+                p.0.is_finite()
+                    && p.1.is_finite()
+                    && (!self.log.0 || p.0 > 0.0)
+                    && (!self.log.1 || p.1 > 0.0)
+            });
         let (mut x0, mut x1, mut y0, mut y1) = (f64::MAX, f64::MIN, f64::MAX, f64::MIN);
         for &(x, y) in pts {
             x0 = x0.min(x);
@@ -199,7 +218,11 @@ impl LinePlot {
             .map_err(err)?;
         for (i, s) in self.series.iter().enumerate() {
             let color = PALETTE[i % PALETTE.len()];
-            let pts = s.points.iter().copied().filter(|p| p.0.is_finite() && p.1.is_finite());
+            let pts = s
+                .points
+                .iter()
+                .copied()
+                .filter(|p| p.0.is_finite() && p.1.is_finite());
             let anno = if s.markers {
                 chart
                     .draw_series(pts.map(|p| Circle::new(p, 3, color.filled())))
@@ -230,7 +253,11 @@ impl LinePlot {
 
 fn pad(lo: f64, hi: f64, log: bool) -> Range<f64> {
     if log {
-        let (lo, hi) = if hi > lo { (lo, hi) } else { (lo * 0.5, lo * 2.0) };
+        let (lo, hi) = if hi > lo {
+            (lo, hi)
+        } else {
+            (lo * 0.5, lo * 2.0)
+        };
         return lo / 1.5..hi * 1.5;
     }
     let span = if hi > lo { hi - lo } else { lo.abs().max(1.0) };
@@ -247,7 +274,12 @@ mod tests {
         crate::output::ensure_dir(&dir).unwrap();
         let p = dir.join("p.png");
         LinePlot::new("sin", "t [s]", "x [m]")
-            .with(Series::line("sin t", (0..50).map(|i| (f64::from(i) * 0.1, (f64::from(i) * 0.1).sin())).collect()))
+            .with(Series::line(
+                "sin t",
+                (0..50)
+                    .map(|i| (f64::from(i) * 0.1, (f64::from(i) * 0.1).sin()))
+                    .collect(),
+            ))
             .with(Series::markers("pts", vec![(1.0, 0.5), (2.0, f64::NAN)]))
             .save(&p, (400, 300))
             .unwrap();

@@ -13,10 +13,9 @@ use std::str::FromStr;
 pub fn parse_range(text: &str) -> Result<Vec<f64>> {
     let parts: Vec<&str> = text.split(':').collect();
     let num = |s: &str| -> Result<f64> {
-        let v: f64 = s
-            .trim()
-            .parse()
-            .map_err(|_| anyhow::anyhow!("cannot read '{s}' in range '{text}' (expected A:B:STEP)"))?;
+        let v: f64 = s.trim().parse().map_err(|_| {
+            anyhow::anyhow!("cannot read '{s}' in range '{text}' (expected A:B:STEP)")
+        })?;
         if !v.is_finite() {
             bail!("range '{text}' has a non-finite value");
         }
@@ -61,9 +60,17 @@ impl FromStr for Shard {
     type Err = String;
 
     fn from_str(s: &str) -> Result<Self, Self::Err> {
-        let (k, n) = s.split_once('/').ok_or_else(|| format!("shard '{s}' is not K/N"))?;
-        let index: usize = k.trim().parse().map_err(|_| format!("shard '{s}' is not K/N"))?;
-        let count: usize = n.trim().parse().map_err(|_| format!("shard '{s}' is not K/N"))?;
+        let (k, n) = s
+            .split_once('/')
+            .ok_or_else(|| format!("shard '{s}' is not K/N"))?;
+        let index: usize = k
+            .trim()
+            .parse()
+            .map_err(|_| format!("shard '{s}' is not K/N"))?;
+        let count: usize = n
+            .trim()
+            .parse()
+            .map_err(|_| format!("shard '{s}' is not K/N"))?;
         if count == 0 || index == 0 || index > count {
             return Err(format!("shard '{s}' needs 1 <= K <= N"));
         }
@@ -135,6 +142,9 @@ mod tests {
     #[test]
     fn ordered() {
         let v: Vec<u64> = (0..100).collect();
-        assert_eq!(par_map_ordered(&v, "t", |x| x * 2), v.iter().map(|x| x * 2).collect::<Vec<_>>());
+        assert_eq!(
+            par_map_ordered(&v, "t", |x| x * 2),
+            v.iter().map(|x| x * 2).collect::<Vec<_>>()
+        );
     }
 }

@@ -63,7 +63,10 @@ impl AxisAngle {
         if !angle.is_finite() {
             return Err(RotationError::NonFinite("angle"));
         }
-        Ok(Self { angle, axis: unit_axis(&axis)? })
+        Ok(Self {
+            angle,
+            axis: unit_axis(&axis)?,
+        })
     }
 
     /// The rotation tensor R(θ, r), (2.2.1)₁.
@@ -76,7 +79,10 @@ impl AxisAngle {
     #[must_use]
     pub fn to_quaternion(&self) -> UnitQuaternion<f64> {
         let (s, c) = (0.5 * self.angle).sin_cos();
-        UnitQuaternion::new_unchecked(nalgebra::Quaternion::from_parts(c, s * self.axis.into_inner()))
+        UnitQuaternion::new_unchecked(nalgebra::Quaternion::from_parts(
+            c,
+            s * self.axis.into_inner(),
+        ))
     }
 
     /// The canonical axis–angle pair of a rotation (see the type's documentation).
@@ -95,7 +101,11 @@ impl AxisAngle {
         let v = q.vector().into_owned();
         let s = v.norm();
         let angle = 2.0 * s.atan2(q.scalar());
-        let axis = if s > 0.0 { Unit::new_unchecked(v / s) } else { Vector3::z_axis() };
+        let axis = if s > 0.0 {
+            Unit::new_unchecked(v / s)
+        } else {
+            Vector3::z_axis()
+        };
         Self { angle, axis }.canonical()
     }
 
@@ -113,7 +123,11 @@ impl AxisAngle {
         if angle == 0.0 {
             axis = Vector3::z_axis();
         } else if angle == std::f64::consts::PI {
-            let first = axis.iter().copied().find(|c| c.abs() > 1e-15).unwrap_or(1.0);
+            let first = axis
+                .iter()
+                .copied()
+                .find(|c| c.abs() > 1e-15)
+                .unwrap_or(1.0);
             if first < 0.0 {
                 axis = -axis;
             }
@@ -165,7 +179,10 @@ mod tests {
 
     #[test]
     fn rejects_bad_input() {
-        assert_eq!(rotation_from_axis_angle(1.0, &Vector3::zeros()), Err(RotationError::ZeroAxis));
+        assert_eq!(
+            rotation_from_axis_angle(1.0, &Vector3::zeros()),
+            Err(RotationError::ZeroAxis)
+        );
         assert!(rotation_from_axis_angle(f64::NAN, &Vector3::x()).is_err());
         assert!(AxisAngle::new(1.0, Vector3::new(f64::NAN, 0.0, 1.0)).is_err());
     }

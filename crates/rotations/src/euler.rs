@@ -51,7 +51,9 @@ impl EulerSet {
     ];
 
     const fn at(i: usize, j: usize, k: usize) -> Self {
-        Self { axes: [i - 1, j - 1, k - 1] }
+        Self {
+            axes: [i - 1, j - 1, k - 1],
+        }
     }
 
     /// The set with axes i-j-k, numbered 1..=3.
@@ -59,7 +61,11 @@ impl EulerSet {
     /// # Errors
     /// [`RotationError::UnknownEulerSet`] unless i ≠ j, j ≠ k and all are in 1..=3.
     pub fn new(i: usize, j: usize, k: usize) -> Result<Self, RotationError> {
-        let valid = (1..=3).contains(&i) && (1..=3).contains(&j) && (1..=3).contains(&k) && i != j && j != k;
+        let valid = (1..=3).contains(&i)
+            && (1..=3).contains(&j)
+            && (1..=3).contains(&k)
+            && i != j
+            && j != k;
         if valid {
             Ok(Self::at(i, j, k))
         } else {
@@ -79,7 +85,9 @@ impl EulerSet {
             .collect::<Option<_>>()
             .ok_or_else(|| RotationError::UnknownEulerSet(name.to_owned()))?;
         match digits.as_slice() {
-            [i, j, k] => Self::new(*i, *j, *k).map_err(|_| RotationError::UnknownEulerSet(name.to_owned())),
+            [i, j, k] => {
+                Self::new(*i, *j, *k).map_err(|_| RotationError::UnknownEulerSet(name.to_owned()))
+            }
             _ => Err(RotationError::UnknownEulerSet(name.to_owned())),
         }
     }
@@ -142,7 +150,11 @@ impl EulerSet {
                 let eps = levi_civita(i, j, l);
                 let (rji, rli) = (m[(j, i)], m[(l, i)]);
                 let s2 = rji.hypot(rli);
-                let a1 = if s2 < SINGULAR { 0.0 } else { rji.atan2(-eps * rli) };
+                let a1 = if s2 < SINGULAR {
+                    0.0
+                } else {
+                    rji.atan2(-eps * rli)
+                };
                 (a1, s2.atan2(m[(i, i)]))
             }
             EulerKind::Asymmetric => {
@@ -150,7 +162,11 @@ impl EulerSet {
                 let eps = levi_civita(i, j, k);
                 let (rjk, rkk) = (m[(j, k)], m[(k, k)]);
                 let c2 = rjk.hypot(rkk);
-                let a1 = if c2 < SINGULAR { 0.0 } else { (-eps * rjk).atan2(rkk) };
+                let a1 = if c2 < SINGULAR {
+                    0.0
+                } else {
+                    (-eps * rjk).atan2(rkk)
+                };
                 (a1, (eps * m[(i, k)]).atan2(c2))
             }
         };
@@ -193,7 +209,11 @@ impl EulerSet {
         if det.abs() < 1e-12 {
             return None;
         }
-        Some([g2.cross(&g3) / det, g3.cross(&g1) / det, g1.cross(&g2) / det])
+        Some([
+            g2.cross(&g3) / det,
+            g3.cross(&g1) / det,
+            g1.cross(&g2) / det,
+        ])
     }
 
     /// ω = ȧ1 g1 + ȧ2 g2 + ȧ3 g3, (A.2.1), components on E1, E2, E3.
@@ -291,7 +311,11 @@ mod tests {
         assert!((g2 - Vector3::new(psi.cos(), psi.sin(), 0.0)).norm() < 1e-15);
         assert!((g3 - q * Vector3::z()).norm() < 1e-15);
         // e3 = sin ϑ sin ψ E1 − sin ϑ cos ψ E2 + cos ϑ E3.
-        let e3 = Vector3::new(theta.sin() * psi.sin(), -theta.sin() * psi.cos(), theta.cos());
+        let e3 = Vector3::new(
+            theta.sin() * psi.sin(),
+            -theta.sin() * psi.cos(),
+            theta.cos(),
+        );
         assert!((g3 - e3).norm() < 1e-15);
         // (A.2.1) in the e basis.
         let (pd, td, fd) = (0.3, -0.2, 1.5);

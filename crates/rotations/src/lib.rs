@@ -42,8 +42,8 @@ pub use axis_angle::{rotation_from_axis_angle, AxisAngle};
 pub use error::RotationError;
 pub use euler::{EulerKind, EulerSet};
 pub use quaternion::{
-    canonical_quaternion, compound, quaternion_from_matrix, rotation_from_quaternion,
-    rotation_from_matrix,
+    canonical_quaternion, compound, quaternion_from_matrix, rotation_from_matrix,
+    rotation_from_quaternion,
 };
 pub use skew::{axial, skewt};
 

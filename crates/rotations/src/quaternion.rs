@@ -29,7 +29,9 @@ pub fn rotation_from_quaternion(
 pub(crate) fn quaternion_matrix(q: &UnitQuaternion<f64>) -> Rotation3<f64> {
     let q0 = q.scalar();
     let v = q.vector().into_owned();
-    let m = (q0 * q0 - v.dot(&v)) * Matrix3::identity() + 2.0 * v * v.transpose() + 2.0 * q0 * skewt(&v);
+    let m = (q0 * q0 - v.dot(&v)) * Matrix3::identity()
+        + 2.0 * v * v.transpose()
+        + 2.0 * q0 * skewt(&v);
     Rotation3::from_matrix_unchecked(m)
 }
 
@@ -49,19 +51,39 @@ pub fn quaternion_from_matrix(m: &Matrix3<f64>) -> UnitQuaternion<f64> {
     let (w, x, y, z) = match k {
         0 => {
             let s = 2.0 * (1.0 + t).sqrt();
-            (0.25 * s, (m[(2, 1)] - m[(1, 2)]) / s, (m[(0, 2)] - m[(2, 0)]) / s, (m[(1, 0)] - m[(0, 1)]) / s)
+            (
+                0.25 * s,
+                (m[(2, 1)] - m[(1, 2)]) / s,
+                (m[(0, 2)] - m[(2, 0)]) / s,
+                (m[(1, 0)] - m[(0, 1)]) / s,
+            )
         }
         1 => {
             let s = 2.0 * (1.0 + m[(0, 0)] - m[(1, 1)] - m[(2, 2)]).sqrt();
-            ((m[(2, 1)] - m[(1, 2)]) / s, 0.25 * s, (m[(0, 1)] + m[(1, 0)]) / s, (m[(0, 2)] + m[(2, 0)]) / s)
+            (
+                (m[(2, 1)] - m[(1, 2)]) / s,
+                0.25 * s,
+                (m[(0, 1)] + m[(1, 0)]) / s,
+                (m[(0, 2)] + m[(2, 0)]) / s,
+            )
         }
         2 => {
             let s = 2.0 * (1.0 - m[(0, 0)] + m[(1, 1)] - m[(2, 2)]).sqrt();
-            ((m[(0, 2)] - m[(2, 0)]) / s, (m[(0, 1)] + m[(1, 0)]) / s, 0.25 * s, (m[(1, 2)] + m[(2, 1)]) / s)
+            (
+                (m[(0, 2)] - m[(2, 0)]) / s,
+                (m[(0, 1)] + m[(1, 0)]) / s,
+                0.25 * s,
+                (m[(1, 2)] + m[(2, 1)]) / s,
+            )
         }
         _ => {
             let s = 2.0 * (1.0 - m[(0, 0)] - m[(1, 1)] + m[(2, 2)]).sqrt();
-            ((m[(1, 0)] - m[(0, 1)]) / s, (m[(0, 2)] + m[(2, 0)]) / s, (m[(1, 2)] + m[(2, 1)]) / s, 0.25 * s)
+            (
+                (m[(1, 0)] - m[(0, 1)]) / s,
+                (m[(0, 2)] + m[(2, 0)]) / s,
+                (m[(1, 2)] + m[(2, 1)]) / s,
+                0.25 * s,
+            )
         }
     };
     canonical_quaternion(&UnitQuaternion::new_normalize(Quaternion::new(w, x, y, z)))
@@ -72,7 +94,10 @@ pub fn quaternion_from_matrix(m: &Matrix3<f64>) -> UnitQuaternion<f64> {
 #[must_use]
 pub fn canonical_quaternion(q: &UnitQuaternion<f64>) -> UnitQuaternion<f64> {
     let c = q.coords; // (x, y, z, w) storage
-    let first = [c.w, c.x, c.y, c.z].into_iter().find(|v| *v != 0.0).unwrap_or(1.0);
+    let first = [c.w, c.x, c.y, c.z]
+        .into_iter()
+        .find(|v| *v != 0.0)
+        .unwrap_or(1.0);
     if first < 0.0 {
         UnitQuaternion::new_unchecked(-q.into_inner())
     } else {
@@ -99,7 +124,10 @@ pub fn compound(a: &UnitQuaternion<f64>, b: &UnitQuaternion<f64>) -> UnitQuatern
 ///
 /// # Errors
 /// Non-finite entries, or a matrix that is not close to a rotation.
-pub fn rotation_from_matrix(m: &Matrix3<f64>, tolerance: f64) -> Result<Rotation3<f64>, RotationError> {
+pub fn rotation_from_matrix(
+    m: &Matrix3<f64>,
+    tolerance: f64,
+) -> Result<Rotation3<f64>, RotationError> {
     if !m.iter().all(|v| v.is_finite()) {
         return Err(RotationError::NonFinite("matrix"));
     }
@@ -122,7 +150,8 @@ mod tests {
 
     #[test]
     fn quaternion_matrix_matches_nalgebra() {
-        let q = UnitQuaternion::from_axis_angle(&Unit::new_normalize(Vector3::new(1.0, 2.0, 3.0)), 2.5);
+        let q =
+            UnitQuaternion::from_axis_angle(&Unit::new_normalize(Vector3::new(1.0, 2.0, 3.0)), 2.5);
         let m = quaternion_matrix(&q);
         assert!((m.matrix() - q.to_rotation_matrix().matrix()).norm() < 1e-15);
         let back = quaternion_from_matrix(m.matrix());
@@ -141,7 +170,7 @@ mod tests {
     #[test]
     fn projects_rounded_matrices() {
         let r = Rotation3::from_axis_angle(&Vector3::y_axis(), 0.3);
-        let rounded = r.matrix().map(|v| (v * 1e6).round() / 1e6);
+        let rounded = r.matrix().map(|v: f64| (v * 1e6).round() / 1e6);
         let p = rotation_from_matrix(&rounded, 1e-4).unwrap();
         assert!((p.matrix() - r.matrix()).norm() < 2e-6);
         assert!((p.matrix().transpose() * p.matrix() - Matrix3::identity()).norm() < 1e-14);

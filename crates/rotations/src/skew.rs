@@ -11,7 +11,11 @@ pub fn skewt(a: &Vector3<f64>) -> Matrix3<f64> {
 /// The axial vector of the skew part of `m`: axial(skewt(a)) = a.
 #[must_use]
 pub fn axial(m: &Matrix3<f64>) -> Vector3<f64> {
-    0.5 * Vector3::new(m[(2, 1)] - m[(1, 2)], m[(0, 2)] - m[(2, 0)], m[(1, 0)] - m[(0, 1)])
+    0.5 * Vector3::new(
+        m[(2, 1)] - m[(1, 2)],
+        m[(0, 2)] - m[(2, 0)],
+        m[(1, 0)] - m[(0, 1)],
+    )
 }
 
 #[cfg(test)]

@@ -21,6 +21,9 @@ pub struct TourArgs {
     /// Directory to write CSV, PNG and index.html into (created if missing).
     #[arg(long, default_value = "tour")]
     pub out: PathBuf,
+    /// Run only these sections (comma-separated names, e.g. `rotations,sphere`).
+    #[arg(long, value_delimiter = ',')]
+    pub only: Vec<String>,
 }
 
 /// What one system shows in the tour.
@@ -74,10 +77,20 @@ const SECTIONS: &[(&str, SectionFn)] = &[("rotations", rotations::section)];
 /// When the output directory cannot be written, or when any section failed (after
 /// all sections ran and the page was written).
 pub fn run(args: &TourArgs) -> Result<()> {
+    let known: Vec<&str> = SECTIONS.iter().map(|(name, _)| *name).collect();
+    if let Some(bad) = args.only.iter().find(|o| !known.contains(&o.as_str())) {
+        anyhow::bail!(
+            "unknown tour section '{bad}' (sections: {})",
+            known.join(", ")
+        );
+    }
     ensure_dir(&args.out)?;
     let mut done = Vec::new();
     let mut failures = Vec::new();
-    for (name, make) in SECTIONS {
+    let selected = SECTIONS
+        .iter()
+        .filter(|(name, _)| args.only.is_empty() || args.only.iter().any(|o| o == name));
+    for (name, make) in selected {
         let dir = args.out.join(name);
         ensure_dir(&dir)?;
         let start = Instant::now();
@@ -100,12 +113,19 @@ pub fn run(args: &TourArgs) -> Result<()> {
     let index = args.out.join("index.html");
     write_atomic(&index, render_html(&done, &failures).as_bytes())?;
     println!("wrote {}", index.display());
-    anyhow::ensure!(failures.is_empty(), "{} tour section(s) failed", failures.len());
+    anyhow::ensure!(
+        failures.is_empty(),
+        "{} tour section(s) failed",
+        failures.len()
+    );
     Ok(())
 }
 
 fn escape(s: &str) -> String {
-    s.replace('&', "&amp;").replace('<', "&lt;").replace('>', "&gt;").replace('"', "&quot;")
+    s.replace('&', "&amp;")
+        .replace('<', "&lt;")
+        .replace('>', "&gt;")
+        .replace('"', "&quot;")
 }
 
 fn render_html(sections: &[(String, Section)], failures: &[String]) -> String {

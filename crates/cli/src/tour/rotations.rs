@@ -1,0 +1,165 @@
+//! Tour section: the rotation tools on one rotation, the holonomy (2.4.10) of the thesis.
+
+use super::{Block, Section};
+use crate::output::write_csv;
+use crate::plot::{err, with_png, FONT, PALETTE};
+use anyhow::Result;
+use plotters::prelude::*;
+use rotations::{rotation_distance, AxisAngle, EulerSet, Rotation3, Vector3};
+use std::path::Path;
+
+/// ψ = 62.7042°, s = −0.389418 A1 − 0.921061 A3: the holonomy printed in (2.4.10).
+fn example_rotation() -> Result<Rotation3<f64>> {
+    let axis = Vector3::new(-0.389_418, 0.0, -0.921_061);
+    Ok(AxisAngle::new(62.7042_f64.to_radians(), axis)?.to_rotation())
+}
+
+/// Builds the section: a table of four Euler decompositions, all twelve as CSV, and a
+/// picture of the rotated basis.
+///
+/// # Errors
+/// When a file cannot be written.
+pub fn section(dir: &Path) -> Result<Section> {
+    let r = example_rotation()?;
+    let mut rows = Vec::new();
+    let mut worst: f64 = 0.0;
+    for set in EulerSet::ALL {
+        let a = set.angles(&r);
+        let error = rotation_distance(&set.rotation(a), &r);
+        worst = worst.max(error);
+        rows.push(vec![
+            set.to_string(),
+            format!("{:.6}", a[0].to_degrees()),
+            format!("{:.6}", a[1].to_degrees()),
+            format!("{:.6}", a[2].to_degrees()),
+            format!("{error:.1e}"),
+        ]);
+    }
+    let header = ["set", "a1_deg", "a2_deg", "a3_deg", "roundtrip_error_rad"];
+    write_csv(&dir.join("euler_angles.csv"), &header, &rows)?;
+    draw_basis(&dir.join("rotated_basis.png"), &r)?;
+
+    // A rotation about E3 sits at the singular value a2 = 0 of the 3-1-3 set.
+    let about_e3 = AxisAngle::new(0.9, Vector3::z())?.to_rotation();
+    let set313 = EulerSet::from_name("3-1-3")?;
+    let singular = set313.angles(&about_e3);
+    let singular_error = rotation_distance(&set313.rotation(singular), &about_e3);
+
+    let aa = AxisAngle::from_rotation(&r);
+    Ok(Section {
+        title: "Rotations: one rotation in every representation".into(),
+        summary: vec![
+            format!(
+                "R(ψ = {:.4}°, s = [{:.6}, {:.6}, {:.6}]) from (2.4.10): 12 Euler sets, worst round-trip error {worst:.1e} rad",
+                aa.angle.to_degrees(),
+                aa.axis.x,
+                aa.axis.y,
+                aa.axis.z
+            ),
+            format!(
+                "singular 3-1-3 case (0.9 rad about E3): angles [{:.3}, {:.3}, {:.3}], error {singular_error:.1e} rad",
+                singular[0], singular[1], singular[2]
+            ),
+        ],
+        blocks: vec![
+            Block::Text(
+                "The holonomy (2.4.10) of the rolling sphere, decomposed into the four Euler sets \
+                 used for path planning in §2.5 (angles in degrees). Every set reproduces the \
+                 rotation to round-off; the error is the angle of R_targetᵀ R(a1, a2, a3)."
+                    .into(),
+            ),
+            Block::Table {
+                header: header.iter().map(|s| (*s).to_owned()).collect(),
+                rows: rows
+                    .iter()
+                    .filter(|r| ["3-1-3", "3-2-3", "3-2-1", "3-1-2"].contains(&r[0].as_str()))
+                    .cloned()
+                    .collect(),
+            },
+            Block::Data { file: "euler_angles.csv".into(), description: "all twelve Euler sets".into() },
+            Block::Image {
+                file: "rotated_basis.png".into(),
+                caption: "The fixed basis E1, E2, E3 (grey) and the rotated basis eᵢ = R Eᵢ (colour), with the axis of rotation (black)".into(),
+            },
+        ],
+    })
+}
+
+/// Plotters' 3D coordinates of a vector: its y axis is vertical.
+fn view(v: &Vector3<f64>) -> (f64, f64, f64) {
+    (v.x, v.z, -v.y)
+}
+
+/// An oblique 3D view of {Eᵢ} and {R Eᵢ} and the axis of R.
+fn draw_basis(path: &Path, r: &Rotation3<f64>) -> Result<()> {
+    let axis = AxisAngle::from_rotation(r).axis.into_inner();
+    with_png(path, (640, 560), |root| {
+        let mut chart = ChartBuilder::on(root)
+            .caption("Rotated basis eᵢ = R Eᵢ", (FONT, 22))
+            .margin(10)
+            .build_cartesian_3d(-1.1..1.1, -1.1..1.1, -1.1..1.1)
+            .map_err(err)?;
+        chart.with_projection(|mut p| {
+            p.yaw = 0.6;
+            p.pitch = 0.35;
+            p.scale = 0.85;
+            p.into_matrix()
+        });
+        chart
+            .configure_axes()
+            .label_style((FONT, 12))
+            .draw()
+            .map_err(err)?;
+        let names = ["1", "2", "3"];
+        for (i, name) in names.iter().enumerate() {
+            let mut e = Vector3::zeros();
+            e[i] = 1.0;
+            let re = r * e;
+            // plotters' 3D y axis is vertical: map (x, y, z) -> (x, z, -y), a proper rotation
+            // (a swap of y and z would mirror the picture).
+            let fixed = [(0.0, 0.0, 0.0), view(&e)];
+            let moved = [(0.0, 0.0, 0.0), view(&re)];
+            chart
+                .draw_series(LineSeries::new(
+                    fixed,
+                    RGBColor(150, 150, 150).stroke_width(2),
+                ))
+                .map_err(err)?;
+            chart
+                .draw_series(LineSeries::new(moved, PALETTE[i].stroke_width(3)))
+                .map_err(err)?
+                .label(format!("e{name}"))
+                .legend(move |(x, y)| {
+                    PathElement::new(vec![(x, y), (x + 18, y)], PALETTE[i].stroke_width(3))
+                });
+            chart
+                .draw_series(std::iter::once(Text::new(
+                    format!("E{name}"),
+                    view(&e),
+                    (FONT, 16),
+                )))
+                .map_err(err)?;
+            chart
+                .draw_series(std::iter::once(Text::new(
+                    format!("e{name}"),
+                    view(&re),
+                    (FONT, 16).into_font().color(&PALETTE[i]),
+                )))
+                .map_err(err)?;
+        }
+        let ends = [view(&-axis), view(&axis)];
+        chart
+            .draw_series(LineSeries::new(ends, BLACK.stroke_width(1)))
+            .map_err(err)?
+            .label("axis s")
+            .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 18, y)], BLACK));
+        chart
+            .configure_series_labels()
+            .label_font((FONT, 14))
+            .background_style(WHITE.mix(0.85))
+            .border_style(BLACK)
+            .draw()
+            .map_err(err)?;
+        Ok(())
+    })
+}
