@@ -20,7 +20,7 @@ use clap::{Parser, Subcommand};
 /// Angles are radians unless written as `90deg` or `3pi/2`. Lengths are in the units of
 /// the model (the sphere's radius R, the cylinder's radius r, block widths).
 #[derive(Debug, Parser)]
-#[command(name = "rollstack", version, about, long_about = None)]
+#[command(name = "rollstack", version)]
 pub struct Cli {
     /// What to run.
     #[command(subcommand)]
@@ -32,6 +32,8 @@ pub struct Cli {
 pub enum Command {
     /// Convert one rotation between axis-angle, quaternion, matrix and all 12 Euler sets.
     Rotation(commands::rotation::RotationArgs),
+    /// The rolling sphere: rectangle holonomy, path planning, Euler paths, rolling (Ch. 2).
+    Sphere(commands::sphere::SphereArgs),
     /// The main job: headline results of every system, as CSV, PNG and index.html.
     Tour(tour::TourArgs),
 }
@@ -43,6 +45,7 @@ pub enum Command {
 pub fn run(cli: Cli) -> anyhow::Result<()> {
     match cli.command {
         Command::Rotation(args) => commands::rotation::run(&args),
+        Command::Sphere(args) => commands::sphere::run(&args),
         Command::Tour(args) => tour::run(&args),
     }
 }
