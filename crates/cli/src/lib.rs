@@ -34,6 +34,8 @@ pub enum Command {
     Rotation(commands::rotation::RotationArgs),
     /// The rolling sphere: rectangle holonomy, path planning, Euler paths, rolling (Ch. 2).
     Sphere(commands::sphere::SphereArgs),
+    /// Inclined rolling cylinders (Ch. 3, App. D–F): support forces, holonomy, Frobenius test.
+    Cylinder(commands::cylinder::CylinderArgs),
     /// The main job: headline results of every system, as CSV, PNG and index.html.
     Tour(tour::TourArgs),
 }
@@ -46,6 +48,7 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
     match cli.command {
         Command::Rotation(args) => commands::rotation::run(&args),
         Command::Sphere(args) => commands::sphere::run(&args),
+        Command::Cylinder(args) => commands::cylinder::run(&args),
         Command::Tour(args) => tour::run(&args),
     }
 }

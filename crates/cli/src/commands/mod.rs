@@ -1,3 +1,5 @@
 //! One module per command family.
 
+pub mod cylinder;
 pub mod rotation;
+pub mod sphere;

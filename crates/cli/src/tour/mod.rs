@@ -6,7 +6,9 @@
 //! reported in the page and the summary, the others still run, and the command then
 //! exits non-zero.
 
+mod cylinder;
 mod rotations;
+mod sphere;
 
 use crate::output::{ensure_dir, write_atomic};
 use anyhow::Result;
@@ -69,7 +71,11 @@ pub enum Block {
 pub type SectionFn = fn(&Path) -> Result<Section>;
 
 /// The sections of the tour, in page order. Each system adds its entry here.
-const SECTIONS: &[(&str, SectionFn)] = &[("rotations", rotations::section)];
+const SECTIONS: &[(&str, SectionFn)] = &[
+    ("rotations", rotations::section),
+    ("sphere", sphere::section),
+    ("cylinder", cylinder::section),
+];
 
 /// Runs the tour.
 ///

@@ -1,0 +1,234 @@
+//! Tour section: the rolling sphere (Ch. 2): (2.4.10) reproduced, the rectangles of
+//! (2.4.12), an Euler three-rectangle plan, and rolling with both integrators.
+
+use super::{Block, Section};
+use crate::commands::sphere::{
+    holonomy_report, plan_report, plot_level_sets, plot_rectangle_panels, plot_rectangles,
+    plot_traces, roll_study, write_study, write_trajectory,
+};
+use crate::output::write_csv_f64;
+use anyhow::Result;
+use holonomy::roll::{roll, CentrePath, Integrator};
+use holonomy::{euler_plan, rectangle_holonomy, Direction, PlacedRectangle, Rectangle};
+use rotations::{rotation_distance, AxisAngle, EulerSet, Vector3};
+use std::f64::consts::{FRAC_PI_2, PI};
+use std::path::Path;
+
+/// Builds the section.
+///
+/// # Errors
+/// When a file cannot be written.
+pub fn section(dir: &Path) -> Result<Section> {
+    let mut summary = Vec::new();
+    let mut blocks = Vec::new();
+
+    // (2.4.10) and Figure 2.1.
+    let r = Rectangle::new(
+        4.0 * PI / 3.0 - 0.5,
+        FRAC_PI_2 - 0.4,
+        3.0 * PI,
+        Direction::Ccw,
+    )?;
+    let rep = holonomy_report(&r);
+    summary.push(format!(
+        "(2.4.10): ψ = {:.4}° (printed 62.7042°), s = [{:.6}, {:.6}, {:.6}] (printed −0.389418, 0, −0.921061), e3(t1) = [{:.6}, {:.6}, {:.6}]",
+        rep.angle.to_degrees(),
+        rep.axis[0],
+        rep.axis[1],
+        rep.axis[2],
+        rep.e3_final[0],
+        rep.e3_final[1],
+        rep.e3_final[2]
+    ));
+    summary.push(format!(
+        "product (2.4.2) vs corrected closed form (2.4.6): {:.1e} rad; vs components (B.1.2): {:.1e}",
+        rep.closed_form_error, rep.components_error
+    ));
+    let traj = roll(
+        &CentrePath::rectangle(&r, 1.0)?,
+        1.0,
+        Integrator::Exact,
+        600,
+    )?;
+    write_trajectory(&dir.join("figure_2_1_roll.csv"), &traj)?;
+    plot_traces(
+        &dir.join("figure_2_1.png"),
+        &traj,
+        "Figure 2.1: traces of C (i) and X (ii), rectangle of (2.4.10)",
+    )?;
+    plot_level_sets(&dir.join("figure_2_5.png"), Some((r.theta, r.phi2)))?;
+    blocks.push(Block::Image {
+        file: "figure_2_1.png".into(),
+        caption: "Figure 2.1: top view of the centre C and the material point X that started at the contact, for Ŝ(4π/3 − 0.5, π/2 − 0.4, 3π, ccw) of (2.4.10)".into(),
+    });
+    blocks.push(Block::Data {
+        file: "figure_2_1_roll.csv".into(),
+        description: "trajectory: s, centre, X, quaternion".into(),
+    });
+    blocks.push(Block::Image {
+        file: "figure_2_5.png".into(),
+        caption: "Figure 2.5: level sets of ψ(ϑ, φ2), from (2.4.11) with the factor 2 of ERRATA item 1; dot: the rectangle of (2.4.10)".into(),
+    });
+
+    // (2.4.12) and Figure 2.6.
+    let target = AxisAngle::new(1.5 * PI, Vector3::new(0.1, 0.98_f64.sqrt(), 0.1))?.to_rotation();
+    let (plans, plan) = plan_report(&target)?;
+    let printed = [
+        (3.0333, 3.5379, 8.6465),
+        (3.2499, 0.39626, 2.3633),
+        (3.2499, 6.6794, 8.6465),
+    ];
+    let mut thesis_three = Vec::new();
+    for (t, p1, p2) in printed {
+        if let Some(p) = plans.iter().find(|p| {
+            p.rectangle.direction == Direction::Ccw
+                && (p.rectangle.theta - t).abs() < 1e-4
+                && (p.rectangle.phi1 - p1).abs() < 1e-4
+                && (p.rectangle.phi2 - p2).abs() < 1e-4
+        }) {
+            thesis_three.push(*p);
+        }
+    }
+    summary.push(format!(
+        "(2.4.12): R(3π/2, 0.1A1 + √0.98A2 + 0.1A3): {} of the 3 printed rectangles found; {} rectangles in all (both directions, both quaternion signs), max error {:.1e} rad",
+        thesis_three.len(),
+        plans.len(),
+        plan.max_error
+    ));
+    let rows: Vec<Vec<f64>> = plans
+        .iter()
+        .map(|p| {
+            let r = p.rectangle;
+            vec![
+                r.theta,
+                r.phi1,
+                r.phi2,
+                f64::from(u8::from(r.direction == Direction::Ccw)),
+                p.error,
+                r.path_length(),
+            ]
+        })
+        .collect();
+    write_csv_f64(
+        &dir.join("plan_2_4_12.csv"),
+        &["theta", "phi1", "phi2", "ccw", "error", "path_length"],
+        &rows,
+    )?;
+    let placed = |r: Rectangle| PlacedRectangle {
+        rectangle: r,
+        heading: 0.0,
+        start: [0.0, 0.0],
+    };
+    plot_rectangle_panels(
+        &dir.join("figure_2_6.png"),
+        &thesis_three
+            .iter()
+            .map(|p| placed(p.rectangle))
+            .collect::<Vec<_>>(),
+    )?;
+    blocks.push(Block::Table {
+        header: [
+            "ϑ",
+            "φ1",
+            "φ2",
+            "direction",
+            "path length [R]",
+            "error [rad]",
+        ]
+        .map(String::from)
+        .to_vec(),
+        rows: plan
+            .rectangles
+            .iter()
+            .map(|r| {
+                vec![
+                    format!("{:.5}", r.theta),
+                    format!("{:.5}", r.phi1),
+                    format!("{:.5}", r.phi2),
+                    r.direction.to_owned(),
+                    format!("{:.4}", r.path_length),
+                    format!("{:.1e}", r.error),
+                ]
+            })
+            .collect(),
+    });
+    blocks.push(Block::Text(
+        "Every rectangle with φ2 ∈ [0, 3π] producing R(3π/2, 0.1A1 + √0.98A2 + 0.1A3). The three counter-clockwise \
+         rectangles whose quaternion has q0 = cos(3π/4) are those printed in (2.4.12) (ERRATA items 2, 7); the other \
+         sign of the quaternion and clockwise travel give further rectangles the thesis does not list."
+            .into(),
+    ));
+    blocks.push(Block::Image {
+        file: "figure_2_6.png".into(),
+        caption: "Figure 2.6: the three rectangles of (2.4.12)".into(),
+    });
+    blocks.push(Block::Data {
+        file: "plan_2_4_12.csv".into(),
+        description: "all solutions".into(),
+    });
+
+    // Euler plans, Figures 2.7–2.9.
+    for (set, angles, file) in [
+        ("3-2-3", [0.6, 1.1, 1.4], "figure_2_7.png"),
+        ("3-1-3", [0.6, 1.1, 1.4], "figure_2_8.png"),
+        ("3-2-1", [0.6, 0.5, 1.4], "figure_2_9a.png"),
+        ("3-1-2", [0.6, 0.5, 1.4], "figure_2_9b.png"),
+    ] {
+        let plan = euler_plan(EulerSet::from_name(set)?, angles)?;
+        plot_rectangles(
+            &dir.join(file),
+            &format!(
+                "{set} Euler angles ν = ({}, {}, {}): three rectangles",
+                angles[0], angles[1], angles[2]
+            ),
+            &plan.rectangles,
+        )?;
+        summary.push(format!(
+            "Euler plan {set} ν = {angles:?}: composed holonomy error {:.1e} rad",
+            plan.error
+        ));
+        blocks.push(Block::Image {
+            file: file.into(),
+            caption: format!(
+                "{set}: rectangle 1 cw, 2 ccw, 3 cw (ERRATA item 6); composed error {:.1e} rad",
+                plan.error
+            ),
+        });
+    }
+
+    // Rolling: both integrators against the closed form.
+    let rows = roll_study()?;
+    write_study(dir, &rows)?;
+    for integ in ["exact", "rk4"] {
+        if let Some(row) = rows
+            .iter()
+            .find(|x| x.path == "circle" && x.integrator == integ && x.steps == 256)
+        {
+            summary.push(format!(
+                "roll around a circle of radius 2R, {integ}, 256 steps: error {:.1e} rad in {:.1e} s",
+                row.error, row.wall_time_s
+            ));
+        }
+    }
+    let check = rotation_distance(
+        &traj.final_orientation().to_rotation_matrix(),
+        &rectangle_holonomy(&r),
+    );
+    summary.push(format!(
+        "roll around the rectangle of (2.4.10), exact integrator: error {check:.1e} rad"
+    ));
+    blocks.push(Block::Image {
+        file: "roll_study.png".into(),
+        caption: "Error of the final orientation against the closed form vs wall time, exact (Lie-group exponential) and RK4 integrators, 8…4096 steps".into(),
+    });
+    blocks.push(Block::Data {
+        file: "roll_study.csv".into(),
+        description: "speed vs error of both integrators".into(),
+    });
+
+    Ok(Section {
+        title: "Rolling sphere: holonomy and path planning (Ch. 2)".into(),
+        summary,
+        blocks,
+    })
+}

@@ -1,0 +1,251 @@
+//! `rollstack cylinder ...` end to end: JSON keys of DESIGN.md and the thesis's numbers
+//! (corrected per ERRATA 8–15).
+
+use serde_json::Value;
+use std::process::Command;
+
+fn run(args: &[&str]) -> (bool, String, String) {
+    let out = Command::new(env!("CARGO_BIN_EXE_rollstack"))
+        .args(args)
+        .output()
+        .expect("binary runs");
+    (
+        out.status.success(),
+        String::from_utf8_lossy(&out.stdout).into_owned(),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+    )
+}
+
+fn json(args: &[&str]) -> Value {
+    let (ok, stdout, stderr) = run(args);
+    assert!(ok, "{args:?} failed: {stderr}");
+    serde_json::from_str(&stdout).expect("one JSON object")
+}
+
+fn f(v: &Value) -> f64 {
+    v.as_f64().expect("a number")
+}
+
+#[test]
+fn support_json() {
+    let v = json(&[
+        "cylinder",
+        "support",
+        "--theta",
+        "30deg",
+        "--r-over-h",
+        "0.1",
+        "--mu",
+        "0.2",
+        "--json",
+    ]);
+    for key in [
+        "n_over_mg_plus",
+        "n_over_mg_minus",
+        "n_over_mg_smooth",
+        "theta_range",
+        "min_force",
+    ] {
+        assert!(v.get(key).is_some(), "missing {key}");
+    }
+    for key in ["f3_over_mg", "f_over_mg", "norm_over_mg", "case"] {
+        assert!(v["min_force"].get(key).is_some(), "missing min_force.{key}");
+    }
+    // (3.3.8) corrected (ERRATA 9) at ϑ = 30°: ½ sin ϑ / (sin ϑ − ρ cos ϑ ± μ(ρ sin ϑ + cos ϑ)).
+    let (s, c) = (30f64.to_radians().sin(), 30f64.to_radians().cos());
+    let expect = |sign: f64| 0.5 * s / (s - 0.1 * c + sign * 0.2 * (0.1 * s + c));
+    assert!((f(&v["n_over_mg_plus"]) - expect(1.0)).abs() < 1e-14);
+    assert!((f(&v["n_over_mg_minus"]) - expect(-1.0)).abs() < 1e-14);
+    assert!((f(&v["n_over_mg_smooth"]) - expect(0.0)).abs() < 1e-14);
+    assert!(f(&v["balance_law_error"]) < 1e-12);
+    // (3.3.11) for μ = 0.2: (arctan 5, 1/2.08).
+    assert!((f(&v["common_point"][1]) - 1.0 / 2.08).abs() < 1e-15);
+    // Point D: arctan(2r/h).
+    assert!((f(&v["self_balancing_theta"]) - 0.2f64.atan()).abs() < 1e-15);
+    // (3.3.16) at the unconstrained minimum.
+    assert_eq!(v["min_force"]["case"], "unconstrained");
+    let norm = (0.1 * c - 0.5 * s).abs() / (1.01f64).sqrt();
+    assert!((f(&v["min_force"]["norm_over_mg"]) - norm).abs() < 1e-14);
+    // ERRATA 10: the (+) range starts at max(0, …) = 0 here.
+    assert_eq!(f(&v["theta_range"][0]), 0.0);
+}
+
+#[test]
+fn support_rejects_bad_input() {
+    for args in [
+        ["cylinder", "support", "--theta", "0", "--json"].as_slice(),
+        &["cylinder", "support", "--theta", "90deg", "--json"],
+        &[
+            "cylinder", "support", "--theta", "30deg", "--mu", "-0.1", "--json",
+        ],
+        &[
+            "cylinder",
+            "support",
+            "--theta",
+            "30deg",
+            "--r-over-h",
+            "nan",
+            "--json",
+        ],
+        &[
+            "cylinder", "holonomy", "circle", "--ell", "0.5", "--theta", "pi/10", "--h", "13.3333",
+            "--r", "1", "--json",
+        ],
+        &[
+            "cylinder",
+            "holonomy",
+            "rectangle",
+            "--theta",
+            "pi/10",
+            "--phi1",
+            "1",
+            "--phi2",
+            "1",
+            "--s",
+            "2",
+            "--json",
+        ],
+    ] {
+        let (ok, stdout, stderr) = run(args);
+        assert!(!ok, "{args:?} should fail");
+        assert!(
+            stdout.is_empty() && !stderr.is_empty() && !stderr.contains("panicked"),
+            "{args:?}: {stderr}"
+        );
+    }
+}
+
+#[test]
+fn rectangle_figure_3_10() {
+    let base = [
+        "cylinder",
+        "holonomy",
+        "rectangle",
+        "--theta",
+        "pi/10",
+        "--phi1",
+        "13pi/3",
+        "--phi2",
+        "29pi/4",
+        "--s",
+        "0",
+    ];
+    let one = json(&[&base[..], &["--json"]].concat());
+    for key in ["delta_phi", "product_error"] {
+        assert!(one.get(key).is_some(), "missing {key}");
+    }
+    // ERRATA 8: 139π/12 = 36.3901 rad (printed as degrees).
+    assert!((f(&one["delta_phi"]) - 139.0 * std::f64::consts::PI / 12.0).abs() < 1e-13);
+    assert!(f(&one["product_error"]) < 1e-12);
+    assert!((f(&one["rolling_delta_phi"]) - f(&one["delta_phi"])).abs() < 1e-9);
+    let two = json(&[&base[..], &["--case", "II", "--json"]].concat());
+    assert!((f(&two["delta_phi"]) + 36.3901).abs() < 5e-5);
+    let cw = json(&[&base[..], &["--cw", "--json"]].concat());
+    assert!((f(&cw["delta_phi"]) + 36.3901).abs() < 5e-5);
+    assert!(f(&cw["product_error"]) < 1e-12);
+}
+
+#[test]
+fn circle_figure_3_12() {
+    // ℓ = 9.44239 r (ERRATA 8), h = 13.3333 r, ϑ = π/10: Δφ = ±59.3283 rad, k = 8.33 r
+    // (Case I) and 10.5515 r (Case II, ERRATA 15).
+    let base = [
+        "cylinder", "holonomy", "circle", "--ell", "9.44239", "--theta", "pi/10", "--h", "13.3333",
+        "--r", "1",
+    ];
+    let one = json(&[&base[..], &["--json"]].concat());
+    assert!((f(&one["delta_phi"]) - 59.3283).abs() < 5e-5);
+    assert!((f(&one["k"]) - 8.3333).abs() < 5e-4);
+    assert!((f(&one["rolling_delta_phi"]) - f(&one["delta_phi"])).abs() < 1e-8);
+    let two = json(&[&base[..], &["--case", "II", "--json"]].concat());
+    assert!((f(&two["delta_phi"]) + 59.3283).abs() < 5e-5);
+    assert!((f(&two["k"]) - 10.5515).abs() < 1e-4);
+}
+
+#[test]
+fn frobenius_ranks() {
+    let single = json(&["cylinder", "frobenius", "--system", "single", "--json"]);
+    for key in ["rank", "nullity", "max_abs_asb", "integrable"] {
+        assert!(single.get(key).is_some(), "missing {key}");
+    }
+    assert_eq!(
+        (single["rank"].as_u64(), single["nullity"].as_u64()),
+        (Some(3), Some(3))
+    );
+    assert_eq!(
+        single["integrable"],
+        serde_json::json!([false, false, true])
+    );
+    // (D.2.4): y1ᵀS¹y3 = r sin ψ, y1ᵀS²y3 = −r cos ψ.
+    for k in 0..2 {
+        assert!((f(&single["d24"][0][k]) - f(&single["d24"][1][k])).abs() < 1e-15);
+    }
+    // ERRATA 13: rank 9, not 8.
+    for config in ["generic", "touching"] {
+        let nine = json(&[
+            "cylinder",
+            "frobenius",
+            "--system",
+            "pair9",
+            "--config",
+            config,
+            "--json",
+        ]);
+        assert_eq!(
+            (nine["rank"].as_u64(), nine["nullity"].as_u64()),
+            (Some(9), Some(3)),
+            "{config}"
+        );
+        assert_eq!(nine["max_abs_asb"].as_array().map(Vec::len), Some(9));
+        let seven = json(&[
+            "cylinder",
+            "frobenius",
+            "--system",
+            "pair7",
+            "--config",
+            config,
+            "--json",
+        ]);
+        assert_eq!(seven["rank"].as_u64(), Some(7));
+        assert_eq!(
+            seven["integrable"],
+            serde_json::json!([false, false, true, false, false, true, true])
+        );
+    }
+}
+
+#[test]
+fn statics_writes_figures() {
+    let dir =
+        std::env::temp_dir().join(format!("rollstack-cylinder-statics-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    let (ok, _, stderr) = run(&[
+        "cylinder",
+        "statics",
+        "--r-over-h",
+        "0.1",
+        "--mu",
+        "0.2",
+        "--points",
+        "91",
+        "--out",
+        dir.to_str().unwrap(),
+    ]);
+    assert!(ok, "{stderr}");
+    for file in [
+        "fig3_3.csv",
+        "fig3_3.png",
+        "fig3_4.png",
+        "fig3_5.png",
+        "fig3_7.png",
+        "fig3_8.png",
+        "fig3_7_fig3_8.csv",
+        "run.json",
+    ] {
+        assert!(dir.join(file).exists(), "missing {file}");
+    }
+    let csv = std::fs::read_to_string(dir.join("fig3_3.csv")).unwrap();
+    assert!(csv.starts_with("theta,theta_deg,n_over_mg_plus,n_over_mg_smooth,n_over_mg_minus\n"));
+    assert!(!csv.contains("NaN") && !csv.contains("inf"));
+    std::fs::remove_dir_all(dir).unwrap();
+}

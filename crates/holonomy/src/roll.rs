@@ -1,0 +1,384 @@
+//! Kinematic rolling of a sphere along a closed path of its centre, by integrating the
+//! rolling constraint (2.3.4)–(2.3.5) in time.
+//!
+//! The centre moves at unit speed along a path of straight segments and circular arcs
+//! (any polygon, a circle, a rectangle of §2.4), so the time is the arc length s. With the
+//! sphere's radius R and the unit tangent d(s) of the path, the rolling constraint
+//! v̄ = ω × R E3 with ω · E3 = 0 (no spin) gives the spatial angular velocity
+//!
+//! ω(s) = (1/R) E3 × d(s),   Q′(s) = skewt(ω) Q,   Q(0) = I.
+//!
+//! Two integrators:
+//!
+//! - [`Integrator::Exact`]: the exact flow of each segment, a Lie-group exponential. On
+//!   a line ω is constant: Q ← exp(h ω) Q. On an arc of signed curvature κ (heading
+//!   rate), ω(s) = R(κ s, E3) ω(0), and in the frame turning with the heading the
+//!   angular velocity ω(0) − κ E3 is constant, so
+//!   Q(s + h) = R(κ(s + h), E3) exp(h (ω(0) − κ E3)) R(−κ s, E3) Q(s).
+//!   Each sample is the flow from the segment's start, so the result does not depend on
+//!   the number of steps (only the output resolution) and round-off does not build up.
+//! - [`Integrator::Rk4`]: the classical Runge–Kutta method on the unit quaternion,
+//!   q′ = ½ (0, ω) ∘ q, renormalised after each step: a generic scheme, 4th order.
+//!
+//! Steps never straddle a corner: each segment gets its share of the steps by length.
+//! The material point X that touched the plane at s = 0 is tracked as x = x̄ − R Q E3
+//! (2.3.1), its trace is the curve ii of Figure 2.1.
+
+use crate::rectangle::{Direction, Rectangle};
+use crate::HolonomyError;
+use nalgebra::{Quaternion, Rotation3, Unit, UnitQuaternion, Vector3};
+use serde::{Deserialize, Serialize};
+use std::f64::consts::TAU;
+
+/// A piece of the centre's path, in the ground plane (E1, E2 components, length units).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub enum Segment {
+    /// A straight segment.
+    Line {
+        /// Start point.
+        from: [f64; 2],
+        /// End point.
+        to: [f64; 2],
+    },
+    /// A circular arc.
+    Arc {
+        /// Centre of the circle.
+        center: [f64; 2],
+        /// Radius of the circle (> 0).
+        radius: f64,
+        /// Polar angle of the start point about the centre, radians.
+        start_angle: f64,
+        /// Signed swept angle: > 0 counter-clockwise, radians.
+        sweep: f64,
+    },
+}
+
+impl Segment {
+    /// Arc length.
+    #[must_use]
+    pub fn length(&self) -> f64 {
+        match *self {
+            Self::Line { from, to } => (to[0] - from[0]).hypot(to[1] - from[1]),
+            Self::Arc { radius, sweep, .. } => radius * sweep.abs(),
+        }
+    }
+
+    /// Position and unit tangent at arc length `s` from the segment's start.
+    #[must_use]
+    pub fn point_and_tangent(&self, s: f64) -> ([f64; 2], Vector3<f64>) {
+        match *self {
+            Self::Line { from, to } => {
+                let l = self.length();
+                let d = Vector3::new((to[0] - from[0]) / l, (to[1] - from[1]) / l, 0.0);
+                ([from[0] + s * d.x, from[1] + s * d.y], d)
+            }
+            Self::Arc {
+                center,
+                radius,
+                start_angle,
+                sweep,
+            } => {
+                let sign = sweep.signum();
+                let a = start_angle + sign * s / radius;
+                let (sa, ca) = a.sin_cos();
+                (
+                    [center[0] + radius * ca, center[1] + radius * sa],
+                    Vector3::new(-sign * sa, sign * ca, 0.0),
+                )
+            }
+        }
+    }
+
+    /// Signed curvature: the rate of turn of the tangent per unit length (0 on a line).
+    #[must_use]
+    pub fn curvature(&self) -> f64 {
+        match *self {
+            Self::Line { .. } => 0.0,
+            Self::Arc { radius, sweep, .. } => sweep.signum() / radius,
+        }
+    }
+}
+
+/// A closed path of the centre: segments joined end to end.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct CentrePath {
+    segments: Vec<Segment>,
+}
+
+impl CentrePath {
+    /// A closed polygon through `vertices` (the last is joined back to the first; a
+    /// repeated first vertex at the end is allowed). Zero-length edges are dropped.
+    ///
+    /// # Errors
+    /// Non-finite coordinates, or fewer than two distinct vertices.
+    pub fn polygon(vertices: &[[f64; 2]]) -> Result<Self, HolonomyError> {
+        if vertices.iter().flatten().any(|v| !v.is_finite()) {
+            return Err(HolonomyError::NonFinite("polygon vertex"));
+        }
+        let n = vertices.len();
+        let segments: Vec<Segment> = (0..n)
+            .map(|i| Segment::Line {
+                from: vertices[i],
+                to: vertices[(i + 1) % n],
+            })
+            .filter(|s| s.length() > 0.0)
+            .collect();
+        if segments.len() < 2 {
+            return Err(HolonomyError::InvalidPath(
+                "a polygon needs at least two distinct vertices".into(),
+            ));
+        }
+        Ok(Self { segments })
+    }
+
+    /// A circle of radius `radius` through the origin, starting there along +E1 and
+    /// turning left (counter-clockwise) or right (clockwise).
+    ///
+    /// # Errors
+    /// A radius that is not finite and positive.
+    pub fn circle(radius: f64, direction: Direction) -> Result<Self, HolonomyError> {
+        if !radius.is_finite() {
+            return Err(HolonomyError::NonFinite("circle radius"));
+        }
+        if radius <= 0.0 {
+            return Err(HolonomyError::NotPositive {
+                name: "circle radius",
+                value: radius,
+            });
+        }
+        let (cy, start, sweep) = match direction {
+            Direction::Ccw => (radius, -0.5 * std::f64::consts::PI, TAU),
+            Direction::Cw => (-radius, 0.5 * std::f64::consts::PI, -TAU),
+        };
+        Ok(Self {
+            segments: vec![Segment::Arc {
+                center: [0.0, cy],
+                radius,
+                start_angle: start,
+                sweep,
+            }],
+        })
+    }
+
+    /// The rectangle of §2.4 for a sphere of radius `sphere_radius`, starting at the
+    /// origin (Figure 2.3): its waypoints scaled by R. Degenerate sides are dropped.
+    ///
+    /// # Errors
+    /// A non-positive radius, or a rectangle with fewer than two non-zero sides.
+    pub fn rectangle(rect: &Rectangle, sphere_radius: f64) -> Result<Self, HolonomyError> {
+        check_radius(sphere_radius)?;
+        let w: Vec<[f64; 2]> = rect
+            .waypoints()
+            .iter()
+            .map(|p| [p[0] * sphere_radius, p[1] * sphere_radius])
+            .collect();
+        Self::polygon(&w)
+    }
+
+    /// The segments, in order.
+    #[must_use]
+    pub fn segments(&self) -> &[Segment] {
+        &self.segments
+    }
+
+    /// Total length.
+    #[must_use]
+    pub fn length(&self) -> f64 {
+        self.segments.iter().map(Segment::length).sum()
+    }
+}
+
+fn check_radius(r: f64) -> Result<(), HolonomyError> {
+    if !r.is_finite() {
+        return Err(HolonomyError::NonFinite("sphere radius"));
+    }
+    if r <= 0.0 {
+        return Err(HolonomyError::NotPositive {
+            name: "sphere radius",
+            value: r,
+        });
+    }
+    Ok(())
+}
+
+/// How to integrate the rolling constraint.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Integrator {
+    /// Exact flow per segment (Lie-group exponential).
+    Exact,
+    /// Classical RK4 on the unit quaternion, renormalised each step.
+    Rk4,
+}
+
+/// One sample of a rolling motion.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct RollSample {
+    /// Time = arc length travelled (unit speed).
+    pub s: f64,
+    /// Position of the centre C (E1, E2, E3 components; height R).
+    pub centre: [f64; 3],
+    /// Position of the material point X that was the contact point at s = 0.
+    pub marked_point: [f64; 3],
+    /// Orientation Q(s) as a unit quaternion (Q(0) = I).
+    pub orientation: UnitQuaternion<f64>,
+}
+
+/// The result of [`roll`].
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Trajectory {
+    /// Samples at s = 0 and after every step.
+    pub samples: Vec<RollSample>,
+}
+
+impl Trajectory {
+    /// The final orientation Q(L): the holonomy of the closed path.
+    #[must_use]
+    pub fn final_orientation(&self) -> UnitQuaternion<f64> {
+        self.samples
+            .last()
+            .map_or_else(UnitQuaternion::identity, |s| s.orientation)
+    }
+}
+
+/// Rolls a sphere of radius `sphere_radius` once along `path` with about `steps` steps
+/// (each segment gets at least one, in proportion to its length).
+///
+/// # Errors
+/// A non-positive radius, or `steps` smaller than the number of segments.
+pub fn roll(
+    path: &CentrePath,
+    sphere_radius: f64,
+    integrator: Integrator,
+    steps: usize,
+) -> Result<Trajectory, HolonomyError> {
+    check_radius(sphere_radius)?;
+    let n_seg = path.segments.len();
+    if steps < n_seg {
+        return Err(HolonomyError::TooFewSteps {
+            steps,
+            minimum: n_seg,
+        });
+    }
+    let total = path.length();
+    let mut q = UnitQuaternion::identity();
+    let mut s_total = 0.0;
+    let start = path.segments[0].point_and_tangent(0.0).0;
+    let mut samples = Vec::with_capacity(steps + n_seg + 1);
+    samples.push(sample(0.0, start, &q, sphere_radius));
+    for seg in &path.segments {
+        let q_start = q;
+        let len = seg.length();
+        #[allow(
+            clippy::cast_possible_truncation,
+            clippy::cast_sign_loss,
+            clippy::cast_precision_loss
+        )]
+        let n = ((steps as f64 * len / total).round() as usize).max(1);
+        #[allow(clippy::cast_precision_loss)]
+        let h = len / n as f64;
+        for i in 0..n {
+            #[allow(clippy::cast_precision_loss)]
+            let s0 = i as f64 * h;
+            q = match integrator {
+                // The flow from the segment's start, not step by step: no round-off build-up.
+                Integrator::Exact => exact_step(seg, sphere_radius, 0.0, s0 + h) * q_start,
+                Integrator::Rk4 => rk4_step(seg, sphere_radius, s0, h, &q),
+            };
+            #[allow(clippy::cast_precision_loss)]
+            let s1 = (i + 1) as f64 * h;
+            samples.push(sample(
+                s_total + s1,
+                seg.point_and_tangent(s1).0,
+                &q,
+                sphere_radius,
+            ));
+        }
+        s_total += len;
+    }
+    Ok(Trajectory { samples })
+}
+
+fn sample(s: f64, p: [f64; 2], q: &UnitQuaternion<f64>, radius: f64) -> RollSample {
+    let centre = Vector3::new(p[0], p[1], radius);
+    let x = centre - radius * (q * Vector3::z());
+    RollSample {
+        s,
+        centre: centre.into(),
+        marked_point: x.into(),
+        orientation: *q,
+    }
+}
+
+/// The spatial angular velocity (1/R) E3 × d of rolling without spin along tangent d.
+fn omega(tangent: &Vector3<f64>, radius: f64) -> Vector3<f64> {
+    Vector3::z().cross(tangent) / radius
+}
+
+/// exp(h ω) as a unit quaternion (rotation by |hω| about ω).
+fn exp_step(w: &Vector3<f64>) -> UnitQuaternion<f64> {
+    UnitQuaternion::from_scaled_axis(*w)
+}
+
+/// The exact flow over [s0, s0 + h] on one segment (module documentation).
+fn exact_step(seg: &Segment, radius: f64, s0: f64, h: f64) -> UnitQuaternion<f64> {
+    let kappa = seg.curvature();
+    let (_, d0) = seg.point_and_tangent(0.0);
+    let w0 = omega(&d0, radius);
+    if kappa == 0.0 {
+        return exp_step(&(h * w0));
+    }
+    let z = Vector3::z_axis();
+    let turn = |a: f64| UnitQuaternion::from_axis_angle(&z, a);
+    turn(kappa * (s0 + h)) * exp_step(&(h * (w0 - kappa * Vector3::z()))) * turn(-kappa * s0)
+}
+
+/// One RK4 step of q′ = ½ (0, ω(s)) ∘ q.
+fn rk4_step(
+    seg: &Segment,
+    radius: f64,
+    s0: f64,
+    h: f64,
+    q: &UnitQuaternion<f64>,
+) -> UnitQuaternion<f64> {
+    let f = |s: f64, q: &Quaternion<f64>| {
+        let w = omega(&seg.point_and_tangent(s).1, radius);
+        Quaternion::from_parts(0.0, w) * q * 0.5
+    };
+    let y = q.into_inner();
+    let k1 = f(s0, &y);
+    let k2 = f(s0 + 0.5 * h, &(y + k1 * (0.5 * h)));
+    let k3 = f(s0 + 0.5 * h, &(y + k2 * (0.5 * h)));
+    let k4 = f(s0 + h, &(y + k3 * h));
+    UnitQuaternion::new_normalize(y + (k1 + k2 * 2.0 + k3 * 2.0 + k4) * (h / 6.0))
+}
+
+/// The holonomy of rolling once around a circle of radius ρ (`circle_radius`) as in
+/// [`CentrePath::circle`], in closed form: in the frame turning with the heading the
+/// angular velocity (1/R) E2 ∓ (1/ρ) E3 is constant, and the frame has turned by ±2π
+/// at the end, so S = exp(2πρ ((1/R) E2 ∓ (1/ρ) E3)): a rotation by
+/// 2π √(1 + ρ²/R²) about (ρ/R) E2 ∓ E3 (− counter-clockwise, + clockwise).
+///
+/// # Errors
+/// Non-positive or non-finite radii.
+pub fn circle_holonomy(
+    circle_radius: f64,
+    sphere_radius: f64,
+    direction: Direction,
+) -> Result<Rotation3<f64>, HolonomyError> {
+    check_radius(sphere_radius)?;
+    CentrePath::circle(circle_radius, direction)?;
+    let sign = match direction {
+        Direction::Ccw => -1.0,
+        Direction::Cw => 1.0,
+    };
+    let w = Vector3::new(0.0, 1.0 / sphere_radius, sign / circle_radius);
+    Ok(Rotation3::from_scaled_axis(TAU * circle_radius * w))
+}
+
+/// The unit axis and angle in [0, π] of a quaternion, for reporting.
+#[must_use]
+pub fn axis_angle(q: &UnitQuaternion<f64>) -> (f64, Unit<Vector3<f64>>) {
+    let aa = rotations::AxisAngle::from_quaternion(q);
+    (aa.angle, aa.axis)
+}
