@@ -1,2 +1,62 @@
-//! A 2D stack of rigid blocks on a driven base (Honein 2024, Ch. 4, App. G, H, I).
+//! A 2D stack of rigid blocks on a driven base (Honein 2024, Ch. 4, App. G, H, I): the
+//! model and the contact geometry, ready for a nonsmooth time stepper.
+//!
+//! - [`Block`], [`Base`] with its prescribed [`BaseMotion`], coordinates [`Pose`] /
+//!   [`Twist`] (4.2.1)–(4.2.2);
+//! - the contact geometry of App. G: corners ([`Corner`], (G.1.1)), the two gaps and one
+//!   slip speed of each interface ([`Interface`], (G.2.2)–(G.3.2)), loss of support
+//!   ((G.2.4) corrected, ERRATA 23), an optional [`Floor`]; every quantity comes with its
+//!   exact force direction W and the velocity-product term ζ of its time derivative;
+//! - [`Scene`]s (validated, from TOML via [`SceneFile`]) and the thesis's scenarios
+//!   ([`scenarios`]: Leaning Tower of Lire with the harmonic overhangs of ERRATA 16, the
+//!   shaken column, the sliding column);
+//! - [`Scene::contacts`]: all gaps and slips in the block coordinates, what a stepper
+//!   evaluates per iterate;
+//! - [`painleve`]: Painlevé's paradoxes for one block (App. I, ERRATA 18).
+//!
+//! ```
+//! use blockstack::scenarios::{lire, Perturbation};
+//!
+//! // The four-block Leaning Tower of Lire at rest in its maximum-overhang configuration.
+//! let scene = lire(4, Perturbation::None)?;
+//! let q = scene.initial_coordinates();
+//! let u = vec![0.0; q.len()];
+//! let contacts = scene.contacts(0.0, &q, &u);
+//! // Every interface is closed along its whole edge: both gaps vanish.
+//! for gap in &contacts.normals[..8] {
+//!     assert!(gap.expect("supported").value.abs() < 1e-14);
+//! }
+//! // The top block's centre of mass sits at the right edge of the block below it.
+//! assert!((q[9] - (q[6] + 0.5)).abs() < 1e-15);
+//! # Ok::<(), blockstack::BlockError>(())
+//! ```
 #![warn(missing_docs)]
+
+pub mod base;
+pub mod block;
+pub mod coordinates;
+pub mod corners;
+mod error;
+pub mod floor;
+pub mod gaps;
+pub mod interface;
+pub mod overlap;
+pub mod painleve;
+pub mod scenarios;
+pub mod scene;
+pub mod scene_file;
+pub mod slip;
+pub mod stack;
+
+pub use base::{Base, BaseKinematics, BaseMotion, CubicSpline};
+pub use block::Block;
+pub use coordinates::{BodyState, Pose, Twist, Vec2};
+pub use corners::Corner;
+pub use error::BlockError;
+pub use floor::{Floor, FloorContacts};
+pub use gaps::{CornerOnFace, Face, PairRow};
+pub use interface::{GapCase, Interface, InterfaceContacts, InterfaceGap, Size, Support};
+pub use scene::{ContactParams, Prox, Scene, SolverParams};
+pub use scene_file::SceneFile;
+pub use slip::{slip_direction, LowerBody};
+pub use stack::{ContactRow, FrictionLaw, SparseColumn, StackContacts};

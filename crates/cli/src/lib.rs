@@ -34,6 +34,8 @@ pub enum Command {
     Rotation(commands::rotation::RotationArgs),
     /// The rolling sphere: rectangle holonomy, path planning, Euler paths, rolling (Ch. 2).
     Sphere(commands::sphere::SphereArgs),
+    /// A stack of blocks on a driven base (Ch. 4, App. G–I): Painlevé analysis.
+    Blocks(commands::blocks::BlocksArgs),
     /// Inclined rolling cylinders (Ch. 3, App. D–F): support forces, holonomy, Frobenius test.
     Cylinder(commands::cylinder::CylinderArgs),
     /// The main job: headline results of every system, as CSV, PNG and index.html.
@@ -48,6 +50,7 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
     match cli.command {
         Command::Rotation(args) => commands::rotation::run(&args),
         Command::Sphere(args) => commands::sphere::run(&args),
+        Command::Blocks(args) => commands::blocks::run(&args),
         Command::Cylinder(args) => commands::cylinder::run(&args),
         Command::Tour(args) => tour::run(&args),
     }

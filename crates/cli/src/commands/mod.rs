@@ -1,5 +1,6 @@
 //! One module per command family.
 
+pub mod blocks;
 pub mod cylinder;
 pub mod rotation;
 pub mod sphere;

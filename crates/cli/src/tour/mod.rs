@@ -6,6 +6,7 @@
 //! reported in the page and the summary, the others still run, and the command then
 //! exits non-zero.
 
+mod blocks;
 mod cylinder;
 mod rotations;
 mod sphere;
@@ -75,6 +76,7 @@ const SECTIONS: &[(&str, SectionFn)] = &[
     ("rotations", rotations::section),
     ("sphere", sphere::section),
     ("cylinder", cylinder::section),
+    ("blocks", blocks::section),
 ];
 
 /// Runs the tour.

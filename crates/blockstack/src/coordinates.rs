@@ -1,0 +1,284 @@
+//! The coordinates of a block, (4.2.1)–(4.2.2): the centre of mass r = x E₁ + y E₂ and the
+//! angle θ of the co-rotational basis e₁ = cos θ E₁ + sin θ E₂, e₂ = −sin θ E₁ + cos θ E₂.
+//!
+//! Everything that depends on the coordinates is generic over a [`Scalar`]: `f64` for
+//! values, a `num-dual` dual number for exact derivatives of any order (a time stepper
+//! differentiates its residual through these functions). Sizes and other parameters stay
+//! `f64`. Case distinctions (which corner touches which face) look at real parts only.
+
+use num_dual::DualNum;
+use std::ops::{Add, Mul, Neg, Sub};
+
+/// A number the geometry is written in: `f64`, or a dual number over `f64`.
+pub trait Scalar: DualNum<Primitive = f64> + Copy {}
+impl<T: DualNum<Primitive = f64> + Copy> Scalar for T {}
+
+/// The real part of a scalar (the value itself for `f64`).
+#[must_use]
+pub fn re<T: Scalar>(x: T) -> f64 {
+    x.re()
+}
+
+/// A 2D vector on the fixed basis {E₁, E₂} (or on a body basis {e₁, e₂} where said).
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct Vec2<T = f64> {
+    /// First component.
+    pub x: T,
+    /// Second component.
+    pub y: T,
+}
+
+impl<T: Scalar> Vec2<T> {
+    /// The vector (x, y).
+    #[must_use]
+    pub fn new(x: T, y: T) -> Self {
+        Self { x, y }
+    }
+
+    /// The dot product.
+    #[must_use]
+    pub fn dot(&self, other: &Self) -> T {
+        self.x * other.x + self.y * other.y
+    }
+
+    /// The Euclidean norm.
+    #[must_use]
+    pub fn norm(&self) -> T {
+        self.dot(self).sqrt()
+    }
+
+    /// A constant vector lifted to the scalar type.
+    #[must_use]
+    pub fn lift(v: &Vec2<f64>) -> Self {
+        Self::new(T::from(v.x), T::from(v.y))
+    }
+
+    /// The real parts.
+    #[must_use]
+    pub fn re(&self) -> Vec2<f64> {
+        Vec2 {
+            x: self.x.re(),
+            y: self.y.re(),
+        }
+    }
+}
+
+impl<T: Scalar> Add for Vec2<T> {
+    type Output = Self;
+    fn add(self, o: Self) -> Self {
+        Self::new(self.x + o.x, self.y + o.y)
+    }
+}
+
+impl<T: Scalar> Sub for Vec2<T> {
+    type Output = Self;
+    fn sub(self, o: Self) -> Self {
+        Self::new(self.x - o.x, self.y - o.y)
+    }
+}
+
+impl<T: Scalar> Neg for Vec2<T> {
+    type Output = Self;
+    fn neg(self) -> Self {
+        Self::new(-self.x, -self.y)
+    }
+}
+
+impl<T: Scalar> Mul<T> for Vec2<T> {
+    type Output = Self;
+    fn mul(self, s: T) -> Self {
+        Self::new(self.x * s, self.y * s)
+    }
+}
+
+/// E₃ × v for v in the plane: the vector v turned by +π/2.
+#[must_use]
+pub fn perp<T: Scalar>(v: &Vec2<T>) -> Vec2<T> {
+    Vec2::new(-v.y, v.x)
+}
+
+/// The configuration (x, y, θ) of one body, (4.2.1)–(4.2.2).
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct Pose<T = f64> {
+    /// x, the E₁ coordinate of the centre of mass.
+    pub x: T,
+    /// y, the E₂ coordinate of the centre of mass.
+    pub y: T,
+    /// θ, the angle from E₁ to e₁ (counter-clockwise positive).
+    pub theta: T,
+}
+
+/// The velocities (ẋ, ẏ, θ̇) of one body; ω = θ̇ E₃ is its angular velocity.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct Twist<T = f64> {
+    /// ẋ.
+    pub vx: T,
+    /// ẏ.
+    pub vy: T,
+    /// θ̇.
+    pub omega: T,
+}
+
+impl<T: Scalar> Pose<T> {
+    /// The pose (x, y, θ).
+    #[must_use]
+    pub fn new(x: T, y: T, theta: T) -> Self {
+        Self { x, y, theta }
+    }
+
+    /// Reads a pose from three consecutive coordinates (x, y, θ).
+    #[must_use]
+    pub fn from_slice(q: &[T]) -> Self {
+        Self::new(q[0], q[1], q[2])
+    }
+
+    /// A constant pose lifted to the scalar type.
+    #[must_use]
+    pub fn lift(p: &Pose<f64>) -> Self {
+        Self::new(T::from(p.x), T::from(p.y), T::from(p.theta))
+    }
+
+    /// The centre of mass r, (4.2.1).
+    #[must_use]
+    pub fn r(&self) -> Vec2<T> {
+        Vec2::new(self.x, self.y)
+    }
+
+    /// The co-rotational basis vector e₁, (4.2.2).
+    #[must_use]
+    pub fn e1(&self) -> Vec2<T> {
+        let (s, c) = self.theta.sin_cos();
+        Vec2::new(c, s)
+    }
+
+    /// The co-rotational basis vector e₂, (4.2.2).
+    #[must_use]
+    pub fn e2(&self) -> Vec2<T> {
+        let (s, c) = self.theta.sin_cos();
+        Vec2::new(-s, c)
+    }
+
+    /// A vector given by constant components (α, β) on {e₁, e₂}, expressed on {E₁, E₂}.
+    #[must_use]
+    pub fn to_world(&self, body: &Vec2<f64>) -> Vec2<T> {
+        let (s, c) = self.theta.sin_cos();
+        Vec2::new(c * body.x - s * body.y, s * body.x + c * body.y)
+    }
+
+    /// The point r + α e₁ + β e₂ of the body with components (α, β).
+    #[must_use]
+    pub fn point(&self, body: &Vec2<f64>) -> Vec2<T> {
+        self.r() + self.to_world(body)
+    }
+}
+
+impl<T: Scalar> Twist<T> {
+    /// The velocities (ẋ, ẏ, θ̇).
+    #[must_use]
+    pub fn new(vx: T, vy: T, omega: T) -> Self {
+        Self { vx, vy, omega }
+    }
+
+    /// Reads a twist from three consecutive velocities (ẋ, ẏ, θ̇).
+    #[must_use]
+    pub fn from_slice(u: &[T]) -> Self {
+        Self::new(u[0], u[1], u[2])
+    }
+
+    /// A constant twist lifted to the scalar type.
+    #[must_use]
+    pub fn lift(v: &Twist<f64>) -> Self {
+        Self::new(T::from(v.vx), T::from(v.vy), T::from(v.omega))
+    }
+
+    /// The velocity v of the centre of mass.
+    #[must_use]
+    pub fn v(&self) -> Vec2<T> {
+        Vec2::new(self.vx, self.vy)
+    }
+
+    /// Velocity of the material point at world offset `offset` from the centre of mass,
+    /// v + ω × offset (G.3.2).
+    #[must_use]
+    pub fn point_velocity(&self, offset: &Vec2<T>) -> Vec2<T> {
+        self.v() + perp(offset) * self.omega
+    }
+
+    /// (ẋ, ẏ, θ̇) as an array.
+    #[must_use]
+    pub fn as_array(&self) -> [T; 3] {
+        [self.vx, self.vy, self.omega]
+    }
+}
+
+/// The pose and velocities of one body at one instant.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct BodyState<T = f64> {
+    /// Configuration (x, y, θ).
+    pub pose: Pose<T>,
+    /// Velocities (ẋ, ẏ, θ̇).
+    pub twist: Twist<T>,
+}
+
+impl<T: Scalar> BodyState<T> {
+    /// A body at `pose` moving with `twist`.
+    #[must_use]
+    pub fn new(pose: Pose<T>, twist: Twist<T>) -> Self {
+        Self { pose, twist }
+    }
+
+    /// A constant state lifted to the scalar type.
+    #[must_use]
+    pub fn lift(s: &BodyState<f64>) -> Self {
+        Self::new(Pose::lift(&s.pose), Twist::lift(&s.twist))
+    }
+}
+
+impl BodyState<f64> {
+    /// The state at time s later with constant accelerations `accel`:
+    /// q + s u + ½ s² a, u + s a (used to differentiate along a motion in tests).
+    #[must_use]
+    pub fn advanced(&self, s: f64, accel: &Twist<f64>) -> Self {
+        let p = &self.pose;
+        let v = &self.twist;
+        Self {
+            pose: Pose::new(
+                p.x + s * v.vx + 0.5 * s * s * accel.vx,
+                p.y + s * v.vy + 0.5 * s * s * accel.vy,
+                p.theta + s * v.omega + 0.5 * s * s * accel.omega,
+            ),
+            twist: Twist::new(
+                v.vx + s * accel.vx,
+                v.vy + s * accel.vy,
+                v.omega + s * accel.omega,
+            ),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn basis_is_orthonormal_and_positively_oriented() {
+        let p: Pose = Pose::new(0.3, -0.2, 0.7);
+        let (e1, e2) = (p.e1(), p.e2());
+        assert!((e1.dot(&e2)).abs() < 1e-15);
+        assert!((e1.norm() - 1.0).abs() < 1e-15);
+        assert!((perp(&e1) - e2).norm() < 1e-15);
+        assert!((p.to_world(&Vec2::new(1.0, 0.0)) - e1).norm() < 1e-15);
+    }
+
+    #[test]
+    fn point_velocity_is_the_time_derivative_of_the_point() {
+        let s = BodyState::new(Pose::new(0.1, 0.2, 0.3), Twist::new(0.4, -0.5, 1.3));
+        let body = Vec2::new(0.5, 0.1);
+        let h = 1e-6;
+        let fd = (s.advanced(h, &Twist::default()).pose.point(&body)
+            - s.advanced(-h, &Twist::default()).pose.point(&body))
+            * (0.5 / h);
+        let offset = s.pose.to_world(&body);
+        assert!((fd - s.twist.point_velocity(&offset)).norm() < 1e-9);
+    }
+}

@@ -1,0 +1,147 @@
+//! The optional floor (beyond the thesis): a fixed horizontal plane y = y_f below the
+//! base, touched by any corner of any block, so that a block that topples or loses its
+//! support lands instead of falling forever (ERRATA 23).
+//!
+//! Each block gets four normal gaps, one per corner (G.1.1), g = y_□ − y_f, and one
+//! friction law bounded by the sum of the four normal forces (the App. H construction
+//! with four gaps instead of two). Its slip speed is the one of the lowest corner,
+//! measured like (G.3.1) as the floor's velocity relative to the block's corner along
+//! E₁, γ = −ẋ_□. One law per block, not one per corner: when a block lies flat, its two
+//! bottom corners have the same horizontal velocity, and two friction rows would be
+//! linearly dependent. At a tie of the two lowest corners, the face between them is
+//! horizontal, so their slip speeds agree and the choice is continuous.
+
+use crate::coordinates::{re, BodyState, Pose, Scalar, Twist};
+use crate::corners::Corner;
+use crate::gaps::{CornerOnFace, Face, PairRow};
+use crate::interface::Size;
+use crate::slip::LowerBody;
+
+/// The floor plane y = y_f.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Floor {
+    /// Height y_f of the plane.
+    pub y: f64,
+}
+
+/// The contacts of one block with the floor.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct FloorContacts<T = f64> {
+    /// Gaps of the corners a, b, c, d; `w_first` is on the block (`w_second` is zero).
+    pub gaps: [PairRow<T>; 4],
+    /// Which corner is lowest (its slip is the law's slip speed).
+    pub lowest: Corner,
+    /// Slip speed −ẋ of the lowest corner; `w_first` is on the block.
+    pub slip: PairRow<T>,
+}
+
+impl Floor {
+    /// The floor at height y.
+    #[must_use]
+    pub fn new(y: f64) -> Self {
+        Self { y }
+    }
+
+    fn state<T: Scalar>(&self) -> BodyState<T> {
+        BodyState::lift(&BodyState::new(
+            Pose::new(0.0, self.y, 0.0),
+            Twist::default(),
+        ))
+    }
+
+    fn pair<T: Scalar>(&self, corner: Corner, block: &BodyState<T>, size: Size) -> CornerOnFace<T> {
+        CornerOnFace {
+            corner_body: *block,
+            corner: corner.body_offset(size.width, size.height),
+            face_body: self.state(),
+            face: Face::floor(),
+        }
+    }
+
+    /// The four corner gaps and the slip of the lowest corner of a block.
+    #[must_use]
+    pub fn contacts<T: Scalar>(&self, block: &BodyState<T>, size: Size) -> FloorContacts<T> {
+        let gaps = Corner::ALL.map(|c| self.pair(c, block, size).gap());
+        let mut lowest = 0;
+        for i in 1..4 {
+            if re(gaps[i].value) < re(gaps[lowest].value) {
+                lowest = i;
+            }
+        }
+        let corner = Corner::ALL[lowest];
+        FloorContacts {
+            gaps,
+            lowest: corner,
+            slip: self.pair(corner, block, size).slip(LowerBody::Face),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::gaps::tests::{fd_oracle, state};
+
+    #[test]
+    fn floor_gaps_are_corner_heights() {
+        let f = Floor::new(-0.1);
+        let s = state(0.0, 1.0, 0.3, 0.0, 0.0, 0.0);
+        let size = Size::new(1.0, 0.4);
+        let c = f.contacts(&s, size);
+        for (i, corner) in Corner::ALL.iter().enumerate() {
+            let p = corner.position(&s.pose, 1.0, 0.4);
+            assert!((c.gaps[i].value - (p.y + 0.1)).abs() < 1e-15);
+        }
+        // Turned counter-clockwise, the bottom-left corner c is lowest.
+        assert_eq!(c.lowest, Corner::C);
+        // Turned past π/2 the lowest corner changes (no flip of any test, ERRATA 23).
+        let c = f.contacts(&state(0.0, 1.0, 2.0, 0.0, 0.0, 0.0), size);
+        assert_eq!(c.lowest, Corner::B);
+    }
+
+    #[test]
+    fn floor_rows_match_finite_differences() {
+        let f = Floor::new(0.0);
+        let size = Size::new(0.2, 0.4);
+        let s = state(0.1, 0.5, 2.2, 0.3, -0.7, 1.9);
+        let floor: BodyState = f.state();
+        let c = f.contacts(&s, size);
+        for i in 0..4 {
+            let (w, _, second) = fd_oracle(&|b, _| f.contacts(b, size).gaps[i].value, &s, &floor);
+            for k in 0..3 {
+                assert!((c.gaps[i].w_first[k] - w[k]).abs() < 1e-8);
+            }
+            assert!((c.gaps[i].zeta - second).abs() < 1e-5);
+        }
+        // Slip: −ẋ of the lowest corner.
+        let p = c.lowest.velocity(&s, 0.2, 0.4);
+        assert!((c.slip.value + p.x).abs() < 1e-15);
+    }
+
+    #[test]
+    fn slip_choice_is_continuous_when_lying_flat() {
+        let f = Floor::new(0.0);
+        let size = Size::new(0.2, 0.4);
+        // Lying on its side (θ = π/2) and sliding with some spin: the two lowest corners
+        // tie and have equal horizontal velocities.
+        let s = state(0.0, 0.1, std::f64::consts::FRAC_PI_2, 0.4, 0.0, 0.3);
+        let plus = f.contacts(
+            &state(0.0, 0.1, std::f64::consts::FRAC_PI_2 + 1e-12, 0.4, 0.0, 0.3),
+            size,
+        );
+        let minus = f.contacts(
+            &state(0.0, 0.1, std::f64::consts::FRAC_PI_2 - 1e-12, 0.4, 0.0, 0.3),
+            size,
+        );
+        assert_ne!(plus.lowest, minus.lowest);
+        assert!((plus.slip.value - minus.slip.value).abs() < 1e-10);
+        assert!(
+            f.contacts(&s, size)
+                .gaps
+                .iter()
+                .filter(|g| g.value.abs() < 1e-12)
+                .count()
+                == 2
+        );
+    }
+}

@@ -1,0 +1,439 @@
+//! The contact between block k and block k+1 (App. G): two normal gaps, one slip speed,
+//! and the test for loss of support.
+//!
+//! Gaps (G.2.2)–(G.2.3): the left gap g_N^{2k−1} is ℓ_b (corner b^k on the bottom face of
+//! k+1) when (r_b^k − r_c^{k+1})·e₁^{k+1} > 0, else ℓ_c (corner c^{k+1} on the top face of
+//! k); the right gap g_N^{2k} is ℓ_a (corner a^k on the bottom face of k+1) when
+//! (r_a^k − r_d^{k+1})·e₁^{k+1} < 0, else ℓ_d (corner d^{k+1} on the top face of k). This
+//! covers edge contact (a) and the four corner cases (b)i–iv of Figure 4.2 with the same
+//! two constraints, and the switch between them is seamless: at the switch the two
+//! candidate distances agree whenever the contact is closed.
+//!
+//! Slip (G.3.1): the slip speed is the one of the contact whose gap is smaller (the
+//! closed one in a corner case; in edge contact both agree), always measured as the
+//! velocity of the lower block relative to the upper one along the tangent of the face
+//! touched, so it stays continuous across the cases.
+//!
+//! Support (G.2.4, corrected and made robust per ERRATA 23): as printed, the two
+//! inequalities (r_b^k − r_d^{k+1})·e₁^{k+1} > 0 and (r_a^k − r_c^{k+1})·e₁^{k+1} < 0 each
+//! describe a *loss* of support (block k+1 entirely left, resp. right, of block k), not the
+//! requirement for it; and, being projections on e₁^{k+1}, they flip meaning when block
+//! k+1 turns past ±π/2. Here block k supports block k+1 when (i) their faces face
+//! each other, e₂^k·e₂^{k+1} > 0, (ii) the centre of k+1 lies above the line of the top
+//! face of k, and (iii) the bottom face of k+1 overlaps the top face of k along e₁^k.
+//! Otherwise the two gaps cannot close (the upper block has fallen off).
+
+use crate::coordinates::{re, BodyState, Scalar, Vec2};
+use crate::corners::Corner;
+use crate::gaps::{CornerOnFace, Face, PairRow};
+use crate::slip::LowerBody;
+
+/// The size of a body taking part in a contact.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Size {
+    /// Width w.
+    pub width: f64,
+    /// Height h.
+    pub height: f64,
+}
+
+impl Size {
+    /// A w × h rectangle.
+    #[must_use]
+    pub fn new(width: f64, height: f64) -> Self {
+        Self { width, height }
+    }
+
+    fn corner(self, c: Corner) -> Vec2 {
+        c.body_offset(self.width, self.height)
+    }
+}
+
+/// Which distance of (G.2.3) a gap currently measures.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum GapCase {
+    /// ℓ_a or ℓ_b: a top corner of the lower block against the bottom face of the upper.
+    LowerCorner(Corner),
+    /// ℓ_c or ℓ_d: a bottom corner of the upper block against the top face of the lower.
+    UpperCorner(Corner),
+}
+
+/// Why an upper block is not supported by the block below.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Support {
+    /// The bottom face of the upper block faces the top face of the lower one over a
+    /// common stretch: the two gaps are meaningful.
+    Supported,
+    /// The upper block has turned by more than π/2 relative to the lower one.
+    TurnedOver,
+    /// The upper block's centre is below the line of the lower block's top face.
+    Below,
+    /// The faces do not overlap along the lower block's e₁: it has slid or fallen off.
+    Beside,
+}
+
+/// One normal gap of an interface, with the distance of (G.2.3) it measures.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct InterfaceGap<T = f64> {
+    /// The case of (G.2.2).
+    pub case: GapCase,
+    /// g with W and ζ; `w_first` is on the lower block, `w_second` on the upper.
+    pub row: PairRow<T>,
+}
+
+/// The contact quantities of one interface k/k+1 (App. G).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct InterfaceContacts<T = f64> {
+    /// Whether the gaps are meaningful; when not, the contacts cannot close.
+    pub support: Support,
+    /// The left gap g_N^{2k−1} (ℓ_b or ℓ_c), (G.2.2).
+    pub left: InterfaceGap<T>,
+    /// The right gap g_N^{2k} (ℓ_a or ℓ_d), (G.2.2).
+    pub right: InterfaceGap<T>,
+    /// The slip speed γ_F^k, (G.3.1); `w_first` is on the lower block.
+    pub slip: PairRow<T>,
+}
+
+impl<T> InterfaceContacts<T> {
+    /// Whether block k supports block k+1 (see [`Support`]).
+    #[must_use]
+    pub fn is_supported(&self) -> bool {
+        self.support == Support::Supported
+    }
+}
+
+/// The contact between a lower body (block k, or the base) and the upper block k+1.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Interface {
+    /// Size of the lower body.
+    pub lower: Size,
+    /// Size of the upper body.
+    pub upper: Size,
+}
+
+impl Interface {
+    /// An interface between bodies of the given sizes.
+    #[must_use]
+    pub fn new(lower: Size, upper: Size) -> Self {
+        Self { lower, upper }
+    }
+
+    /// Support test (G.2.4), corrected and robust past ±π/2 (ERRATA 23).
+    #[must_use]
+    pub fn support<T: Scalar>(&self, lower: &BodyState<T>, upper: &BodyState<T>) -> Support {
+        // A decision, not a value: real parts only.
+        let (pl, pu) = (&lower.pose, &upper.pose);
+        if re(pl.e2().dot(&pu.e2())) <= 0.0 {
+            return Support::TurnedOver;
+        }
+        let rel = pu.r() - pl.r();
+        if re(rel.dot(&pl.e2())) <= 0.5 * self.lower.height {
+            return Support::Below;
+        }
+        let along = |c: Corner| re((pu.point(&self.upper.corner(c)) - pl.r()).dot(&pl.e1()));
+        let (sc, sd) = (along(Corner::C), along(Corner::D));
+        let half = 0.5 * self.lower.width;
+        if sc.max(sd) <= -half || sc.min(sd) >= half {
+            return Support::Beside;
+        }
+        Support::Supported
+    }
+
+    /// The left gap: ℓ_b or ℓ_c per (G.2.2)₁.
+    #[must_use]
+    pub fn left_gap<T: Scalar>(
+        &self,
+        lower: &BodyState<T>,
+        upper: &BodyState<T>,
+    ) -> InterfaceGap<T> {
+        let b = lower.pose.point(&self.lower.corner(Corner::B));
+        let c = upper.pose.point(&self.upper.corner(Corner::C));
+        if re((b - c).dot(&upper.pose.e1())) > 0.0 {
+            self.lower_corner_gap(Corner::B, lower, upper)
+        } else {
+            self.upper_corner_gap(Corner::C, lower, upper)
+        }
+    }
+
+    /// The right gap: ℓ_a or ℓ_d per (G.2.2)₂.
+    #[must_use]
+    pub fn right_gap<T: Scalar>(
+        &self,
+        lower: &BodyState<T>,
+        upper: &BodyState<T>,
+    ) -> InterfaceGap<T> {
+        let a = lower.pose.point(&self.lower.corner(Corner::A));
+        let d = upper.pose.point(&self.upper.corner(Corner::D));
+        if re((a - d).dot(&upper.pose.e1())) < 0.0 {
+            self.lower_corner_gap(Corner::A, lower, upper)
+        } else {
+            self.upper_corner_gap(Corner::D, lower, upper)
+        }
+    }
+
+    /// The pairing of a top corner of the lower block with the bottom face of the upper.
+    fn lower_corner_pair<T: Scalar>(
+        &self,
+        corner: Corner,
+        lower: &BodyState<T>,
+        upper: &BodyState<T>,
+    ) -> CornerOnFace<T> {
+        CornerOnFace {
+            corner_body: *lower,
+            corner: self.lower.corner(corner),
+            face_body: *upper,
+            face: Face::bottom(self.upper.height),
+        }
+    }
+
+    /// The pairing of a bottom corner of the upper block with the top face of the lower.
+    fn upper_corner_pair<T: Scalar>(
+        &self,
+        corner: Corner,
+        lower: &BodyState<T>,
+        upper: &BodyState<T>,
+    ) -> CornerOnFace<T> {
+        CornerOnFace {
+            corner_body: *upper,
+            corner: self.upper.corner(corner),
+            face_body: *lower,
+            face: Face::top(self.lower.height),
+        }
+    }
+
+    fn lower_corner_gap<T: Scalar>(
+        &self,
+        corner: Corner,
+        lower: &BodyState<T>,
+        upper: &BodyState<T>,
+    ) -> InterfaceGap<T> {
+        InterfaceGap {
+            case: GapCase::LowerCorner(corner),
+            row: self.lower_corner_pair(corner, lower, upper).gap(),
+        }
+    }
+
+    fn upper_corner_gap<T: Scalar>(
+        &self,
+        corner: Corner,
+        lower: &BodyState<T>,
+        upper: &BodyState<T>,
+    ) -> InterfaceGap<T> {
+        InterfaceGap {
+            case: GapCase::UpperCorner(corner),
+            // Stored corner-body first; swap so that the lower block comes first.
+            row: self.upper_corner_pair(corner, lower, upper).gap().swapped(),
+        }
+    }
+
+    /// The slip speed (G.3.1) of the contact measured by `gap`.
+    #[must_use]
+    pub fn slip_at<T: Scalar>(
+        &self,
+        gap: &InterfaceGap<T>,
+        lower: &BodyState<T>,
+        upper: &BodyState<T>,
+    ) -> PairRow<T> {
+        match gap.case {
+            GapCase::LowerCorner(c) => self
+                .lower_corner_pair(c, lower, upper)
+                .slip(LowerBody::Corner),
+            GapCase::UpperCorner(c) => self
+                .upper_corner_pair(c, lower, upper)
+                .slip(LowerBody::Face)
+                .swapped(),
+        }
+    }
+
+    /// Both gaps, the slip speed of the closer contact (left on a tie) and the support
+    /// state, App. G.
+    #[must_use]
+    pub fn contacts<T: Scalar>(
+        &self,
+        lower: &BodyState<T>,
+        upper: &BodyState<T>,
+    ) -> InterfaceContacts<T> {
+        let left = self.left_gap(lower, upper);
+        let right = self.right_gap(lower, upper);
+        let closer = if re(right.row.value) < re(left.row.value) {
+            &right
+        } else {
+            &left
+        };
+        InterfaceContacts {
+            support: self.support(lower, upper),
+            left,
+            right,
+            slip: self.slip_at(closer, lower, upper),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::coordinates::Twist;
+    use crate::gaps::tests::{fd_oracle, state};
+
+    fn lire() -> Interface {
+        Interface::new(Size::new(1.0, 0.2), Size::new(1.0, 0.2))
+    }
+
+    #[test]
+    fn flush_blocks_have_zero_gaps_and_edge_slip() {
+        let i = lire();
+        let lower = state(0.0, 0.0, 0.0, 0.0, 0.0, 0.0);
+        let upper = state(0.3, 0.2, 0.0, 0.5, 0.0, 0.0);
+        let c = i.contacts(&lower, &upper);
+        assert!(c.is_supported());
+        assert!(c.left.row.value.abs() < 1e-15 && c.right.row.value.abs() < 1e-15);
+        // Upper shifted right: its corner c^{k+1} lies over the top face of k (ℓ_c), and
+        // the corner a^k lies under the bottom face of k+1 (ℓ_a).
+        assert_eq!(c.left.case, GapCase::UpperCorner(Corner::C));
+        assert_eq!(c.right.case, GapCase::LowerCorner(Corner::A));
+        // Lower relative to upper: −0.5.
+        assert!((c.slip.value + 0.5).abs() < 1e-15);
+    }
+
+    #[test]
+    fn figure_4_2_corner_cases() {
+        let i = lire();
+        let lower = state(0.0, 0.0, 0.0, 0.0, 0.0, 0.0);
+        // (b)iv-like: upper tilted clockwise resting on its corner d on the top face of k,
+        // upper overhanging to the left so d^{k+1} is inside the face.
+        let th: f64 = -0.1;
+        let d_body = Corner::D.body_offset(1.0, 0.2);
+        // Place the upper block so that its corner d sits at (0.2, 0.1).
+        let pose = crate::coordinates::Pose::new(0.0, 0.0, th);
+        let d_world = pose.to_world(&d_body);
+        let upper = state(0.2 - d_world.x, 0.1 - d_world.y, th, 0.0, 0.0, 0.0);
+        let c = i.contacts(&lower, &upper);
+        assert_eq!(c.right.case, GapCase::UpperCorner(Corner::D));
+        assert!(c.right.row.value.abs() < 1e-14);
+        assert!(c.left.row.value > 0.05);
+        // (b)ii: upper tilted counter-clockwise and overhanging left, over the corner b^k.
+        let upper = state(-0.3, 0.25, 0.1, 0.0, 0.0, 0.0);
+        let c = i.contacts(&lower, &upper);
+        assert_eq!(c.left.case, GapCase::LowerCorner(Corner::B));
+        let g = c.left.row.value;
+        // Distance from b^k = (−0.5, 0.1) to the bottom line of the upper block.
+        let b = Vec2::new(-0.5, 0.1);
+        let up = upper.pose;
+        let expected = (up.r() - b).dot(&up.e2()) - 0.1;
+        assert!((g - expected).abs() < 1e-15);
+    }
+
+    #[test]
+    fn switch_between_corner_cases_is_continuous_when_closed() {
+        // Upper block resting tilted on the corner b^k; slide it so that its corner c
+        // passes over b^k: the left gap switches from ℓ_b to ℓ_c, both zero at the switch.
+        let i = lire();
+        let lower = state(0.0, 0.0, 0.0, 0.0, 0.0, 0.0);
+        let th = 0.05_f64;
+        let b = Vec2::new(-0.5, 0.1);
+        let pose0 = crate::coordinates::Pose::new(0.0, 0.0, th);
+        let c_off = pose0.to_world(&Corner::C.body_offset(1.0, 0.2));
+        // Corner c of the upper block exactly on b^k.
+        let upper = state(b.x - c_off.x, b.y - c_off.y, th, 0.0, 0.0, 0.0);
+        let eps = 1e-9;
+        let mut left_of = upper;
+        left_of.pose.x -= eps;
+        let mut right_of = upper;
+        right_of.pose.x += eps;
+        let g1 = i.left_gap(&lower, &left_of);
+        let g2 = i.left_gap(&lower, &right_of);
+        assert_ne!(g1.case, g2.case);
+        assert!(g1.row.value.abs() < 1e-8 && g2.row.value.abs() < 1e-8);
+    }
+
+    #[test]
+    fn interface_rows_match_finite_differences_in_every_case() {
+        let i = Interface::new(Size::new(1.2, 0.3), Size::new(0.8, 0.25));
+        let lower = state(0.1, -0.05, 0.04, 0.3, -0.2, 0.6);
+        for (x, th) in [
+            (0.5, 0.07),
+            (-0.45, -0.09),
+            (0.0, 0.0),
+            (0.2, -0.03),
+            (-0.3, 0.12),
+        ] {
+            let upper = state(x, 0.3, th, -0.4, 0.25, -0.9);
+            for side in 0..2 {
+                let pick = |l: &BodyState, u: &BodyState| {
+                    if side == 0 {
+                        i.left_gap(l, u)
+                    } else {
+                        i.right_gap(l, u)
+                    }
+                };
+                let g = pick(&lower, &upper);
+                let (wl, wu, second) = fd_oracle(&|l, u| pick(l, u).row.value, &lower, &upper);
+                for k in 0..3 {
+                    assert!(
+                        (g.row.w_first[k] - wl[k]).abs() < 1e-7,
+                        "{:?} W_lower",
+                        g.case
+                    );
+                    assert!(
+                        (g.row.w_second[k] - wu[k]).abs() < 1e-7,
+                        "{:?} W_upper",
+                        g.case
+                    );
+                }
+                assert!(
+                    (g.row.zeta - second).abs() < 1e-4,
+                    "{:?} zeta {} vs {}",
+                    g.case,
+                    g.row.zeta,
+                    second
+                );
+                // The slip of this contact: γ = Wᵀu and γ̇ − Wᵀu̇ = ζ_F.
+                let s = i.slip_at(&g, &lower, &upper);
+                assert!((s.rate(&lower, &upper) - s.value).abs() < 1e-14);
+                let h = 1e-6;
+                let z = Twist::default();
+                let fd = (i
+                    .slip_at(&g, &lower.advanced(h, &z), &upper.advanced(h, &z))
+                    .value
+                    - i.slip_at(&g, &lower.advanced(-h, &z), &upper.advanced(-h, &z))
+                        .value)
+                    / (2.0 * h);
+                assert!((s.zeta - fd).abs() < 1e-7, "{:?} slip zeta", g.case);
+            }
+        }
+    }
+
+    #[test]
+    fn support_is_lost_when_sliding_off_falling_beside_or_turning_over() {
+        let i = lire();
+        let lower = state(0.0, 0.0, 0.0, 0.0, 0.0, 0.0);
+        assert_eq!(
+            i.support(&lower, &state(0.99, 0.2, 0.0, 0.0, 0.0, 0.0)),
+            Support::Supported
+        );
+        assert_eq!(
+            i.support(&lower, &state(1.01, 0.2, 0.0, 0.0, 0.0, 0.0)),
+            Support::Beside
+        );
+        assert_eq!(
+            i.support(&lower, &state(-1.01, 0.2, 0.0, 0.0, 0.0, 0.0)),
+            Support::Beside
+        );
+        assert_eq!(
+            i.support(&lower, &state(0.0, 0.05, 0.0, 0.0, 0.0, 0.0)),
+            Support::Below
+        );
+        // Turned past ±π/2 (ERRATA 23): a projection on e₁^{k+1} would flip sign here.
+        for th in [1.7, -1.7, 3.0, -3.1] {
+            assert_eq!(
+                i.support(&lower, &state(0.0, 0.7, th, 0.0, 0.0, 0.0)),
+                Support::TurnedOver
+            );
+        }
+        // Turned by almost π/2 but still above and overlapping: supported.
+        assert_eq!(
+            i.support(&lower, &state(0.3, 0.65, 1.5, 0.0, 0.0, 0.0)),
+            Support::Supported
+        );
+    }
+}

@@ -1,0 +1,277 @@
+//! The scenes of Ch. 4 with the thesis's parameters: the Leaning Tower of Lire (§4.3),
+//! the harmonically shaken column (§4.4) and the column on a sliding base (§4.5).
+//!
+//! Block numbering: the thesis calls the base block 1 and the free blocks 2, 3, …; here
+//! the base is block 0 and the free blocks are 1..n. So "five blocks" of §4.4–4.5 (footnotes
+//! 5 and 6: w¹ is the base) is a base and four free blocks, and ϑ⁵ of Figure 4.7 is the
+//! top free block.
+
+use crate::base::{Base, BaseMotion};
+use crate::block::Block;
+use crate::error::BlockError;
+use crate::floor::Floor;
+use crate::scene::{stack_on, ContactParams, Prox, Scene, SolverParams};
+use std::f64::consts::PI;
+
+/// Which block of the Lire tower is pushed outward by 1 % of its width (§4.3).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Perturbation {
+    /// The exact maximum-overhang configuration: an unstable equilibrium.
+    #[default]
+    None,
+    /// The top block: it topples alone.
+    Top,
+    /// The lowest free block: the whole column collapses (Figure 4.4).
+    Bottom,
+}
+
+impl Perturbation {
+    /// Parses `none`, `top` or `bottom`.
+    ///
+    /// # Errors
+    /// Any other name.
+    pub fn from_name(name: &str) -> Result<Self, BlockError> {
+        match name {
+            "none" => Ok(Self::None),
+            "top" => Ok(Self::Top),
+            "bottom" => Ok(Self::Bottom),
+            _ => Err(BlockError::Scene(format!(
+                "unknown perturbation '{name}' (expected none, top or bottom)"
+            ))),
+        }
+    }
+}
+
+/// The relative perturbation of §4.3: 1 % of the block width.
+pub const LIRE_PERTURBATION: f64 = 0.01;
+
+/// Overhangs of the maximum-overhang stack of n identical blocks of width w, bottom to
+/// top: block k (1-based from the bottom) sticks out beyond the block below it (the table
+/// for k = 1) by w / (2(n − k + 1)), i.e. w/8, w/6, w/4, w/2 for n = 4 (ERRATA 16: the
+/// total is Σ w/(2k), not Σ w/(2n) as (4.3.1) prints).
+#[must_use]
+pub fn harmonic_overhangs(n: usize, width: f64) -> Vec<f64> {
+    (1..=n)
+        .map(|k| width / (2.0 * (n - k + 1) as f64))
+        .collect()
+}
+
+/// Total overhang O_max = Σ_{k=1}^{n} w/(2k) (half the harmonic number times w), (4.3.1)
+/// corrected per ERRATA 16.
+#[must_use]
+pub fn maximum_overhang(n: usize, width: f64) -> f64 {
+    harmonic_overhangs(n, width).iter().sum()
+}
+
+/// Centre x of each block of the maximum-overhang stack on a table of width w centred at
+/// x = 0 (right edge at w/2), bottom to top: every block's right edge lies at the centre
+/// of mass of the blocks above it (Figure 4.3).
+#[must_use]
+pub fn lire_positions(n: usize, width: f64) -> Vec<f64> {
+    let mut edge = 0.5 * width;
+    harmonic_overhangs(n, width)
+        .into_iter()
+        .map(|o| {
+            edge += o;
+            edge - 0.5 * width
+        })
+        .collect()
+}
+
+/// The Leaning Tower of Lire (§4.3, Figure 4.4): n blocks w = 1, h = 0.2, m = 1 on a
+/// fixed table of the same size, μ = 0.3, e_N = e_F = 0, g = 1, Δt = 0.01, ρ∞ = 0.5,
+/// tol 1e-10, t_end = 10, in the maximum-overhang configuration, with a floor at the
+/// bottom of the table so that the blocks that fall land.
+///
+/// # Errors
+/// Only for n = 0.
+pub fn lire(n: usize, perturbation: Perturbation) -> Result<Scene, BlockError> {
+    let (w, h) = (1.0, 0.2);
+    let base = Base::new(w, h, BaseMotion::Fixed)?;
+    let mut xs = lire_positions(n, w);
+    match perturbation {
+        Perturbation::None => {}
+        Perturbation::Top => {
+            if let Some(x) = xs.last_mut() {
+                *x += LIRE_PERTURBATION * w;
+            }
+        }
+        Perturbation::Bottom => {
+            if let Some(x) = xs.first_mut() {
+                *x += LIRE_PERTURBATION * w;
+            }
+        }
+    }
+    let block = Block::new(w, h, 1.0)?;
+    let blocks = stack_on(
+        &base,
+        &xs.iter().map(|&x| (block, x, 0.0)).collect::<Vec<_>>(),
+    )?;
+    let floor = Some(Floor::new(base.bottom()));
+    Scene::new(
+        base,
+        blocks,
+        floor,
+        ContactParams {
+            mu: 0.3,
+            e_n: 0.0,
+            e_f: 0.0,
+        },
+        SolverParams::default(),
+    )
+}
+
+/// Parameters of the shaken column (§4.4, Figure 4.6).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Shaking {
+    /// Number of free blocks (Figure 4.6: 4).
+    pub blocks: usize,
+    /// Base amplitude A (the thesis's "A = w²" is ambiguous; default 0.2).
+    pub amplitude: f64,
+    /// Angular frequency ω of the base.
+    pub omega: f64,
+    /// Number of base periods simulated.
+    pub periods: f64,
+    /// Steps per period: Δt = 2π/(steps ω) (Figure 4.6: 100; ERRATA 21).
+    pub steps_per_period: f64,
+    /// Friction coefficient (Figure 4.6: 0.2).
+    pub mu: f64,
+}
+
+impl Default for Shaking {
+    fn default() -> Self {
+        Self {
+            blocks: 4,
+            amplitude: 0.2,
+            omega: 2.0,
+            periods: 10.0,
+            steps_per_period: 100.0,
+            mu: 0.2,
+        }
+    }
+}
+
+/// The harmonically shaken column (§4.4): identical blocks w = 0.2, h = 0.4, m = 1,
+/// aligned on a base w = 1, h = 0.1 moving as x⁰ = A sin ωt; floor at the base's bottom.
+///
+/// # Errors
+/// Bad parameters (ω ≤ 0, negative μ, …).
+pub fn shaking_column(p: &Shaking) -> Result<Scene, BlockError> {
+    crate::block::positive("omega", p.omega)?;
+    crate::block::positive("periods", p.periods)?;
+    crate::block::positive("steps per period", p.steps_per_period)?;
+    let base = Base::new(1.0, 0.1, BaseMotion::harmonic(p.amplitude, p.omega)?)?;
+    let block = Block::new(0.2, 0.4, 1.0)?;
+    let blocks = stack_on(&base, &vec![(block, 0.0, 0.0); p.blocks])?;
+    let floor = Some(Floor::new(base.bottom()));
+    let period = 2.0 * PI / p.omega;
+    let solver = SolverParams {
+        dt: period / p.steps_per_period,
+        t_end: p.periods * period,
+        ..SolverParams::default()
+    };
+    Scene::new(
+        base,
+        blocks,
+        floor,
+        ContactParams {
+            mu: p.mu,
+            e_n: 0.0,
+            e_f: 0.0,
+        },
+        solver,
+    )
+}
+
+/// The column on a sliding base (§4.5, Figure 4.7): base and blocks all w = 0.2, h = 0.4,
+/// m = 1, μ = 0.2; the base moves at v₀ from t = 0; the blocks land on a floor at the base's
+/// bottom; t_end = 3 (Figure 4.7; ERRATA 21 notes the published runs stopped at 2.5).
+///
+/// # Errors
+/// Bad parameters.
+pub fn sliding_column(blocks: usize, v0: f64, t_end: f64) -> Result<Scene, BlockError> {
+    let base = Base::new(0.2, 0.4, BaseMotion::constant_velocity(v0)?)?;
+    let block = Block::new(0.2, 0.4, 1.0)?;
+    let stacked = stack_on(&base, &vec![(block, 0.0, 0.0); blocks])?;
+    let floor = Some(Floor::new(base.bottom()));
+    let solver = SolverParams {
+        t_end,
+        ..SolverParams::default()
+    };
+    Scene::new(
+        base,
+        stacked,
+        floor,
+        ContactParams {
+            mu: 0.2,
+            e_n: 0.0,
+            e_f: 0.0,
+        },
+        solver,
+    )
+}
+
+/// The thesis's constant prox parameter r = 0.3 (§4.2), for reproducing its runs.
+pub const THESIS_PROX: Prox = Prox::Constant(0.3);
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn harmonic_overhang_exceeds_one_width_for_four_blocks() {
+        let o = harmonic_overhangs(4, 1.0);
+        assert_eq!(o, vec![1.0 / 8.0, 1.0 / 6.0, 1.0 / 4.0, 1.0 / 2.0]);
+        assert!((maximum_overhang(4, 1.0) - 25.0 / 24.0).abs() < 1e-15);
+        // The printed (4.3.1) would give w/2.
+        assert!(maximum_overhang(4, 1.0) > 1.0);
+    }
+
+    #[test]
+    fn every_block_edge_is_at_the_centre_of_mass_above_it() {
+        let n = 4;
+        let xs = lire_positions(n, 1.0);
+        for k in 0..n {
+            let edge = if k == 0 { 0.5 } else { xs[k - 1] + 0.5 };
+            let above = &xs[k..];
+            let com = above.iter().sum::<f64>() / above.len() as f64;
+            assert!((com - edge).abs() < 1e-15, "block {}", k + 1);
+        }
+    }
+
+    #[test]
+    fn lire_scenes_are_valid_and_perturbed_as_asked() {
+        let none = lire(4, Perturbation::None).unwrap();
+        let top = lire(4, Perturbation::Top).unwrap();
+        let bottom = lire(4, Perturbation::Bottom).unwrap();
+        let (q0, qt, qb) = (
+            none.initial_coordinates(),
+            top.initial_coordinates(),
+            bottom.initial_coordinates(),
+        );
+        assert!((qt[9] - q0[9] - 0.01).abs() < 1e-15);
+        assert!((qb[0] - q0[0] - 0.01).abs() < 1e-15);
+        assert!((q0[1] - 0.2).abs() < 1e-15 && (q0[10] - 0.8).abs() < 1e-15);
+        // All contacts of the unperturbed tower are closed and supported.
+        let c = none.contacts(0.0, &q0, &[0.0; 12]);
+        assert!(c.normals[..8]
+            .iter()
+            .all(|g| g.is_some_and(|g| g.value.abs() < 1e-14)));
+    }
+
+    #[test]
+    fn shaking_and_sliding_defaults() {
+        let s = shaking_column(&Shaking {
+            omega: 4.0,
+            ..Shaking::default()
+        })
+        .unwrap();
+        assert_eq!(s.n_blocks(), 4);
+        assert!((s.solver.dt - 2.0 * PI / 400.0).abs() < 1e-15);
+        assert!((s.base().height() - 0.1).abs() < 1e-15);
+        let s = sliding_column(4, 1.0, 3.0).unwrap();
+        assert_eq!(s.n_blocks(), 4);
+        assert!((s.contact.mu - 0.2).abs() < 1e-15);
+        assert_eq!(s.n_normal_contacts(), 8 + 16);
+    }
+}

@@ -1,0 +1,387 @@
+//! A scene: the base, the blocks bottom to top, the optional floor, and the contact and
+//! solver parameters (§4.2, "Simulation Parameters"), validated.
+
+use crate::base::Base;
+use crate::block::{finite, positive, Block};
+use crate::coordinates::{BodyState, Pose, Scalar, Twist};
+use crate::error::BlockError;
+use crate::floor::Floor;
+use crate::interface::Size;
+use crate::overlap::penetration_depth;
+
+/// Coulomb friction and restitution, the same at every contact (§4.2).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ContactParams {
+    /// Friction coefficient μ ≥ 0 (static = dynamic, §4.2).
+    pub mu: f64,
+    /// Normal restitution e_N ∈ [0, 1].
+    pub e_n: f64,
+    /// Tangential restitution e_F ∈ [0, 1] (ERRATA 19: its own value, not e_N).
+    pub e_f: f64,
+}
+
+impl ContactParams {
+    /// Checks μ ≥ 0 and e_N, e_F ∈ [0, 1].
+    ///
+    /// # Errors
+    /// The first parameter out of range.
+    pub fn validate(&self) -> Result<(), BlockError> {
+        finite("mu", self.mu)?;
+        if self.mu < 0.0 {
+            return Err(BlockError::Negative {
+                name: "mu".into(),
+                value: self.mu,
+            });
+        }
+        for (name, e) in [("e_n", self.e_n), ("e_f", self.e_f)] {
+            finite(name, e)?;
+            if !(0.0..=1.0).contains(&e) {
+                return Err(BlockError::OutOfRange {
+                    name: name.into(),
+                    range: "[0, 1]",
+                    value: e,
+                });
+            }
+        }
+        Ok(())
+    }
+}
+
+/// The prox parameter r of the contact laws (NSGA-SPEC §4).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Prox {
+    /// Scaled per constraint, r_k = α / (w_kᵀ M⁻¹ w_k), α ∈ (0, 2).
+    Scaled {
+        /// α.
+        alpha: f64,
+    },
+    /// One constant r for every constraint (the thesis: r = 0.3).
+    Constant(f64),
+}
+
+/// Parameters of the time integration (§4.2 "Simulation Parameters").
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SolverParams {
+    /// Time step Δt.
+    pub dt: f64,
+    /// End time.
+    pub t_end: f64,
+    /// Spectral radius at infinite frequency ρ∞ ∈ [0, 1] (thesis: 0.5).
+    pub rho_inf: f64,
+    /// Prox parameter.
+    pub prox: Prox,
+    /// Newton tolerance (thesis: 1e-10).
+    pub tol: f64,
+    /// Gravity g (thesis: 1), acting along −E₂.
+    pub gravity: f64,
+}
+
+impl Default for SolverParams {
+    /// The thesis's values (§4.2): Δt = 0.01, ρ∞ = 0.5, tol = 1e-10, g = 1, t_end = 10,
+    /// with the prox parameter scaled (α = 1) rather than the constant r = 0.3.
+    fn default() -> Self {
+        Self {
+            dt: 0.01,
+            t_end: 10.0,
+            rho_inf: 0.5,
+            prox: Prox::Scaled { alpha: 1.0 },
+            tol: 1e-10,
+            gravity: 1.0,
+        }
+    }
+}
+
+impl SolverParams {
+    /// Checks Δt, t_end, tol > 0, ρ∞ ∈ [0, 1], r > 0 (α ∈ (0, 2)), g finite and ≥ 0.
+    ///
+    /// # Errors
+    /// The first parameter out of range.
+    pub fn validate(&self) -> Result<(), BlockError> {
+        positive("dt", self.dt)?;
+        positive("t_end", self.t_end)?;
+        positive("tol", self.tol)?;
+        finite("rho_inf", self.rho_inf)?;
+        if !(0.0..=1.0).contains(&self.rho_inf) {
+            return Err(BlockError::OutOfRange {
+                name: "rho_inf".into(),
+                range: "[0, 1]",
+                value: self.rho_inf,
+            });
+        }
+        match self.prox {
+            Prox::Constant(r) => {
+                positive("r", r)?;
+            }
+            Prox::Scaled { alpha } => {
+                positive("r_alpha", alpha)?;
+                if alpha >= 2.0 {
+                    return Err(BlockError::OutOfRange {
+                        name: "r_alpha".into(),
+                        range: "(0, 2)",
+                        value: alpha,
+                    });
+                }
+            }
+        }
+        finite("gravity", self.gravity)?;
+        if self.gravity < 0.0 {
+            return Err(BlockError::Negative {
+                name: "gravity".into(),
+                value: self.gravity,
+            });
+        }
+        Ok(())
+    }
+}
+
+/// A validated block stack: base (block 0), blocks 1..n bottom to top, optional floor.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Scene {
+    base: Base,
+    blocks: Vec<Block>,
+    floor: Option<Floor>,
+    /// Friction and restitution.
+    pub contact: ContactParams,
+    /// Time-integration parameters.
+    pub solver: SolverParams,
+}
+
+/// Relative tolerance on initial overlaps (of the largest block size).
+const OVERLAP_TOL: f64 = 1e-9;
+
+impl Scene {
+    /// A scene, checked: parameters in range, at least one block, no two bodies
+    /// overlapping at the start, every block above the floor, and the floor not above the
+    /// base's bottom face.
+    ///
+    /// # Errors
+    /// The first problem found, as one line.
+    pub fn new(
+        base: Base,
+        blocks: Vec<Block>,
+        floor: Option<Floor>,
+        contact: ContactParams,
+        solver: SolverParams,
+    ) -> Result<Self, BlockError> {
+        contact.validate()?;
+        solver.validate()?;
+        if blocks.is_empty() {
+            return Err(BlockError::Scene(
+                "a scene needs at least one block above the base".into(),
+            ));
+        }
+        // Poses are public fields: check them here too.
+        finite("base x", base.x0)?;
+        finite("base y", base.y)?;
+        for (k, b) in blocks.iter().enumerate() {
+            let p = &b.initial;
+            for (what, v) in [("x", p.x), ("y", p.y), ("theta", p.theta)] {
+                finite(&format!("block {} {what}", k + 1), v)?;
+            }
+        }
+        let scene = Self {
+            base,
+            blocks,
+            floor,
+            contact,
+            solver,
+        };
+        scene.check_overlaps()?;
+        scene.check_floor()?;
+        Ok(scene)
+    }
+
+    fn check_floor(&self) -> Result<(), BlockError> {
+        let Some(floor) = self.floor else {
+            return Ok(());
+        };
+        finite("floor y", floor.y)?;
+        let scale = self.length_scale();
+        if floor.y > self.base.bottom() + OVERLAP_TOL * scale {
+            return Err(BlockError::Scene(format!(
+                "the floor (y = {}) is above the bottom of the base (y = {})",
+                floor.y,
+                self.base.bottom()
+            )));
+        }
+        for (k, b) in self.blocks.iter().enumerate() {
+            let low = b.initial.y - b.half_vertical_extent(b.initial.theta);
+            if low < floor.y - OVERLAP_TOL * scale {
+                return Err(BlockError::Scene(format!(
+                    "block {} starts below the floor",
+                    k + 1
+                )));
+            }
+        }
+        Ok(())
+    }
+
+    fn length_scale(&self) -> f64 {
+        self.blocks
+            .iter()
+            .map(|b| b.width().max(b.height()))
+            .fold(self.base.width().max(self.base.height()), f64::max)
+    }
+
+    /// Rejects any two bodies (base included) that interpenetrate by more than a
+    /// round-off tolerance. Touching is allowed.
+    fn check_overlaps(&self) -> Result<(), BlockError> {
+        let tol = OVERLAP_TOL * self.length_scale();
+        let base_pose = self.base.state(0.0).pose;
+        let mut bodies: Vec<(String, Pose, Size)> = vec![(
+            "the base".into(),
+            base_pose,
+            Size::new(self.base.width(), self.base.height()),
+        )];
+        for (k, b) in self.blocks.iter().enumerate() {
+            bodies.push((
+                format!("block {}", k + 1),
+                b.initial,
+                Size::new(b.width(), b.height()),
+            ));
+        }
+        // Bounding circles first: the pairwise test stays cheap for tall columns.
+        let radius = |s: &Size| 0.5 * s.width.hypot(s.height);
+        for i in 0..bodies.len() {
+            for j in i + 1..bodies.len() {
+                let (ni, pi, si) = &bodies[i];
+                let (nj, pj, sj) = &bodies[j];
+                if (pi.r() - pj.r()).norm() >= radius(si) + radius(sj) {
+                    continue;
+                }
+                let depth = penetration_depth((pi, *si), (pj, *sj));
+                if depth > tol {
+                    return Err(BlockError::Overlap {
+                        first: ni.clone(),
+                        second: nj.clone(),
+                        depth,
+                    });
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// The base (block 0).
+    #[must_use]
+    pub fn base(&self) -> &Base {
+        &self.base
+    }
+
+    /// The blocks 1..n, bottom to top.
+    #[must_use]
+    pub fn blocks(&self) -> &[Block] {
+        &self.blocks
+    }
+
+    /// The floor, if the scene has one.
+    #[must_use]
+    pub fn floor(&self) -> Option<Floor> {
+        self.floor
+    }
+
+    /// Number n of free blocks.
+    #[must_use]
+    pub fn n_blocks(&self) -> usize {
+        self.blocks.len()
+    }
+
+    /// Size of body k: 0 is the base, 1..=n the blocks.
+    #[must_use]
+    pub fn size(&self, k: usize) -> Size {
+        if k == 0 {
+            Size::new(self.base.width(), self.base.height())
+        } else {
+            let b = &self.blocks[k - 1];
+            Size::new(b.width(), b.height())
+        }
+    }
+
+    /// Initial coordinates q₀ = (x¹, y¹, θ¹, …, xⁿ, yⁿ, θⁿ), (4.2.1)–(4.2.2).
+    #[must_use]
+    pub fn initial_coordinates(&self) -> Vec<f64> {
+        self.blocks
+            .iter()
+            .flat_map(|b| [b.initial.x, b.initial.y, b.initial.theta])
+            .collect()
+    }
+
+    /// Diagonal of the mass matrix, (m, m, I) per block.
+    #[must_use]
+    pub fn mass_diagonal(&self) -> Vec<f64> {
+        self.blocks.iter().flat_map(Block::mass_diagonal).collect()
+    }
+
+    /// Applied forces h: gravity (0, −m g, 0) per block (no gyroscopic terms in 2D).
+    #[must_use]
+    pub fn gravity_forces(&self) -> Vec<f64> {
+        self.blocks
+            .iter()
+            .flat_map(|b| [0.0, -b.mass() * self.solver.gravity, 0.0])
+            .collect()
+    }
+
+    /// The state of every block from q and u (3 entries per block), bottom to top.
+    #[must_use]
+    pub fn block_states<T: Scalar>(&self, q: &[T], u: &[T]) -> Vec<BodyState<T>> {
+        (0..self.n_blocks())
+            .map(|k| {
+                BodyState::new(
+                    Pose::from_slice(&q[3 * k..]),
+                    Twist::from_slice(&u[3 * k..]),
+                )
+            })
+            .collect()
+    }
+
+    /// Potential plus kinetic energy of the blocks (for energy checks of unforced runs).
+    #[must_use]
+    pub fn energy(&self, q: &[f64], u: &[f64]) -> f64 {
+        self.blocks
+            .iter()
+            .enumerate()
+            .map(|(k, b)| {
+                let m = b.mass_diagonal();
+                let kin = 0.5
+                    * (m[0] * u[3 * k] * u[3 * k]
+                        + m[1] * u[3 * k + 1] * u[3 * k + 1]
+                        + m[2] * u[3 * k + 2] * u[3 * k + 2]);
+                kin + b.mass() * self.solver.gravity * q[3 * k + 1]
+            })
+            .sum()
+    }
+}
+
+/// Builds a column: blocks placed bottom to top on the base, each at its own x and θ,
+/// its y such that its lowest point rests on the top of the block below.
+///
+/// # Errors
+/// A block turned by ±π/2 or more (it cannot rest on its bottom face).
+pub fn stack_on(base: &Base, blocks: &[(Block, f64, f64)]) -> Result<Vec<Block>, BlockError> {
+    let mut top = base.top();
+    let mut out = Vec::with_capacity(blocks.len());
+    for (k, &(block, x, theta)) in blocks.iter().enumerate() {
+        let b = stack_on_top(top, block, x, theta, k)?;
+        top = b.initial.y + b.half_vertical_extent(theta);
+        out.push(b);
+    }
+    Ok(out)
+}
+
+/// Places block number k (0-based) with its lowest point at height `top`.
+pub(crate) fn stack_on_top(
+    top: f64,
+    block: Block,
+    x: f64,
+    theta: f64,
+    k: usize,
+) -> Result<Block, BlockError> {
+    if theta.abs() >= std::f64::consts::FRAC_PI_2 {
+        return Err(BlockError::OutOfRange {
+            name: format!("block {} theta", k + 1),
+            range: "(-pi/2, pi/2)",
+            value: theta,
+        });
+    }
+    block.at(x, top + block.half_vertical_extent(theta), theta)
+}

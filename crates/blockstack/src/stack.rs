@@ -1,0 +1,301 @@
+//! All contacts of a scene in the generalized coordinates q = (x¹, y¹, θ¹, …, xⁿ, yⁿ, θⁿ)
+//! of the free blocks (q̇ = u): what a time stepper evaluates at each iterate.
+//!
+//! Numbering (fixed for a scene, so that the solver's sizes never change):
+//! - normal contacts: interface k/k+1 (k = 0 is the base/block-1 interface) has the left
+//!   gap 2k and the right gap 2k+1 (g_N^{2k−1}, g_N^{2k} of (G.2.2) in the thesis's
+//!   one-based count); with a floor, block i's corner j ∈ (a, b, c, d) is 2n + 4i + j;
+//! - friction laws: interface k is law k, bounded by the sum of its two normal forces
+//!   (App. H); with a floor, block i's floor law is n + i, bounded by its four corners.
+//!
+//! For every row: ġ = wᵀu + χ and g̈ = wᵀu̇ + ζ (gaps); γ = wᵀu + χ and γ̇ = wᵀu̇ + ζ
+//! (slips). χ and the base-acceleration part of ζ come from the prescribed base motion,
+//! evaluated at the time asked for (ERRATA 20).
+//!
+//! Wiring to a stepper (e.g. an nsga `System`, whose evaluation is generic over a dual
+//! scalar): per evaluation call [`Scene::contacts_into`] with the same scalar type; the
+//! mass matrix is diagonal ([`Scene::mass_diagonal`]), the forces are
+//! [`Scene::gravity_forces`]; each `Some(row)` of `normals` gives g_N = `value`, its W
+//! column (`w.iter()`: coordinate index, entry), χ and ζ; a `None` is a contact that
+//! cannot close — report it as open (any positive gap, W = 0, χ = ζ = 0); each slip gives
+//! one friction component with W, χ, ζ, bounded by the normals of
+//! [`Scene::friction_laws`]; every normal contact has e_N and every law e_F and μ from
+//! [`Scene::contact`](crate::Scene). Each row touches at most two bodies, so exact sparse
+//! Jacobians can be formed row by row.
+
+use crate::coordinates::{BodyState, Pose, Scalar, Twist};
+use crate::floor::FloorContacts;
+use crate::gaps::PairRow;
+use crate::interface::{Interface, InterfaceContacts};
+use crate::scene::Scene;
+
+/// A column of W with at most six nonzero entries (two bodies × (x, y, θ)).
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct SparseColumn<T = f64> {
+    index: [usize; 6],
+    value: [T; 6],
+    len: usize,
+}
+
+impl<T: Scalar> SparseColumn<T> {
+    fn empty() -> Self {
+        Self {
+            index: [0; 6],
+            value: [T::zero(); 6],
+            len: 0,
+        }
+    }
+
+    fn push3(&mut self, body: usize, w: &[T; 3]) {
+        for (i, &wi) in w.iter().enumerate() {
+            self.index[self.len] = 3 * body + i;
+            self.value[self.len] = wi;
+            self.len += 1;
+        }
+    }
+
+    /// The nonzero entries (coordinate index, value).
+    pub fn iter(&self) -> impl Iterator<Item = (usize, T)> + '_ {
+        self.index[..self.len]
+            .iter()
+            .copied()
+            .zip(self.value[..self.len].iter().copied())
+    }
+
+    /// wᵀv for a vector v of length 3n.
+    #[must_use]
+    pub fn dot(&self, v: &[T]) -> T {
+        self.iter().fold(T::zero(), |acc, (i, w)| acc + w * v[i])
+    }
+
+    /// Adds `scale`·w to the dense vector `out` (length 3n).
+    pub fn add_scaled_to(&self, scale: T, out: &mut [T]) {
+        for (i, w) in self.iter() {
+            out[i] += scale * w;
+        }
+    }
+}
+
+/// One contact quantity in the coordinates of the free blocks.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct ContactRow<T = f64> {
+    /// g (a gap) or γ (a slip speed, at the u given).
+    pub value: T,
+    /// W column: ∂g/∂q, or ∂γ/∂u.
+    pub w: SparseColumn<T>,
+    /// Explicit time dependence from the base: ġ = wᵀu + χ, γ = wᵀu + χ.
+    pub chi: T,
+    /// ζ: g̈ = wᵀu̇ + ζ, γ̇ = wᵀu̇ + ζ.
+    pub zeta: T,
+}
+
+/// A body of the scene as seen by the contacts.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Body {
+    /// The base: prescribed motion, no coordinates.
+    Base,
+    /// Free block i (0-based), coordinates 3i..3i+3.
+    Block(usize),
+}
+
+/// One friction law: which normal contacts bound it (App. H) and μ.
+#[derive(Debug, Clone, PartialEq)]
+pub struct FrictionLaw {
+    /// Indices of the normal contacts whose forces add up to the bound μ Σ λ_N.
+    pub normals: Vec<usize>,
+    /// Friction coefficient μ.
+    pub mu: f64,
+}
+
+/// Every contact of a scene at one (t, q, u).
+#[derive(Debug, Clone, PartialEq)]
+pub struct StackContacts<T = f64> {
+    /// Normal gaps; `None` where the contact cannot close (support lost, G.2.4 /
+    /// ERRATA 23): treat as open with zero force.
+    pub normals: Vec<Option<ContactRow<T>>>,
+    /// Slip speeds, one per friction law.
+    pub slips: Vec<ContactRow<T>>,
+    /// Per interface, the geometric detail (cases of (G.2.2), support state).
+    pub interfaces: Vec<InterfaceContacts<T>>,
+    /// Per block, the floor detail (empty without a floor).
+    pub floor: Vec<FloorContacts<T>>,
+}
+
+impl<T> Default for StackContacts<T> {
+    fn default() -> Self {
+        Self {
+            normals: Vec::new(),
+            slips: Vec::new(),
+            interfaces: Vec::new(),
+            floor: Vec::new(),
+        }
+    }
+}
+
+impl<T: Scalar> StackContacts<T> {
+    /// The smallest gap (real part) among the contacts that can close (`None` if none can).
+    #[must_use]
+    pub fn min_gap(&self) -> Option<f64> {
+        self.normals
+            .iter()
+            .flatten()
+            .map(|r| crate::coordinates::re(r.value))
+            .reduce(f64::min)
+    }
+
+    /// The lowest interface k (k/k+1, 0 = base/block 1) whose upper block has lost its
+    /// support (G.2.4, ERRATA 23): the failure of §4.4 / Figure 4.6.
+    #[must_use]
+    pub fn first_unsupported(&self) -> Option<usize> {
+        self.interfaces.iter().position(|i| !i.is_supported())
+    }
+
+    /// The lowest interface that is open completely: unsupported, or both gaps above
+    /// `tol` (the blocks no longer touch at all).
+    #[must_use]
+    pub fn first_open(&self, tol: f64) -> Option<usize> {
+        self.interfaces.iter().position(|i| {
+            !i.is_supported()
+                || (crate::coordinates::re(i.left.row.value) > tol
+                    && crate::coordinates::re(i.right.row.value) > tol)
+        })
+    }
+}
+
+impl Scene {
+    /// Number of normal contacts: 2n, plus 4n with a floor.
+    #[must_use]
+    pub fn n_normal_contacts(&self) -> usize {
+        let n = self.n_blocks();
+        2 * n + if self.floor().is_some() { 4 * n } else { 0 }
+    }
+
+    /// The friction laws (one slip speed each), in the numbering of the module docs.
+    #[must_use]
+    pub fn friction_laws(&self) -> Vec<FrictionLaw> {
+        let n = self.n_blocks();
+        let mu = self.contact.mu;
+        let mut laws: Vec<FrictionLaw> = (0..n)
+            .map(|k| FrictionLaw {
+                normals: vec![2 * k, 2 * k + 1],
+                mu,
+            })
+            .collect();
+        if self.floor().is_some() {
+            laws.extend((0..n).map(|i| FrictionLaw {
+                normals: (0..4).map(|j| 2 * n + 4 * i + j).collect(),
+                mu,
+            }));
+        }
+        laws
+    }
+
+    fn interface(&self, k: usize) -> Interface {
+        Interface::new(self.size(k), self.size(k + 1))
+    }
+
+    /// All contacts at time t, coordinates q and velocities u (length 3n each).
+    ///
+    /// # Panics
+    /// When q or u is shorter than 3n.
+    #[must_use]
+    pub fn contacts<T: Scalar>(&self, t: f64, q: &[T], u: &[T]) -> StackContacts<T> {
+        let mut out = StackContacts::default();
+        self.contacts_into(t, q, u, &mut out);
+        out
+    }
+
+    /// [`Scene::contacts`] into a reused buffer (no allocation after the first call).
+    ///
+    /// # Panics
+    /// When q or u is shorter than 3n.
+    pub fn contacts_into<T: Scalar>(&self, t: f64, q: &[T], u: &[T], out: &mut StackContacts<T>) {
+        let n = self.n_blocks();
+        assert!(
+            q.len() >= 3 * n && u.len() >= 3 * n,
+            "q and u need 3 entries per block"
+        );
+        let base = BodyState::lift(&self.base().state(t));
+        let base_acc = Twist::lift(&self.base().acceleration(t));
+        // States read on the fly from q and u: no allocation per call.
+        let block = |k: usize| {
+            BodyState::new(
+                Pose::from_slice(&q[3 * k..3 * k + 3]),
+                Twist::from_slice(&u[3 * k..3 * k + 3]),
+            )
+        };
+        out.normals.clear();
+        out.slips.clear();
+        out.interfaces.clear();
+        out.floor.clear();
+        for k in 0..n {
+            let (lower_body, lower) = if k == 0 {
+                (Body::Base, base)
+            } else {
+                (Body::Block(k - 1), block(k - 1))
+            };
+            let c = self.interface(k).contacts(&lower, &block(k));
+            let fold =
+                |row: &PairRow<T>| fold_pair(row, lower_body, &lower, &base_acc, Body::Block(k));
+            let supported = c.is_supported();
+            out.normals.push(supported.then(|| fold(&c.left.row)));
+            out.normals.push(supported.then(|| fold(&c.right.row)));
+            out.slips.push(fold(&c.slip));
+            out.interfaces.push(c);
+        }
+        if let Some(floor) = self.floor() {
+            for i in 0..n {
+                let c = floor.contacts(&block(i), self.size(i + 1));
+                for g in &c.gaps {
+                    out.normals.push(Some(single(g, i)));
+                }
+                out.slips.push(single(&c.slip, i));
+                out.floor.push(c);
+            }
+        }
+    }
+}
+
+/// A row on (lower body, upper block) in global coordinates; a base's terms go into χ, ζ.
+fn fold_pair<T: Scalar>(
+    row: &PairRow<T>,
+    lower: Body,
+    lower_state: &BodyState<T>,
+    base_acc: &Twist<T>,
+    upper: Body,
+) -> ContactRow<T> {
+    let mut w = SparseColumn::empty();
+    let mut chi = T::zero();
+    let mut zeta = row.zeta;
+    match lower {
+        Body::Base => {
+            let v = &lower_state.twist;
+            chi = row.w_first[0] * v.vx + row.w_first[1] * v.vy + row.w_first[2] * v.omega;
+            zeta += row.w_first[0] * base_acc.vx
+                + row.w_first[1] * base_acc.vy
+                + row.w_first[2] * base_acc.omega;
+        }
+        Body::Block(i) => w.push3(i, &row.w_first),
+    }
+    if let Body::Block(j) = upper {
+        w.push3(j, &row.w_second);
+    }
+    ContactRow {
+        value: row.value,
+        w,
+        chi,
+        zeta,
+    }
+}
+
+/// A floor row: only the block moves.
+fn single<T: Scalar>(row: &PairRow<T>, block: usize) -> ContactRow<T> {
+    let mut w = SparseColumn::empty();
+    w.push3(block, &row.w_first);
+    ContactRow {
+        value: row.value,
+        w,
+        chi: T::zero(),
+        zeta: row.zeta,
+    }
+}
