@@ -1,24 +1,9 @@
 //! `rollstack blocks …` end to end: JSON keys of DESIGN.md, the thesis's numbers
 //! (corrected by ERRATA 18), output files, and clean errors on bad input.
 
-use std::process::Command;
+mod common;
 
-fn rollstack(args: &[&str]) -> std::process::Output {
-    Command::new(env!("CARGO_BIN_EXE_rollstack"))
-        .args(args)
-        .output()
-        .expect("the binary runs")
-}
-
-fn json(args: &[&str]) -> serde_json::Value {
-    let out = rollstack(args);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    serde_json::from_slice(&out.stdout).expect("one JSON object on stdout")
-}
+use common::{json, rollstack};
 
 #[test]
 fn painleve_json_has_the_design_keys_and_the_thesis_numbers() {
@@ -50,8 +35,7 @@ fn painleve_least_friction_is_four_thirds_for_any_aspect() {
 
 #[test]
 fn painleve_out_writes_csv_png_and_run_json() {
-    let dir =
-        std::env::temp_dir().join(format!("rollstack-blocks-painleve-{}", std::process::id()));
+    let dir = common::temp_dir("blocks-painleve");
     let d = dir.to_str().unwrap();
     let out = rollstack(&[
         "blocks", "painleve", "--aspect", "0.5", "--grid", "31", "--out", d,
@@ -84,7 +68,7 @@ fn painleve_rejects_bad_input_with_one_line() {
         ["--grid", "1"],
     ] {
         let mut args = vec!["blocks", "painleve", "--json", "--out"];
-        let dir = std::env::temp_dir().join(format!("rollstack-blocks-bad-{}", std::process::id()));
+        let dir = common::temp_dir("blocks-bad");
         args.push(dir.to_str().unwrap());
         if bad[0] != "--aspect" {
             args.extend(["--aspect", "1"]);

@@ -1,26 +1,10 @@
 //! `rollstack cylinder ...` end to end: JSON keys of DESIGN.md and the thesis's numbers
 //! (corrected per ERRATA 8–15).
 
+mod common;
+
+use common::{json, run};
 use serde_json::Value;
-use std::process::Command;
-
-fn run(args: &[&str]) -> (bool, String, String) {
-    let out = Command::new(env!("CARGO_BIN_EXE_rollstack"))
-        .args(args)
-        .output()
-        .expect("binary runs");
-    (
-        out.status.success(),
-        String::from_utf8_lossy(&out.stdout).into_owned(),
-        String::from_utf8_lossy(&out.stderr).into_owned(),
-    )
-}
-
-fn json(args: &[&str]) -> Value {
-    let (ok, stdout, stderr) = run(args);
-    assert!(ok, "{args:?} failed: {stderr}");
-    serde_json::from_str(&stdout).expect("one JSON object")
-}
 
 fn f(v: &Value) -> f64 {
     v.as_f64().expect("a number")
@@ -216,8 +200,7 @@ fn frobenius_ranks() {
 
 #[test]
 fn statics_writes_figures() {
-    let dir =
-        std::env::temp_dir().join(format!("rollstack-cylinder-statics-{}", std::process::id()));
+    let dir = common::temp_dir("cylinder-statics");
     let _ = std::fs::remove_dir_all(&dir);
     let (ok, _, stderr) = run(&[
         "cylinder",

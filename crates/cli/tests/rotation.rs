@@ -4,14 +4,10 @@
 use nalgebra::{Matrix3, Rotation3, Unit, UnitQuaternion, Vector3};
 use serde_json::Value;
 use std::f64::consts::PI;
-use std::process::Command;
 
-fn rollstack(args: &[&str]) -> std::process::Output {
-    Command::new(env!("CARGO_BIN_EXE_rollstack"))
-        .args(args)
-        .output()
-        .expect("binary runs")
-}
+mod common;
+
+use common::rollstack;
 
 fn convert(from: &str, values: &str) -> Value {
     let out = rollstack(&["rotation", "--from", from, "--values", values, "--json"]);
@@ -164,7 +160,7 @@ fn bad_input_is_one_clear_line() {
 
 #[test]
 fn tour_writes_the_rotation_section() {
-    let dir = std::env::temp_dir().join(format!("rollstack-tour-test-{}", std::process::id()));
+    let dir = common::temp_dir("tour-rotations");
     let out = rollstack(&[
         "tour",
         "--out",

@@ -394,6 +394,32 @@ pub fn parse_target(angle: f64, axis: &str) -> Result<Rotation3<f64>> {
         .to_rotation())
 }
 
+/// Writes every planned rectangle (ϑ, φ1, φ2, direction, error, path length) as CSV.
+///
+/// # Errors
+/// When the file cannot be written.
+pub fn write_plan_csv(path: &Path, plans: &[PlannedRectangle]) -> Result<()> {
+    let rows: Vec<Vec<f64>> = plans
+        .iter()
+        .map(|p| {
+            let r = p.rectangle;
+            vec![
+                r.theta,
+                r.phi1,
+                r.phi2,
+                f64::from(u8::from(r.direction == Direction::Ccw)),
+                p.error,
+                r.path_length(),
+            ]
+        })
+        .collect();
+    write_csv_f64(
+        path,
+        &["theta", "phi1", "phi2", "ccw", "error", "path_length"],
+        &rows,
+    )
+}
+
 /// Plans and reports.
 ///
 /// # Errors
@@ -423,25 +449,7 @@ fn run_plan(a: &PlanArgs) -> Result<()> {
     let seconds = start.elapsed().as_secs_f64();
     if let Some(dir) = &a.out {
         ensure_dir(dir)?;
-        let rows: Vec<Vec<f64>> = plans
-            .iter()
-            .map(|p| {
-                let r = p.rectangle;
-                vec![
-                    r.theta,
-                    r.phi1,
-                    r.phi2,
-                    f64::from(u8::from(r.direction == Direction::Ccw)),
-                    p.error,
-                    r.path_length(),
-                ]
-            })
-            .collect();
-        write_csv_f64(
-            &dir.join("plan.csv"),
-            &["theta", "phi1", "phi2", "ccw", "error", "path_length"],
-            &rows,
-        )?;
+        write_plan_csv(&dir.join("plan.csv"), &plans)?;
         let placed: Vec<_> = plans.iter().map(|p| placed(p.rectangle)).collect();
         plot_rectangle_panels(&dir.join("plan.png"), &placed)?;
         write_run_json(

@@ -4,9 +4,8 @@
 use super::{Block, Section};
 use crate::commands::sphere::{
     holonomy_report, plan_report, plot_level_sets, plot_rectangle_panels, plot_rectangles,
-    plot_traces, roll_study, write_study, write_trajectory,
+    plot_traces, roll_study, write_plan_csv, write_study, write_trajectory,
 };
-use crate::output::write_csv_f64;
 use anyhow::Result;
 use holonomy::roll::{roll, CentrePath, Integrator};
 use holonomy::{euler_plan, rectangle_holonomy, Direction, PlacedRectangle, Rectangle};
@@ -95,25 +94,7 @@ pub fn section(dir: &Path) -> Result<Section> {
         plans.len(),
         plan.max_error
     ));
-    let rows: Vec<Vec<f64>> = plans
-        .iter()
-        .map(|p| {
-            let r = p.rectangle;
-            vec![
-                r.theta,
-                r.phi1,
-                r.phi2,
-                f64::from(u8::from(r.direction == Direction::Ccw)),
-                p.error,
-                r.path_length(),
-            ]
-        })
-        .collect();
-    write_csv_f64(
-        &dir.join("plan_2_4_12.csv"),
-        &["theta", "phi1", "phi2", "ccw", "error", "path_length"],
-        &rows,
-    )?;
+    write_plan_csv(&dir.join("plan_2_4_12.csv"), &plans)?;
     let placed = |r: Rectangle| PlacedRectangle {
         rectangle: r,
         heading: 0.0,
