@@ -34,6 +34,8 @@ pub enum Command {
     Rotation(commands::rotation::RotationArgs),
     /// The rolling sphere: rectangle holonomy, path planning, Euler paths, rolling (Ch. 2).
     Sphere(commands::sphere::SphereArgs),
+    /// The nonsmooth generalized-α solver core: bouncing ball, work-precision (Capobianco 2021).
+    Nsga(commands::nsga::NsgaArgs),
     /// A stack of blocks on a driven base (Ch. 4, App. G–I): Painlevé analysis.
     Blocks(commands::blocks::BlocksArgs),
     /// Inclined rolling cylinders (Ch. 3, App. D–F): support forces, holonomy, Frobenius test.
@@ -50,6 +52,7 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
     match cli.command {
         Command::Rotation(args) => commands::rotation::run(&args),
         Command::Sphere(args) => commands::sphere::run(&args),
+        Command::Nsga(args) => commands::nsga::run(&args),
         Command::Blocks(args) => commands::blocks::run(&args),
         Command::Cylinder(args) => commands::cylinder::run(&args),
         Command::Tour(args) => tour::run(&args),

@@ -2,5 +2,6 @@
 
 pub mod blocks;
 pub mod cylinder;
+pub mod nsga;
 pub mod rotation;
 pub mod sphere;

@@ -8,6 +8,7 @@
 
 mod blocks;
 mod cylinder;
+mod nsga;
 mod rotations;
 mod sphere;
 
@@ -75,6 +76,7 @@ pub type SectionFn = fn(&Path) -> Result<Section>;
 const SECTIONS: &[(&str, SectionFn)] = &[
     ("rotations", rotations::section),
     ("sphere", sphere::section),
+    ("nsga", nsga::section),
     ("cylinder", cylinder::section),
     ("blocks", blocks::section),
 ];

@@ -1,0 +1,365 @@
+//! `rollstack nsga ball|work-precision`: the nonsmooth generalized-α solver core on its
+//! benchmark systems (Capobianco et al. 2021; thesis §4.2).
+
+use crate::output::{
+    ensure_dir, print_json, require_finite, write_csv, write_csv_f64, write_run_json,
+};
+use crate::plot::{LinePlot, Series};
+use anyhow::{bail, Result};
+use clap::{Args, Subcommand, ValueEnum};
+use nsga::runs::{run_ball, work_precision_point, BallRun, Scheme, WorkPrecisionSystem};
+use nsga::systems::ball::BallCase;
+use nsga::Prox;
+use serde::Serialize;
+use std::path::{Path, PathBuf};
+
+/// Arguments of `rollstack nsga`.
+#[derive(Debug, Args)]
+pub struct NsgaArgs {
+    /// Which computation.
+    #[command(subcommand)]
+    pub command: NsgaCommand,
+}
+
+/// The subcommands of `rollstack nsga`.
+#[derive(Debug, Subcommand)]
+pub enum NsgaCommand {
+    /// The rotating bouncing ball of the paper's first example (cases 1–4).
+    Ball(BallArgs),
+    /// Error against a closed form vs. wall time, NSGA (several ρ∞) and Moreau–Jean.
+    WorkPrecision(WorkPrecisionArgs),
+}
+
+/// Time-stepping scheme on the command line.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum SchemeArg {
+    /// Nonsmooth generalized-α.
+    Nsga,
+    /// Moreau–Jean midpoint.
+    Moreau,
+}
+
+impl From<SchemeArg> for Scheme {
+    fn from(s: SchemeArg) -> Self {
+        match s {
+            SchemeArg::Nsga => Scheme::Nsga,
+            SchemeArg::Moreau => Scheme::Moreau,
+        }
+    }
+}
+
+/// Arguments of `rollstack nsga ball`.
+#[derive(Debug, Args)]
+pub struct BallArgs {
+    /// Case 1 (e_N = 0.5, ω0 = 0), 2 (e_N = 0, ω0 = 50 rad/s), 3 (e_N = 0, ω0 = 10 rad/s)
+    /// or 4 (e_N = 0.5, ω0 = 50 rad/s, x0 = −0.5 m, ẋ0 = 1 m/s).
+    #[arg(long)]
+    pub case: u8,
+    /// Time step Δt in s.
+    #[arg(long, default_value_t = 2e-3)]
+    pub dt: f64,
+    /// Scheme.
+    #[arg(long, value_enum, default_value_t = SchemeArg::Nsga)]
+    pub scheme: SchemeArg,
+    /// Spectral radius at infinity ρ∞ in [0, 1] (NSGA only).
+    #[arg(long, default_value_t = 0.5)]
+    pub rho_inf: f64,
+    /// Constant prox parameter r in kg (the thesis uses 0.3); default: scaled per
+    /// constraint, r = 1/(wᵀM⁻¹w).
+    #[arg(long)]
+    pub prox_r: Option<f64>,
+    /// Print one JSON object on stdout.
+    #[arg(long)]
+    pub json: bool,
+    /// Write the trajectory (CSV), a plot (PNG) and run.json into this directory.
+    #[arg(long)]
+    pub out: Option<PathBuf>,
+}
+
+/// Arguments of `rollstack nsga work-precision`.
+#[derive(Debug, Args)]
+pub struct WorkPrecisionArgs {
+    /// The benchmark: ball (case 2, error of x(1.5 s) in m), oscillator (ω = 2π rad/s,
+    /// phase-plane error √(Δx² + (Δẋ/ω)²) at 1 s in m) or incline (turning at 0.5 rad/s, μ = 0.3, error of x(1.5 s) in m).
+    #[arg(long, value_enum)]
+    pub system: SystemArg,
+    /// Directory for work_precision.csv, work_precision.png and run.json.
+    #[arg(long)]
+    pub out: PathBuf,
+    /// Time steps Δt in s (comma-separated); default depends on the system.
+    #[arg(long)]
+    pub dts: Option<String>,
+    /// Values of ρ∞ for NSGA (comma-separated).
+    #[arg(long, default_value = "0,0.5,0.8,1")]
+    pub rho_inf: String,
+    /// Repetitions per point; the fastest wall time is kept.
+    #[arg(long, default_value_t = 3)]
+    pub repeat: usize,
+    /// Print one JSON object on stdout.
+    #[arg(long)]
+    pub json: bool,
+}
+
+/// Work-precision benchmark systems.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum SystemArg {
+    /// Bouncing ball, case 2.
+    Ball,
+    /// Linear oscillator.
+    Oscillator,
+    /// Block on a turning incline.
+    Incline,
+}
+
+/// Runs `rollstack nsga`.
+///
+/// # Errors
+/// Bad input, a solver failure or an unwritable output directory.
+pub fn run(args: &NsgaArgs) -> Result<()> {
+    match &args.command {
+        NsgaCommand::Ball(a) => ball(a),
+        NsgaCommand::WorkPrecision(a) => work_precision(a),
+    }
+}
+
+#[derive(Debug, Serialize)]
+struct BallJson {
+    case: u8,
+    scheme: &'static str,
+    dt: f64,
+    first_impact_time: Option<f64>,
+    rolling_onset_time: Option<f64>,
+    rest_time: Option<f64>,
+    final_velocity: [f64; 2],
+    min_gap: f64,
+    steps: usize,
+    newton_iterations_mean: f64,
+    wall_time_s: f64,
+    first_impact_time_exact: f64,
+    final_xdot_exact: Option<f64>,
+}
+
+fn ball(a: &BallArgs) -> Result<()> {
+    let dt = require_finite("--dt", a.dt)?;
+    if dt <= 0.0 || dt > 0.1 {
+        bail!("--dt must be in (0, 0.1] s, got {dt}");
+    }
+    if !(0.0..=1.0).contains(&a.rho_inf) {
+        bail!("--rho-inf must be in [0, 1], got {}", a.rho_inf);
+    }
+    let prox = match a.prox_r {
+        Some(r) if !(r.is_finite() && r > 0.0) => bail!("--prox-r must be positive, got {r}"),
+        Some(r) => Prox::Constant(r),
+        None => Prox::Scaled(1.0),
+    };
+    let case = BallCase::new(a.case).map_err(anyhow::Error::msg)?;
+    let scheme: Scheme = a.scheme.into();
+    let r = run_ball(&case, scheme, dt, a.rho_inf, prox)?;
+    // Final rolling velocity from the conserved m ẋ − (Θ/R) φ̇ (cases where it rolls).
+    let final_xdot_exact = r
+        .rolling_onset_time
+        .map(|_| case.ball.rolling_velocity(case.u0[0], case.u0[2]));
+    let out = BallJson {
+        case: a.case,
+        scheme: match scheme {
+            Scheme::Nsga => "nsga",
+            Scheme::Moreau => "moreau",
+        },
+        dt,
+        first_impact_time: r.first_impact_time,
+        rolling_onset_time: r.rolling_onset_time,
+        rest_time: r.rest_time,
+        final_velocity: r.final_velocity,
+        min_gap: r.min_gap,
+        steps: r.steps,
+        newton_iterations_mean: r.newton_iterations_mean,
+        wall_time_s: r.wall_time_s,
+        first_impact_time_exact: case.first_impact_time(),
+        final_xdot_exact,
+    };
+    if let Some(dir) = &a.out {
+        write_ball_files(dir, &r, a)?;
+        write_run_json(
+            dir,
+            "nsga ball",
+            &serde_json::json!({"case": a.case, "dt": dt, "scheme": out.scheme,
+            "rho_inf": a.rho_inf, "prox_r": a.prox_r}),
+            &serde_json::json!({"wall_time_s": r.wall_time_s}),
+        )?;
+    }
+    if a.json {
+        print_json(&out)?;
+    } else {
+        println!(
+            "ball case {} ({}): first impact {:?} s (exact {:.4}), rolling from {:?} s, final (xdot, phidot) = ({:.5}, {:.4}), min gap {:.2e}, {:.2} Newton iterations/step, {:.3} ms",
+            a.case,
+            out.scheme,
+            r.first_impact_time,
+            case.first_impact_time(),
+            r.rolling_onset_time,
+            r.final_velocity[0],
+            r.final_velocity[1],
+            r.min_gap,
+            r.newton_iterations_mean,
+            r.wall_time_s * 1e3
+        );
+    }
+    Ok(())
+}
+
+fn write_ball_files(dir: &Path, r: &BallRun, a: &BallArgs) -> Result<()> {
+    ensure_dir(dir)?;
+    let rows: Vec<Vec<f64>> = r
+        .samples
+        .iter()
+        .map(|s| {
+            vec![
+                s.t,
+                s.q[0],
+                s.q[1],
+                s.q[2],
+                s.u[0],
+                s.u[1],
+                s.u[2],
+                s.p_n,
+                s.iterations as f64,
+            ]
+        })
+        .collect();
+    write_csv_f64(
+        &dir.join("trajectory.csv"),
+        &[
+            "t",
+            "x",
+            "y",
+            "phi",
+            "xdot",
+            "ydot",
+            "phidot",
+            "p_n",
+            "newton_iterations",
+        ],
+        &rows,
+    )?;
+    let pts = |f: &dyn Fn(&nsga::runs::BallSample) -> f64| {
+        r.samples.iter().map(|s| (s.t, f(s))).collect::<Vec<_>>()
+    };
+    LinePlot::new(
+        format!("Bouncing ball, case {}", a.case),
+        "t [s]",
+        "y [m], xdot [m/s], slip [m/s]",
+    )
+    .with(Series::line("y", pts(&|s| s.q[1])))
+    .with(Series::line("xdot", pts(&|s| s.u[0])))
+    .with(Series::line(
+        "slip xdot + R phidot",
+        pts(&|s| s.u[0] + 0.1 * s.u[2]),
+    ))
+    .save(&dir.join("trajectory.png"), (1000, 600))
+}
+
+#[derive(Debug, Serialize)]
+struct WpRow {
+    scheme: String,
+    rho_inf: Option<f64>,
+    dt: f64,
+    error: f64,
+    wall_time_s: f64,
+}
+
+fn work_precision(a: &WorkPrecisionArgs) -> Result<()> {
+    let system = match a.system {
+        SystemArg::Ball => WorkPrecisionSystem::Ball,
+        SystemArg::Oscillator => WorkPrecisionSystem::Oscillator,
+        SystemArg::Incline => WorkPrecisionSystem::Incline,
+    };
+    let dts = match &a.dts {
+        Some(s) => crate::angles::parse_number_list(s).map_err(anyhow::Error::msg)?,
+        None => vec![8e-3, 4e-3, 2e-3, 1e-3, 5e-4, 2.5e-4],
+    };
+    if dts.iter().any(|&d| !(d > 0.0 && d <= 0.1)) {
+        bail!("every --dts value must be in (0, 0.1] s");
+    }
+    let rhos = crate::angles::parse_number_list(&a.rho_inf).map_err(anyhow::Error::msg)?;
+    if rhos.iter().any(|r| !(0.0..=1.0).contains(r)) {
+        bail!("every --rho-inf value must be in [0, 1]");
+    }
+    let repeat = a.repeat.max(1);
+    let mut configs: Vec<(Scheme, Option<f64>)> =
+        rhos.iter().map(|&r| (Scheme::Nsga, Some(r))).collect();
+    configs.push((Scheme::Moreau, None));
+    let mut rows = Vec::new();
+    for &(scheme, rho) in &configs {
+        for &dt in &dts {
+            let mut best = f64::INFINITY;
+            let mut error = f64::NAN;
+            for _ in 0..repeat {
+                let (e, w) = work_precision_point(system, scheme, rho.unwrap_or(0.5), dt)?;
+                error = e;
+                best = best.min(w);
+            }
+            rows.push(WpRow {
+                scheme: match scheme {
+                    Scheme::Nsga => "nsga".into(),
+                    Scheme::Moreau => "moreau".into(),
+                },
+                rho_inf: rho,
+                dt,
+                error,
+                wall_time_s: best,
+            });
+        }
+    }
+    ensure_dir(&a.out)?;
+    write_csv(
+        &a.out.join("work_precision.csv"),
+        &["scheme", "rho_inf", "dt", "error", "wall_time_s"],
+        rows.iter().map(|r| {
+            vec![
+                r.scheme.clone(),
+                r.rho_inf.map_or(String::new(), |x| x.to_string()),
+                r.dt.to_string(),
+                r.error.to_string(),
+                r.wall_time_s.to_string(),
+            ]
+        }),
+    )?;
+    let mut plot = LinePlot::new(
+        format!("Work-precision: {:?}", a.system).to_lowercase(),
+        "wall time [s]",
+        "error [m]",
+    );
+    plot.log = (true, true);
+    for &(scheme, rho) in &configs {
+        let label = rho.map_or("Moreau-Jean".to_owned(), |r| format!("NSGA rho_inf = {r}"));
+        let pts: Vec<(f64, f64)> = rows
+            .iter()
+            .filter(|r| r.rho_inf == rho && (r.scheme == "nsga") == (scheme == Scheme::Nsga))
+            .map(|r| (r.wall_time_s, r.error.max(1e-16)))
+            .collect();
+        plot = plot.with(Series::line(label, pts));
+    }
+    plot.save(&a.out.join("work_precision.png"), (1000, 700))?;
+    write_run_json(
+        &a.out,
+        "nsga work-precision",
+        &serde_json::json!({"system": format!("{:?}", a.system).to_lowercase(), "dts": dts, "rho_inf": rhos, "repeat": repeat}),
+        &serde_json::json!({"total_wall_time_s": rows.iter().map(|r| r.wall_time_s).sum::<f64>()}),
+    )?;
+    if a.json {
+        print_json(&serde_json::json!({"rows": rows, "csv": a.out.join("work_precision.csv")}))?;
+    } else {
+        for r in &rows {
+            println!(
+                "{:>6} rho_inf={:>4} dt={:.1e}: error {:.3e}, {:.3e} s",
+                r.scheme,
+                r.rho_inf.map_or("-".into(), |x| x.to_string()),
+                r.dt,
+                r.error,
+                r.wall_time_s
+            );
+        }
+        println!("wrote {}", a.out.join("work_precision.csv").display());
+    }
+    Ok(())
+}

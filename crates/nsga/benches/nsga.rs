@@ -1,0 +1,130 @@
+//! Criterion benches of the solver core: one step, a whole ball run, step cost against
+//! the size of a chain, and the dense/sparse LU crossover.
+//!
+//! `cargo bench -p nsga --bench nsga -- --quick`
+
+use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
+use nsga::runs::{run_ball, Scheme};
+use nsga::systems::ball::BallCase;
+use nsga::systems::chain::Chain;
+use nsga::{DenseLu, IndexSets, LinearSolver, Options, Prox, SolverChoice, SparseLu, Stepper};
+use std::hint::black_box;
+
+fn one_step(c: &mut Criterion) {
+    let case = BallCase::new(2).unwrap();
+    let mut s = Stepper::new(case.ball, 0.0, &case.q0, &case.u0, Options::default()).unwrap();
+    // Into the sliding phase (impact at 0.43 s, rolling from 0.73 s).
+    s.run(300, |_, _| {}).unwrap();
+    let saved = s.state().clone();
+    c.bench_function("ball_one_step_sliding", |b| {
+        b.iter(|| {
+            s.set_state(saved.clone());
+            black_box(s.step().unwrap().iterations)
+        });
+    });
+}
+
+fn ball_run(c: &mut Criterion) {
+    let mut g = c.benchmark_group("ball_run");
+    for case in [1u8, 2] {
+        let bc = BallCase::new(case).unwrap();
+        g.bench_with_input(BenchmarkId::new("nsga_case", case), &bc, |b, bc| {
+            b.iter(|| {
+                black_box(
+                    run_ball(bc, Scheme::Nsga, 2e-3, 0.5, Prox::Scaled(1.0))
+                        .unwrap()
+                        .min_gap,
+                )
+            });
+        });
+        g.bench_with_input(BenchmarkId::new("moreau_case", case), &bc, |b, bc| {
+            b.iter(|| {
+                black_box(
+                    run_ball(bc, Scheme::Moreau, 2e-3, 0.5, Prox::Scaled(1.0))
+                        .unwrap()
+                        .min_gap,
+                )
+            });
+        });
+    }
+    g.finish();
+}
+
+fn chain_scaling(c: &mut Criterion) {
+    let mut g = c.benchmark_group("chain_step");
+    g.sample_size(10);
+    for n in [10usize, 30, 100, 300, 1000] {
+        let chain = Chain {
+            n,
+            mass: 1.0,
+            height: 0.1,
+            gravity: 9.81,
+            mu: 0.3,
+        };
+        let (q0, u0) = chain.resting(1.0);
+        let mut s = Stepper::new(chain, 0.0, &q0, &u0, Options::default()).unwrap();
+        s.run(2, |_, _| {}).unwrap();
+        // Start Newton from zero unknowns, so that every size iterates (the previous
+        // step's unknowns would already solve this smooth step).
+        let mut saved = s.state().clone();
+        saved.x.iter_mut().for_each(|v| *v = 0.0);
+        g.bench_with_input(BenchmarkId::new("blocks", n), &n, |b, _| {
+            b.iter(|| {
+                s.set_state(saved.clone());
+                black_box(s.step().unwrap().iterations)
+            });
+        });
+    }
+    g.finish();
+}
+
+fn linear_solve(c: &mut Criterion) {
+    let mut g = c.benchmark_group("linear_solve");
+    for n in [2usize, 4, 8, 12, 16, 24, 40] {
+        let chain = Chain {
+            n,
+            mass: 1.0,
+            height: 0.1,
+            gravity: 9.81,
+            mu: 0.3,
+        };
+        let (q0, u0) = chain.resting(1.0);
+        let opts = Options {
+            solver: SolverChoice::Dense,
+            ..Options::default()
+        };
+        let mut s = Stepper::new(chain, 0.0, &q0, &u0, opts).unwrap();
+        let x = s.state().x.clone();
+        let sets: IndexSets = s.sets_of(&x, 0.5);
+        let (r, j) = s.newton_system(&x, &sets, 0.5, true);
+        let size = r.len();
+        let mut trip = Vec::new();
+        for col in 0..size {
+            for row in 0..size {
+                if j[(row, col)] != 0.0 {
+                    trip.push((row, col, j[(row, col)]));
+                }
+            }
+        }
+        let rhs: Vec<f64> = (0..size).map(|i| 1.0 + i as f64 * 1e-3).collect();
+        g.bench_with_input(BenchmarkId::new("dense", size), &size, |b, _| {
+            b.iter(|| {
+                let mut v = rhs.clone();
+                DenseLu.solve(size, &trip, &mut v).unwrap();
+                black_box(v[0])
+            });
+        });
+        let mut sp = SparseLu::default();
+        g.bench_with_input(BenchmarkId::new("sparse", size), &size, |b, _| {
+            b.iter(|| {
+                let mut v = rhs.clone();
+                sp.solve(size, &trip, &mut v).unwrap();
+                black_box(v[0])
+            });
+        });
+    }
+    g.finish();
+}
+
+criterion_group!(benches, one_step, ball_run, chain_scaling, linear_solve);
+criterion_main!(benches);

@@ -1,0 +1,56 @@
+//! Typed errors of the stepper.
+
+use crate::sets::IndexSets;
+use crate::stepper::{State, Trial};
+
+/// Why a step (or the start) failed. Every variant that happens during a run carries
+/// the time and the last good state, from which the run can continue.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum StepError {
+    /// Bad input: sizes, options, non-finite initial values, bad fixed sets.
+    #[error("invalid input: {0}")]
+    InvalidInput(String),
+    /// The consistent start (acceleration-level problem at t0) did not converge.
+    #[error("consistent start at t = {t} failed: {message}")]
+    Start {
+        /// Initial time.
+        t: f64,
+        /// What failed.
+        message: String,
+    },
+    /// Newton did not converge after every retry.
+    #[error("step from t = {t} did not converge (best residual {residual:.3e}, {} index sets visited{})",
+        visited_sets.len(), if *cycling { ", cycling" } else { "" })]
+    NotConverged {
+        /// Time at the start of the failed step.
+        t: f64,
+        /// Smallest residual reached.
+        residual: f64,
+        /// Index sets visited by the Newton iterates.
+        visited_sets: Vec<IndexSets>,
+        /// Whether the sets cycled (a possible branch point, NSGA-SPEC §4).
+        cycling: bool,
+        /// The last good state (the stepper stays there).
+        state: Box<State>,
+        /// The best unconverged iterate of the attempt, if any.
+        best: Option<Box<Trial>>,
+    },
+    /// A residual became NaN or infinite.
+    #[error("non-finite residual in the step from t = {t}")]
+    NonFinite {
+        /// Time at the start of the step.
+        t: f64,
+        /// The last good state.
+        state: Box<State>,
+    },
+    /// The Newton matrix could not be factorised.
+    #[error("linear solve in the step from t = {t}: {message}")]
+    Linear {
+        /// Time at the start of the step.
+        t: f64,
+        /// Solver message.
+        message: String,
+        /// The last good state.
+        state: Box<State>,
+    },
+}

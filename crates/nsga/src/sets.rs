@@ -1,0 +1,70 @@
+//! Index sets of the contact laws (paper eqs. 128–142, NSGA-SPEC §3).
+
+/// The active sets of one step: per normal contact A ⊇ B ⊇ C, per friction law D ⊇ E.
+///
+/// `a[k]`: gap k closed on position level (r g_N − κ̂_N ≤ 0); `b[k]`: closed on
+/// velocity level (r ξ_N − P_N ≤ 0); `c[k]`: closed on acceleration level
+/// (r g̈_N − λ_N ≤ 0); `d[j]`: friction law j sticks on velocity level
+/// (‖r ξ_F − P_F‖ ≤ μ P̂); `e[j]`: sticks on acceleration level (‖r γ̇_F − λ_F‖ ≤ μ λ̂).
+/// A law is *active* when one of its normal contacts is in A.
+#[derive(Debug, Clone, PartialEq, Eq, Hash, Default, serde::Serialize, serde::Deserialize)]
+pub struct IndexSets {
+    /// A: closed gaps (position level), per normal contact.
+    pub a: Vec<bool>,
+    /// B ⊆ A: closed on velocity level, per normal contact.
+    pub b: Vec<bool>,
+    /// C ⊆ B: closed on acceleration level, per normal contact.
+    pub c: Vec<bool>,
+    /// D: sticking on velocity level, per friction law.
+    pub d: Vec<bool>,
+    /// E ⊆ D: sticking on acceleration level, per friction law.
+    pub e: Vec<bool>,
+}
+
+impl IndexSets {
+    /// All sets empty, for `n_normal` contacts and `n_laws` friction laws.
+    #[must_use]
+    pub fn empty(n_normal: usize, n_laws: usize) -> Self {
+        Self {
+            a: vec![false; n_normal],
+            b: vec![false; n_normal],
+            c: vec![false; n_normal],
+            d: vec![false; n_laws],
+            e: vec![false; n_laws],
+        }
+    }
+
+    /// Whether the sizes match and the nesting A ⊇ B ⊇ C, D ⊇ E holds.
+    #[must_use]
+    pub fn is_consistent(&self, n_normal: usize, n_laws: usize) -> bool {
+        self.a.len() == n_normal
+            && self.b.len() == n_normal
+            && self.c.len() == n_normal
+            && self.d.len() == n_laws
+            && self.e.len() == n_laws
+            && (0..n_normal).all(|k| (!self.b[k] || self.a[k]) && (!self.c[k] || self.b[k]))
+            && (0..n_laws).all(|j| !self.e[j] || self.d[j])
+    }
+
+    /// Compact text form, e.g. `A=[0,1] B=[1] C=[] D=[0] E=[]`.
+    #[must_use]
+    pub fn describe(&self) -> String {
+        let f = |v: &[bool]| {
+            let idx: Vec<String> = v
+                .iter()
+                .enumerate()
+                .filter(|(_, &x)| x)
+                .map(|(i, _)| i.to_string())
+                .collect();
+            format!("[{}]", idx.join(","))
+        };
+        format!(
+            "A={} B={} C={} D={} E={}",
+            f(&self.a),
+            f(&self.b),
+            f(&self.c),
+            f(&self.d),
+            f(&self.e)
+        )
+    }
+}

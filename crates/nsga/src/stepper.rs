@@ -1,0 +1,1398 @@
+//! The nonsmooth generalized-α step (NSGA-SPEC §3–4, paper eqs. 71–143).
+
+use crate::error::StepError;
+use crate::linalg::{AutoSolver, DenseLu, LinearSolver, SparseLu, DEFAULT_SPARSE_THRESHOLD};
+use crate::params::GenAlpha;
+use crate::sets::IndexSets;
+use crate::start::consistent_start;
+use crate::system::{Derivatives, Evaluation, Layout, System, Triplets};
+use nalgebra::DMatrix;
+
+mod assemble;
+
+/// How the prox parameter r is chosen (NSGA-SPEC §4).
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
+pub enum Prox {
+    /// r_k = α / (w_kᵀ M⁻¹ w_k) per constraint, α ∈ (0, 2); α = 1 is the default.
+    /// Newton converges only while r·(wᵀM⁻¹w) < 2, whatever the masses and sizes.
+    Scaled(f64),
+    /// One constant r for every constraint (the thesis and paper use 0.3).
+    Constant(f64),
+}
+
+/// Which linear solver the Newton iteration uses.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+pub enum SolverChoice {
+    /// Dense LU up to the given number of unknowns, sparse LU above.
+    Auto(usize),
+    /// Always dense LU (nalgebra).
+    Dense,
+    /// Always sparse LU (faer).
+    Sparse,
+}
+
+/// What to do when a step fails after every retry.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+pub enum FailurePolicy {
+    /// Return [`StepError::NotConverged`]; the stepper stays at the last good state.
+    Error,
+    /// Accept the iterate with the smallest residual, mark the step not converged and go on.
+    AcceptBest,
+}
+
+/// Options of the stepper.
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct Options {
+    /// Time step Δt > 0.
+    pub dt: f64,
+    /// Spectral radius at infinity ρ∞ ∈ [0, 1] (eq. 72); 0.5 in the thesis.
+    pub rho_inf: f64,
+    /// Prox parameter choice.
+    pub prox: Prox,
+    /// Newton tolerance on ‖R‖∞, rows scaled to impulse units (thesis 1e-10).
+    pub tol: f64,
+    /// Maximum Newton iterations per attempt.
+    pub max_iter: usize,
+    /// Other ρ∞ values tried, in order, when a step does not converge (thesis §4.2).
+    pub rho_inf_retries: Vec<f64>,
+    /// Re-solve with fixed index sets when the sets cycle (branch exploration).
+    pub explore_branches: bool,
+    /// Linear solver.
+    pub solver: SolverChoice,
+    /// What to do when every retry fails.
+    pub on_failure: FailurePolicy,
+    /// Gap and gap-rate tolerance deciding which contacts are closed at t0 (§5).
+    pub start_tol: f64,
+    /// Leave out of the linear solve the normal contacts (and their friction laws) that
+    /// are open, carry no force and cannot close within the step
+    /// (g_N > 2Δt|ġ_N| + Δt²|g̈_N|); the step is redone in full if one of them closes.
+    pub prune_open_contacts: bool,
+}
+
+impl Default for Options {
+    fn default() -> Self {
+        Self {
+            dt: 2e-3,
+            rho_inf: 0.5,
+            prox: Prox::Scaled(1.0),
+            tol: 1e-10,
+            max_iter: 40,
+            rho_inf_retries: vec![0.8, 0.2, 1.0, 0.0],
+            explore_branches: true,
+            solver: SolverChoice::Auto(DEFAULT_SPARSE_THRESHOLD),
+            on_failure: FailurePolicy::Error,
+            start_tol: 1e-9,
+            prune_open_contacts: false,
+        }
+    }
+}
+
+impl Options {
+    /// Checks the options.
+    ///
+    /// # Errors
+    /// [`StepError::InvalidInput`] naming the bad option.
+    pub fn validate(&self) -> Result<(), StepError> {
+        let bad = |m: String| Err(StepError::InvalidInput(m));
+        if !(self.dt > 0.0 && self.dt.is_finite()) {
+            return bad(format!("dt = {} must be positive and finite", self.dt));
+        }
+        if !(0.0..=1.0).contains(&self.rho_inf) {
+            return bad(format!("rho_inf = {} must be in [0, 1]", self.rho_inf));
+        }
+        if self
+            .rho_inf_retries
+            .iter()
+            .any(|r| !(0.0..=1.0).contains(r))
+        {
+            return bad("every retry rho_inf must be in [0, 1]".into());
+        }
+        match self.prox {
+            Prox::Scaled(a) if !(a > 0.0 && a < 2.0) => {
+                return bad(format!("scaled prox alpha = {a} must be in (0, 2)"));
+            }
+            Prox::Constant(r) if !(r > 0.0 && r.is_finite()) => {
+                return bad(format!("prox r = {r} must be positive"));
+            }
+            _ => {}
+        }
+        if self.tol.is_nan() || self.tol <= 0.0 || self.max_iter == 0 {
+            return bad("tol must be > 0 and max_iter >= 1".into());
+        }
+        Ok(())
+    }
+}
+
+/// The state carried from step to step (NSGA-SPEC §3 "Carried over").
+#[derive(Debug, Clone, Default, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct State {
+    /// Step counter k (t = t0 + k Δt, ERRATA 20).
+    pub k: u64,
+    /// Time t_k.
+    pub t: f64,
+    /// Coordinates q.
+    pub q: Vec<f64>,
+    /// Velocities u.
+    pub u: Vec<f64>,
+    /// Smooth acceleration a.
+    pub a: Vec<f64>,
+    /// Auxiliary acceleration ā.
+    pub a_bar: Vec<f64>,
+    /// Normal contact forces λ_N.
+    pub lambda_n: Vec<f64>,
+    /// Auxiliary λ̄_N.
+    pub lambda_n_bar: Vec<f64>,
+    /// Friction forces λ_F.
+    pub lambda_f: Vec<f64>,
+    /// Auxiliary λ̄_F.
+    pub lambda_f_bar: Vec<f64>,
+    /// Normal percussions P_N of the last step (eq. 95).
+    pub p_n: Vec<f64>,
+    /// Friction percussions P_F of the last step.
+    pub p_f: Vec<f64>,
+    /// The last step's unknowns x (eq. 126), the next Newton start.
+    pub x: Vec<f64>,
+}
+
+/// A branch point: several self-consistent solutions of one step (NSGA-SPEC §4, ERRATA 22).
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct BranchPoint {
+    /// Time t_n at the start of the step.
+    pub t: f64,
+    /// Distinct converged continuations (deduplicated by state), each with the sets it
+    /// was solved with.
+    pub candidates: Vec<(IndexSets, State)>,
+    /// How many fixed-set re-solves were tried.
+    pub tried: usize,
+    /// Index of the candidate the stepper continued with (the first, in the order the
+    /// sets were first visited by the failed Newton iteration).
+    pub chosen: usize,
+}
+
+/// Statistics of one step.
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct StepStats {
+    /// Time t_{n+1} at the end of the step.
+    pub t: f64,
+    /// Newton iterations (linear solves) of the accepted attempt.
+    pub iterations: usize,
+    /// Final ‖R‖∞ (scaled rows).
+    pub residual: f64,
+    /// ρ∞ of the accepted attempt.
+    pub rho_inf: f64,
+    /// Index sets of the accepted solution.
+    pub sets: IndexSets,
+    /// Failed attempts before the accepted one.
+    pub retries: usize,
+    /// Whether Newton converged (false only with [`FailurePolicy::AcceptBest`]).
+    pub converged: bool,
+    /// Set when the step was resolved by fixed-set re-solves.
+    pub branch: Option<BranchPoint>,
+    /// Linear solver used ("dense" or "sparse").
+    pub solver: String,
+}
+
+/// Accumulated statistics of a run.
+#[derive(Debug, Clone, Default, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct RunStats {
+    /// Steps taken.
+    pub steps: u64,
+    /// Sum of Newton iterations.
+    pub newton_iterations: u64,
+    /// Largest Newton iteration count of a step.
+    pub max_iterations: usize,
+    /// Steps that needed a retry (another ρ∞ or fixed sets).
+    pub retried_steps: u64,
+    /// Steps accepted without convergence.
+    pub unconverged_steps: u64,
+    /// Branch points met (steps with more than one distinct candidate).
+    pub branch_points: u64,
+}
+
+impl RunStats {
+    /// Mean Newton iterations per step.
+    #[must_use]
+    pub fn mean_iterations(&self) -> f64 {
+        if self.steps == 0 {
+            0.0
+        } else {
+            self.newton_iterations as f64 / self.steps as f64
+        }
+    }
+}
+
+/// The result of solving one step without committing it (see [`Stepper::trial`]).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Trial {
+    /// The state at t_{n+1}.
+    pub state: State,
+    /// Statistics of the solve.
+    pub stats: StepStats,
+    /// Sets visited by the Newton iterates, in first-visit order.
+    pub visited: Vec<IndexSets>,
+    /// Whether the visited sets cycled in the last iterations (a branch-point sign).
+    pub cycling: bool,
+}
+
+/// Sizes and offsets of the unknown vector x (eq. 126).
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Offsets {
+    pub nu: usize,
+    pub nq: usize,
+    pub ng: usize,
+    pub nga: usize,
+    pub nn: usize,
+    pub nf: usize,
+    pub a: usize,
+    pub uu: usize,
+    pub qq: usize,
+    pub kg: usize,
+    pub cg: usize,
+    pub lg: usize,
+    pub cga: usize,
+    pub lga: usize,
+    pub kn: usize,
+    pub cn: usize,
+    pub ln: usize,
+    pub cf: usize,
+    pub lf: usize,
+    pub n: usize,
+}
+
+impl Offsets {
+    pub(crate) fn new(l: &Layout) -> Self {
+        let (nu, ng, nga, nn, nf) = (
+            l.nu,
+            l.n_bilateral_position,
+            l.n_bilateral_velocity,
+            l.n_normal(),
+            l.n_friction(),
+        );
+        let a = 0;
+        let uu = nu;
+        let qq = 2 * nu;
+        let kg = 3 * nu;
+        let cg = kg + ng;
+        let lg = cg + ng;
+        let cga = lg + ng;
+        let lga = cga + nga;
+        let kn = lga + nga;
+        let cn = kn + nn;
+        let ln = cn + nn;
+        let cf = ln + nn;
+        let lf = cf + nf;
+        let n = lf + nf;
+        Self {
+            nu,
+            nq: l.nq,
+            ng,
+            nga,
+            nn,
+            nf,
+            a,
+            uu,
+            qq,
+            kg,
+            cg,
+            lg,
+            cga,
+            lga,
+            kn,
+            cn,
+            ln,
+            cf,
+            lf,
+            n,
+        }
+    }
+}
+
+/// Rows of a sparse matrix over the columns of x, compressed by row.
+#[derive(Debug, Clone, Default)]
+pub(crate) struct RowMat {
+    ptr: Vec<usize>,
+    idx: Vec<usize>,
+    val: Vec<f64>,
+    fill: Vec<usize>,
+    pub tmp: Vec<(usize, usize, f64)>,
+}
+
+impl RowMat {
+    /// Compresses `tmp` (row, col, value) into rows 0..nrows.
+    pub(crate) fn build(&mut self, nrows: usize) {
+        self.ptr.clear();
+        self.ptr.resize(nrows + 1, 0);
+        for &(r, _, _) in &self.tmp {
+            self.ptr[r + 1] += 1;
+        }
+        for i in 0..nrows {
+            self.ptr[i + 1] += self.ptr[i];
+        }
+        self.idx.resize(self.tmp.len(), 0);
+        self.val.resize(self.tmp.len(), 0.0);
+        self.fill.clone_from(&self.ptr);
+        for &(r, c, v) in &self.tmp {
+            self.idx[self.fill[r]] = c;
+            self.val[self.fill[r]] = v;
+            self.fill[r] += 1;
+        }
+        self.tmp.clear();
+    }
+    pub(crate) fn row(&self, r: usize) -> impl Iterator<Item = (usize, f64)> + '_ {
+        (self.ptr[r]..self.ptr[r + 1]).map(move |i| (self.idx[i], self.val[i]))
+    }
+}
+
+/// Pushes `scale · D · B` into `out` rows, with `D` given in q-columns, placing the
+/// result in the a-block (× c_qa) and the Q-block (× 1): ∂q_{n+1}/∂a = Δt²βα_r B,
+/// ∂q_{n+1}/∂Q = B (NSGA-SPEC §4).
+pub(crate) fn push_q_derivative(
+    out: &mut Vec<(usize, usize, f64)>,
+    d: &Triplets<f64>,
+    b: &RowMat,
+    row_off: usize,
+    scale: f64,
+    cols: &[(usize, f64)],
+) {
+    for &(r, j, v) in &d.entries {
+        for (i, bij) in b.row(j) {
+            for &(off, c) in cols {
+                out.push((row_off + r, off + i, scale * c * v * bij));
+            }
+        }
+    }
+}
+
+/// Pushes `scale · D` (D in u-columns, or transposed W when `transpose`) into the
+/// column blocks `cols` (offset, factor).
+pub(crate) fn push_u_derivative(
+    out: &mut Vec<(usize, usize, f64)>,
+    d: &Triplets<f64>,
+    transpose: bool,
+    row_off: usize,
+    scale: f64,
+    cols: &[(usize, f64)],
+) {
+    for &(r0, c0, v) in &d.entries {
+        let (r, c) = if transpose { (c0, r0) } else { (r0, c0) };
+        for &(off, f) in cols {
+            out.push((row_off + r, off + c, scale * f * v));
+        }
+    }
+}
+
+/// Euclidean norm of a short slice.
+pub(crate) fn norm(v: &[f64]) -> f64 {
+    v.iter().map(|x| x * x).sum::<f64>().sqrt()
+}
+
+/// Per-constraint prox parameters r for position- and velocity-level constraints
+/// and friction laws (NSGA-SPEC §4): r_k = α/(w_kᵀ M⁻¹ w_k), or a constant.
+pub(crate) fn prox_parameters(
+    prox: Prox,
+    layout: &Layout,
+    eval: &Evaluation<f64>,
+    r_pos: &mut Vec<f64>,
+    r_vel: &mut Vec<f64>,
+    r_law: &mut Vec<f64>,
+) {
+    let (np, nv) = (layout.n_position(), layout.n_velocity());
+    r_pos.clear();
+    r_vel.clear();
+    r_law.clear();
+    let alpha = match prox {
+        Prox::Constant(r) => {
+            r_pos.resize(np, r);
+            r_vel.resize(nv, r);
+            r_law.resize(layout.friction.len(), r);
+            return;
+        }
+        Prox::Scaled(a) => a,
+    };
+    let nu = layout.nu;
+    // wᵀM⁻¹w: exact through a dense factorisation for small systems, Jacobi (diagonal
+    // of M) for large ones, exact for the block-diagonal masses of rigid bodies with
+    // diagonal inertia.
+    let mut quad_pos = vec![0.0; np];
+    let mut quad_vel = vec![0.0; nv];
+    let columns = |w: &Triplets<f64>, n: usize| {
+        let mut cols: Vec<Vec<(usize, f64)>> = vec![Vec::new(); n];
+        for &(r, c, v) in &w.entries {
+            cols[c].push((r, v));
+        }
+        cols
+    };
+    let cp = columns(&eval.position_w, np);
+    let cv = columns(&eval.velocity_w, nv);
+    if nu <= 60 {
+        let mut m = DMatrix::<f64>::zeros(nu, nu);
+        for &(r, c, v) in &eval.mass.entries {
+            m[(r, c)] += v;
+        }
+        if let Some(minv) = m.try_inverse() {
+            let quad = |col: &[(usize, f64)]| {
+                let mut s = 0.0;
+                for &(i, wi) in col {
+                    for &(j, wj) in col {
+                        s += wi * minv[(i, j)] * wj;
+                    }
+                }
+                s
+            };
+            for (k, c) in cp.iter().enumerate() {
+                quad_pos[k] = quad(c);
+            }
+            for (k, c) in cv.iter().enumerate() {
+                quad_vel[k] = quad(c);
+            }
+        }
+    } else {
+        let mut diag = vec![0.0; nu];
+        for &(r, c, v) in &eval.mass.entries {
+            if r == c {
+                diag[r] += v;
+            }
+        }
+        let quad = |col: &[(usize, f64)]| {
+            col.iter()
+                .map(|&(i, w)| if diag[i] > 0.0 { w * w / diag[i] } else { 0.0 })
+                .sum::<f64>()
+        };
+        for (k, c) in cp.iter().enumerate() {
+            quad_pos[k] = quad(c);
+        }
+        for (k, c) in cv.iter().enumerate() {
+            quad_vel[k] = quad(c);
+        }
+    }
+    let r_of = |w: f64| {
+        if w > 1e-300 && w.is_finite() {
+            alpha / w
+        } else {
+            alpha
+        }
+    };
+    r_pos.extend(quad_pos.iter().map(|&w| r_of(w)));
+    r_vel.extend(quad_vel.iter().map(|&w| r_of(w)));
+    let ngam = layout.n_bilateral_velocity;
+    for (law, f0) in layout.friction.iter().zip(layout.friction_offsets()) {
+        let off = ngam + f0;
+        let w = (0..law.components)
+            .map(|m| quad_vel[off + m])
+            .fold(0.0, f64::max);
+        r_law.push(r_of(w));
+    }
+}
+
+/// The nonsmooth generalized-α stepper for one system.
+#[derive(Debug)]
+pub struct Stepper<S: System> {
+    system: S,
+    layout: Layout,
+    off: Offsets,
+    options: Options,
+    state: State,
+    stats: RunStats,
+    last: Option<StepStats>,
+    work: Work,
+    law_off: Vec<usize>,
+    comp_ef: Vec<f64>,
+    /// (t, k) from which the time grid t_k is counted.
+    time_base: (f64, u64),
+}
+
+#[derive(Debug)]
+struct Work {
+    eval: Evaluation<f64>,
+    der: Derivatives,
+    bt: Triplets<f64>,
+    b: RowMat,
+    bdot_u: Vec<f64>,
+    jac: Vec<(usize, usize, f64)>,
+    jac_red: Vec<(usize, usize, f64)>,
+    rhs_red: Vec<f64>,
+    res: Vec<f64>,
+    dx: Vec<f64>,
+    // Derivative rows over x: p, ξ_p, p̈, ξ_v, v, v̇.
+    dg: RowMat,
+    dxp: RowMat,
+    dap: RowMat,
+    dxv: RowMat,
+    dgv: RowMat,
+    dav: RowMat,
+    r_pos: Vec<f64>,
+    r_vel: Vec<f64>,
+    r_law: Vec<f64>,
+    it: Iterate,
+    solver: Box<dyn LinearSolver>,
+}
+
+/// Quantities derived from x at one Newton iterate (eqs. 71, 73, 125, 95, 102, 113).
+#[derive(Debug, Clone, Default)]
+struct Iterate {
+    q1: Vec<f64>,
+    u1: Vec<f64>,
+    a_bar1: Vec<f64>,
+    lbar_n1: Vec<f64>,
+    p_n: Vec<f64>,
+    kappa_hat: Vec<f64>,
+    lbar_f1: Vec<f64>,
+    p_f: Vec<f64>,
+    // evaluated
+    p: Vec<f64>,
+    xi_p: Vec<f64>,
+    acc_p: Vec<f64>,
+    xi_v: Vec<f64>,
+    v: Vec<f64>,
+    acc_v: Vec<f64>,
+    // scratch: ṗ at u_{n+1} and u_n, v at u_n
+    rate_new: Vec<f64>,
+    rate_old: Vec<f64>,
+    v_old: Vec<f64>,
+    // multipliers reassembled per family, for the probes
+    lam_p: Vec<f64>,
+    lam_v: Vec<f64>,
+    cap_p: Vec<f64>,
+    cap_v: Vec<f64>,
+    kap_p: Vec<f64>,
+    half_cap_v: Vec<f64>,
+}
+
+impl<S: System> Stepper<S> {
+    /// A stepper at t0 = `t0`, q0, u0, with consistent initial accelerations and forces
+    /// (NSGA-SPEC §5).
+    ///
+    /// # Errors
+    /// [`StepError::InvalidInput`] for bad sizes, options or non-finite input;
+    /// [`StepError::Start`] when the acceleration-level start problem has no solution.
+    pub fn new(
+        system: S,
+        t0: f64,
+        q0: &[f64],
+        u0: &[f64],
+        options: Options,
+    ) -> Result<Self, StepError> {
+        options.validate()?;
+        let layout = system.layout();
+        layout.validate().map_err(StepError::InvalidInput)?;
+        if q0.len() != layout.nq || u0.len() != layout.nu {
+            return Err(StepError::InvalidInput(format!(
+                "q0 has {} entries and u0 {}, the system needs {} and {}",
+                q0.len(),
+                u0.len(),
+                layout.nq,
+                layout.nu
+            )));
+        }
+        if !t0.is_finite() || q0.iter().chain(u0).any(|x| !x.is_finite()) {
+            return Err(StepError::InvalidInput(
+                "t0, q0 and u0 must be finite".into(),
+            ));
+        }
+        let off = Offsets::new(&layout);
+        let solver: Box<dyn LinearSolver> = match options.solver {
+            SolverChoice::Auto(t) => Box::new(AutoSolver::new(t)),
+            SolverChoice::Dense => Box::new(DenseLu),
+            SolverChoice::Sparse => Box::new(SparseLu::default()),
+        };
+        let start = consistent_start(
+            &system,
+            &layout,
+            t0,
+            q0,
+            u0,
+            options.prox,
+            options.start_tol,
+            options.max_iter,
+        )?;
+        let mut x = vec![0.0; off.n];
+        x[off.a..off.a + off.nu].copy_from_slice(&start.a);
+        x[off.lg..off.lg + off.ng].copy_from_slice(&start.lambda_g);
+        x[off.lga..off.lga + off.nga].copy_from_slice(&start.lambda_gamma);
+        x[off.ln..off.ln + off.nn].copy_from_slice(&start.lambda_n);
+        x[off.lf..off.lf + off.nf].copy_from_slice(&start.lambda_f);
+        let state = State {
+            k: 0,
+            t: t0,
+            q: q0.to_vec(),
+            u: u0.to_vec(),
+            a: start.a.clone(),
+            a_bar: start.a,
+            lambda_n: start.lambda_n.clone(),
+            lambda_n_bar: start.lambda_n,
+            lambda_f: start.lambda_f.clone(),
+            lambda_f_bar: start.lambda_f,
+            p_n: vec![0.0; off.nn],
+            p_f: vec![0.0; off.nf],
+            x,
+        };
+        let work = Work {
+            eval: Evaluation::new(&layout),
+            der: Derivatives::default(),
+            bt: Triplets::default(),
+            b: RowMat::default(),
+            bdot_u: vec![0.0; layout.nq],
+            jac: Vec::new(),
+            jac_red: Vec::new(),
+            rhs_red: Vec::new(),
+            res: vec![0.0; off.n],
+            dx: vec![0.0; off.n],
+            dg: RowMat::default(),
+            dxp: RowMat::default(),
+            dap: RowMat::default(),
+            dxv: RowMat::default(),
+            dgv: RowMat::default(),
+            dav: RowMat::default(),
+            r_pos: Vec::new(),
+            r_vel: Vec::new(),
+            r_law: Vec::new(),
+            it: Iterate::default(),
+            solver,
+        };
+        let law_off = layout.friction_offsets();
+        let comp_ef = layout.friction_restitution();
+        Ok(Self {
+            system,
+            layout,
+            off,
+            options,
+            state,
+            stats: RunStats::default(),
+            last: None,
+            work,
+            law_off,
+            comp_ef,
+            time_base: (t0, 0),
+        })
+    }
+
+    /// The system.
+    pub fn system(&self) -> &S {
+        &self.system
+    }
+    /// The system, mutably (to change parameters between steps; the layout must not
+    /// change).
+    pub fn system_mut(&mut self) -> &mut S {
+        &mut self.system
+    }
+    /// The layout of the system.
+    pub fn layout(&self) -> &Layout {
+        &self.layout
+    }
+    /// The current (last accepted) state.
+    pub fn state(&self) -> &State {
+        &self.state
+    }
+    /// Replaces the state (to continue from a saved state or follow another branch).
+    pub fn set_state(&mut self, state: State) {
+        self.time_base = (state.t, state.k);
+        self.state = state;
+    }
+    /// The options.
+    pub fn options(&self) -> &Options {
+        &self.options
+    }
+    /// Changes the options (for example Δt or the prox parameter) mid-run.
+    ///
+    /// # Errors
+    /// [`StepError::InvalidInput`] when they are invalid; nothing changes then.
+    pub fn set_options(&mut self, options: Options) -> Result<(), StepError> {
+        options.validate()?;
+        if options.dt != self.options.dt {
+            self.time_base = (self.state.t, self.state.k);
+        }
+        self.options = options;
+        Ok(())
+    }
+    /// Accumulated statistics.
+    pub fn run_stats(&self) -> &RunStats {
+        &self.stats
+    }
+    /// Statistics (including the index sets) of the last accepted step.
+    pub fn last_step(&self) -> Option<&StepStats> {
+        self.last.as_ref()
+    }
+    /// Number of unknowns per step (eq. 126).
+    pub fn n_unknowns(&self) -> usize {
+        self.off.n
+    }
+
+    /// Solves the step from the current state with ρ∞ = `rho_inf`, computing the index
+    /// sets at each Newton iterate, or keeping `fixed` sets throughout. Nothing is
+    /// committed: pass the result to [`Stepper::commit`] to advance.
+    ///
+    /// # Errors
+    /// [`StepError::NotConverged`] (carrying the best iterate's residual, the sets
+    /// visited and the current state), [`StepError::NonFinite`], [`StepError::Linear`].
+    pub fn trial(&mut self, fixed: Option<&IndexSets>, rho_inf: f64) -> Result<Trial, StepError> {
+        if let Some(s) = fixed {
+            if !s.is_consistent(self.off.nn, self.layout.friction.len()) {
+                return Err(StepError::InvalidInput(
+                    "fixed index sets have wrong sizes or break A ⊇ B ⊇ C, D ⊇ E".into(),
+                ));
+            }
+        }
+        self.solve(fixed, rho_inf, self.state.x.clone())
+    }
+
+    /// Commits a trial: the stepper advances to its state.
+    pub fn commit(&mut self, trial: Trial) {
+        self.stats.steps += 1;
+        self.stats.newton_iterations += trial.stats.iterations as u64;
+        self.stats.max_iterations = self.stats.max_iterations.max(trial.stats.iterations);
+        if trial.stats.retries > 0 {
+            self.stats.retried_steps += 1;
+        }
+        if !trial.stats.converged {
+            self.stats.unconverged_steps += 1;
+        }
+        if trial
+            .stats
+            .branch
+            .as_ref()
+            .is_some_and(|b| b.candidates.len() > 1)
+        {
+            self.stats.branch_points += 1;
+        }
+        self.state = trial.state;
+        self.last = Some(trial.stats);
+    }
+
+    /// Re-solves the current step with the index sets fixed by the caller and commits it
+    /// when it converges. Returns the statistics; `stats.sets` are the fixed sets.
+    ///
+    /// # Errors
+    /// As [`Stepper::trial`].
+    pub fn step_with_sets(&mut self, sets: &IndexSets) -> Result<&StepStats, StepError> {
+        let trial = self.trial(Some(sets), self.options.rho_inf)?;
+        self.commit(trial);
+        Ok(self.last.as_ref().expect("just committed"))
+    }
+
+    /// One step with the robustness policy of thesis §4.2: solve with the default ρ∞;
+    /// on failure retry with each of `rho_inf_retries`; if the sets cycled, re-solve
+    /// once per distinct set seen with the sets fixed, keep the self-consistent
+    /// candidates, deduplicate them by state and continue with the first (reported as a
+    /// [`BranchPoint`] in the step statistics); otherwise fail or accept the best
+    /// iterate per [`Options::on_failure`].
+    ///
+    /// # Errors
+    /// [`StepError::NotConverged`] carrying t and the last good state; the stepper
+    /// stays at that state, so the run can continue from it (for example after
+    /// changing the options).
+    pub fn step(&mut self) -> Result<&StepStats, StepError> {
+        let rho0 = self.options.rho_inf;
+        let first = self.solve(None, rho0, self.state.x.clone());
+        let (visited, cycling, best) = match first {
+            Ok(t) => {
+                self.commit(t);
+                return Ok(self.last.as_ref().expect("just committed"));
+            }
+            Err(StepError::NotConverged {
+                visited_sets,
+                cycling,
+                best,
+                ..
+            }) => (visited_sets, cycling, best),
+            // A singular Newton matrix or a non-finite iterate is retried like a
+            // non-converged step; only invalid input stops at once.
+            Err(e @ StepError::InvalidInput(_)) => return Err(e),
+            Err(_) => (Vec::new(), false, None),
+        };
+        let mut retries = 1;
+        let mut best = best;
+        for rho in self.options.rho_inf_retries.clone() {
+            match self.solve(None, rho, self.state.x.clone()) {
+                Ok(mut t) => {
+                    t.stats.retries = retries;
+                    self.commit(t);
+                    return Ok(self.last.as_ref().expect("just committed"));
+                }
+                Err(StepError::NotConverged { best: b, .. }) => {
+                    if b.as_ref().map_or(f64::INFINITY, |t| t.stats.residual)
+                        < best.as_ref().map_or(f64::INFINITY, |t| t.stats.residual)
+                    {
+                        best = b;
+                    }
+                }
+                Err(e @ StepError::InvalidInput(_)) => return Err(e),
+                Err(_) => {}
+            }
+            retries += 1;
+        }
+        if cycling && self.options.explore_branches {
+            let mut candidates: Vec<(IndexSets, State)> = Vec::new();
+            let mut first_trial: Option<Trial> = None;
+            for sets in &visited {
+                let Ok(t) = self.solve(Some(sets), rho0, self.state.x.clone()) else {
+                    continue;
+                };
+                // Self-consistency: the sets recomputed from the converged x.
+                let recomputed = self.sets_of(&t.state.x, rho0);
+                if &recomputed != sets {
+                    continue;
+                }
+                let scale = 1.0 + norm(&t.state.q) + norm(&t.state.u);
+                let duplicate = candidates.iter().any(|(_, s)| {
+                    let dq: f64 =
+                        s.q.iter()
+                            .zip(&t.state.q)
+                            .map(|(a, b)| (a - b).powi(2))
+                            .sum();
+                    let du: f64 =
+                        s.u.iter()
+                            .zip(&t.state.u)
+                            .map(|(a, b)| (a - b).powi(2))
+                            .sum();
+                    (dq + du).sqrt() <= 1e-8 * scale
+                });
+                if !duplicate {
+                    candidates.push((sets.clone(), t.state.clone()));
+                    if first_trial.is_none() {
+                        first_trial = Some(t);
+                    }
+                }
+            }
+            if let Some(mut t) = first_trial {
+                t.stats.retries = retries;
+                t.stats.branch = Some(BranchPoint {
+                    t: self.state.t,
+                    candidates,
+                    tried: visited.len(),
+                    chosen: 0,
+                });
+                self.commit(t);
+                return Ok(self.last.as_ref().expect("just committed"));
+            }
+        }
+        if self.options.on_failure == FailurePolicy::AcceptBest {
+            if let Some(mut t) = best.take().map(|b| *b) {
+                if t.state.q.iter().chain(&t.state.u).all(|x| x.is_finite()) {
+                    t.stats.retries = retries;
+                    t.stats.converged = false;
+                    self.commit(t);
+                    return Ok(self.last.as_ref().expect("just committed"));
+                }
+            }
+        }
+        Err(StepError::NotConverged {
+            t: self.state.t,
+            residual: best.as_ref().map_or(f64::INFINITY, |b| b.stats.residual),
+            visited_sets: visited,
+            cycling,
+            state: Box::new(self.state.clone()),
+            best: None,
+        })
+    }
+
+    /// Runs `n` steps, calling `observe` after each accepted one.
+    ///
+    /// # Errors
+    /// The first step error.
+    pub fn run(
+        &mut self,
+        n: usize,
+        mut observe: impl FnMut(&State, &StepStats),
+    ) -> Result<(), StepError> {
+        for _ in 0..n {
+            self.step()?;
+            let s = self.last.as_ref().expect("step committed");
+            observe(&self.state, s);
+        }
+        Ok(())
+    }
+
+    /// The index sets the contact laws give at unknowns `x` (no Newton update).
+    pub fn sets_of(&mut self, x: &[f64], rho_inf: f64) -> IndexSets {
+        let p = GenAlpha::new(rho_inf);
+        self.prepare_step();
+        self.derive(x, &p);
+        self.evaluate_iterate(true);
+        self.finish_accelerations(x);
+        self.compute_sets(x)
+    }
+
+    /// Test oracle hook: the scaled residual R(x) and the semismooth Jacobian ∂R/∂x
+    /// (dense) for fixed sets. `update_prox` recomputes the prox parameters from this x
+    /// (keep it false when finite-differencing, so that r stays fixed).
+    #[doc(hidden)]
+    pub fn newton_system(
+        &mut self,
+        x: &[f64],
+        sets: &IndexSets,
+        rho_inf: f64,
+        update_prox: bool,
+    ) -> (Vec<f64>, DMatrix<f64>) {
+        let p = GenAlpha::new(rho_inf);
+        self.prepare_step();
+        self.derive(x, &p);
+        self.evaluate_iterate(update_prox);
+        self.finish_accelerations(x);
+        self.residual(x, sets, &p);
+        self.jacobian(x, sets, &p);
+        let n = self.off.n;
+        let mut j = DMatrix::zeros(n, n);
+        for &(r, c, v) in &self.work.jac {
+            j[(r, c)] += v;
+        }
+        (self.work.res.clone(), j)
+    }
+
+    // ---------------------------------------------------------------- internals
+
+    /// B(q_n) and Ḃu at the start of the step.
+    fn prepare_step(&mut self) {
+        let w = &mut self.work;
+        let st = &self.state;
+        w.bt.clear();
+        self.system.kinematics(st.t, &st.q, &mut w.bt);
+        w.b.tmp.clear();
+        w.b.tmp.extend(w.bt.entries.iter().copied());
+        w.b.build(self.off.nq);
+        w.bdot_u.iter_mut().for_each(|x| *x = 0.0);
+        self.system
+            .kinematics_rate(st.t, &st.q, &st.u, &mut w.bdot_u);
+    }
+
+    /// Kinematic updates (eqs. 71, 73, 125, 95, 96, 102, 113, 114).
+    fn derive(&mut self, x: &[f64], p: &GenAlpha) {
+        let o = self.off;
+        let st = &self.state;
+        let dt = self.options.dt;
+        let it = &mut self.work.it;
+        let b = &self.work.b;
+        it.a_bar1.clear();
+        it.u1.clear();
+        for i in 0..o.nu {
+            let ab = p.bar(st.a[i], x[o.a + i], st.a_bar[i]);
+            it.a_bar1.push(ab);
+            it.u1
+                .push(st.u[i] + dt * ((1.0 - p.gamma) * st.a_bar[i] + p.gamma * ab) + x[o.uu + i]);
+        }
+        it.q1.clear();
+        for j in 0..o.nq {
+            // q_{n+1} = q_n + Δt B u_n + ½Δt²(B a_β + Ḃu_n) + B Q   (eq. 125, second order)
+            let mut bu = 0.0;
+            let mut ba = 0.0;
+            let mut bq = 0.0;
+            for (i, bij) in b.row(j) {
+                bu += bij * st.u[i];
+                let a_beta = (1.0 - 2.0 * p.beta) * st.a_bar[i] + 2.0 * p.beta * it.a_bar1[i];
+                ba += bij * a_beta;
+                bq += bij * x[o.qq + i];
+            }
+            it.q1
+                .push(st.q[j] + dt * bu + 0.5 * dt * dt * (ba + self.work.bdot_u[j]) + bq);
+        }
+        it.lbar_n1.clear();
+        it.p_n.clear();
+        it.kappa_hat.clear();
+        for k in 0..o.nn {
+            let lb = p.bar(st.lambda_n[k], x[o.ln + k], st.lambda_n_bar[k]);
+            it.lbar_n1.push(lb);
+            it.p_n
+                .push(x[o.cn + k] + dt * ((1.0 - p.gamma) * st.lambda_n_bar[k] + p.gamma * lb));
+            it.kappa_hat
+                .push(x[o.kn + k] + dt * dt * ((0.5 - p.beta) * st.lambda_n_bar[k] + p.beta * lb));
+        }
+        it.lbar_f1.clear();
+        it.p_f.clear();
+        for c in 0..o.nf {
+            let lb = p.bar(st.lambda_f[c], x[o.lf + c], st.lambda_f_bar[c]);
+            it.lbar_f1.push(lb);
+            it.p_f
+                .push(x[o.cf + c] + dt * ((1.0 - p.gamma) * st.lambda_f_bar[c] + p.gamma * lb));
+        }
+        // Multipliers per family, for the smooth rows and the derivative probes.
+        let fam = |v: &mut Vec<f64>, first: &[f64], second: &[f64]| {
+            v.clear();
+            v.extend_from_slice(first);
+            v.extend_from_slice(second);
+        };
+        fam(&mut it.lam_p, &x[o.lg..o.lg + o.ng], &x[o.ln..o.ln + o.nn]);
+        fam(
+            &mut it.lam_v,
+            &x[o.lga..o.lga + o.nga],
+            &x[o.lf..o.lf + o.nf],
+        );
+        fam(&mut it.cap_p, &x[o.cg..o.cg + o.ng], &x[o.cn..o.cn + o.nn]);
+        fam(
+            &mut it.cap_v,
+            &x[o.cga..o.cga + o.nga],
+            &x[o.cf..o.cf + o.nf],
+        );
+        fam(&mut it.kap_p, &x[o.kg..o.kg + o.ng], &x[o.kn..o.kn + o.nn]);
+        it.half_cap_v.clear();
+        it.half_cap_v.extend(it.cap_v.iter().map(|c| 0.5 * dt * c));
+    }
+
+    /// Evaluates the system at (t_{n+1}, q_{n+1}, u_{n+1}) and the constraint levels.
+    fn evaluate_iterate(&mut self, update_prox: bool) {
+        let t1 = self.t_next();
+        let w = &mut self.work;
+        w.eval.reset();
+        self.system.evaluate(t1, &w.it.q1, &w.it.u1, &mut w.eval);
+        if update_prox {
+            prox_parameters(
+                self.options.prox,
+                &self.layout,
+                &w.eval,
+                &mut w.r_pos,
+                &mut w.r_vel,
+                &mut w.r_law,
+            );
+        }
+        let l = &self.layout;
+        let (np, nv, ng, nga) = (
+            l.n_position(),
+            l.n_velocity(),
+            l.n_bilateral_position,
+            l.n_bilateral_velocity,
+        );
+        let e = &w.eval;
+        let it = &mut w.it;
+        let u0 = &self.state.u;
+        // ṗ(q1,u1), ṗ(q1,u_n), p̈ = W_pᵀa + ζ_p (buffers reused: no allocation per iterate)
+        it.rate_new.clone_from(&e.position_chi);
+        it.rate_old.clone_from(&e.position_chi);
+        for &(r, c, v) in &e.position_w.entries {
+            it.rate_new[c] += v * it.u1[r];
+            it.rate_old[c] += v * u0[r];
+        }
+        it.p.clone_from(&e.position);
+        it.xi_p.clear();
+        for k in 0..np {
+            let en = if k < ng { 0.0 } else { l.e_n[k - ng] };
+            it.xi_p.push(it.rate_new[k] + en * it.rate_old[k]);
+        }
+        // velocity level
+        it.v.clone_from(&e.velocity_chi);
+        it.v_old.clone_from(&e.velocity_chi);
+        for &(r, c, v) in &e.velocity_w.entries {
+            it.v[c] += v * it.u1[r];
+            it.v_old[c] += v * u0[r];
+        }
+        it.xi_v.clear();
+        for k in 0..nv {
+            let ef = if k < nga { 0.0 } else { self.comp_ef[k - nga] };
+            it.xi_v.push(it.v[k] + ef * it.v_old[k]);
+        }
+        it.acc_p.clone_from(&e.position_zeta);
+        it.acc_v.clone_from(&e.velocity_zeta);
+    }
+
+    /// Adds W_pᵀ a and W_vᵀ a to the acceleration levels (needs x).
+    fn finish_accelerations(&mut self, x: &[f64]) {
+        let o = self.off;
+        let w = &mut self.work;
+        for &(r, c, v) in &w.eval.position_w.entries {
+            w.it.acc_p[c] += v * x[o.a + r];
+        }
+        for &(r, c, v) in &w.eval.velocity_w.entries {
+            w.it.acc_v[c] += v * x[o.a + r];
+        }
+    }
+
+    /// t_{n+1} = t_base + (k + 1 − k_base) Δt: the integrator's own time grid, not an
+    /// accumulated sum (ERRATA 20).
+    fn t_next(&self) -> f64 {
+        let (t_base, k_base) = self.time_base;
+        t_base + (self.state.k + 1 - k_base) as f64 * self.options.dt
+    }
+
+    /// Index sets from the current iterate (eqs. 128–142).
+    fn compute_sets(&mut self, x: &[f64]) -> IndexSets {
+        let o = self.off;
+        let l = &self.layout;
+        let w = &self.work;
+        let it = &w.it;
+        let mut s = IndexSets::empty(o.nn, l.friction.len());
+        for k in 0..o.nn {
+            let pk = o.ng + k;
+            let r = w.r_pos[pk];
+            s.a[k] = r * it.p[pk] - it.kappa_hat[k] <= 0.0;
+            s.b[k] = s.a[k] && r * it.xi_p[pk] - it.p_n[k] <= 0.0;
+            s.c[k] = s.b[k] && r * it.acc_p[pk] - x[o.ln + k] <= 0.0;
+        }
+        for (j, law) in l.friction.iter().enumerate() {
+            let active = law.normals.iter().any(|&k| s.a[k]);
+            if !active {
+                continue;
+            }
+            let f0 = self.law_off[j];
+            let r = w.r_law[j];
+            let p_hat: f64 = law.normals.iter().map(|&k| it.p_n[k]).sum::<f64>().max(0.0);
+            let l_hat: f64 = law
+                .normals
+                .iter()
+                .map(|&k| x[o.ln + k])
+                .sum::<f64>()
+                .max(0.0);
+            let mut nd = 0.0;
+            let mut ne = 0.0;
+            for m in 0..law.components {
+                let c = f0 + m;
+                let vc = o.nga + c;
+                nd += (r * it.xi_v[vc] - it.p_f[c]).powi(2);
+                ne += (r * it.acc_v[vc] - x[o.lf + c]).powi(2);
+            }
+            s.d[j] = nd.sqrt() <= law.mu * p_hat;
+            s.e[j] = s.d[j] && ne.sqrt() <= law.mu * l_hat;
+        }
+        s
+    }
+
+    /// One Newton solve of the step (eq. 143), with the open contacts pruned when the
+    /// option asks for it.
+    fn solve(
+        &mut self,
+        fixed: Option<&IndexSets>,
+        rho_inf: f64,
+        x: Vec<f64>,
+    ) -> Result<Trial, StepError> {
+        let allow = self.options.prune_open_contacts && fixed.is_none();
+        self.solve_inner(fixed, rho_inf, x, allow)
+    }
+
+    /// Marks the unknowns of contacts that are open, force-free and cannot close within
+    /// the step, sets them to zero in `x`, and returns the map full → reduced index
+    /// (`usize::MAX` for pruned) and the reduced size; None when nothing is pruned.
+    fn open_contacts(&mut self, x: &mut [f64]) -> Option<(Vec<usize>, usize)> {
+        let o = self.off;
+        let dt = self.options.dt;
+        let st = &self.state;
+        let w = &mut self.work;
+        w.eval.reset();
+        self.system.evaluate(st.t, &st.q, &st.u, &mut w.eval);
+        let e = &w.eval;
+        let mut rate = e.position_chi.clone();
+        let mut acc = e.position_zeta.clone();
+        for &(r, c, v) in &e.position_w.entries {
+            rate[c] += v * st.u[r];
+            acc[c] += v * st.a[r];
+        }
+        let mut pruned_n = vec![false; o.nn];
+        for (k, pr) in pruned_n.iter_mut().enumerate() {
+            let pk = o.ng + k;
+            let margin = 2.0 * dt * rate[pk].abs() + dt * dt * acc[pk].abs();
+            *pr = e.position[pk] > margin
+                && e.position[pk] > 0.0
+                && st.lambda_n[k] == 0.0
+                && st.lambda_n_bar[k] == 0.0;
+        }
+        if !pruned_n.iter().any(|&b| b) {
+            return None;
+        }
+        let mut map = vec![0usize; o.n];
+        let prune_unknown = |i: usize, map: &mut Vec<usize>, x: &mut [f64]| {
+            map[i] = usize::MAX;
+            x[i] = 0.0;
+        };
+        for (k, &pr) in pruned_n.iter().enumerate() {
+            if pr {
+                for base in [o.kn, o.cn, o.ln] {
+                    prune_unknown(base + k, &mut map, x);
+                }
+            }
+        }
+        for (j, law) in self.layout.friction.iter().enumerate() {
+            let f0 = self.law_off[j];
+            let quiet = (0..law.components)
+                .all(|m| st.lambda_f[f0 + m] == 0.0 && st.lambda_f_bar[f0 + m] == 0.0);
+            if quiet && law.normals.iter().all(|&k| pruned_n[k]) {
+                for m in 0..law.components {
+                    prune_unknown(o.cf + f0 + m, &mut map, x);
+                    prune_unknown(o.lf + f0 + m, &mut map, x);
+                }
+            }
+        }
+        let mut n_red = 0;
+        for m in &mut map {
+            if *m != usize::MAX {
+                *m = n_red;
+                n_red += 1;
+            }
+        }
+        Some((map, n_red))
+    }
+
+    /// One Newton solve of the step (eq. 143).
+    fn solve_inner(
+        &mut self,
+        fixed: Option<&IndexSets>,
+        rho_inf: f64,
+        mut x: Vec<f64>,
+        allow_prune: bool,
+    ) -> Result<Trial, StepError> {
+        let x_start = if allow_prune { Some(x.clone()) } else { None };
+        let prune = if allow_prune {
+            self.open_contacts(&mut x)
+        } else {
+            None
+        };
+        let p = GenAlpha::new(rho_inf);
+        let o = self.off;
+        let tol = self.options.tol;
+        let max_iter = self.options.max_iter;
+        self.prepare_step();
+        let mut visited: Vec<IndexSets> = Vec::new();
+        let mut history: Vec<usize> = Vec::new();
+        // Best iterate so far: (residual, iteration, visited-set id) and its x.
+        let mut best: Option<(f64, usize, usize)> = None;
+        let mut best_x: Vec<f64> = Vec::new();
+        for iter in 0..=max_iter {
+            self.derive(&x, &p);
+            self.evaluate_iterate(iter == 0);
+            self.finish_accelerations(&x);
+            let sets = match fixed {
+                Some(s) => s.clone(),
+                None => self.compute_sets(&x),
+            };
+            let id = match visited.iter().position(|v| v == &sets) {
+                Some(i) => i,
+                None => {
+                    visited.push(sets.clone());
+                    visited.len() - 1
+                }
+            };
+            history.push(id);
+            self.residual(&x, &sets, &p);
+            let res = self.work.res.iter().fold(0.0_f64, |m, r| m.max(r.abs()));
+            if !res.is_finite() {
+                return Err(StepError::NonFinite {
+                    t: self.state.t,
+                    state: Box::new(self.state.clone()),
+                });
+            }
+            if let (Some((map, _)), Some(x0)) = (&prune, &x_start) {
+                // A pruned contact closes at this iterate after all: redo the step in full.
+                if (0..o.nn).any(|k| map[o.kn + k] == usize::MAX && sets.a[k]) {
+                    return self.solve_inner(fixed, rho_inf, x0.clone(), false);
+                }
+            }
+            if res <= tol {
+                return Ok(self.make_trial(x, sets, iter, res, p.rho_inf, true, visited, false));
+            }
+            if best.as_ref().is_none_or(|b| res < b.0) {
+                best = Some((res, iter, id));
+                best_x.clear();
+                best_x.extend_from_slice(&x);
+            }
+            if iter == max_iter {
+                break;
+            }
+            self.jacobian(&x, &sets, &p);
+            let w = &mut self.work;
+            w.dx.iter_mut().zip(&w.res).for_each(|(d, r)| *d = -r);
+            let solved = if let Some((map, n_red)) = &prune {
+                // Reduced system without the pruned unknowns (their rows and updates are 0).
+                w.jac_red.clear();
+                w.jac_red.extend(
+                    w.jac
+                        .iter()
+                        .filter(|&&(r, c, _)| map[r] != usize::MAX && map[c] != usize::MAX)
+                        .map(|&(r, c, v)| (map[r], map[c], v)),
+                );
+                w.rhs_red.clear();
+                w.rhs_red.resize(*n_red, 0.0);
+                for (i, &m) in map.iter().enumerate() {
+                    if m != usize::MAX {
+                        w.rhs_red[m] = w.dx[i];
+                    }
+                }
+                let out = w.solver.solve(*n_red, &w.jac_red, &mut w.rhs_red);
+                for (i, &m) in map.iter().enumerate() {
+                    w.dx[i] = if m == usize::MAX { 0.0 } else { w.rhs_red[m] };
+                }
+                out
+            } else {
+                w.solver.solve(o.n, &w.jac, &mut w.dx)
+            };
+            solved.map_err(|e| StepError::Linear {
+                t: self.state.t,
+                message: e.0,
+                state: Box::new(self.state.clone()),
+            })?;
+            for (xi, d) in x.iter_mut().zip(&self.work.dx) {
+                *xi += d;
+            }
+        }
+        // Cycling: more than one distinct set among the last half of the iterates.
+        let tail = &history[history.len().saturating_sub(1) / 2..];
+        let cycling = fixed.is_none() && tail.iter().any(|&i| i != tail[0]);
+        let best_trial = best.map(|(res, biter, bid)| {
+            // Re-derive the best iterate's state.
+            self.derive(&best_x, &p);
+            let bsets = visited[bid].clone();
+            Box::new(self.make_trial(
+                best_x,
+                bsets,
+                biter,
+                res,
+                p.rho_inf,
+                false,
+                Vec::new(),
+                cycling,
+            ))
+        });
+        Err(StepError::NotConverged {
+            t: self.state.t,
+            residual: best_trial
+                .as_ref()
+                .map_or(f64::INFINITY, |b| b.stats.residual),
+            visited_sets: visited,
+            cycling,
+            state: Box::new(self.state.clone()),
+            best: best_trial,
+        })
+    }
+
+    #[allow(clippy::fn_params_excessive_bools)]
+    fn make_trial(
+        &mut self,
+        x: Vec<f64>,
+        sets: IndexSets,
+        iterations: usize,
+        residual: f64,
+        rho_inf: f64,
+        converged: bool,
+        visited: Vec<IndexSets>,
+        cycling: bool,
+    ) -> Trial {
+        let o = self.off;
+        let it = &self.work.it;
+        let st = &self.state;
+        let state = State {
+            k: st.k + 1,
+            t: self.t_next(),
+            q: it.q1.clone(),
+            u: it.u1.clone(),
+            a: x[o.a..o.a + o.nu].to_vec(),
+            a_bar: it.a_bar1.clone(),
+            lambda_n: x[o.ln..o.ln + o.nn].to_vec(),
+            lambda_n_bar: it.lbar_n1.clone(),
+            lambda_f: x[o.lf..o.lf + o.nf].to_vec(),
+            lambda_f_bar: it.lbar_f1.clone(),
+            p_n: it.p_n.clone(),
+            p_f: it.p_f.clone(),
+            x,
+        };
+        let stats = StepStats {
+            t: state.t,
+            iterations,
+            residual,
+            rho_inf,
+            sets,
+            retries: 0,
+            converged,
+            branch: None,
+            solver: self.work.solver.name().to_owned(),
+        };
+        Trial {
+            state,
+            stats,
+            visited,
+            cycling,
+        }
+    }
+}
