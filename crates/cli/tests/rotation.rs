@@ -181,3 +181,19 @@ fn tour_writes_the_rotation_section() {
     assert_eq!(csv.lines().count(), 13);
     std::fs::remove_dir_all(dir).unwrap();
 }
+
+#[test]
+fn a_closed_stdout_is_not_a_panic() {
+    use std::process::{Command, Stdio};
+    let mut child = Command::new(env!("CARGO_BIN_EXE_rollstack"))
+        .args(["rotation", "--from", "axis-angle", "--values", "0,0,1,1"])
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    // Close the read end before the child writes.
+    drop(child.stdout.take());
+    let out = child.wait_with_output().unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(!err.contains("panicked"), "{err}");
+}
