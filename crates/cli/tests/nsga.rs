@@ -1,23 +1,8 @@
 //! `rollstack nsga`: JSON keys of DESIGN.md and the analytic ball answers.
 
-use std::process::Command;
+mod common;
 
-fn rollstack(args: &[&str]) -> std::process::Output {
-    Command::new(env!("CARGO_BIN_EXE_rollstack"))
-        .args(args)
-        .output()
-        .expect("runs")
-}
-
-fn ball_json(args: &[&str]) -> serde_json::Value {
-    let out = rollstack(args);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    serde_json::from_slice(&out.stdout).expect("one JSON object")
-}
+use common::{json as ball_json, rollstack};
 
 #[test]
 fn ball_json_has_design_keys_and_exact_answers() {
@@ -70,7 +55,7 @@ fn ball_rejects_bad_input() {
 
 #[test]
 fn work_precision_writes_csv_png_and_run_json() {
-    let dir = std::env::temp_dir().join(format!("rollstack-nsga-wp-{}", std::process::id()));
+    let dir = common::temp_dir("nsga-wp");
     let out = rollstack(&[
         "nsga",
         "work-precision",
