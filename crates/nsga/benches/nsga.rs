@@ -54,13 +54,7 @@ fn chain_scaling(c: &mut Criterion) {
     let mut g = c.benchmark_group("chain_step");
     g.sample_size(10);
     for n in [10usize, 30, 100, 300, 1000] {
-        let chain = Chain {
-            n,
-            mass: 1.0,
-            height: 0.1,
-            gravity: 9.81,
-            mu: 0.3,
-        };
+        let chain = Chain::benchmark(n);
         let (q0, u0) = chain.resting(1.0);
         let mut s = Stepper::new(chain, 0.0, &q0, &u0, Options::default()).unwrap();
         s.run(2, |_, _| {}).unwrap();
@@ -81,13 +75,7 @@ fn chain_scaling(c: &mut Criterion) {
 fn linear_solve(c: &mut Criterion) {
     let mut g = c.benchmark_group("linear_solve");
     for n in [2usize, 4, 8, 12, 16, 24, 40] {
-        let chain = Chain {
-            n,
-            mass: 1.0,
-            height: 0.1,
-            gravity: 9.81,
-            mu: 0.3,
-        };
+        let chain = Chain::benchmark(n);
         let (q0, u0) = chain.resting(1.0);
         let opts = Options {
             solver: SolverChoice::Dense,

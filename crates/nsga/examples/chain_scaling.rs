@@ -15,13 +15,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             {
                 continue;
             }
-            let chain = Chain {
-                n,
-                mass: 1.0,
-                height: 0.1,
-                gravity: 9.81,
-                mu: 0.3,
-            };
+            let chain = Chain::benchmark(n);
             let (q0, u0) = chain.resting(1.0);
             let mut s = Stepper::new(
                 chain,
@@ -60,13 +54,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     // Open contacts left out of the linear solve: a spread stack falling together.
     for n in [100usize, 1000] {
         for prune in [false, true] {
-            let chain = Chain {
-                n,
-                mass: 1.0,
-                height: 0.1,
-                gravity: 9.81,
-                mu: 0.3,
-            };
+            let chain = Chain::benchmark(n);
             let (q0, u0) = chain.spread(0.05, 1.0);
             let opts = Options {
                 prune_open_contacts: prune,

@@ -442,13 +442,7 @@ fn ball_case_2_position_converges_to_closed_form() {
 
 #[test]
 fn pruning_open_contacts_changes_nothing() {
-    let chain = Chain {
-        n: 20,
-        mass: 1.0,
-        height: 0.1,
-        gravity: 9.81,
-        mu: 0.3,
-    };
+    let chain = Chain::benchmark(20);
     let (q0, mut u0) = chain.spread(0.02, 0.5);
     // Block 5 is thrown down onto block 4: its pruned gap closes after about 10 steps,
     // which forces a full re-solve of that step.

@@ -25,6 +25,19 @@ pub struct Chain {
 }
 
 impl Chain {
+    /// The chain of the benchmarks, tests and examples: n unit masses of height 0.1,
+    /// g = 9.81, μ = 0.3.
+    #[must_use]
+    pub fn benchmark(n: usize) -> Self {
+        Self {
+            n,
+            mass: 1.0,
+            height: 0.1,
+            gravity: 9.81,
+            mu: 0.3,
+        }
+    }
+
     /// The resting stack, the top block sliding at `v_top`.
     #[must_use]
     pub fn resting(&self, v_top: f64) -> (Vec<f64>, Vec<f64>) {
@@ -36,9 +49,7 @@ impl Chain {
         u[2 * (self.n - 1)] = v_top;
         (q, u)
     }
-}
 
-impl Chain {
     /// The stack with an open gap `gap` above every block (the bottom one on the
     /// ground), at rest, the top block sliding at `v_top`: all blocks fall together, so
     /// every gap but the ground contact stays open.
