@@ -31,6 +31,18 @@ pub struct BallSample {
     pub iterations: usize,
 }
 
+impl BallSample {
+    fn new(t: f64, q: &[f64], u: &[f64], p_n: f64, iterations: usize) -> Self {
+        Self {
+            t,
+            q: [q[0], q[1], q[2]],
+            u: [u[0], u[1], u[2]],
+            p_n,
+            iterations,
+        }
+    }
+}
+
 /// Headline numbers of a ball run (the keys of `rollstack nsga ball --json`).
 #[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct BallRun {
@@ -96,13 +108,7 @@ pub fn run_ball(
                 let it = s.step()?.iterations;
                 total_iter += it;
                 let st = s.state();
-                samples.push(BallSample {
-                    t: st.t,
-                    q: [st.q[0], st.q[1], st.q[2]],
-                    u: [st.u[0], st.u[1], st.u[2]],
-                    p_n: st.p_n[0],
-                    iterations: it,
-                });
+                samples.push(BallSample::new(st.t, &st.q, &st.u, st.p_n[0], it));
             }
         }
         Scheme::Moreau => {
@@ -116,13 +122,7 @@ pub fn run_ball(
                 let it = s.step()?;
                 total_iter += it;
                 let st = s.state();
-                samples.push(BallSample {
-                    t: st.t,
-                    q: [st.q[0], st.q[1], st.q[2]],
-                    u: [st.u[0], st.u[1], st.u[2]],
-                    p_n: st.p_n[0],
-                    iterations: it,
-                });
+                samples.push(BallSample::new(st.t, &st.q, &st.u, st.p_n[0], it));
             }
         }
     }
