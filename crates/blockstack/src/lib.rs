@@ -12,7 +12,14 @@
 //!   shaken column, the sliding column);
 //! - [`Scene::contacts`]: all gaps and slips in the block coordinates, what a stepper
 //!   evaluates per iterate;
-//! - [`painleve`]: Painlevé's paradoxes for one block (App. I, ERRATA 18).
+//! - [`painleve`]: Painlevé's paradoxes for one block (App. I, ERRATA 18);
+//! - [`system`]: the scene as an nsga `System` ([`StackSystem`]: q = (x, y, θ) per block,
+//!   q̇ = u, diagonal mass, gravity, the gaps and slips of App. G with the base motion in
+//!   χ and ζ, one friction law per interface bounded by μ(λ_N1 + λ_N2), App. H), with
+//!   exact sparse derivatives whose cost is linear in the number of blocks;
+//! - [`simulation`]: [`simulate`] runs a scene with the nonsmooth generalized-α stepper
+//!   (consistent start of §4.3, failure and opening times of §4.4, energy, branch points
+//!   of NSGA-SPEC §4 / ERRATA 22) and returns a [`RunSummary`].
 //!
 //! ```
 //! use blockstack::scenarios::{lire, Perturbation};
@@ -28,6 +35,13 @@
 //! }
 //! // The top block's centre of mass sits at the right edge of the block below it.
 //! assert!((q[9] - (q[6] + 0.5)).abs() < 1e-15);
+//!
+//! // Unperturbed, it is an equilibrium: one second of simulation leaves it in place.
+//! let options = blockstack::RunOptions { t_end: Some(1.0), ..Default::default() };
+//! let summary = blockstack::simulate(&scene, &options, |_record| {})?;
+//! assert_eq!(summary.steps, 100);
+//! assert!((summary.final_poses[3].x - q[9]).abs() < 1e-9);
+//! assert!(summary.failure_time.is_none() && summary.error.is_none());
 //! # Ok::<(), blockstack::BlockError>(())
 //! ```
 #![warn(missing_docs)]
@@ -45,8 +59,10 @@ pub mod painleve;
 pub mod scenarios;
 pub mod scene;
 pub mod scene_file;
+pub mod simulation;
 pub mod slip;
 pub mod stack;
+pub mod system;
 
 pub use base::{Base, BaseKinematics, BaseMotion, CubicSpline};
 pub use block::Block;
@@ -58,5 +74,10 @@ pub use gaps::{CornerOnFace, Face, PairRow};
 pub use interface::{GapCase, Interface, InterfaceContacts, InterfaceGap, Size, Support};
 pub use scene::{ContactParams, Prox, Scene, SolverParams};
 pub use scene_file::SceneFile;
+pub use simulation::{
+    simulate, BlockPose, BlockstackError, BranchRecord, InterfaceForce, RunOptions, RunSummary,
+    StepRecord,
+};
 pub use slip::{slip_direction, LowerBody};
 pub use stack::{ContactRow, FrictionLaw, SparseColumn, StackContacts};
+pub use system::StackSystem;

@@ -211,6 +211,33 @@ pub fn sliding_column(blocks: usize, v0: f64, t_end: f64) -> Result<Scene, Block
     )
 }
 
+/// A column of n identical blocks w = 0.2, h = 0.4, m = 1 at rest on a fixed base
+/// (w = 1, h = 0.1), μ = 0.2, no floor, Δt = 0.01: the accuracy and size-scaling test
+/// of a chain (every block touches only its neighbours).
+///
+/// # Errors
+/// Only for n = 0.
+pub fn resting_column(blocks: usize, t_end: f64) -> Result<Scene, BlockError> {
+    let base = Base::new(1.0, 0.1, BaseMotion::Fixed)?;
+    let block = Block::new(0.2, 0.4, 1.0)?;
+    let stacked = stack_on(&base, &vec![(block, 0.0, 0.0); blocks])?;
+    let solver = SolverParams {
+        t_end,
+        ..SolverParams::default()
+    };
+    Scene::new(
+        base,
+        stacked,
+        None,
+        ContactParams {
+            mu: 0.2,
+            e_n: 0.0,
+            e_f: 0.0,
+        },
+        solver,
+    )
+}
+
 /// The thesis's constant prox parameter r = 0.3 (§4.2), for reproducing its runs.
 pub const THESIS_PROX: Prox = Prox::Constant(0.3);
 

@@ -47,17 +47,10 @@ impl ContactParams {
     }
 }
 
-/// The prox parameter r of the contact laws (NSGA-SPEC §4).
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub enum Prox {
-    /// Scaled per constraint, r_k = α / (w_kᵀ M⁻¹ w_k), α ∈ (0, 2).
-    Scaled {
-        /// α.
-        alpha: f64,
-    },
-    /// One constant r for every constraint (the thesis: r = 0.3).
-    Constant(f64),
-}
+/// The prox parameter r of the contact laws (NSGA-SPEC §4): nsga's own choice,
+/// `Prox::Scaled(α)` (r_k = α/(w_kᵀM⁻¹w_k), α ∈ (0, 2)) or `Prox::Constant(r)` (the
+/// thesis: r = 0.3).
+pub use nsga::Prox;
 
 /// Parameters of the time integration (§4.2 "Simulation Parameters").
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -84,7 +77,7 @@ impl Default for SolverParams {
             dt: 0.01,
             t_end: 10.0,
             rho_inf: 0.5,
-            prox: Prox::Scaled { alpha: 1.0 },
+            prox: Prox::Scaled(1.0),
             tol: 1e-10,
             gravity: 1.0,
         }
@@ -112,7 +105,7 @@ impl SolverParams {
             Prox::Constant(r) => {
                 positive("r", r)?;
             }
-            Prox::Scaled { alpha } => {
+            Prox::Scaled(alpha) => {
                 positive("r_alpha", alpha)?;
                 if alpha >= 2.0 {
                     return Err(BlockError::OutOfRange {

@@ -307,9 +307,7 @@ impl SceneFile {
             dt: s.dt,
             t_end: s.t_end,
             rho_inf: s.rho_inf,
-            prox: s
-                .r
-                .map_or(Prox::Scaled { alpha: s.r_alpha }, Prox::Constant),
+            prox: s.r.map_or(Prox::Scaled(s.r_alpha), Prox::Constant),
             tol: s.tol,
             gravity: s.gravity,
         };
@@ -379,7 +377,7 @@ mu = 0.2
         assert_eq!(s.n_blocks(), 4);
         assert!((s.blocks()[3].initial.y - (0.05 + 1.4)).abs() < 1e-12);
         assert_eq!(s.floor().map(|f| f.y), Some(-0.05));
-        assert_eq!(s.solver.prox, Prox::Scaled { alpha: 1.0 });
+        assert_eq!(s.solver.prox, Prox::Scaled(1.0));
     }
 
     fn err(text: &str) -> String {

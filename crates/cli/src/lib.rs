@@ -36,7 +36,7 @@ pub enum Command {
     Sphere(commands::sphere::SphereArgs),
     /// The nonsmooth generalized-α solver core: bouncing ball, work-precision (Capobianco 2021).
     Nsga(commands::nsga::NsgaArgs),
-    /// A stack of blocks on a driven base (Ch. 4, App. G–I): Painlevé analysis.
+    /// A stack of blocks on a driven base (Ch. 4, App. G–I): simulations, sweeps, Painlevé analysis.
     Blocks(commands::blocks::BlocksArgs),
     /// Inclined rolling cylinders (Ch. 3, App. D–F): support forces, holonomy, Frobenius test.
     Cylinder(commands::cylinder::CylinderArgs),

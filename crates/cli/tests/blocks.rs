@@ -1,9 +1,12 @@
 //! `rollstack blocks …` end to end: JSON keys of DESIGN.md, the thesis's numbers
-//! (corrected by ERRATA 18), output files, and clean errors on bad input.
+//! (corrected by ERRATA 18), output files (progressive trajectory, sweeps in input
+//! order), and clean errors on bad input. Runs are short (t_end ≤ 1, few sweep points).
 
 mod common;
 
-use common::{json, rollstack};
+use common::{json, rollstack, run, temp_dir};
+use serde_json::Value;
+use std::path::Path;
 
 #[test]
 fn painleve_json_has_the_design_keys_and_the_thesis_numbers() {
@@ -86,4 +89,417 @@ fn painleve_rejects_bad_input_with_one_line() {
     let out = rollstack(&["blocks", "painleve", "--aspect", "nan", "--json"]);
     assert!(!out.status.success());
     assert!(out.stdout.is_empty());
+}
+
+/// The DESIGN.md keys of `blocks run` / `blocks lire`, then the documented extras.
+const RUN_KEYS: [&str; 6] = [
+    "steps",
+    "failure_time",
+    "final",
+    "min_gap",
+    "newton_iterations_mean",
+    "wall_time_s",
+];
+const RUN_EXTRAS: [&str; 5] = [
+    "opening_time",
+    "failed_steps",
+    "branch_points",
+    "max_energy_increase",
+    "error",
+];
+
+fn f(v: &Value) -> f64 {
+    v.as_f64().unwrap_or_else(|| panic!("{v} is not a number"))
+}
+
+fn read_csv(path: &Path) -> (Vec<String>, Vec<Vec<String>>) {
+    let mut r = csv::Reader::from_path(path).unwrap();
+    let header = r.headers().unwrap().iter().map(str::to_owned).collect();
+    let rows = r
+        .records()
+        .map(|rec| rec.unwrap().iter().map(str::to_owned).collect())
+        .collect();
+    (header, rows)
+}
+
+#[test]
+fn lire_unperturbed_stays_put_with_the_design_keys() {
+    let v = json(&[
+        "blocks",
+        "lire",
+        "--blocks",
+        "4",
+        "--perturb",
+        "none",
+        "--t-end",
+        "1",
+        "--json",
+    ]);
+    for key in RUN_KEYS.iter().chain(&RUN_EXTRAS) {
+        assert!(v.get(key).is_some(), "missing {key}");
+    }
+    // t_end = 1 with Δt = 0.01.
+    assert_eq!(v["steps"].as_u64(), Some(100));
+    assert!(v["failure_time"].is_null());
+    assert!(v["error"].is_null());
+    assert!(f(&v["min_gap"]) > -1e-8);
+    assert!(f(&v["newton_iterations_mean"]) >= 0.0);
+    assert!(f(&v["wall_time_s"]) >= 0.0);
+    assert!(f(&v["max_energy_increase"]) <= 1e-12);
+    // An unstable equilibrium, but it holds for 1 s: final poses = initial to 1e-6.
+    let q0 = blockstack::scenarios::lire(4, blockstack::scenarios::Perturbation::None)
+        .unwrap()
+        .initial_coordinates();
+    let fin = v["final"].as_array().unwrap();
+    assert_eq!(fin.len(), 4);
+    for (k, p) in fin.iter().enumerate() {
+        for (i, key) in ["x", "y", "theta"].iter().enumerate() {
+            let d = (f(&p[key]) - q0[3 * k + i]).abs();
+            assert!(d < 1e-6, "block {} {key} moved by {d}", k + 1);
+        }
+    }
+}
+
+#[test]
+fn lire_out_writes_a_row_per_step_and_the_figures() {
+    let dir = temp_dir("blocks-lire-out");
+    let d = dir.to_str().unwrap();
+    let v = json(&[
+        "blocks",
+        "lire",
+        "--perturb",
+        "top",
+        "--t-end",
+        "0.3",
+        "--out",
+        d,
+        "--json",
+    ]);
+    let steps = usize::try_from(v["steps"].as_u64().unwrap()).unwrap();
+    let text = std::fs::read_to_string(dir.join("trajectory.csv")).unwrap();
+    let mut lines = text.lines();
+    let mut expected = vec!["t".to_owned()];
+    for k in 1..=4 {
+        expected.extend([format!("x{k}"), format!("y{k}"), format!("theta{k}")]);
+    }
+    for k in 1..=4 {
+        expected.extend([format!("n{k}a"), format!("n{k}b"), format!("f{k}")]);
+    }
+    expected.extend(["base_x", "min_gap", "newton_iterations", "energy"].map(String::from));
+    assert_eq!(lines.next().unwrap(), expected.join(","));
+    let rows: Vec<Vec<f64>> = lines
+        .map(|l| {
+            l.split(',')
+                .map(|c| c.parse::<f64>().expect("a number"))
+                .collect()
+        })
+        .collect();
+    // One row per step plus the initial state, all finite, times increasing from 0.
+    assert_eq!(rows.len(), steps + 1);
+    assert!(rows.iter().all(|r| r.len() == expected.len()));
+    assert!(rows.iter().flatten().all(|x| x.is_finite()));
+    assert_eq!(rows[0][0], 0.0);
+    assert!(rows.windows(2).all(|w| w[1][0] > w[0][0]));
+    // The consistent start (§4.3): the base carries the weight of the four blocks
+    // (g = 1, m = 1) less m·ÿ of the top block, which starts to tip over its edge.
+    let n1 = rows[0][13] + rows[0][14];
+    assert!(n1 > 3.9 && n1 < 4.0, "{:?}", &rows[0][13..15]);
+    let bp = std::fs::read_to_string(dir.join("branch_points.csv")).unwrap();
+    assert_eq!(bp.lines().next(), Some("t,candidates,distinct"));
+    for png in [
+        "snapshot_t0.png",
+        "snapshot_t5.png",
+        "snapshot_t6.4.png",
+        "top_block.png",
+    ] {
+        let bytes = std::fs::read(dir.join(png)).unwrap();
+        assert_eq!(&bytes[1..4], b"PNG", "{png}");
+    }
+    let gif = std::fs::read(dir.join("animation.gif")).unwrap();
+    assert_eq!(&gif[..3], b"GIF");
+    let run: Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("run.json")).unwrap()).unwrap();
+    assert_eq!(run["command"], "blocks lire");
+    assert_eq!(run["inputs"]["perturb"], "top");
+    // No temporary file left behind.
+    for e in std::fs::read_dir(&dir).unwrap() {
+        let name = e.unwrap().file_name().to_string_lossy().into_owned();
+        assert!(!name.starts_with(".tmp"), "{name}");
+    }
+    std::fs::remove_dir_all(dir).unwrap();
+}
+
+const GOOD_SCENE: &str = "[base]\nwidth = 1.0\nheight = 0.1\n\n[[blocks]]\nwidth = 0.2\nheight = 0.4\ncount = 2\n\n[contact]\nmu = 0.2\n\n[solver]\nt_end = 0.1\n";
+
+#[test]
+fn run_scene_file_prints_the_design_keys() {
+    let dir = temp_dir("blocks-run");
+    std::fs::create_dir_all(&dir).unwrap();
+    let scene = dir.join("two.toml");
+    std::fs::write(&scene, GOOD_SCENE).unwrap();
+    let out = dir.join("out");
+    let v = json(&[
+        "blocks",
+        "run",
+        scene.to_str().unwrap(),
+        "--json",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    // At rest: each interface carries the weight above it (g = 1, m = 1), no friction.
+    let (header, rows) = read_csv(&out.join("trajectory.csv"));
+    assert_eq!(&header[7..13], ["n1a", "n1b", "f1", "n2a", "n2b", "f2"]);
+    assert_eq!(rows.len(), 11);
+    for r in &rows {
+        let x: Vec<f64> = r.iter().map(|c| c.parse().unwrap()).collect();
+        assert!((x[7] + x[8] - 2.0).abs() < 1e-9, "{r:?}");
+        assert!((x[10] + x[11] - 1.0).abs() < 1e-9, "{r:?}");
+        assert!(x[9].abs() < 1e-9 && x[12].abs() < 1e-9, "{r:?}");
+    }
+    for key in RUN_KEYS.iter().chain(&RUN_EXTRAS) {
+        assert!(v.get(key).is_some(), "missing {key}");
+    }
+    assert_eq!(v["steps"].as_u64(), Some(10));
+    assert_eq!(v["final"].as_array().unwrap().len(), 2);
+    // Two blocks at rest on a fixed base stay there.
+    assert!((f(&v["final"][1]["y"]) - 0.65).abs() < 1e-9);
+    // Default snapshots of a scene file: 0, t_end/2, t_end.
+    for png in ["snapshot_t0.png", "snapshot_t0.05.png", "snapshot_t0.1.png"] {
+        assert!(out.join(png).exists(), "{png}");
+    }
+    // The override of t_end, the constant prox parameter of the thesis, chosen
+    // snapshots and no animation.
+    let out2 = dir.join("out2");
+    let v = json(&[
+        "blocks",
+        "run",
+        scene.to_str().unwrap(),
+        "--t-end",
+        "0.05",
+        "--prox-constant",
+        "0.3",
+        "--snapshots",
+        "0.02",
+        "--max-frames",
+        "0",
+        "--out",
+        out2.to_str().unwrap(),
+        "--json",
+    ]);
+    assert_eq!(v["steps"].as_u64(), Some(5));
+    assert!(v["prox"].as_str().unwrap().contains("0.3"), "{}", v["prox"]);
+    assert!(out2.join("snapshot_t0.02.png").exists());
+    assert!(!out2.join("snapshot_t0.png").exists());
+    assert!(!out2.join("animation.gif").exists());
+    std::fs::remove_dir_all(dir).unwrap();
+}
+
+#[test]
+fn bad_scenes_and_options_give_one_error_line() {
+    let dir = temp_dir("blocks-bad-scenes");
+    std::fs::create_dir_all(&dir).unwrap();
+    let base = "[base]\nwidth = 1.0\nheight = 0.1\n";
+    let block = "[[blocks]]\nwidth = 0.2\nheight = 0.4\n";
+    let contact = "[contact]\nmu = 0.2\n";
+    let cases = [
+        (
+            "negative",
+            format!("[base]\nwidth = -1.0\nheight = 0.1\n{block}{contact}"),
+            "positive",
+        ),
+        ("mu", format!("{base}{block}[contact]\nmu = -0.2\n"), "mu"),
+        (
+            "key",
+            format!("{base}{block}colour = 1\n{contact}"),
+            "colour",
+        ),
+        (
+            "overlap",
+            format!("{base}{block}{block}y = 0.3\n{contact}"),
+            "overlap",
+        ),
+        (
+            "syntax",
+            format!("{base}{block}{contact}mu = = 1\n"),
+            "line",
+        ),
+        ("empty", String::new(), "invalid scene"),
+    ];
+    for (name, text, needle) in &cases {
+        let path = dir.join(format!("{name}.toml"));
+        std::fs::write(&path, text).unwrap();
+        let (ok, stdout, stderr) = run(&["blocks", "run", path.to_str().unwrap(), "--json"]);
+        assert!(!ok, "{name}");
+        assert!(stdout.is_empty(), "{name}: {stdout}");
+        assert_eq!(stderr.trim().lines().count(), 1, "{name}: {stderr}");
+        assert!(stderr.starts_with("error: "), "{name}: {stderr}");
+        assert!(stderr.contains(needle), "{name}: {stderr}");
+        assert!(!stderr.contains("panicked"), "{name}: {stderr}");
+    }
+    let missing = dir.join("missing.toml");
+    let (ok, _, stderr) = run(&["blocks", "run", missing.to_str().unwrap()]);
+    assert!(!ok);
+    assert!(stderr.contains("cannot read scene"), "{stderr}");
+    assert_eq!(stderr.trim().lines().count(), 1, "{stderr}");
+    for bad in [
+        vec!["blocks", "lire", "--t-end", "0", "--json"],
+        vec![
+            "blocks",
+            "lire",
+            "--t-end",
+            "0.1",
+            "--prox-constant",
+            "-0.3",
+        ],
+        vec!["blocks", "lire", "--blocks", "0"],
+        vec![
+            "blocks", "sweep", "slide", "--v0", "1:0:1", "--out", "/tmp/x",
+        ],
+        vec![
+            "blocks",
+            "sweep",
+            "frequency",
+            "--omega",
+            "1",
+            "--periods",
+            "0",
+            "--out",
+            "/tmp/x",
+        ],
+    ] {
+        let (ok, stdout, stderr) = run(&bad);
+        assert!(!ok, "{bad:?}");
+        assert!(stdout.is_empty(), "{bad:?}");
+        assert_eq!(stderr.trim().lines().count(), 1, "{bad:?}: {stderr}");
+        assert!(!stderr.contains("panicked"), "{bad:?}: {stderr}");
+    }
+    let out = rollstack(&["blocks", "lire", "--perturb", "sideways"]);
+    assert!(!out.status.success());
+    std::fs::remove_dir_all(dir).unwrap();
+}
+
+#[test]
+fn slide_sweep_shards_write_rows_in_input_order() {
+    let dir = temp_dir("blocks-slide");
+    let mut all = Vec::new();
+    for shard in ["1/2", "2/2"] {
+        let sub = dir.join(shard.replace('/', "of"));
+        let out = rollstack(&[
+            "blocks",
+            "sweep",
+            "slide",
+            "--v0",
+            "0.5:2:0.5",
+            "--t-end",
+            "0.1",
+            "--shard",
+            shard,
+            "--out",
+            sub.to_str().unwrap(),
+        ]);
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let (header, rows) = read_csv(&sub.join("sweep_slide.csv"));
+        assert_eq!(
+            &header[..5],
+            ["v0", "top_angle", "regime", "steps", "error"]
+        );
+        for r in &rows {
+            assert_eq!(r[3], "10", "{r:?}");
+            assert!(r[4].is_empty(), "{r:?}");
+            assert!(["rides-along", "topples", "drops"].contains(&r[2].as_str()));
+            assert!(r[1].parse::<f64>().unwrap().is_finite());
+        }
+        all.extend(rows.into_iter().map(|r| r[0].parse::<f64>().unwrap()));
+        assert!(
+            std::fs::metadata(sub.join("sweep_slide.png"))
+                .unwrap()
+                .len()
+                > 1000
+        );
+        let run: Value =
+            serde_json::from_str(&std::fs::read_to_string(sub.join("run.json")).unwrap()).unwrap();
+        assert_eq!(run["command"], "blocks sweep slide");
+    }
+    assert_eq!(all, vec![0.5, 1.0, 1.5, 2.0]);
+    std::fs::remove_dir_all(dir).unwrap();
+}
+
+#[test]
+fn frequency_sweep_keeps_order_and_records_failing_runs() {
+    let dir = temp_dir("blocks-frequency");
+    let d = dir.to_str().unwrap();
+    // ω = −2 and 0 cannot be run: their rows carry the error, the others still run.
+    let v = json(&[
+        "blocks",
+        "sweep",
+        "frequency",
+        "--omega",
+        "-2:4:2",
+        "--periods",
+        "0.1",
+        "--out",
+        d,
+        "--json",
+    ]);
+    let rows = v["rows"].as_array().unwrap();
+    let omegas: Vec<f64> = rows.iter().map(|r| f(&r["omega"])).collect();
+    assert_eq!(omegas, vec![-2.0, 0.0, 2.0, 4.0]);
+    assert!(rows[0]["error"].is_string() && rows[1]["error"].is_string());
+    for r in &rows[2..] {
+        assert!(r["error"].is_null(), "{r}");
+        // Δt = 2π/(100ω): a tenth of a period is 10 steps (or fewer after a failure).
+        assert!(r["steps"].as_u64().unwrap() <= 10);
+        match r["failure_time"].as_f64() {
+            Some(t) => assert!((f(&r["inv_failure_time"]) - 1.0 / t).abs() < 1e-12),
+            None => assert_eq!(f(&r["inv_failure_time"]), 0.0),
+        }
+    }
+    let (header, csv_rows) = read_csv(&dir.join("sweep_frequency.csv"));
+    assert_eq!(
+        &header[..6],
+        [
+            "omega",
+            "failure_time",
+            "inv_failure_time",
+            "opening_time",
+            "steps",
+            "error"
+        ]
+    );
+    let csv_omegas: Vec<f64> = csv_rows.iter().map(|r| r[0].parse().unwrap()).collect();
+    assert_eq!(csv_omegas, omegas);
+    assert!(
+        std::fs::metadata(dir.join("sweep_frequency.png"))
+            .unwrap()
+            .len()
+            > 1000
+    );
+    // A shard holds its contiguous part of the values.
+    let sub = dir.join("shard");
+    let v = json(&[
+        "blocks",
+        "sweep",
+        "frequency",
+        "--omega",
+        "2:5:1",
+        "--periods",
+        "0.05",
+        "--shard",
+        "2/2",
+        "--out",
+        sub.to_str().unwrap(),
+        "--json",
+    ]);
+    let omegas: Vec<f64> = v["rows"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|r| f(&r["omega"]))
+        .collect();
+    assert_eq!(omegas, vec![4.0, 5.0]);
+    std::fs::remove_dir_all(dir).unwrap();
 }

@@ -424,7 +424,9 @@ pub(crate) fn prox_parameters(
     };
     let cp = columns(&eval.position_w, np);
     let cv = columns(&eval.velocity_w, nv);
-    if nu <= 60 {
+    // A diagonal M (point masses, planar rigid bodies) is inverted exactly below.
+    let diagonal_mass = eval.mass.entries.iter().all(|&(r, c, _)| r == c);
+    if nu <= 60 && !diagonal_mass {
         let mut m = DMatrix::<f64>::zeros(nu, nu);
         for &(r, c, v) in &eval.mass.entries {
             m[(r, c)] += v;

@@ -1,21 +1,43 @@
 //! Tour section: the block stack (Ch. 4, App. I): the Leaning Tower of Lire in its
-//! harmonic maximum-overhang configuration (ERRATA 16) and Painlevé's paradoxes for one
-//! block (Figure I.2, ERRATA 18). The simulations join when the nsga stepper is wired in.
+//! harmonic maximum-overhang configuration (ERRATA 16) left alone and perturbed (§4.3,
+//! Figure 4.4), a shaken column with its failure time (§4.4), the column on a pulled base
+//! in its three regimes (§4.5, Figure 4.7), the prox parameter's effect on Newton
+//! failures, and Painlevé's paradoxes for one block (Figure I.2, ERRATA 18).
 
 use super::{Block, Section};
-use crate::commands::blocks::{painleve_report, plot_stack, write_painleve_files};
+use crate::commands::blocks::{
+    painleve_report, plot_stack, simulate_with_output, slide_row, snapshot_name,
+    write_painleve_files, write_slide_files, OutputPlan, SimulationOutput, SlideRegime,
+    LIRE_SNAPSHOTS,
+};
 use anyhow::Result;
-use blockstack::scenarios::{lire, maximum_overhang, Perturbation};
+use blockstack::corners::corners;
+use blockstack::scenarios::{lire, maximum_overhang, shaking_column, Perturbation, Shaking};
+use blockstack::simulation::{simulate, Prox, RunOptions};
+use blockstack::Scene;
 use std::path::Path;
 
 /// Builds the section.
 ///
 /// # Errors
-/// When a file cannot be written.
+/// When a file cannot be written or a scenario cannot be built.
 pub fn section(dir: &Path) -> Result<Section> {
     let mut summary = Vec::new();
     let mut blocks = Vec::new();
+    overhang(dir, &mut summary, &mut blocks)?;
+    lire_runs(dir, &mut summary, &mut blocks)?;
+    shaking(dir, &mut summary, &mut blocks)?;
+    slide(dir, &mut summary, &mut blocks)?;
+    prox_comparison(&mut summary, &mut blocks)?;
+    painleve(dir, &mut summary, &mut blocks)?;
+    Ok(Section {
+        title: "Block stack (Ch. 4, App. I)".into(),
+        summary,
+        blocks,
+    })
+}
 
+fn overhang(dir: &Path, summary: &mut Vec<String>, blocks: &mut Vec<Block>) -> Result<()> {
     let scene = lire(4, Perturbation::None)?;
     let q = scene.initial_coordinates();
     let contacts = scene.contacts(0.0, &q, &vec![0.0; q.len()]);
@@ -35,7 +57,300 @@ pub fn section(dir: &Path) -> Result<Section> {
         file: "blocks_lire_overhang.png".into(),
         caption: "The four-block Leaning Tower of Lire on a fixed table (black) in the harmonic maximum-overhang configuration (ERRATA 16).".into(),
     });
+    Ok(())
+}
 
+/// How many blocks ended with a corner below the table top (fallen), and the largest drift of any
+/// block coordinate from the initial pose at the snapshot nearest t = 5.
+fn lire_outcome(scene: &Scene, out: &SimulationOutput) -> (usize, f64) {
+    // Off the table: some corner below the table's top face (fallen past its edge).
+    let table_top = scene.base().top();
+    let fallen = out
+        .summary
+        .final_poses
+        .iter()
+        .zip(scene.blocks())
+        .filter(|(p, b)| {
+            let pose = blockstack::Pose::new(p.x, p.y, p.theta);
+            corners(&pose, b.width(), b.height())
+                .iter()
+                .any(|c| c.y < table_top - 1e-6)
+        })
+        .count();
+    let q0 = scene.initial_coordinates();
+    let drift = out
+        .snapshots
+        .iter()
+        .find(|(ts, _)| (*ts - 5.0).abs() < 1e-12)
+        .map_or(f64::NAN, |(_, f)| {
+            f.blocks
+                .iter()
+                .zip(q0.chunks_exact(3))
+                .map(|(p, q)| {
+                    (p.x - q[0])
+                        .abs()
+                        .max((p.y - q[1]).abs())
+                        .max((p.theta - q[2]).abs())
+                })
+                .fold(0.0, f64::max)
+        });
+    (fallen, drift)
+}
+
+/// The runs of the tour resolve cycling contact states as the thesis's Algorithm 1
+/// does (NSGA-SPEC §4): re-solve with each set seen, continue with the first
+/// self-consistent candidate, record a branch point.
+fn tour_options() -> RunOptions {
+    RunOptions {
+        explore_branches: true,
+        ..RunOptions::default()
+    }
+}
+
+fn time_text(t: Option<f64>) -> String {
+    t.map_or_else(|| "never".to_owned(), |t| format!("t = {t:.2}"))
+}
+
+fn lire_runs(dir: &Path, summary: &mut Vec<String>, blocks: &mut Vec<Block>) -> Result<()> {
+    let mut rows = Vec::new();
+    for (name, perturbation) in [
+        ("none", Perturbation::None),
+        ("top", Perturbation::Top),
+        ("bottom", Perturbation::Bottom),
+    ] {
+        let scene = lire(4, perturbation)?;
+        // Files (snapshots at 0, 5, 6.4, animation, trajectory) for the collapse only.
+        let sub = (perturbation == Perturbation::Bottom).then(|| dir.join("lire_bottom"));
+        let plan = OutputPlan {
+            dir: sub,
+            snapshots: LIRE_SNAPSHOTS.to_vec(),
+            max_frames: 100,
+            title: format!("Lire tower, perturbation {name}"),
+        };
+        let inputs = serde_json::json!({"blocks": 4, "perturb": name, "t_end": 10.0});
+        let out = simulate_with_output(&scene, &tour_options(), &plan, "blocks lire", &inputs)?;
+        let (fallen, drift) = lire_outcome(&scene, &out);
+        let r = &out.report;
+        summary.push(format!(
+            "Lire tower, perturbation {name}: drift at t = 5 {drift:.1e}; loses support {}; {fallen} of 4 blocks off the table at t = {:.2}; {} steps in {:.1} ms of solver time",
+            time_text(r.failure_time),
+            r.t_final,
+            r.steps,
+            1e3 * r.wall_time_s
+        ));
+        rows.push(vec![
+            name.to_owned(),
+            format!("{drift:.2e}"),
+            time_text(r.failure_time),
+            format!("{fallen} of 4"),
+            format!("{:.2}", r.t_final),
+            format!("{:.3e}", r.min_gap),
+            format!("{:.2}", r.newton_iterations_mean),
+            r.failed_steps.to_string(),
+            r.branch_points.to_string(),
+            format!("{:.1}", 1e3 * r.wall_time_s),
+            r.error.clone().unwrap_or_default(),
+        ]);
+    }
+    blocks.push(Block::Table {
+        header: [
+            "perturbation",
+            "drift at t = 5",
+            "loss of support",
+            "blocks off the table at the end",
+            "t reached",
+            "min gap",
+            "Newton its/step",
+            "failed steps",
+            "branch points",
+            "solver ms",
+            "error",
+        ]
+        .iter()
+        .map(|s| (*s).to_owned())
+        .collect(),
+        rows,
+    });
+    for ts in LIRE_SNAPSHOTS {
+        blocks.push(Block::Image {
+            file: format!("lire_bottom/{}", snapshot_name(ts)),
+            caption: format!("Figure 4.4 at t = {ts}: the lowest block shifted right by 1 % of w makes the tower collapse. Black: the fixed table; line: the floor (the title shows the time of the state drawn)."),
+        });
+    }
+    blocks.push(Block::Image {
+        file: "lire_bottom/animation.gif".into(),
+        caption: "The collapse, every 10th step.".into(),
+    });
+    blocks.push(Block::Data {
+        file: "lire_bottom/trajectory.csv".into(),
+        description: "trajectory of the collapse: poses and interface forces per step".into(),
+    });
+    Ok(())
+}
+
+/// The shaken column of the tour (§4.4): four blocks, ω = 4, A = 0.2, ten periods.
+fn tour_shaking() -> Shaking {
+    Shaking {
+        omega: 4.0,
+        ..Shaking::default()
+    }
+}
+
+fn shaking(dir: &Path, summary: &mut Vec<String>, blocks: &mut Vec<Block>) -> Result<()> {
+    let p = tour_shaking();
+    let scene = shaking_column(&p)?;
+    let plan = OutputPlan {
+        dir: Some(dir.join("shaking")),
+        snapshots: vec![0.0],
+        max_frames: 100,
+        title: format!("shaken column, omega = {}", p.omega),
+    };
+    let inputs =
+        serde_json::json!({"omega": p.omega, "amplitude": p.amplitude, "periods": p.periods});
+    let out = simulate_with_output(&scene, &tour_options(), &plan, "blocks shaking", &inputs)?;
+    let r = &out.report;
+    summary.push(format!(
+        "shaken column (§4.4), 4 blocks, x = {} sin({} t), μ = {}: failure (loss of support) {}, first full opening {}; {} steps, {} failed Newton steps{}",
+        p.amplitude,
+        p.omega,
+        p.mu,
+        time_text(r.failure_time),
+        time_text(r.opening_time),
+        r.steps,
+        r.failed_steps,
+        r.error.as_ref().map_or_else(String::new, |e| format!(", stopped: {e}"))
+    ));
+    blocks.push(Block::Image {
+        file: "shaking/animation.gif".into(),
+        caption: format!(
+            "A column of four blocks w = 0.2, h = 0.4 on a base shaken as x = {} sin({} t); failure {}.",
+            p.amplitude,
+            p.omega,
+            time_text(r.failure_time)
+        ),
+    });
+    blocks.push(Block::Image {
+        file: "shaking/top_block.png".into(),
+        caption:
+            "Angle and height of the top block of the shaken column (cf. Figure 4.5 (b), (c))."
+                .into(),
+    });
+    Ok(())
+}
+
+/// Base speeds of the tour's slide sweep: one or more in each regime of §4.5.
+const SLIDE_SPEEDS: [f64; 7] = [0.05, 0.1, 0.5, 1.0, 2.0, 5.0, 10.0];
+
+fn slide(dir: &Path, summary: &mut Vec<String>, blocks: &mut Vec<Block>) -> Result<()> {
+    let t_end = 3.0;
+    let options = RunOptions {
+        t_end: Some(t_end),
+        ..tour_options()
+    };
+    let rows =
+        crate::sweep::par_map_ordered(&SLIDE_SPEEDS, "v0", |&v| slide_row(4, v, t_end, &options));
+    write_slide_files(dir, &rows, t_end)?;
+    let regimes: Vec<String> = rows
+        .iter()
+        .map(|r| {
+            format!(
+                "v0 = {}: {}",
+                r.v0,
+                r.regime.map_or("error", SlideRegime::name)
+            )
+        })
+        .collect();
+    summary.push(format!(
+        "pulled base (§4.5, Figure 4.7), t = {t_end}: {}",
+        regimes.join(", ")
+    ));
+    blocks.push(Block::Table {
+        header: ["v0", "top angle at t = 3 (rad)", "regime", "error"]
+            .iter()
+            .map(|s| (*s).to_owned())
+            .collect(),
+        rows: rows
+            .iter()
+            .map(|r| {
+                vec![
+                    r.v0.to_string(),
+                    r.top_angle.map_or_else(String::new, |a| format!("{a:.4}")),
+                    r.regime.map_or("", SlideRegime::name).to_owned(),
+                    r.error.clone().unwrap_or_default(),
+                ]
+            })
+            .collect(),
+    });
+    blocks.push(Block::Image {
+        file: "sweep_slide.png".into(),
+        caption: "Figure 4.7 (few points): top block angle at t = 3 against the base speed; small v0 rides along, intermediate v0 topples, large v0 drops almost straight (tablecloth trick).".into(),
+    });
+    blocks.push(Block::Data {
+        file: "sweep_slide.csv".into(),
+        description: "the slide sweep".into(),
+    });
+    Ok(())
+}
+
+/// The thesis's constant prox parameter (§4.2).
+const THESIS_R: f64 = 0.3;
+
+/// Failed Newton steps and branch points with the thesis's r = 0.3 against the scaled r,
+/// for the Lire collapse and the shaken column.
+fn prox_comparison(summary: &mut Vec<String>, blocks: &mut Vec<Block>) -> Result<()> {
+    let mut rows = Vec::new();
+    let cases = [
+        ("Lire collapse", lire(4, Perturbation::Bottom)?),
+        ("shaken column", shaking_column(&tour_shaking())?),
+    ];
+    for (name, scene) in &cases {
+        for (prox_name, prox) in [
+            ("scaled (alpha = 1)", None),
+            ("constant r = 0.3", Some(Prox::Constant(THESIS_R))),
+        ] {
+            let options = RunOptions {
+                prox,
+                explore_branches: true,
+                ..RunOptions::default()
+            };
+            let s = simulate(scene, &options, |_| {})?;
+            rows.push(vec![
+                (*name).to_owned(),
+                prox_name.to_owned(),
+                s.steps.to_string(),
+                s.failed_steps.to_string(),
+                s.branch_points.len().to_string(),
+                format!("{:.2}", s.newton_iterations_mean),
+                s.error.unwrap_or_default(),
+            ]);
+        }
+    }
+    summary.push(format!(
+        "prox parameter (failed Newton steps / branch points): {}",
+        rows.iter()
+            .map(|r| format!("{}, {}: {} / {}", r[0], r[1], r[3], r[4]))
+            .collect::<Vec<_>>()
+            .join("; ")
+    ));
+    blocks.push(Block::Table {
+        header: [
+            "run",
+            "prox parameter",
+            "steps",
+            "failed Newton steps",
+            "branch points",
+            "Newton its/step",
+            "error",
+        ]
+        .iter()
+        .map(|s| (*s).to_owned())
+        .collect(),
+        rows,
+    });
+    Ok(())
+}
+
+fn painleve(dir: &Path, summary: &mut Vec<String>, blocks: &mut Vec<Block>) -> Result<()> {
     let report = painleve_report(0.5, 0.2)?;
     write_painleve_files(dir, 0.5, 3.0, 121, &report)?;
     summary.push(format!(
@@ -58,9 +373,5 @@ pub fn section(dir: &Path) -> Result<Section> {
         file: "painleve_b_grid.csv".into(),
         description: "b(ϑ, ±1, μ_d) on a 121 × 121 grid".into(),
     });
-    Ok(Section {
-        title: "Block stack (Ch. 4, App. I)".into(),
-        summary,
-        blocks,
-    })
+    Ok(())
 }

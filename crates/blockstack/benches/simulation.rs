@@ -1,0 +1,57 @@
+//! Solver time of whole runs: the Lire collapse (4 blocks, 999 steps of Δt = 0.01,
+//! `Perturbation::Bottom`, target < 95 ms) and one step of a column of n blocks at rest
+//! (n = 10, 100, 1000; time per step / n should stay within a factor 2).
+
+use blockstack::scenarios::{lire, resting_column, Perturbation};
+use blockstack::simulation::stepper_options;
+use blockstack::{simulate, RunOptions, StackSystem};
+use criterion::{criterion_group, criterion_main, Criterion};
+use nsga::Stepper;
+use std::hint::black_box;
+use std::time::Duration;
+
+fn lire_collapse(c: &mut Criterion) {
+    let scene = lire(4, Perturbation::Bottom).unwrap();
+    let opts = RunOptions {
+        t_end: Some(9.99),
+        explore_branches: true,
+        ..RunOptions::default()
+    };
+    let mut g = c.benchmark_group("lire_collapse");
+    g.sample_size(10);
+    // As asked: t_end = 9.99 (999 steps). The run currently stops at t = 7.41 with a
+    // step that does not converge, after a costly fixed-set search (see the crate docs).
+    g.bench_function("999_steps", |b| {
+        b.iter(|| black_box(simulate(&scene, &opts, |_| {}).unwrap()));
+    });
+    // The 740 steps that converge (one branch point at t = 5.04).
+    let to_7_4 = RunOptions {
+        t_end: Some(7.4),
+        ..opts.clone()
+    };
+    g.bench_function("740_steps_to_7.4", |b| {
+        b.iter(|| black_box(simulate(&scene, &to_7_4, |_| {}).unwrap()));
+    });
+    g.finish();
+}
+
+/// One step of a column at rest (the stepper built and started once outside the
+/// timing: the consistent start is a one-off cost).
+fn resting_columns(c: &mut Criterion) {
+    let mut g = c.benchmark_group("resting_column_step");
+    g.sample_size(20).measurement_time(Duration::from_secs(4));
+    for n in [10usize, 100, 1000] {
+        let scene = resting_column(n, 1.0).unwrap();
+        let options = stepper_options(&scene, &RunOptions::default()).unwrap();
+        let q0 = scene.initial_coordinates();
+        let u0 = vec![0.0; q0.len()];
+        let mut stepper = Stepper::new(StackSystem::new(scene), 0.0, &q0, &u0, options).unwrap();
+        g.bench_function(format!("n={n}"), |b| {
+            b.iter(|| black_box(stepper.step().unwrap().iterations));
+        });
+    }
+    g.finish();
+}
+
+criterion_group!(benches, lire_collapse, resting_columns);
+criterion_main!(benches);

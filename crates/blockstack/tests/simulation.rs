@@ -1,0 +1,214 @@
+//! Physics checks of whole runs (§4.3–4.5).
+
+use blockstack::scenarios::{
+    lire, resting_column, shaking_column, sliding_column, Perturbation, Shaking,
+};
+use blockstack::{simulate, RunOptions, RunSummary, Scene, StepRecord};
+
+fn run(scene: &Scene, t_end: f64) -> (RunSummary, Vec<StepRecord>) {
+    let mut records = Vec::new();
+    let opts = RunOptions {
+        t_end: Some(t_end),
+        explore_branches: true,
+        ..RunOptions::default()
+    };
+    let s = simulate(scene, &opts, |r| records.push(r.clone())).unwrap();
+    (s, records)
+}
+
+/// Largest change of any coordinate from the initial poses over the records.
+fn drift(records: &[StepRecord]) -> f64 {
+    let first = &records[0].poses;
+    records
+        .iter()
+        .flat_map(|r| r.poses.iter().zip(first))
+        .map(|(p, p0)| {
+            (p.x - p0.x)
+                .abs()
+                .max((p.y - p0.y).abs())
+                .max((p.theta - p0.theta).abs())
+        })
+        .fold(0.0, f64::max)
+}
+
+#[test]
+fn unperturbed_lire_tower_stays_put_for_five_seconds() {
+    let scene = lire(4, Perturbation::None).unwrap();
+    let (s, rec) = run(&scene, 5.0);
+    assert_eq!(s.error, None);
+    assert_eq!(s.steps, 500);
+    assert!(drift(&rec) < 1e-6, "drift {}", drift(&rec));
+    // A resting column starts with its static forces: no impulse in the first step.
+    assert!(drift(&rec[..2]) < 1e-14);
+    assert!(s.min_gap > -1e-8);
+    assert!(s.max_energy_increase <= 1e-12, "{}", s.max_energy_increase);
+    assert_eq!(s.failure_time, None);
+    assert_eq!(s.opening_time, None);
+}
+
+#[test]
+fn perturbed_top_block_topples_alone() {
+    let scene = lire(4, Perturbation::Top).unwrap();
+    let (s, rec) = run(&scene, 4.0);
+    assert_eq!(s.error, None);
+    let last = rec.last().unwrap();
+    // The top block has fallen off (turned over and below its former height)...
+    assert!(s.failure_time.is_some());
+    assert!(last.poses[3].theta.abs() > 1.0 && last.poses[3].y < 0.5);
+    // ...the three below it have not moved.
+    let moved = rec
+        .iter()
+        .flat_map(|r| r.poses[..3].iter().zip(&rec[0].poses[..3]))
+        .map(|(p, p0)| {
+            (p.x - p0.x)
+                .abs()
+                .max((p.y - p0.y).abs())
+                .max(p.theta.abs())
+        })
+        .fold(0.0, f64::max);
+    assert!(moved < 1e-4, "lower blocks moved by {moved}");
+    assert!(s.min_gap > -1e-8, "min gap {}", s.min_gap);
+}
+
+#[test]
+fn perturbed_bottom_block_collapses_the_whole_column() {
+    let scene = lire(4, Perturbation::Bottom).unwrap();
+    let (s, rec) = run(&scene, 7.0);
+    assert_eq!(s.error, None);
+    // By t = 5 every block has turned outward by more than 0.3 rad about the table edge,
+    // the column still in one piece...
+    let at5 = &rec[500];
+    assert!((at5.t - 5.0).abs() < 1e-9);
+    for (k, p) in at5.poses.iter().enumerate() {
+        assert!(p.theta < -0.3, "block {} theta {}", k + 1, p.theta);
+    }
+    assert!(s.opening_time.is_some_and(|t| t > 5.0 && t < 7.0));
+    // ...and at t = 7 the blocks have fallen below their starting heights.
+    let last = rec.last().unwrap();
+    for (k, (p, p0)) in last.poses.iter().zip(&rec[0].poses).enumerate() {
+        assert!(p.y < p0.y - 0.05 || k == 0, "block {} y {}", k + 1, p.y);
+    }
+    // The pivot at the table edge starts to slip while the interfaces above reach their
+    // friction bound: a step resolved by fixed-set re-solves.
+    assert!(!s.branch_points.is_empty());
+    assert!(s.min_gap > -1e-8);
+    // Unforced (fixed base), e_N = e_F = 0: energy never increases.
+    assert!(s.max_energy_increase <= 1e-9, "{}", s.max_energy_increase);
+}
+
+fn top_angle(v0: f64, t_end: f64) -> (RunSummary, Vec<StepRecord>) {
+    let scene = sliding_column(4, v0, 3.0).unwrap();
+    run(&scene, t_end)
+}
+
+#[test]
+fn slow_base_carries_the_column_along() {
+    let (s, rec) = top_angle(0.05, 3.0);
+    assert_eq!(s.error, None);
+    let last = rec.last().unwrap();
+    // The impulsive start makes the column rock a little (a few mrad), far from the
+    // toppling angle atan(w/h) = 0.46 rad.
+    for p in &last.poses {
+        assert!(p.theta.abs() < 0.05, "theta {}", p.theta);
+        // Every block moves with the base.
+        assert!(
+            (p.x - last.base.x).abs() < 0.01,
+            "x {} base {}",
+            p.x,
+            last.base.x
+        );
+    }
+    assert_eq!(s.failure_time, None);
+    assert!(s.min_gap > -1e-8);
+}
+
+#[test]
+fn intermediate_base_speed_topples_the_column() {
+    let (s, rec) = top_angle(0.3, 3.0);
+    assert_eq!(s.error, None);
+    assert!(rec.last().unwrap().poses[3].theta.abs() > 1.0);
+    assert!(s.failure_time.is_some());
+    assert!(s.min_gap > -1e-8);
+}
+
+#[test]
+fn fast_base_is_pulled_out_like_a_tablecloth() {
+    let (s, rec) = top_angle(3.0, 3.0);
+    assert_eq!(s.error, None);
+    let last = rec.last().unwrap();
+    // The column drops almost straight onto the floor: small angles, small drift in x.
+    for p in &last.poses {
+        assert!(p.theta.abs() < 0.2, "theta {}", p.theta);
+        assert!(p.x.abs() < 0.25, "x {}", p.x);
+    }
+    assert!(last.poses[0].y < 0.25, "bottom block on the floor");
+    assert!(s.min_gap > -1e-8);
+}
+
+#[test]
+fn ten_block_column_rests_without_drift_or_chatter() {
+    let scene = resting_column(10, 20.0).unwrap();
+    let (s, rec) = run(&scene, 20.0);
+    assert_eq!(s.steps, 2000);
+    assert_eq!(s.error, None);
+    assert!(drift(&rec) < 1e-9, "drift {}", drift(&rec));
+    // No chatter: every normal force stays at its static value (the weight above).
+    for r in &rec {
+        for (k, f) in r.forces.iter().enumerate() {
+            let weight = (10 - k) as f64;
+            let total = f.normal[0] + f.normal[1];
+            assert!(
+                (total - weight).abs() < 1e-9,
+                "t {} interface {k}: {total}",
+                r.t
+            );
+            assert!(f.friction.abs() < 1e-9);
+        }
+    }
+    assert!(s.max_energy_increase <= 1e-12);
+    assert!(s.min_gap > -1e-8);
+}
+
+#[test]
+fn strong_shaking_makes_the_column_fail_at_a_finite_time() {
+    let scene = shaking_column(&Shaking::default()).unwrap();
+    let opts = RunOptions {
+        explore_branches: true,
+        stop_at_failure: true,
+        ..RunOptions::default()
+    };
+    let s = simulate(&scene, &opts, |_| {}).unwrap();
+    let t = s.failure_time.expect("fails");
+    assert!(t > 0.0 && t < scene.solver.t_end);
+    assert!(s.opening_time.is_some_and(|o| o <= t));
+    assert!(s.min_gap > -1e-8);
+}
+
+#[test]
+fn weak_shaking_leaves_the_column_standing() {
+    let scene = shaking_column(&Shaking {
+        amplitude: 0.01,
+        periods: 3.0,
+        ..Shaking::default()
+    })
+    .unwrap();
+    let s = simulate(&scene, &RunOptions::default(), |_| {}).unwrap();
+    assert_eq!(s.error, None);
+    assert_eq!(s.failure_time, None);
+    assert!(s.min_gap > -1e-8);
+}
+
+#[test]
+fn bad_run_options_are_errors() {
+    let scene = lire(2, Perturbation::None).unwrap();
+    let bad = RunOptions {
+        t_end: Some(-1.0),
+        ..RunOptions::default()
+    };
+    assert!(simulate(&scene, &bad, |_| {}).is_err());
+    let bad = RunOptions {
+        prox: Some(blockstack::simulation::Prox::Scaled(3.0)),
+        ..RunOptions::default()
+    };
+    assert!(simulate(&scene, &bad, |_| {}).is_err());
+}
