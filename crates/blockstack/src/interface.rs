@@ -70,6 +70,12 @@ pub enum Support {
     Below,
     /// The faces do not overlap along the lower block's e₁: it has slid or fallen off.
     Beside,
+    /// A corner of one body lies over the other's face but deeper in it than half that
+    /// body's height: the upper block reached this place from the side (for example a
+    /// block lying on the floor that the shaken base slides against), not by resting on
+    /// the lower body's top face. The gaps would report a penetration of the order of a
+    /// block height, which no contact impulse can resolve.
+    Sunk,
 }
 
 /// One normal gap of an interface, with the distance of (G.2.3) it measures.
@@ -136,7 +142,37 @@ impl Interface {
         if sc.max(sd) <= -half || sc.min(sd) >= half {
             return Support::Beside;
         }
+        if self.sunk(lower, upper) {
+            return Support::Sunk;
+        }
         Support::Supported
+    }
+
+    /// Whether a bottom corner of the upper block lies over the top face of the lower one
+    /// and below the lower body's centre line, or a top corner of the lower body lies under
+    /// the bottom face of the upper one and above the upper block's centre line (see
+    /// [`Support::Sunk`]). A block resting or pivoting on the lower one never does: its
+    /// corners over the face are at depth ~0, and a corner pivoting past the edge is
+    /// no longer over the face.
+    fn sunk<T: Scalar>(&self, lower: &BodyState<T>, upper: &BodyState<T>) -> bool {
+        let (pl, pu) = (&lower.pose, &upper.pose);
+        let deep = |corner_pose: &crate::Pose<T>,
+                    corner: Vec2,
+                    face_pose: &crate::Pose<T>,
+                    face: Size,
+                    outward: f64| {
+            let d = corner_pose.point(&corner) - face_pose.r();
+            let along = re(d.dot(&face_pose.e1()));
+            // Signed distance from the face body's centre line towards its face.
+            let up = outward * re(d.dot(&face_pose.e2()));
+            along.abs() < 0.5 * face.width && up < 0.0
+        };
+        [Corner::C, Corner::D]
+            .iter()
+            .any(|&c| deep(pu, self.upper.corner(c), pl, self.lower, 1.0))
+            || [Corner::A, Corner::B]
+                .iter()
+                .any(|&c| deep(pl, self.lower.corner(c), pu, self.upper, -1.0))
     }
 
     /// The left gap: ℓ_b or ℓ_c per (G.2.2)₁.
@@ -277,6 +313,44 @@ mod tests {
 
     fn lire() -> Interface {
         Interface::new(Size::new(1.0, 0.2), Size::new(1.0, 0.2))
+    }
+
+    /// Regression (shaken column, ω = 4, t ≈ 9.53): a block w = 0.2, h = 0.4 standing on
+    /// the floor beside the base (w = 1, h = 0.1, top face 0.1 above the floor) that the
+    /// base slides against is not supported by it; its corners over the base's top face
+    /// sit a whole base height deep. Reporting it as supported gave a gap of −0.1 and,
+    /// once the first Newton update moved the block, a zero Jacobian row (singular).
+    #[test]
+    fn a_block_beside_a_low_base_is_sunk_not_supported() {
+        let i = Interface::new(Size::new(1.0, 0.1), Size::new(0.2, 0.4));
+        let base = state(0.0, 0.0, 0.0, 0.0, 0.0, 0.0);
+        // Bottom of the block at the base's bottom, its left corner 0.01 over the base.
+        let beside = state(0.59, 0.15, 0.0, 0.0, 0.0, 0.0);
+        assert_eq!(i.support(&base, &beside), Support::Sunk);
+        assert!(!i.contacts(&base, &beside).is_supported());
+        // Mirrored, and with the upper block wider than the lower one.
+        assert_eq!(
+            i.support(&base, &state(-0.59, 0.15, 0.0, 0.0, 0.0, 0.0)),
+            Support::Sunk
+        );
+        let wide = Interface::new(Size::new(0.2, 0.1), Size::new(1.0, 0.4));
+        assert_eq!(
+            wide.support(&base, &state(0.55, 0.15, 0.0, 0.0, 0.0, 0.0)),
+            Support::Sunk
+        );
+        // Resting on the top face, slightly penetrating: supported.
+        assert_eq!(
+            i.support(&base, &state(0.45, 0.25 - 1e-9, 0.0, 0.0, 0.0, 0.0)),
+            Support::Supported
+        );
+        // Overhanging by half its width and tipped by 10° about the right edge a^k of a
+        // Lire block (the edge under the middle of its bottom face): still supported.
+        let l = lire();
+        let th: f64 = -10f64.to_radians();
+        let (s, c) = th.sin_cos();
+        // Centre = a^k + R(θ)(0, h/2) with a^k = (0.5, 0.1), h = 0.2.
+        let pivot = state(0.5 - 0.1 * s, 0.1 + 0.1 * c, th, 0.0, 0.0, 0.0);
+        assert_eq!(l.support(&base, &pivot), Support::Supported);
     }
 
     #[test]

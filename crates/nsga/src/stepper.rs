@@ -781,9 +781,13 @@ impl<S: System> Stepper<S> {
     /// # Errors
     /// [`StepError::NotConverged`] carrying t and the last good state; the stepper
     /// stays at that state, so the run can continue from it (for example after
-    /// changing the options).
+    /// changing the options). [`StepError::Linear`] when the Newton matrix was singular
+    /// on every attempt (no iterate to report).
     pub fn step(&mut self) -> Result<&StepStats, StepError> {
         let rho0 = self.options.rho_inf;
+        // A singular Newton matrix on every attempt: reported as such, not as a
+        // non-converged step without iterates.
+        let mut singular: Option<StepError> = None;
         let first = self.solve(None, rho0, self.state.x.clone());
         let (visited, cycling, best) = match first {
             Ok(t) => {
@@ -799,7 +803,10 @@ impl<S: System> Stepper<S> {
             // A singular Newton matrix or a non-finite iterate is retried like a
             // non-converged step; only invalid input stops at once.
             Err(e @ StepError::InvalidInput(_)) => return Err(e),
-            Err(_) => (Vec::new(), false, None),
+            Err(e) => {
+                singular = matches!(e, StepError::Linear { .. }).then_some(e);
+                (Vec::new(), false, None)
+            }
         };
         let mut retries = 1;
         let mut best = best;
@@ -811,6 +818,7 @@ impl<S: System> Stepper<S> {
                     return Ok(self.last.as_ref().expect("just committed"));
                 }
                 Err(StepError::NotConverged { best: b, .. }) => {
+                    singular = None;
                     if b.as_ref().map_or(f64::INFINITY, |t| t.stats.residual)
                         < best.as_ref().map_or(f64::INFINITY, |t| t.stats.residual)
                     {
@@ -818,7 +826,8 @@ impl<S: System> Stepper<S> {
                     }
                 }
                 Err(e @ StepError::InvalidInput(_)) => return Err(e),
-                Err(_) => {}
+                Err(StepError::Linear { .. }) => {}
+                Err(_) => singular = None,
             }
             retries += 1;
         }
@@ -876,6 +885,9 @@ impl<S: System> Stepper<S> {
                     return Ok(self.last.as_ref().expect("just committed"));
                 }
             }
+        }
+        if let (Some(e), true, None) = (singular, visited.is_empty(), &best) {
+            return Err(e);
         }
         Err(StepError::NotConverged {
             t: self.state.t,
