@@ -503,3 +503,27 @@ fn frequency_sweep_keeps_order_and_records_failing_runs() {
     assert_eq!(omegas, vec![4.0, 5.0]);
     std::fs::remove_dir_all(dir).unwrap();
 }
+
+#[test]
+fn lire_top_perturbation_resolves_branch_points_by_default() {
+    // The top block tips over the edge: its contact states alternate on the way, which the
+    // default (--explore-branches true) resolves instead of ending the run.
+    let v = json(&[
+        "blocks",
+        "lire",
+        "--blocks",
+        "4",
+        "--perturb",
+        "top",
+        "--t-end",
+        "4",
+        "--json",
+    ]);
+    assert!(v["error"].is_null(), "{}", v["error"]);
+    assert_eq!(v["steps"].as_u64(), Some(400));
+    let failure = v["failure_time"]
+        .as_f64()
+        .expect("the top block loses support");
+    assert!(failure > 1.0 && failure < 4.0, "{failure}");
+    assert!(v["min_gap"].as_f64().unwrap() >= -1e-8);
+}

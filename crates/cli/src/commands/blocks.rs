@@ -606,9 +606,11 @@ pub struct SolverArgs {
     /// constraint, r_k = 1/(w_kᵀM⁻¹w_k), NSGA-SPEC §4).
     #[arg(long, value_parser = parse_finite, allow_hyphen_values = true)]
     pub prox_constant: Option<f64>,
-    /// Record branch points: on a step whose contact states alternate, re-solve with each
-    /// set of index sets seen and keep the self-consistent candidates (NSGA-SPEC §4).
-    #[arg(long)]
+    /// Resolve and record branch points: on a step whose contact states alternate,
+    /// re-solve with each set of index sets seen and keep the self-consistent candidates
+    /// (NSGA-SPEC §4). On by default; `--explore-branches false` ends the run at such a
+    /// step instead.
+    #[arg(long, default_value_t = true, action = clap::ArgAction::Set, value_name = "BOOL")]
     pub explore_branches: bool,
 }
 
