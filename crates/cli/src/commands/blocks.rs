@@ -1380,42 +1380,73 @@ fn sweep_frequency(args: &FrequencyArgs) -> Result<()> {
     let dir = &args.output.out;
     ensure_dir(dir)?;
     write_frequency_files(dir, &rows)?;
-    write_run_json(
-        dir,
-        "blocks sweep frequency",
-        &serde_json::json!({
+    finish_sweep(
+        "frequency",
+        &args.output,
+        &args.solver,
+        serde_json::json!({
             "omega": args.omega, "periods": args.periods, "amplitude": args.amplitude,
             "blocks": args.blocks, "steps_per_period": args.steps_per_period, "mu": args.mu,
-            "shard": format!("{}/{}", args.output.shard.index, args.output.shard.count),
-            "prox_constant": args.solver.prox_constant,
-            "explore_branches": args.solver.explore_branches,
         }),
-        &serde_json::json!({
-            "total_s": start.elapsed().as_secs_f64(),
-            "solver_s": rows.iter().map(|r| r.wall_time_s).sum::<f64>(),
-        }),
-    )?;
-    if args.output.json {
-        print_json(&serde_json::json!({ "rows": rows }))?;
-    } else {
-        for r in &rows {
-            println!(
+        &rows,
+        rows.iter().map(|r| r.wall_time_s).sum(),
+        start,
+        |r| {
+            format!(
                 "omega = {:.4}: T = {}, steps {}{}",
                 r.omega,
                 r.failure_time
                     .map_or_else(|| "none".to_owned(), |t| format!("{t:.4}")),
                 r.steps,
-                r.error
-                    .as_ref()
-                    .map_or_else(String::new, |e| format!(", error: {e}"))
-            );
-        }
-        println!(
-            "wrote sweep_frequency.csv and sweep_frequency.png into {}",
-            dir.display()
-        );
+                error_suffix(r.error.as_ref())
+            )
+        },
+    )
+}
+
+/// What every sweep does once its rows are written: `run.json` (inputs, version,
+/// timings), then either `{"rows": [...]}` on stdout or one line per row.
+///
+/// # Errors
+/// An unwritable directory.
+fn finish_sweep<R: Serialize>(
+    name: &str,
+    output: &SweepOutputArgs,
+    solver: &SolverArgs,
+    mut inputs: serde_json::Value,
+    rows: &[R],
+    solver_seconds: f64,
+    start: Instant,
+    line: impl Fn(&R) -> String,
+) -> Result<()> {
+    inputs["shard"] = format!("{}/{}", output.shard.index, output.shard.count).into();
+    inputs["prox_constant"] = serde_json::json!(solver.prox_constant);
+    inputs["explore_branches"] = solver.explore_branches.into();
+    write_run_json(
+        &output.out,
+        &format!("blocks sweep {name}"),
+        &inputs,
+        &serde_json::json!({
+            "total_s": start.elapsed().as_secs_f64(),
+            "solver_s": solver_seconds,
+        }),
+    )?;
+    if output.json {
+        return print_json(&serde_json::json!({ "rows": rows }));
     }
+    for r in rows {
+        println!("{}", line(r));
+    }
+    println!(
+        "wrote sweep_{name}.csv and sweep_{name}.png into {}",
+        output.out.display()
+    );
     Ok(())
+}
+
+/// `, error: …` after a sweep row's line, or nothing.
+fn error_suffix(error: Option<&String>) -> String {
+    error.map_or_else(String::new, |e| format!(", error: {e}"))
 }
 
 /// Writes `sweep_frequency.csv` and `sweep_frequency.png` (Figure 4.6).
@@ -1598,42 +1629,26 @@ fn sweep_slide(args: &SlideArgs) -> Result<()> {
     let dir = &args.output.out;
     ensure_dir(dir)?;
     write_slide_files(dir, &rows, args.t_end)?;
-    write_run_json(
-        dir,
-        "blocks sweep slide",
-        &serde_json::json!({
-            "v0": args.v0, "t_end": args.t_end, "blocks": args.blocks,
-            "shard": format!("{}/{}", args.output.shard.index, args.output.shard.count),
-            "prox_constant": args.solver.prox_constant,
-            "explore_branches": args.solver.explore_branches,
-        }),
-        &serde_json::json!({
-            "total_s": start.elapsed().as_secs_f64(),
-            "solver_s": rows.iter().map(|r| r.wall_time_s).sum::<f64>(),
-        }),
-    )?;
-    if args.output.json {
-        print_json(&serde_json::json!({ "rows": rows }))?;
-    } else {
-        for r in &rows {
-            println!(
+    finish_sweep(
+        "slide",
+        &args.output,
+        &args.solver,
+        serde_json::json!({ "v0": args.v0, "t_end": args.t_end, "blocks": args.blocks }),
+        &rows,
+        rows.iter().map(|r| r.wall_time_s).sum(),
+        start,
+        |r| {
+            format!(
                 "v0 = {:.4}: top angle {} at t = {:.3}, {}{}",
                 r.v0,
                 r.top_angle
                     .map_or_else(|| "-".to_owned(), |a| format!("{a:.4} rad")),
                 r.t_final,
                 r.regime.map_or("-", SlideRegime::name),
-                r.error
-                    .as_ref()
-                    .map_or_else(String::new, |e| format!(", error: {e}"))
-            );
-        }
-        println!(
-            "wrote sweep_slide.csv and sweep_slide.png into {}",
-            dir.display()
-        );
-    }
-    Ok(())
+                error_suffix(r.error.as_ref())
+            )
+        },
+    )
 }
 
 /// Writes `sweep_slide.csv` and `sweep_slide.png` (Figure 4.7).
