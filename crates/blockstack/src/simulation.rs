@@ -15,16 +15,16 @@
 //!   the index sets alternate, nsga re-solves the step with each distinct set fixed and
 //!   continues with the first self-consistent candidate; each such step is recorded with
 //!   the number of sets tried and of distinct converged states.
-//!   When nsga finds no candidate because a friction law sits exactly on its stick–slip
-//!   bound (round-off then decides its index set), the re-solves are repeated here with a
-//!   consistency test that accepts such boundary cases, and with the sets one friction
-//!   switch away from the visited ones (see `resolve_at_boundary`).
-//! - **Errors**: a step that fails after every ρ∞ retry and every re-solve ends the run;
-//!   the summary up to it carries the message (`error`), it is not an `Err`.
-//!
-//! Known limit: the Lire collapse (`Perturbation::Bottom`) stops at t = 7.41 with such
-//! a step (blocks landing on the table corner and on the floor), and a shaken column at
-//! ω = 6 at t = 2.2; see the crate's `measure` example.
+//!   When nsga finds no candidate, the step is taken as two half steps with this same
+//!   policy (up to [`MAX_HALVINGS`] times). Only when that fails too, the re-solves are
+//!   repeated with a consistency test that accepts friction laws sitting exactly on their
+//!   stick–slip bound (round-off then decides their index set), and with the sets one
+//!   friction switch away from the visited ones (see `resolve_at_boundary`).
+//! - **Redundant contacts**: a toppled column resting on the table edge and on the floor
+//!   with several corners touches at more points than it has degrees of freedom; nsga's
+//!   regularized Newton update ([`nsga::Options::regularization`]) carries it.
+//! - **Errors**: a step that fails after every fallback ends the run; the summary up to
+//!   it carries the message (`error`), it is not an `Err`.
 
 use crate::coordinates::Pose;
 use crate::error::BlockError;
@@ -52,6 +52,14 @@ pub const DENSE_UP_TO: usize = 200;
 /// Newton iterations allowed when checking that a fixed-set solution also solves the
 /// free step (it converges at once when it does; see `resolve_at_boundary`).
 pub const QUICK_CHECK_ITERATIONS: usize = 8;
+
+/// How often a step that fails after every retry and re-solve may be halved (a
+/// failing step is then taken as 2, 4, … up to 2^MAX_HALVINGS substeps).
+///
+/// The Lire collapse needs it where the column lands on the floor with several corners
+/// at once (t = 7.41): Newton cycles through 7 index sets, none self-consistent, and the
+/// two half steps go through (`cargo test -p blockstack --test simulation`).
+pub const MAX_HALVINGS: usize = 4;
 
 /// Newton iterations per attempt before nsga retries with another ρ∞.
 pub const MAX_NEWTON_ITERATIONS: usize = 40;
@@ -150,6 +158,8 @@ pub struct RunSummary {
     pub failed_steps: usize,
     /// Steps resolved by fixed-set re-solves.
     pub branch_points: Vec<BranchRecord>,
+    /// Steps that went through only as substeps (halved Δt, [`MAX_HALVINGS`]).
+    pub split_steps: usize,
     /// Largest increase of the energy between two steps (unforced runs: ≤ ~0).
     pub max_energy_increase: f64,
     /// The message of a step that finally failed (the run stopped there).
@@ -268,6 +278,7 @@ pub fn simulate(
         wall_time_s: 0.0,
         failed_steps: 0,
         branch_points: Vec::new(),
+        split_steps: 0,
         max_energy_increase: f64::NEG_INFINITY,
         error: None,
     };
@@ -313,6 +324,9 @@ pub fn simulate(
             summary.failed_steps += 1;
         }
         summary.branch_points.extend(branch);
+        if stepper.last_step().is_some_and(|s| s.substeps > 1) {
+            summary.split_steps += 1;
+        }
         let r = rec.record(t, stepper.state(), its);
         summary.min_gap = summary.min_gap.min(r.min_gap);
         summary.max_energy_increase = summary.max_energy_increase.max(r.energy - energy);
@@ -335,7 +349,7 @@ pub fn simulate(
 }
 
 /// (t, iterations, retries, branch point) of an accepted step.
-type Accepted = (f64, usize, usize, Option<BranchRecord>);
+pub type Accepted = (f64, usize, usize, Option<BranchRecord>);
 
 fn accepted(s: &nsga::StepStats) -> Accepted {
     (
@@ -351,18 +365,40 @@ fn accepted(s: &nsga::StepStats) -> Accepted {
 }
 
 /// One step: nsga's step (ρ∞ retries, then fixed-set re-solves when the sets cycle);
-/// when that fails too and `explore` is set, the fixed-set re-solves again with a
-/// weaker consistency test, see [`resolve_at_boundary`].
+/// when that fails, the step is taken as two half steps, each with this same policy,
+/// up to [`MAX_HALVINGS`] times; only when that fails too, and `explore` is set, the
+/// fixed-set re-solves are repeated with a weaker consistency test
+/// ([`resolve_at_boundary`]), the costliest fallback.
 fn advance(stepper: &mut Stepper<StackSystem>, explore: bool) -> Result<Accepted, StepError> {
-    match stepper.step() {
-        Ok(s) => Ok(accepted(s)),
-        Err(StepError::NotConverged {
+    advance_with_halvings(stepper, explore, MAX_HALVINGS)
+}
+
+fn advance_with_halvings(
+    stepper: &mut Stepper<StackSystem>,
+    explore: bool,
+    halvings: usize,
+) -> Result<Accepted, StepError> {
+    let error = match stepper.step() {
+        Ok(s) => return Ok(accepted(s)),
+        Err(e @ StepError::InvalidInput(_)) => return Err(e),
+        Err(e) => e,
+    };
+    if halvings > 0 {
+        let halves = stepper.split_step(2, |s| {
+            advance_with_halvings(s, explore, halvings - 1).map(|_| ())
+        });
+        if let Ok(s) = halves {
+            return Ok(accepted(s));
+        }
+    }
+    match error {
+        StepError::NotConverged {
             visited_sets,
             cycling: true,
             residual,
             ..
-        }) if explore => resolve_at_boundary(stepper, &visited_sets, residual),
-        Err(e) => Err(e),
+        } if explore => resolve_at_boundary(stepper, &visited_sets, residual),
+        e => Err(e),
     }
 }
 

@@ -98,7 +98,7 @@ fn linear_solve(c: &mut Criterion) {
         g.bench_with_input(BenchmarkId::new("dense", size), &size, |b, _| {
             b.iter(|| {
                 let mut v = rhs.clone();
-                DenseLu.solve(size, &trip, &mut v).unwrap();
+                DenseLu::default().solve(size, &trip, &mut v).unwrap();
                 black_box(v[0])
             });
         });

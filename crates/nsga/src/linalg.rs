@@ -4,8 +4,6 @@
 //! [`AutoSolver`] switches at a size threshold (measured with the `nsga` bench
 //! `linear_solve`, see the crate docs).
 
-use nalgebra::{DMatrix, DVector};
-
 /// A linear solve failed (singular or non-finite matrix).
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 #[error("linear solve failed: {0}")]
@@ -27,9 +25,30 @@ pub trait LinearSolver: std::fmt::Debug {
     fn name(&self) -> &'static str;
 }
 
-/// Dense LU with partial pivoting (nalgebra).
-#[derive(Debug, Default, Clone)]
-pub struct DenseLu;
+/// Relative pivot size below which dense LU reports the matrix as singular: a solve
+/// through such a pivot returns round-off amplified by 1/pivot, not a Newton step.
+pub const SINGULAR_PIVOT: f64 = 1e-13;
+
+/// Dense LU with partial pivoting (faer's blocked kernel, sequential), with the
+/// matrix, permutation and scratch buffers kept between solves.
+#[derive(Debug, Clone)]
+pub struct DenseLu {
+    matrix: faer::Mat<f64>,
+    perm: Vec<usize>,
+    perm_inv: Vec<usize>,
+    scratch: Vec<std::mem::MaybeUninit<u8>>,
+}
+
+impl Default for DenseLu {
+    fn default() -> Self {
+        Self {
+            matrix: faer::Mat::zeros(0, 0),
+            perm: Vec::new(),
+            perm_inv: Vec::new(),
+            scratch: Vec::new(),
+        }
+    }
+}
 
 impl LinearSolver for DenseLu {
     fn solve(
@@ -38,19 +57,61 @@ impl LinearSolver for DenseLu {
         triplets: &[(usize, usize, f64)],
         rhs: &mut [f64],
     ) -> Result<(), LinalgError> {
-        let mut m = DMatrix::<f64>::zeros(n, n);
-        for &(r, c, v) in triplets {
-            m[(r, c)] += v;
+        use faer::dyn_stack::{MemStack, StackReq};
+        use faer::linalg::lu::partial_pivoting::{factor, solve};
+        let par = faer::Par::Seq;
+        if self.matrix.nrows() != n {
+            self.matrix = faer::Mat::zeros(n, n);
+            self.perm.resize(n, 0);
+            self.perm_inv.resize(n, 0);
+        } else {
+            self.matrix.fill(0.0);
         }
-        let lu = m.lu();
-        let mut b = DVector::from_column_slice(rhs);
-        if !lu.solve_mut(&mut b) {
+        for &(r, c, v) in triplets {
+            self.matrix[(r, c)] += v;
+        }
+        let req = StackReq::any_of(&[
+            factor::lu_in_place_scratch::<usize, f64>(n, n, par, faer::prelude::default()),
+            solve::solve_in_place_scratch::<usize, f64>(n, 1, par),
+        ]);
+        if self.scratch.len() < req.unaligned_bytes_required() {
+            self.scratch.resize(
+                req.unaligned_bytes_required(),
+                std::mem::MaybeUninit::new(0),
+            );
+        }
+        let (_, perm) = factor::lu_in_place(
+            self.matrix.as_mut(),
+            &mut self.perm,
+            &mut self.perm_inv,
+            par,
+            MemStack::new(&mut self.scratch),
+            faer::prelude::default(),
+        );
+        let diag = self.matrix.as_ref().diagonal();
+        let (mut lo, mut hi) = (f64::INFINITY, 0.0_f64);
+        for i in 0..n {
+            let d = diag[i].abs();
+            lo = lo.min(d);
+            hi = hi.max(d);
+        }
+        // NaN pivots fail this test too.
+        let regular = lo > SINGULAR_PIVOT * hi;
+        if n > 0 && !regular {
             return Err(LinalgError("singular matrix (dense LU)".into()));
         }
-        if b.iter().any(|x| !x.is_finite()) {
+        let mut b = faer::MatMut::from_column_major_slice_mut(rhs, n, 1);
+        solve::solve_in_place(
+            self.matrix.as_ref(),
+            self.matrix.as_ref(),
+            perm,
+            b.as_mut(),
+            par,
+            MemStack::new(&mut self.scratch),
+        );
+        if rhs.iter().any(|x| !x.is_finite()) {
             return Err(LinalgError("non-finite solution (dense LU)".into()));
         }
-        rhs.copy_from_slice(b.as_slice());
         Ok(())
     }
     fn name(&self) -> &'static str {
@@ -152,7 +213,7 @@ impl AutoSolver {
     pub fn new(threshold: usize) -> Self {
         Self {
             threshold,
-            dense: DenseLu,
+            dense: DenseLu::default(),
             sparse: SparseLu::default(),
             last: "dense",
         }
@@ -205,7 +266,7 @@ mod tests {
         let b: Vec<f64> = (0..n).map(|i| (i as f64).sin()).collect();
         let mut x1 = b.clone();
         let mut x2 = b.clone();
-        DenseLu.solve(n, &t, &mut x1).unwrap();
+        DenseLu::default().solve(n, &t, &mut x1).unwrap();
         SparseLu::default().solve(n, &t, &mut x2).unwrap();
         for i in 0..n {
             assert!((x1[i] - x2[i]).abs() < 1e-12);
@@ -216,7 +277,7 @@ mod tests {
     fn singular_is_an_error() {
         let t = vec![(0, 0, 1.0), (0, 1, 1.0), (1, 0, 1.0), (1, 1, 1.0)];
         let mut b = vec![1.0, 2.0];
-        assert!(DenseLu.solve(2, &t, &mut b).is_err());
+        assert!(DenseLu::default().solve(2, &t, &mut b).is_err());
         let mut b = vec![1.0, 2.0];
         assert!(SparseLu::default().solve(2, &t, &mut b).is_err());
     }

@@ -2,7 +2,7 @@
 
 use crate::error::StepError;
 use crate::linalg::{AutoSolver, LinearSolver};
-use crate::stepper::{norm, prox_parameters, Prox};
+use crate::stepper::{norm, prox_parameters, Options};
 use crate::system::{Evaluation, Layout, System};
 
 /// Accelerations and forces at t0 that satisfy the contact laws on acceleration level.
@@ -34,10 +34,9 @@ pub fn consistent_start<S: System>(
     t0: f64,
     q0: &[f64],
     u0: &[f64],
-    prox: Prox,
-    tol: f64,
-    max_iter: usize,
+    options: &Options,
 ) -> Result<Start, StepError> {
+    let (prox, tol, max_iter) = (options.prox, options.start_tol, options.max_iter);
     let (nu, ng, nga, nn, nf) = (
         layout.nu,
         layout.n_bilateral_position,
@@ -70,6 +69,8 @@ pub fn consistent_start<S: System>(
     let mut y = vec![0.0; n];
     let mut solver = AutoSolver::default();
     let mut jac: Vec<(usize, usize, f64)> = Vec::new();
+    // Multiplier rows whose contact law is closed (sticking) at this iterate.
+    let mut closed_rows: Vec<usize> = Vec::new();
     let mut res = vec![0.0; n];
     let scale = 1.0 + e.forces.iter().fold(0.0_f64, |m, h| m.max(h.abs()));
     for _ in 0..=max_iter {
@@ -84,6 +85,7 @@ pub fn consistent_start<S: System>(
         }
         res.iter_mut().for_each(|x| *x = 0.0);
         jac.clear();
+        closed_rows.clear();
         for &(i, j, m) in &e.mass.entries {
             res[oa + i] += m * y[oa + j];
             jac.push((oa + i, oa + j, m));
@@ -125,6 +127,7 @@ pub fn consistent_start<S: System>(
             if closed[k] && r_pos[pk] * acc_p[pk] - lam <= 0.0 {
                 res[oln + k] = r_pos[pk] * acc_p[pk];
                 push_level(&mut jac, &e.position_w, pk, oln + k, r_pos[pk]);
+                closed_rows.push(oln + k);
             } else {
                 res[oln + k] = lam;
                 jac.push((oln + k, oln + k, 1.0));
@@ -155,6 +158,7 @@ pub fn consistent_start<S: System>(
                 if stick {
                     res[row] = r_law[j] * acc_v[vs + m];
                     push_level(&mut jac, &e.velocity_w, vs + m, row, r_law[j]);
+                    closed_rows.push(row);
                     continue;
                 }
                 res[row] = y[row];
@@ -191,12 +195,19 @@ pub fn consistent_start<S: System>(
             });
         }
         let mut dy: Vec<f64> = res.iter().map(|r| -r).collect();
-        solver
-            .solve(n, &jac, &mut dy)
-            .map_err(|e| StepError::Start {
-                t: t0,
-                message: e.0,
-            })?;
+        let mut solved = solver.solve(n, &jac, &mut dy);
+        let eps = options.regularization;
+        if solved.is_err() && eps > 0.0 {
+            // Redundant closed contacts (see `Options::regularization`): ε on the
+            // multiplier diagonal of every closed row.
+            jac.extend(closed_rows.iter().map(|&r| (r, r, eps)));
+            dy.iter_mut().zip(&res).for_each(|(d, r)| *d = -r);
+            solved = solver.solve(n, &jac, &mut dy);
+        }
+        solved.map_err(|e| StepError::Start {
+            t: t0,
+            message: e.0,
+        })?;
         for (yi, d) in y.iter_mut().zip(&dy) {
             *yi += d;
         }

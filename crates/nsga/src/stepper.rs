@@ -67,6 +67,30 @@ pub struct Options {
     /// are open, carry no force and cannot close within the step
     /// (g_N > 2Δt|ġ_N| + Δt²|g̈_N|); the step is redone in full if one of them closes.
     pub prune_open_contacts: bool,
+    /// How many times a step that fails after every retry may be halved: it is then
+    /// taken as two steps of Δt/2 (each with the whole policy again, recursively), and
+    /// the state lands back on the grid t₀ + kΔt. 0 ends the run at such a step.
+    #[serde(default)]
+    pub max_halvings: usize,
+    /// ε ≥ 0 added to the Newton matrix (not to the residual) on the multiplier diagonal
+    /// of every closed contact row, scaled like the row's open form, when the Newton
+    /// matrix is singular. Redundant closed contacts (a body resting on more points than
+    /// it has degrees of freedom, as a toppled column on the floor) make it singular;
+    /// with ε the update solves a compliant linearization whose redundant forces take a
+    /// least-norm share, while the residual, and hence the converged solution, stays
+    /// exact. 0 turns this off (a singular matrix then fails the attempt).
+    #[serde(default = "default_regularization")]
+    pub regularization: f64,
+}
+
+/// Default [`Options::regularization`]: small against the O(1) entries of the scaled
+/// Newton rows, large against round-off. Measured on the Lire collapse (`cargo run
+/// --release -p blockstack --example measure`): 1e-10 to 1e-6 all carry the toppled
+/// column resting on the table edge and the floor.
+pub const DEFAULT_REGULARIZATION: f64 = 1e-8;
+
+fn default_regularization() -> f64 {
+    DEFAULT_REGULARIZATION
 }
 
 impl Default for Options {
@@ -83,6 +107,8 @@ impl Default for Options {
             on_failure: FailurePolicy::Error,
             start_tol: 1e-9,
             prune_open_contacts: false,
+            max_halvings: 0,
+            regularization: DEFAULT_REGULARIZATION,
         }
     }
 }
@@ -115,6 +141,12 @@ impl Options {
                 return bad(format!("prox r = {r} must be positive"));
             }
             _ => {}
+        }
+        if !(self.regularization >= 0.0 && self.regularization.is_finite()) {
+            return bad(format!(
+                "regularization = {} must be finite and >= 0",
+                self.regularization
+            ));
         }
         if self.tol.is_nan() || self.tol <= 0.0 || self.max_iter == 0 {
             return bad("tol must be > 0 and max_iter >= 1".into());
@@ -190,6 +222,14 @@ pub struct StepStats {
     pub branch: Option<BranchPoint>,
     /// Linear solver used ("dense" or "sparse").
     pub solver: String,
+    /// Substeps the step was taken in: 1, or more when it was split
+    /// ([`Options::max_halvings`], [`Stepper::split_step`]).
+    #[serde(default = "one")]
+    pub substeps: usize,
+}
+
+fn one() -> usize {
+    1
 }
 
 /// Accumulated statistics of a run.
@@ -207,6 +247,8 @@ pub struct RunStats {
     pub unconverged_steps: u64,
     /// Branch points met (steps with more than one distinct candidate).
     pub branch_points: u64,
+    /// Steps taken as several substeps ([`Stepper::split_step`]).
+    pub split_steps: u64,
 }
 
 impl RunStats {
@@ -594,19 +636,10 @@ impl<S: System> Stepper<S> {
         let off = Offsets::new(&layout);
         let solver: Box<dyn LinearSolver> = match options.solver {
             SolverChoice::Auto(t) => Box::new(AutoSolver::new(t)),
-            SolverChoice::Dense => Box::new(DenseLu),
+            SolverChoice::Dense => Box::new(DenseLu::default()),
             SolverChoice::Sparse => Box::new(SparseLu::default()),
         };
-        let start = consistent_start(
-            &system,
-            &layout,
-            t0,
-            q0,
-            u0,
-            options.prox,
-            options.start_tol,
-            options.max_iter,
-        )?;
+        let start = consistent_start(&system, &layout, t0, q0, u0, &options)?;
         let mut x = vec![0.0; off.n];
         x[off.a..off.a + off.nu].copy_from_slice(&start.a);
         x[off.lg..off.lg + off.ng].copy_from_slice(&start.lambda_g);
@@ -739,25 +772,25 @@ impl<S: System> Stepper<S> {
 
     /// Commits a trial: the stepper advances to its state.
     pub fn commit(&mut self, trial: Trial) {
-        self.stats.steps += 1;
-        self.stats.newton_iterations += trial.stats.iterations as u64;
-        self.stats.max_iterations = self.stats.max_iterations.max(trial.stats.iterations);
-        if trial.stats.retries > 0 {
-            self.stats.retried_steps += 1;
-        }
-        if !trial.stats.converged {
-            self.stats.unconverged_steps += 1;
-        }
-        if trial
-            .stats
-            .branch
-            .as_ref()
-            .is_some_and(|b| b.candidates.len() > 1)
-        {
-            self.stats.branch_points += 1;
-        }
+        self.account(&trial.stats);
         self.state = trial.state;
         self.last = Some(trial.stats);
+    }
+
+    /// Adds one accepted step to the run statistics.
+    fn account(&mut self, step: &StepStats) {
+        self.stats.steps += 1;
+        self.stats.newton_iterations += step.iterations as u64;
+        self.stats.max_iterations = self.stats.max_iterations.max(step.iterations);
+        if step.retries > 0 {
+            self.stats.retried_steps += 1;
+        }
+        if !step.converged {
+            self.stats.unconverged_steps += 1;
+        }
+        if step.branch.as_ref().is_some_and(|b| b.candidates.len() > 1) {
+            self.stats.branch_points += 1;
+        }
     }
 
     /// Re-solves the current step with the index sets fixed by the caller and commits it
@@ -783,7 +816,102 @@ impl<S: System> Stepper<S> {
     /// stays at that state, so the run can continue from it (for example after
     /// changing the options). [`StepError::Linear`] when the Newton matrix was singular
     /// on every attempt (no iterate to report).
+    ///
+    /// When all of that fails and [`Options::max_halvings`] allows, the step is taken as
+    /// two steps of Δt/2 with the same policy (recursively), see [`Stepper::split_step`].
     pub fn step(&mut self) -> Result<&StepStats, StepError> {
+        self.step_with_halvings(self.options.max_halvings)?;
+        Ok(self.last.as_ref().expect("a step was just committed"))
+    }
+
+    /// [`Stepper::step`] with `halvings` splits still allowed.
+    fn step_with_halvings(&mut self, halvings: usize) -> Result<(), StepError> {
+        match self.step_unsplit() {
+            Ok(_) => Ok(()),
+            Err(e @ StepError::InvalidInput(_)) => Err(e),
+            Err(e) if halvings == 0 => Err(e),
+            // The error of the whole step is the one reported: it names the state the
+            // run stays at.
+            Err(e) => self
+                .split_step(2, |s| s.step_with_halvings(halvings - 1))
+                .map(|_| ())
+                .map_err(|_| e),
+        }
+    }
+
+    /// Takes the step t_n → t_n + Δt as `parts` substeps of Δt/`parts`, each committed
+    /// by `substep` (for example `|s| s.step().map(|_| ())`, or a caller's own policy),
+    /// then puts the state back on the time grid: k advances by one and t = t₀ + kΔt
+    /// exactly. The generalized-α auxiliary variables (ā, λ̄) carry over between step
+    /// sizes unchanged, since their recursion (eqs. 71, 73) does not involve Δt.
+    ///
+    /// The substeps' statistics are merged into one [`StepStats`]: iterations and retries
+    /// summed (plus one retry for the failed whole step), `substeps` counted, the first
+    /// branch point kept; [`RunStats`] counts one step.
+    ///
+    /// # Errors
+    /// [`StepError::InvalidInput`] for `parts` = 0; otherwise the first substep error,
+    /// after which the stepper is back at the state, options and statistics it had.
+    pub fn split_step(
+        &mut self,
+        parts: usize,
+        mut substep: impl FnMut(&mut Self) -> Result<(), StepError>,
+    ) -> Result<&StepStats, StepError> {
+        if parts == 0 {
+            return Err(StepError::InvalidInput(
+                "a step splits into at least one part".into(),
+            ));
+        }
+        let saved_state = self.state.clone();
+        let saved_options = self.options.clone();
+        let saved_base = self.time_base;
+        let saved_stats = self.stats.clone();
+        let saved_last = self.last.clone();
+        let mut sub = saved_options.clone();
+        sub.dt = saved_options.dt / parts as f64;
+        self.set_options(sub)?;
+        let mut merged: Option<StepStats> = None;
+        for _ in 0..parts {
+            if let Err(e) = substep(self) {
+                self.options = saved_options;
+                self.time_base = saved_base;
+                self.state = saved_state;
+                self.stats = saved_stats;
+                self.last = saved_last;
+                return Err(e);
+            }
+            let last = self.last.clone().expect("a substep commits a step");
+            merged = Some(match merged {
+                None => last,
+                Some(m) => StepStats {
+                    t: last.t,
+                    iterations: m.iterations + last.iterations,
+                    residual: m.residual.max(last.residual),
+                    retries: m.retries + last.retries,
+                    converged: m.converged && last.converged,
+                    branch: m.branch.or(last.branch),
+                    substeps: m.substeps + last.substeps,
+                    ..last
+                },
+            });
+        }
+        let mut merged = merged.expect("parts >= 1");
+        merged.retries += 1;
+        self.options = saved_options;
+        self.time_base = saved_base;
+        self.state.k = saved_state.k + 1;
+        self.state.t = self.grid_time(self.state.k);
+        merged.t = self.state.t;
+        self.stats = saved_stats;
+        self.stats.split_steps += 1;
+        self.account(&merged);
+        self.last = Some(merged);
+        Ok(self.last.as_ref().expect("just stored"))
+    }
+
+    /// One step without splitting: the ρ∞ retries and fixed-set re-solves of
+    /// [`Stepper::step`].
+    fn step_unsplit(&mut self) -> Result<&StepStats, StepError> {
         let rho0 = self.options.rho_inf;
         // A singular Newton matrix on every attempt: reported as such, not as a
         // non-converged step without iterates.
@@ -943,7 +1071,7 @@ impl<S: System> Stepper<S> {
         self.evaluate_iterate(update_prox);
         self.finish_accelerations(x);
         self.residual(x, sets, &p);
-        self.jacobian(x, sets, &p);
+        self.jacobian(x, sets, &p, 0.0);
         let n = self.off.n;
         let mut j = DMatrix::zeros(n, n);
         for &(r, c, v) in &self.work.jac {
@@ -1110,8 +1238,13 @@ impl<S: System> Stepper<S> {
     /// t_{n+1} = t_base + (k + 1 − k_base) Δt: the integrator's own time grid, not an
     /// accumulated sum (ERRATA 20).
     fn t_next(&self) -> f64 {
+        self.grid_time(self.state.k + 1)
+    }
+
+    /// t_k = t_base + (k − k_base)Δt on the current grid.
+    fn grid_time(&self, k: u64) -> f64 {
         let (t_base, k_base) = self.time_base;
-        t_base + (self.state.k + 1 - k_base) as f64 * self.options.dt
+        t_base + (k - k_base) as f64 * self.options.dt
     }
 
     /// Index sets from the current iterate (eqs. 128–142).
@@ -1295,33 +1428,14 @@ impl<S: System> Stepper<S> {
             if iter == max_iter {
                 break;
             }
-            self.jacobian(&x, &sets, &p);
-            let w = &mut self.work;
-            w.dx.iter_mut().zip(&w.res).for_each(|(d, r)| *d = -r);
-            let solved = if let Some((map, n_red)) = &prune {
-                // Reduced system without the pruned unknowns (their rows and updates are 0).
-                w.jac_red.clear();
-                w.jac_red.extend(
-                    w.jac
-                        .iter()
-                        .filter(|&&(r, c, _)| map[r] != usize::MAX && map[c] != usize::MAX)
-                        .map(|&(r, c, v)| (map[r], map[c], v)),
-                );
-                w.rhs_red.clear();
-                w.rhs_red.resize(*n_red, 0.0);
-                for (i, &m) in map.iter().enumerate() {
-                    if m != usize::MAX {
-                        w.rhs_red[m] = w.dx[i];
-                    }
-                }
-                let out = w.solver.solve(*n_red, &w.jac_red, &mut w.rhs_red);
-                for (i, &m) in map.iter().enumerate() {
-                    w.dx[i] = if m == usize::MAX { 0.0 } else { w.rhs_red[m] };
-                }
-                out
-            } else {
-                w.solver.solve(o.n, &w.jac, &mut w.dx)
-            };
+            self.jacobian(&x, &sets, &p, 0.0);
+            let mut solved = self.newton_direction(prune.as_ref());
+            let eps = self.options.regularization;
+            if solved.is_err() && eps > 0.0 {
+                // Redundant closed contacts: solve the regularized linearization.
+                self.jacobian(&x, &sets, &p, eps);
+                solved = self.newton_direction(prune.as_ref());
+            }
             solved.map_err(|e| StepError::Linear {
                 t: self.state.t,
                 message: e.0,
@@ -1359,6 +1473,38 @@ impl<S: System> Stepper<S> {
             state: Box::new(self.state.clone()),
             best: best_trial,
         })
+    }
+
+    /// The Newton update dx = −J⁻¹R from the assembled Jacobian and residual, on the
+    /// reduced system when open contacts are pruned (their updates are 0).
+    fn newton_direction(
+        &mut self,
+        prune: Option<&(Vec<usize>, usize)>,
+    ) -> Result<(), crate::linalg::LinalgError> {
+        let w = &mut self.work;
+        w.dx.iter_mut().zip(&w.res).for_each(|(d, r)| *d = -r);
+        let Some((map, n_red)) = prune else {
+            return w.solver.solve(self.off.n, &w.jac, &mut w.dx);
+        };
+        w.jac_red.clear();
+        w.jac_red.extend(
+            w.jac
+                .iter()
+                .filter(|&&(r, c, _)| map[r] != usize::MAX && map[c] != usize::MAX)
+                .map(|&(r, c, v)| (map[r], map[c], v)),
+        );
+        w.rhs_red.clear();
+        w.rhs_red.resize(*n_red, 0.0);
+        for (i, &m) in map.iter().enumerate() {
+            if m != usize::MAX {
+                w.rhs_red[m] = w.dx[i];
+            }
+        }
+        let out = w.solver.solve(*n_red, &w.jac_red, &mut w.rhs_red);
+        for (i, &m) in map.iter().enumerate() {
+            w.dx[i] = if m == usize::MAX { 0.0 } else { w.rhs_red[m] };
+        }
+        out
     }
 
     #[allow(clippy::fn_params_excessive_bools)]
@@ -1401,6 +1547,7 @@ impl<S: System> Stepper<S> {
             converged,
             branch: None,
             solver: self.work.solver.name().to_owned(),
+            substeps: 1,
         };
         Trial {
             state,

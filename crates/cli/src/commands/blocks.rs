@@ -734,6 +734,8 @@ pub struct SimulationReport {
     pub failed_steps: usize,
     /// Number of branch points recorded.
     pub branch_points: usize,
+    /// Steps that went through only as substeps (halved Δt).
+    pub split_steps: usize,
     /// Largest energy increase between two steps (≤ ~0 in unforced runs).
     pub max_energy_increase: f64,
     /// Why the run stopped early, or null.
@@ -1024,6 +1026,7 @@ pub fn simulate_with_output(
         opening_time: summary.opening_time,
         failed_steps: summary.failed_steps,
         branch_points: summary.branch_points.len(),
+        split_steps: summary.split_steps,
         max_energy_increase: summary.max_energy_increase,
         error: summary.error.clone(),
         t_final,
@@ -1099,8 +1102,8 @@ fn finish_command(out: &SimulationOutput, json: bool, dir: Option<&Path>) -> Res
             time(r.opening_time)
         );
         println!(
-            "min gap {:.3e}, failed Newton steps {}, branch points {}, largest energy increase {:.3e}",
-            r.min_gap, r.failed_steps, r.branch_points, r.max_energy_increase
+            "min gap {:.3e}, failed Newton steps {}, branch points {}, split steps {}, largest energy increase {:.3e}",
+            r.min_gap, r.failed_steps, r.branch_points, r.split_steps, r.max_energy_increase
         );
         for (k, p) in r.final_poses.iter().enumerate() {
             println!(

@@ -107,7 +107,10 @@ impl<S: System> Stepper<S> {
     }
 
     /// Fills `work.jac` with the semismooth Jacobian ∂R/∂x for frozen sets (eq. 143).
-    pub(super) fn jacobian(&mut self, x: &[f64], sets: &IndexSets, p: &GenAlpha) {
+    ///
+    /// `eps` regularizes the closed contact rows (see `Options::regularization`): ε times
+    /// the diagonal entry the row has when open.
+    pub(super) fn jacobian(&mut self, x: &[f64], sets: &IndexSets, p: &GenAlpha, eps: f64) {
         let o = self.off;
         let dt = self.options.dt;
         let ar = p.alpha_r();
@@ -247,18 +250,21 @@ impl<S: System> Stepper<S> {
             let rp = w.r_pos[pk];
             if sets.a[k] {
                 copy_row(jac, &w.dg, pk, o.kn + k, rp / dt);
+                jac.push((o.kn + k, o.kn + k, eps / dt));
             } else {
                 jac.push((o.kn + k, o.kn + k, 1.0 / dt));
                 jac.push((o.kn + k, o.ln + k, c_kl / dt));
             }
             if sets.b[k] {
                 copy_row(jac, &w.dxp, pk, o.cn + k, rp);
+                jac.push((o.cn + k, o.cn + k, eps));
             } else {
                 jac.push((o.cn + k, o.cn + k, 1.0));
                 jac.push((o.cn + k, o.ln + k, c_pl));
             }
             if sets.c[k] {
                 copy_row(jac, &w.dap, pk, o.ln + k, rp * dt);
+                jac.push((o.ln + k, o.ln + k, eps * dt));
             } else {
                 jac.push((o.ln + k, o.ln + k, dt));
             }
@@ -284,6 +290,7 @@ impl<S: System> Stepper<S> {
                 }
                 if sets.d[j] {
                     copy_row(jac, &w.dxv, vs + m, rv, rl);
+                    jac.push((rv, o.cf + c, eps));
                 } else {
                     // P_F + μ P̂ ξ/‖ξ‖
                     jac.push((rv, o.cf + c, 1.0));
@@ -308,6 +315,7 @@ impl<S: System> Stepper<S> {
                 }
                 if sets.d[j] && sets.e[j] {
                     copy_row(jac, &w.dav, vs + m, ra, rl * dt);
+                    jac.push((ra, o.lf + c, eps * dt));
                 } else {
                     jac.push((ra, o.lf + c, dt));
                     let radius_cols: Vec<(usize, f64)> =
