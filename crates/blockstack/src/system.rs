@@ -22,15 +22,35 @@
 //! and per velocity, 6n passes over an O(n) evaluation: O(n²) per Newton iteration.
 //! Here every constraint row touches at most two *adjacent* blocks (an interface k/k+1)
 //! or one block (a floor corner), so blocks of the same parity never share a row.
-//! Seeding the same coordinate (x, y or θ) of all even blocks at once, then of all odd
-//! blocks, gives every derivative exactly (forward-mode dual numbers) in 6 passes over q
-//! and 6 over u, whatever n: the cost per iteration is linear in n.
+//! Seeding the same coordinate (x, y or θ) of all even blocks with one direction and of
+//! all odd blocks with another gives every derivative exactly (forward-mode dual
+//! numbers) with 6 directions over q and 6 over u, whatever n. All 12 are carried in one
+//! pass of vector dual numbers ([`Directions`]): the real parts (and their sines and
+//! cosines) are computed once, and the cost per iteration is linear in n.
 
 use crate::scene::Scene;
 use crate::stack::{ContactRow, StackContacts};
 use nsga::{Derivatives, Evaluation, FrictionLaw, Layout, Probes, Scalar, System};
-use num_dual::Dual64;
+use num_dual::DualSVec64;
 use std::cell::RefCell;
+
+/// The 12 seeding directions of the derivative pass: (parity, coordinate) over q, then
+/// over u.
+const DIRECTIONS: usize = 12;
+
+/// Vector dual numbers carrying the [`DIRECTIONS`] derivative directions.
+pub type Directions = DualSVec64<DIRECTIONS>;
+
+/// The direction of coordinate `coord` (0, 1, 2 = x, y, θ) of the blocks of `parity`, over
+/// q (`velocity` false) or u.
+fn direction(parity: usize, coord: usize, velocity: bool) -> usize {
+    usize::from(velocity) * 6 + parity * 3 + coord
+}
+
+/// Component `d` of the derivative part (0 when none is carried).
+fn part(x: &Directions, d: usize) -> f64 {
+    x.eps.0.as_ref().map_or(0.0, |v| v[d])
+}
 
 /// The value reported for a gap that cannot close (its upper block has fallen off):
 /// any positive number makes the contact open with zero force.
@@ -50,9 +70,9 @@ pub struct StackSystem {
 
 #[derive(Debug, Default)]
 struct DualScratch {
-    q: Vec<Dual64>,
-    u: Vec<Dual64>,
-    contacts: StackContacts<Dual64>,
+    q: Vec<Directions>,
+    u: Vec<Directions>,
+    contacts: StackContacts<Directions>,
 }
 
 impl Clone for StackSystem {
@@ -167,17 +187,24 @@ impl System for StackSystem {
     ) {
         let mut guard = self.scratch.borrow_mut();
         let s = &mut *guard;
-        s.q.clear();
-        s.q.extend(q.iter().map(|&x| Dual64::from_re(x)));
-        s.u.clear();
-        s.u.extend(u.iter().map(|&x| Dual64::from_re(x)));
-        let n = self.scene.n_blocks();
+        let seeded = |x: &[f64], velocity: bool| -> Vec<Directions> {
+            x.iter()
+                .enumerate()
+                .map(|(i, &v)| {
+                    let d = direction((i / 3) % 2, i % 3, velocity);
+                    Directions::from_re(v).derivative(d)
+                })
+                .collect()
+        };
+        s.q = seeded(q, false);
+        s.u = seeded(u, true);
+        self.scene.contacts_into(t, &s.q, &s.u, &mut s.contacts);
         for parity in 0..2 {
             for coord in 0..3 {
-                // Passes over q.
-                seed(&mut s.q, n, parity, coord, 1.0);
-                self.scene.contacts_into(t, &s.q, &s.u, &mut s.contacts);
-                seed(&mut s.q, n, parity, coord, 0.0);
+                let (dq, du) = (
+                    direction(parity, coord, false),
+                    direction(parity, coord, true),
+                );
                 for (i, row) in s.contacts.normals.iter().enumerate() {
                     let Some(row) = row else { continue };
                     let Some(j) = seeded_coordinate(row, parity, coord) else {
@@ -185,6 +212,7 @@ impl System for StackSystem {
                     };
                     q_row(
                         row,
+                        dq,
                         i,
                         j,
                         u,
@@ -197,6 +225,8 @@ impl System for StackSystem {
                             accel: &mut out.position_accel_q,
                         },
                     );
+                    // Only ζ depends on u.
+                    push_nonzero(&mut out.position_accel_u, i, j, part(&row.zeta, du));
                 }
                 for (i, row) in s.contacts.slips.iter().enumerate() {
                     let Some(j) = seeded_coordinate(row, parity, coord) else {
@@ -207,6 +237,7 @@ impl System for StackSystem {
                     let mut unused = nsga::Triplets::default();
                     q_row(
                         row,
+                        dq,
                         i,
                         j,
                         u,
@@ -219,37 +250,16 @@ impl System for StackSystem {
                             accel: &mut out.velocity_accel_q,
                         },
                     );
-                }
-                // Passes over u: only ζ depends on u.
-                seed(&mut s.u, n, parity, coord, 1.0);
-                self.scene.contacts_into(t, &s.q, &s.u, &mut s.contacts);
-                seed(&mut s.u, n, parity, coord, 0.0);
-                for (i, row) in s.contacts.normals.iter().enumerate() {
-                    let Some(row) = row else { continue };
-                    if let Some(j) = seeded_coordinate(row, parity, coord) {
-                        push_nonzero(&mut out.position_accel_u, i, j, row.zeta.eps);
-                    }
-                }
-                for (i, row) in s.contacts.slips.iter().enumerate() {
-                    if let Some(j) = seeded_coordinate(row, parity, coord) {
-                        push_nonzero(&mut out.velocity_accel_u, i, j, row.zeta.eps);
-                    }
+                    push_nonzero(&mut out.velocity_accel_u, i, j, part(&row.zeta, du));
                 }
             }
         }
     }
 }
 
-/// Sets the dual part of coordinate `coord` of every block of the given parity.
-fn seed(x: &mut [Dual64], n: usize, parity: usize, coord: usize, eps: f64) {
-    for b in (parity..n).step_by(2) {
-        x[3 * b + coord].eps = eps;
-    }
-}
-
 /// The coordinate index seeded for this row: `coord` of the one block of the given parity
 /// the row touches (a row touches one block, or two adjacent ones).
-fn seeded_coordinate(row: &ContactRow<Dual64>, parity: usize, coord: usize) -> Option<usize> {
+fn seeded_coordinate(row: &ContactRow<Directions>, parity: usize, coord: usize) -> Option<usize> {
     row.w
         .iter()
         .map(|(i, _)| i / 3)
@@ -275,7 +285,8 @@ struct PositionRows<'a> {
 /// ∂(Wᵀu + χ)/∂q at u and u_old, ∂(Wᵀa + ζ)/∂q.
 #[allow(clippy::too_many_arguments)]
 fn q_row<'p>(
-    row: &ContactRow<Dual64>,
+    row: &ContactRow<Directions>,
+    d: usize,
     i: usize,
     j: usize,
     u: &[f64],
@@ -285,20 +296,22 @@ fn q_row<'p>(
     rows: &mut PositionRows<'_>,
 ) {
     for (r, w) in row.w.iter() {
-        if w.eps == 0.0 {
+        let dw = part(&w, d);
+        if dw == 0.0 {
             continue;
         }
-        for (k, d) in dynamics.iter_mut().enumerate() {
-            d.push(r, j, -w.eps * multiplier(k)[i]);
+        for (k, dyn_k) in dynamics.iter_mut().enumerate() {
+            dyn_k.push(r, j, -dw * multiplier(k)[i]);
         }
-        rows.rate[0].push(i, j, w.eps * u[r]);
-        rows.rate[1].push(i, j, w.eps * probes.u_old[r]);
-        rows.accel.push(i, j, w.eps * probes.a[r]);
+        rows.rate[0].push(i, j, dw * u[r]);
+        rows.rate[1].push(i, j, dw * probes.u_old[r]);
+        rows.accel.push(i, j, dw * probes.a[r]);
     }
-    push_nonzero(rows.value, i, j, row.value.eps);
-    push_nonzero(&mut rows.rate[0], i, j, row.chi.eps);
-    push_nonzero(&mut rows.rate[1], i, j, row.chi.eps);
-    push_nonzero(rows.accel, i, j, row.zeta.eps);
+    push_nonzero(rows.value, i, j, part(&row.value, d));
+    let dchi = part(&row.chi, d);
+    push_nonzero(&mut rows.rate[0], i, j, dchi);
+    push_nonzero(&mut rows.rate[1], i, j, dchi);
+    push_nonzero(rows.accel, i, j, part(&row.zeta, d));
 }
 
 #[cfg(test)]
