@@ -459,11 +459,9 @@ fn resolve_at_boundary(
             let Ok(free) = free else { continue };
             free
         };
-        let scale = 1.0 + norm(&candidate.state.q) + norm(&candidate.state.u);
-        let duplicate = candidates.iter().any(|(_, s)| {
-            distance(&s.q, &candidate.state.q).hypot(distance(&s.u, &candidate.state.u))
-                <= 1e-8 * scale
-        });
+        let duplicate = candidates
+            .iter()
+            .any(|(_, s)| s.same_motion(&candidate.state));
         if !duplicate {
             candidates.push((candidate.stats.sets.clone(), candidate.state.clone()));
             if first.is_none() {
@@ -571,18 +569,6 @@ fn at_friction_bounds(
         };
         velocity_ok && acceleration_ok
     })
-}
-
-fn norm(v: &[f64]) -> f64 {
-    v.iter().map(|x| x * x).sum::<f64>().sqrt()
-}
-
-fn distance(a: &[f64], b: &[f64]) -> f64 {
-    a.iter()
-        .zip(b)
-        .map(|(x, y)| (x - y).powi(2))
-        .sum::<f64>()
-        .sqrt()
 }
 
 /// Updates the failure and opening times from the contacts last recorded at t.

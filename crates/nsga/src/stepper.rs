@@ -186,6 +186,18 @@ pub struct State {
     pub x: Vec<f64>,
 }
 
+impl State {
+    /// Whether two states are the same continuation: q and u agree to 1e-8 relative to
+    /// 1 + ‖q‖ + ‖u‖ (how branch candidates are deduplicated, NSGA-SPEC §4).
+    #[must_use]
+    pub fn same_motion(&self, other: &State) -> bool {
+        let squared =
+            |a: &[f64], b: &[f64]| -> f64 { a.iter().zip(b).map(|(x, y)| (x - y).powi(2)).sum() };
+        let distance = (squared(&self.q, &other.q) + squared(&self.u, &other.u)).sqrt();
+        distance <= 1e-8 * (1.0 + norm(&other.q) + norm(&other.u))
+    }
+}
+
 /// A branch point: several self-consistent solutions of one step (NSGA-SPEC §4, ERRATA 22).
 #[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct BranchPoint {
@@ -971,20 +983,7 @@ impl<S: System> Stepper<S> {
                 if &recomputed != sets {
                     continue;
                 }
-                let scale = 1.0 + norm(&t.state.q) + norm(&t.state.u);
-                let duplicate = candidates.iter().any(|(_, s)| {
-                    let dq: f64 =
-                        s.q.iter()
-                            .zip(&t.state.q)
-                            .map(|(a, b)| (a - b).powi(2))
-                            .sum();
-                    let du: f64 =
-                        s.u.iter()
-                            .zip(&t.state.u)
-                            .map(|(a, b)| (a - b).powi(2))
-                            .sum();
-                    (dq + du).sqrt() <= 1e-8 * scale
-                });
+                let duplicate = candidates.iter().any(|(_, s)| s.same_motion(&t.state));
                 if !duplicate {
                     candidates.push((sets.clone(), t.state.clone()));
                     if first_trial.is_none() {
