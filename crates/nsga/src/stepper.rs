@@ -921,6 +921,40 @@ impl<S: System> Stepper<S> {
         Ok(self.last.as_ref().expect("just stored"))
     }
 
+    /// The fixed-set re-solves of a cycling step (NSGA-SPEC §4): one per visited set, in
+    /// first-visit order; the self-consistent ones, deduplicated by state, make the
+    /// branch point, and the first is returned (with `retries` failed attempts before it).
+    fn branch_trial(&mut self, visited: &[IndexSets], rho0: f64, retries: usize) -> Option<Trial> {
+        let mut candidates: Vec<(IndexSets, State)> = Vec::new();
+        let mut first_trial: Option<Trial> = None;
+        for sets in visited {
+            let Ok(t) = self.solve(Some(sets), rho0, self.state.x.clone()) else {
+                continue;
+            };
+            // Self-consistency: the sets recomputed from the converged x.
+            let recomputed = self.sets_of(&t.state.x, rho0);
+            if &recomputed != sets {
+                continue;
+            }
+            let duplicate = candidates.iter().any(|(_, s)| s.same_motion(&t.state));
+            if !duplicate {
+                candidates.push((sets.clone(), t.state.clone()));
+                if first_trial.is_none() {
+                    first_trial = Some(t);
+                }
+            }
+        }
+        let mut t = first_trial?;
+        t.stats.retries = retries;
+        t.stats.branch = Some(BranchPoint {
+            t: self.state.t,
+            candidates,
+            tried: visited.len(),
+            chosen: 0,
+        });
+        Some(t)
+    }
+
     /// One step without splitting: the ρ∞ retries and fixed-set re-solves of
     /// [`Stepper::step`].
     fn step_unsplit(&mut self) -> Result<&StepStats, StepError> {
@@ -972,33 +1006,7 @@ impl<S: System> Stepper<S> {
             retries += 1;
         }
         if cycling && self.options.explore_branches {
-            let mut candidates: Vec<(IndexSets, State)> = Vec::new();
-            let mut first_trial: Option<Trial> = None;
-            for sets in &visited {
-                let Ok(t) = self.solve(Some(sets), rho0, self.state.x.clone()) else {
-                    continue;
-                };
-                // Self-consistency: the sets recomputed from the converged x.
-                let recomputed = self.sets_of(&t.state.x, rho0);
-                if &recomputed != sets {
-                    continue;
-                }
-                let duplicate = candidates.iter().any(|(_, s)| s.same_motion(&t.state));
-                if !duplicate {
-                    candidates.push((sets.clone(), t.state.clone()));
-                    if first_trial.is_none() {
-                        first_trial = Some(t);
-                    }
-                }
-            }
-            if let Some(mut t) = first_trial {
-                t.stats.retries = retries;
-                t.stats.branch = Some(BranchPoint {
-                    t: self.state.t,
-                    candidates,
-                    tried: visited.len(),
-                    chosen: 0,
-                });
+            if let Some(t) = self.branch_trial(&visited, rho0, retries) {
                 self.commit(t);
                 return Ok(self.last.as_ref().expect("just committed"));
             }
