@@ -43,10 +43,11 @@ pub type BlockstackError = BlockError;
 /// deciding that an interface has opened completely.
 pub const OPEN_GAP_TOL: f64 = 1e-6;
 
-/// Unknowns up to which the Newton matrix is factorized densely (nalgebra LU); above,
-/// sparse LU (faer). Measured on the Lire tower (≈ 130 unknowns, with the open floor
-/// contacts pruned to fewer): dense LU is about twice as fast there, while the banded
-/// matrix of a tall column needs the sparse one.
+/// Unknowns up to which the Newton matrix is factorized densely; above, sparse LU.
+/// Measured on the Lire collapse (124 unknowns, fewer while the floor contacts are open
+/// and pruned): the whole run is about twice as fast with dense LU, while the banded
+/// matrix of a tall column needs the sparse one. Dense LU also detects the singular
+/// matrices of redundant contacts by their pivots (see `nsga::Options::regularization`).
 pub const DENSE_UP_TO: usize = 200;
 
 /// Newton iterations allowed when checking that a fixed-set solution also solves the

@@ -14,7 +14,7 @@
 //!   other ρ∞, typed errors ([`StepError`]), statistics, readable and fixable index
 //!   sets ([`IndexSets`]) and branch-point reports ([`BranchPoint`]);
 //! * [`moreau`]: the Moreau–Jean midpoint baseline on the same trait;
-//! * [`linalg`]: dense LU (nalgebra) and sparse LU (faer) behind [`LinearSolver`];
+//! * [`linalg`]: dense and sparse LU (faer) behind [`LinearSolver`];
 //! * [`systems`]: benchmark systems with known answers (free fall, oscillator,
 //!   bouncing ball, incline, rocking block, chain), and [`runs`] with whole ball runs.
 //!

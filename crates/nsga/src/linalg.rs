@@ -1,6 +1,6 @@
 //! The linear solves of the Newton iteration behind one small trait.
 //!
-//! Dense LU (nalgebra) for small systems, sparse LU (faer) for large ones;
+//! Dense LU for small systems, sparse LU for large ones (both faer);
 //! [`AutoSolver`] switches at a size threshold (measured with the `nsga` bench
 //! `linear_solve`, see the crate docs).
 
@@ -202,9 +202,8 @@ pub struct AutoSolver {
 
 /// Default dense/sparse crossover (unknowns). Measured with
 /// `cargo bench -p nsga --bench nsga -- --quick linear_solve` on Newton matrices of the
-/// chain (symbolic analysis cached): dense 2.1 µs vs sparse 4.0 µs at 22 unknowns,
-/// 12.2 µs vs 7.4 µs at 44, 121 µs vs 20 µs at 88; without the cache sparse LU only wins
-/// from about 60. 40 sits between.
+/// chain (symbolic analysis cached): dense 4.6 µs vs sparse 5.2 µs at 22 unknowns,
+/// 14.4 µs vs 6.4 µs at 44, 56 µs vs 18 µs at 88. 40 sits near the crossover.
 pub const DEFAULT_SPARSE_THRESHOLD: usize = 40;
 
 impl AutoSolver {

@@ -25,7 +25,7 @@ pub enum Prox {
 pub enum SolverChoice {
     /// Dense LU up to the given number of unknowns, sparse LU above.
     Auto(usize),
-    /// Always dense LU (nalgebra).
+    /// Always dense LU.
     Dense,
     /// Always sparse LU (faer).
     Sparse,
