@@ -103,6 +103,6 @@ pub use params::GenAlpha;
 pub use sets::IndexSets;
 pub use stepper::{
     BranchPoint, FailurePolicy, Options, Prox, RunStats, SolverChoice, State, StepStats, Stepper,
-    Trial, DEFAULT_REGULARIZATION,
+    Trial, DEFAULT_REGULARIZATION, DEFAULT_RETRY_MAX_ITER,
 };
 pub use system::{Derivatives, Evaluation, FrictionLaw, Layout, Probes, Scalar, System, Triplets};
