@@ -350,7 +350,7 @@ pub fn simulate(
 }
 
 /// (t, iterations, retries, branch point) of an accepted step.
-pub type Accepted = (f64, usize, usize, Option<BranchRecord>);
+type Accepted = (f64, usize, usize, Option<BranchRecord>);
 
 fn accepted(s: &nsga::StepStats) -> Accepted {
     (

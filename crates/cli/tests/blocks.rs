@@ -507,8 +507,9 @@ fn frequency_sweep_keeps_order_and_records_failing_runs() {
 #[test]
 fn lire_top_perturbation_resolves_branch_points_by_default() {
     // The top block tips over the edge and lands: its contact states alternate on the way
-    // (at t = 6.33 with `--explore-branches false` the run ends there), which the default
-    // resolves instead of ending the run.
+    // (at t = 6.33), which the default resolves by fixed-set re-solves instead of ending
+    // the run. (With `--explore-branches false` that step now goes through as two half
+    // steps.)
     let v = json(&[
         "blocks",
         "lire",

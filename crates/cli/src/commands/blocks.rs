@@ -608,8 +608,9 @@ pub struct SolverArgs {
     pub prox_constant: Option<f64>,
     /// Resolve and record branch points: on a step whose contact states alternate,
     /// re-solve with each set of index sets seen and keep the self-consistent candidates
-    /// (NSGA-SPEC §4). On by default; `--explore-branches false` ends the run at such a
-    /// step instead.
+    /// (NSGA-SPEC §4). On by default; `--explore-branches false` skips these re-solves:
+    /// such a step is then only retried with other ρ∞ and as halved steps, and the run
+    /// ends there if those fail too.
     #[arg(long, default_value_t = true, action = clap::ArgAction::Set, value_name = "BOOL")]
     pub explore_branches: bool,
 }
