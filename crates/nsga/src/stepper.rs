@@ -72,11 +72,6 @@ pub struct Options {
     /// are open, carry no force and cannot close within the step
     /// (g_N > 2Δt|ġ_N| + Δt²|g̈_N|); the step is redone in full if one of them closes.
     pub prune_open_contacts: bool,
-    /// How many times a step that fails after every retry may be halved: it is then
-    /// taken as two steps of Δt/2 (each with the whole policy again, recursively), and
-    /// the state lands back on the grid t₀ + kΔt. 0 ends the run at such a step.
-    #[serde(default)]
-    pub max_halvings: usize,
     /// ε ≥ 0 added to the Newton matrix (not to the residual) on the multiplier diagonal
     /// of every closed contact row, scaled like the row's open form, when the Newton
     /// matrix is singular. Redundant closed contacts (a body resting on more points than
@@ -123,7 +118,6 @@ impl Default for Options {
             on_failure: FailurePolicy::Error,
             start_tol: 1e-9,
             prune_open_contacts: false,
-            max_halvings: 0,
             regularization: DEFAULT_REGULARIZATION,
         }
     }
@@ -251,7 +245,7 @@ pub struct StepStats {
     /// Linear solver used ("dense" or "sparse").
     pub solver: String,
     /// Substeps the step was taken in: 1, or more when it was split
-    /// ([`Options::max_halvings`], [`Stepper::split_step`]).
+    /// ([`Stepper::split_step`]).
     #[serde(default = "one")]
     pub substeps: usize,
 }
@@ -845,26 +839,83 @@ impl<S: System> Stepper<S> {
     /// changing the options). [`StepError::Linear`] when the Newton matrix was singular
     /// on every attempt (no iterate to report).
     ///
-    /// When all of that fails and [`Options::max_halvings`] allows, the step is taken as
-    /// two steps of Δt/2 with the same policy (recursively), see [`Stepper::split_step`].
+    /// A caller can take a step that fails even so as substeps, with this or its own
+    /// policy: see [`Stepper::split_step`].
     pub fn step(&mut self) -> Result<&StepStats, StepError> {
-        self.step_with_halvings(self.options.max_halvings)?;
-        Ok(self.last.as_ref().expect("a step was just committed"))
-    }
-
-    /// [`Stepper::step`] with `halvings` splits still allowed.
-    fn step_with_halvings(&mut self, halvings: usize) -> Result<(), StepError> {
-        match self.step_unsplit() {
-            Ok(_) => Ok(()),
-            Err(e @ StepError::InvalidInput(_)) => Err(e),
-            Err(e) if halvings == 0 => Err(e),
-            // The error of the whole step is the one reported: it names the state the
-            // run stays at.
-            Err(e) => self
-                .split_step(2, |s| s.step_with_halvings(halvings - 1))
-                .map(|_| ())
-                .map_err(|_| e),
+        let rho0 = self.options.rho_inf;
+        // A singular Newton matrix on every attempt: reported as such, not as a
+        // non-converged step without iterates.
+        let mut singular: Option<StepError> = None;
+        let first = self.solve(None, rho0, self.state.x.clone());
+        let (visited, cycling, best) = match first {
+            Ok(t) => {
+                self.commit(t);
+                return Ok(self.last.as_ref().expect("just committed"));
+            }
+            Err(StepError::NotConverged {
+                visited_sets,
+                cycling,
+                best,
+                ..
+            }) => (visited_sets, cycling, best),
+            // A singular Newton matrix or a non-finite iterate is retried like a
+            // non-converged step; only invalid input stops at once.
+            Err(e @ StepError::InvalidInput(_)) => return Err(e),
+            Err(e) => {
+                singular = matches!(e, StepError::Linear { .. }).then_some(e);
+                (Vec::new(), false, None)
+            }
+        };
+        let mut retries = 1;
+        let mut best = best;
+        for rho in self.options.rho_inf_retries.clone() {
+            match self.solve_retry(None, rho) {
+                Ok(mut t) => {
+                    t.stats.retries = retries;
+                    self.commit(t);
+                    return Ok(self.last.as_ref().expect("just committed"));
+                }
+                Err(StepError::NotConverged { best: b, .. }) => {
+                    singular = None;
+                    if b.as_ref().map_or(f64::INFINITY, |t| t.stats.residual)
+                        < best.as_ref().map_or(f64::INFINITY, |t| t.stats.residual)
+                    {
+                        best = b;
+                    }
+                }
+                Err(e @ StepError::InvalidInput(_)) => return Err(e),
+                Err(StepError::Linear { .. }) => {}
+                Err(_) => singular = None,
+            }
+            retries += 1;
         }
+        if cycling && self.options.explore_branches {
+            if let Some(t) = self.branch_trial(&visited, rho0, retries) {
+                self.commit(t);
+                return Ok(self.last.as_ref().expect("just committed"));
+            }
+        }
+        if self.options.on_failure == FailurePolicy::AcceptBest {
+            if let Some(mut t) = best.take().map(|b| *b) {
+                if t.state.q.iter().chain(&t.state.u).all(|x| x.is_finite()) {
+                    t.stats.retries = retries;
+                    t.stats.converged = false;
+                    self.commit(t);
+                    return Ok(self.last.as_ref().expect("just committed"));
+                }
+            }
+        }
+        if let (Some(e), true, None) = (singular, visited.is_empty(), &best) {
+            return Err(e);
+        }
+        Err(StepError::NotConverged {
+            t: self.state.t,
+            residual: best.as_ref().map_or(f64::INFINITY, |b| b.stats.residual),
+            visited_sets: visited,
+            cycling,
+            state: Box::new(self.state.clone()),
+            best: None,
+        })
     }
 
     /// Takes the step t_n → t_n + Δt as `parts` substeps of Δt/`parts`, each committed
@@ -979,85 +1030,6 @@ impl<S: System> Stepper<S> {
         let out = self.solve(fixed, rho_inf, self.state.x.clone());
         self.options.max_iter = full;
         out
-    }
-
-    /// One step without splitting: the ρ∞ retries and fixed-set re-solves of
-    /// [`Stepper::step`].
-    fn step_unsplit(&mut self) -> Result<&StepStats, StepError> {
-        let rho0 = self.options.rho_inf;
-        // A singular Newton matrix on every attempt: reported as such, not as a
-        // non-converged step without iterates.
-        let mut singular: Option<StepError> = None;
-        let first = self.solve(None, rho0, self.state.x.clone());
-        let (visited, cycling, best) = match first {
-            Ok(t) => {
-                self.commit(t);
-                return Ok(self.last.as_ref().expect("just committed"));
-            }
-            Err(StepError::NotConverged {
-                visited_sets,
-                cycling,
-                best,
-                ..
-            }) => (visited_sets, cycling, best),
-            // A singular Newton matrix or a non-finite iterate is retried like a
-            // non-converged step; only invalid input stops at once.
-            Err(e @ StepError::InvalidInput(_)) => return Err(e),
-            Err(e) => {
-                singular = matches!(e, StepError::Linear { .. }).then_some(e);
-                (Vec::new(), false, None)
-            }
-        };
-        let mut retries = 1;
-        let mut best = best;
-        for rho in self.options.rho_inf_retries.clone() {
-            match self.solve_retry(None, rho) {
-                Ok(mut t) => {
-                    t.stats.retries = retries;
-                    self.commit(t);
-                    return Ok(self.last.as_ref().expect("just committed"));
-                }
-                Err(StepError::NotConverged { best: b, .. }) => {
-                    singular = None;
-                    if b.as_ref().map_or(f64::INFINITY, |t| t.stats.residual)
-                        < best.as_ref().map_or(f64::INFINITY, |t| t.stats.residual)
-                    {
-                        best = b;
-                    }
-                }
-                Err(e @ StepError::InvalidInput(_)) => return Err(e),
-                Err(StepError::Linear { .. }) => {}
-                Err(_) => singular = None,
-            }
-            retries += 1;
-        }
-        if cycling && self.options.explore_branches {
-            if let Some(t) = self.branch_trial(&visited, rho0, retries) {
-                self.commit(t);
-                return Ok(self.last.as_ref().expect("just committed"));
-            }
-        }
-        if self.options.on_failure == FailurePolicy::AcceptBest {
-            if let Some(mut t) = best.take().map(|b| *b) {
-                if t.state.q.iter().chain(&t.state.u).all(|x| x.is_finite()) {
-                    t.stats.retries = retries;
-                    t.stats.converged = false;
-                    self.commit(t);
-                    return Ok(self.last.as_ref().expect("just committed"));
-                }
-            }
-        }
-        if let (Some(e), true, None) = (singular, visited.is_empty(), &best) {
-            return Err(e);
-        }
-        Err(StepError::NotConverged {
-            t: self.state.t,
-            residual: best.as_ref().map_or(f64::INFINITY, |b| b.stats.residual),
-            visited_sets: visited,
-            cycling,
-            state: Box::new(self.state.clone()),
-            best: None,
-        })
     }
 
     /// Runs `n` steps, calling `observe` after each accepted one.

@@ -1,5 +1,5 @@
 //! Robustness fallbacks of the stepper: a step taken as substeps lands back on the time
-//! grid (`Stepper::split_step`, `Options::max_halvings`), and redundant closed contacts
+//! grid (`Stepper::split_step`), and redundant closed contacts
 //! (a singular Newton matrix) are carried by the regularized update
 //! (`Options::regularization`).
 
