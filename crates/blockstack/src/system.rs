@@ -187,17 +187,16 @@ impl System for StackSystem {
     ) {
         let mut guard = self.scratch.borrow_mut();
         let s = &mut *guard;
-        let seeded = |x: &[f64], velocity: bool| -> Vec<Directions> {
-            x.iter()
-                .enumerate()
-                .map(|(i, &v)| {
-                    let d = direction((i / 3) % 2, i % 3, velocity);
-                    Directions::from_re(v).derivative(d)
-                })
-                .collect()
+        // Into the reused buffers: this runs once per Newton iteration.
+        let seed = |out: &mut Vec<Directions>, x: &[f64], velocity: bool| {
+            out.clear();
+            out.extend(x.iter().enumerate().map(|(i, &v)| {
+                let d = direction((i / 3) % 2, i % 3, velocity);
+                Directions::from_re(v).derivative(d)
+            }));
         };
-        s.q = seeded(q, false);
-        s.u = seeded(u, true);
+        seed(&mut s.q, q, false);
+        seed(&mut s.u, u, true);
         self.scene.contacts_into(t, &s.q, &s.u, &mut s.contacts);
         for parity in 0..2 {
             for coord in 0..3 {
