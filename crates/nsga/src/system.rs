@@ -73,7 +73,7 @@ pub struct Layout {
     pub n_bilateral_position: usize,
     /// Number nγ of bilateral velocity constraints γ(t,q,u) = 0.
     pub n_bilateral_velocity: usize,
-    /// Newton restitution coefficient e_N ∈ [0,1] of every normal contact (its length
+    /// Newton restitution coefficient e_N ∈ \[0, 1\] of every normal contact (its length
     /// is nN).
     pub e_n: Vec<f64>,
     /// The friction laws; their components are stacked in this order (nF in all).
@@ -132,7 +132,7 @@ impl Layout {
     /// Checks sizes and coefficients.
     ///
     /// # Errors
-    /// A message naming the first bad entry (negative or NaN μ, e_N outside [0,1], a law
+    /// A message naming the first bad entry (negative or NaN μ, e_N outside \[0, 1\], a law
     /// with 0 or more than 2 components or without normal contacts, an index out of range).
     pub fn validate(&self) -> Result<(), String> {
         if self.nu == 0 || self.nq == 0 {
