@@ -38,7 +38,7 @@ use std::cell::RefCell;
 /// over u.
 const DIRECTIONS: usize = 12;
 
-/// Vector dual numbers carrying the [`DIRECTIONS`] derivative directions.
+/// Vector dual numbers carrying the 12 derivative directions of one derivative pass.
 pub type Directions = DualSVec64<DIRECTIONS>;
 
 /// The direction of coordinate `coord` (0, 1, 2 = x, y, θ) of the blocks of `parity`, over
