@@ -121,6 +121,39 @@ pub fn lire(n: usize, perturbation: Perturbation) -> Result<Scene, BlockError> {
     )
 }
 
+/// Step between the bottom-block shifts of [`nearby_lire_collapses`], in block widths.
+pub const NEARBY_SHIFT: f64 = 1e-6;
+
+/// `count` Lire collapses of `n` blocks next to [`Perturbation::Bottom`]: the bottom
+/// block shifted outward by (1 % + k·10⁻⁶) of its width, k = 0..count (k = 0 is the
+/// scene of §4.3 itself).
+///
+/// The collapse runs through an unstable equilibrium, so round-off-sized differences
+/// (10⁻¹⁶ grows like e^{2.7t} to 10⁻¹⁰ by t = 5) change which later steps need retries.
+/// The cost of one run is therefore partly luck; the mean over these neighbours is a
+/// steadier measure of the solver's speed than any single run.
+///
+/// # Errors
+/// Only for n = 0.
+pub fn nearby_lire_collapses(n: usize, count: usize) -> Result<Vec<Scene>, BlockError> {
+    let scene = lire(n, Perturbation::Bottom)?;
+    (0..count)
+        .map(|k| {
+            let mut blocks = scene.blocks().to_vec();
+            if let Some(b) = blocks.first_mut() {
+                b.initial.x += k as f64 * NEARBY_SHIFT * b.width();
+            }
+            Scene::new(
+                scene.base().clone(),
+                blocks,
+                scene.floor(),
+                scene.contact,
+                scene.solver,
+            )
+        })
+        .collect()
+}
+
 /// Parameters of the shaken column (§4.4, Figure 4.6).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Shaking {

@@ -161,6 +161,10 @@ pub struct RunSummary {
     pub branch_points: Vec<BranchRecord>,
     /// Steps that went through only as substeps (halved Δt, [`MAX_HALVINGS`]).
     pub split_steps: usize,
+    /// Linear solves of the Newton iterations, in every attempt (failed ones, retries,
+    /// fixed-set re-solves and substeps included): the run's work, independent of the
+    /// machine ([`nsga::Stepper::linear_solves`]).
+    pub linear_solves: u64,
     /// Largest increase of the energy between two steps (unforced runs: ≤ ~0).
     pub max_energy_increase: f64,
     /// The message of a step that finally failed (the run stopped there).
@@ -280,6 +284,7 @@ pub fn simulate(
         failed_steps: 0,
         branch_points: Vec::new(),
         split_steps: 0,
+        linear_solves: 0,
         max_energy_increase: f64::NEG_INFINITY,
         error: None,
     };
@@ -335,6 +340,7 @@ pub fn simulate(
         check_failure(&rec, t, &mut summary);
         on_step(&r);
     }
+    summary.linear_solves = stepper.linear_solves();
     let q = &stepper.state().q;
     summary.final_poses = (0..scene.n_blocks())
         .map(|k| Pose::from_slice(&q[3 * k..3 * k + 3]).into())

@@ -51,7 +51,9 @@ pub struct Options {
     pub prox: Prox,
     /// Newton tolerance on ‖R‖∞, rows scaled to impulse units (thesis 1e-10).
     pub tol: f64,
-    /// Maximum Newton iterations per attempt.
+    /// Maximum Newton iterations per attempt. An attempt ends sooner when it cannot
+    /// converge: its iterates settle into a cycle of index sets without progress, or,
+    /// with fixed sets, its residual stalls (see `settled_cycle` and `stalled`).
     pub max_iter: usize,
     /// Other ρ∞ values tried, in order, when a step does not converge (thesis §4.2).
     pub rho_inf_retries: Vec<f64>,
@@ -70,7 +72,9 @@ pub struct Options {
     pub start_tol: f64,
     /// Leave out of the linear solve the normal contacts (and their friction laws) that
     /// are open, carry no force and cannot close within the step
-    /// (g_N > 2Δt|ġ_N| + Δt²|g̈_N|); the step is redone in full if one of them closes.
+    /// (g_N > 2Δt|ġ_N| + Δt²|g̈_N|); if one of them closes at an iterate, the attempt
+    /// is redone with that contact kept. Fixed-set re-solves prune only the contacts
+    /// their sets leave open.
     pub prune_open_contacts: bool,
     /// ε ≥ 0 added to the Newton matrix (not to the residual) on the multiplier diagonal
     /// of every closed contact row, scaled like the row's open form, when the Newton
@@ -591,6 +595,45 @@ struct Work {
     r_law: Vec<f64>,
     it: Iterate,
     solver: Box<dyn LinearSolver>,
+    /// Linear solves since the stepper was built, failed attempts included.
+    linear_solves: u64,
+}
+
+/// Periods (in Newton iterations) of set cycles that [`settled_cycle`] recognizes.
+const CYCLE_PERIODS: std::ops::RangeInclusive<usize> = 2..=4;
+
+/// Whether the Newton iterates have settled into a cycle of index sets that makes no
+/// progress: the last three periods visit the same sets in the same order, and the
+/// smallest residual of the last period is no smaller than half that of the period
+/// before. Newton's iterates are then a discrete map caught in an attractor; running
+/// on to the iteration limit only repeats it.
+fn settled_cycle(history: &[usize], residuals: &[f64]) -> bool {
+    let n = history.len();
+    CYCLE_PERIODS.into_iter().any(|p| {
+        n >= 3 * p
+            && (0..2 * p).all(|i| history[n - 1 - i] == history[n - 1 - i - p])
+            && history[n - p..].iter().any(|&id| id != history[n - 1])
+            && {
+                let min = |r: &[f64]| r.iter().copied().fold(f64::INFINITY, f64::min);
+                min(&residuals[n - p..]) >= 0.5 * min(&residuals[n - 2 * p..n - p])
+            }
+    })
+}
+
+/// Iterations without progress after which a fixed-set solve is given up.
+const STALL_ITERATIONS: usize = 3;
+
+/// Whether a Newton solve with fixed index sets has stalled: none of its last
+/// [`STALL_ITERATIONS`] residuals is below half the smallest one before them. With the
+/// sets fixed the residual is smooth and Newton converges quadratically near a solution;
+/// a residual that stops shrinking means these sets have no solution near the iterates.
+fn stalled(residuals: &[f64]) -> bool {
+    let n = residuals.len();
+    n > STALL_ITERATIONS && {
+        let (before, last) = residuals.split_at(n - STALL_ITERATIONS);
+        let floor = before.iter().copied().fold(f64::INFINITY, f64::min);
+        last.iter().all(|&r| r >= 0.5 * floor)
+    }
 }
 
 /// Quantities derived from x at one Newton iterate (eqs. 71, 73, 125, 95, 102, 113).
@@ -705,6 +748,7 @@ impl<S: System> Stepper<S> {
             r_law: Vec::new(),
             it: Iterate::default(),
             solver,
+            linear_solves: 0,
         };
         let law_off = layout.friction_offsets();
         let comp_ef = layout.friction_restitution();
@@ -764,6 +808,15 @@ impl<S: System> Stepper<S> {
     /// Accumulated statistics.
     pub fn run_stats(&self) -> &RunStats {
         &self.stats
+    }
+
+    /// Linear solves (Newton matrices factored) since the stepper was built, in every
+    /// attempt: failed ones, retries, fixed-set re-solves and substeps included. Unlike
+    /// [`RunStats::newton_iterations`], which counts accepted attempts, this is the
+    /// whole work, and does not depend on the machine's speed.
+    #[must_use]
+    pub fn linear_solves(&self) -> u64 {
+        self.work.linear_solves
     }
     /// Statistics (including the index sets) of the last accepted step.
     pub fn last_step(&self) -> Option<&StepStats> {
@@ -1302,14 +1355,19 @@ impl<S: System> Stepper<S> {
         rho_inf: f64,
         x: Vec<f64>,
     ) -> Result<Trial, StepError> {
-        let allow = self.options.prune_open_contacts && fixed.is_none();
-        self.solve_inner(fixed, rho_inf, x, allow)
+        // Contacts that may not be pruned: with fixed sets, those the sets close.
+        let keep = self.options.prune_open_contacts.then(|| {
+            (0..self.off.nn)
+                .map(|k| fixed.is_some_and(|f| f.a[k]))
+                .collect()
+        });
+        self.solve_inner(fixed, rho_inf, x, keep)
     }
 
     /// Marks the unknowns of contacts that are open, force-free and cannot close within
     /// the step, sets them to zero in `x`, and returns the map full → reduced index
     /// (`usize::MAX` for pruned) and the reduced size; None when nothing is pruned.
-    fn open_contacts(&mut self, x: &mut [f64]) -> Option<(Vec<usize>, usize)> {
+    fn open_contacts(&mut self, x: &mut [f64], keep: &[bool]) -> Option<(Vec<usize>, usize)> {
         let o = self.off;
         let dt = self.options.dt;
         let st = &self.state;
@@ -1327,7 +1385,8 @@ impl<S: System> Stepper<S> {
         for (k, pr) in pruned_n.iter_mut().enumerate() {
             let pk = o.ng + k;
             let margin = 2.0 * dt * rate[pk].abs() + dt * dt * acc[pk].abs();
-            *pr = e.position[pk] > margin
+            *pr = !keep[k]
+                && e.position[pk] > margin
                 && e.position[pk] > 0.0
                 && st.lambda_n[k] == 0.0
                 && st.lambda_n_bar[k] == 0.0;
@@ -1368,20 +1427,17 @@ impl<S: System> Stepper<S> {
         Some((map, n_red))
     }
 
-    /// One Newton solve of the step (eq. 143).
+    /// One Newton solve of the step (eq. 143). With `keep` (the contacts that may not be
+    /// pruned), open contacts are pruned (`Options::prune_open_contacts`).
     fn solve_inner(
         &mut self,
         fixed: Option<&IndexSets>,
         rho_inf: f64,
         mut x: Vec<f64>,
-        allow_prune: bool,
+        keep: Option<Vec<bool>>,
     ) -> Result<Trial, StepError> {
-        let x_start = if allow_prune { Some(x.clone()) } else { None };
-        let prune = if allow_prune {
-            self.open_contacts(&mut x)
-        } else {
-            None
-        };
+        let x_start = keep.is_some().then(|| x.clone());
+        let prune = keep.as_ref().and_then(|k| self.open_contacts(&mut x, k));
         let p = GenAlpha::new(rho_inf);
         let o = self.off;
         let tol = self.options.tol;
@@ -1389,6 +1445,7 @@ impl<S: System> Stepper<S> {
         self.prepare_step();
         let mut visited: Vec<IndexSets> = Vec::new();
         let mut history: Vec<usize> = Vec::new();
+        let mut residuals: Vec<f64> = Vec::new();
         // Best iterate so far: (residual, iteration, visited-set id) and its x.
         let mut best: Option<(f64, usize, usize)> = None;
         let mut best_x: Vec<f64> = Vec::new();
@@ -1417,9 +1474,15 @@ impl<S: System> Stepper<S> {
                 });
             }
             if let (Some((map, _)), Some(x0)) = (&prune, &x_start) {
-                // A pruned contact closes at this iterate after all: redo the step in full.
-                if (0..o.nn).any(|k| map[o.kn + k] == usize::MAX && sets.a[k]) {
-                    return self.solve_inner(fixed, rho_inf, x0.clone(), false);
+                let closing = |k: usize| map[o.kn + k] == usize::MAX && sets.a[k];
+                if (0..o.nn).any(closing) {
+                    // A pruned contact closes at this iterate after all: redo the step
+                    // with it kept in the system.
+                    let mut keep = keep.unwrap_or_else(|| vec![false; o.nn]);
+                    for (k, kk) in keep.iter_mut().enumerate() {
+                        *kk |= closing(k);
+                    }
+                    return self.solve_inner(fixed, rho_inf, x0.clone(), Some(keep));
                 }
             }
             if res <= tol {
@@ -1430,22 +1493,16 @@ impl<S: System> Stepper<S> {
                 best_x.clear();
                 best_x.extend_from_slice(&x);
             }
-            if iter == max_iter {
+            residuals.push(res);
+            let hopeless = if fixed.is_some() {
+                stalled(&residuals)
+            } else {
+                settled_cycle(&history, &residuals)
+            };
+            if iter == max_iter || hopeless {
                 break;
             }
-            self.jacobian(&x, &sets, &p, 0.0);
-            let mut solved = self.newton_direction(prune.as_ref());
-            let eps = self.options.regularization;
-            if solved.is_err() && eps > 0.0 {
-                // Redundant closed contacts: solve the regularized linearization.
-                self.jacobian(&x, &sets, &p, eps);
-                solved = self.newton_direction(prune.as_ref());
-            }
-            solved.map_err(|e| StepError::Linear {
-                t: self.state.t,
-                message: e.0,
-                state: Box::new(self.state.clone()),
-            })?;
+            self.exact_direction(&x, &sets, &p, prune.as_ref())?;
             for (xi, d) in x.iter_mut().zip(&self.work.dx) {
                 *xi += d;
             }
@@ -1480,6 +1537,30 @@ impl<S: System> Stepper<S> {
         })
     }
 
+    /// The exact Newton update at `x` (eq. 143): assembles and factors the Jacobian,
+    /// regularized (`Options::regularization`) when it is singular.
+    fn exact_direction(
+        &mut self,
+        x: &[f64],
+        sets: &IndexSets,
+        p: &GenAlpha,
+        prune: Option<&(Vec<usize>, usize)>,
+    ) -> Result<(), StepError> {
+        self.jacobian(x, sets, p, 0.0);
+        let mut solved = self.newton_direction(prune);
+        let eps = self.options.regularization;
+        if solved.is_err() && eps > 0.0 {
+            // Redundant closed contacts: solve the regularized linearization.
+            self.jacobian(x, sets, p, eps);
+            solved = self.newton_direction(prune);
+        }
+        solved.map_err(|e| StepError::Linear {
+            t: self.state.t,
+            message: e.0,
+            state: Box::new(self.state.clone()),
+        })
+    }
+
     /// The Newton update dx = −J⁻¹R from the assembled Jacobian and residual, on the
     /// reduced system when open contacts are pruned (their updates are 0).
     fn newton_direction(
@@ -1487,6 +1568,7 @@ impl<S: System> Stepper<S> {
         prune: Option<&(Vec<usize>, usize)>,
     ) -> Result<(), crate::linalg::LinalgError> {
         let w = &mut self.work;
+        w.linear_solves += 1;
         w.dx.iter_mut().zip(&w.res).for_each(|(d, r)| *d = -r);
         let Some((map, n_red)) = prune else {
             return w.solver.solve(self.off.n, &w.jac, &mut w.dx);
@@ -1560,5 +1642,53 @@ impl<S: System> Stepper<S> {
             visited,
             cycling,
         }
+    }
+}
+
+#[cfg(test)]
+mod give_up_tests {
+    use super::{settled_cycle, stalled};
+
+    #[test]
+    fn a_period_three_cycle_without_progress_is_settled() {
+        // Sets 0, 1, 2 repeating; residuals repeating too.
+        let history = [5, 0, 1, 2, 0, 1, 2, 0, 1, 2];
+        let residuals = [
+            1e-3, 2e-2, 1e-2, 4.7e-4, 2e-2, 1e-2, 4.7e-4, 2e-2, 1e-2, 4.7e-4,
+        ];
+        assert!(settled_cycle(&history, &residuals));
+        // Two periods are not enough evidence.
+        assert!(!settled_cycle(&history[3..], &residuals[3..]));
+    }
+
+    #[test]
+    fn a_cycle_that_still_makes_progress_goes_on() {
+        let history = [0, 1, 0, 1, 0, 1];
+        let residuals = [1e-2, 1e-2, 1e-3, 1e-3, 1e-4, 1e-4];
+        assert!(!settled_cycle(&history, &residuals));
+    }
+
+    #[test]
+    fn one_set_is_not_a_cycle() {
+        // Slow convergence within one set is left to max_iter.
+        let history = [3; 12];
+        let residuals = [1e-3; 12];
+        assert!(!settled_cycle(&history, &residuals));
+    }
+
+    #[test]
+    fn a_broken_pattern_is_not_a_cycle() {
+        let history = [0, 1, 2, 0, 1, 2, 0, 1, 3];
+        let residuals = [1e-2; 9];
+        assert!(!settled_cycle(&history, &residuals));
+    }
+
+    #[test]
+    fn fixed_set_solves_stall_only_without_progress() {
+        assert!(!stalled(&[1.0, 0.1, 0.01, 1e-4]));
+        assert!(!stalled(&[1.0, 0.9, 0.8]));
+        assert!(stalled(&[1.0, 0.1, 0.09, 0.2, 0.06]));
+        // Quadratic convergence after a slow start.
+        assert!(!stalled(&[1.0, 0.1, 0.09, 0.2, 0.04]));
     }
 }

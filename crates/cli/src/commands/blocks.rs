@@ -737,6 +737,8 @@ pub struct SimulationReport {
     pub branch_points: usize,
     /// Steps that went through only as substeps (halved Δt).
     pub split_steps: usize,
+    /// Linear solves of the Newton iterations in every attempt (the run's work).
+    pub linear_solves: u64,
     /// Largest energy increase between two steps (≤ ~0 in unforced runs).
     pub max_energy_increase: f64,
     /// Why the run stopped early, or null.
@@ -1028,6 +1030,7 @@ pub fn simulate_with_output(
         failed_steps: summary.failed_steps,
         branch_points: summary.branch_points.len(),
         split_steps: summary.split_steps,
+        linear_solves: summary.linear_solves,
         max_energy_increase: summary.max_energy_increase,
         error: summary.error.clone(),
         t_final,
@@ -1103,8 +1106,8 @@ fn finish_command(out: &SimulationOutput, json: bool, dir: Option<&Path>) -> Res
             time(r.opening_time)
         );
         println!(
-            "min gap {:.3e}, failed Newton steps {}, branch points {}, split steps {}, largest energy increase {:.3e}",
-            r.min_gap, r.failed_steps, r.branch_points, r.split_steps, r.max_energy_increase
+            "min gap {:.3e}, failed Newton steps {}, branch points {}, split steps {}, linear solves {}, largest energy increase {:.3e}",
+            r.min_gap, r.failed_steps, r.branch_points, r.split_steps, r.linear_solves, r.max_energy_increase
         );
         for (k, p) in r.final_poses.iter().enumerate() {
             println!(
