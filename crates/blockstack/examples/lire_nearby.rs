@@ -4,7 +4,7 @@
 //! One collapse's cost depends on round-off-sized luck (it passes an unstable
 //! equilibrium); the mean over the neighbours measures the solver, the single run only
 //! one realisation. Run with
-//! `cargo run --release -p blockstack --example lire_nearby`.
+//! `cargo run --release -p blockstack --example lire_nearby [COUNT]` (default 10 runs).
 
 use blockstack::scenarios::nearby_lire_collapses;
 use blockstack::{simulate, RunOptions};
@@ -15,7 +15,11 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         explore_branches: true,
         ..RunOptions::default()
     };
-    let scenes = nearby_lire_collapses(4, 10)?;
+    let count = match std::env::args().nth(1) {
+        Some(a) => a.parse().map_err(|e| format!("COUNT '{a}': {e}"))?,
+        None => 10,
+    };
+    let scenes = nearby_lire_collapses(4, count)?;
     println!("   k  solver ms  failed steps  linear solves  error");
     let (mut ms, mut failed, mut solves) = (Vec::new(), 0, 0);
     for (k, scene) in scenes.iter().enumerate() {

@@ -82,7 +82,9 @@ pub struct Options {
     /// it has degrees of freedom, as a toppled column on the floor) make it singular;
     /// with ε the update solves a compliant linearization whose redundant forces take a
     /// least-norm share, while the residual, and hence the converged solution, stays
-    /// exact. 0 turns this off (a singular matrix then fails the attempt).
+    /// exact. 0 turns this off (a singular matrix then fails the attempt). Index sets
+    /// whose plain matrix was found singular go straight to the regularized one at the
+    /// next update, until other sets come.
     #[serde(default = "default_regularization")]
     pub regularization: f64,
 }
@@ -597,6 +599,8 @@ struct Work {
     solver: Box<dyn LinearSolver>,
     /// Linear solves since the stepper was built, failed attempts included.
     linear_solves: u64,
+    /// The index sets of the last Newton matrix found singular without regularization.
+    singular_sets: Option<IndexSets>,
 }
 
 /// Periods (in Newton iterations) of set cycles that [`settled_cycle`] recognizes.
@@ -749,6 +753,7 @@ impl<S: System> Stepper<S> {
             it: Iterate::default(),
             solver,
             linear_solves: 0,
+            singular_sets: None,
         };
         let law_off = layout.friction_offsets();
         let comp_ef = layout.friction_restitution();
@@ -1546,11 +1551,21 @@ impl<S: System> Stepper<S> {
         p: &GenAlpha,
         prune: Option<&(Vec<usize>, usize)>,
     ) -> Result<(), StepError> {
-        self.jacobian(x, sets, p, 0.0);
-        let mut solved = self.newton_direction(prune);
         let eps = self.options.regularization;
+        // Redundancy is a property of which contacts are closed: sets whose plain matrix
+        // was singular go straight to the regularized one.
+        let known_singular = eps > 0.0 && self.work.singular_sets.as_ref() == Some(sets);
+        let mut solved = Err(crate::linalg::LinalgError(String::new()));
+        if !known_singular {
+            self.jacobian(x, sets, p, 0.0);
+            solved = self.newton_direction(prune);
+            if solved.is_ok() {
+                self.work.singular_sets = None;
+            }
+        }
         if solved.is_err() && eps > 0.0 {
             // Redundant closed contacts: solve the regularized linearization.
+            self.work.singular_sets = Some(sets.clone());
             self.jacobian(x, sets, p, eps);
             solved = self.newton_direction(prune);
         }

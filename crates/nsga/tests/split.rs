@@ -73,9 +73,12 @@ fn a_failed_substep_restores_state_options_and_statistics() {
 
 /// A unit point mass under gravity resting on two identical contacts g₁ = g₂ = y: the
 /// contact rows of the Newton matrix are equal, so it is singular, and the normal forces
-/// are not unique (only λ₁ + λ₂ = mg is).
+/// are not unique (only λ₁ + λ₂ = mg is). The load can pulse, mg (1 + `pulse` sin 5t),
+/// so that every step needs a Newton update.
 #[derive(Debug, Clone, Copy)]
-struct TwoCoincidentSupports;
+struct TwoCoincidentSupports {
+    pulse: f64,
+}
 
 impl System for TwoCoincidentSupports {
     fn layout(&self) -> Layout {
@@ -86,9 +89,9 @@ impl System for TwoCoincidentSupports {
             ..Layout::default()
         }
     }
-    fn evaluate<T: Scalar>(&self, _t: f64, q: &[T], _u: &[T], out: &mut Evaluation<T>) {
+    fn evaluate<T: Scalar>(&self, t: f64, q: &[T], _u: &[T], out: &mut Evaluation<T>) {
         out.mass.push(0, 0, T::from(1.0));
-        out.forces[0] = T::from(-1.0);
+        out.forces[0] = T::from(-1.0 - self.pulse * (5.0 * t).sin());
         out.position[0] = q[0];
         out.position[1] = q[0];
         out.position_w.push(0, 0, T::from(1.0));
@@ -96,18 +99,18 @@ impl System for TwoCoincidentSupports {
     }
 }
 
-fn resting(regularization: f64) -> Result<Stepper<TwoCoincidentSupports>, StepError> {
+fn resting(regularization: f64, pulse: f64) -> Result<Stepper<TwoCoincidentSupports>, StepError> {
     let opts = Options {
         dt: 0.01,
         regularization,
         ..Options::default()
     };
-    Stepper::new(TwoCoincidentSupports, 0.0, &[0.0], &[0.0], opts)
+    Stepper::new(TwoCoincidentSupports { pulse }, 0.0, &[0.0], &[0.0], opts)
 }
 
 #[test]
 fn redundant_contacts_rest_with_the_least_norm_forces() {
-    let mut s = resting(nsga::DEFAULT_REGULARIZATION).unwrap();
+    let mut s = resting(nsga::DEFAULT_REGULARIZATION, 0.0).unwrap();
     for _ in 0..100 {
         s.step().unwrap();
     }
@@ -119,8 +122,27 @@ fn redundant_contacts_rest_with_the_least_norm_forces() {
 }
 
 #[test]
+fn known_singular_sets_go_straight_to_the_regularized_update() {
+    let mut s = resting(nsga::DEFAULT_REGULARIZATION, 0.5).unwrap();
+    s.step().unwrap();
+    let (solves, iterations) = (s.linear_solves(), s.run_stats().newton_iterations);
+    for _ in 0..20 {
+        s.step().unwrap();
+    }
+    // The sets stay the same: every later Newton update is one (regularized) solve, not
+    // a failed plain factorization followed by the regularized one.
+    let more_solves = s.linear_solves() - solves;
+    let more_iterations = s.run_stats().newton_iterations - iterations;
+    assert!(more_iterations >= 20, "{more_iterations} iterations");
+    assert_eq!(more_solves, more_iterations);
+    let st = s.state();
+    let load = 1.0 + 0.5 * (5.0 * st.t).sin();
+    assert!((st.lambda_n[0] + st.lambda_n[1] - load).abs() < 1e-9);
+}
+
+#[test]
 fn without_regularization_redundant_contacts_fail_as_singular() {
-    let failed = match resting(0.0) {
+    let failed = match resting(0.0, 0.0) {
         Err(_) => true,
         Ok(mut s) => (0..10).any(|_| s.step().is_err()),
     };
