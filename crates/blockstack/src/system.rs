@@ -205,7 +205,9 @@ impl System for StackSystem {
                     direction(parity, coord, true),
                 );
                 for (i, row) in s.contacts.normals.iter().enumerate() {
-                    let Some(row) = row else { continue };
+                    let Some(row) = row.as_ref().filter(|_| probes.uses_position(i)) else {
+                        continue;
+                    };
                     let Some(j) = seeded_coordinate(row, parity, coord) else {
                         continue;
                     };
@@ -228,6 +230,9 @@ impl System for StackSystem {
                     push_nonzero(&mut out.position_accel_u, i, j, part(&row.zeta, du));
                 }
                 for (i, row) in s.contacts.slips.iter().enumerate() {
+                    if !probes.uses_velocity(i) {
+                        continue;
+                    }
                     let Some(j) = seeded_coordinate(row, parity, coord) else {
                         continue;
                     };
@@ -349,6 +354,13 @@ mod tests {
 
     /// The parity-seeded derivatives equal the default one-pass-per-coordinate ones.
     fn check(scene: Scene, t: f64) {
+        check_with_unused(scene, t, &[], &[]);
+    }
+
+    /// As [`check`], with the rows of the `unused` constraints left out (their
+    /// multipliers zero, as the stepper guarantees): those rows must be absent, every
+    /// other entry exact.
+    fn check_with_unused(scene: Scene, t: f64, unused_p: &[bool], unused_v: &[bool]) {
         let sys = StackSystem::new(scene);
         let layout = sys.layout();
         let (nq, np, nv) = (layout.nq, layout.n_position(), layout.n_velocity());
@@ -361,11 +373,20 @@ mod tests {
         let u: Vec<f64> = (0..nq).map(|i| wave(i + 5, 0.3)).collect();
         let a: Vec<f64> = (0..nq).map(|i| wave(i + 11, 0.7)).collect();
         let uo: Vec<f64> = (0..nq).map(|i| wave(i + 17, 0.2)).collect();
+        let used = |mask: &[bool], i: usize| mask.get(i) != Some(&true);
         let mp: Vec<Vec<f64>> = (0..3)
-            .map(|k| (0..np).map(|i| wave(i + 23 * k, 1.0)).collect())
+            .map(|k| {
+                (0..np)
+                    .map(|i| wave(i + 23 * k, f64::from(u8::from(used(unused_p, i)))))
+                    .collect()
+            })
             .collect();
         let mv: Vec<Vec<f64>> = (0..3)
-            .map(|k| (0..nv).map(|i| wave(i + 29 * k, 1.0)).collect())
+            .map(|k| {
+                (0..nv)
+                    .map(|i| wave(i + 29 * k, f64::from(u8::from(used(unused_v, i)))))
+                    .collect()
+            })
             .collect();
         let probes = Probes {
             a: &a,
@@ -375,16 +396,28 @@ mod tests {
                 (&a, &mp[1], &mv[1]),
                 (&uo, &mp[2], &mv[2]),
             ],
+            unused_position: unused_p,
+            unused_velocity: unused_v,
         };
         let mut sparse = Derivatives::default();
         sys.derivatives(t, &q, &u, &probes, &mut sparse);
         let mut reference = Derivatives::default();
         forward_derivatives(&sys, t, &q, &u, &probes, &mut reference);
-        for (k, (x, y)) in all(&sparse, nq, np, nv)
-            .iter()
+        for (k, (x, mut y)) in all(&sparse, nq, np, nv)
+            .into_iter()
             .zip(all(&reference, nq, np, nv))
             .enumerate()
         {
+            // Matrices 3..8 have a row per position-level constraint, 8.. per velocity one.
+            let mask = match k {
+                0..3 => &[][..],
+                3..8 => unused_p,
+                _ => unused_v,
+            };
+            let cols = y.len() / mask.len().max(1);
+            for (i, _) in mask.iter().enumerate().filter(|(_, &u)| u) {
+                y[i * cols..(i + 1) * cols].fill(0.0);
+            }
             let err = x
                 .iter()
                 .zip(&y)
@@ -399,6 +432,17 @@ mod tests {
     #[test]
     fn sparse_derivatives_equal_forward_ad_on_the_lire_tower() {
         check(lire(4, Perturbation::Bottom).unwrap(), 0.3);
+    }
+
+    #[test]
+    fn unused_floor_rows_are_left_out_and_the_rest_is_exact() {
+        let scene = lire(4, Perturbation::Bottom).unwrap();
+        let (nn, nl) = (scene.n_normal_contacts(), scene.friction_laws().len());
+        // The floor rows come after the 2 × 4 interface gaps and the 4 interface laws.
+        let unused_p: Vec<bool> = (0..nn).map(|i| i >= 8).collect();
+        let unused_v: Vec<bool> = (0..nl).map(|i| i >= 4).collect();
+        assert!(unused_p.iter().any(|&u| u) && unused_v.iter().any(|&u| u));
+        check_with_unused(scene, 0.3, &unused_p, &unused_v);
     }
 
     #[test]

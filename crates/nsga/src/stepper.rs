@@ -601,6 +601,9 @@ struct Work {
     linear_solves: u64,
     /// The index sets of the last Newton matrix found singular without regularization.
     singular_sets: Option<IndexSets>,
+    /// Constraints pruned from the current attempt's Newton matrix (empty when none).
+    unused_position: Vec<bool>,
+    unused_velocity: Vec<bool>,
 }
 
 /// Periods (in Newton iterations) of set cycles that [`settled_cycle`] recognizes.
@@ -754,6 +757,8 @@ impl<S: System> Stepper<S> {
             solver,
             linear_solves: 0,
             singular_sets: None,
+            unused_position: Vec::new(),
+            unused_velocity: Vec::new(),
         };
         let law_off = layout.friction_offsets();
         let comp_ef = layout.friction_restitution();
@@ -1134,6 +1139,8 @@ impl<S: System> Stepper<S> {
         self.evaluate_iterate(update_prox);
         self.finish_accelerations(x);
         self.residual(x, sets, &p);
+        // The full matrix: nothing pruned.
+        self.mark_unused(None);
         self.jacobian(x, sets, &p, 0.0);
         let n = self.off.n;
         let mut j = DMatrix::zeros(n, n);
@@ -1432,6 +1439,23 @@ impl<S: System> Stepper<S> {
         Some((map, n_red))
     }
 
+    /// Marks the constraints whose unknowns the prune `map` leaves out (none without).
+    fn mark_unused(&mut self, map: Option<&[usize]>) {
+        let o = self.off;
+        let w = &mut self.work;
+        w.unused_position.clear();
+        w.unused_velocity.clear();
+        if let Some(map) = map {
+            let pruned = |i: usize| map[i] == usize::MAX;
+            w.unused_position.resize(o.ng, false);
+            w.unused_position
+                .extend((0..o.nn).map(|k| pruned(o.kn + k)));
+            w.unused_velocity.resize(o.nga, false);
+            w.unused_velocity
+                .extend((0..o.nf).map(|c| pruned(o.cf + c)));
+        }
+    }
+
     /// One Newton solve of the step (eq. 143). With `keep` (the contacts that may not be
     /// pruned), open contacts are pruned (`Options::prune_open_contacts`).
     fn solve_inner(
@@ -1443,6 +1467,7 @@ impl<S: System> Stepper<S> {
     ) -> Result<Trial, StepError> {
         let x_start = keep.is_some().then(|| x.clone());
         let prune = keep.as_ref().and_then(|k| self.open_contacts(&mut x, k));
+        self.mark_unused(prune.as_ref().map(|(map, _)| map.as_slice()));
         let p = GenAlpha::new(rho_inf);
         let o = self.off;
         let tol = self.options.tol;

@@ -273,6 +273,25 @@ pub struct Probes<'a> {
     pub u_old: &'a [f64],
     /// Three (v, μ_p, μ_v) triples for ∂/∂q [M(q) v − W_p(q) μ_p − W_v(q) μ_v].
     pub dynamics: [(&'a [f64], &'a [f64], &'a [f64]); 3],
+    /// Position-level constraints the stepper leaves out of this Newton matrix (pruned
+    /// open contacts, `Options::prune_open_contacts`); empty when none. Their multipliers
+    /// in `dynamics` are zero, so a system may leave their rows out of every list.
+    pub unused_position: &'a [bool],
+    /// Velocity-level constraints left out likewise; empty when none.
+    pub unused_velocity: &'a [bool],
+}
+
+impl Probes<'_> {
+    /// Whether the stepper uses the rows of position-level constraint `i`.
+    #[must_use]
+    pub fn uses_position(&self, i: usize) -> bool {
+        self.unused_position.get(i) != Some(&true)
+    }
+    /// Whether the stepper uses the rows of velocity-level constraint `i`.
+    #[must_use]
+    pub fn uses_velocity(&self, i: usize) -> bool {
+        self.unused_velocity.get(i) != Some(&true)
+    }
 }
 
 /// The exact derivatives the Newton iteration needs, all at one (t, q, u).

@@ -184,6 +184,8 @@ fn analytic_ball_derivatives_equal_automatic_differentiation() {
         a: &a,
         u_old: &u,
         dynamics: [(&a, &lam, &lam), (&a, &lam, &lam), (&a, &lam, &lam)],
+        unused_position: &[],
+        unused_velocity: &[],
     };
     let mut analytic = Derivatives::default();
     ball.derivatives(0.0, &q, &u, &probes, &mut analytic);

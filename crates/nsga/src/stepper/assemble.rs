@@ -133,6 +133,8 @@ impl<S: System> Stepper<S> {
                     (&x[o.uu..o.uu + o.nu], &it.cap_p, &it.cap_v),
                     (&x[o.qq..o.qq + o.nu], &it.kap_p, &it.half_cap_v),
                 ],
+                unused_position: &w.unused_position,
+                unused_velocity: &w.unused_velocity,
             };
             self.system
                 .derivatives(t1, &it.q1, &it.u1, &probes, &mut w.der);
