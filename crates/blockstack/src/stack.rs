@@ -210,6 +210,25 @@ impl Scene {
     /// # Panics
     /// When q or u is shorter than 3n.
     pub fn contacts_into<T: Scalar>(&self, t: f64, q: &[T], u: &[T], out: &mut StackContacts<T>) {
+        self.contacts_into_with_floor(t, q, u, |_| true, out);
+    }
+
+    /// [`Scene::contacts_into`] with the floor contacts of only the blocks `floor_of`
+    /// accepts (0-based). The numbering stays the same: a block left out gets `None`
+    /// corner gaps, a zero floor slip and no [`StackContacts::floor`] detail. For a
+    /// caller that knows those rows are not needed (a derivative pass for a Newton
+    /// matrix without them).
+    ///
+    /// # Panics
+    /// When q or u is shorter than 3n.
+    pub fn contacts_into_with_floor<T: Scalar>(
+        &self,
+        t: f64,
+        q: &[T],
+        u: &[T],
+        floor_of: impl Fn(usize) -> bool,
+        out: &mut StackContacts<T>,
+    ) {
         let n = self.n_blocks();
         assert!(
             q.len() >= 3 * n && u.len() >= 3 * n,
@@ -245,6 +264,16 @@ impl Scene {
         }
         if let Some(floor) = self.floor() {
             for i in 0..n {
+                if !floor_of(i) {
+                    out.normals.extend([None; 4]);
+                    out.slips.push(ContactRow {
+                        value: T::zero(),
+                        w: SparseColumn::empty(),
+                        chi: T::zero(),
+                        zeta: T::zero(),
+                    });
+                    continue;
+                }
                 let c = floor.contacts(&block(i), self.size(i + 1));
                 for g in &c.gaps {
                     out.normals.push(Some(single(g, i)));

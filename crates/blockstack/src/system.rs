@@ -197,7 +197,18 @@ impl System for StackSystem {
         };
         seed(&mut s.q, q, false);
         seed(&mut s.u, u, true);
-        self.scene.contacts_into(t, &s.q, &s.u, &mut s.contacts);
+        // The floor rows of a block (its floor law n + i and the corners bounding it) are
+        // skipped when the stepper uses none of them.
+        let n = self.scene.n_blocks();
+        let floor_used = |i: usize| {
+            probes.uses_velocity(n + i)
+                || self.laws[n + i]
+                    .normals
+                    .iter()
+                    .any(|&k| probes.uses_position(k))
+        };
+        self.scene
+            .contacts_into_with_floor(t, &s.q, &s.u, floor_used, &mut s.contacts);
         for parity in 0..2 {
             for coord in 0..3 {
                 let (dq, du) = (
