@@ -1577,28 +1577,29 @@ impl<S: System> Stepper<S> {
         prune: Option<&(Vec<usize>, usize)>,
     ) -> Result<(), StepError> {
         let eps = self.options.regularization;
+        let linear_error = |e: crate::linalg::LinalgError, st: &State| StepError::Linear {
+            t: st.t,
+            message: e.0,
+            state: Box::new(st.clone()),
+        };
         // Redundancy is a property of which contacts are closed: sets whose plain matrix
         // was singular go straight to the regularized one.
-        let known_singular = eps > 0.0 && self.work.singular_sets.as_ref() == Some(sets);
-        let mut solved = Err(crate::linalg::LinalgError(String::new()));
-        if !known_singular {
+        if !(eps > 0.0 && self.work.singular_sets.as_ref() == Some(sets)) {
             self.jacobian(x, sets, p, 0.0);
-            solved = self.newton_direction(prune);
-            if solved.is_ok() {
-                self.work.singular_sets = None;
+            match self.newton_direction(prune) {
+                Ok(()) => {
+                    self.work.singular_sets = None;
+                    return Ok(());
+                }
+                Err(e) if eps <= 0.0 => return Err(linear_error(e, &self.state)),
+                Err(_) => {}
             }
         }
-        if solved.is_err() && eps > 0.0 {
-            // Redundant closed contacts: solve the regularized linearization.
-            self.work.singular_sets = Some(sets.clone());
-            self.jacobian(x, sets, p, eps);
-            solved = self.newton_direction(prune);
-        }
-        solved.map_err(|e| StepError::Linear {
-            t: self.state.t,
-            message: e.0,
-            state: Box::new(self.state.clone()),
-        })
+        // Redundant closed contacts: solve the regularized linearization.
+        self.work.singular_sets = Some(sets.clone());
+        self.jacobian(x, sets, p, eps);
+        self.newton_direction(prune)
+            .map_err(|e| linear_error(e, &self.state))
     }
 
     /// The Newton update dx = −J⁻¹R from the assembled Jacobian and residual, on the
