@@ -12,7 +12,9 @@
 //!   second-order position update eq. 125, prox/index-set contact laws eqs. 128–142,
 //!   semismooth Newton eq. 143), with a consistent start ([`start`]), retries with
 //!   other ρ∞, typed errors ([`StepError`]), statistics, readable and fixable index
-//!   sets ([`IndexSets`]) and branch-point reports ([`BranchPoint`]);
+//!   sets ([`IndexSets`]) and branch-point reports ([`BranchPoint`]); optionally
+//!   simplified Newton updates from kept factors ([`Options::reuse_factorization`])
+//!   and a line search ([`Options::line_search`]);
 //! * [`moreau`]: the Moreau–Jean midpoint baseline on the same trait;
 //! * [`linalg`]: dense and sparse LU (faer) behind [`LinearSolver`];
 //! * [`systems`]: benchmark systems with known answers (free fall, oscillator,
@@ -81,7 +83,8 @@
 //!
 //! [`AutoSolver`] uses dense LU up to [`linalg::DEFAULT_SPARSE_THRESHOLD`] unknowns and
 //! sparse LU above; the crossover is measured by `cargo bench -p nsga --bench nsga --
-//! linear_solve`.
+//! linear_solve`. Every solver keeps the factors of its last matrix
+//! ([`LinearSolver::solve_again`]), which simplified Newton updates reuse.
 
 #![warn(missing_docs)]
 
@@ -103,6 +106,6 @@ pub use params::GenAlpha;
 pub use sets::IndexSets;
 pub use stepper::{
     BranchPoint, FailurePolicy, Options, Prox, RunStats, SolverChoice, State, StepStats, Stepper,
-    Trial, DEFAULT_REGULARIZATION, DEFAULT_RETRY_MAX_ITER,
+    Trial, DEFAULT_REGULARIZATION, DEFAULT_RETRY_MAX_ITER, MAX_REUSES, REUSE_CONTRACTION,
 };
 pub use system::{Derivatives, Evaluation, FrictionLaw, Layout, Probes, Scalar, System, Triplets};

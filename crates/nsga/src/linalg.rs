@@ -21,8 +21,26 @@ pub trait LinearSolver: std::fmt::Debug {
         triplets: &[(usize, usize, f64)],
         rhs: &mut [f64],
     ) -> Result<(), LinalgError>;
+    /// Overwrites `rhs` with the solution of J x = rhs for the J of the last successful
+    /// [`LinearSolver::solve`], from its kept factors (a simplified Newton update).
+    ///
+    /// # Errors
+    /// [`LinalgError`] when no factorization is kept (the default) or the solution is
+    /// not finite.
+    fn solve_again(&mut self, rhs: &mut [f64]) -> Result<(), LinalgError> {
+        let _ = rhs;
+        Err(LinalgError("no factorization kept".into()))
+    }
     /// A short name for statistics ("dense" or "sparse").
     fn name(&self) -> &'static str;
+}
+
+fn finite(rhs: &[f64], what: &str) -> Result<(), LinalgError> {
+    if rhs.iter().all(|x| x.is_finite()) {
+        Ok(())
+    } else {
+        Err(LinalgError(format!("non-finite solution ({what})")))
+    }
 }
 
 /// Relative pivot size below which dense LU reports the matrix as singular: a solve
@@ -37,6 +55,8 @@ pub struct DenseLu {
     perm: Vec<usize>,
     perm_inv: Vec<usize>,
     scratch: Vec<std::mem::MaybeUninit<u8>>,
+    /// Whether `matrix` holds the factors of a regular matrix.
+    factored: bool,
 }
 
 impl Default for DenseLu {
@@ -46,6 +66,7 @@ impl Default for DenseLu {
             perm: Vec::new(),
             perm_inv: Vec::new(),
             scratch: Vec::new(),
+            factored: false,
         }
     }
 }
@@ -60,6 +81,7 @@ impl LinearSolver for DenseLu {
         use faer::dyn_stack::{MemStack, StackReq};
         use faer::linalg::lu::partial_pivoting::{factor, solve};
         let par = faer::Par::Seq;
+        self.factored = false;
         if self.matrix.nrows() != n {
             self.matrix = faer::Mat::zeros(n, n);
             self.perm.resize(n, 0);
@@ -80,7 +102,7 @@ impl LinearSolver for DenseLu {
                 std::mem::MaybeUninit::new(0),
             );
         }
-        let (_, perm) = factor::lu_in_place(
+        factor::lu_in_place(
             self.matrix.as_mut(),
             &mut self.perm,
             &mut self.perm_inv,
@@ -100,19 +122,27 @@ impl LinearSolver for DenseLu {
         if n > 0 && !regular {
             return Err(LinalgError("singular matrix (dense LU)".into()));
         }
+        self.factored = true;
+        self.solve_again(rhs)
+    }
+    fn solve_again(&mut self, rhs: &mut [f64]) -> Result<(), LinalgError> {
+        use faer::dyn_stack::MemStack;
+        use faer::linalg::lu::partial_pivoting::solve;
+        if !self.factored {
+            return Err(LinalgError("no factorization kept (dense LU)".into()));
+        }
+        let n = self.matrix.nrows();
+        let perm = faer::perm::PermRef::new_checked(&self.perm, &self.perm_inv, n);
         let mut b = faer::MatMut::from_column_major_slice_mut(rhs, n, 1);
         solve::solve_in_place(
             self.matrix.as_ref(),
             self.matrix.as_ref(),
             perm,
             b.as_mut(),
-            par,
+            faer::Par::Seq,
             MemStack::new(&mut self.scratch),
         );
-        if rhs.iter().any(|x| !x.is_finite()) {
-            return Err(LinalgError("non-finite solution (dense LU)".into()));
-        }
-        Ok(())
+        finite(rhs, "dense LU")
     }
     fn name(&self) -> &'static str {
         "dense"
@@ -132,6 +162,8 @@ pub struct SparseLu {
         Vec<usize>,
         faer::sparse::linalg::solvers::SymbolicLu<usize>,
     )>,
+    /// The factors of the last matrix solved.
+    last: Option<faer::sparse::linalg::solvers::Lu<usize, f64>>,
 }
 
 /// Number of sparsity patterns whose symbolic analysis is kept.
@@ -144,7 +176,6 @@ impl LinearSolver for SparseLu {
         triplets: &[(usize, usize, f64)],
         rhs: &mut [f64],
     ) -> Result<(), LinalgError> {
-        use faer::linalg::solvers::Solve;
         self.buf.clear();
         self.buf.extend(
             triplets
@@ -173,17 +204,22 @@ impl LinearSolver for SparseLu {
                 .push((col_ptr.to_vec(), row_idx.to_vec(), sym.clone()));
             sym
         };
+        self.last = None;
         let lu = faer::sparse::linalg::solvers::Lu::try_new_with_symbolic(sym, m.as_ref())
             .map_err(|e| LinalgError(format!("sparse LU: {e:?}")))?;
-        let mut b = faer::Mat::<f64>::from_fn(n, 1, |i, _| rhs[i]);
+        self.last = Some(lu);
+        self.solve_again(rhs)
+            .map_err(|_| LinalgError("singular matrix (sparse LU)".into()))
+    }
+    fn solve_again(&mut self, rhs: &mut [f64]) -> Result<(), LinalgError> {
+        use faer::linalg::solvers::Solve;
+        let Some(lu) = &self.last else {
+            return Err(LinalgError("no factorization kept (sparse LU)".into()));
+        };
+        let n = rhs.len();
+        let mut b = faer::MatMut::from_column_major_slice_mut(rhs, n, 1);
         lu.solve_in_place(b.as_mut());
-        for (i, x) in rhs.iter_mut().enumerate() {
-            *x = b[(i, 0)];
-        }
-        if rhs.iter().any(|x| !x.is_finite()) {
-            return Err(LinalgError("singular matrix (sparse LU)".into()));
-        }
-        Ok(())
+        finite(rhs, "sparse LU")
     }
     fn name(&self) -> &'static str {
         "sparse"
@@ -240,6 +276,13 @@ impl LinearSolver for AutoSolver {
             self.sparse.solve(n, triplets, rhs)
         }
     }
+    fn solve_again(&mut self, rhs: &mut [f64]) -> Result<(), LinalgError> {
+        if self.last == "dense" {
+            self.dense.solve_again(rhs)
+        } else {
+            self.sparse.solve_again(rhs)
+        }
+    }
     fn name(&self) -> &'static str {
         self.last
     }
@@ -270,6 +313,31 @@ mod tests {
         for i in 0..n {
             assert!((x1[i] - x2[i]).abs() < 1e-12);
         }
+    }
+
+    #[test]
+    fn kept_factors_solve_again_like_a_new_solve() {
+        let t = vec![(0, 0, 4.0), (0, 1, 1.0), (1, 0, 2.0), (1, 1, 3.0)];
+        let solvers: [Box<dyn LinearSolver>; 3] = [
+            Box::new(DenseLu::default()),
+            Box::new(SparseLu::default()),
+            Box::new(AutoSolver::new(1)),
+        ];
+        for mut s in solvers {
+            let mut none = vec![1.0, 1.0];
+            assert!(s.solve_again(&mut none).is_err(), "nothing factored yet");
+            s.solve(2, &t, &mut [1.0, 0.0]).unwrap();
+            let mut x = vec![3.0, -1.0];
+            s.solve_again(&mut x).unwrap();
+            // 4x + y = 3, 2x + 3y = −1: x = 1, y = −1.
+            assert!((x[0] - 1.0).abs() < 1e-14 && (x[1] + 1.0).abs() < 1e-14);
+        }
+        // A singular matrix leaves nothing to solve again with.
+        let mut d = DenseLu::default();
+        d.solve(2, &t, &mut [1.0, 0.0]).unwrap();
+        let singular = vec![(0, 0, 1.0), (0, 1, 1.0), (1, 0, 1.0), (1, 1, 1.0)];
+        assert!(d.solve(2, &singular, &mut [1.0, 2.0]).is_err());
+        assert!(d.solve_again(&mut [1.0, 2.0]).is_err());
     }
 
     #[test]

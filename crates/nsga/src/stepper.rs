@@ -87,7 +87,33 @@ pub struct Options {
     /// next update, until other sets come.
     #[serde(default = "default_regularization")]
     pub regularization: f64,
+    /// Simplified Newton: while the index sets (and pruned contacts, Δt, ρ∞) are those of
+    /// the last factorized Newton matrix, solve with its kept factors instead of
+    /// assembling and factorizing a new one, as long as each such update at least
+    /// [`REUSE_CONTRACTION`]-fold reduces the residual, and at most [`MAX_REUSES`] times
+    /// in a row. The iterates converge to the same tolerance; a quiet contact phase then
+    /// costs residual evaluations and triangular solves, not factorizations.
+    #[serde(default)]
+    pub reuse_factorization: bool,
+    /// Halvings of the Newton update allowed in its line search (0: full updates, as in
+    /// the paper). With n > 0 the update is scaled by the first α = 1, ½, …, 2⁻ⁿ that
+    /// reduces ‖R‖∞ by the factor 1 − 10⁻⁴α, or taken whole when none does. Damping
+    /// the updates that overshoot keeps Newton from jumping between distant index sets
+    /// when several contacts close at once.
+    #[serde(default)]
+    pub line_search: usize,
 }
+
+/// Sufficient-decrease constant of the line search (see [`Options::line_search`]).
+const ARMIJO: f64 = 1e-4;
+
+/// Residual reduction a simplified Newton update must reach; below it the next update
+/// is exact (see [`Options::reuse_factorization`]).
+pub const REUSE_CONTRACTION: f64 = 0.1;
+
+/// Simplified Newton updates in a row before an exact one (see
+/// [`Options::reuse_factorization`]).
+pub const MAX_REUSES: usize = 4;
 
 /// Default [`Options::retry_max_iter`]. Measured with the Lire collapse and the two
 /// block sweeps (`rollstack blocks lire --perturb bottom`, `blocks sweep frequency
@@ -125,6 +151,8 @@ impl Default for Options {
             start_tol: 1e-9,
             prune_open_contacts: false,
             regularization: DEFAULT_REGULARIZATION,
+            reuse_factorization: false,
+            line_search: 0,
         }
     }
 }
@@ -604,6 +632,20 @@ struct Work {
     /// Constraints pruned from the current attempt's Newton matrix (empty when none).
     unused_position: Vec<bool>,
     unused_velocity: Vec<bool>,
+    /// What the solver's kept factors were assembled for (None: nothing reusable).
+    factored: Option<FactoredFor>,
+    /// The iterate a line search starts from.
+    x_from: Vec<f64>,
+}
+
+/// The index sets, prune map, Δt and ρ∞ of a factorized Newton matrix: its factors
+/// serve a simplified Newton update only while all four are unchanged.
+#[derive(Debug, Clone, PartialEq)]
+struct FactoredFor {
+    sets: IndexSets,
+    map: Option<Vec<usize>>,
+    dt: f64,
+    rho_inf: f64,
 }
 
 /// Periods (in Newton iterations) of set cycles that [`settled_cycle`] recognizes.
@@ -757,6 +799,8 @@ impl<S: System> Stepper<S> {
             solver,
             linear_solves: 0,
             singular_sets: None,
+            factored: None,
+            x_from: Vec::new(),
             unused_position: Vec::new(),
             unused_velocity: Vec::new(),
         };
@@ -1479,13 +1523,15 @@ impl<S: System> Stepper<S> {
         // Best iterate so far: (residual, iteration, visited-set id) and its x.
         let mut best: Option<(f64, usize, usize)> = None;
         let mut best_x: Vec<f64> = Vec::new();
+        let mut pending: Option<(IndexSets, f64)> = None;
+        // Simplified Newton bookkeeping: the last update reused kept factors, how many in
+        // a row did, and the residual before the last update.
+        let (mut reused, mut reuses, mut last_res) = (false, 0, f64::INFINITY);
+        let mut may_reuse = self.options.reuse_factorization;
         for iter in 0..=max_iter {
-            self.derive(&x, &p);
-            self.evaluate_iterate(iter == 0);
-            self.finish_accelerations(&x);
-            let sets = match fixed {
-                Some(s) => s.clone(),
-                None => self.compute_sets(&x),
+            let (sets, res) = match pending.take() {
+                Some(e) => e,
+                None => self.evaluate_at(&x, fixed, &p, iter == 0),
             };
             let id = match visited.iter().position(|v| v == &sets) {
                 Some(i) => i,
@@ -1495,8 +1541,6 @@ impl<S: System> Stepper<S> {
                 }
             };
             history.push(id);
-            self.residual(&x, &sets, &p);
-            let res = self.work.res.iter().fold(0.0_f64, |m, r| m.max(r.abs()));
             if !res.is_finite() {
                 return Err(StepError::NonFinite {
                     t: self.state.t,
@@ -1532,10 +1576,20 @@ impl<S: System> Stepper<S> {
             if iter == max_iter || hopeless {
                 break;
             }
-            self.exact_direction(&x, &sets, &p, prune.as_ref())?;
-            for (xi, d) in x.iter_mut().zip(&self.work.dx) {
-                *xi += d;
+            // Simplified Newton while it contracts (Options::reuse_factorization).
+            if reused && res > REUSE_CONTRACTION * last_res {
+                may_reuse = false;
             }
+            reused =
+                may_reuse && reuses < MAX_REUSES && self.kept_direction(&sets, &p, prune.as_ref());
+            if reused {
+                reuses += 1;
+            } else {
+                reuses = 0;
+                self.exact_direction(&x, &sets, &p, prune.as_ref())?;
+            }
+            last_res = res;
+            pending = Some(self.line_search(&mut x, fixed, &p, res));
         }
         // Cycling: more than one distinct set among the last half of the iterates.
         let tail = &history[history.len().saturating_sub(1) / 2..];
@@ -1567,6 +1621,69 @@ impl<S: System> Stepper<S> {
         })
     }
 
+    /// Evaluates the iterate `x`: kinematic updates, system, index sets (the fixed ones
+    /// when given) and residual; returns the sets and ‖R‖∞.
+    fn evaluate_at(
+        &mut self,
+        x: &[f64],
+        fixed: Option<&IndexSets>,
+        p: &GenAlpha,
+        update_prox: bool,
+    ) -> (IndexSets, f64) {
+        self.derive(x, p);
+        self.evaluate_iterate(update_prox);
+        self.finish_accelerations(x);
+        let sets = match fixed {
+            Some(s) => s.clone(),
+            None => self.compute_sets(x),
+        };
+        self.residual(x, &sets, p);
+        let res = self.work.res.iter().fold(0.0_f64, |m, r| m.max(r.abs()));
+        (sets, res)
+    }
+
+    /// Takes the Newton update: x ← x + α dx with the first α = 1, ½, ¼, … (at most
+    /// [`Options::line_search`] halvings) for which ‖R‖∞ falls to (1 − 10⁻⁴α) times
+    /// `res0`, its value at x; when none does, the full update, since a semismooth
+    /// Newton step must stay free to change the index sets. Returns the sets and ‖R‖∞
+    /// at the new x, whose evaluation is left in the work buffers.
+    fn line_search(
+        &mut self,
+        x: &mut [f64],
+        fixed: Option<&IndexSets>,
+        p: &GenAlpha,
+        res0: f64,
+    ) -> (IndexSets, f64) {
+        let halvings = self.options.line_search;
+        if halvings > 0 {
+            self.work.x_from.clear();
+            self.work.x_from.extend_from_slice(x);
+        }
+        let mut alpha = 1.0;
+        for _ in 0..=halvings {
+            self.step_along(x, alpha);
+            let (sets, res) = self.evaluate_at(x, fixed, p, false);
+            if halvings == 0 || res <= (1.0 - ARMIJO * alpha) * res0 {
+                return (sets, res);
+            }
+            alpha *= 0.5;
+        }
+        self.step_along(x, 1.0);
+        self.evaluate_at(x, fixed, p, false)
+    }
+
+    /// x = x_from + α dx (x += dx without a line search).
+    fn step_along(&self, x: &mut [f64], alpha: f64) {
+        let w = &self.work;
+        if self.options.line_search == 0 {
+            x.iter_mut().zip(&w.dx).for_each(|(xi, d)| *xi += d);
+        } else {
+            for ((xi, x0), d) in x.iter_mut().zip(&w.x_from).zip(&w.dx) {
+                *xi = x0 + alpha * d;
+            }
+        }
+    }
+
     /// The exact Newton update at `x` (eq. 143): assembles and factors the Jacobian,
     /// regularized (`Options::regularization`) when it is singular.
     fn exact_direction(
@@ -1584,11 +1701,20 @@ impl<S: System> Stepper<S> {
         };
         // Redundancy is a property of which contacts are closed: sets whose plain matrix
         // was singular go straight to the regularized one.
+        // Only plain factors are kept for simplified Newton updates: the regularized
+        // linearization of redundant contacts already converges just linearly.
+        self.work.factored = None;
         if !(eps > 0.0 && self.work.singular_sets.as_ref() == Some(sets)) {
             self.jacobian(x, sets, p, 0.0);
-            match self.newton_direction(prune) {
+            match self.newton_direction(prune, false) {
                 Ok(()) => {
                     self.work.singular_sets = None;
+                    self.work.factored = Some(FactoredFor {
+                        sets: sets.clone(),
+                        map: prune.map(|(map, _)| map.clone()),
+                        dt: self.options.dt,
+                        rho_inf: p.rho_inf,
+                    });
                     return Ok(());
                 }
                 Err(e) if eps <= 0.0 => return Err(linear_error(e, &self.state)),
@@ -1598,29 +1724,47 @@ impl<S: System> Stepper<S> {
         // Redundant closed contacts: solve the regularized linearization.
         self.work.singular_sets = Some(sets.clone());
         self.jacobian(x, sets, p, eps);
-        self.newton_direction(prune)
+        self.newton_direction(prune, false)
             .map_err(|e| linear_error(e, &self.state))
     }
 
-    /// The Newton update dx = −J⁻¹R from the assembled Jacobian and residual, on the
-    /// reduced system when open contacts are pruned (their updates are 0).
+    /// The simplified Newton update from the solver's kept factors, when they were
+    /// assembled for these sets, prune map, Δt and ρ∞; false (and no update) otherwise.
+    fn kept_direction(
+        &mut self,
+        sets: &IndexSets,
+        p: &GenAlpha,
+        prune: Option<&(Vec<usize>, usize)>,
+    ) -> bool {
+        let fits = self.work.factored.as_ref().is_some_and(|f| {
+            &f.sets == sets
+                && f.map.as_ref() == prune.map(|(map, _)| map)
+                && f.dt == self.options.dt
+                && f.rho_inf == p.rho_inf
+        });
+        fits && self.newton_direction(prune, true).is_ok()
+    }
+
+    /// The Newton update dx = −J⁻¹R from the assembled Jacobian and residual, or with
+    /// `again` from the solver's kept factors (a simplified Newton update), on the reduced
+    /// system when open contacts are pruned (their updates are 0).
     fn newton_direction(
         &mut self,
         prune: Option<&(Vec<usize>, usize)>,
+        again: bool,
     ) -> Result<(), crate::linalg::LinalgError> {
         let w = &mut self.work;
-        w.linear_solves += 1;
+        if !again {
+            w.linear_solves += 1;
+        }
         w.dx.iter_mut().zip(&w.res).for_each(|(d, r)| *d = -r);
         let Some((map, n_red)) = prune else {
-            return w.solver.solve(self.off.n, &w.jac, &mut w.dx);
+            return if again {
+                w.solver.solve_again(&mut w.dx)
+            } else {
+                w.solver.solve(self.off.n, &w.jac, &mut w.dx)
+            };
         };
-        w.jac_red.clear();
-        w.jac_red.extend(
-            w.jac
-                .iter()
-                .filter(|&&(r, c, _)| map[r] != usize::MAX && map[c] != usize::MAX)
-                .map(|&(r, c, v)| (map[r], map[c], v)),
-        );
         w.rhs_red.clear();
         w.rhs_red.resize(*n_red, 0.0);
         for (i, &m) in map.iter().enumerate() {
@@ -1628,7 +1772,18 @@ impl<S: System> Stepper<S> {
                 w.rhs_red[m] = w.dx[i];
             }
         }
-        let out = w.solver.solve(*n_red, &w.jac_red, &mut w.rhs_red);
+        let out = if again {
+            w.solver.solve_again(&mut w.rhs_red)
+        } else {
+            w.jac_red.clear();
+            w.jac_red.extend(
+                w.jac
+                    .iter()
+                    .filter(|&&(r, c, _)| map[r] != usize::MAX && map[c] != usize::MAX)
+                    .map(|&(r, c, v)| (map[r], map[c], v)),
+            );
+            w.solver.solve(*n_red, &w.jac_red, &mut w.rhs_red)
+        };
         for (i, &m) in map.iter().enumerate() {
             w.dx[i] = if m == usize::MAX { 0.0 } else { w.rhs_red[m] };
         }
