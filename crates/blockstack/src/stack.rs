@@ -132,6 +132,23 @@ impl<T> Default for StackContacts<T> {
     }
 }
 
+impl<T> StackContacts<T> {
+    /// Empty buffers sized for the contacts of `scene`, so that filling them allocates
+    /// once per list (the system's evaluation, generic over the scalar, cannot keep a
+    /// buffer between calls).
+    #[must_use]
+    pub fn for_scene(scene: &Scene) -> Self {
+        let n = scene.n_blocks();
+        let floors = if scene.floor().is_some() { n } else { 0 };
+        Self {
+            normals: Vec::with_capacity(2 * n + 4 * floors),
+            slips: Vec::with_capacity(n + floors),
+            interfaces: Vec::with_capacity(n),
+            floor: Vec::with_capacity(floors),
+        }
+    }
+}
+
 impl<T: Scalar> StackContacts<T> {
     /// The smallest gap (real part) among the contacts that can close (`None` if none can).
     #[must_use]

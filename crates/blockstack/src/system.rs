@@ -153,7 +153,7 @@ impl System for StackSystem {
             out.mass.push(i, i, T::from(m));
             out.forces[i] = T::from(h);
         }
-        let mut c = StackContacts::default();
+        let mut c = StackContacts::for_scene(&self.scene);
         self.scene.contacts_into(t, q, u, &mut c);
         for (i, row) in c.normals.iter().enumerate() {
             put_row(

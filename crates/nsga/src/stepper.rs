@@ -513,18 +513,16 @@ pub(crate) fn prox_parameters(
     // diagonal inertia.
     let mut quad_pos = vec![0.0; np];
     let mut quad_vel = vec![0.0; nv];
-    let columns = |w: &Triplets<f64>, n: usize| {
-        let mut cols: Vec<Vec<(usize, f64)>> = vec![Vec::new(); n];
-        for &(r, c, v) in &w.entries {
-            cols[c].push((r, v));
-        }
-        cols
-    };
-    let cp = columns(&eval.position_w, np);
-    let cv = columns(&eval.velocity_w, nv);
     // A diagonal M (point masses, planar rigid bodies) is inverted exactly below.
     let diagonal_mass = eval.mass.entries.iter().all(|&(r, c, _)| r == c);
     if nu <= 60 && !diagonal_mass {
+        let columns = |w: &Triplets<f64>, n: usize| {
+            let mut cols: Vec<Vec<(usize, f64)>> = vec![Vec::new(); n];
+            for &(r, c, v) in &w.entries {
+                cols[c].push((r, v));
+            }
+            cols
+        };
         let mut m = DMatrix::<f64>::zeros(nu, nu);
         for &(r, c, v) in &eval.mass.entries {
             m[(r, c)] += v;
@@ -539,10 +537,10 @@ pub(crate) fn prox_parameters(
                 }
                 s
             };
-            for (k, c) in cp.iter().enumerate() {
+            for (k, c) in columns(&eval.position_w, np).iter().enumerate() {
                 quad_pos[k] = quad(c);
             }
-            for (k, c) in cv.iter().enumerate() {
+            for (k, c) in columns(&eval.velocity_w, nv).iter().enumerate() {
                 quad_vel[k] = quad(c);
             }
         }
@@ -553,17 +551,16 @@ pub(crate) fn prox_parameters(
                 diag[r] += v;
             }
         }
-        let quad = |col: &[(usize, f64)]| {
-            col.iter()
-                .map(|&(i, w)| if diag[i] > 0.0 { w * w / diag[i] } else { 0.0 })
-                .sum::<f64>()
+        // Σ w_i²/M_ii per column, accumulated straight from the triplets.
+        let accumulate = |w: &Triplets<f64>, quad: &mut [f64]| {
+            for &(i, c, v) in &w.entries {
+                if diag[i] > 0.0 {
+                    quad[c] += v * v / diag[i];
+                }
+            }
         };
-        for (k, c) in cp.iter().enumerate() {
-            quad_pos[k] = quad(c);
-        }
-        for (k, c) in cv.iter().enumerate() {
-            quad_vel[k] = quad(c);
-        }
+        accumulate(&eval.position_w, &mut quad_pos);
+        accumulate(&eval.velocity_w, &mut quad_vel);
     }
     let r_of = |w: f64| {
         if w > 1e-300 && w.is_finite() {
