@@ -35,26 +35,40 @@ fn largest_difference(a: &[State], b: &[State]) -> f64 {
         .fold(0.0, f64::max)
 }
 
-/// Exact full-step Newton, with kept factors, and with kept factors and a line search; a
-/// tight tolerance, so that the states, converged within it, agree closely.
-fn variants() -> [Options; 3] {
+/// The three Newton variants on one system for `steps` steps: exact full steps, kept
+/// factors, kept factors with a line search, all with a tight tolerance so that states
+/// converged within it agree closely.
+struct Variants {
+    /// The exact run's states.
+    exact: Vec<State>,
+    /// Largest state difference of the kept-factor and of the damped run to the exact one.
+    difference: [f64; 2],
+    /// Factorizations of the exact and of the kept-factor run.
+    factorizations: [u64; 2],
+}
+
+fn variants<S: System + Copy>(sys: S, q0: &[f64], u0: &[f64], steps: usize) -> Variants {
     let exact = Options {
         dt: 1e-3,
         tol: 1e-13,
         ..Options::default()
     };
-    [
-        exact.clone(),
-        Options {
-            reuse_factorization: true,
-            ..exact.clone()
-        },
-        Options {
-            reuse_factorization: true,
-            line_search: 3,
-            ..exact
-        },
-    ]
+    let reuse = Options {
+        reuse_factorization: true,
+        ..exact.clone()
+    };
+    let damped = Options {
+        line_search: 3,
+        ..reuse.clone()
+    };
+    let (a, exact_solves) = run(sys, q0, u0, exact, steps);
+    let (b, reuse_solves) = run(sys, q0, u0, reuse, steps);
+    let (c, _) = run(sys, q0, u0, damped, steps);
+    Variants {
+        difference: [largest_difference(&a, &b), largest_difference(&a, &c)],
+        factorizations: [exact_solves, reuse_solves],
+        exact: a,
+    }
 }
 
 #[test]
@@ -63,28 +77,17 @@ fn kept_factors_carry_a_sliding_block_to_rest_with_fewer_factorizations() {
     // v/(μg) = 0.34 s: a long phase with unchanged index sets, then a stick transition.
     let chain = Chain::benchmark(5);
     let (q0, u0) = chain.resting(1.0);
-    let [exact, reuse, damped] = variants();
-    let (a, solves_exact) = run(chain, &q0, &u0, exact, 500);
-    let (b, solves_reuse) = run(chain, &q0, &u0, reuse, 500);
-    let (c, _) = run(chain, &q0, &u0, damped, 500);
-    assert!(
-        largest_difference(&a, &b) < 1e-9,
-        "{}",
-        largest_difference(&a, &b)
-    );
-    assert!(
-        largest_difference(&a, &c) < 1e-9,
-        "{}",
-        largest_difference(&a, &c)
-    );
+    let v = variants(chain, &q0, &u0, 500);
+    assert!(v.difference.iter().all(|&d| d < 1e-9), "{:?}", v.difference);
     let top = 2 * (chain.n - 1);
     assert!(
-        a.last().unwrap().u[top].abs() < 1e-9,
+        v.exact.last().unwrap().u[top].abs() < 1e-9,
         "the top block has stopped"
     );
+    let [exact, reuse] = v.factorizations;
     assert!(
-        2 * solves_reuse < solves_exact,
-        "{solves_reuse} factorizations with kept factors, {solves_exact} without"
+        2 * reuse < exact,
+        "{reuse} factorizations with kept factors, {exact} without"
     );
 }
 
@@ -100,24 +103,10 @@ fn kept_factors_follow_a_rocking_block_through_its_impacts() {
         e_n: 0.0,
     };
     let (q0, u0) = block.tilted(0.08);
-    let [exact, reuse, damped] = variants();
-    let (a, solves_exact) = run(block, &q0, &u0, exact, 1500);
-    let (b, solves_reuse) = run(block, &q0, &u0, reuse, 1500);
-    let (c, _) = run(block, &q0, &u0, damped, 1500);
-    assert!(
-        largest_difference(&a, &b) < 1e-8,
-        "{}",
-        largest_difference(&a, &b)
-    );
-    assert!(
-        largest_difference(&a, &c) < 1e-8,
-        "{}",
-        largest_difference(&a, &c)
-    );
-    assert!(
-        solves_reuse < solves_exact,
-        "{solves_reuse} vs {solves_exact}"
-    );
+    let v = variants(block, &q0, &u0, 1500);
+    assert!(v.difference.iter().all(|&d| d < 1e-8), "{:?}", v.difference);
+    let [exact, reuse] = v.factorizations;
+    assert!(reuse < exact, "{reuse} vs {exact}");
 }
 
 /// A unit mass on a saturating spring, force −K atan(q/ε): stiff near q = 0, flat
