@@ -1652,10 +1652,8 @@ impl<S: System> Stepper<S> {
         res0: f64,
     ) -> (IndexSets, f64) {
         let halvings = self.options.line_search;
-        if halvings > 0 {
-            self.work.x_from.clear();
-            self.work.x_from.extend_from_slice(x);
-        }
+        self.work.x_from.clear();
+        self.work.x_from.extend_from_slice(x);
         let mut alpha = 1.0;
         for _ in 0..=halvings {
             self.step_along(x, alpha);
@@ -1669,15 +1667,11 @@ impl<S: System> Stepper<S> {
         self.evaluate_at(x, fixed, p, false)
     }
 
-    /// x = x_from + α dx (x += dx without a line search).
+    /// x = x_from + α dx (for α = 1 exactly x_from + dx).
     fn step_along(&self, x: &mut [f64], alpha: f64) {
         let w = &self.work;
-        if self.options.line_search == 0 {
-            x.iter_mut().zip(&w.dx).for_each(|(xi, d)| *xi += d);
-        } else {
-            for ((xi, x0), d) in x.iter_mut().zip(&w.x_from).zip(&w.dx) {
-                *xi = x0 + alpha * d;
-            }
+        for ((xi, x0), d) in x.iter_mut().zip(&w.x_from).zip(&w.dx) {
+            *xi = x0 + alpha * d;
         }
     }
 
@@ -1696,11 +1690,11 @@ impl<S: System> Stepper<S> {
             message: e.0,
             state: Box::new(st.clone()),
         };
-        // Redundancy is a property of which contacts are closed: sets whose plain matrix
-        // was singular go straight to the regularized one.
         // Only plain factors are kept for simplified Newton updates: the regularized
         // linearization of redundant contacts already converges just linearly.
         self.work.factored = None;
+        // Redundancy is a property of which contacts are closed: sets whose plain matrix
+        // was singular go straight to the regularized one.
         if !(eps > 0.0 && self.work.singular_sets.as_ref() == Some(sets)) {
             self.jacobian(x, sets, p, 0.0);
             match self.newton_direction(prune, false) {
