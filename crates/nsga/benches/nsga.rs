@@ -7,7 +7,9 @@ use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
 use nsga::runs::{run_ball, Scheme};
 use nsga::systems::ball::BallCase;
 use nsga::systems::chain::Chain;
-use nsga::{DenseLu, IndexSets, LinearSolver, Options, Prox, SolverChoice, SparseLu, Stepper};
+use nsga::{
+    DenseLu, IndexSets, LinearSolver, MarkowitzLu, Options, Prox, SolverChoice, SparseLu, Stepper,
+};
 use std::hint::black_box;
 
 fn one_step(c: &mut Criterion) {
@@ -99,6 +101,14 @@ fn linear_solve(c: &mut Criterion) {
             b.iter(|| {
                 let mut v = rhs.clone();
                 DenseLu::default().solve(size, &trip, &mut v).unwrap();
+                black_box(v[0])
+            });
+        });
+        let mut mk = MarkowitzLu::default();
+        g.bench_with_input(BenchmarkId::new("markowitz", size), &size, |b, _| {
+            b.iter(|| {
+                let mut v = rhs.clone();
+                mk.solve(size, &trip, &mut v).unwrap();
                 black_box(v[0])
             });
         });

@@ -16,7 +16,7 @@
 //!   simplified Newton updates from kept factors ([`Options::reuse_factorization`])
 //!   and a line search ([`Options::line_search`]);
 //! * [`moreau`]: the Moreau–Jean midpoint baseline on the same trait;
-//! * [`linalg`]: dense and sparse LU (faer) behind [`LinearSolver`];
+//! * [`linalg`]: dense LU, Markowitz LU and sparse LU behind [`LinearSolver`];
 //! * [`systems`]: benchmark systems with known answers (free fall, oscillator,
 //!   bouncing ball, incline, rocking block, chain), and [`runs`] with whole ball runs.
 //!
@@ -83,8 +83,11 @@
 //!
 //! [`AutoSolver`] uses dense LU up to [`linalg::DEFAULT_SPARSE_THRESHOLD`] unknowns and
 //! sparse LU above; the crossover is measured by `cargo bench -p nsga --bench nsga --
-//! linear_solve`. Every solver keeps the factors of its last matrix
-//! ([`LinearSolver::solve_again`]), which simplified Newton updates reuse.
+//! linear_solve`. [`SolverChoice::Markowitz`] puts [`MarkowitzLu`] in place of dense
+//! LU: a sparse elimination on dense storage, with pivots chosen per matrix, for Newton
+//! matrices whose pattern changes with the index sets from one iteration to the next.
+//! Every solver keeps the factors of its last matrix ([`LinearSolver::solve_again`]),
+//! which simplified Newton updates reuse.
 
 #![warn(missing_docs)]
 
@@ -100,7 +103,7 @@ pub mod system;
 pub mod systems;
 
 pub use error::StepError;
-pub use linalg::{AutoSolver, DenseLu, LinalgError, LinearSolver, SparseLu};
+pub use linalg::{AutoSolver, DenseLu, LinalgError, LinearSolver, MarkowitzLu, SparseLu};
 pub use moreau::{MoreauOptions, MoreauState, MoreauStepper};
 pub use params::GenAlpha;
 pub use sets::IndexSets;

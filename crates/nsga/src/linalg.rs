@@ -1,8 +1,12 @@
 //! The linear solves of the Newton iteration behind one small trait.
 //!
-//! Dense LU for small systems, sparse LU for large ones (both faer);
-//! [`AutoSolver`] switches at a size threshold (measured with the `nsga` bench
-//! `linear_solve`, see the crate docs).
+//! Dense LU for small systems, sparse LU for large ones (both faer), and
+//! [`MarkowitzLu`] (sparse elimination on dense storage) for small systems that are
+//! mostly zeros; [`AutoSolver`] switches at a size threshold (measured with the `nsga`
+//! bench `linear_solve`, see the crate docs).
+
+mod markowitz;
+pub use markowitz::{MarkowitzLu, PIVOT_THRESHOLD};
 
 /// A linear solve failed (singular or non-finite matrix).
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -31,7 +35,7 @@ pub trait LinearSolver: std::fmt::Debug {
         let _ = rhs;
         Err(LinalgError("no factorization kept".into()))
     }
-    /// A short name for statistics ("dense" or "sparse").
+    /// A short name for statistics ("dense", "markowitz" or "sparse").
     fn name(&self) -> &'static str;
 }
 
@@ -242,14 +246,30 @@ impl LinearSolver for SparseLu {
     }
 }
 
-/// Dense LU up to `threshold` unknowns, sparse LU above.
+/// The solver of [`AutoSolver`] for matrices up to its threshold.
+#[derive(Debug, Clone)]
+enum SmallLu {
+    Dense(DenseLu),
+    Markowitz(Box<MarkowitzLu>),
+}
+
+impl SmallLu {
+    fn solver(&mut self) -> &mut dyn LinearSolver {
+        match self {
+            Self::Dense(s) => s,
+            Self::Markowitz(s) => s.as_mut(),
+        }
+    }
+}
+
+/// Dense (or Markowitz) LU up to `threshold` unknowns, sparse LU above.
 #[derive(Debug, Clone)]
 pub struct AutoSolver {
-    /// Largest size solved densely.
+    /// Largest size solved by the small-matrix solver.
     pub threshold: usize,
-    dense: DenseLu,
+    small: SmallLu,
     sparse: SparseLu,
-    last: &'static str,
+    last_small: bool,
 }
 
 /// Default dense/sparse crossover (unknowns). Measured with
@@ -259,14 +279,22 @@ pub struct AutoSolver {
 pub const DEFAULT_SPARSE_THRESHOLD: usize = 40;
 
 impl AutoSolver {
-    /// A solver switching to sparse LU above `threshold` unknowns.
+    /// A solver switching from dense to sparse LU above `threshold` unknowns.
     #[must_use]
     pub fn new(threshold: usize) -> Self {
         Self {
             threshold,
-            dense: DenseLu::default(),
+            small: SmallLu::Dense(DenseLu::default()),
             sparse: SparseLu::default(),
-            last: "dense",
+            last_small: true,
+        }
+    }
+    /// A solver switching from [`MarkowitzLu`] to sparse LU above `threshold` unknowns.
+    #[must_use]
+    pub fn markowitz(threshold: usize) -> Self {
+        Self {
+            small: SmallLu::Markowitz(Box::default()),
+            ..Self::new(threshold)
         }
     }
 }
@@ -284,23 +312,26 @@ impl LinearSolver for AutoSolver {
         triplets: &[(usize, usize, f64)],
         rhs: &mut [f64],
     ) -> Result<(), LinalgError> {
-        if n <= self.threshold {
-            self.last = "dense";
-            self.dense.solve(n, triplets, rhs)
+        self.last_small = n <= self.threshold;
+        if self.last_small {
+            self.small.solver().solve(n, triplets, rhs)
         } else {
-            self.last = "sparse";
             self.sparse.solve(n, triplets, rhs)
         }
     }
     fn solve_again(&mut self, rhs: &mut [f64]) -> Result<(), LinalgError> {
-        if self.last == "dense" {
-            self.dense.solve_again(rhs)
+        if self.last_small {
+            self.small.solver().solve_again(rhs)
         } else {
             self.sparse.solve_again(rhs)
         }
     }
     fn name(&self) -> &'static str {
-        self.last
+        match (&self.small, self.last_small) {
+            (_, false) => self.sparse.name(),
+            (SmallLu::Dense(s), true) => s.name(),
+            (SmallLu::Markowitz(s), true) => s.name(),
+        }
     }
 }
 

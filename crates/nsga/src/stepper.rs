@@ -29,6 +29,9 @@ pub enum SolverChoice {
     Dense,
     /// Always sparse LU (faer).
     Sparse,
+    /// Sparse LU with Markowitz pivots on dense storage ([`crate::MarkowitzLu`]) up to
+    /// the given number of unknowns, sparse LU (faer) above.
+    Markowitz(usize),
 }
 
 /// What to do when a step fails after every retry.
@@ -276,7 +279,7 @@ pub struct StepStats {
     pub converged: bool,
     /// Set when the step was resolved by fixed-set re-solves.
     pub branch: Option<BranchPoint>,
-    /// Linear solver used ("dense" or "sparse").
+    /// Linear solver used ("dense", "markowitz" or "sparse").
     pub solver: String,
     /// Substeps the step was taken in: 1, or more when it was split
     /// ([`Stepper::split_step`]).
@@ -606,7 +609,6 @@ struct Work {
     b: RowMat,
     bdot_u: Vec<f64>,
     jac: Vec<(usize, usize, f64)>,
-    jac_red: Vec<(usize, usize, f64)>,
     rhs_red: Vec<f64>,
     res: Vec<f64>,
     dx: Vec<f64>,
@@ -749,6 +751,7 @@ impl<S: System> Stepper<S> {
             SolverChoice::Auto(t) => Box::new(AutoSolver::new(t)),
             SolverChoice::Dense => Box::new(DenseLu::default()),
             SolverChoice::Sparse => Box::new(SparseLu::default()),
+            SolverChoice::Markowitz(t) => Box::new(AutoSolver::markowitz(t)),
         };
         let start = consistent_start(&system, &layout, t0, q0, u0, &options)?;
         let mut x = vec![0.0; off.n];
@@ -779,7 +782,6 @@ impl<S: System> Stepper<S> {
             b: RowMat::default(),
             bdot_u: vec![0.0; layout.nq],
             jac: Vec::new(),
-            jac_red: Vec::new(),
             rhs_red: Vec::new(),
             res: vec![0.0; off.n],
             dx: vec![0.0; off.n],
@@ -1766,14 +1768,12 @@ impl<S: System> Stepper<S> {
         let out = if again {
             w.solver.solve_again(&mut w.rhs_red)
         } else {
-            w.jac_red.clear();
-            w.jac_red.extend(
-                w.jac
-                    .iter()
-                    .filter(|&&(r, c, _)| map[r] != usize::MAX && map[c] != usize::MAX)
-                    .map(|&(r, c, v)| (map[r], map[c], v)),
-            );
-            w.solver.solve(*n_red, &w.jac_red, &mut w.rhs_red)
+            // Renumbered in place: the assembled Jacobian is not used again.
+            w.jac.retain_mut(|(r, c, _)| {
+                (*r, *c) = (map[*r], map[*c]);
+                *r != usize::MAX && *c != usize::MAX
+            });
+            w.solver.solve(*n_red, &w.jac, &mut w.rhs_red)
         };
         for (i, &m) in map.iter().enumerate() {
             w.dx[i] = if m == usize::MAX { 0.0 } else { w.rhs_red[m] };

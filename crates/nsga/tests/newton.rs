@@ -1,10 +1,11 @@
 //! Newton variants of the stepper reach the converged steps of the paper's exact,
 //! full-step Newton (eq. 143): simplified updates from kept factors
-//! (`Options::reuse_factorization`) and damped updates (`Options::line_search`).
+//! (`Options::reuse_factorization`) and damped updates (`Options::line_search`); and
+//! the sparse Markowitz LU takes the steps of dense LU.
 
 use nsga::systems::chain::Chain;
 use nsga::systems::rocking::RockingBlock;
-use nsga::{Options, State, Stepper, System};
+use nsga::{Options, SolverChoice, State, Stepper, System};
 
 /// The states of `steps` steps and the number of factorizations they took.
 fn run<S: System>(
@@ -107,6 +108,43 @@ fn kept_factors_follow_a_rocking_block_through_its_impacts() {
     assert!(v.difference.iter().all(|&d| d < 1e-8), "{:?}", v.difference);
     let [exact, reuse] = v.factorizations;
     assert!(reuse < exact, "{reuse} vs {exact}");
+}
+
+/// The largest state difference between runs with dense LU and with Markowitz LU.
+fn markowitz_difference<S: System + Copy>(sys: S, q0: &[f64], u0: &[f64], steps: usize) -> f64 {
+    let dense = Options {
+        dt: 1e-3,
+        tol: 1e-13,
+        solver: SolverChoice::Dense,
+        ..Options::default()
+    };
+    let markowitz = Options {
+        solver: SolverChoice::Markowitz(usize::MAX),
+        ..dense.clone()
+    };
+    let (a, _) = run(sys, q0, u0, dense, steps);
+    let (b, _) = run(sys, q0, u0, markowitz, steps);
+    largest_difference(&a, &b)
+}
+
+#[test]
+fn markowitz_lu_takes_the_steps_of_dense_lu() {
+    // Sliding to rest on a chain (stick–slip transition) and rocking with corner impacts.
+    let chain = Chain::benchmark(5);
+    let (q0, u0) = chain.resting(1.0);
+    let d = markowitz_difference(chain, &q0, &u0, 500);
+    assert!(d < 1e-9, "chain: {d}");
+    let block = RockingBlock {
+        mass: 1.0,
+        half_width: 0.1,
+        half_height: 0.5,
+        gravity: 9.81,
+        mu: 10.0,
+        e_n: 0.0,
+    };
+    let (q0, u0) = block.tilted(0.08);
+    let d = markowitz_difference(block, &q0, &u0, 1500);
+    assert!(d < 1e-8, "rocking block: {d}");
 }
 
 /// A unit mass on a saturating spring, force −K atan(q/ε): stiff near q = 0, flat
