@@ -131,7 +131,7 @@ impl MarkowitzLu {
     }
 
     /// The next pivot by Markowitz's rule, searched in one column: the active column of
-    /// least count c (the first of equals, or the first of count one), and in it, among the entries passing the
+    /// least count c (the first of equals), and in it, among the entries passing the
     /// threshold test, the one of least row count r, which minimizes (r − 1)(c − 1)
     /// there; ties go to the larger entry, then to the first row. `None` when that
     /// column has no nonzero entry left (J is singular).
@@ -141,17 +141,16 @@ impl MarkowitzLu {
     /// four columns took half again as long.
     fn choose_pivot(&self) -> Option<(usize, usize)> {
         let (n, w) = (self.n, self.words);
-        // Pivoted columns have count u32::MAX; no active column has fewer than one
-        // entry unless J is singular, so the search stops at the first count of one.
-        let (mut j, mut count) = (0, u32::MAX);
-        for (k, &c) in self.col_count.iter().enumerate() {
-            if c < count {
-                (j, count) = (k, c);
-                if c <= 1 {
-                    break;
-                }
-            }
-        }
+        // The least (count, index) as one integer key: a branch-free minimum, which the
+        // compiler vectorizes. Pivoted columns have count u32::MAX.
+        let key = self
+            .col_count
+            .iter()
+            .zip(0_u64..)
+            .map(|(&c, j)| (u64::from(c) << 32) | j)
+            .min()?;
+        let count = u32::try_from(key >> 32).unwrap_or(u32::MAX);
+        let j = usize::try_from(key & u64::from(u32::MAX)).unwrap_or(0);
         let column = |word: usize| self.col_pattern[j * w + word] & self.active_rows[word];
         let mut largest = 0.0_f64;
         for word in 0..w {
