@@ -81,11 +81,13 @@
 //!
 //! # Linear algebra
 //!
-//! [`AutoSolver`] uses dense LU up to [`linalg::DEFAULT_SPARSE_THRESHOLD`] unknowns and
-//! sparse LU above; the crossover is measured by `cargo bench -p nsga --bench nsga --
-//! linear_solve`. [`SolverChoice::Markowitz`] puts [`MarkowitzLu`] in place of dense
-//! LU: a sparse elimination on dense storage, with pivots chosen per matrix, for Newton
-//! matrices whose pattern changes with the index sets from one iteration to the next.
+//! The default, [`SolverChoice::Markowitz`], factorizes Newton matrices of up to
+//! [`linalg::MARKOWITZ_SPARSE_THRESHOLD`] unknowns by [`MarkowitzLu`]: a sparse
+//! elimination on dense storage, with pivots chosen per matrix, since the pattern changes
+//! with the index sets from one iteration to the next; larger ones by faer's sparse LU.
+//! [`SolverChoice::Auto`] uses dense LU up to [`linalg::DEFAULT_SPARSE_THRESHOLD`]
+//! unknowns instead. Both crossovers are measured by `cargo bench -p nsga --bench nsga --
+//! linear_solve`.
 //! Every solver keeps the factors of its last matrix ([`LinearSolver::solve_again`]),
 //! which simplified Newton updates reuse.
 

@@ -278,6 +278,15 @@ pub struct AutoSolver {
 /// 14.4 µs vs 6.4 µs at 44, 56 µs vs 18 µs at 88. 40 sits near the crossover.
 pub const DEFAULT_SPARSE_THRESHOLD: usize = 40;
 
+/// Default Markowitz/sparse crossover (unknowns) of [`SolverChoice::Markowitz`], the
+/// stepper's default solver. Measured like [`DEFAULT_SPARSE_THRESHOLD`]: Markowitz LU
+/// 1.1 µs vs dense 2.7 µs at 22 unknowns, 11 µs vs 48 µs (sparse 20 µs) at 88, 27 µs vs
+/// sparse 40 µs at 176, even with sparse LU at 264 (58 µs vs 57 µs), 183 µs vs 95 µs
+/// at 440.
+///
+/// [`SolverChoice::Markowitz`]: crate::SolverChoice::Markowitz
+pub const MARKOWITZ_SPARSE_THRESHOLD: usize = 256;
+
 impl AutoSolver {
     /// A solver switching from dense to sparse LU above `threshold` unknowns.
     #[must_use]

@@ -1,7 +1,7 @@
 //! The nonsmooth generalized-α step (NSGA-SPEC §3–4, paper eqs. 71–143).
 
 use crate::error::StepError;
-use crate::linalg::{AutoSolver, DenseLu, LinearSolver, SparseLu, DEFAULT_SPARSE_THRESHOLD};
+use crate::linalg::{AutoSolver, DenseLu, LinearSolver, SparseLu, MARKOWITZ_SPARSE_THRESHOLD};
 use crate::params::GenAlpha;
 use crate::sets::IndexSets;
 use crate::start::consistent_start;
@@ -30,7 +30,8 @@ pub enum SolverChoice {
     /// Always sparse LU (faer).
     Sparse,
     /// Sparse LU with Markowitz pivots on dense storage ([`crate::MarkowitzLu`]) up to
-    /// the given number of unknowns, sparse LU (faer) above.
+    /// the given number of unknowns, sparse LU (faer) above. The default, with
+    /// [`crate::linalg::MARKOWITZ_SPARSE_THRESHOLD`].
     Markowitz(usize),
 }
 
@@ -149,7 +150,7 @@ impl Default for Options {
             rho_inf_retries: vec![0.8, 0.2, 1.0, 0.0],
             retry_max_iter: DEFAULT_RETRY_MAX_ITER,
             explore_branches: true,
-            solver: SolverChoice::Auto(DEFAULT_SPARSE_THRESHOLD),
+            solver: SolverChoice::Markowitz(MARKOWITZ_SPARSE_THRESHOLD),
             on_failure: FailurePolicy::Error,
             start_tol: 1e-9,
             prune_open_contacts: false,
