@@ -4,14 +4,15 @@
 //! and §7.8).
 //!
 //! The Newton matrix of eq. 143 has tens to a few hundred unknowns and a few percent to
-//! a fifth of its entries nonzero: the mass blocks of a, U and Q are diagonal, and each
-//! contact row touches only the coordinates of the two bodies it joins. Dense LU spends
+//! a fifth of its entries nonzero: the mass blocks of a, U and Q are as sparse as M, and
+//! each contact row touches only the coordinates of the bodies it joins. Dense LU spends
 //! most of its flops on zeros, and a general sparse LU spends them on a symbolic analysis
 //! that the index sets invalidate whenever a contact opens or closes. Here the values
 //! live in a dense n × n array (no indirection), the patterns of rows and columns in
 //! bit sets (one 64-bit word per 64 rows or columns), and the elimination touches only
 //! the nonzeros of the pivot row and column. Pivots are chosen as the factorization goes,
-//! so a changed pattern costs nothing extra.
+//! so a changed pattern costs nothing extra. A matrix found singular is handed to dense
+//! LU with partial pivoting, whose verdict stands (see the `dense` field).
 
 use super::{finite, DenseLu, LinalgError, LinearSolver, SINGULAR_PIVOT};
 
@@ -147,9 +148,9 @@ impl MarkowitzLu {
     /// there; ties go to the larger entry, then to the first row. `None` when that
     /// column has no nonzero entry left (J is singular).
     ///
-    /// Searching the two columns of least count (Zlatev's strategy) lowered the fill of
-    /// 1075 Newton matrices of the Lire collapse by 5 % and took 7 % more instructions;
-    /// four columns took half again as long.
+    /// Searching two or four columns of least count (Zlatev's strategy) lowered the fill
+    /// on the Lire collapse's Newton matrices only slightly and cost more in the search
+    /// than it saved.
     fn choose_pivot(&self) -> Option<(usize, usize)> {
         let (n, w) = (self.n, self.words);
         // The least (count, index) as one integer key: a branch-free minimum, which the
