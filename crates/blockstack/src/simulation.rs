@@ -65,7 +65,14 @@ pub const QUICK_CHECK_ITERATIONS: usize = 8;
 /// The Lire collapse needs it where the column lands on the floor with several corners
 /// at once (t = 7.41): Newton cycles through 7 index sets, none self-consistent, and the
 /// two half steps go through (`cargo test -p blockstack --test simulation`).
-pub const MAX_HALVINGS: usize = 4;
+///
+/// Some landings need far finer substeps: over the Lire collapse and its neighbours
+/// (`cargo run --release -p blockstack --example lire_nearby 100`), 4 halvings left 3 of
+/// the first 60 runs stopped with an error (neighbours 11, 29 and 59, at t = 6.03, 7.52
+/// and 6.21), 7 halvings left neighbour 59, which needs 9; with 10 all 100 run through.
+/// A failure at one instant costs a bounded amount of work per level (only the half
+/// that contains it is split again), not 2^level substeps.
+pub const MAX_HALVINGS: usize = 10;
 
 /// Halvings allowed in the line search of each Newton update (`nsga::Options::line_search`).
 /// Measured on the Lire collapse and 29 neighbours (`cargo run --release -p blockstack

@@ -110,6 +110,26 @@ fn perturbed_bottom_block_collapses_the_whole_column() {
     }
 }
 
+/// Neighbours of the collapse (bottom block shifted by k·1e-6 w more) whose landings
+/// need substeps down to Δt/512 (`blockstack::simulation::MAX_HALVINGS`): with 4
+/// halvings they stopped with an error at t = 6.03, 7.52 and 6.21.
+#[test]
+fn collapses_whose_landings_need_fine_substeps_run_through() {
+    let scenes = blockstack::scenarios::nearby_lire_collapses(4, 60).unwrap();
+    for k in [11, 29, 59] {
+        let (s, _) = run(&scenes[k], 9.99);
+        assert_eq!(s.error, None, "neighbour {k}");
+        assert_eq!(s.steps, 999, "neighbour {k}");
+        assert!(s.split_steps > 0, "neighbour {k}");
+        assert!(s.min_gap > -1e-8, "neighbour {k}: {}", s.min_gap);
+        assert!(
+            s.max_energy_increase <= 1e-9,
+            "neighbour {k}: {}",
+            s.max_energy_increase
+        );
+    }
+}
+
 /// The energy of the toppled top block rises slightly while it pivots on one corner on
 /// the floor (t ≈ 3.5–5): an O(Δt²) error of the second-order integrator, not energy put
 /// in by a contact law, since it shrinks fourfold when Δt is halved.
