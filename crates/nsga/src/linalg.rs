@@ -51,6 +51,21 @@ fn finite(rhs: &[f64], what: &str) -> Result<(), LinalgError> {
 /// through such a pivot returns round-off amplified by 1/pivot, not a Newton step.
 pub const SINGULAR_PIVOT: f64 = 1e-13;
 
+/// Whether an LU's pivots pass the [`SINGULAR_PIVOT`] test: the least in magnitude above
+/// that fraction of the largest. NaN pivots fail (`f64::min` would skip them); no pivots
+/// (n = 0) pass.
+fn regular_pivots(pivots: impl IntoIterator<Item = f64>) -> bool {
+    let (mut lo, mut hi) = (f64::INFINITY, 0.0_f64);
+    for p in pivots {
+        if p.is_nan() {
+            return false;
+        }
+        lo = lo.min(p.abs());
+        hi = hi.max(p.abs());
+    }
+    lo > SINGULAR_PIVOT * hi
+}
+
 /// Dense LU with partial pivoting (faer's blocked kernel, sequential), with the
 /// matrix, permutation and scratch buffers kept between solves.
 #[derive(Debug, Clone)]
@@ -115,15 +130,7 @@ impl LinearSolver for DenseLu {
             faer::prelude::default(),
         );
         let diag = self.matrix.as_ref().diagonal();
-        let (mut lo, mut hi) = (f64::INFINITY, 0.0_f64);
-        for i in 0..n {
-            let d = diag[i].abs();
-            lo = lo.min(d);
-            hi = hi.max(d);
-        }
-        // NaN pivots fail this test too.
-        let regular = lo > SINGULAR_PIVOT * hi;
-        if n > 0 && !regular {
+        if !regular_pivots((0..n).map(|i| diag[i])) {
             return Err(LinalgError("singular matrix (dense LU)".into()));
         }
         self.factored = true;

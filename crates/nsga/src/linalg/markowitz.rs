@@ -14,7 +14,7 @@
 //! so a changed pattern costs nothing extra. A matrix found singular is handed to dense
 //! LU with partial pivoting, whose verdict stands (see the `dense` field).
 
-use super::{finite, DenseLu, LinalgError, LinearSolver, SINGULAR_PIVOT};
+use super::{finite, regular_pivots, DenseLu, LinalgError, LinearSolver};
 
 /// A pivot must be at least this fraction of the largest active entry of its column.
 /// Duff, Erisman & Reid recommend 0.1: fill stays close to the Markowitz optimum and
@@ -243,20 +243,13 @@ impl MarkowitzLu {
 
     /// Factorizes the loaded matrix; an error when it is singular.
     fn factor(&mut self) -> Result<(), LinalgError> {
-        let (mut lo, mut hi) = (f64::INFINITY, 0.0_f64);
         for _ in 0..self.n {
             let Some((p, c)) = self.choose_pivot() else {
                 return Err(LinalgError("singular matrix (Markowitz LU)".into()));
             };
             self.eliminate(p, c);
-            let d = self.pivot_value.last().map_or(0.0, |v| v.abs());
-            lo = lo.min(d);
-            hi = hi.max(d);
         }
-        // The test of the dense LU: a solve through a pivot this small returns round-off
-        // amplified by 1/pivot, not a Newton step.
-        let regular = lo > SINGULAR_PIVOT * hi;
-        if self.n > 0 && !regular {
+        if !regular_pivots(self.pivot_value.iter().copied()) {
             return Err(LinalgError("singular matrix (Markowitz LU)".into()));
         }
         Ok(())
