@@ -46,12 +46,13 @@ pub const OPEN_GAP_TOL: f64 = 1e-6;
 /// Unknowns up to which the Newton matrix is factorized by [`nsga::MarkowitzLu`] (dense
 /// storage, sparse elimination); above, by faer's sparse LU.
 ///
-/// Measured on the Lire collapse (124 unknowns, about 77 while the floor contacts are
-/// open and pruned): the whole run is about twice as fast with dense LU as with faer's
-/// sparse LU, and Markowitz LU is faster again (criterion `lire_collapse`: ten
-/// neighbouring runs 1.38 s against 1.45 s with dense LU), since the matrices are
-/// 86 % zeros. The banded matrix of a tall column needs the sparse solver. Both small
-/// solvers detect the singular matrices of redundant contacts by their pivots (see
+/// Measured on the Lire collapse (124 unknowns, fewer while the floor contacts are open
+/// and pruned): the whole run is about twice as fast with dense LU as with faer's sparse
+/// LU, and Markowitz LU, which skips the zeros that make up most of these matrices, is
+/// faster again (`cargo run --release -p blockstack --example lire_nearby 60`, paired
+/// runs: median solver time 105–114 ms against 126–127 ms with dense LU). The banded
+/// matrix of a tall column needs the sparse solver. Both small solvers detect the
+/// singular matrices of redundant contacts by their pivots (see
 /// `nsga::Options::regularization`).
 pub const SMALL_LU_UP_TO: usize = 200;
 
