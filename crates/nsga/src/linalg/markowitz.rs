@@ -102,7 +102,7 @@ impl MarkowitzLu {
                 return Err(outside(r, c, n));
             }
             self.a[r * n + c] += v;
-            self.row_pattern[r * w + c / 64] |= 1 << (c % 64);
+            set(&mut self.row_pattern[r * w..(r + 1) * w], c);
         }
         self.col_pattern.clear();
         self.col_pattern.resize(n * w, 0);
@@ -116,7 +116,7 @@ impl MarkowitzLu {
                 each_bit(self.row_pattern[r * w + word], 64 * word, |c| {
                     if self.a[r * n + c] != 0.0 {
                         kept |= 1 << (c % 64);
-                        self.col_pattern[c * w + r / 64] |= 1 << (r % 64);
+                        set(&mut self.col_pattern[c * w..(c + 1) * w], r);
                         self.col_count[c] += 1;
                     }
                 });
@@ -231,7 +231,7 @@ impl MarkowitzLu {
                         self.row_pattern[i * w + fw] |= fill;
                         self.row_count[i] += fill.count_ones();
                         each_bit(fill, 64 * fw, |j| {
-                            self.col_pattern[j * w + i / 64] |= 1 << (i % 64);
+                            set(&mut self.col_pattern[j * w..(j + 1) * w], i);
                             self.col_count[j] += 1;
                         });
                     }
