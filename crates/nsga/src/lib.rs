@@ -110,7 +110,8 @@ pub use moreau::{MoreauOptions, MoreauState, MoreauStepper};
 pub use params::GenAlpha;
 pub use sets::IndexSets;
 pub use stepper::{
-    BranchPoint, FailurePolicy, Options, Prox, RunStats, SolverChoice, State, StepStats, Stepper,
-    Trial, DEFAULT_REGULARIZATION, DEFAULT_RETRY_MAX_ITER, MAX_REUSES, REUSE_CONTRACTION,
+    BranchPoint, FailurePolicy, Options, Prox, RhoInfRetry, RunStats, SolverChoice, State,
+    StepStats, Stepper, Trial, DEFAULT_REGULARIZATION, DEFAULT_RETRY_MAX_ITER, MAX_REUSES,
+    REUSE_CONTRACTION,
 };
 pub use system::{Derivatives, Evaluation, FrictionLaw, Layout, Probes, Scalar, System, Triplets};

@@ -44,6 +44,22 @@ pub enum FailurePolicy {
     AcceptBest,
 }
 
+/// Which failed attempts the ρ∞ retries ([`Options::rho_inf_retries`]) follow.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize)]
+pub enum RhoInfRetry {
+    /// Any attempt that fails: a singular Newton matrix, a non-finite iterate, or
+    /// iterates that do not converge.
+    #[default]
+    AnyFailure,
+    /// Only an attempt stopped by a singular Newton matrix (or a non-finite iterate):
+    /// the case thesis §4.2 introduces the retries for ("some values of ρ∞ can produce a
+    /// singular Jacobian … simply changing the numerical value of ρ∞ eliminates the
+    /// singularity"). Iterates that cycle between index sets go straight to the
+    /// fixed-set re-solves: another ρ∞ changes the step's numerical damping, not which
+    /// contacts alternate, and its attempts mostly retrace the same cycle.
+    SingularMatrix,
+}
+
 /// Options of the stepper.
 #[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Options {
@@ -61,6 +77,9 @@ pub struct Options {
     pub max_iter: usize,
     /// Other ρ∞ values tried, in order, when a step does not converge (thesis §4.2).
     pub rho_inf_retries: Vec<f64>,
+    /// Which failed attempts are retried with `rho_inf_retries`.
+    #[serde(default)]
+    pub rho_inf_retry: RhoInfRetry,
     /// Maximum Newton iterations of each ρ∞ retry and fixed-set re-solve (at most
     /// `max_iter`). A retry that converges does so within a few iterations; a failing
     /// one would otherwise spend all of `max_iter` cycling.
@@ -86,9 +105,9 @@ pub struct Options {
     /// it has degrees of freedom, as a toppled column on the floor) make it singular;
     /// with ε the update solves a compliant linearization whose redundant forces take a
     /// least-norm share, while the residual, and hence the converged solution, stays
-    /// exact. 0 turns this off (a singular matrix then fails the attempt). Index sets
-    /// whose plain matrix was found singular go straight to the regularized one at the
-    /// next update, until other sets come.
+    /// exact. 0 turns this off (a singular matrix then fails the attempt). The last
+    /// [`SINGULAR_SETS_KEPT`] index sets whose plain matrix was found singular go
+    /// straight to the regularized one whenever they come again.
     #[serde(default = "default_regularization")]
     pub regularization: f64,
     /// Simplified Newton: while the index sets (and pruned contacts, Δt, ρ∞) are those of
@@ -114,6 +133,14 @@ const ARMIJO: f64 = 1e-4;
 /// Residual reduction a simplified Newton update must reach; below it the next update
 /// is exact (see [`Options::reuse_factorization`]).
 pub const REUSE_CONTRACTION: f64 = 0.1;
+
+/// How many index sets found to have a singular plain Newton matrix are remembered
+/// (see [`Options::regularization`]). Redundancy is a property of which contacts are
+/// closed, so such sets stay singular while the bodies keep their arrangement; after a
+/// toppled column lands, Newton moves among a handful of them (stick or slip of each
+/// resting block), and remembering only the last one found made it rediscover the
+/// others at a cost of two factorizations each.
+pub const SINGULAR_SETS_KEPT: usize = 16;
 
 /// Simplified Newton updates in a row before an exact one (see
 /// [`Options::reuse_factorization`]).
@@ -148,6 +175,7 @@ impl Default for Options {
             tol: 1e-10,
             max_iter: 40,
             rho_inf_retries: vec![0.8, 0.2, 1.0, 0.0],
+            rho_inf_retry: RhoInfRetry::AnyFailure,
             retry_max_iter: DEFAULT_RETRY_MAX_ITER,
             explore_branches: true,
             solver: SolverChoice::Markowitz(MARKOWITZ_SPARSE_THRESHOLD),
@@ -627,8 +655,9 @@ struct Work {
     solver: Box<dyn LinearSolver>,
     /// Linear solves since the stepper was built, failed attempts included.
     linear_solves: u64,
-    /// The index sets of the last Newton matrix found singular without regularization.
-    singular_sets: Option<IndexSets>,
+    /// The last index sets (at most [`SINGULAR_SETS_KEPT`], oldest first) whose Newton
+    /// matrix was found singular without regularization.
+    singular_sets: Vec<IndexSets>,
     /// Constraints pruned from the current attempt's Newton matrix (empty when none).
     unused_position: Vec<bool>,
     unused_velocity: Vec<bool>,
@@ -648,8 +677,11 @@ struct FactoredFor {
     rho_inf: f64,
 }
 
-/// Periods (in Newton iterations) of set cycles that [`settled_cycle`] recognizes.
-const CYCLE_PERIODS: std::ops::RangeInclusive<usize> = 2..=4;
+/// Periods (in Newton iterations) of set cycles that [`settled_cycle`] recognizes. Three
+/// periods of 12 fit in the 40 iterations of blockstack's first attempts; the landings of
+/// the Lire collapse cycle with periods of 7 to 9 iterations, which with periods only up
+/// to 4 ran on to the iteration limit.
+const CYCLE_PERIODS: std::ops::RangeInclusive<usize> = 2..=12;
 
 /// Whether the Newton iterates have settled into a cycle of index sets that makes no
 /// progress: the last three periods visit the same sets in the same order, and the
@@ -798,7 +830,7 @@ impl<S: System> Stepper<S> {
             it: Iterate::default(),
             solver,
             linear_solves: 0,
-            singular_sets: None,
+            singular_sets: Vec::new(),
             factored: None,
             x_from: Vec::new(),
             unused_position: Vec::new(),
@@ -934,7 +966,8 @@ impl<S: System> Stepper<S> {
     }
 
     /// One step with the robustness policy of thesis §4.2: solve with the default ρ∞;
-    /// on failure retry with each of `rho_inf_retries`; if the sets cycled, re-solve
+    /// on failure retry with each of `rho_inf_retries` (after the failures that
+    /// [`Options::rho_inf_retry`] names); if the sets cycled, re-solve
     /// once per distinct set seen with the sets fixed, keep the self-consistent
     /// candidates, deduplicate them by state and continue with the first (reported as a
     /// [`BranchPoint`] in the step statistics); otherwise fail or accept the best
@@ -954,6 +987,7 @@ impl<S: System> Stepper<S> {
         // non-converged step without iterates.
         let mut singular: Option<StepError> = None;
         let first = self.solve(None, rho0, self.state.x.clone());
+        let iterated = matches!(first, Err(StepError::NotConverged { .. }));
         let (visited, cycling, best) = match first {
             Ok(t) => {
                 self.commit(t);
@@ -975,7 +1009,11 @@ impl<S: System> Stepper<S> {
         };
         let mut retries = 1;
         let mut best = best;
-        for rho in self.options.rho_inf_retries.clone() {
+        let rho_retries = match self.options.rho_inf_retry {
+            RhoInfRetry::SingularMatrix if iterated => Vec::new(),
+            _ => self.options.rho_inf_retries.clone(),
+        };
+        for rho in rho_retries {
             match self.solve_retry(None, rho) {
                 Ok(mut t) => {
                     t.stats.retries = retries;
@@ -1698,11 +1736,10 @@ impl<S: System> Stepper<S> {
         self.work.factored = None;
         // Redundancy is a property of which contacts are closed: sets whose plain matrix
         // was singular go straight to the regularized one.
-        if !(eps > 0.0 && self.work.singular_sets.as_ref() == Some(sets)) {
+        if !(eps > 0.0 && self.work.singular_sets.contains(sets)) {
             self.jacobian(x, sets, p, 0.0);
             match self.newton_direction(prune, false) {
                 Ok(()) => {
-                    self.work.singular_sets = None;
                     self.work.factored = Some(FactoredFor {
                         sets: sets.clone(),
                         map: prune.map(|(map, _)| map.clone()),
@@ -1716,7 +1753,13 @@ impl<S: System> Stepper<S> {
             }
         }
         // Redundant closed contacts: solve the regularized linearization.
-        self.work.singular_sets = Some(sets.clone());
+        let known = &mut self.work.singular_sets;
+        if !known.contains(sets) {
+            if known.len() == SINGULAR_SETS_KEPT {
+                known.remove(0);
+            }
+            known.push(sets.clone());
+        }
         self.jacobian(x, sets, p, eps);
         self.newton_direction(prune, false)
             .map_err(|e| linear_error(e, &self.state))
@@ -1852,6 +1895,18 @@ mod give_up_tests {
         assert!(settled_cycle(&history, &residuals));
         // Two periods are not enough evidence.
         assert!(!settled_cycle(&history[3..], &residuals[3..]));
+    }
+
+    #[test]
+    fn a_landing_cycle_of_period_seven_is_settled() {
+        // As in the Lire collapse's landings: two sets that jump the residual up, then
+        // five damped updates within one set, again and again.
+        let period = [0, 1, 2, 2, 2, 2, 2];
+        let r = [2.0e-2, 1.0e-2, 4.7e-4, 2.3e-4, 1.2e-4, 8.8e-5, 6.6e-5];
+        let history: Vec<usize> = period.iter().cycle().take(21).copied().collect();
+        let residuals: Vec<f64> = r.iter().cycle().take(21).copied().collect();
+        assert!(settled_cycle(&history, &residuals));
+        assert!(!settled_cycle(&history[..20], &residuals[..20]));
     }
 
     #[test]

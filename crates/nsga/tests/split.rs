@@ -1,11 +1,13 @@
 //! Robustness fallbacks of the stepper: a step taken as substeps lands back on the time
 //! grid (`Stepper::split_step`), and redundant closed contacts
 //! (a singular Newton matrix) are carried by the regularized update
-//! (`Options::regularization`).
+//! (`Options::regularization`); the ρ∞ retries follow the failures
+//! `Options::rho_inf_retry` names.
 
 use nsga::system::{Evaluation, Layout, Scalar, System};
 use nsga::systems::free_fall::FreeFall;
-use nsga::{Options, StepError, Stepper};
+use nsga::systems::rocking::RockingBlock;
+use nsga::{Options, RhoInfRetry, StepError, Stepper};
 
 fn free_fall() -> (FreeFall, Stepper<FreeFall>) {
     let sys = FreeFall {
@@ -147,4 +149,88 @@ fn without_regularization_redundant_contacts_fail_as_singular() {
         Ok(mut s) => (0..10).any(|_| s.step().is_err()),
     };
     assert!(failed, "the singular Newton matrix must not pass unnoticed");
+}
+
+#[test]
+fn singular_sets_are_remembered_across_flights() {
+    // With pulse 2 the load turns upward for part of each period (2π/5): the mass lifts
+    // off (no contact closed: a regular Newton matrix), lands and rests on both supports
+    // again (singular matrices), four times in 5 s.
+    let mut s = resting(nsga::DEFAULT_REGULARIZATION, 2.0).unwrap();
+    let (mut flights, mut was_resting) = (0, true);
+    // Failed plain factorizations (one per set found singular), by flight.
+    let mut rediscovered = Vec::new();
+    for _ in 0..500 {
+        let before = (s.linear_solves(), s.run_stats().newton_iterations);
+        let stats = s.step().unwrap();
+        assert_eq!(stats.retries, 0);
+        let resting = stats.sets.a.iter().all(|&a| a);
+        flights += usize::from(was_resting && !resting);
+        was_resting = resting;
+        let solves = s.linear_solves() - before.0;
+        let updates = s.run_stats().newton_iterations - before.1;
+        if solves > updates {
+            rediscovered.push(flights);
+        }
+    }
+    assert!(flights >= 3, "{flights} flights");
+    // The first landings find the singular sets; later ones go straight to the
+    // regularized update although regular matrices came in between (remembering only
+    // the last singular set, every landing found them again).
+    assert!(
+        rediscovered.iter().all(|&f| f < 2),
+        "singular sets found again in flights {rediscovered:?}"
+    );
+}
+
+/// Linear solves of one step that fails on every attempt: a block rocking on a corner
+/// (nonlinear in θ, over a long step) given one Newton iteration per attempt, no
+/// fixed-set re-solves.
+fn solves_of_a_failing_step(rho_inf_retry: RhoInfRetry) -> u64 {
+    let block = RockingBlock {
+        mass: 1.0,
+        half_width: 0.1,
+        half_height: 0.5,
+        gravity: 9.81,
+        mu: 10.0,
+        e_n: 0.0,
+    };
+    let (q0, u0) = block.tilted(0.08);
+    let opts = Options {
+        dt: 0.1,
+        max_iter: 1,
+        rho_inf_retry,
+        explore_branches: false,
+        ..Options::default()
+    };
+    let mut s = Stepper::new(block, 0.0, &q0, &u0, opts).unwrap();
+    let err = s.step().unwrap_err();
+    assert!(matches!(err, StepError::NotConverged { .. }), "{err}");
+    s.linear_solves()
+}
+
+#[test]
+fn rho_inf_retries_follow_the_failures_they_are_asked_for() {
+    let retries = Options::default().rho_inf_retries.len() as u64;
+    // Iterates that do not converge: the first attempt and every retry take one update.
+    assert_eq!(
+        solves_of_a_failing_step(RhoInfRetry::AnyFailure),
+        1 + retries
+    );
+    assert_eq!(solves_of_a_failing_step(RhoInfRetry::SingularMatrix), 1);
+    // A singular Newton matrix (redundant contacts, no regularization) is retried with
+    // the other ρ∞ under either choice.
+    for choice in [RhoInfRetry::AnyFailure, RhoInfRetry::SingularMatrix] {
+        // Started with regularization (the consistent start needs it), stepped without.
+        let mut s = resting(nsga::DEFAULT_REGULARIZATION, 0.5).unwrap();
+        s.set_options(Options {
+            regularization: 0.0,
+            rho_inf_retry: choice,
+            ..s.options().clone()
+        })
+        .unwrap();
+        let err = s.step().unwrap_err();
+        assert!(matches!(err, StepError::Linear { .. }), "{err}");
+        assert_eq!(s.linear_solves(), 1 + retries, "{choice:?}");
+    }
 }
