@@ -46,6 +46,13 @@ impl IndexSets {
             && (0..n_laws).all(|j| !self.e[j] || self.d[j])
     }
 
+    /// Whether the normal contacts are in the same sets (A, B and C equal), whatever
+    /// the friction laws.
+    #[must_use]
+    pub fn same_normal_sets(&self, other: &IndexSets) -> bool {
+        self.a == other.a && self.b == other.b && self.c == other.c
+    }
+
     /// Compact text form, e.g. `A=[0,1] B=[1] C=[] D=[0] E=[]`.
     #[must_use]
     pub fn describe(&self) -> String {
@@ -66,5 +73,25 @@ impl IndexSets {
             f(&self.d),
             f(&self.e)
         )
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::IndexSets;
+
+    #[test]
+    fn normal_sets_compare_without_the_friction_sets() {
+        let mut s = IndexSets::empty(2, 1);
+        s.a = vec![true, true];
+        let mut slipping = s.clone();
+        slipping.d = vec![true];
+        assert!(s.same_normal_sets(&slipping));
+        let mut opened = s.clone();
+        opened.a[1] = false;
+        assert!(!s.same_normal_sets(&opened));
+        let mut closed_on_velocity = s.clone();
+        closed_on_velocity.b[0] = true;
+        assert!(!s.same_normal_sets(&closed_on_velocity));
     }
 }
