@@ -6,7 +6,7 @@
 //! bench `linear_solve`, see the crate docs).
 
 mod markowitz;
-pub use markowitz::{MarkowitzLu, PIVOT_THRESHOLD};
+pub use markowitz::{MarkowitzLu, MAX_UNKNOWNS as MARKOWITZ_MAX_UNKNOWNS, PIVOT_THRESHOLD};
 
 /// A linear solve failed (singular or non-finite matrix).
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -305,12 +305,13 @@ impl AutoSolver {
             last_small: true,
         }
     }
-    /// A solver switching from [`MarkowitzLu`] to sparse LU above `threshold` unknowns.
+    /// A solver switching from [`MarkowitzLu`] to sparse LU above `threshold` unknowns
+    /// (at most [`MARKOWITZ_MAX_UNKNOWNS`]).
     #[must_use]
     pub fn markowitz(threshold: usize) -> Self {
         Self {
             small: SmallLu::Markowitz(Box::default()),
-            ..Self::new(threshold)
+            ..Self::new(threshold.min(MARKOWITZ_MAX_UNKNOWNS))
         }
     }
 }
