@@ -35,8 +35,13 @@ pub struct MarkowitzLu {
     n: usize,
     /// 64-bit words per pattern.
     words: usize,
-    /// The matrix, row-major in the original numbering, reduced in place.
+    /// The matrix, row-major in the original numbering with row length `stride`,
+    /// reduced in place. All zeros between factorizations: entry (i, j) is written only
+    /// where bit j of row i's pattern is set, and [`MarkowitzLu::clear_values`] zeroes
+    /// those, so a matrix costs its nonzeros and fill, not n² stores.
     a: Vec<f64>,
+    /// Row length of `a`: the largest n seen.
+    stride: usize,
     /// Pattern of each row (bit j: column j), and of each column (bit i: row i).
     row_pattern: Vec<u64>,
     col_pattern: Vec<u64>,
@@ -103,18 +108,20 @@ impl MarkowitzLu {
                 "{n} unknowns: Markowitz LU takes at most {MAX_UNKNOWNS}"
             )));
         }
-        let w = n.div_ceil(64);
+        if let Some(&(r, c, _)) = triplets.iter().find(|&&(r, c, _)| r >= n || c >= n) {
+            return Err(outside(r, c, n));
+        }
+        if n > self.stride {
+            self.stride = n;
+            self.a = vec![0.0; n * n];
+        }
+        let (w, sa) = (n.div_ceil(64), self.stride);
         self.n = n;
         self.words = w;
-        self.a.clear();
-        self.a.resize(n * n, 0.0);
         self.row_pattern.clear();
         self.row_pattern.resize(n * w, 0);
         for &(r, c, v) in triplets {
-            if r >= n || c >= n {
-                return Err(outside(r, c, n));
-            }
-            self.a[r * n + c] += v;
+            self.a[r * sa + c] += v;
             set(&mut self.row_pattern[r * w..(r + 1) * w], c);
         }
         self.col_pattern.clear();
@@ -127,7 +134,7 @@ impl MarkowitzLu {
             for word in 0..w {
                 let mut kept = 0;
                 each_bit(self.row_pattern[r * w + word], 64 * word, |c| {
-                    if self.a[r * n + c] != 0.0 {
+                    if self.a[r * sa + c] != 0.0 {
                         kept |= 1 << (c % 64);
                         set(&mut self.col_pattern[c * w..(c + 1) * w], r);
                         self.col_count[c] += 1;
@@ -165,7 +172,7 @@ impl MarkowitzLu {
     /// on the Lire collapse's Newton matrices only slightly and cost more in the search
     /// than it saved.
     fn choose_pivot(&self) -> Option<(usize, usize)> {
-        let (n, w) = (self.n, self.words);
+        let (sa, w) = (self.stride, self.words);
         // The least (count, index) as one 32-bit key (n ≤ MAX_UNKNOWNS): a branch-free
         // minimum, which the compiler vectorizes (about half the instructions of a
         // 64-bit key). Pivoted columns have count u32::MAX, key count PIVOTED.
@@ -180,7 +187,7 @@ impl MarkowitzLu {
         let mut largest = 0.0_f64;
         for word in 0..w {
             each_bit(column(word), 64 * word, |i| {
-                largest = largest.max(self.a[i * n + j].abs());
+                largest = largest.max(self.a[i * sa + j].abs());
             });
         }
         // NaN entries fail this test too.
@@ -191,7 +198,7 @@ impl MarkowitzLu {
         let mut best: Option<(u32, usize, f64)> = None;
         for word in 0..w {
             each_bit(column(word), 64 * word, |i| {
-                let v = self.a[i * n + j].abs();
+                let v = self.a[i * sa + j].abs();
                 let r = self.row_count[i];
                 if v >= PIVOT_THRESHOLD * largest
                     && best.is_none_or(|(br, _, bv)| r < br || (r == br && v > bv))
@@ -206,7 +213,7 @@ impl MarkowitzLu {
     /// Pivots on entry (p, c): stores U row k and the multipliers of L, and updates
     /// the active rows of column c by the pivot row, following its fill.
     fn eliminate(&mut self, p: usize, c: usize) {
-        let (n, w) = (self.n, self.words);
+        let (sa, w) = (self.stride, self.words);
         clear(&mut self.active_rows, p);
         clear(&mut self.active_cols, c);
         self.col_count[c] = u32::MAX;
@@ -216,12 +223,12 @@ impl MarkowitzLu {
             let columns = self.row_pattern[p * w + word] & self.active_cols[word];
             self.u_words.push(columns);
             each_bit(columns, 64 * word, |j| {
-                self.u_entries.push((j, self.a[p * n + j]));
+                self.u_entries.push((j, self.a[p * sa + j]));
                 self.col_count[j] -= 1;
             });
         }
         self.u_ptr.push(self.u_entries.len());
-        let pivot = self.a[p * n + c];
+        let pivot = self.a[p * sa + c];
         self.pivots.push((p, c));
         self.pivot_value.push(pivot);
         let u_row = &self.u_entries[u_start..];
@@ -231,7 +238,7 @@ impl MarkowitzLu {
                 let i = 64 * word + rows.trailing_zeros() as usize;
                 rows &= rows - 1;
                 self.row_count[i] -= 1;
-                let row = &mut self.a[i * n..(i + 1) * n];
+                let row = &mut self.a[i * sa..(i + 1) * sa];
                 let l = row[c] / pivot;
                 self.l_entries.push((i, l));
                 for &(j, u) in u_row {
@@ -252,6 +259,18 @@ impl MarkowitzLu {
             }
         }
         self.l_ptr.push(self.l_entries.len());
+    }
+
+    /// Zeroes the entries of `a` the last matrix used: those in the row patterns, which
+    /// cover every entry loaded or filled in.
+    fn clear_values(&mut self) {
+        let (sa, w) = (self.stride, self.words);
+        for r in 0..self.n {
+            let row = &mut self.a[r * sa..(r + 1) * sa];
+            for word in 0..w {
+                each_bit(self.row_pattern[r * w + word], 64 * word, |c| row[c] = 0.0);
+            }
+        }
     }
 
     /// Factorizes the loaded matrix; an error when it is singular.
@@ -279,7 +298,9 @@ impl LinearSolver for MarkowitzLu {
         self.factored = false;
         self.by_dense = false;
         self.load(n, triplets)?;
-        if self.factor().is_err() {
+        let factored = self.factor();
+        self.clear_values();
+        if factored.is_err() {
             // The reference decides: see `MarkowitzLu::dense`.
             self.by_dense = true;
             return self.dense.solve(n, triplets, rhs);
@@ -390,6 +411,33 @@ mod tests {
             DenseLu::default().solve(n, &t, &mut yd).unwrap();
             lu.solve_again(&mut ym).unwrap();
             assert!(residual(n, &t, &ym, &c) < 1e-12, "n = {n}");
+        }
+    }
+
+    #[test]
+    fn a_reused_solver_solves_like_a_fresh_one() {
+        // The storage is cleared by pattern, not zeroed per matrix: sizes that shrink and
+        // grow, a singular matrix and bad input in between must leave nothing behind.
+        let mut reused = MarkowitzLu::default();
+        let mut b = vec![1.0; 2];
+        let cancelled = [(0, 0, 1.0), (0, 1, 1.0), (1, 0, 1.0), (1, 1, 1.0 + 1e-16)];
+        for (k, (n, seed)) in [(150, 7), (5, 2), (64, 5), (40, 3), (65, 6), (1, 1), (63, 4)]
+            .into_iter()
+            .enumerate()
+        {
+            let t = saddle(n, seed);
+            let x: Vec<f64> = (0..n).map(|i| i as f64).collect();
+            let (mut fresh, mut again) = (x.clone(), x);
+            MarkowitzLu::default().solve(n, &t, &mut fresh).unwrap();
+            reused.solve(n, &t, &mut again).unwrap();
+            assert_eq!(fresh, again, "n = {n}");
+            if k % 2 == 0 {
+                assert!(reused.solve(2, &cancelled, &mut b).is_err());
+            } else {
+                assert!(reused
+                    .solve(2, &[(0, 0, 1.0), (5, 0, 1.0)], &mut b)
+                    .is_err());
+            }
         }
     }
 
