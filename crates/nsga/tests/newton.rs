@@ -92,22 +92,10 @@ fn kept_factors_carry_a_sliding_block_to_rest_with_fewer_factorizations() {
     );
 }
 
-/// A slender block rocking on its corners: nonlinear in θ, with impacts.
-fn rocking_block() -> RockingBlock {
-    RockingBlock {
-        mass: 1.0,
-        half_width: 0.1,
-        half_height: 0.5,
-        gravity: 9.81,
-        mu: 10.0,
-        e_n: 0.0,
-    }
-}
-
 #[test]
 fn kept_factors_follow_a_rocking_block_through_its_impacts() {
     // Nonlinear in θ, with corner impacts that change the index sets.
-    let block = rocking_block();
+    let block = RockingBlock::slender();
     let (q0, u0) = block.tilted(0.08);
     let v = variants(block, &q0, &u0, 1500);
     assert!(v.difference.iter().all(|&d| d < 1e-8), "{:?}", v.difference);
@@ -139,7 +127,7 @@ fn markowitz_lu_takes_the_steps_of_dense_lu() {
     let (q0, u0) = chain.resting(1.0);
     let d = markowitz_difference(chain, &q0, &u0, 500);
     assert!(d < 1e-9, "chain: {d}");
-    let block = rocking_block();
+    let block = RockingBlock::slender();
     let (q0, u0) = block.tilted(0.08);
     let d = markowitz_difference(block, &q0, &u0, 1500);
     assert!(d < 1e-8, "rocking block: {d}");

@@ -187,14 +187,7 @@ fn singular_sets_are_remembered_across_flights() {
 /// (nonlinear in θ, over a long step) given one Newton iteration per attempt, no
 /// fixed-set re-solves.
 fn solves_of_a_failing_step(rho_inf_retry: RhoInfRetry) -> u64 {
-    let block = RockingBlock {
-        mass: 1.0,
-        half_width: 0.1,
-        half_height: 0.5,
-        gravity: 9.81,
-        mu: 10.0,
-        e_n: 0.0,
-    };
+    let block = RockingBlock::slender();
     let (q0, u0) = block.tilted(0.08);
     let opts = Options {
         dt: 0.1,

@@ -34,6 +34,20 @@ pub struct RockingBlock {
 }
 
 impl RockingBlock {
+    /// A slender unit block, b = 0.1, h = 0.5 (α ≈ 11.3°), g = 9.81, whose corners stick
+    /// (μ = 10) and do not bounce (e_N = 0): nonlinear in θ, with impacts that change the
+    /// index sets. The tests of the Newton variants and fallbacks share it.
+    #[must_use]
+    pub fn slender() -> Self {
+        Self {
+            mass: 1.0,
+            half_width: 0.1,
+            half_height: 0.5,
+            gravity: 9.81,
+            mu: 10.0,
+            e_n: 0.0,
+        }
+    }
     /// Slenderness α = atan(b/h).
     #[must_use]
     pub fn alpha(&self) -> f64 {
