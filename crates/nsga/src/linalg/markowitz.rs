@@ -26,8 +26,11 @@ pub const PIVOT_THRESHOLD: f64 = 0.1;
 /// before.)
 pub const MAX_UNKNOWNS: usize = 0xFFFE;
 
-/// The key count of a pivoted column, above the count of every active one (≤ n).
-const PIVOTED: u32 = 0xFFFF;
+/// The pivot-search key of column j with `count` active entries (both ≤ MAX_UNKNOWNS):
+/// ordered by count, then by index.
+fn column_key(count: u32, j: usize) -> u32 {
+    (count << 16) | j as u32
+}
 
 /// Sparse LU with Markowitz pivoting on dense storage (see the module docs).
 #[derive(Debug, Clone, Default)]
@@ -45,9 +48,13 @@ pub struct MarkowitzLu {
     /// Pattern of each row (bit j: column j), and of each column (bit i: row i).
     row_pattern: Vec<u64>,
     col_pattern: Vec<u64>,
-    /// Counts of entries in the active submatrix; `u32::MAX` for a pivoted column.
+    /// Counts of entries in the active submatrix.
     row_count: Vec<u32>,
     col_count: Vec<u32>,
+    /// The pivot-search keys (count << 16 | index) of the active columns, in no order,
+    /// and where column j's key is: the search scans only the columns left.
+    keys: Vec<u32>,
+    slot: Vec<u32>,
     /// Rows and columns not yet pivoted.
     active_rows: Vec<u64>,
     active_cols: Vec<u64>,
@@ -79,8 +86,9 @@ pub struct MarkowitzLu {
     by_dense: bool,
 }
 
-fn set(words: &mut [u64], i: usize) {
-    words[i / 64] |= 1 << (i % 64);
+/// Sets bit `i` of the bit set that starts at word `base` of `words`.
+fn set(words: &mut [u64], base: usize, i: usize) {
+    words[base + i / 64] |= 1 << (i % 64);
 }
 
 fn clear(words: &mut [u64], i: usize) {
@@ -108,9 +116,6 @@ impl MarkowitzLu {
                 "{n} unknowns: Markowitz LU takes at most {MAX_UNKNOWNS}"
             )));
         }
-        if let Some(&(r, c, _)) = triplets.iter().find(|&&(r, c, _)| r >= n || c >= n) {
-            return Err(outside(r, c, n));
-        }
         if n > self.stride {
             self.stride = n;
             self.a = vec![0.0; n * n];
@@ -120,9 +125,16 @@ impl MarkowitzLu {
         self.words = w;
         self.row_pattern.clear();
         self.row_pattern.resize(n * w, 0);
-        for &(r, c, v) in triplets {
+        for (k, &(r, c, v)) in triplets.iter().enumerate() {
+            if r >= n || c >= n {
+                // Leave the storage zeroed: undo what this matrix wrote.
+                for &(r, c, _) in &triplets[..k] {
+                    self.a[r * sa + c] = 0.0;
+                }
+                return Err(outside(r, c, n));
+            }
             self.a[r * sa + c] += v;
-            set(&mut self.row_pattern[r * w..(r + 1) * w], c);
+            set(&mut self.row_pattern, r * w, c);
         }
         self.col_pattern.clear();
         self.col_pattern.resize(n * w, 0);
@@ -136,7 +148,7 @@ impl MarkowitzLu {
                 each_bit(self.row_pattern[r * w + word], 64 * word, |c| {
                     if self.a[r * sa + c] != 0.0 {
                         kept |= 1 << (c % 64);
-                        set(&mut self.col_pattern[c * w..(c + 1) * w], r);
+                        set(&mut self.col_pattern, c * w, r);
                         self.col_count[c] += 1;
                     }
                 });
@@ -144,11 +156,20 @@ impl MarkowitzLu {
                 self.row_count[r] += kept.count_ones();
             }
         }
+        self.keys.clear();
+        self.keys.extend(
+            self.col_count
+                .iter()
+                .zip(0..)
+                .map(|(&c, j)| column_key(c, j)),
+        );
+        self.slot.clear();
+        self.slot.extend(0..self.keys.len() as u32);
         for v in [&mut self.active_rows, &mut self.active_cols] {
             v.clear();
             v.resize(w, 0);
             for i in 0..n {
-                set(v, i);
+                set(v, 0, i);
             }
         }
         self.pivots.clear();
@@ -173,16 +194,9 @@ impl MarkowitzLu {
     /// than it saved.
     fn choose_pivot(&self) -> Option<(usize, usize)> {
         let (sa, w) = (self.stride, self.words);
-        // The least (count, index) as one 32-bit key (n ≤ MAX_UNKNOWNS): a branch-free
-        // minimum, which the compiler vectorizes (about half the instructions of a
-        // 64-bit key). Pivoted columns have count u32::MAX, key count PIVOTED.
-        let key = self
-            .col_count
-            .iter()
-            .zip(0_u32..)
-            .map(|(&c, j)| (c.min(PIVOTED) << 16) | j)
-            .min()?;
-        let (count, j) = (key >> 16, (key & 0xFFFF) as usize);
+        // The least (count, index) as one 32-bit key: a branch-free minimum over the
+        // active columns, which the compiler vectorizes.
+        let j = (self.keys.iter().copied().min()? & 0xFFFF) as usize;
         let column = |word: usize| self.col_pattern[j * w + word] & self.active_rows[word];
         let mut largest = 0.0_f64;
         for word in 0..w {
@@ -192,7 +206,7 @@ impl MarkowitzLu {
         }
         // NaN entries fail this test too.
         let nonzero = largest > 0.0;
-        if count == PIVOTED || !nonzero {
+        if !nonzero {
             return None;
         }
         let mut best: Option<(u32, usize, f64)> = None;
@@ -216,7 +230,7 @@ impl MarkowitzLu {
         let (sa, w) = (self.stride, self.words);
         clear(&mut self.active_rows, p);
         clear(&mut self.active_cols, c);
-        self.col_count[c] = u32::MAX;
+        self.retire_key(c);
         let u_start = self.u_entries.len();
         self.u_words.clear();
         for word in 0..w {
@@ -225,6 +239,7 @@ impl MarkowitzLu {
             each_bit(columns, 64 * word, |j| {
                 self.u_entries.push((j, self.a[p * sa + j]));
                 self.col_count[j] -= 1;
+                self.keys[self.slot[j] as usize] = column_key(self.col_count[j], j);
             });
         }
         self.u_ptr.push(self.u_entries.len());
@@ -251,14 +266,24 @@ impl MarkowitzLu {
                         self.row_pattern[i * w + fw] |= fill;
                         self.row_count[i] += fill.count_ones();
                         each_bit(fill, 64 * fw, |j| {
-                            set(&mut self.col_pattern[j * w..(j + 1) * w], i);
+                            set(&mut self.col_pattern, j * w, i);
                             self.col_count[j] += 1;
+                            self.keys[self.slot[j] as usize] = column_key(self.col_count[j], j);
                         });
                     }
                 }
             }
         }
         self.l_ptr.push(self.l_entries.len());
+    }
+
+    /// Takes pivoted column c's key out of the search.
+    fn retire_key(&mut self, c: usize) {
+        let at = self.slot[c] as usize;
+        self.keys.swap_remove(at);
+        if let Some(&moved) = self.keys.get(at) {
+            self.slot[(moved & 0xFFFF) as usize] = at as u32;
+        }
     }
 
     /// Zeroes the entries of `a` the last matrix used: those in the row patterns, which
