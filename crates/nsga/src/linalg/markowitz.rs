@@ -26,11 +26,8 @@ pub const PIVOT_THRESHOLD: f64 = 0.1;
 /// before.)
 pub const MAX_UNKNOWNS: usize = 0xFFFE;
 
-/// The pivot-search key of column j with `count` active entries (both ≤ MAX_UNKNOWNS):
-/// ordered by count, then by index.
-fn column_key(count: u32, j: usize) -> u32 {
-    (count << 16) | j as u32
-}
+/// One entry in the count half of a column's pivot-search key (see `MarkowitzLu::keys`).
+const ONE_ENTRY: u32 = 1 << 16;
 
 /// Sparse LU with Markowitz pivoting on dense storage (see the module docs).
 #[derive(Debug, Clone, Default)]
@@ -48,11 +45,12 @@ pub struct MarkowitzLu {
     /// Pattern of each row (bit j: column j), and of each column (bit i: row i).
     row_pattern: Vec<u64>,
     col_pattern: Vec<u64>,
-    /// Counts of entries in the active submatrix.
+    /// Counts of entries in the active submatrix, by row.
     row_count: Vec<u32>,
-    col_count: Vec<u32>,
-    /// The pivot-search keys (count << 16 | index) of the active columns, in no order,
-    /// and where column j's key is: the search scans only the columns left.
+    /// The pivot-search keys of the active columns, count << 16 | index (both ≤
+    /// MAX_UNKNOWNS), so that they order by count, then by index; in no order, and
+    /// `slot[j]` says where column j's is. They hold the column counts: the search
+    /// scans only the columns left.
     keys: Vec<u32>,
     slot: Vec<u32>,
     /// Rows and columns not yet pivoted.
@@ -140,8 +138,11 @@ impl MarkowitzLu {
         self.col_pattern.resize(n * w, 0);
         self.row_count.clear();
         self.row_count.resize(n, 0);
-        self.col_count.clear();
-        self.col_count.resize(n, 0);
+        // Every column starts with count 0 in its own slot.
+        self.keys.clear();
+        self.keys.extend(0..n as u32);
+        self.slot.clear();
+        self.slot.extend(0..n as u32);
         for r in 0..n {
             for word in 0..w {
                 let mut kept = 0;
@@ -149,22 +150,13 @@ impl MarkowitzLu {
                     if self.a[r * sa + c] != 0.0 {
                         kept |= 1 << (c % 64);
                         set(&mut self.col_pattern, c * w, r);
-                        self.col_count[c] += 1;
+                        self.keys[c] += ONE_ENTRY;
                     }
                 });
                 self.row_pattern[r * w + word] = kept;
                 self.row_count[r] += kept.count_ones();
             }
         }
-        self.keys.clear();
-        self.keys.extend(
-            self.col_count
-                .iter()
-                .zip(0..)
-                .map(|(&c, j)| column_key(c, j)),
-        );
-        self.slot.clear();
-        self.slot.extend(0..self.keys.len() as u32);
         for v in [&mut self.active_rows, &mut self.active_cols] {
             v.clear();
             v.resize(w, 0);
@@ -238,8 +230,7 @@ impl MarkowitzLu {
             self.u_words.push(columns);
             each_bit(columns, 64 * word, |j| {
                 self.u_entries.push((j, self.a[p * sa + j]));
-                self.col_count[j] -= 1;
-                self.keys[self.slot[j] as usize] = column_key(self.col_count[j], j);
+                self.keys[self.slot[j] as usize] -= ONE_ENTRY;
             });
         }
         self.u_ptr.push(self.u_entries.len());
@@ -267,8 +258,7 @@ impl MarkowitzLu {
                         self.row_count[i] += fill.count_ones();
                         each_bit(fill, 64 * fw, |j| {
                             set(&mut self.col_pattern, j * w, i);
-                            self.col_count[j] += 1;
-                            self.keys[self.slot[j] as usize] = column_key(self.col_count[j], j);
+                            self.keys[self.slot[j] as usize] += ONE_ENTRY;
                         });
                     }
                 }
