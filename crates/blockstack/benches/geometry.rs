@@ -1,7 +1,7 @@
 //! Cost of evaluating every contact of a scene once (what a stepper does per Newton
 //! iterate): the Lire tower, and resting columns of 10, 100 and 1000 blocks.
 
-use blockstack::scenarios::{lire, Perturbation};
+use blockstack::scenarios::{lire_on_floor, Perturbation};
 use blockstack::scene::{ContactParams, SolverParams};
 use blockstack::{Base, BaseMotion, Block, Floor, Scene, StackContacts};
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
@@ -27,7 +27,8 @@ fn column(n: usize) -> Scene {
 }
 
 fn bench(c: &mut Criterion) {
-    let scene = lire(4, Perturbation::Bottom).unwrap();
+    // With the floor: the interface and the floor rows.
+    let scene = lire_on_floor(4, Perturbation::Bottom).unwrap();
     let q = scene.initial_coordinates();
     let u = vec![0.01; q.len()];
     let mut out = StackContacts::default();

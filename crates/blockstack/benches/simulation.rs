@@ -1,18 +1,33 @@
 //! Solver time of whole runs: the Lire collapse (4 blocks, 999 steps of Δt = 0.01,
-//! `Perturbation::Bottom`, target < 95 ms) with its nine neighbours, and 100 steps of a
-//! column of n blocks at rest (n = 10, 100, 1000; time per step / n should stay within a
-//! factor 2).
+//! `Perturbation::Bottom`, the thesis's scene, target < 95 ms) with its nine neighbours,
+//! the same collapses landing on a floor (beyond the thesis), and 100 steps of a column
+//! of n blocks at rest (n = 10, 100, 1000; time per step / n should stay within a factor
+//! 2).
 
-use blockstack::scenarios::{lire, nearby_lire_collapses, resting_column, Perturbation};
+use blockstack::scenarios::{
+    lire, lire_on_floor, nearby_lire_collapses, nearby_lire_landings, resting_column, Perturbation,
+};
 use blockstack::simulation::stepper_options;
-use blockstack::{simulate, RunOptions, StackSystem};
+use blockstack::{simulate, RunOptions, Scene, StackSystem};
 use criterion::{criterion_group, criterion_main, BatchSize, Criterion};
 use nsga::Stepper;
 use std::hint::black_box;
 use std::time::Duration;
 
+/// Solver time of whole runs (`RunSummary::wall_time_s`: the steps only, without the
+/// per-step records and the consistent start), summed over the scenes.
+fn solver_time(scenes: &[Scene], opts: &RunOptions, iters: u64) -> Duration {
+    (0..iters)
+        .flat_map(|_| scenes)
+        .map(|s| {
+            let run = simulate(s, opts, |_| {}).unwrap();
+            Duration::from_secs_f64(black_box(run.wall_time_s))
+        })
+        .sum()
+}
+
 fn lire_collapse(c: &mut Criterion) {
-    let scene = lire(4, Perturbation::Bottom).unwrap();
+    // As asked: t_end = 9.99 (999 steps).
     let opts = RunOptions {
         t_end: Some(9.99),
         explore_branches: true,
@@ -20,18 +35,11 @@ fn lire_collapse(c: &mut Criterion) {
     };
     let mut g = c.benchmark_group("lire_collapse");
     g.sample_size(10);
-    // As asked: t_end = 9.99 (999 steps), through the landing on the floor. The target
-    // is on solver time (`RunSummary::wall_time_s`: the steps only, without the per-step
-    // records and the consistent start); the whole call is timed too.
+    // The thesis's scene (nothing below the table), the one its published code was timed
+    // on: the target is on its solver time; the whole call is timed too.
+    let scene = lire(4, Perturbation::Bottom).unwrap();
     g.bench_function("999_steps_solver_time", |b| {
-        b.iter_custom(|iters| {
-            (0..iters)
-                .map(|_| {
-                    let s = simulate(&scene, &opts, |_| {}).unwrap();
-                    Duration::from_secs_f64(black_box(s.wall_time_s))
-                })
-                .sum()
-        });
+        b.iter_custom(|iters| solver_time(std::slice::from_ref(&scene), &opts, iters));
     });
     g.bench_function("999_steps_whole_run", |b| {
         b.iter(|| black_box(simulate(&scene, &opts, |_| {}).unwrap()));
@@ -41,19 +49,17 @@ fn lire_collapse(c: &mut Criterion) {
     // k·1e-6 w more), solver time summed over the ten runs (divide by 10 per run).
     let nearby = nearby_lire_collapses(4, 10).unwrap();
     g.bench_function("nearby_10_runs_solver_time", |b| {
-        b.iter_custom(|iters| {
-            (0..iters)
-                .map(|_| {
-                    nearby
-                        .iter()
-                        .map(|s| {
-                            let run = simulate(s, &opts, |_| {}).unwrap();
-                            Duration::from_secs_f64(black_box(run.wall_time_s))
-                        })
-                        .sum::<Duration>()
-                })
-                .sum()
-        });
+        b.iter_custom(|iters| solver_time(&nearby, &opts, iters));
+    });
+    // Beyond the thesis: the same collapses on a floor, through the landing and the rest
+    // on the floor and the table edge with redundant contacts.
+    let landing = lire_on_floor(4, Perturbation::Bottom).unwrap();
+    g.bench_function("on_floor_999_steps_solver_time", |b| {
+        b.iter_custom(|iters| solver_time(std::slice::from_ref(&landing), &opts, iters));
+    });
+    let landings = nearby_lire_landings(4, 10).unwrap();
+    g.bench_function("on_floor_nearby_10_runs_solver_time", |b| {
+        b.iter_custom(|iters| solver_time(&landings, &opts, iters));
     });
     g.finish();
 }

@@ -1,12 +1,14 @@
 //! The Lire collapse and its nine neighbours (`scenarios::nearby_lire_collapses`): solver
-//! time, failed Newton steps and linear solves of each run, and their means.
+//! time, failed Newton steps and linear solves of each run, and their means; with
+//! `--floor`, the same collapses landing on a floor (`scenarios::nearby_lire_landings`).
 //!
 //! One collapse's cost depends on round-off-sized luck (it passes an unstable
 //! equilibrium); the mean over the neighbours measures the solver, the single run only
 //! one realisation. Run with
-//! `cargo run --release -p blockstack --example lire_nearby [COUNT]` (default 10 runs).
+//! `cargo run --release -p blockstack --example lire_nearby [COUNT] [--floor]` (default
+//! 10 runs).
 
-use blockstack::scenarios::nearby_lire_collapses;
+use blockstack::scenarios::{nearby_lire_collapses, nearby_lire_landings};
 use blockstack::{simulate, RunOptions};
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
@@ -15,11 +17,20 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         explore_branches: true,
         ..RunOptions::default()
     };
-    let count = match std::env::args().nth(1) {
-        Some(a) => a.parse().map_err(|e| format!("COUNT '{a}': {e}"))?,
-        None => 10,
+    let mut count = 10;
+    let mut floor = false;
+    for a in std::env::args().skip(1) {
+        if a == "--floor" {
+            floor = true;
+        } else {
+            count = a.parse().map_err(|e| format!("COUNT '{a}': {e}"))?;
+        }
+    }
+    let scenes = if floor {
+        nearby_lire_landings(4, count)?
+    } else {
+        nearby_lire_collapses(4, count)?
     };
-    let scenes = nearby_lire_collapses(4, count)?;
     println!("   k  solver ms  failed steps  linear solves  error");
     let (mut ms, mut failed, mut solves) = (Vec::new(), 0, 0);
     for (k, scene) in scenes.iter().enumerate() {

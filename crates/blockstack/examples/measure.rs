@@ -1,10 +1,12 @@
 //! The "Measure it": failed Newton steps and branch points of the Lire collapse
-//! and of one shaking run with the thesis's constant r = 0.3 and with the scaled prox
+//! (as in the thesis, and on a floor) and of one shaking run with the thesis's constant r = 0.3 and with the scaled prox
 //! (NSGA-SPEC §4), plus the long rest test (a column of 10 blocks, 10⁴ steps).
 //!
 //! `cargo run --release -p blockstack --example measure`
 
-use blockstack::scenarios::{lire, resting_column, shaking_column, Perturbation, Shaking};
+use blockstack::scenarios::{
+    lire, lire_on_floor, resting_column, shaking_column, Perturbation, Shaking,
+};
 use blockstack::{simulate, BlockError, Prox, RunOptions, RunSummary, Scene};
 
 fn report(name: &str, scene: &Scene, prox: Prox) -> Result<RunSummary, BlockError> {
@@ -31,9 +33,11 @@ fn report(name: &str, scene: &Scene, prox: Prox) -> Result<RunSummary, BlockErro
 
 fn main() -> Result<(), BlockError> {
     let collapse = lire(4, Perturbation::Bottom)?;
+    let landing = lire_on_floor(4, Perturbation::Bottom)?;
     let shaking = shaking_column(&Shaking::default())?;
     for prox in [Prox::Constant(0.3), Prox::Scaled(1.0)] {
         report("Lire collapse (bottom)", &collapse, prox)?;
+        report("Lire collapse on a floor", &landing, prox)?;
         report("shaking A=0.2 omega=2", &shaking, prox)?;
     }
     // A column of 10 blocks at rest for 10⁴ steps.

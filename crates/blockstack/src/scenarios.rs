@@ -78,14 +78,32 @@ pub fn lire_positions(n: usize, width: f64) -> Vec<f64> {
         .collect()
 }
 
-/// The Leaning Tower of Lire (§4.3, Figure 4.4): n blocks w = 1, h = 0.2, m = 1 on a
-/// fixed table of the same size, μ = 0.3, e_N = e_F = 0, g = 1, Δt = 0.01, ρ∞ = 0.5,
-/// tol 1e-10, t_end = 10, in the maximum-overhang configuration, with a floor at the
-/// bottom of the table so that the blocks that fall land.
+/// The Leaning Tower of Lire (§4.3, Figure 4.4) as the thesis has it: n blocks w = 1,
+/// h = 0.2, m = 1 on a fixed table of the same size, μ = 0.3, e_N = e_F = 0, g = 1,
+/// Δt = 0.01, ρ∞ = 0.5, tol 1e-10, t_end = 10, in the maximum-overhang configuration.
+/// Nothing lies below the table: the blocks that fall off it fall freely. See
+/// [`lire_on_floor`] for a floor that they land on.
 ///
 /// # Errors
 /// Only for n = 0.
 pub fn lire(n: usize, perturbation: Perturbation) -> Result<Scene, BlockError> {
+    lire_scene(n, perturbation, false)
+}
+
+/// The Lire tower of [`lire`] with a floor at the bottom of the table (beyond the
+/// thesis, ERRATA 23), so that the blocks that fall land and come to rest.
+///
+/// The landing is the costly part of a collapse: several corners close at once, and the
+/// blocks come to rest leaning on the table edge and on each other with redundant
+/// contacts, whose forces are not unique.
+///
+/// # Errors
+/// Only for n = 0.
+pub fn lire_on_floor(n: usize, perturbation: Perturbation) -> Result<Scene, BlockError> {
+    lire_scene(n, perturbation, true)
+}
+
+fn lire_scene(n: usize, perturbation: Perturbation, floor: bool) -> Result<Scene, BlockError> {
     let (w, h) = (1.0, 0.2);
     let base = Base::new(w, h, BaseMotion::Fixed)?;
     let mut xs = lire_positions(n, w);
@@ -107,7 +125,7 @@ pub fn lire(n: usize, perturbation: Perturbation) -> Result<Scene, BlockError> {
         &base,
         &xs.iter().map(|&x| (block, x, 0.0)).collect::<Vec<_>>(),
     )?;
-    let floor = Some(Floor::new(base.bottom()));
+    let floor = floor.then(|| Floor::new(base.bottom()));
     Scene::new(
         base,
         blocks,
@@ -136,7 +154,19 @@ pub const NEARBY_SHIFT: f64 = 1e-6;
 /// # Errors
 /// Only for n = 0.
 pub fn nearby_lire_collapses(n: usize, count: usize) -> Result<Vec<Scene>, BlockError> {
-    let scene = lire(n, Perturbation::Bottom)?;
+    nearby(&lire(n, Perturbation::Bottom)?, count)
+}
+
+/// The collapses of [`nearby_lire_collapses`] on the floor of [`lire_on_floor`]: their
+/// landings differ from one neighbour to the next.
+///
+/// # Errors
+/// Only for n = 0.
+pub fn nearby_lire_landings(n: usize, count: usize) -> Result<Vec<Scene>, BlockError> {
+    nearby(&lire_on_floor(n, Perturbation::Bottom)?, count)
+}
+
+fn nearby(scene: &Scene, count: usize) -> Result<Vec<Scene>, BlockError> {
     (0..count)
         .map(|k| {
             let mut blocks = scene.blocks().to_vec();
@@ -317,6 +347,26 @@ mod tests {
         assert!(c.normals[..8]
             .iter()
             .all(|g| g.is_some_and(|g| g.value.abs() < 1e-14)));
+    }
+
+    #[test]
+    fn the_thesis_tower_has_no_floor_and_the_landing_one_has_it_under_the_table() {
+        let thesis = lire(4, Perturbation::Bottom).unwrap();
+        assert_eq!(thesis.floor(), None);
+        assert_eq!(thesis.n_normal_contacts(), 8);
+        let landing = lire_on_floor(4, Perturbation::Bottom).unwrap();
+        assert_eq!(landing.floor().map(|f| f.y), Some(landing.base().bottom()));
+        assert_eq!(landing.n_normal_contacts(), 8 + 4 * 4);
+        assert_eq!(thesis.initial_coordinates(), landing.initial_coordinates());
+        let (near, land) = (
+            nearby_lire_collapses(4, 3).unwrap(),
+            nearby_lire_landings(4, 3).unwrap(),
+        );
+        assert_eq!(near[0].initial_coordinates(), thesis.initial_coordinates());
+        assert!(near.iter().all(|s| s.floor().is_none()));
+        assert!(land.iter().all(|s| s.floor().is_some()));
+        let shift = near[2].initial_coordinates()[0] - near[0].initial_coordinates()[0];
+        assert!((shift - 2.0 * NEARBY_SHIFT).abs() < 1e-15);
     }
 
     #[test]

@@ -46,10 +46,11 @@ pub const OPEN_GAP_TOL: f64 = 1e-6;
 /// Unknowns up to which the Newton matrix is factorized by [`nsga::MarkowitzLu`] (dense
 /// storage, sparse elimination); above, by faer's sparse LU.
 ///
-/// Measured on the Lire collapse (124 unknowns, fewer while the floor contacts are open
-/// and pruned): the whole run is about twice as fast with dense LU as with faer's sparse
-/// LU, and Markowitz LU, which skips the zeros that make up most of these matrices, is
-/// faster again (`cargo run --release -p blockstack --example lire_nearby 60`, paired
+/// Measured on the Lire collapse on a floor (124 unknowns, fewer while the floor contacts
+/// are open and pruned): the whole run is about twice as fast with dense LU as with
+/// faer's sparse LU, and Markowitz LU, which skips the zeros that make up most of these
+/// matrices, is faster again (`cargo run --release -p blockstack --example lire_nearby
+/// 60 --floor`, paired
 /// runs: median solver time 105–114 ms against 126–127 ms with dense LU). The banded
 /// matrix of a tall column needs the sparse solver. Both small solvers detect the
 /// singular matrices of redundant contacts by their pivots (see
@@ -63,22 +64,23 @@ pub const QUICK_CHECK_ITERATIONS: usize = 8;
 /// How often a step that fails after every retry and re-solve may be halved (a
 /// failing step is then taken as 2, 4, … up to 2^MAX_HALVINGS substeps).
 ///
-/// The Lire collapse needs it where the column lands on the floor with several corners
-/// at once (t = 7.41): Newton cycles through 7 index sets, none self-consistent, and the
-/// two half steps go through (`cargo test -p blockstack --test simulation`).
+/// The Lire collapse on a floor (`scenarios::lire_on_floor`) needs it where the column
+/// lands with several corners at once (t = 7.41): Newton cycles through 7 index sets,
+/// none self-consistent, and the two half steps go through (`cargo test -p blockstack
+/// --test simulation`).
 ///
-/// Some landings need far finer substeps: over the Lire collapse and its neighbours
-/// (`cargo run --release -p blockstack --example lire_nearby 100`), 4 halvings left 3 of
-/// the first 60 runs stopped with an error (neighbours 11, 29 and 59, at t = 6.03, 7.52
-/// and 6.21), 7 halvings left neighbour 59, which needs 9; with 10 all 100 run through.
+/// Some landings need far finer substeps: over the Lire collapse on a floor and its
+/// neighbours (`cargo run --release -p blockstack --example lire_nearby 100 --floor`),
+/// 4 halvings left 3 of the first 60 runs stopped with an error (neighbours 11, 29 and
+/// 59, at t = 6.03, 7.52 and 6.21), 7 halvings left neighbour 59, which needs 9; with 10 all 100 run through.
 /// A failure at one instant costs a bounded amount of work per level (only the half
 /// that contains it is split again), not 2^level substeps.
 pub const MAX_HALVINGS: usize = 10;
 
 /// Halvings allowed in the line search of each Newton update (`nsga::Options::line_search`).
-/// Measured on the Lire collapse and 29 neighbours (`cargo run --release -p blockstack
-/// --example lire_nearby 30`): with 3, failed steps fall from 6.5 to 3.3 per run
-/// and linear solves by 5 %; more halvings change nothing.
+/// Measured on the Lire collapse on a floor and 29 neighbours (`cargo run --release -p
+/// blockstack --example lire_nearby 30 --floor`): with 3, failed steps fall from 6.5 to
+/// 3.3 per run and linear solves by 5 %; more halvings change nothing.
 pub const LINE_SEARCH_HALVINGS: usize = 3;
 
 /// Newton iterations per attempt before nsga gives it up.
@@ -90,9 +92,9 @@ pub const MAX_NEWTON_ITERATIONS: usize = 40;
 ///
 /// Retried after every failure (`RhoInfRetry::AnyFailure`), the four other ρ∞ of
 /// `nsga::Options` seldom converge: their attempts mostly retrace the first attempt's
-/// cycle of sets to the same residuals. Over the Lire collapse and 99 neighbours
-/// (`cargo run --release -p blockstack --example lire_nearby 100`) they cost 14 % of the
-/// linear solves: 1037 per run against 893 with this choice, with no run stopped by an
+/// cycle of sets to the same residuals. Over the Lire collapse on a floor and 99
+/// neighbours (`cargo run --release -p blockstack --example lire_nearby 100 --floor`)
+/// they cost 14 % of the linear solves: 1037 per run against 893 with this choice, with no run stopped by an
 /// error either way and 2.9 against 2.7 steps per run needing a fallback.
 pub const RHO_INF_RETRY: RhoInfRetry = RhoInfRetry::SingularMatrix;
 

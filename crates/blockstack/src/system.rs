@@ -332,7 +332,7 @@ fn q_row<'p>(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::scenarios::{lire, shaking_column, Perturbation, Shaking};
+    use crate::scenarios::{lire_on_floor, shaking_column, Perturbation, Shaking};
     use nsga::system::forward_derivatives;
     use nsga::Triplets;
 
@@ -442,12 +442,12 @@ mod tests {
 
     #[test]
     fn sparse_derivatives_equal_forward_ad_on_the_lire_tower() {
-        check(lire(4, Perturbation::Bottom).unwrap(), 0.3);
+        check(lire_on_floor(4, Perturbation::Bottom).unwrap(), 0.3);
     }
 
     #[test]
     fn unused_floor_rows_are_left_out_and_the_rest_is_exact() {
-        let scene = lire(4, Perturbation::Bottom).unwrap();
+        let scene = lire_on_floor(4, Perturbation::Bottom).unwrap();
         let (nn, nl) = (scene.n_normal_contacts(), scene.friction_laws().len());
         // The floor rows come after the 2 × 4 interface gaps and the 4 interface laws.
         let unused_p: Vec<bool> = (0..nn).map(|i| i >= 8).collect();

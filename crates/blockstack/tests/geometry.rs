@@ -1,7 +1,7 @@
 //! The contact rows of whole scenes against finite differences, including the explicit
 //! time dependence from a moving base, and property tests of the App. G geometry.
 
-use blockstack::scenarios::{lire, shaking_column, Perturbation, Shaking};
+use blockstack::scenarios::{lire, lire_on_floor, shaking_column, Perturbation, Shaking};
 use blockstack::{BodyState, Interface, Pose, Scene, Size, Support, Twist};
 use proptest::prelude::*;
 
@@ -81,7 +81,8 @@ fn perturbed_state(scene: &Scene, seed: f64) -> (Vec<f64>, Vec<f64>, Vec<f64>) {
 
 #[test]
 fn lire_rows_match_finite_differences() {
-    let scene = lire(4, Perturbation::Bottom).unwrap();
+    // With the floor: the interface and the floor rows.
+    let scene = lire_on_floor(4, Perturbation::Bottom).unwrap();
     for seed in [0.0, 1.0, 2.5] {
         let (q, u, a) = perturbed_state(&scene, seed);
         check_scene(&scene, 0.0, &q, &u, &a);
@@ -194,7 +195,7 @@ proptest! {
 #[test]
 fn rows_agree_with_automatic_differentiation() {
     use num_dual::{Dual2_64, Dual64};
-    let scene = lire(4, Perturbation::Bottom).unwrap();
+    let scene = lire_on_floor(4, Perturbation::Bottom).unwrap();
     let (mut q, u, _) = perturbed_state(&scene, 0.7);
     // Block 4 turned over and lying on the floor far to the right.
     q[9] = 3.0;

@@ -1,6 +1,8 @@
 //! The shipped scene files parse, validate and equal the scenario constructors.
 
-use blockstack::scenarios::{lire, shaking_column, sliding_column, Perturbation, Shaking};
+use blockstack::scenarios::{
+    lire, lire_on_floor, shaking_column, sliding_column, Perturbation, Shaking,
+};
 use blockstack::{BaseMotion, Scene};
 
 fn load(name: &str) -> Scene {
@@ -26,6 +28,15 @@ fn same_start(a: &Scene, b: &Scene) {
 #[test]
 fn lire_file_is_the_maximum_overhang_tower() {
     same_start(&load("lire.toml"), &lire(4, Perturbation::None).unwrap());
+}
+
+#[test]
+fn lire_file_with_its_floor_uncommented_is_the_landing_scene() {
+    let path = format!("{}/scenes/lire.toml", env!("CARGO_MANIFEST_DIR"));
+    let text = std::fs::read_to_string(path).unwrap();
+    assert!(text.contains("\n# [floor]"));
+    let scene = Scene::from_toml(&text.replace("\n# [floor]", "\n[floor]")).unwrap();
+    same_start(&scene, &lire_on_floor(4, Perturbation::None).unwrap());
 }
 
 #[test]

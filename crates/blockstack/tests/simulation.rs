@@ -1,7 +1,8 @@
 //! Physics checks of whole runs (§4.3–4.5).
 
 use blockstack::scenarios::{
-    lire, resting_column, shaking_column, sliding_column, Perturbation, Shaking,
+    lire, lire_on_floor, nearby_lire_landings, resting_column, shaking_column, sliding_column,
+    Perturbation, Shaking,
 };
 use blockstack::{simulate, RunOptions, RunSummary, Scene, StepRecord};
 
@@ -74,9 +75,6 @@ fn perturbed_top_block_topples_alone() {
 fn perturbed_bottom_block_collapses_the_whole_column() {
     let scene = lire(4, Perturbation::Bottom).unwrap();
     let (s, rec) = run(&scene, 10.0);
-    // It runs to the end: landing on the floor with several corners at once (t ≈ 7.41,
-    // a step taken as two half steps) and resting on the table edge and the floor
-    // (redundant contacts, a regularized Newton matrix) included.
     assert_eq!(s.error, None);
     assert_eq!(s.steps, 1000);
     // By t = 5 every block has turned outward by more than 0.3 rad about the table edge,
@@ -98,12 +96,31 @@ fn perturbed_bottom_block_collapses_the_whole_column() {
     assert!(s.min_gap > -1e-8);
     // Unforced (fixed base), e_N = e_F = 0: energy never increases.
     assert!(s.max_energy_increase <= 1e-9, "{}", s.max_energy_increase);
+    // Nothing below the table (the thesis's scene): at the end every block has fallen
+    // past the table's bottom.
+    let bottom = scene.base().bottom();
+    for (k, p) in rec.last().unwrap().poses.iter().enumerate() {
+        assert!(p.y < bottom - 1.0, "block {} at t = 10: {p:?}", k + 1);
+    }
+}
+
+#[test]
+fn collapse_on_a_floor_lands_and_comes_to_rest() {
+    let scene = lire_on_floor(4, Perturbation::Bottom).unwrap();
+    let (s, rec) = run(&scene, 10.0);
+    // It runs to the end: landing on the floor with several corners at once (t ≈ 7.4, a
+    // step taken in substeps) and resting on the table edge and the floor (redundant
+    // contacts, a regularized Newton matrix) included.
+    assert_eq!(s.error, None);
+    assert_eq!(s.steps, 1000);
+    assert!(s.min_gap > -1e-8, "min gap {}", s.min_gap);
+    assert!(s.max_energy_increase <= 1e-9, "{}", s.max_energy_increase);
     // At the end every block lies on the floor or leans on the table edge: all
-    // turned outward and lower than the top block's start.
-    let end = rec.last().unwrap();
-    for (k, p) in end.poses.iter().enumerate() {
+    // turned outward and lower than the top block's start, none below the floor.
+    let floor = scene.floor().unwrap().y;
+    for (k, p) in rec.last().unwrap().poses.iter().enumerate() {
         assert!(
-            p.theta < -0.1 && p.y < 0.3,
+            p.theta < -0.1 && p.y < 0.3 && p.y > floor,
             "block {} at t = 10: {p:?}",
             k + 1
         );
@@ -115,7 +132,7 @@ fn perturbed_bottom_block_collapses_the_whole_column() {
 /// halvings they stopped with an error at t = 6.03, 7.52 and 6.21.
 #[test]
 fn collapses_whose_landings_need_fine_substeps_run_through() {
-    let scenes = blockstack::scenarios::nearby_lire_collapses(4, 60).unwrap();
+    let scenes = nearby_lire_landings(4, 60).unwrap();
     for k in [11, 29, 59] {
         let (s, _) = run(&scenes[k], 9.99);
         assert_eq!(s.error, None, "neighbour {k}");
@@ -136,7 +153,7 @@ fn collapses_whose_landings_need_fine_substeps_run_through() {
 #[test]
 fn top_topple_energy_increase_is_a_second_order_integration_error() {
     let increase = |dt: f64| {
-        let mut scene = lire(4, Perturbation::Top).unwrap();
+        let mut scene = lire_on_floor(4, Perturbation::Top).unwrap();
         scene.solver.dt = dt;
         let (s, _) = run(&scene, 4.0);
         assert_eq!(s.error, None);

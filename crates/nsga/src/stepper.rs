@@ -139,10 +139,11 @@ pub const REUSE_CONTRACTION: f64 = 0.1;
 /// (see [`Options::regularization`]). Redundancy is a property of which contacts are
 /// closed, so the normal sets (A, B, C) of such a matrix stay singular while the bodies
 /// keep their arrangement, whatever the friction laws do. After the Lire collapse
-/// lands, Newton moves among a handful of normal sets and dozens of stick–slip
+/// lands on a floor, Newton moves among a handful of normal sets and dozens of stick–slip
 /// combinations; remembering only the last singular set made it rediscover each at the
-/// cost of a failed plain factorization and a dense LU. Over the Lire collapse and 99
-/// neighbours (`cargo run --release -p blockstack --example lire_nearby 100`) that took
+/// cost of a failed plain factorization and a dense LU. Over the Lire collapse on a floor
+/// and 99 neighbours (`cargo run --release -p blockstack --example lire_nearby 100
+/// --floor`) that took
 /// 938 linear solves per run, against 810 remembering the normal sets of the last 16.
 pub const SINGULAR_SETS_KEPT: usize = 16;
 
