@@ -506,10 +506,10 @@ fn frequency_sweep_keeps_order_and_records_failing_runs() {
 
 #[test]
 fn lire_top_perturbation_resolves_branch_points_by_default() {
-    // The top block tips over the edge and lands: its contact states alternate on the way
-    // (at t = 6.33), which the default resolves by fixed-set re-solves instead of ending
-    // the run. (With `--explore-branches false` that step now goes through as two half
-    // steps.)
+    // The top block tips over the edge and lands on the floor: its contact states
+    // alternate on the way (at t = 6.33), which the default resolves by fixed-set
+    // re-solves instead of ending the run. (With `--explore-branches false` that step now
+    // goes through as two half steps.)
     let v = json(&[
         "blocks",
         "lire",
@@ -517,6 +517,7 @@ fn lire_top_perturbation_resolves_branch_points_by_default() {
         "4",
         "--perturb",
         "top",
+        "--floor",
         "--t-end",
         "7",
         "--json",
@@ -528,4 +529,29 @@ fn lire_top_perturbation_resolves_branch_points_by_default() {
         .expect("the top block loses support");
     assert!(failure > 1.0 && failure < 7.0, "{failure}");
     assert!(v["min_gap"].as_f64().unwrap() >= -1e-8);
+    // It has come down onto the floor at the table's bottom (y = -0.1), turned over,
+    // leaning on the table's edge.
+    let top = &v["final"][3];
+    let (y, theta) = (top["y"].as_f64().unwrap(), top["theta"].as_f64().unwrap());
+    assert!(y > -0.1 && y < 0.3 && theta.abs() > 1.0, "{top}");
+}
+
+#[test]
+fn lire_without_floor_lets_the_falling_blocks_fall() {
+    // The thesis's scene: nothing below the table.
+    let v = json(&[
+        "blocks",
+        "lire",
+        "--perturb",
+        "top",
+        "--t-end",
+        "7",
+        "--json",
+    ]);
+    assert!(v["error"].is_null(), "{}", v["error"]);
+    assert!(
+        v["final"][3]["y"].as_f64().unwrap() < -1.0,
+        "{}",
+        v["final"][3]
+    );
 }

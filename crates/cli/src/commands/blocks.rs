@@ -19,7 +19,9 @@ use blockstack::painleve::{
     admissible_range, b_grid, critical_mu, least_friction, least_friction_for_sign,
     line_contact_solutions,
 };
-use blockstack::scenarios::{lire, shaking_column, sliding_column, Perturbation, Shaking};
+use blockstack::scenarios::{
+    lire, lire_on_floor, shaking_column, sliding_column, Perturbation, Shaking,
+};
 use blockstack::simulation::{simulate, BlockPose, Prox, RunOptions, RunSummary, StepRecord};
 use blockstack::{Pose, Scene};
 use clap::{Args, Subcommand, ValueEnum};
@@ -45,7 +47,8 @@ pub enum BlocksCommand {
     /// Simulates a scene file (TOML, see `blockstack::scene_file`) from t = 0 to t_end.
     Run(RunArgs),
     /// The Leaning Tower of Lire (§4.3, Figure 4.4): blocks w = 1, h = 0.2, μ = 0.3 in the
-    /// harmonic maximum-overhang configuration (ERRATA 16) on a fixed table.
+    /// harmonic maximum-overhang configuration (ERRATA 16) on a fixed table, with nothing
+    /// below it as in the thesis (`--floor`: a floor at the table's bottom).
     Lire(LireArgs),
     /// Parameter sweeps: failure time against the shaking frequency (Figure 4.6), top
     /// block angle against the speed of the pulled base (Figure 4.7).
@@ -702,6 +705,10 @@ pub struct LireArgs {
     /// Which block is shifted outward by 1 % of its width.
     #[arg(long, value_enum, default_value_t = PerturbArg::None)]
     pub perturb: PerturbArg,
+    /// Put a floor at the bottom of the table so that the blocks that fall land (beyond
+    /// the thesis, whose blocks fall freely).
+    #[arg(long)]
+    pub floor: bool,
     /// End time (model time units, g = 1; the thesis: 10).
     #[arg(long, default_value_t = 10.0, value_parser = parse_finite, allow_hyphen_values = true)]
     pub t_end: f64,
@@ -1178,7 +1185,11 @@ pub const LIRE_SNAPSHOTS: [f64; 3] = [0.0, 5.0, 6.4];
 
 fn run_lire(args: &LireArgs) -> Result<()> {
     anyhow::ensure!(args.blocks >= 1, "--blocks must be at least 1");
-    let scene = lire(args.blocks, args.perturb.into())?;
+    let scene = if args.floor {
+        lire_on_floor(args.blocks, args.perturb.into())?
+    } else {
+        lire(args.blocks, args.perturb.into())?
+    };
     let options = args.solver.run_options(Some(args.t_end), false)?;
     let plan = OutputPlan {
         dir: args.output.out.clone(),
@@ -1196,6 +1207,7 @@ fn run_lire(args: &LireArgs) -> Result<()> {
     let inputs = serde_json::json!({
         "blocks": args.blocks,
         "perturb": format!("{:?}", args.perturb).to_lowercase(),
+        "floor": args.floor,
         "t_end": args.t_end,
         "prox_constant": args.solver.prox_constant,
         "explore_branches": args.solver.explore_branches,

@@ -11,7 +11,9 @@ use crate::commands::blocks::{
     LIRE_SNAPSHOTS,
 };
 use anyhow::Result;
-use blockstack::scenarios::{lire, maximum_overhang, shaking_column, Perturbation, Shaking};
+use blockstack::scenarios::{
+    lire, lire_on_floor, maximum_overhang, shaking_column, Perturbation, Shaking,
+};
 use blockstack::simulation::{simulate, Prox, RunOptions};
 use blockstack::Scene;
 use std::path::Path;
@@ -113,21 +115,30 @@ fn time_text(t: Option<f64>) -> String {
 
 fn lire_runs(dir: &Path, summary: &mut Vec<String>, blocks: &mut Vec<Block>) -> Result<()> {
     let mut rows = Vec::new();
-    for (name, perturbation) in [
-        ("none", Perturbation::None),
-        ("top", Perturbation::Top),
-        ("bottom", Perturbation::Bottom),
+    // The thesis's scene (nothing below the table), then the collapse on a floor (beyond
+    // the thesis), whose blocks land.
+    for (name, perturbation, floor) in [
+        ("none", Perturbation::None, false),
+        ("top", Perturbation::Top, false),
+        ("bottom", Perturbation::Bottom, false),
+        ("bottom, on a floor", Perturbation::Bottom, true),
     ] {
-        let scene = lire(4, perturbation)?;
-        // Files (snapshots at 0, 5, 6.4, animation, trajectory) for the collapse only.
-        let sub = (perturbation == Perturbation::Bottom).then(|| dir.join("lire_bottom"));
+        let scene = if floor {
+            lire_on_floor(4, perturbation)?
+        } else {
+            lire(4, perturbation)?
+        };
+        // Files (snapshots at 0, 5, 6.4, animation, trajectory) for the collapses only.
+        let sub = (perturbation == Perturbation::Bottom)
+            .then(|| dir.join(if floor { "lire_floor" } else { "lire_bottom" }));
         let plan = OutputPlan {
             dir: sub,
             snapshots: LIRE_SNAPSHOTS.to_vec(),
             max_frames: 100,
             title: format!("Lire tower, perturbation {name}"),
         };
-        let inputs = serde_json::json!({"blocks": 4, "perturb": name, "t_end": 10.0});
+        let inputs =
+            serde_json::json!({"blocks": 4, "perturb": name, "floor": floor, "t_end": 10.0});
         let out = simulate_with_output(&scene, &tour_options(), &plan, "blocks lire", &inputs)?;
         let (fallen, drift) = lire_outcome(&scene, &out);
         let r = &out.report;
@@ -174,16 +185,24 @@ fn lire_runs(dir: &Path, summary: &mut Vec<String>, blocks: &mut Vec<Block>) -> 
     for ts in LIRE_SNAPSHOTS {
         blocks.push(Block::Image {
             file: format!("lire_bottom/{}", snapshot_name(ts)),
-            caption: format!("Figure 4.4 at t = {ts}: the lowest block shifted right by 1 % of w makes the tower collapse. Black: the fixed table; line: the floor (the title shows the time of the state drawn)."),
+            caption: format!("Figure 4.4 at t = {ts}: the lowest block shifted right by 1 % of w makes the tower collapse. Black: the fixed table (the title shows the time of the state drawn)."),
         });
     }
     blocks.push(Block::Image {
         file: "lire_bottom/animation.gif".into(),
-        caption: "The collapse, every 10th step.".into(),
+        caption: "The collapse, every 10th step: as in the thesis, nothing lies below the table and the blocks fall freely.".into(),
     });
     blocks.push(Block::Data {
         file: "lire_bottom/trajectory.csv".into(),
         description: "trajectory of the collapse: poses and interface forces per step".into(),
+    });
+    blocks.push(Block::Image {
+        file: "lire_floor/animation.gif".into(),
+        caption: "The same collapse on a floor at the bottom of the table (line; beyond the thesis): the blocks land and come to rest on the floor and the table edge.".into(),
+    });
+    blocks.push(Block::Data {
+        file: "lire_floor/trajectory.csv".into(),
+        description: "trajectory of the collapse on a floor".into(),
     });
     Ok(())
 }
