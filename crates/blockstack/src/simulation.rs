@@ -11,15 +11,16 @@
 //! - **Energy**: kinetic plus potential energy of the free blocks; with a fixed base,
 //!   e_N = e_F = 0 and Coulomb friction it must never increase ([`RunSummary`]'s
 //!   `max_energy_increase`).
-//! - **Branch points** (NSGA-SPEC §4, ERRATA 22): when Newton does not converge because
-//!   the index sets alternate, nsga re-solves the step with each distinct set fixed and
-//!   continues with the first self-consistent candidate; each such step is recorded with
-//!   the number of sets tried and of distinct converged states.
-//!   When nsga finds no candidate, the step is taken as two half steps with this same
-//!   policy (up to [`MAX_HALVINGS`] times). Only when that fails too, the re-solves are
-//!   repeated with a consistency test that accepts friction laws sitting exactly on their
-//!   stick–slip bound (round-off then decides their index set), and with the sets one
-//!   friction switch away from the visited ones (see `resolve_at_boundary`).
+//! - **A step that does not converge** goes through nsga's fallback policy
+//!   ([`nsga::Stepper::step`], docs/method.md §8), configured here by
+//!   [`stepper_options`]: other ρ∞ only after a singular Newton matrix
+//!   ([`RHO_INF_RETRY`]); when the index sets alternate, re-solves with each distinct set
+//!   fixed, continuing with the first self-consistent candidate (a branch point,
+//!   ERRATA 22), recorded with the number of sets tried and of distinct converged
+//!   states; then the step as two half steps with this same policy (up to
+//!   [`MAX_HALVINGS`] times); with branch exploration on, finally re-solves that accept
+//!   friction laws sitting exactly on their stick–slip bound
+//!   ([`nsga::Options::boundary_resolves`]).
 //! - **Redundant contacts**: a toppled column resting on the table edge and on the floor
 //!   with several corners touches at more points than it has degrees of freedom; nsga's
 //!   regularized Newton update ([`nsga::Options::regularization`]) carries it.
@@ -31,7 +32,7 @@ use crate::error::BlockError;
 use crate::scene::Scene;
 use crate::stack::StackContacts;
 use crate::system::StackSystem;
-use nsga::{IndexSets, Options, RhoInfRetry, SolverChoice, StepError, Stepper};
+use nsga::{Options, RhoInfRetry, SolverChoice, Stepper};
 use std::time::Instant;
 
 pub use nsga::Prox;
@@ -56,10 +57,6 @@ pub const OPEN_GAP_TOL: f64 = 1e-6;
 /// singular matrices of redundant contacts by their pivots (see
 /// `nsga::Options::regularization`).
 pub const SMALL_LU_UP_TO: usize = 200;
-
-/// Newton iterations allowed when checking that a fixed-set solution also solves the
-/// free step (it converges at once when it does; see `resolve_at_boundary`).
-pub const QUICK_CHECK_ITERATIONS: usize = 8;
 
 /// How often a step that fails after every retry and re-solve may be halved (a
 /// failing step is then taken as 2, 4, … up to 2^MAX_HALVINGS substeps).
@@ -224,6 +221,8 @@ pub fn stepper_options(scene: &Scene, options: &RunOptions) -> Result<Options, B
         reuse_factorization: true,
         line_search: LINE_SEARCH_HALVINGS,
         rho_inf_retry: RHO_INF_RETRY,
+        max_halvings: MAX_HALVINGS,
+        boundary_resolves: options.explore_branches,
         ..Options::default()
     };
     opts.validate()
@@ -350,7 +349,7 @@ pub fn simulate(
             break;
         }
         let clock = Instant::now();
-        let result = advance(&mut stepper, options.explore_branches);
+        let result = stepper.step().map(accepted);
         solver_time += clock.elapsed().as_secs_f64();
         let (t, its, retries, branch) = match result {
             Ok(r) => r,
@@ -405,214 +404,6 @@ fn accepted(s: &nsga::StepStats) -> Accepted {
             distinct: b.candidates.len(),
         }),
     )
-}
-
-/// One step: nsga's step (ρ∞ retries after a singular matrix, [`RHO_INF_RETRY`], and
-/// fixed-set re-solves when the sets cycle);
-/// when that fails, the step is taken as two half steps, each with this same policy,
-/// up to [`MAX_HALVINGS`] times; only when that fails too, and `explore` is set, the
-/// fixed-set re-solves are repeated with a weaker consistency test
-/// ([`resolve_at_boundary`]), the costliest fallback.
-fn advance(stepper: &mut Stepper<StackSystem>, explore: bool) -> Result<Accepted, StepError> {
-    advance_with_halvings(stepper, explore, MAX_HALVINGS)
-}
-
-fn advance_with_halvings(
-    stepper: &mut Stepper<StackSystem>,
-    explore: bool,
-    halvings: usize,
-) -> Result<Accepted, StepError> {
-    let error = match stepper.step() {
-        Ok(s) => return Ok(accepted(s)),
-        Err(e @ StepError::InvalidInput(_)) => return Err(e),
-        Err(e) => e,
-    };
-    if halvings > 0 {
-        let halves = stepper.split_step(2, |s| {
-            advance_with_halvings(s, explore, halvings - 1).map(|_| ())
-        });
-        if let Ok(s) = halves {
-            return Ok(accepted(s));
-        }
-    }
-    match error {
-        StepError::NotConverged {
-            visited_sets,
-            cycling: true,
-            residual,
-            ..
-        } if explore => resolve_at_boundary(stepper, &visited_sets, residual),
-        e => Err(e),
-    }
-}
-
-/// Fixed-set re-solves (NSGA-SPEC §4) for a step whose Newton iterates cycle because
-/// a contact sits exactly on the boundary between two states.
-///
-/// nsga keeps a fixed-set solution only when the index sets recomputed from it equal
-/// the fixed ones. When a friction law sits exactly at its stick–slip bound (zero slip
-/// and ‖λ_F‖ = μ Σλ_N, as happens when a column rotating about the table edge starts to
-/// slip while the interfaces above it also reach their bound), round-off decides its
-/// set, so no candidate passes that test although several solve the step. Here a
-/// fixed-set solution is kept when its recomputed sets differ from the fixed ones only
-/// in laws on their bound ([`at_friction_bounds`]), or else when a Newton solve with
-/// free sets started from it converges (then that free solution is kept). When no
-/// visited set gives a solution, the sets one friction-law switch away
-/// ([`neighbour_sets`]) are tried the same way until the first solution. Candidates are
-/// deduplicated by state and the first, in the order tried, is taken; the step is
-/// reported as a branch point (sets tried, distinct solutions).
-fn resolve_at_boundary(
-    stepper: &mut Stepper<StackSystem>,
-    visited: &[IndexSets],
-    residual: f64,
-) -> Result<Accepted, StepError> {
-    let saved = stepper.state().clone();
-    let rho = stepper.options().rho_inf;
-    let mut candidates: Vec<(IndexSets, nsga::State)> = Vec::new();
-    let mut first: Option<nsga::Trial> = None;
-    let laws = stepper.system().scene().friction_laws();
-    let all = neighbour_sets(visited, &laws);
-    let options = stepper.options().clone();
-    let quick = Options {
-        max_iter: QUICK_CHECK_ITERATIONS,
-        ..options.clone()
-    };
-    let mut tried = 0;
-    for (i, sets) in all.iter().enumerate() {
-        let is_visited = i < visited.len();
-        // Neighbours only until a first solution is found.
-        if !is_visited && first.is_some() {
-            break;
-        }
-        tried += 1;
-        let Ok(fixed) = stepper.trial(Some(sets), rho) else {
-            continue;
-        };
-        let recomputed = stepper.sets_of(&fixed.state.x, rho);
-        let candidate = if at_friction_bounds(stepper, sets, &recomputed, &fixed.state) {
-            fixed
-        } else {
-            // Does a free Newton solve started from it converge?
-            let mut start = saved.clone();
-            start.x.clone_from(&fixed.state.x);
-            stepper.set_state(start);
-            stepper.set_options(quick.clone())?;
-            let free = stepper.trial(None, rho);
-            stepper.set_options(options.clone())?;
-            stepper.set_state(saved.clone());
-            let Ok(free) = free else { continue };
-            free
-        };
-        let duplicate = candidates
-            .iter()
-            .any(|(_, s)| s.same_motion(&candidate.state));
-        if !duplicate {
-            candidates.push((candidate.stats.sets.clone(), candidate.state.clone()));
-            if first.is_none() {
-                first = Some(candidate);
-            }
-        }
-    }
-    let Some(mut trial) = first else {
-        return Err(StepError::NotConverged {
-            t: saved.t,
-            residual,
-            visited_sets: visited.to_vec(),
-            cycling: true,
-            state: Box::new(saved),
-            best: None,
-        });
-    };
-    trial.stats.retries = 1 + stepper.options().rho_inf_retries.len();
-    trial.stats.branch = Some(nsga::BranchPoint {
-        t: saved.t,
-        candidates,
-        tried,
-        chosen: 0,
-    });
-    stepper.commit(trial);
-    Ok(accepted(
-        stepper.last_step().expect("a step was just committed"),
-    ))
-}
-
-/// The sets to try with the sets fixed: those the Newton iterates visited, in order, then
-/// each of them with one friction law switched to another state (slip, stick on velocity
-/// level only, stick): the self-consistent sets of a step where one law crosses its
-/// bound are often one switch away from the ones Newton alternates between.
-fn neighbour_sets(visited: &[IndexSets], laws: &[crate::FrictionLaw]) -> Vec<IndexSets> {
-    let mut out: Vec<IndexSets> = visited.to_vec();
-    for sets in visited {
-        for (j, law) in laws.iter().enumerate() {
-            // An inactive law (all its gaps open) has no state to switch.
-            if !law.normals.iter().any(|&k| sets.a[k]) {
-                continue;
-            }
-            for (d, e) in [(false, false), (true, false), (true, true)] {
-                let mut s = sets.clone();
-                s.d[j] = d;
-                s.e[j] = e;
-                if !out.contains(&s) {
-                    out.push(s);
-                }
-            }
-        }
-    }
-    out
-}
-
-/// Whether the sets recomputed from a fixed-set solution differ from the fixed ones only
-/// in friction laws that sit exactly on their stick–slip bound, where either set
-/// describes the same solution (NSGA-SPEC §3, laws 137–142): on velocity level a slip
-/// ξ_F = 0 with ‖P_F‖ = μP̂, on acceleration level γ̇_F = 0 with ‖λ_F‖ = μλ̂ (all within
-/// the Newton tolerance, velocities and accelerations taken as impulses per unit mass
-/// over one step).
-fn at_friction_bounds(
-    stepper: &Stepper<StackSystem>,
-    fixed: &IndexSets,
-    recomputed: &IndexSets,
-    st: &nsga::State,
-) -> bool {
-    if fixed == recomputed {
-        return true;
-    }
-    if fixed.a != recomputed.a || fixed.b != recomputed.b || fixed.c != recomputed.c {
-        return false;
-    }
-    let scene = stepper.system().scene();
-    let opts = stepper.options();
-    let (tol, dt) = (opts.tol, opts.dt);
-    let e_f = scene.contact.e_f;
-    let at_end = scene.contacts(st.t, &st.q, &st.u);
-    let laws = scene.friction_laws();
-    laws.iter().enumerate().all(|(j, law)| {
-        let same = fixed.d[j] == recomputed.d[j] && fixed.e[j] == recomputed.e[j];
-        if same {
-            return true;
-        }
-        let row = &at_end.slips[j];
-        let p_hat: f64 = law.normals.iter().map(|&k| st.p_n[k]).sum::<f64>().max(0.0);
-        let l_hat: f64 = law
-            .normals
-            .iter()
-            .map(|&k| st.lambda_n[k])
-            .sum::<f64>()
-            .max(0.0);
-        let velocity_ok = fixed.d[j] == recomputed.d[j] || {
-            // e_F = 0 in every scene of the thesis; otherwise the e_F γ_F(q, u_n) part of
-            // ξ_F is not known here and the case is not accepted.
-            e_f == 0.0
-                && row.value.abs() <= tol
-                && (st.p_f[j].abs() - law.mu * p_hat).abs() <= tol * (1.0 + law.mu * p_hat)
-        };
-        let acceleration_ok = fixed.e[j] == recomputed.e[j] || {
-            let rate = row.w.dot(&st.a) + row.zeta;
-            rate.abs() * dt <= tol
-                && (st.lambda_f[j].abs() - law.mu * l_hat).abs() * dt
-                    <= tol * (1.0 + law.mu * l_hat * dt)
-        };
-        velocity_ok && acceleration_ok
-    })
 }
 
 /// Updates the failure and opening times from the contacts last recorded at t.

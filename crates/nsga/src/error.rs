@@ -1,7 +1,7 @@
 //! Typed errors of the stepper.
 
 use crate::sets::IndexSets;
-use crate::stepper::{State, Trial};
+use crate::state::State;
 
 /// Why a step (or the start) failed. Every variant that happens during a run carries
 /// the time and the last good state, from which the run can continue.
@@ -28,12 +28,10 @@ pub enum StepError {
         residual: f64,
         /// Index sets visited by the Newton iterates.
         visited_sets: Vec<IndexSets>,
-        /// Whether the sets cycled (a possible branch point, NSGA-SPEC §4).
+        /// Whether the sets cycled (a possible branch point, docs/method.md §8).
         cycling: bool,
         /// The last good state (the stepper stays there).
         state: Box<State>,
-        /// The best unconverged iterate of the attempt, if any.
-        best: Option<Box<Trial>>,
     },
     /// A residual became NaN or infinite.
     #[error("non-finite residual in the step from t = {t}")]
@@ -53,4 +51,18 @@ pub enum StepError {
         /// The last good state.
         state: Box<State>,
     },
+}
+
+impl StepError {
+    /// The last good state, from which a run can continue (None for invalid input and a
+    /// failed start).
+    #[must_use]
+    pub fn state(&self) -> Option<&State> {
+        match self {
+            Self::NotConverged { state, .. }
+            | Self::NonFinite { state, .. }
+            | Self::Linear { state, .. } => Some(state),
+            Self::InvalidInput(_) | Self::Start { .. } => None,
+        }
+    }
 }

@@ -93,25 +93,36 @@
 
 #![warn(missing_docs)]
 
+pub mod attempt;
 pub mod error;
+mod level;
 pub mod linalg;
 pub mod moreau;
+pub mod newton;
+pub mod options;
 pub mod params;
+mod prox;
+pub mod report;
 pub mod runs;
 pub mod sets;
 pub mod start;
+pub mod state;
 pub mod stepper;
 pub mod system;
 pub mod systems;
 
+pub use attempt::{AttemptFailure, Trial};
 pub use error::StepError;
 pub use linalg::{AutoSolver, DenseLu, LinalgError, LinearSolver, MarkowitzLu, SparseLu};
 pub use moreau::{MoreauOptions, MoreauState, MoreauStepper};
-pub use params::GenAlpha;
-pub use sets::IndexSets;
-pub use stepper::{
-    BranchPoint, FailurePolicy, Options, Prox, RhoInfRetry, RunStats, SolverChoice, State,
-    StepStats, Stepper, Trial, DEFAULT_REGULARIZATION, DEFAULT_RETRY_MAX_ITER, MAX_REUSES,
-    REUSE_CONTRACTION,
+pub use newton::{MAX_REUSES, REUSE_CONTRACTION};
+pub use options::{
+    FailurePolicy, Options, Prox, RhoInfRetry, SolverChoice, DEFAULT_REGULARIZATION,
+    DEFAULT_RETRY_MAX_ITER,
 };
+pub use params::GenAlpha;
+pub use report::{BranchPoint, RunStats, StepStats};
+pub use sets::IndexSets;
+pub use state::State;
+pub use stepper::{Stepper, QUICK_CHECK_ITERATIONS, SINGULAR_SETS_KEPT};
 pub use system::{Derivatives, Evaluation, FrictionLaw, Layout, Probes, Scalar, System, Triplets};

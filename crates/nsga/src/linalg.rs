@@ -39,6 +39,11 @@ pub trait LinearSolver: std::fmt::Debug {
     fn name(&self) -> &'static str;
 }
 
+/// Euclidean norm of a short slice.
+pub(crate) fn norm(v: &[f64]) -> f64 {
+    v.iter().map(|x| x * x).sum::<f64>().sqrt()
+}
+
 fn finite(rhs: &[f64], what: &str) -> Result<(), LinalgError> {
     if rhs.iter().all(|x| x.is_finite()) {
         Ok(())

@@ -1,8 +1,13 @@
-//! The Moreau–Jean midpoint baseline (NSGA-SPEC §6) on the same [`System`] trait.
+//! The Moreau–Jean midpoint baseline (docs/method.md §6) on the same [`System`] trait,
+//! solved by the crate's one semismooth Newton engine ([`newton`](crate::newton)).
 
 use crate::error::StepError;
+use crate::level::{LevelProblem, LevelRows};
 use crate::linalg::{AutoSolver, LinearSolver};
-use crate::stepper::{norm, prox_parameters, Prox};
+use crate::newton::{self, GiveUp, NewtonProblem, NewtonScratch, NewtonSettings, Outcome};
+use crate::options::Prox;
+use crate::prox::prox_parameters;
+use crate::state::State;
 use crate::system::{Evaluation, Layout, System, Triplets};
 
 /// Options of the Moreau–Jean stepper.
@@ -121,18 +126,10 @@ impl<S: System> MoreauStepper<S> {
     /// # Errors
     /// [`StepError::Linear`] when the Newton matrix is singular or Newton does not
     /// converge; the stepper stays at the last good state.
-    #[allow(clippy::too_many_lines)]
     pub fn step(&mut self) -> Result<usize, StepError> {
         let l = &self.layout;
-        let (nu, ng, nga, nn) = (
-            l.nu,
-            l.n_bilateral_position,
-            l.n_bilateral_velocity,
-            l.n_normal(),
-        );
-        let (np, nv) = (l.n_position(), l.n_velocity());
+        let (ng, nn) = (l.n_bilateral_position, l.n_normal());
         let dt = self.options.dt;
-        let law_off = l.friction_offsets();
         let st = &self.state;
         let mut bt = Triplets::default();
         self.system.kinematics(st.t, &st.q, &mut bt);
@@ -156,165 +153,143 @@ impl<S: System> MoreauStepper<S> {
         for &(r, c, v) in &e.velocity_w.entries {
             v_old[c] += v * st.u[r];
         }
-        // Unknowns z = (u_{n+1}, P_p, P_v).
-        let (ou, op, ov) = (0, nu, nu + np);
-        let n = ov + nv;
-        let mut z = vec![0.0; n];
-        z[..nu].copy_from_slice(&st.u);
-        let mut res = vec![0.0; n];
-        let mut jac: Vec<(usize, usize, f64)> = Vec::new();
-        let row_of = |jac: &mut Vec<(usize, usize, f64)>,
-                      w: &Triplets<f64>,
-                      c0: usize,
-                      row: usize,
-                      s: f64| {
-            for &(i, c, v) in &w.entries {
-                if c == c0 {
-                    jac.push((row, ou + i, s * v));
-                }
-            }
+        let impulse: Vec<f64> = e.forces.iter().map(|h| h * dt).collect();
+        let fixed_slip = vec![None; l.friction.len()];
+        let mut problem = MoreauProblem {
+            level: LevelProblem {
+                layout: l,
+                eval: e,
+                rhs: &impulse,
+                v_ref: Some(&st.u),
+                closed: &closed,
+                fixed_slip: &fixed_slip,
+                r_pos: &r_pos,
+                r_vel: &r_vel,
+                r_law: &r_law,
+            },
+            rows: LevelRows::default(),
+            rate_old,
+            v_old,
+            xi_p: Vec::new(),
+            xi_v: Vec::new(),
+            solver: &mut self.solver,
         };
-        for iter in 0..=self.options.max_iter {
-            let mut xi_p = e.position_chi.clone();
-            for &(r, c, v) in &e.position_w.entries {
-                xi_p[c] += v * z[ou + r];
+        // Unknowns z = (u_{n+1}, P_p, P_v); Newton starts from u_n.
+        let mut z = vec![0.0; problem.level.n()];
+        z[..l.nu].copy_from_slice(&st.u);
+        let settings = NewtonSettings {
+            tol: self.options.tol,
+            max_iter: self.options.max_iter,
+            line_search: 0,
+            reuse_factorization: false,
+            give_up: GiveUp::Never,
+        };
+        match newton::solve(&mut problem, &mut z, &settings, &mut NewtonScratch::default()) {
+            Outcome::Converged { iterations, .. } => {
+                self.finish(t_m, &q_m, &z);
+                self.iterations += iterations as u64;
+                Ok(iterations)
             }
-            for k in 0..nn {
-                xi_p[ng + k] += l.e_n[k] * rate_old[ng + k];
-            }
-            let mut xi_v = e.velocity_chi.clone();
-            for &(r, c, v) in &e.velocity_w.entries {
-                xi_v[c] += v * z[ou + r];
-            }
-            for (j, law) in l.friction.iter().enumerate() {
-                let vs = nga + law_off[j];
-                for m in 0..law.components {
-                    xi_v[vs + m] += law.e_f * v_old[vs + m];
-                }
-            }
-            res.iter_mut().for_each(|x| *x = 0.0);
-            jac.clear();
-            for &(i, j, m) in &e.mass.entries {
-                res[ou + i] += m * (z[ou + j] - st.u[j]);
-                jac.push((ou + i, ou + j, m));
-            }
-            for i in 0..nu {
-                res[ou + i] -= e.forces[i] * dt;
-            }
-            for &(i, c, v) in &e.position_w.entries {
-                res[ou + i] -= v * z[op + c];
-                jac.push((ou + i, op + c, -v));
-            }
-            for &(i, c, v) in &e.velocity_w.entries {
-                res[ou + i] -= v * z[ov + c];
-                jac.push((ou + i, ov + c, -v));
-            }
-            for i in 0..ng {
-                res[op + i] = r_pos[i] * xi_p[i];
-                row_of(&mut jac, &e.position_w, i, op + i, r_pos[i]);
-            }
-            for i in 0..nga {
-                res[ov + i] = r_vel[i] * xi_v[i];
-                row_of(&mut jac, &e.velocity_w, i, ov + i, r_vel[i]);
-            }
-            for k in 0..nn {
-                let pk = ng + k;
-                if closed[k] && r_pos[pk] * xi_p[pk] - z[op + pk] <= 0.0 {
-                    res[op + pk] = r_pos[pk] * xi_p[pk];
-                    row_of(&mut jac, &e.position_w, pk, op + pk, r_pos[pk]);
-                } else {
-                    res[op + pk] = z[op + pk];
-                    jac.push((op + pk, op + pk, 1.0));
-                }
-            }
-            for (j, law) in l.friction.iter().enumerate() {
-                let vs = nga + law_off[j];
-                let nc = law.components;
-                let active = law.normals.iter().any(|&k| closed[k]);
-                let p_sum: f64 = law.normals.iter().map(|&k| z[op + ng + k]).sum();
-                let radius = law.mu * p_sum.max(0.0);
-                let dist: f64 = (0..nc)
-                    .map(|m| (r_law[j] * xi_v[vs + m] - z[ov + vs + m]).powi(2))
-                    .sum();
-                let stick = active && dist.sqrt() <= radius;
-                let dn = norm(&xi_v[vs..vs + nc]);
-                for m in 0..nc {
-                    let row = ov + vs + m;
-                    if stick {
-                        res[row] = r_law[j] * xi_v[vs + m];
-                        row_of(&mut jac, &e.velocity_w, vs + m, row, r_law[j]);
-                        continue;
-                    }
-                    res[row] = z[row];
-                    jac.push((row, row, 1.0));
-                    if !active || dn == 0.0 || p_sum <= 0.0 {
-                        continue;
-                    }
-                    let dm = xi_v[vs + m] / dn;
-                    res[row] += radius * dm;
-                    for &k in &law.normals {
-                        jac.push((row, op + ng + k, law.mu * dm));
-                    }
-                    for mp in 0..nc {
-                        let proj = f64::from(u8::from(m == mp)) - dm * xi_v[vs + mp] / dn;
-                        row_of(&mut jac, &e.velocity_w, vs + mp, row, radius * proj / dn);
-                    }
-                }
-            }
-            let r = res.iter().fold(0.0_f64, |m, x| m.max(x.abs()));
-            if !r.is_finite() {
-                break;
-            }
-            if r <= self.options.tol {
-                // q_{n+1} = q_M + ½Δt B(q_M) u_{n+1}
-                let mut bm = Triplets::default();
-                self.system.kinematics(t_m, &q_m, &mut bm);
-                let mut q1 = q_m.clone();
-                for &(j, i, b) in &bm.entries {
-                    q1[j] += 0.5 * dt * b * z[ou + i];
-                }
-                let k = self.state.k + 1;
-                self.state = MoreauState {
-                    k,
-                    t: self.t0 + k as f64 * dt,
-                    q: q1,
-                    u: z[..nu].to_vec(),
-                    p_n: z[op + ng..op + np].to_vec(),
-                    p_f: z[ov + nga..ov + nv].to_vec(),
-                };
-                self.iterations += iter as u64;
-                return Ok(iter);
-            }
-            let mut dz: Vec<f64> = res.iter().map(|x| -x).collect();
-            self.solver
-                .solve(n, &jac, &mut dz)
-                .map_err(|err| StepError::Linear {
+            Outcome::Singular(message) => Err(StepError::Linear {
+                t: self.state.t,
+                message,
+                state: Box::new(self.state.as_state()),
+            }),
+            Outcome::NotConverged { .. } | Outcome::NonFinite | Outcome::Restart => {
+                Err(StepError::Linear {
                     t: self.state.t,
-                    message: err.0,
-                    state: Box::new(crate::stepper::State {
-                        k: self.state.k,
-                        t: self.state.t,
-                        q: self.state.q.clone(),
-                        u: self.state.u.clone(),
-                        a: Vec::new(),
-                        a_bar: Vec::new(),
-                        lambda_n: Vec::new(),
-                        lambda_n_bar: Vec::new(),
-                        lambda_f: Vec::new(),
-                        lambda_f_bar: Vec::new(),
-                        p_n: self.state.p_n.clone(),
-                        p_f: self.state.p_f.clone(),
-                        x: Vec::new(),
-                    }),
-                })?;
-            for (zi, d) in z.iter_mut().zip(&dz) {
-                *zi += d;
+                    message: "Moreau–Jean Newton did not converge".into(),
+                    state: Box::default(),
+                })
             }
         }
-        Err(StepError::Linear {
-            t: self.state.t,
-            message: "Moreau–Jean Newton did not converge".into(),
-            state: Box::default(),
-        })
+    }
+
+    /// q_{n+1} = q_M + ½Δt B(q_M) u_{n+1}, and the new state from the solution z.
+    fn finish(&mut self, t_m: f64, q_m: &[f64], z: &[f64]) {
+        let l = &self.layout;
+        let (nu, np) = (l.nu, l.n_position());
+        let (ng, nga) = (l.n_bilateral_position, l.n_bilateral_velocity);
+        let dt = self.options.dt;
+        let mut bm = Triplets::default();
+        self.system.kinematics(t_m, q_m, &mut bm);
+        let mut q1 = q_m.to_vec();
+        for &(j, i, b) in &bm.entries {
+            q1[j] += 0.5 * dt * b * z[i];
+        }
+        let k = self.state.k + 1;
+        self.state = MoreauState {
+            k,
+            t: self.t0 + k as f64 * dt,
+            q: q1,
+            u: z[..nu].to_vec(),
+            p_n: z[nu + ng..nu + np].to_vec(),
+            p_f: z[nu + np + nga..].to_vec(),
+        };
+    }
+}
+
+impl MoreauState {
+    /// The state in the generalized-α stepper's form (no accelerations or forces).
+    fn as_state(&self) -> State {
+        State {
+            k: self.k,
+            t: self.t,
+            q: self.q.clone(),
+            u: self.u.clone(),
+            p_n: self.p_n.clone(),
+            p_f: self.p_f.clone(),
+            ..State::default()
+        }
+    }
+}
+
+/// The velocity-level problem of one Moreau–Jean step on the Newton engine.
+struct MoreauProblem<'a> {
+    level: LevelProblem<'a>,
+    rows: LevelRows,
+    /// ṗ(q_M, u_n) and v(q_M, u_n), for the restitution terms.
+    rate_old: Vec<f64>,
+    v_old: Vec<f64>,
+    xi_p: Vec<f64>,
+    xi_v: Vec<f64>,
+    solver: &'a mut AutoSolver,
+}
+
+impl NewtonProblem for MoreauProblem<'_> {
+    type Sets = Vec<usize>;
+
+    /// ξ_N = ġ_N(u_{n+1}) + e_N ġ_N(u_n), ξ_F = γ_F(u_{n+1}) + e_F γ_F(u_n) at q_M.
+    fn evaluate(&mut self, z: &[f64], _first: bool) -> (Vec<usize>, f64) {
+        let l = self.level.layout;
+        let e = self.level.eval;
+        let (ng, nga) = (l.n_bilateral_position, l.n_bilateral_velocity);
+        self.xi_p.clone_from(&e.position_chi);
+        for &(r, c, v) in &e.position_w.entries {
+            self.xi_p[c] += v * z[r];
+        }
+        for (k, e_n) in l.e_n.iter().enumerate() {
+            self.xi_p[ng + k] += e_n * self.rate_old[ng + k];
+        }
+        self.xi_v.clone_from(&e.velocity_chi);
+        for &(r, c, v) in &e.velocity_w.entries {
+            self.xi_v[c] += v * z[r];
+        }
+        for (law, f0) in l.friction.iter().zip(l.friction_offsets()) {
+            let vs = nga + f0;
+            for m in 0..law.components {
+                self.xi_v[vs + m] += law.e_f * self.v_old[vs + m];
+            }
+        }
+        self.level.rows(z, &self.xi_p, &self.xi_v, &mut self.rows);
+        let r = self.rows.res.iter().fold(0.0_f64, |m, x| m.max(x.abs()));
+        (self.rows.closed_rows.clone(), r)
+    }
+
+    fn exact_direction(&mut self, _z: &[f64], _: &Vec<usize>, dz: &mut [f64]) -> Result<(), String> {
+        dz.iter_mut().zip(&self.rows.res).for_each(|(d, r)| *d = -r);
+        self.solver
+            .solve(self.level.n(), &self.rows.jac, dz)
+            .map_err(|e| e.0)
     }
 }

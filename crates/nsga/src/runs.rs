@@ -3,7 +3,8 @@
 
 use crate::error::StepError;
 use crate::moreau::{MoreauOptions, MoreauStepper};
-use crate::stepper::{Options, Prox, Stepper};
+use crate::options::{Options, Prox};
+use crate::stepper::Stepper;
 use crate::systems::ball::BallCase;
 use std::time::Instant;
 

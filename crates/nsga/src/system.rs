@@ -1,7 +1,7 @@
 //! The system interface: what a mechanical system tells the stepper.
 //!
 //! A system has coordinates q (nq), velocities u (nu) with q̇ = B(t,q) u, and the
-//! equality of measures (NSGA-SPEC §1)
+//! equality of measures (docs/method.md §1)
 //!
 //! ```text
 //!     M(t,q) du = h(t,q,u) dt + W_g dP_g + W_γ dP_γ + W_N dP_N + W_F dP_F.
@@ -41,6 +41,8 @@
 //!
 //! See `systems::ball` for a complete example, and the crate docs for a small one.
 
+use crate::sets::IndexSets;
+use crate::state::State;
 use num_dual::{Dual64, DualNum};
 
 /// A number type the system functions are written in: `f64` for values, dual numbers
@@ -48,7 +50,7 @@ use num_dual::{Dual64, DualNum};
 pub trait Scalar: DualNum<Primitive = f64> + Copy {}
 impl<T: DualNum<Primitive = f64> + Copy> Scalar for T {}
 
-/// One Coulomb friction law (NSGA-SPEC §1, paper eqs. 137–142).
+/// One Coulomb friction law (docs/method.md §1, paper eqs. 137–142).
 #[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct FrictionLaw {
     /// Number of tangential components: 1 (prox onto an interval) or 2 (onto a disk).
@@ -389,6 +391,19 @@ pub trait System {
         Self: Sized,
     {
         forward_derivatives(self, t, q, u, probes, out);
+    }
+
+    /// Which continuation to follow at a branch point: a step from time `t` with several
+    /// self-consistent, distinct solutions (docs/method.md §8). `candidates` holds each
+    /// with the index sets it was solved with, in the order the fixed-set re-solves found
+    /// them; return an index into it (an index past the end counts as the last).
+    ///
+    /// This is the one decision of the fallback policy that belongs to the system, not
+    /// to the method (for example: prefer the continuation that keeps a contact closed,
+    /// or the one of least energy). The policy itself (when to re-solve, which sets,
+    /// self-consistency, deduplication) stays in the stepper. Default: the first.
+    fn choose_branch(&self, _t: f64, _candidates: &[(IndexSets, State)]) -> usize {
+        0
     }
 }
 

@@ -1,7 +1,9 @@
 //! Residual (eqs. 127–142) and its semismooth Jacobian (eq. 143), rows scaled to
 //! impulse units: acceleration-level rows × Δt, position-level rows ÷ Δt.
 
-use super::{norm, push_q_derivative, push_u_derivative, Stepper};
+use super::rows::{push_q_derivative, push_u_derivative, RowMat};
+use super::Stepper;
+use crate::linalg::norm;
 use crate::params::GenAlpha;
 use crate::sets::IndexSets;
 use crate::system::{Probes, System};
@@ -227,7 +229,7 @@ impl<S: System> Stepper<S> {
             jac.push((o.qq + i, col_v(c, o.cga, o.cf), -0.5 * v));
         }
         let copy_row = |jac: &mut Vec<(usize, usize, f64)>,
-                        m: &super::RowMat,
+                        m: &RowMat,
                         src: usize,
                         dst: usize,
                         s: f64| {
@@ -366,7 +368,7 @@ pub(crate) fn direction(v: &[f64], m: usize) -> f64 {
 }
 
 /// Jacobian of the sliding term μ S d_m(v), S = Σ multipliers clamped at zero, d = v/‖v‖:
-/// μ d_m ∂S + μ S (δ_mm' − d_m d_m')/‖v‖ ∂v_m' (NSGA-SPEC §4).
+/// μ d_m ∂S + μ S (δ_mm' − d_m d_m')/‖v‖ ∂v_m' (docs/method.md §4).
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn slip_row(
     jac: &mut Vec<(usize, usize, f64)>,
@@ -377,7 +379,7 @@ pub(crate) fn slip_row(
     radius_cols: &[(usize, f64)],
     v: &[f64],
     m: usize,
-    dv: &super::RowMat,
+    dv: &RowMat,
     vs: usize,
 ) {
     let n = norm(v);

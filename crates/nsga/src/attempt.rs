@@ -1,0 +1,86 @@
+//! The result of one Newton attempt at a step: a [`Trial`] to commit, or an
+//! [`AttemptFailure`] that tells the fallback policy what the iterates did.
+//!
+//! The attempt reports its failure as data, not as a [`StepError`]: the policy of
+//! [`Stepper::step`] decides from it what to try next (other ρ∞, fixed index sets,
+//! halving), and only the step's final failure becomes a [`StepError`].
+
+use crate::error::StepError;
+use crate::report::StepStats;
+use crate::sets::IndexSets;
+use crate::state::State;
+#[cfg(doc)]
+use crate::Stepper;
+
+/// The result of solving one step without committing it (see [`Stepper::trial`]).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Trial {
+    /// The state at t_{n+1}.
+    pub state: State,
+    /// Statistics of the solve.
+    pub stats: StepStats,
+    /// Sets visited by the Newton iterates, in first-visit order.
+    pub visited: Vec<IndexSets>,
+    /// Whether the visited sets cycled in the last iterations (a branch-point sign).
+    pub cycling: bool,
+}
+
+
+/// Why one Newton attempt at a step failed.
+#[derive(Debug, Clone, PartialEq)]
+pub enum AttemptFailure {
+    /// The iterates did not converge: iteration limit, a settled cycle of index sets, or
+    /// (with fixed sets) a stalled residual.
+    NotConverged {
+        /// Index sets visited by the Newton iterates, in first-visit order.
+        visited: Vec<IndexSets>,
+        /// Whether the sets cycled (a possible branch point, docs/method.md §8).
+        cycling: bool,
+        /// The best (smallest-residual) iterate, as an uncommitted step.
+        best: Option<Box<Trial>>,
+    },
+    /// A residual became NaN or infinite.
+    NonFinite,
+    /// The Newton matrix could not be factorized.
+    Singular {
+        /// The linear solver's message.
+        message: String,
+    },
+}
+
+impl AttemptFailure {
+    /// The smallest residual reached (∞ when there is no iterate).
+    #[must_use]
+    pub fn residual(&self) -> f64 {
+        match self {
+            Self::NotConverged { best: Some(b), .. } => b.stats.residual,
+            _ => f64::INFINITY,
+        }
+    }
+
+    /// The failure as the error of a step that started at `state`.
+    #[must_use]
+    pub fn into_error(self, state: &State) -> StepError {
+        let residual = self.residual();
+        match self {
+            Self::NotConverged {
+                visited, cycling, ..
+            } => StepError::NotConverged {
+                t: state.t,
+                residual,
+                visited_sets: visited,
+                cycling,
+                state: Box::new(state.clone()),
+            },
+            Self::NonFinite => StepError::NonFinite {
+                t: state.t,
+                state: Box::new(state.clone()),
+            },
+            Self::Singular { message } => StepError::Linear {
+                t: state.t,
+                message,
+                state: Box::new(state.clone()),
+            },
+        }
+    }
+}

@@ -1,0 +1,170 @@
+//! Contact laws on one kinematic level, as semismooth residual rows: the problem shape
+//! shared by the consistent start (acceleration level, docs/method.md §5) and the
+//! Moreau–Jean step (velocity level, §6).
+//!
+//! The unknowns are y = (v, μ_p, μ_v): a velocity-like vector (accelerations a, or
+//! velocities u_{n+1}) and the multipliers of the position and velocity families
+//! (forces λ, or percussions P). The dynamics rows are M v − b − W_p μ_p − W_v μ_v = 0
+//! with b given; the constraint rows are those of the prox formulation on this level:
+//!
+//! - bilateral constraints: r · level = 0;
+//! - normal contact k, closed (its gap closed at the start of the step):
+//!   r · level_k if r · level_k − μ_k ≤ 0 (contact), else μ_k (separation); an open
+//!   contact's row is μ_k;
+//! - friction law j, active (one of its normal contacts closed), with radius
+//!   ρ = μ Σ_k μ_{N,k} clamped at 0: stick (r · level = 0) where ‖r · level − μ_F‖ ≤ ρ
+//!   and sticking is allowed, else slip μ_F + ρ d with d the unit direction of a given
+//!   vector (the level itself, or a fixed slip velocity); inactive: μ_F = 0.
+
+use crate::linalg::norm;
+use crate::system::{Evaluation, Layout, Triplets};
+
+/// The data of a one-level contact problem that stay fixed over its Newton iterations.
+#[derive(Debug)]
+pub(crate) struct LevelProblem<'a> {
+    /// The system's sizes and friction laws.
+    pub layout: &'a Layout,
+    /// M, W_p, W_v (and the rest of the evaluation, unused here).
+    pub eval: &'a Evaluation<f64>,
+    /// b of the dynamics rows M v − b − W μ = 0.
+    pub rhs: &'a [f64],
+    /// The velocity-like part v the dynamics rows measure from (M (v − v_ref)): zero
+    /// for the start, u_n for Moreau–Jean.
+    pub v_ref: Option<&'a [f64]>,
+    /// Per normal contact: whether its gap is closed.
+    pub closed: &'a [bool],
+    /// Per friction law: a fixed slip velocity whose direction the slip row takes (the
+    /// start's sliding contacts), or None (direction of the level itself, and sticking
+    /// allowed).
+    pub fixed_slip: &'a [Option<Vec<f64>>],
+    /// Prox parameters per position constraint, velocity constraint, friction law.
+    pub r_pos: &'a [f64],
+    /// See `r_pos`.
+    pub r_vel: &'a [f64],
+    /// See `r_pos`.
+    pub r_law: &'a [f64],
+}
+
+/// The residual and Jacobian of one iterate, and its index sets (the rows whose
+/// constraint is closed: contact, or stick).
+#[derive(Debug, Default)]
+pub(crate) struct LevelRows {
+    pub res: Vec<f64>,
+    pub jac: Vec<(usize, usize, f64)>,
+    pub closed_rows: Vec<usize>,
+}
+
+impl LevelProblem<'_> {
+    /// Number of unknowns: nu + (ng + nN) + (nγ + nF).
+    pub fn n(&self) -> usize {
+        self.layout.nu + self.layout.n_position() + self.layout.n_velocity()
+    }
+
+    /// Fills `out` at y, with the levels `level_p`, `level_v` (the constraint rates on
+    /// this level at y: p̈, v̇ for the start; ξ_p, ξ_v for Moreau–Jean).
+    pub fn rows(&self, y: &[f64], level_p: &[f64], level_v: &[f64], out: &mut LevelRows) {
+        let l = self.layout;
+        let e = self.eval;
+        let (nu, ng, nga) = (l.nu, l.n_bilateral_position, l.n_bilateral_velocity);
+        let (op, ov) = (nu, nu + l.n_position());
+        let LevelRows {
+            res,
+            jac,
+            closed_rows,
+        } = out;
+        res.clear();
+        res.resize(self.n(), 0.0);
+        jac.clear();
+        closed_rows.clear();
+        for &(i, j, m) in &e.mass.entries {
+            res[i] += m * (y[j] - self.v_ref.map_or(0.0, |v| v[j]));
+            jac.push((i, j, m));
+        }
+        for i in 0..nu {
+            res[i] -= self.rhs[i];
+        }
+        for &(i, c, v) in &e.position_w.entries {
+            res[i] -= v * y[op + c];
+            jac.push((i, op + c, -v));
+        }
+        for &(i, c, v) in &e.velocity_w.entries {
+            res[i] -= v * y[ov + c];
+            jac.push((i, ov + c, -v));
+        }
+        for i in 0..ng {
+            res[op + i] = self.r_pos[i] * level_p[i];
+            push_level(jac, &e.position_w, i, op + i, self.r_pos[i]);
+        }
+        for i in 0..nga {
+            res[ov + i] = self.r_vel[i] * level_v[i];
+            push_level(jac, &e.velocity_w, i, ov + i, self.r_vel[i]);
+        }
+        for k in 0..l.n_normal() {
+            let pk = ng + k;
+            let row = op + pk;
+            let (r, lam) = (self.r_pos[pk], y[row]);
+            if self.closed[k] && r * level_p[pk] - lam <= 0.0 {
+                res[row] = r * level_p[pk];
+                push_level(jac, &e.position_w, pk, row, r);
+                closed_rows.push(row);
+            } else {
+                res[row] = lam;
+                jac.push((row, row, 1.0));
+            }
+        }
+        let offsets = l.friction_offsets();
+        for (j, law) in l.friction.iter().enumerate() {
+            let vs = nga + offsets[j];
+            let nc = law.components;
+            let level = &level_v[vs..vs + nc];
+            let active = law.normals.iter().any(|&k| self.closed[k]);
+            let sum: f64 = law.normals.iter().map(|&k| y[op + ng + k]).sum();
+            let radius = law.mu * sum.max(0.0);
+            let stick = active && self.fixed_slip[j].is_none() && {
+                let d: f64 = (0..nc)
+                    .map(|m| (self.r_law[j] * level[m] - y[ov + vs + m]).powi(2))
+                    .sum();
+                d.sqrt() <= radius
+            };
+            let dir: &[f64] = self.fixed_slip[j].as_deref().unwrap_or(level);
+            let dn = norm(dir);
+            for m in 0..nc {
+                let row = ov + vs + m;
+                if stick {
+                    res[row] = self.r_law[j] * level[m];
+                    push_level(jac, &e.velocity_w, vs + m, row, self.r_law[j]);
+                    closed_rows.push(row);
+                    continue;
+                }
+                res[row] = y[row];
+                jac.push((row, row, 1.0));
+                // ERRATA 24: no direction, no slip term.
+                if !active || dn == 0.0 || sum <= 0.0 {
+                    continue;
+                }
+                let dm = dir[m] / dn;
+                res[row] += radius * dm;
+                for &k in &law.normals {
+                    jac.push((row, op + ng + k, law.mu * dm));
+                }
+                if self.fixed_slip[j].is_none() {
+                    // ∂(level/‖level‖)/∂v through level = W_vᵀ v + const.
+                    for mp in 0..nc {
+                        let proj = f64::from(u8::from(m == mp)) - dm * dir[mp] / dn;
+                        push_level(jac, &e.velocity_w, vs + mp, row, radius * proj / dn);
+                    }
+                }
+            }
+        }
+    }
+}
+
+/// Pushes `r · (column c0 of W)ᵀ` as the entries of `row` over the velocity-like
+/// unknowns (∂(r · level)/∂v = r Wᵀ).
+fn push_level(jac: &mut Vec<(usize, usize, f64)>, w: &Triplets<f64>, c0: usize, row: usize, r: f64) {
+    for &(i, c, v) in &w.entries {
+        if c == c0 {
+            jac.push((row, i, r * v));
+        }
+    }
+}

@@ -1,0 +1,413 @@
+//! The semismooth Newton engine (paper eq. 143, docs/method.md §4 and §8).
+//!
+//! One iteration loop serves every nonsmooth problem of the crate: the step of the
+//! generalized-α [`Stepper`](crate::Stepper), its consistent start
+//! ([`consistent_start`](crate::start::consistent_start)) and the Moreau–Jean baseline
+//! ([`MoreauStepper`](crate::MoreauStepper)). A problem says how to evaluate its
+//! residual and index sets at an iterate and how to compute a Newton update; the engine
+//! owns the rest:
+//!
+//! - the iteration itself: evaluate, test ‖R‖∞ against the tolerance, update;
+//! - the **line search** ([`NewtonSettings::line_search`]): the update is damped by
+//!   halvings where the full one overshoots;
+//! - **simplified Newton updates** ([`NewtonSettings::reuse_factorization`]): the kept
+//!   factors of the last Newton matrix serve while the index sets stay the same and the
+//!   residual contracts by [`REUSE_CONTRACTION`], at most [`MAX_REUSES`] times in a row;
+//! - the **give-up rules** ([`GiveUp`]): an attempt whose index sets settle into a cycle
+//!   without progress, or whose residual stalls with fixed sets, stops before the
+//!   iteration limit, since running on only repeats it;
+//! - the **bookkeeping** a fallback policy needs: the index sets visited in first-visit
+//!   order, whether they cycled, and the best iterate.
+
+/// Sufficient-decrease constant of the line search (see [`NewtonSettings::line_search`]).
+const ARMIJO: f64 = 1e-4;
+
+/// Residual reduction a simplified Newton update must reach; below it the next update
+/// is exact (see [`crate::Options::reuse_factorization`]).
+pub const REUSE_CONTRACTION: f64 = 0.1;
+
+/// Simplified Newton updates in a row before an exact one (see
+/// [`crate::Options::reuse_factorization`]).
+pub const MAX_REUSES: usize = 4;
+
+/// Periods (in Newton iterations) of set cycles that [`settled_cycle`] recognizes. Three
+/// periods of 12 fit in the 40 iterations of blockstack's first attempts; the landings of
+/// the Lire collapse cycle with periods of 7 to 9 iterations, which with periods only up
+/// to 4 ran on to the iteration limit.
+const CYCLE_PERIODS: std::ops::RangeInclusive<usize> = 2..=12;
+
+/// Iterations without progress after which a fixed-set solve is given up.
+const STALL_ITERATIONS: usize = 3;
+
+/// When an attempt stops before its iteration limit.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum GiveUp {
+    /// Never: run to the iteration limit (the consistent start and Moreau–Jean).
+    Never,
+    /// When the index sets have settled into a cycle without progress
+    /// ([`settled_cycle`]): the free step of the generalized-α stepper.
+    SettledCycle,
+    /// When the residual has stalled ([`stalled`]): solves with fixed index sets.
+    Stall,
+}
+
+/// How one Newton attempt iterates.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct NewtonSettings {
+    /// Tolerance on ‖R‖∞.
+    pub tol: f64,
+    /// Largest number of Newton updates.
+    pub max_iter: usize,
+    /// Halvings of an update allowed in the line search (0: full updates).
+    pub line_search: usize,
+    /// Whether simplified updates from kept factors may be tried.
+    pub reuse_factorization: bool,
+    /// When the attempt gives up early.
+    pub give_up: GiveUp,
+}
+
+/// A nonsmooth problem solved by semismooth Newton: R(x) = 0 with index sets decided at
+/// each iterate.
+pub trait NewtonProblem {
+    /// The index sets of an iterate (what makes the residual piecewise smooth).
+    type Sets: Clone + PartialEq;
+
+    /// Evaluates the iterate `x`: decides its index sets (or takes fixed ones), computes
+    /// R(x) and keeps it for the next update. Returns the sets and ‖R‖∞. `first` is true
+    /// for the start of the attempt (where, for example, prox parameters are updated).
+    fn evaluate(&mut self, x: &[f64], first: bool) -> (Self::Sets, f64);
+
+    /// Whether the attempt must be restarted at these sets (the stepper: a contact it
+    /// left out of the linear solve closes). Default: never.
+    fn restart(&mut self, _sets: &Self::Sets) -> bool {
+        false
+    }
+
+    /// The exact Newton update dx = −J⁻¹R at the last evaluated iterate, with J
+    /// assembled and factorized for `sets`.
+    ///
+    /// # Errors
+    /// The linear solver's message when J cannot be factorized.
+    fn exact_direction(
+        &mut self,
+        x: &[f64],
+        sets: &Self::Sets,
+        dx: &mut [f64],
+    ) -> Result<(), String>;
+
+    /// A simplified Newton update from kept factors, when the problem has factors that
+    /// fit `sets`; false (and `dx` untouched) otherwise. Default: none kept.
+    fn kept_direction(&mut self, _sets: &Self::Sets, _dx: &mut [f64]) -> bool {
+        false
+    }
+}
+
+/// The best (smallest-residual) iterate of an attempt that did not converge.
+#[derive(Debug, Clone, PartialEq)]
+pub struct BestIterate<S> {
+    /// The iterate.
+    pub x: Vec<f64>,
+    /// Its ‖R‖∞.
+    pub residual: f64,
+    /// At which iteration it was reached.
+    pub iteration: usize,
+    /// Its index sets.
+    pub sets: S,
+}
+
+/// How a Newton attempt ended.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Outcome<S> {
+    /// ‖R‖∞ ≤ tol at the iterate left in `x`.
+    Converged {
+        /// The index sets of the solution.
+        sets: S,
+        /// Newton updates taken.
+        iterations: usize,
+        /// Final ‖R‖∞.
+        residual: f64,
+        /// Sets visited, in first-visit order.
+        visited: Vec<S>,
+    },
+    /// The iteration limit, a settled cycle or a stall.
+    NotConverged {
+        /// Sets visited, in first-visit order.
+        visited: Vec<S>,
+        /// Whether more than one set was visited in the last half of the iterates.
+        cycling: bool,
+        /// The smallest-residual iterate.
+        best: Option<BestIterate<S>>,
+    },
+    /// A residual became NaN or infinite.
+    NonFinite,
+    /// The Newton matrix could not be factorized.
+    Singular(String),
+    /// The problem asked for a restart ([`NewtonProblem::restart`]).
+    Restart,
+}
+
+/// Reused buffers of the engine.
+#[derive(Debug, Clone, Default)]
+pub struct NewtonScratch {
+    dx: Vec<f64>,
+    x_from: Vec<f64>,
+}
+
+/// Solves `problem` by semismooth Newton from `x`, which holds the last iterate at the
+/// end (the solution when [`Outcome::Converged`]).
+pub fn solve<P: NewtonProblem>(
+    problem: &mut P,
+    x: &mut [f64],
+    settings: &NewtonSettings,
+    scratch: &mut NewtonScratch,
+) -> Outcome<P::Sets> {
+    scratch.dx.clear();
+    scratch.dx.resize(x.len(), 0.0);
+    let mut visited: Vec<P::Sets> = Vec::new();
+    let mut history: Vec<usize> = Vec::new();
+    let mut residuals: Vec<f64> = Vec::new();
+    // Best iterate so far: (residual, iteration, visited-set id) and its x.
+    let mut best: Option<(f64, usize, usize)> = None;
+    let mut best_x: Vec<f64> = Vec::new();
+    // The evaluation the line search left behind, to be used by the next iteration.
+    let mut pending: Option<(P::Sets, f64)> = None;
+    // Simplified Newton bookkeeping: whether the last update reused kept factors, how
+    // many in a row did, and the residual before the last update.
+    let (mut reused, mut reuses, mut last_res) = (false, 0, f64::INFINITY);
+    let mut may_reuse = settings.reuse_factorization;
+    for iter in 0..=settings.max_iter {
+        let (sets, res) = match pending.take() {
+            Some(e) => e,
+            None => problem.evaluate(x, iter == 0),
+        };
+        let id = match visited.iter().position(|v| v == &sets) {
+            Some(i) => i,
+            None => {
+                visited.push(sets.clone());
+                visited.len() - 1
+            }
+        };
+        history.push(id);
+        if !res.is_finite() {
+            return Outcome::NonFinite;
+        }
+        if problem.restart(&sets) {
+            return Outcome::Restart;
+        }
+        if res <= settings.tol {
+            return Outcome::Converged {
+                sets,
+                iterations: iter,
+                residual: res,
+                visited,
+            };
+        }
+        if best.as_ref().is_none_or(|b| res < b.0) {
+            best = Some((res, iter, id));
+            best_x.clear();
+            best_x.extend_from_slice(x);
+        }
+        residuals.push(res);
+        let hopeless = match settings.give_up {
+            GiveUp::Never => false,
+            GiveUp::SettledCycle => settled_cycle(&history, &residuals),
+            GiveUp::Stall => stalled(&residuals),
+        };
+        if iter == settings.max_iter || hopeless {
+            break;
+        }
+        // Simplified Newton while it contracts.
+        if reused && res > REUSE_CONTRACTION * last_res {
+            may_reuse = false;
+        }
+        reused = may_reuse && reuses < MAX_REUSES && problem.kept_direction(&sets, &mut scratch.dx);
+        if reused {
+            reuses += 1;
+        } else {
+            reuses = 0;
+            if let Err(message) = problem.exact_direction(x, &sets, &mut scratch.dx) {
+                return Outcome::Singular(message);
+            }
+        }
+        last_res = res;
+        pending = Some(line_search(problem, x, settings.line_search, res, scratch));
+    }
+    // Cycling: more than one distinct set among the last half of the iterates.
+    let tail = &history[history.len().saturating_sub(1) / 2..];
+    let cycling = settings.give_up != GiveUp::Stall && tail.iter().any(|&i| i != tail[0]);
+    Outcome::NotConverged {
+        best: best.map(|(residual, iteration, id)| BestIterate {
+            x: best_x,
+            residual,
+            iteration,
+            sets: visited[id].clone(),
+        }),
+        visited,
+        cycling,
+    }
+}
+
+/// Takes the Newton update: x ← x + α dx with the first α = 1, ½, ¼, … (at most
+/// `halvings` halvings) for which ‖R‖∞ falls to (1 − 10⁻⁴α) times `res0`, its value at
+/// x; when none does, the full update, since a semismooth Newton step must stay free to
+/// change the index sets. Returns the sets and ‖R‖∞ at the new x, whose evaluation the
+/// problem keeps.
+fn line_search<P: NewtonProblem>(
+    problem: &mut P,
+    x: &mut [f64],
+    halvings: usize,
+    res0: f64,
+    scratch: &mut NewtonScratch,
+) -> (P::Sets, f64) {
+    scratch.x_from.clear();
+    scratch.x_from.extend_from_slice(x);
+    let mut alpha = 1.0;
+    for _ in 0..=halvings {
+        step_along(x, scratch, alpha);
+        let (sets, res) = problem.evaluate(x, false);
+        if halvings == 0 || res <= (1.0 - ARMIJO * alpha) * res0 {
+            return (sets, res);
+        }
+        alpha *= 0.5;
+    }
+    step_along(x, scratch, 1.0);
+    problem.evaluate(x, false)
+}
+
+/// x = x_from + α dx (for α = 1 exactly x_from + dx).
+fn step_along(x: &mut [f64], scratch: &NewtonScratch, alpha: f64) {
+    for ((xi, x0), d) in x.iter_mut().zip(&scratch.x_from).zip(&scratch.dx) {
+        *xi = x0 + alpha * d;
+    }
+}
+
+/// Whether the Newton iterates have settled into a cycle of index sets that makes no
+/// progress: the last three periods visit the same sets in the same order, and the
+/// smallest residual of the last period is no smaller than half that of the period
+/// before. Newton's iterates are then a discrete map caught in an attractor; running
+/// on to the iteration limit only repeats it.
+#[must_use]
+pub fn settled_cycle(history: &[usize], residuals: &[f64]) -> bool {
+    let n = history.len();
+    CYCLE_PERIODS.into_iter().any(|p| {
+        n >= 3 * p
+            && (0..2 * p).all(|i| history[n - 1 - i] == history[n - 1 - i - p])
+            && history[n - p..].iter().any(|&id| id != history[n - 1])
+            && {
+                let min = |r: &[f64]| r.iter().copied().fold(f64::INFINITY, f64::min);
+                min(&residuals[n - p..]) >= 0.5 * min(&residuals[n - 2 * p..n - p])
+            }
+    })
+}
+
+/// Whether a Newton solve with fixed index sets has stalled: none of its last
+/// [`STALL_ITERATIONS`] residuals is below half the smallest one before them. With the
+/// sets fixed the residual is smooth and Newton converges quadratically near a solution;
+/// a residual that stops shrinking means these sets have no solution near the iterates.
+#[must_use]
+pub fn stalled(residuals: &[f64]) -> bool {
+    let n = residuals.len();
+    n > STALL_ITERATIONS && {
+        let (before, last) = residuals.split_at(n - STALL_ITERATIONS);
+        let floor = before.iter().copied().fold(f64::INFINITY, f64::min);
+        last.iter().all(|&r| r >= 0.5 * floor)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_period_three_cycle_without_progress_is_settled() {
+        // Sets 0, 1, 2 repeating; residuals repeating too.
+        let history = [5, 0, 1, 2, 0, 1, 2, 0, 1, 2];
+        let residuals = [
+            1e-3, 2e-2, 1e-2, 4.7e-4, 2e-2, 1e-2, 4.7e-4, 2e-2, 1e-2, 4.7e-4,
+        ];
+        assert!(settled_cycle(&history, &residuals));
+        // Two periods are not enough evidence.
+        assert!(!settled_cycle(&history[3..], &residuals[3..]));
+    }
+
+    #[test]
+    fn a_landing_cycle_of_period_seven_is_settled() {
+        // As in the Lire collapse's landings: two sets that jump the residual up, then
+        // five damped updates within one set, again and again.
+        let period = [0, 1, 2, 2, 2, 2, 2];
+        let r = [2.0e-2, 1.0e-2, 4.7e-4, 2.3e-4, 1.2e-4, 8.8e-5, 6.6e-5];
+        let history: Vec<usize> = period.iter().cycle().take(21).copied().collect();
+        let residuals: Vec<f64> = r.iter().cycle().take(21).copied().collect();
+        assert!(settled_cycle(&history, &residuals));
+        assert!(!settled_cycle(&history[..20], &residuals[..20]));
+    }
+
+    #[test]
+    fn a_cycle_that_still_makes_progress_goes_on() {
+        let history = [0, 1, 0, 1, 0, 1];
+        let residuals = [1e-2, 1e-2, 1e-3, 1e-3, 1e-4, 1e-4];
+        assert!(!settled_cycle(&history, &residuals));
+    }
+
+    #[test]
+    fn one_set_is_not_a_cycle() {
+        // Slow convergence within one set is left to max_iter.
+        let history = [3; 12];
+        let residuals = [1e-3; 12];
+        assert!(!settled_cycle(&history, &residuals));
+    }
+
+    #[test]
+    fn a_broken_pattern_is_not_a_cycle() {
+        let history = [0, 1, 2, 0, 1, 2, 0, 1, 3];
+        let residuals = [1e-2; 9];
+        assert!(!settled_cycle(&history, &residuals));
+    }
+
+    #[test]
+    fn fixed_set_solves_stall_only_without_progress() {
+        assert!(!stalled(&[1.0, 0.1, 0.01, 1e-4]));
+        assert!(!stalled(&[1.0, 0.9, 0.8]));
+        assert!(stalled(&[1.0, 0.1, 0.09, 0.2, 0.06]));
+        // Quadratic convergence after a slow start.
+        assert!(!stalled(&[1.0, 0.1, 0.09, 0.2, 0.04]));
+    }
+
+    /// |x| − 1 = 0 written as a two-piece problem: the sign of x is its index set.
+    struct Kink {
+        res: f64,
+    }
+
+    impl NewtonProblem for Kink {
+        type Sets = bool;
+        fn evaluate(&mut self, x: &[f64], _first: bool) -> (bool, f64) {
+            self.res = x[0].abs() - 1.0;
+            (x[0] >= 0.0, self.res.abs())
+        }
+        fn exact_direction(&mut self, x: &[f64], _: &bool, dx: &mut [f64]) -> Result<(), String> {
+            let slope = if x[0] >= 0.0 { 1.0 } else { -1.0 };
+            dx[0] = -self.res / slope;
+            Ok(())
+        }
+    }
+
+    #[test]
+    fn the_engine_solves_a_piecewise_linear_problem_in_one_update() {
+        let settings = NewtonSettings {
+            tol: 1e-12,
+            max_iter: 10,
+            line_search: 0,
+            reuse_factorization: false,
+            give_up: GiveUp::Never,
+        };
+        let mut x = [3.0];
+        let out = solve(
+            &mut Kink { res: 0.0 },
+            &mut x,
+            &settings,
+            &mut NewtonScratch::default(),
+        );
+        assert!(matches!(out, Outcome::Converged { iterations: 1, .. }), "{out:?}");
+        assert_eq!(x[0], 1.0);
+    }
+}

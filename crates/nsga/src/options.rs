@@ -1,0 +1,242 @@
+//! Options of the generalized-α stepper: time step, ρ∞, prox parameter, tolerances,
+//! linear solver and the fallback policy of a step that does not converge
+//! (docs/method.md §4, §7, §8).
+
+use crate::error::StepError;
+use crate::linalg::MARKOWITZ_SPARSE_THRESHOLD;
+#[cfg(doc)]
+use crate::newton::{MAX_REUSES, REUSE_CONTRACTION};
+#[cfg(doc)]
+use crate::Stepper;
+
+/// How the prox parameter r is chosen (docs/method.md §4).
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
+pub enum Prox {
+    /// r_k = α / (w_kᵀ M⁻¹ w_k) per constraint, α ∈ (0, 2); α = 1 is the default.
+    /// Newton converges only while r·(wᵀM⁻¹w) < 2, whatever the masses and sizes.
+    Scaled(f64),
+    /// One constant r for every constraint (the thesis and paper use 0.3).
+    Constant(f64),
+}
+
+/// Which linear solver the Newton iteration uses.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+pub enum SolverChoice {
+    /// Dense LU up to the given number of unknowns, sparse LU above.
+    Auto(usize),
+    /// Always dense LU.
+    Dense,
+    /// Always sparse LU (faer).
+    Sparse,
+    /// Sparse LU with Markowitz pivots on dense storage ([`crate::MarkowitzLu`]) up to
+    /// the given number of unknowns, sparse LU (faer) above. The default, with
+    /// [`crate::linalg::MARKOWITZ_SPARSE_THRESHOLD`].
+    Markowitz(usize),
+}
+
+/// What to do when a step fails after every retry.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+pub enum FailurePolicy {
+    /// Return [`StepError::NotConverged`]; the stepper stays at the last good state.
+    Error,
+    /// Accept the iterate with the smallest residual, mark the step not converged and go on.
+    AcceptBest,
+}
+
+/// Which failed attempts the ρ∞ retries ([`Options::rho_inf_retries`]) follow.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize)]
+pub enum RhoInfRetry {
+    /// Any attempt that fails: a singular Newton matrix, a non-finite iterate, or
+    /// iterates that do not converge.
+    #[default]
+    AnyFailure,
+    /// Only an attempt stopped by a singular Newton matrix (or a non-finite iterate):
+    /// the case thesis §4.2 introduces the retries for ("some values of ρ∞ can produce a
+    /// singular Jacobian … simply changing the numerical value of ρ∞ eliminates the
+    /// singularity"). Iterates that cycle between index sets go straight to the
+    /// fixed-set re-solves: another ρ∞ changes the step's numerical damping, not which
+    /// contacts alternate, and its attempts mostly retrace the same cycle.
+    SingularMatrix,
+}
+
+/// Options of the stepper.
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct Options {
+    /// Time step Δt > 0.
+    pub dt: f64,
+    /// Spectral radius at infinity ρ∞ ∈ [0, 1] (eq. 72); 0.5 in the thesis.
+    pub rho_inf: f64,
+    /// Prox parameter choice.
+    pub prox: Prox,
+    /// Newton tolerance on ‖R‖∞, rows scaled to impulse units (thesis 1e-10).
+    pub tol: f64,
+    /// Maximum Newton iterations per attempt. An attempt ends sooner when it cannot
+    /// converge: its iterates settle into a cycle of index sets without progress, or,
+    /// with fixed sets, its residual stalls (see `settled_cycle` and `stalled`).
+    pub max_iter: usize,
+    /// Other ρ∞ values tried, in order, when a step does not converge (thesis §4.2).
+    pub rho_inf_retries: Vec<f64>,
+    /// Which failed attempts are retried with `rho_inf_retries`.
+    #[serde(default)]
+    pub rho_inf_retry: RhoInfRetry,
+    /// Maximum Newton iterations of each ρ∞ retry and fixed-set re-solve (at most
+    /// `max_iter`). A retry that converges does so within a few iterations; a failing
+    /// one would otherwise spend all of `max_iter` cycling.
+    #[serde(default = "default_retry_max_iter")]
+    pub retry_max_iter: usize,
+    /// Re-solve with fixed index sets when the sets cycle (branch exploration).
+    pub explore_branches: bool,
+    /// Linear solver.
+    pub solver: SolverChoice,
+    /// What to do when every retry fails.
+    pub on_failure: FailurePolicy,
+    /// Gap and gap-rate tolerance deciding which contacts are closed at t0 (§5).
+    pub start_tol: f64,
+    /// Leave out of the linear solve the normal contacts (and their friction laws) that
+    /// are open, carry no force and cannot close within the step
+    /// (g_N > 2Δt|ġ_N| + Δt²|g̈_N|); if one of them closes at an iterate, the attempt
+    /// is redone with that contact kept. Fixed-set re-solves prune only the contacts
+    /// their sets leave open.
+    pub prune_open_contacts: bool,
+    /// ε ≥ 0 added to the Newton matrix (not to the residual) on the multiplier diagonal
+    /// of every closed contact row, scaled like the row's open form, when the Newton
+    /// matrix is singular. Redundant closed contacts (a body resting on more points than
+    /// it has degrees of freedom, as a toppled column on the floor) make it singular;
+    /// with ε the update solves a compliant linearization whose redundant forces take a
+    /// least-norm share, while the residual, and hence the converged solution, stays
+    /// exact. 0 turns this off (a singular matrix then fails the attempt). Index sets
+    /// whose normal contacts (A, B, C) are those of one of the last
+    /// [`SINGULAR_SETS_KEPT`] plain matrices found singular go straight to the
+    /// regularized one, whatever their friction sets (D, E).
+    #[serde(default = "default_regularization")]
+    pub regularization: f64,
+    /// Simplified Newton: while the index sets (and pruned contacts, Δt, ρ∞) are those of
+    /// the last factorized Newton matrix, solve with its kept factors instead of
+    /// assembling and factorizing a new one, as long as each such update at least
+    /// [`REUSE_CONTRACTION`]-fold reduces the residual, and at most [`MAX_REUSES`] times
+    /// in a row. The iterates converge to the same tolerance; a quiet contact phase then
+    /// costs residual evaluations and triangular solves, not factorizations.
+    #[serde(default)]
+    pub reuse_factorization: bool,
+    /// Halvings of the Newton update allowed in its line search (0: full updates, as in
+    /// the paper). With n > 0 the update is scaled by the first α = 1, ½, …, 2⁻ⁿ that
+    /// reduces ‖R‖∞ by the factor 1 − 10⁻⁴α, or taken whole when none does. Damping
+    /// the updates that overshoot keeps Newton from jumping between distant index sets
+    /// when several contacts close at once.
+    #[serde(default)]
+    pub line_search: usize,
+    /// How often a step that fails after every retry and fixed-set re-solve may be
+    /// halved: it is then taken as two substeps of Δt/2 with this same policy, each of
+    /// which may be halved again, down to Δt/2^`max_halvings` ([`Stepper::split_step`]).
+    /// 0 (the default) turns halving off. A failure at one instant costs a bounded
+    /// amount of work per level (only the half that contains it is split again), not
+    /// 2^level substeps.
+    #[serde(default)]
+    pub max_halvings: usize,
+    /// After halving fails too, repeat the fixed-set re-solves with a consistency test
+    /// that accepts friction laws sitting exactly on their stick–slip bound, and with
+    /// the sets one friction switch away from the visited ones (docs/method.md §8). Off
+    /// by default.
+    #[serde(default)]
+    pub boundary_resolves: bool,
+}
+
+/// How many index sets found to have a singular plain Newton matrix are remembered
+/// (see [`Options::regularization`]). Redundancy is a property of which contacts are
+/// closed, so the normal sets (A, B, C) of such a matrix stay singular while the bodies
+/// keep their arrangement, whatever the friction laws do. After the Lire collapse
+/// lands on a floor, Newton moves among a handful of normal sets and dozens of stick–slip
+/// combinations; remembering only the last singular set made it rediscover each at the
+/// cost of a failed plain factorization and a dense LU. Over the Lire collapse on a floor
+/// and 99 neighbours (`cargo run --release -p blockstack --example lire_nearby 100
+/// --floor`) that took
+/// 938 linear solves per run, against 810 remembering the normal sets of the last 16.
+pub const SINGULAR_SETS_KEPT: usize = 16;
+
+/// Default [`Options::retry_max_iter`]. Measured with the Lire collapse and the two
+/// block sweeps (`rollstack blocks lire --perturb bottom`, `blocks sweep frequency
+/// --omega 1:12:1`, `blocks sweep slide --v0 0.05:5:0.35`): the same steps succeed and
+/// fail as with 40, and the solver time drops by 40–50 %.
+pub const DEFAULT_RETRY_MAX_ITER: usize = 12;
+
+fn default_retry_max_iter() -> usize {
+    DEFAULT_RETRY_MAX_ITER
+}
+
+/// Default [`Options::regularization`]: small against the O(1) entries of the scaled
+/// Newton rows, large against round-off. Measured on the Lire collapse (`cargo run
+/// --release -p blockstack --example measure`): 1e-10 to 1e-6 all carry the toppled
+/// column resting on the table edge and the floor.
+pub const DEFAULT_REGULARIZATION: f64 = 1e-8;
+
+fn default_regularization() -> f64 {
+    DEFAULT_REGULARIZATION
+}
+
+impl Default for Options {
+    fn default() -> Self {
+        Self {
+            dt: 2e-3,
+            rho_inf: 0.5,
+            prox: Prox::Scaled(1.0),
+            tol: 1e-10,
+            max_iter: 40,
+            rho_inf_retries: vec![0.8, 0.2, 1.0, 0.0],
+            rho_inf_retry: RhoInfRetry::AnyFailure,
+            retry_max_iter: DEFAULT_RETRY_MAX_ITER,
+            explore_branches: true,
+            solver: SolverChoice::Markowitz(MARKOWITZ_SPARSE_THRESHOLD),
+            on_failure: FailurePolicy::Error,
+            start_tol: 1e-9,
+            prune_open_contacts: false,
+            regularization: DEFAULT_REGULARIZATION,
+            reuse_factorization: false,
+            line_search: 0,
+            max_halvings: 0,
+            boundary_resolves: false,
+        }
+    }
+}
+
+impl Options {
+    /// Checks the options.
+    ///
+    /// # Errors
+    /// [`StepError::InvalidInput`] naming the bad option.
+    pub fn validate(&self) -> Result<(), StepError> {
+        let bad = |m: String| Err(StepError::InvalidInput(m));
+        if !(self.dt > 0.0 && self.dt.is_finite()) {
+            return bad(format!("dt = {} must be positive and finite", self.dt));
+        }
+        if !(0.0..=1.0).contains(&self.rho_inf) {
+            return bad(format!("rho_inf = {} must be in [0, 1]", self.rho_inf));
+        }
+        if self
+            .rho_inf_retries
+            .iter()
+            .any(|r| !(0.0..=1.0).contains(r))
+        {
+            return bad("every retry rho_inf must be in [0, 1]".into());
+        }
+        match self.prox {
+            Prox::Scaled(a) if !(a > 0.0 && a < 2.0) => {
+                return bad(format!("scaled prox alpha = {a} must be in (0, 2)"));
+            }
+            Prox::Constant(r) if !(r > 0.0 && r.is_finite()) => {
+                return bad(format!("prox r = {r} must be positive"));
+            }
+            _ => {}
+        }
+        if !(self.regularization >= 0.0 && self.regularization.is_finite()) {
+            return bad(format!(
+                "regularization = {} must be finite and >= 0",
+                self.regularization
+            ));
+        }
+        if self.tol.is_nan() || self.tol <= 0.0 || self.max_iter == 0 || self.retry_max_iter == 0 {
+            return bad("tol must be > 0, and max_iter and retry_max_iter >= 1".into());
+        }
+        Ok(())
+    }
+}
+

@@ -1,0 +1,85 @@
+//! What a step and a run report: per-step statistics with the index sets, branch
+//! points, and the statistics accumulated over a run.
+
+use crate::sets::IndexSets;
+use crate::state::State;
+#[cfg(doc)]
+use crate::{FailurePolicy, Stepper};
+
+/// A branch point: several self-consistent solutions of one step (docs/method.md §8, ERRATA 22).
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct BranchPoint {
+    /// Time t_n at the start of the step.
+    pub t: f64,
+    /// Distinct converged continuations (deduplicated by state), each with the sets it
+    /// was solved with.
+    pub candidates: Vec<(IndexSets, State)>,
+    /// How many fixed-set re-solves were tried.
+    pub tried: usize,
+    /// Index of the candidate the stepper continued with (the first, in the order the
+    /// sets were first visited by the failed Newton iteration).
+    pub chosen: usize,
+}
+
+/// Statistics of one step.
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct StepStats {
+    /// Time t_{n+1} at the end of the step.
+    pub t: f64,
+    /// Newton iterations (linear solves) of the accepted attempt.
+    pub iterations: usize,
+    /// Final ‖R‖∞ (scaled rows).
+    pub residual: f64,
+    /// ρ∞ of the accepted attempt.
+    pub rho_inf: f64,
+    /// Index sets of the accepted solution.
+    pub sets: IndexSets,
+    /// Failed attempts before the accepted one.
+    pub retries: usize,
+    /// Whether Newton converged (false only with [`FailurePolicy::AcceptBest`]).
+    pub converged: bool,
+    /// Set when the step was resolved by fixed-set re-solves.
+    pub branch: Option<BranchPoint>,
+    /// Linear solver used ("dense", "markowitz" or "sparse").
+    pub solver: String,
+    /// Substeps the step was taken in: 1, or more when it was split
+    /// ([`Stepper::split_step`]).
+    #[serde(default = "one")]
+    pub substeps: usize,
+}
+
+fn one() -> usize {
+    1
+}
+
+/// Accumulated statistics of a run.
+#[derive(Debug, Clone, Default, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct RunStats {
+    /// Steps taken.
+    pub steps: u64,
+    /// Sum of Newton iterations.
+    pub newton_iterations: u64,
+    /// Largest Newton iteration count of a step.
+    pub max_iterations: usize,
+    /// Steps that needed a retry (another ρ∞ or fixed sets).
+    pub retried_steps: u64,
+    /// Steps accepted without convergence.
+    pub unconverged_steps: u64,
+    /// Branch points met (steps with more than one distinct candidate).
+    pub branch_points: u64,
+    /// Steps taken as several substeps ([`Stepper::split_step`]).
+    pub split_steps: u64,
+}
+
+impl RunStats {
+    /// Mean Newton iterations per step.
+    #[must_use]
+    pub fn mean_iterations(&self) -> f64 {
+        if self.steps == 0 {
+            0.0
+        } else {
+            self.newton_iterations as f64 / self.steps as f64
+        }
+    }
+}
+

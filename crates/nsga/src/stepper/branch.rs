@@ -1,0 +1,234 @@
+//! Branch points: the re-solves of a step with its index sets fixed (docs/method.md §8,
+//! ERRATA 22).
+//!
+//! When the Newton iterates alternate between index sets, the step is re-solved once per
+//! set seen, with the sets fixed. A solution counts only when it is self-consistent (the
+//! sets recomputed from it are the ones it was solved with); distinct solutions
+//! (deduplicated by state, [`State::same_motion`]) are distinct continuations, and the
+//! step continues with the one [`System::choose_branch`] picks.
+//!
+//! Where a friction law sits exactly on its stick–slip bound, round-off decides its set,
+//! so no candidate may pass the strict test although several solve the step; the
+//! boundary re-solves ([`Options::boundary_resolves`]) accept such laws on either side.
+//!
+//! [`Options::boundary_resolves`]: crate::Options::boundary_resolves
+
+use super::fallback::QUICK_CHECK_ITERATIONS;
+use super::Stepper;
+use crate::attempt::Trial;
+use crate::error::StepError;
+use crate::linalg::norm;
+use crate::report::BranchPoint;
+use crate::sets::IndexSets;
+use crate::state::State;
+use crate::system::{FrictionLaw, System};
+
+/// Self-consistent, distinct solutions of one step, in the order they were found.
+#[derive(Debug, Default)]
+struct Candidates {
+    found: Vec<(IndexSets, State)>,
+    trials: Vec<Trial>,
+}
+
+impl Candidates {
+    /// Keeps `trial` (solved with `sets`) unless its state repeats one already kept.
+    fn offer(&mut self, sets: &IndexSets, trial: Trial) {
+        if !self.found.iter().any(|(_, s)| s.same_motion(&trial.state)) {
+            self.found.push((sets.clone(), trial.state.clone()));
+            self.trials.push(trial);
+        }
+    }
+}
+
+impl<S: System> Stepper<S> {
+    /// The fixed-set re-solves of a cycling step: one per visited set, in first-visit
+    /// order; the self-consistent ones, deduplicated by state, make the branch point, and
+    /// the one the system chooses is returned (with `retries` failed attempts before it).
+    pub(super) fn branch_trial(
+        &mut self,
+        visited: &[IndexSets],
+        rho0: f64,
+        retries: usize,
+    ) -> Option<Trial> {
+        let mut candidates = Candidates::default();
+        for sets in visited {
+            let Ok(t) = self.solve_retry(Some(sets), rho0) else {
+                continue;
+            };
+            // Self-consistency: the sets recomputed from the converged x.
+            if &self.sets_of(&t.state.x, rho0) == sets {
+                candidates.offer(sets, t);
+            }
+        }
+        let mut t = self.chosen(candidates, visited.len())?;
+        t.stats.retries = retries;
+        Some(t)
+    }
+
+    /// The candidate [`System::choose_branch`] picks, carrying the branch point.
+    fn chosen(&self, candidates: Candidates, tried: usize) -> Option<Trial> {
+        let Candidates { found, mut trials } = candidates;
+        if trials.is_empty() {
+            return None;
+        }
+        let chosen = self
+            .system
+            .choose_branch(self.state.t, &found)
+            .min(trials.len() - 1);
+        let mut t = trials.swap_remove(chosen);
+        t.stats.branch = Some(BranchPoint {
+            t: self.state.t,
+            candidates: found,
+            tried,
+            chosen,
+        });
+        Some(t)
+    }
+
+    /// Fixed-set re-solves for a step whose Newton iterates cycle because a friction law
+    /// sits exactly on the boundary between two states.
+    ///
+    /// When a friction law sits exactly at its stick–slip bound (zero slip and
+    /// ‖λ_F‖ = μ Σλ_N, as happens when a column rotating about the table edge starts to
+    /// slip while the interfaces above it also reach their bound), round-off decides its
+    /// set, so no candidate passes the strict self-consistency test although several
+    /// solve the step. Here a fixed-set solution is kept when its recomputed sets differ
+    /// from the fixed ones only in laws on their bound ([`Stepper::at_friction_bounds`]),
+    /// or else when a Newton solve with free sets started from it converges within
+    /// [`QUICK_CHECK_ITERATIONS`] (then that free solution is kept). When no visited set
+    /// gives a solution, the sets one friction-law switch away ([`neighbour_sets`]) are
+    /// tried the same way until the first solution. The step is reported as a branch
+    /// point (sets tried, distinct solutions).
+    pub(super) fn resolve_at_boundary(
+        &mut self,
+        visited: &[IndexSets],
+        residual: f64,
+    ) -> Result<(), StepError> {
+        let saved = self.state.clone();
+        let rho = self.options.rho_inf;
+        let mut candidates = Candidates::default();
+        let all = neighbour_sets(visited, &self.layout.friction);
+        let options = self.options.clone();
+        let quick = crate::Options {
+            max_iter: QUICK_CHECK_ITERATIONS,
+            ..options.clone()
+        };
+        let mut tried = 0;
+        for (i, sets) in all.iter().enumerate() {
+            // Neighbours only until a first solution is found.
+            if i >= visited.len() && !candidates.trials.is_empty() {
+                break;
+            }
+            tried += 1;
+            let Ok(fixed) = self.trial(Some(sets), rho) else {
+                continue;
+            };
+            let recomputed = self.sets_of(&fixed.state.x, rho);
+            let candidate = if self.at_friction_bounds(sets, &recomputed, &fixed.state) {
+                fixed
+            } else {
+                // Does a free Newton solve started from it converge? (`set_state` counts
+                // the time grid from the step's start, as any restart from a state does.)
+                let mut start = saved.clone();
+                start.x.clone_from(&fixed.state.x);
+                self.set_state(start);
+                self.set_options(quick.clone())?;
+                let free = self.trial(None, rho);
+                self.set_options(options.clone())?;
+                self.set_state(saved.clone());
+                let Ok(free) = free else { continue };
+                free
+            };
+            let sets = candidate.stats.sets.clone();
+            candidates.offer(&sets, candidate);
+        }
+        let Some(mut trial) = self.chosen(candidates, tried) else {
+            return Err(StepError::NotConverged {
+                t: saved.t,
+                residual,
+                visited_sets: visited.to_vec(),
+                cycling: true,
+                state: Box::new(saved),
+            });
+        };
+        trial.stats.retries = 1 + self.options.rho_inf_retries.len();
+        self.commit(trial);
+        Ok(())
+    }
+
+    /// Whether the sets recomputed from a fixed-set solution differ from the fixed ones
+    /// only in friction laws that sit exactly on their stick–slip bound, where either set
+    /// describes the same solution (paper eqs. 137–142): on velocity level a slip ξ_F = 0
+    /// with ‖P_F‖ = μP̂, on acceleration level γ̇_F = 0 with ‖λ_F‖ = μλ̂ (all within the
+    /// Newton tolerance, velocities and accelerations taken as impulses per unit mass
+    /// over one step). The iterate buffers must hold the evaluation at `st`, as
+    /// [`Stepper::sets_of`] leaves them.
+    fn at_friction_bounds(&self, fixed: &IndexSets, recomputed: &IndexSets, st: &State) -> bool {
+        if fixed == recomputed {
+            return true;
+        }
+        if !fixed.same_normal_sets(recomputed) {
+            return false;
+        }
+        let (tol, dt) = (self.options.tol, self.options.dt);
+        let it = &self.work.it;
+        let nga = self.off.nga;
+        self.layout.friction.iter().enumerate().all(|(j, law)| {
+            let same = fixed.d[j] == recomputed.d[j] && fixed.e[j] == recomputed.e[j];
+            if same {
+                return true;
+            }
+            let c = self.law_off[j]..self.law_off[j] + law.components;
+            let v = nga + c.start..nga + c.end;
+            let p_hat: f64 = law.normals.iter().map(|&k| st.p_n[k]).sum::<f64>().max(0.0);
+            let l_hat: f64 = law
+                .normals
+                .iter()
+                .map(|&k| st.lambda_n[k])
+                .sum::<f64>()
+                .max(0.0);
+            let velocity_ok = fixed.d[j] == recomputed.d[j]
+                || (magnitude(&it.xi_v[v.clone()]) <= tol
+                    && (magnitude(&st.p_f[c.clone()]) - law.mu * p_hat).abs()
+                        <= tol * (1.0 + law.mu * p_hat));
+            let acceleration_ok = fixed.e[j] == recomputed.e[j]
+                || (magnitude(&it.acc_v[v]) * dt <= tol
+                    && (magnitude(&st.lambda_f[c]) - law.mu * l_hat).abs() * dt
+                        <= tol * (1.0 + law.mu * l_hat * dt));
+            velocity_ok && acceleration_ok
+        })
+    }
+}
+
+/// |v| of a one-component law, ‖v‖ of a two-component one.
+fn magnitude(v: &[f64]) -> f64 {
+    match v {
+        [x] => x.abs(),
+        _ => norm(v),
+    }
+}
+
+/// The sets to try with the sets fixed: those the Newton iterates visited, in order, then
+/// each of them with one friction law switched to another state (slip, stick on velocity
+/// level only, stick): the self-consistent sets of a step where one law crosses its
+/// bound are often one switch away from the ones Newton alternates between.
+fn neighbour_sets(visited: &[IndexSets], laws: &[FrictionLaw]) -> Vec<IndexSets> {
+    let mut out: Vec<IndexSets> = visited.to_vec();
+    for sets in visited {
+        for (j, law) in laws.iter().enumerate() {
+            // An inactive law (all its gaps open) has no state to switch.
+            if !law.normals.iter().any(|&k| sets.a[k]) {
+                continue;
+            }
+            for (d, e) in [(false, false), (true, false), (true, true)] {
+                let mut s = sets.clone();
+                s.d[j] = d;
+                s.e[j] = e;
+                if !out.contains(&s) {
+                    out.push(s);
+                }
+            }
+        }
+    }
+    out
+}

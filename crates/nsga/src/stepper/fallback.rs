@@ -1,0 +1,207 @@
+//! The fallback policy of a step whose first Newton attempt fails (docs/method.md §8),
+//! as [`Stepper::step`] applies it: other ρ∞ (thesis §4.2), fixed-set re-solves at a
+//! branch point, the best iterate, halved substeps, and re-solves at a friction bound.
+
+use super::Stepper;
+use crate::attempt::{AttemptFailure, Trial};
+use crate::error::StepError;
+use crate::options::{FailurePolicy, RhoInfRetry};
+use crate::report::StepStats;
+use crate::sets::IndexSets;
+use crate::system::System;
+
+/// Newton iterations allowed when checking that a fixed-set solution also solves the
+/// free step (it converges at once when it does; see [`Options::boundary_resolves`]).
+///
+/// [`Options::boundary_resolves`]: crate::Options::boundary_resolves
+pub const QUICK_CHECK_ITERATIONS: usize = 8;
+
+impl<S: System> Stepper<S> {
+    /// The step with `halvings` halvings left: the policy of [`Stepper::step_once`];
+    /// when it fails, the step as two halves, each with this same policy and one halving
+    /// less; when that fails too, the re-solves at a friction bound.
+    pub(super) fn step_halving(&mut self, halvings: usize) -> Result<(), StepError> {
+        let error = match self.step_once() {
+            Ok(()) => return Ok(()),
+            Err(e) => e,
+        };
+        if halvings > 0
+            && self
+                .split_step(2, |s| s.step_halving(halvings - 1))
+                .is_ok()
+        {
+            return Ok(());
+        }
+        match error {
+            StepError::NotConverged {
+                visited_sets,
+                cycling: true,
+                residual,
+                ..
+            } if self.options.boundary_resolves => {
+                self.resolve_at_boundary(&visited_sets, residual)
+            }
+            e => Err(e),
+        }
+    }
+
+    /// Steps 1–4 of the policy of [`Stepper::step`]: the attempt at the default ρ∞, the
+    /// ρ∞ retries, the fixed-set re-solves of a cycling step, the best iterate.
+    fn step_once(&mut self) -> Result<(), StepError> {
+        let rho0 = self.options.rho_inf;
+        let first = match self.solve(None, rho0, self.state.x.clone()) {
+            Ok(t) => {
+                self.commit(t);
+                return Ok(());
+            }
+            Err(f) => f,
+        };
+        let iterated = matches!(first, AttemptFailure::NotConverged { .. });
+        // A singular Newton matrix on every attempt is reported as such, not as a
+        // non-converged step without iterates.
+        let mut singular = matches!(first, AttemptFailure::Singular { .. }).then(|| first.clone());
+        let (visited, cycling, mut best) = match first {
+            AttemptFailure::NotConverged {
+                visited,
+                cycling,
+                best,
+            } => (visited, cycling, best),
+            AttemptFailure::NonFinite | AttemptFailure::Singular { .. } => (Vec::new(), false, None),
+        };
+        let mut retries = 1;
+        let rho_retries = match self.options.rho_inf_retry {
+            RhoInfRetry::SingularMatrix if iterated => Vec::new(),
+            _ => self.options.rho_inf_retries.clone(),
+        };
+        for rho in rho_retries {
+            match self.solve_retry(None, rho) {
+                Ok(mut t) => {
+                    t.stats.retries = retries;
+                    self.commit(t);
+                    return Ok(());
+                }
+                Err(AttemptFailure::NotConverged { best: b, .. }) => {
+                    singular = None;
+                    let residual = |t: &Option<Box<Trial>>| t.as_ref().map_or(f64::INFINITY, |t| t.stats.residual);
+                    if residual(&b) < residual(&best) {
+                        best = b;
+                    }
+                }
+                Err(AttemptFailure::Singular { .. }) => {}
+                Err(AttemptFailure::NonFinite) => singular = None,
+            }
+            retries += 1;
+        }
+        if cycling && self.options.explore_branches {
+            if let Some(t) = self.branch_trial(&visited, rho0, retries) {
+                self.commit(t);
+                return Ok(());
+            }
+        }
+        if self.options.on_failure == FailurePolicy::AcceptBest {
+            if let Some(mut t) = best.take().map(|b| *b) {
+                if t.state.q.iter().chain(&t.state.u).all(|x| x.is_finite()) {
+                    t.stats.retries = retries;
+                    t.stats.converged = false;
+                    self.commit(t);
+                    return Ok(());
+                }
+            }
+        }
+        if let (Some(s), true, None) = (singular, visited.is_empty(), &best) {
+            return Err(s.into_error(&self.state));
+        }
+        Err(StepError::NotConverged {
+            t: self.state.t,
+            residual: best.as_ref().map_or(f64::INFINITY, |b| b.stats.residual),
+            visited_sets: visited,
+            cycling,
+            state: Box::new(self.state.clone()),
+        })
+    }
+
+    /// A retry or fixed-set re-solve from the state's unknowns, with at most
+    /// [`Options::retry_max_iter`](crate::Options::retry_max_iter) Newton iterations.
+    pub(super) fn solve_retry(
+        &mut self,
+        fixed: Option<&IndexSets>,
+        rho_inf: f64,
+    ) -> Result<Trial, AttemptFailure> {
+        let full = self.options.max_iter;
+        self.options.max_iter = self.options.retry_max_iter.min(full);
+        let out = self.solve(fixed, rho_inf, self.state.x.clone());
+        self.options.max_iter = full;
+        out
+    }
+
+    /// Takes the step t_n → t_n + Δt as `parts` substeps of Δt/`parts`, each committed
+    /// by `substep` (for example `|s| s.step().map(|_| ())`, or a caller's own policy),
+    /// then puts the state back on the time grid: k advances by one and t = t₀ + kΔt
+    /// exactly. The generalized-α auxiliary variables (ā, λ̄) carry over between step
+    /// sizes unchanged, since their recursion (eqs. 71, 73) does not involve Δt.
+    ///
+    /// The substeps' statistics are merged into one [`StepStats`]: iterations and retries
+    /// summed (plus one retry for the failed whole step), `substeps` counted, the first
+    /// branch point kept; [`RunStats`] counts one step.
+    ///
+    /// # Errors
+    /// [`StepError::InvalidInput`] for `parts` = 0; otherwise the first substep error,
+    /// after which the stepper is back at the state, options and statistics it had.
+    pub fn split_step(
+        &mut self,
+        parts: usize,
+        mut substep: impl FnMut(&mut Self) -> Result<(), StepError>,
+    ) -> Result<&StepStats, StepError> {
+        if parts == 0 {
+            return Err(StepError::InvalidInput(
+                "a step splits into at least one part".into(),
+            ));
+        }
+        let saved_state = self.state.clone();
+        let saved_options = self.options.clone();
+        let saved_base = self.time_base;
+        let saved_stats = self.stats.clone();
+        let saved_last = self.last.clone();
+        let mut sub = saved_options.clone();
+        sub.dt = saved_options.dt / parts as f64;
+        self.set_options(sub)?;
+        let mut merged: Option<StepStats> = None;
+        for _ in 0..parts {
+            if let Err(e) = substep(self) {
+                self.options = saved_options;
+                self.time_base = saved_base;
+                self.state = saved_state;
+                self.stats = saved_stats;
+                self.last = saved_last;
+                return Err(e);
+            }
+            let last = self.committed().clone();
+            merged = Some(match merged {
+                None => last,
+                Some(m) => StepStats {
+                    t: last.t,
+                    iterations: m.iterations + last.iterations,
+                    residual: m.residual.max(last.residual),
+                    retries: m.retries + last.retries,
+                    converged: m.converged && last.converged,
+                    branch: m.branch.or(last.branch),
+                    substeps: m.substeps + last.substeps,
+                    ..last
+                },
+            });
+        }
+        let mut merged = merged.expect("parts >= 1");
+        merged.retries += 1;
+        self.options = saved_options;
+        self.time_base = saved_base;
+        self.state.k = saved_state.k + 1;
+        self.state.t = self.grid_time(self.state.k);
+        merged.t = self.state.t;
+        self.stats = saved_stats;
+        self.stats.split_steps += 1;
+        self.account(&merged);
+        self.last = Some(merged);
+        Ok(self.committed())
+    }
+
+}

@@ -1,0 +1,251 @@
+//! One Newton iterate of a step: the kinematic updates that derive q_{n+1}, u_{n+1},
+//! the percussions and the auxiliary variables from the unknowns x (eqs. 71, 73, 95,
+//! 96, 102, 113, 114, 125), the system evaluated there, and the index sets the contact
+//! laws give (eqs. 128–142).
+
+use super::Stepper;
+use crate::params::GenAlpha;
+use crate::prox::prox_parameters;
+use crate::sets::IndexSets;
+use crate::system::System;
+
+/// Quantities derived from x at one Newton iterate (eqs. 71, 73, 125, 95, 102, 113).
+#[derive(Debug, Clone, Default)]
+pub(super) struct Iterate {
+    pub(super) q1: Vec<f64>,
+    pub(super) u1: Vec<f64>,
+    pub(super) a_bar1: Vec<f64>,
+    pub(super) lbar_n1: Vec<f64>,
+    pub(super) p_n: Vec<f64>,
+    pub(super) kappa_hat: Vec<f64>,
+    pub(super) lbar_f1: Vec<f64>,
+    pub(super) p_f: Vec<f64>,
+    // evaluated
+    pub(super) p: Vec<f64>,
+    pub(super) xi_p: Vec<f64>,
+    pub(super) acc_p: Vec<f64>,
+    pub(super) xi_v: Vec<f64>,
+    pub(super) v: Vec<f64>,
+    pub(super) acc_v: Vec<f64>,
+    // scratch: ṗ at u_{n+1} and u_n, v at u_n
+    pub(super) rate_new: Vec<f64>,
+    pub(super) rate_old: Vec<f64>,
+    pub(super) v_old: Vec<f64>,
+    // multipliers reassembled per family, for the probes
+    pub(super) lam_p: Vec<f64>,
+    pub(super) lam_v: Vec<f64>,
+    pub(super) cap_p: Vec<f64>,
+    pub(super) cap_v: Vec<f64>,
+    pub(super) kap_p: Vec<f64>,
+    pub(super) half_cap_v: Vec<f64>,
+}
+
+impl<S: System> Stepper<S> {
+    /// B(q_n) and Ḃu at the start of the step.
+    pub(super) fn prepare_step(&mut self) {
+        let w = &mut self.work;
+        let st = &self.state;
+        w.bt.clear();
+        self.system.kinematics(st.t, &st.q, &mut w.bt);
+        w.b.tmp.clear();
+        w.b.tmp.extend(w.bt.entries.iter().copied());
+        w.b.build(self.off.nq);
+        w.bdot_u.iter_mut().for_each(|x| *x = 0.0);
+        self.system
+            .kinematics_rate(st.t, &st.q, &st.u, &mut w.bdot_u);
+    }
+
+    /// Kinematic updates (eqs. 71, 73, 125, 95, 96, 102, 113, 114).
+    pub(super) fn derive(&mut self, x: &[f64], p: &GenAlpha) {
+        let o = self.off;
+        let st = &self.state;
+        let dt = self.options.dt;
+        let it = &mut self.work.it;
+        let b = &self.work.b;
+        it.a_bar1.clear();
+        it.u1.clear();
+        for i in 0..o.nu {
+            let ab = p.bar(st.a[i], x[o.a + i], st.a_bar[i]);
+            it.a_bar1.push(ab);
+            it.u1
+                .push(st.u[i] + dt * ((1.0 - p.gamma) * st.a_bar[i] + p.gamma * ab) + x[o.uu + i]);
+        }
+        it.q1.clear();
+        for j in 0..o.nq {
+            // q_{n+1} = q_n + Δt B u_n + ½Δt²(B a_β + Ḃu_n) + B Q   (eq. 125, second order)
+            let mut bu = 0.0;
+            let mut ba = 0.0;
+            let mut bq = 0.0;
+            for (i, bij) in b.row(j) {
+                bu += bij * st.u[i];
+                let a_beta = (1.0 - 2.0 * p.beta) * st.a_bar[i] + 2.0 * p.beta * it.a_bar1[i];
+                ba += bij * a_beta;
+                bq += bij * x[o.qq + i];
+            }
+            it.q1
+                .push(st.q[j] + dt * bu + 0.5 * dt * dt * (ba + self.work.bdot_u[j]) + bq);
+        }
+        it.lbar_n1.clear();
+        it.p_n.clear();
+        it.kappa_hat.clear();
+        for k in 0..o.nn {
+            let lb = p.bar(st.lambda_n[k], x[o.ln + k], st.lambda_n_bar[k]);
+            it.lbar_n1.push(lb);
+            it.p_n
+                .push(x[o.cn + k] + dt * ((1.0 - p.gamma) * st.lambda_n_bar[k] + p.gamma * lb));
+            it.kappa_hat
+                .push(x[o.kn + k] + dt * dt * ((0.5 - p.beta) * st.lambda_n_bar[k] + p.beta * lb));
+        }
+        it.lbar_f1.clear();
+        it.p_f.clear();
+        for c in 0..o.nf {
+            let lb = p.bar(st.lambda_f[c], x[o.lf + c], st.lambda_f_bar[c]);
+            it.lbar_f1.push(lb);
+            it.p_f
+                .push(x[o.cf + c] + dt * ((1.0 - p.gamma) * st.lambda_f_bar[c] + p.gamma * lb));
+        }
+        // Multipliers per family, for the smooth rows and the derivative probes.
+        let fam = |v: &mut Vec<f64>, first: &[f64], second: &[f64]| {
+            v.clear();
+            v.extend_from_slice(first);
+            v.extend_from_slice(second);
+        };
+        fam(&mut it.lam_p, &x[o.lg..o.lg + o.ng], &x[o.ln..o.ln + o.nn]);
+        fam(
+            &mut it.lam_v,
+            &x[o.lga..o.lga + o.nga],
+            &x[o.lf..o.lf + o.nf],
+        );
+        fam(&mut it.cap_p, &x[o.cg..o.cg + o.ng], &x[o.cn..o.cn + o.nn]);
+        fam(
+            &mut it.cap_v,
+            &x[o.cga..o.cga + o.nga],
+            &x[o.cf..o.cf + o.nf],
+        );
+        fam(&mut it.kap_p, &x[o.kg..o.kg + o.ng], &x[o.kn..o.kn + o.nn]);
+        it.half_cap_v.clear();
+        it.half_cap_v.extend(it.cap_v.iter().map(|c| 0.5 * dt * c));
+    }
+
+    /// Evaluates the system at (t_{n+1}, q_{n+1}, u_{n+1}) and the constraint levels.
+    pub(super) fn evaluate_iterate(&mut self, update_prox: bool) {
+        let t1 = self.t_next();
+        let w = &mut self.work;
+        w.eval.reset();
+        self.system.evaluate(t1, &w.it.q1, &w.it.u1, &mut w.eval);
+        if update_prox {
+            prox_parameters(
+                self.options.prox,
+                &self.layout,
+                &w.eval,
+                &mut w.r_pos,
+                &mut w.r_vel,
+                &mut w.r_law,
+            );
+        }
+        let l = &self.layout;
+        let (np, nv, ng, nga) = (
+            l.n_position(),
+            l.n_velocity(),
+            l.n_bilateral_position,
+            l.n_bilateral_velocity,
+        );
+        let e = &w.eval;
+        let it = &mut w.it;
+        let u0 = &self.state.u;
+        // ṗ(q1,u1), ṗ(q1,u_n), p̈ = W_pᵀa + ζ_p (buffers reused: no allocation per iterate)
+        it.rate_new.clone_from(&e.position_chi);
+        it.rate_old.clone_from(&e.position_chi);
+        for &(r, c, v) in &e.position_w.entries {
+            it.rate_new[c] += v * it.u1[r];
+            it.rate_old[c] += v * u0[r];
+        }
+        it.p.clone_from(&e.position);
+        it.xi_p.clear();
+        for k in 0..np {
+            let en = if k < ng { 0.0 } else { l.e_n[k - ng] };
+            it.xi_p.push(it.rate_new[k] + en * it.rate_old[k]);
+        }
+        // velocity level
+        it.v.clone_from(&e.velocity_chi);
+        it.v_old.clone_from(&e.velocity_chi);
+        for &(r, c, v) in &e.velocity_w.entries {
+            it.v[c] += v * it.u1[r];
+            it.v_old[c] += v * u0[r];
+        }
+        it.xi_v.clear();
+        for k in 0..nv {
+            let ef = if k < nga { 0.0 } else { self.comp_ef[k - nga] };
+            it.xi_v.push(it.v[k] + ef * it.v_old[k]);
+        }
+        it.acc_p.clone_from(&e.position_zeta);
+        it.acc_v.clone_from(&e.velocity_zeta);
+    }
+
+    /// Adds W_pᵀ a and W_vᵀ a to the acceleration levels (needs x).
+    pub(super) fn finish_accelerations(&mut self, x: &[f64]) {
+        let o = self.off;
+        let w = &mut self.work;
+        for &(r, c, v) in &w.eval.position_w.entries {
+            w.it.acc_p[c] += v * x[o.a + r];
+        }
+        for &(r, c, v) in &w.eval.velocity_w.entries {
+            w.it.acc_v[c] += v * x[o.a + r];
+        }
+    }
+
+    /// t_{n+1} = t_base + (k + 1 − k_base) Δt: the integrator's own time grid, not an
+    /// accumulated sum (ERRATA 20).
+    pub(super) fn t_next(&self) -> f64 {
+        self.grid_time(self.state.k + 1)
+    }
+
+    /// t_k = t_base + (k − k_base)Δt on the current grid.
+    pub(super) fn grid_time(&self, k: u64) -> f64 {
+        let (t_base, k_base) = self.time_base;
+        t_base + (k - k_base) as f64 * self.options.dt
+    }
+
+    /// Index sets from the current iterate (eqs. 128–142).
+    pub(super) fn compute_sets(&mut self, x: &[f64]) -> IndexSets {
+        let o = self.off;
+        let l = &self.layout;
+        let w = &self.work;
+        let it = &w.it;
+        let mut s = IndexSets::empty(o.nn, l.friction.len());
+        for k in 0..o.nn {
+            let pk = o.ng + k;
+            let r = w.r_pos[pk];
+            s.a[k] = r * it.p[pk] - it.kappa_hat[k] <= 0.0;
+            s.b[k] = s.a[k] && r * it.xi_p[pk] - it.p_n[k] <= 0.0;
+            s.c[k] = s.b[k] && r * it.acc_p[pk] - x[o.ln + k] <= 0.0;
+        }
+        for (j, law) in l.friction.iter().enumerate() {
+            let active = law.normals.iter().any(|&k| s.a[k]);
+            if !active {
+                continue;
+            }
+            let f0 = self.law_off[j];
+            let r = w.r_law[j];
+            let p_hat: f64 = law.normals.iter().map(|&k| it.p_n[k]).sum::<f64>().max(0.0);
+            let l_hat: f64 = law
+                .normals
+                .iter()
+                .map(|&k| x[o.ln + k])
+                .sum::<f64>()
+                .max(0.0);
+            let mut nd = 0.0;
+            let mut ne = 0.0;
+            for m in 0..law.components {
+                let c = f0 + m;
+                let vc = o.nga + c;
+                nd += (r * it.xi_v[vc] - it.p_f[c]).powi(2);
+                ne += (r * it.acc_v[vc] - x[o.lf + c]).powi(2);
+            }
+            s.d[j] = nd.sqrt() <= law.mu * p_hat;
+            s.e[j] = s.d[j] && ne.sqrt() <= law.mu * l_hat;
+        }
+        s
+    }
+
+}

@@ -1,0 +1,470 @@
+//! One Newton attempt at the step (eq. 143) on the crate's [`newton`](crate::newton)
+//! engine: the step as a [`NewtonProblem`], the pruning of open contacts from the linear
+//! solve, and the Newton update with its regularization of singular matrices
+//! (docs/method.md §4, §7).
+
+use super::{FactoredFor, Stepper, SINGULAR_SETS_KEPT};
+use crate::attempt::{AttemptFailure, Trial};
+use crate::newton::{self, GiveUp, NewtonProblem, NewtonSettings, Outcome};
+use crate::params::GenAlpha;
+use crate::report::StepStats;
+use crate::sets::IndexSets;
+use crate::state::State;
+use crate::system::System;
+use nalgebra::DMatrix;
+
+/// The map full → reduced index of the unknowns left in the linear solve
+/// (`usize::MAX` for a pruned one) and the reduced size.
+type Pruning = (Vec<usize>, usize);
+
+/// The step seen by the Newton engine: the stepper at one ρ∞, with fixed index sets or
+/// not, and the contacts pruned from this attempt.
+struct StepProblem<'a, S: System> {
+    stepper: &'a mut Stepper<S>,
+    fixed: Option<&'a IndexSets>,
+    params: GenAlpha,
+    prune: Option<&'a Pruning>,
+    /// The pruned contacts that closed at the iterate that asked for a restart.
+    closing: Vec<bool>,
+}
+
+impl<S: System> NewtonProblem for StepProblem<'_, S> {
+    type Sets = IndexSets;
+
+    fn evaluate(&mut self, x: &[f64], first: bool) -> (IndexSets, f64) {
+        self.stepper.evaluate_at(x, self.fixed, &self.params, first)
+    }
+
+    /// A contact pruned as unable to close does close at this iterate: the attempt is
+    /// redone with it kept in the system.
+    fn restart(&mut self, sets: &IndexSets) -> bool {
+        let Some((map, _)) = self.prune else {
+            return false;
+        };
+        let o = self.stepper.off;
+        self.closing = (0..o.nn)
+            .map(|k| map[o.kn + k] == usize::MAX && sets.a[k])
+            .collect();
+        self.closing.iter().any(|&c| c)
+    }
+
+    fn exact_direction(
+        &mut self,
+        x: &[f64],
+        sets: &IndexSets,
+        dx: &mut [f64],
+    ) -> Result<(), String> {
+        self.stepper
+            .exact_direction(x, sets, &self.params, self.prune, dx)
+            .map_err(|e| e.0)
+    }
+
+    fn kept_direction(&mut self, sets: &IndexSets, dx: &mut [f64]) -> bool {
+        self.stepper
+            .kept_direction(sets, &self.params, self.prune, dx)
+    }
+}
+
+impl<S: System> Stepper<S> {
+    /// One Newton attempt at the step from the state's unknowns `x`, with ρ∞ = `rho_inf`
+    /// and the index sets computed per iterate or `fixed`; open contacts are pruned when
+    /// [`Options::prune_open_contacts`](crate::Options::prune_open_contacts) asks for it
+    /// (with fixed sets, only those the sets leave open).
+    pub(super) fn solve(
+        &mut self,
+        fixed: Option<&IndexSets>,
+        rho_inf: f64,
+        x: Vec<f64>,
+    ) -> Result<Trial, AttemptFailure> {
+        let keep = self.options.prune_open_contacts.then(|| {
+            (0..self.off.nn)
+                .map(|k| fixed.is_some_and(|f| f.a[k]))
+                .collect()
+        });
+        self.solve_keeping(fixed, rho_inf, x, keep)
+    }
+
+    /// [`Stepper::solve`] with `keep` the contacts that may not be pruned (None: no
+    /// pruning).
+    fn solve_keeping(
+        &mut self,
+        fixed: Option<&IndexSets>,
+        rho_inf: f64,
+        mut x: Vec<f64>,
+        keep: Option<Vec<bool>>,
+    ) -> Result<Trial, AttemptFailure> {
+        let x_start = keep.is_some().then(|| x.clone());
+        let prune = keep.as_ref().and_then(|k| self.open_contacts(&mut x, k));
+        self.mark_unused(prune.as_ref().map(|(map, _)| map.as_slice()));
+        let params = GenAlpha::new(rho_inf);
+        let settings = NewtonSettings {
+            tol: self.options.tol,
+            max_iter: self.options.max_iter,
+            line_search: self.options.line_search,
+            reuse_factorization: self.options.reuse_factorization,
+            give_up: if fixed.is_some() {
+                GiveUp::Stall
+            } else {
+                GiveUp::SettledCycle
+            },
+        };
+        self.prepare_step();
+        let mut scratch = std::mem::take(&mut self.work.newton);
+        let mut problem = StepProblem {
+            stepper: self,
+            fixed,
+            params,
+            prune: prune.as_ref(),
+            closing: Vec::new(),
+        };
+        let outcome = newton::solve(&mut problem, &mut x, &settings, &mut scratch);
+        let closing = problem.closing;
+        self.work.newton = scratch;
+        match outcome {
+            Outcome::Converged {
+                sets,
+                iterations,
+                residual,
+                visited,
+            } => Ok(self.make_trial(x, sets, iterations, residual, rho_inf, true, visited, false)),
+            Outcome::Restart => {
+                let mut keep = keep.unwrap_or_else(|| vec![false; self.off.nn]);
+                for (kk, c) in keep.iter_mut().zip(closing) {
+                    *kk |= c;
+                }
+                let x0 = x_start.expect("a restart needs pruning, which needs a start");
+                self.solve_keeping(fixed, rho_inf, x0, Some(keep))
+            }
+            Outcome::NonFinite => Err(AttemptFailure::NonFinite),
+            Outcome::Singular(message) => Err(AttemptFailure::Singular { message }),
+            Outcome::NotConverged {
+                visited,
+                cycling,
+                best,
+            } => {
+                let best = best.map(|b| {
+                    // Re-derive the best iterate's state.
+                    self.derive(&b.x, &params);
+                    Box::new(self.make_trial(
+                        b.x,
+                        b.sets,
+                        b.iteration,
+                        b.residual,
+                        rho_inf,
+                        false,
+                        Vec::new(),
+                        cycling,
+                    ))
+                });
+                Err(AttemptFailure::NotConverged {
+                    visited,
+                    cycling,
+                    best,
+                })
+            }
+        }
+    }
+
+    /// Evaluates the iterate `x`: kinematic updates, system, index sets (the fixed ones
+    /// when given) and residual; returns the sets and ‖R‖∞.
+    fn evaluate_at(
+        &mut self,
+        x: &[f64],
+        fixed: Option<&IndexSets>,
+        p: &GenAlpha,
+        update_prox: bool,
+    ) -> (IndexSets, f64) {
+        self.derive(x, p);
+        self.evaluate_iterate(update_prox);
+        self.finish_accelerations(x);
+        let sets = match fixed {
+            Some(s) => s.clone(),
+            None => self.compute_sets(x),
+        };
+        self.residual(x, &sets, p);
+        let res = self.work.res.iter().fold(0.0_f64, |m, r| m.max(r.abs()));
+        (sets, res)
+    }
+
+    /// The index sets the contact laws give at unknowns `x` (no Newton update).
+    pub fn sets_of(&mut self, x: &[f64], rho_inf: f64) -> IndexSets {
+        let p = GenAlpha::new(rho_inf);
+        self.prepare_step();
+        self.derive(x, &p);
+        self.evaluate_iterate(true);
+        self.finish_accelerations(x);
+        self.compute_sets(x)
+    }
+
+    /// Test oracle hook: the scaled residual R(x) and the semismooth Jacobian ∂R/∂x
+    /// (dense) for fixed sets. `update_prox` recomputes the prox parameters from this x
+    /// (keep it false when finite-differencing, so that r stays fixed).
+    #[doc(hidden)]
+    pub fn newton_system(
+        &mut self,
+        x: &[f64],
+        sets: &IndexSets,
+        rho_inf: f64,
+        update_prox: bool,
+    ) -> (Vec<f64>, DMatrix<f64>) {
+        let p = GenAlpha::new(rho_inf);
+        self.prepare_step();
+        self.derive(x, &p);
+        self.evaluate_iterate(update_prox);
+        self.finish_accelerations(x);
+        self.residual(x, sets, &p);
+        // The full matrix: nothing pruned.
+        self.mark_unused(None);
+        self.jacobian(x, sets, &p, 0.0);
+        let n = self.off.n;
+        let mut j = DMatrix::zeros(n, n);
+        for &(r, c, v) in &self.work.jac {
+            j[(r, c)] += v;
+        }
+        (self.work.res.clone(), j)
+    }
+
+    /// Marks the unknowns of contacts that are open, force-free and cannot close within
+    /// the step, sets them to zero in `x`, and returns the map full → reduced index
+    /// (`usize::MAX` for pruned) and the reduced size; None when nothing is pruned.
+    fn open_contacts(&mut self, x: &mut [f64], keep: &[bool]) -> Option<Pruning> {
+        let o = self.off;
+        let dt = self.options.dt;
+        let st = &self.state;
+        let w = &mut self.work;
+        w.eval.reset();
+        self.system.evaluate(st.t, &st.q, &st.u, &mut w.eval);
+        let e = &w.eval;
+        let mut rate = e.position_chi.clone();
+        let mut acc = e.position_zeta.clone();
+        for &(r, c, v) in &e.position_w.entries {
+            rate[c] += v * st.u[r];
+            acc[c] += v * st.a[r];
+        }
+        let mut pruned_n = vec![false; o.nn];
+        for (k, pr) in pruned_n.iter_mut().enumerate() {
+            let pk = o.ng + k;
+            let margin = 2.0 * dt * rate[pk].abs() + dt * dt * acc[pk].abs();
+            *pr = !keep[k]
+                && e.position[pk] > margin
+                && e.position[pk] > 0.0
+                && st.lambda_n[k] == 0.0
+                && st.lambda_n_bar[k] == 0.0;
+        }
+        if !pruned_n.iter().any(|&b| b) {
+            return None;
+        }
+        let mut map = vec![0usize; o.n];
+        let prune_unknown = |i: usize, map: &mut Vec<usize>, x: &mut [f64]| {
+            map[i] = usize::MAX;
+            x[i] = 0.0;
+        };
+        for (k, &pr) in pruned_n.iter().enumerate() {
+            if pr {
+                for base in [o.kn, o.cn, o.ln] {
+                    prune_unknown(base + k, &mut map, x);
+                }
+            }
+        }
+        for (j, law) in self.layout.friction.iter().enumerate() {
+            let f0 = self.law_off[j];
+            let quiet = (0..law.components)
+                .all(|m| st.lambda_f[f0 + m] == 0.0 && st.lambda_f_bar[f0 + m] == 0.0);
+            if quiet && law.normals.iter().all(|&k| pruned_n[k]) {
+                for m in 0..law.components {
+                    prune_unknown(o.cf + f0 + m, &mut map, x);
+                    prune_unknown(o.lf + f0 + m, &mut map, x);
+                }
+            }
+        }
+        let mut n_red = 0;
+        for m in &mut map {
+            if *m != usize::MAX {
+                *m = n_red;
+                n_red += 1;
+            }
+        }
+        Some((map, n_red))
+    }
+
+    /// Marks the constraints whose unknowns the prune `map` leaves out (none without).
+    fn mark_unused(&mut self, map: Option<&[usize]>) {
+        let o = self.off;
+        let w = &mut self.work;
+        w.unused_position.clear();
+        w.unused_velocity.clear();
+        if let Some(map) = map {
+            let pruned = |i: usize| map[i] == usize::MAX;
+            w.unused_position.resize(o.ng, false);
+            w.unused_position
+                .extend((0..o.nn).map(|k| pruned(o.kn + k)));
+            w.unused_velocity.resize(o.nga, false);
+            w.unused_velocity
+                .extend((0..o.nf).map(|c| pruned(o.cf + c)));
+        }
+    }
+
+    /// The exact Newton update at `x` (eq. 143) into `dx`: assembles and factors the
+    /// Jacobian, regularized ([`Options::regularization`](crate::Options::regularization))
+    /// when it is singular.
+    fn exact_direction(
+        &mut self,
+        x: &[f64],
+        sets: &IndexSets,
+        p: &GenAlpha,
+        prune: Option<&Pruning>,
+        dx: &mut [f64],
+    ) -> Result<(), crate::linalg::LinalgError> {
+        let eps = self.options.regularization;
+        // Only plain factors are kept for simplified Newton updates: the regularized
+        // linearization of redundant contacts already converges just linearly.
+        self.work.factored = None;
+        // Redundancy is a property of which contacts are closed: sets whose normal
+        // contacts are those of a singular plain matrix go straight to the regularized
+        // one, whatever their friction sets.
+        let redundant = |known: &IndexSets| known.same_normal_sets(sets);
+        if !(eps > 0.0 && self.work.singular_sets.iter().any(redundant)) {
+            self.jacobian(x, sets, p, 0.0);
+            match self.newton_direction(prune, false, dx) {
+                Ok(()) => {
+                    self.work.factored = Some(FactoredFor {
+                        sets: sets.clone(),
+                        map: prune.map(|(map, _)| map.clone()),
+                        dt: self.options.dt,
+                        rho_inf: p.rho_inf,
+                    });
+                    return Ok(());
+                }
+                Err(e) if eps <= 0.0 => return Err(e),
+                Err(_) => {}
+            }
+        }
+        // Redundant closed contacts: solve the regularized linearization.
+        let known = &mut self.work.singular_sets;
+        if !known.iter().any(redundant) {
+            if known.len() == SINGULAR_SETS_KEPT {
+                known.remove(0);
+            }
+            known.push(sets.clone());
+        }
+        self.jacobian(x, sets, p, eps);
+        self.newton_direction(prune, false, dx)
+    }
+
+    /// The simplified Newton update from the solver's kept factors into `dx`, when they
+    /// were assembled for these sets, prune map, Δt and ρ∞; false otherwise.
+    fn kept_direction(
+        &mut self,
+        sets: &IndexSets,
+        p: &GenAlpha,
+        prune: Option<&Pruning>,
+        dx: &mut [f64],
+    ) -> bool {
+        let fits = self.work.factored.as_ref().is_some_and(|f| {
+            &f.sets == sets
+                && f.map.as_ref() == prune.map(|(map, _)| map)
+                && f.dt == self.options.dt
+                && f.rho_inf == p.rho_inf
+        });
+        fits && self.newton_direction(prune, true, dx).is_ok()
+    }
+
+    /// The Newton update dx = −J⁻¹R from the assembled Jacobian and residual, or with
+    /// `again` from the solver's kept factors (a simplified Newton update), on the reduced
+    /// system when open contacts are pruned (their updates are 0).
+    fn newton_direction(
+        &mut self,
+        prune: Option<&Pruning>,
+        again: bool,
+        dx: &mut [f64],
+    ) -> Result<(), crate::linalg::LinalgError> {
+        let w = &mut self.work;
+        if !again {
+            w.linear_solves += 1;
+        }
+        dx.iter_mut().zip(&w.res).for_each(|(d, r)| *d = -r);
+        let Some((map, n_red)) = prune else {
+            return if again {
+                w.solver.solve_again(dx)
+            } else {
+                w.solver.solve(self.off.n, &w.jac, dx)
+            };
+        };
+        w.rhs_red.clear();
+        w.rhs_red.resize(*n_red, 0.0);
+        for (i, &m) in map.iter().enumerate() {
+            if m != usize::MAX {
+                w.rhs_red[m] = dx[i];
+            }
+        }
+        let out = if again {
+            w.solver.solve_again(&mut w.rhs_red)
+        } else {
+            // Renumbered in place (the assembled Jacobian is not used again), without a
+            // branch per entry: about one entry in seven is pruned, in no predictable order.
+            let mut kept = 0;
+            for i in 0..w.jac.len() {
+                let (r, c, v) = w.jac[i];
+                let (r, c) = (map[r], map[c]);
+                w.jac[kept] = (r, c, v);
+                kept += usize::from(r != usize::MAX && c != usize::MAX);
+            }
+            w.jac.truncate(kept);
+            w.solver.solve(*n_red, &w.jac, &mut w.rhs_red)
+        };
+        for (i, &m) in map.iter().enumerate() {
+            dx[i] = if m == usize::MAX { 0.0 } else { w.rhs_red[m] };
+        }
+        out
+    }
+
+    #[allow(clippy::fn_params_excessive_bools)]
+    pub(super) fn make_trial(
+        &mut self,
+        x: Vec<f64>,
+        sets: IndexSets,
+        iterations: usize,
+        residual: f64,
+        rho_inf: f64,
+        converged: bool,
+        visited: Vec<IndexSets>,
+        cycling: bool,
+    ) -> Trial {
+        let o = self.off;
+        let it = &self.work.it;
+        let st = &self.state;
+        let state = State {
+            k: st.k + 1,
+            t: self.t_next(),
+            q: it.q1.clone(),
+            u: it.u1.clone(),
+            a: x[o.a..o.a + o.nu].to_vec(),
+            a_bar: it.a_bar1.clone(),
+            lambda_n: x[o.ln..o.ln + o.nn].to_vec(),
+            lambda_n_bar: it.lbar_n1.clone(),
+            lambda_f: x[o.lf..o.lf + o.nf].to_vec(),
+            lambda_f_bar: it.lbar_f1.clone(),
+            p_n: it.p_n.clone(),
+            p_f: it.p_f.clone(),
+            x,
+        };
+        let stats = StepStats {
+            t: state.t,
+            iterations,
+            residual,
+            rho_inf,
+            sets,
+            retries: 0,
+            converged,
+            branch: None,
+            solver: self.work.solver.name().to_owned(),
+            substeps: 1,
+        };
+        Trial {
+            state,
+            stats,
+            visited,
+            cycling,
+        }
+    }
+}
