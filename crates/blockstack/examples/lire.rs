@@ -20,7 +20,9 @@ fn main() -> Result<(), BlockError> {
             s.failure_time,
             s.opening_time,
             s.min_gap,
-            s.error.as_deref().unwrap_or("none")
+            s.error
+                .as_ref()
+                .map_or_else(|| "none".to_owned(), ToString::to_string)
         );
         for (k, b) in s.final_poses.iter().enumerate() {
             println!(

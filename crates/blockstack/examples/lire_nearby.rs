@@ -40,7 +40,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             s.wall_time_s * 1e3,
             s.failed_steps,
             s.linear_solves,
-            s.error.as_deref().unwrap_or("none")
+            s.error
+                .as_ref()
+                .map_or_else(|| "none".to_owned(), ToString::to_string)
         );
         ms.push(s.wall_time_s * 1e3);
         failed += s.failed_steps;

@@ -25,7 +25,9 @@ fn report(name: &str, scene: &Scene, prox: Prox) -> Result<RunSummary, BlockErro
         s.branch_points.len(),
         s.newton_iterations_mean,
         1e3 * s.wall_time_s,
-        s.error.as_deref().unwrap_or("none"),
+        s.error
+            .as_ref()
+            .map_or_else(|| "none".to_owned(), ToString::to_string),
         prox = format!("{prox:?}"),
     );
     Ok(s)
@@ -63,7 +65,9 @@ fn main() -> Result<(), BlockError> {
         s.steps,
         s.min_gap,
         s.max_energy_increase,
-        s.error.as_deref().unwrap_or("none")
+        s.error
+            .as_ref()
+            .map_or_else(|| "none".to_owned(), ToString::to_string)
     );
     Ok(())
 }

@@ -56,12 +56,14 @@ pub mod gaps;
 pub mod interface;
 pub mod overlap;
 pub mod painleve;
+pub mod record;
 pub mod scenarios;
 pub mod scene;
 pub mod scene_file;
 pub mod simulation;
 pub mod slip;
 pub mod stack;
+pub mod studies;
 pub mod system;
 
 pub use base::{Base, BaseKinematics, BaseMotion, CubicSpline};
@@ -75,8 +77,8 @@ pub use interface::{GapCase, Interface, InterfaceContacts, InterfaceGap, Size, S
 pub use scene::{ContactParams, Prox, Scene, SolverParams};
 pub use scene_file::SceneFile;
 pub use simulation::{
-    simulate, BlockPose, BlockstackError, BranchRecord, InterfaceForce, RunOptions, RunSummary,
-    StepRecord,
+    simulate, BlockPose, BlockstackError, BranchRecord, InterfaceForce, RunError, RunOptions,
+    RunReport, RunSummary, StepRecord,
 };
 pub use slip::{slip_direction, LowerBody};
 pub use stack::{ContactRow, FrictionLaw, SparseColumn, StackContacts};

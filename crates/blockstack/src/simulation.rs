@@ -25,14 +25,15 @@
 //!   with several corners touches at more points than it has degrees of freedom; nsga's
 //!   regularized Newton update ([`nsga::Options::regularization`]) carries it.
 //! - **Errors**: a step that fails after every fallback ends the run; the summary up to
-//!   it carries the message (`error`), it is not an `Err`.
+//!   it carries the typed error ([`RunError`], with the state it failed at), it is not
+//!   an `Err`.
 
 use crate::coordinates::Pose;
 use crate::error::BlockError;
 use crate::scene::Scene;
 use crate::stack::StackContacts;
 use crate::system::StackSystem;
-use nsga::{Options, RhoInfRetry, SolverChoice, Stepper};
+use nsga::{Options, RhoInfRetry, SolverChoice, StepError, Stepper};
 use std::time::Instant;
 
 pub use nsga::Prox;
@@ -197,8 +198,37 @@ pub struct RunSummary {
     pub linear_solves: u64,
     /// Largest increase of the energy between two steps (unforced runs: ≤ ~0).
     pub max_energy_increase: f64,
-    /// The message of a step that finally failed (the run stopped there).
-    pub error: Option<String>,
+    /// Why the run stopped before its end time: the step that finally failed (or the
+    /// start), with the last good state; the summary covers the run up to it.
+    pub error: Option<RunError>,
+}
+
+/// Why a run stopped before its end time. It serializes as its message.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum RunError {
+    /// No consistent initial accelerations and forces exist (docs/method.md §5).
+    #[error("consistent start failed: {0}")]
+    Start(StepError),
+    /// A step failed after every fallback of nsga's policy; the error carries the last
+    /// good state ([`StepError::state`]).
+    #[error("{0}")]
+    Step(StepError),
+}
+
+impl RunError {
+    /// The step error.
+    #[must_use]
+    pub fn step_error(&self) -> &StepError {
+        match self {
+            Self::Start(e) | Self::Step(e) => e,
+        }
+    }
+}
+
+impl serde::Serialize for RunError {
+    fn serialize<S: serde::Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
+        serializer.collect_str(self)
+    }
 }
 
 /// nsga's options for a scene.
@@ -329,7 +359,7 @@ pub fn simulate(
     let mut stepper = match started {
         Ok(s) => s,
         Err(e) => {
-            summary.error = Some(format!("consistent start failed: {e}"));
+            summary.error = Some(RunError::Start(e));
             summary.final_poses = (0..scene.n_blocks())
                 .map(|k| Pose::from_slice(&q0[3 * k..]).into())
                 .collect();
@@ -355,7 +385,7 @@ pub fn simulate(
             Ok(r) => r,
             Err(e) => {
                 summary.failed_steps += 1;
-                summary.error = Some(e.to_string());
+                summary.error = Some(RunError::Step(e));
                 break;
             }
         };
@@ -413,5 +443,66 @@ fn check_failure(rec: &Recorder<'_>, t: f64, summary: &mut RunSummary) {
     }
     if summary.opening_time.is_none() && rec.contacts.first_open(rec.open_tol).is_some() {
         summary.opening_time = Some(t);
+    }
+}
+
+/// The JSON report of one run (`rollstack blocks run` and `lire`; docs/cli.md): the
+/// summary's headline numbers, the time reached and the prox parameter used.
+#[derive(Debug, Clone, serde::Serialize)]
+pub struct RunReport {
+    /// Number of time steps taken.
+    pub steps: usize,
+    /// First time any block loses support on the block beneath it (§4.4), or null.
+    pub failure_time: Option<f64>,
+    /// Final poses of the free blocks, bottom to top.
+    #[serde(rename = "final")]
+    pub final_poses: Vec<BlockPose>,
+    /// Smallest normal gap seen (negative: penetration).
+    pub min_gap: f64,
+    /// Mean number of Newton iterations per step.
+    pub newton_iterations_mean: f64,
+    /// Solver time (s), without I/O.
+    pub wall_time_s: f64,
+    /// First time any interface opens completely, or null.
+    pub opening_time: Option<f64>,
+    /// Steps whose first Newton attempt did not converge.
+    pub failed_steps: usize,
+    /// Number of branch points recorded.
+    pub branch_points: usize,
+    /// Steps that went through only as substeps (halved Δt).
+    pub split_steps: usize,
+    /// Linear solves of the Newton iterations in every attempt (the run's work).
+    pub linear_solves: u64,
+    /// Largest energy increase between two steps (≤ ~0 in unforced runs).
+    pub max_energy_increase: f64,
+    /// Why the run stopped early, or null.
+    pub error: Option<String>,
+    /// Time reached.
+    pub t_final: f64,
+    /// The prox parameter used.
+    pub prox: String,
+}
+
+impl RunReport {
+    /// The report of a run of `scene` with `options` that reached `t_final`.
+    #[must_use]
+    pub fn new(summary: &RunSummary, scene: &Scene, options: &RunOptions, t_final: f64) -> Self {
+        Self {
+            steps: summary.steps,
+            failure_time: summary.failure_time,
+            final_poses: summary.final_poses.clone(),
+            min_gap: summary.min_gap,
+            newton_iterations_mean: summary.newton_iterations_mean,
+            wall_time_s: summary.wall_time_s,
+            opening_time: summary.opening_time,
+            failed_steps: summary.failed_steps,
+            branch_points: summary.branch_points.len(),
+            split_steps: summary.split_steps,
+            linear_solves: summary.linear_solves,
+            max_energy_increase: summary.max_energy_increase,
+            error: summary.error.as_ref().map(ToString::to_string),
+            t_final,
+            prox: format!("{:?}", options.prox.unwrap_or(scene.solver.prox)),
+        }
     }
 }

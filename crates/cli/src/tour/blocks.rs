@@ -5,17 +5,18 @@
 //! failures, and Painlevé's paradoxes for one block (Figure I.2, ERRATA 18).
 
 use super::{Block, Section};
-use crate::commands::blocks::{
-    painleve_report, plot_stack, simulate_with_output, slide_row, snapshot_name,
-    write_painleve_files, write_slide_files, OutputPlan, SimulationOutput, SlideRegime,
-    LIRE_SNAPSHOTS,
-};
+use crate::commands::blocks::draw::plot_stack;
+use crate::commands::blocks::painleve::write_painleve_files;
+use crate::commands::blocks::sweep::write_slide_files;
+use crate::commands::blocks::{simulate_with_output, snapshot_name, OutputPlan, LIRE_SNAPSHOTS};
 use anyhow::Result;
 use blockstack::scenarios::{
     lire, lire_on_floor, maximum_overhang, shaking_column, Perturbation, Shaking,
 };
 use blockstack::simulation::{simulate, Prox, RunOptions};
-use blockstack::Scene;
+use blockstack::studies::lire::{blocks_fallen, largest_drift};
+use blockstack::studies::painleve::painleve_report;
+use blockstack::studies::slide::{slide_row, SlideRegime};
 use std::path::Path;
 
 /// Builds the section.
@@ -61,46 +62,8 @@ fn overhang(dir: &Path, summary: &mut Vec<String>, blocks: &mut Vec<Block>) -> R
     Ok(())
 }
 
-/// How many blocks ended fallen from the table (their lowest corner below the table's
-/// top face: on the floor, or tilted down over the table's edge), and the largest drift
-/// of any block coordinate from the initial pose at the snapshot nearest t = 5.
-fn lire_outcome(scene: &Scene, out: &SimulationOutput) -> (usize, f64) {
-    // Round-off margin on a height of order 1.
-    let table_top = scene.base().top() - 1e-9;
-    let fallen = out
-        .summary
-        .final_poses
-        .iter()
-        .zip(scene.blocks())
-        .filter(|(p, b)| {
-            let lowest = p.y
-                - 0.5 * b.width() * p.theta.sin().abs()
-                - 0.5 * b.height() * p.theta.cos().abs();
-            lowest < table_top
-        })
-        .count();
-    let q0 = scene.initial_coordinates();
-    let drift = out
-        .snapshots
-        .iter()
-        .find(|(ts, _)| (*ts - 5.0).abs() < 1e-12)
-        .map_or(f64::NAN, |(_, f)| {
-            f.blocks
-                .iter()
-                .zip(q0.chunks_exact(3))
-                .map(|(p, q)| {
-                    (p.x - q[0])
-                        .abs()
-                        .max((p.y - q[1]).abs())
-                        .max((p.theta - q[2]).abs())
-                })
-                .fold(0.0, f64::max)
-        });
-    (fallen, drift)
-}
-
 /// The runs of the tour resolve cycling contact states as the thesis's Algorithm 1
-/// does (NSGA-SPEC §4): re-solve with each set seen, continue with the first
+/// does (docs/method.md §8): re-solve with each set seen, continue with the first
 /// self-consistent candidate, record a branch point.
 fn tour_options() -> RunOptions {
     RunOptions {
@@ -140,7 +103,13 @@ fn lire_runs(dir: &Path, summary: &mut Vec<String>, blocks: &mut Vec<Block>) -> 
         let inputs =
             serde_json::json!({"blocks": 4, "perturb": name, "floor": floor, "t_end": 10.0});
         let out = simulate_with_output(&scene, &tour_options(), &plan, "blocks lire", &inputs)?;
-        let (fallen, drift) = lire_outcome(&scene, &out);
+        let fallen = blocks_fallen(&scene, &out.summary.final_poses);
+        let drift = out
+            .recording
+            .snapshots
+            .iter()
+            .find(|(ts, _)| (*ts - 5.0).abs() < 1e-12)
+            .map_or(f64::NAN, |(_, f)| largest_drift(&scene, f));
         let r = &out.report;
         summary.push(format!(
             "Lire tower, perturbation {name}: drift at t = 5 {drift:.1e}; loses support {}; {fallen} of 4 blocks fallen below the table top at t = {:.2}; {} steps in {:.1} ms of solver time",
@@ -340,7 +309,7 @@ fn prox_comparison(summary: &mut Vec<String>, blocks: &mut Vec<Block>) -> Result
                 s.failed_steps.to_string(),
                 s.branch_points.len().to_string(),
                 format!("{:.2}", s.newton_iterations_mean),
-                s.error.unwrap_or_default(),
+                s.error.map(|e| e.to_string()).unwrap_or_default(),
             ]);
         }
     }

@@ -1,0 +1,14 @@
+//! The per-point computations behind the figures, sweeps and tables of Ch. 4 and
+//! App. I: what one row of a sweep or one line of a report is, as a typed,
+//! serializable result.
+//!
+//! - [`shaking`]: the shaken column's time to failure at one base frequency (Figure 4.6);
+//! - [`slide`]: the column on a pulled base at one speed, its top block's angle and how
+//!   it ends (Figure 4.7);
+//! - [`lire`]: the outcome of a Leaning Tower of Lire run (Figure 4.4);
+//! - [`painleve`]: Painlevé's paradoxes for one block (App. I, Figure I.2).
+
+pub mod lire;
+pub mod painleve;
+pub mod shaking;
+pub mod slide;

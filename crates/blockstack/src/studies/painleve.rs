@@ -1,0 +1,121 @@
+//! Painlevé's paradoxes for one block on a rough plane (App. I, ERRATA 18): the report
+//! of `rollstack blocks painleve`.
+
+use crate::error::BlockError;
+use crate::painleve::{
+    admissible_range, least_friction, least_friction_for_sign, line_contact_solutions,
+};
+
+/// The least μ_d for one slip direction.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+pub struct SignedLeast {
+    /// Least μ_d (an infimum when reached at an end of the open range (I.1.3)).
+    pub mu: f64,
+    /// Angle (rad) where it is reached.
+    pub theta: f64,
+}
+
+/// Normal forces n = N/(mg) of one solution of the line-contact LCP (I.2.10).
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+pub struct LineContactForces {
+    /// n_R at the right corner.
+    pub n_right: f64,
+    /// n_L at the left corner.
+    pub n_left: f64,
+}
+
+/// The line-contact LCP (I.2.5) at ϑ = ϑ' = 0 for both slip directions.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct LineContactReport {
+    /// μ_d.
+    pub mu: f64,
+    /// Solutions when sliding to the right, sgn ẋ = +1.
+    pub sliding_right: Vec<LineContactForces>,
+    /// Solutions when sliding to the left, sgn ẋ = −1.
+    pub sliding_left: Vec<LineContactForces>,
+}
+
+/// The Painlevé analysis of one block (docs/cli.md: `mu_min`, `theta_min`,
+/// `theta_max` first).
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct PainleveReport {
+    /// Least μ_d for which b ≤ 0 is possible (4/3, ERRATA 18).
+    pub mu_min: f64,
+    /// ϑ_min = −arctan(h/w) (rad), (I.1.3).
+    pub theta_min: f64,
+    /// ϑ_max = arctan(w/h) (rad), (I.1.3).
+    pub theta_max: f64,
+    /// Angle (rad) of the least μ_d.
+    pub theta_at_mu_min: f64,
+    /// sgn(ẋ_P) of the least μ_d.
+    pub slip_sign_at_mu_min: f64,
+    /// Least μ_d per slip direction within the admissible range, sgn ẋ_P = +1.
+    pub mu_min_slip_positive: SignedLeast,
+    /// Least μ_d per slip direction within the admissible range, sgn ẋ_P = −1.
+    pub mu_min_slip_negative: SignedLeast,
+    /// The line-contact solutions (I.2.10).
+    pub line_contact: LineContactReport,
+}
+
+/// The Painlevé analysis of App. I for a block of aspect w/h: the admissible angles
+/// (I.1.3), the least friction coefficient for which b of (I.1.8) (ERRATA 18) can vanish,
+/// per slip direction, and the line-contact LCP (I.2.10) solved for μ_d = `mu`.
+///
+/// # Errors
+/// A bad aspect ratio or μ_d.
+pub fn painleve_report(aspect: f64, mu: f64) -> Result<PainleveReport, BlockError> {
+    let (theta_min, theta_max) = admissible_range(aspect)?;
+    let least = least_friction(aspect)?;
+    let plus = least_friction_for_sign(aspect, 1.0)?;
+    let minus = least_friction_for_sign(aspect, -1.0)?;
+    // Line contact: only h/w matters (w = aspect, h = 1).
+    let lcp = |s: f64| -> Result<Vec<LineContactForces>, BlockError> {
+        Ok(line_contact_solutions(aspect, 1.0, mu, s)?
+            .into_iter()
+            .map(|c| LineContactForces {
+                n_right: c.n_right,
+                n_left: c.n_left,
+            })
+            .collect())
+    };
+    Ok(PainleveReport {
+        mu_min: least.mu,
+        theta_min,
+        theta_max,
+        theta_at_mu_min: least.theta,
+        slip_sign_at_mu_min: least.slip_sign,
+        mu_min_slip_positive: SignedLeast {
+            mu: plus.mu,
+            theta: plus.theta,
+        },
+        mu_min_slip_negative: SignedLeast {
+            mu: minus.mu,
+            theta: minus.theta,
+        },
+        line_contact: LineContactReport {
+            mu,
+            sliding_right: lcp(1.0)?,
+            sliding_left: lcp(-1.0)?,
+        },
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_least_friction_is_four_thirds_at_half_aspect() {
+        let r = painleve_report(0.5, 0.2).unwrap();
+        assert!((r.mu_min - 4.0 / 3.0).abs() < 1e-6, "{}", r.mu_min);
+        assert!((r.theta_max - 0.5_f64.atan()).abs() < 1e-15);
+        assert!((r.theta_min + 2.0_f64.atan()).abs() < 1e-15);
+        assert!((r.theta_at_mu_min.abs() - 0.5_f64.atan()).abs() < 1e-4);
+        // Line contact at rest: both corners carry weight and together carry mg.
+        let lc = r.line_contact.sliding_right[0];
+        assert!(lc.n_right > 0.0 && lc.n_left > 0.0);
+        assert!((lc.n_right + lc.n_left - 1.0).abs() < 1e-12);
+        assert!(painleve_report(-1.0, 0.2).is_err());
+        assert!(painleve_report(0.5, -0.2).is_err());
+    }
+}

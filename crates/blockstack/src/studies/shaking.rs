@@ -1,0 +1,114 @@
+//! The shaken column at one base frequency: its time to failure (§4.4, Figure 4.6).
+
+use crate::scenarios::{shaking_column, Shaking};
+use crate::simulation::{simulate, RunOptions};
+
+/// One run of the frequency sweep (one point of Figure 4.6).
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct FrequencyRow {
+    /// ω.
+    pub omega: f64,
+    /// Failure time T (loss of support), or null when the column survived.
+    pub failure_time: Option<f64>,
+    /// 1/T, 0 when the column survived the simulated periods.
+    pub inv_failure_time: Option<f64>,
+    /// First full opening of an interface, or null.
+    pub opening_time: Option<f64>,
+    /// Steps taken.
+    pub steps: usize,
+    /// Why the run stopped early (or could not start), or null.
+    pub error: Option<String>,
+    /// Steps whose first Newton attempt failed.
+    pub failed_steps: usize,
+    /// Branch points recorded.
+    pub branch_points: usize,
+    /// Solver time (s).
+    pub wall_time_s: f64,
+}
+
+/// Shakes the column `shaking` describes (its ω, amplitude, blocks, μ, steps per period
+/// and periods) until its first loss of support or the end of its periods; every
+/// failure (a bad parameter, a step that cannot be resolved) goes into the row.
+#[must_use]
+pub fn frequency_row(shaking: &Shaking, options: &RunOptions) -> FrequencyRow {
+    let mut row = FrequencyRow {
+        omega: shaking.omega,
+        failure_time: None,
+        inv_failure_time: None,
+        opening_time: None,
+        steps: 0,
+        error: None,
+        failed_steps: 0,
+        branch_points: 0,
+        wall_time_s: 0.0,
+    };
+    let options = RunOptions {
+        stop_at_failure: true,
+        ..options.clone()
+    };
+    match shaking_column(shaking).and_then(|s| simulate(&s, &options, |_| {})) {
+        Ok(s) => {
+            row.failure_time = s.failure_time;
+            // Survival over the whole run: 1/T = 0 (Figure 4.6's baseline), unless the run
+            // stopped early, when nothing is known.
+            row.inv_failure_time = match (s.failure_time, &s.error) {
+                (Some(t), _) if t > 0.0 => Some(1.0 / t),
+                (None, None) => Some(0.0),
+                _ => None,
+            };
+            row.opening_time = s.opening_time;
+            row.steps = s.steps;
+            row.error = s.error.map(|e| one_line(&e.to_string()));
+            row.failed_steps = s.failed_steps;
+            row.branch_points = s.branch_points.len();
+            row.wall_time_s = s.wall_time_s;
+        }
+        Err(e) => row.error = Some(one_line(&e.to_string())),
+    }
+    row
+}
+
+/// A message on one line (a CSV cell, a sweep's line of output).
+#[must_use]
+pub fn one_line(s: &str) -> String {
+    s.replace(['\n', '\r'], " ")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_slowly_shaken_column_survives_and_a_bad_frequency_is_a_row_error() {
+        let slow = Shaking {
+            omega: 0.5,
+            periods: 0.2,
+            ..Shaking::default()
+        };
+        let row = frequency_row(&slow, &RunOptions::default());
+        assert_eq!(row.failure_time, None);
+        assert_eq!(row.inv_failure_time, Some(0.0));
+        assert!(row.steps > 0 && row.error.is_none());
+        let bad = Shaking {
+            omega: -1.0,
+            ..Shaking::default()
+        };
+        let row = frequency_row(&bad, &RunOptions::default());
+        assert!(
+            row.error.as_deref().is_some_and(|e| e.contains("omega")),
+            "{row:?}"
+        );
+        assert_eq!(row.steps, 0);
+    }
+
+    #[test]
+    fn a_fast_shaken_column_fails_and_reports_one_over_t() {
+        let fast = Shaking {
+            omega: 4.0,
+            ..Shaking::default()
+        };
+        let row = frequency_row(&fast, &RunOptions::default());
+        let t = row.failure_time.expect("the tour's shaken column fails");
+        assert_eq!(row.inv_failure_time, Some(1.0 / t));
+    }
+}

@@ -1,0 +1,180 @@
+//! The column on a pulled base at one speed: the top block's angle at the end and how
+//! the column ends (§4.5, Figure 4.7).
+
+use crate::record::Frame;
+use crate::scenarios::sliding_column;
+use crate::scene::Scene;
+use crate::simulation::{simulate, RunOptions};
+use crate::studies::shaking::one_line;
+
+/// How the column on a pulled base ends (§4.5).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum SlideRegime {
+    /// Small v0: the column rides along, upright, on the base.
+    RidesAlong,
+    /// Intermediate v0: the blocks rotate about the base's corner and topple.
+    Topples,
+    /// Large v0: the base is pulled out and the column drops almost straight
+    /// (tablecloth trick).
+    Drops,
+}
+
+impl SlideRegime {
+    /// The name written to the CSV.
+    #[must_use]
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::RidesAlong => "rides-along",
+            Self::Topples => "topples",
+            Self::Drops => "drops",
+        }
+    }
+}
+
+/// The tipping angle atan(w/h) of a block standing on a level face: turned further, its
+/// centre of mass is beyond the corner it pivots on and gravity turns it further.
+#[must_use]
+pub fn tipping_angle(width: f64, height: f64) -> f64 {
+    width.atan2(height)
+}
+
+/// Classifies the end state: any block turned beyond its [`tipping_angle`] → topples;
+/// else the lowest block still above the base's top face (its centre higher than the
+/// base top) and horizontally over the base → rides along (possibly rocking); else →
+/// drops.
+#[must_use]
+pub fn slide_regime(scene: &Scene, last: &Frame) -> SlideRegime {
+    let toppled = last
+        .blocks
+        .iter()
+        .zip(scene.blocks())
+        .any(|(p, b)| p.theta.abs() > tipping_angle(b.width(), b.height()));
+    if toppled {
+        return SlideRegime::Topples;
+    }
+    let base = scene.base();
+    let on_base = last
+        .blocks
+        .first()
+        .is_some_and(|p| p.y > base.top() && (p.x - last.base.x).abs() < 0.5 * base.width());
+    if on_base {
+        SlideRegime::RidesAlong
+    } else {
+        SlideRegime::Drops
+    }
+}
+
+/// One run of the slide sweep (one point of Figure 4.7).
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct SlideRow {
+    /// v0.
+    pub v0: f64,
+    /// Angle θ of the top block at the last step (rad).
+    pub top_angle: Option<f64>,
+    /// The regime, or null when the run failed.
+    pub regime: Option<SlideRegime>,
+    /// Steps taken.
+    pub steps: usize,
+    /// Why the run stopped early (or could not start), or null.
+    pub error: Option<String>,
+    /// Time of the last step.
+    pub t_final: f64,
+    /// Failure time (loss of support), or null.
+    pub failure_time: Option<f64>,
+    /// Steps whose first Newton attempt failed.
+    pub failed_steps: usize,
+    /// Solver time (s).
+    pub wall_time_s: f64,
+}
+
+/// Runs the sliding column of `blocks` blocks on a base pulled at `v0` to `t_end`
+/// ([`sliding_column`]); every failure goes into the row.
+#[must_use]
+pub fn slide_row(blocks: usize, v0: f64, t_end: f64, options: &RunOptions) -> SlideRow {
+    let mut row = SlideRow {
+        v0,
+        top_angle: None,
+        regime: None,
+        steps: 0,
+        error: None,
+        t_final: 0.0,
+        failure_time: None,
+        failed_steps: 0,
+        wall_time_s: 0.0,
+    };
+    let scene = match sliding_column(blocks, v0, t_end) {
+        Ok(s) => s,
+        Err(e) => {
+            row.error = Some(one_line(&e.to_string()));
+            return row;
+        }
+    };
+    let mut last: Option<Frame> = None;
+    match simulate(&scene, options, |r| last = Some(Frame::from_record(r))) {
+        Ok(s) => {
+            row.steps = s.steps;
+            row.failure_time = s.failure_time;
+            row.failed_steps = s.failed_steps;
+            row.wall_time_s = s.wall_time_s;
+            row.error = s.error.map(|e| one_line(&e.to_string()));
+            if let Some(f) = last.filter(Frame::is_finite) {
+                row.t_final = f.t;
+                row.top_angle = f.blocks.last().map(|p| p.theta);
+                if row.error.is_none() {
+                    row.regime = Some(slide_regime(&scene, &f));
+                }
+            }
+        }
+        Err(e) => row.error = Some(one_line(&e.to_string())),
+    }
+    row
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::coordinates::Pose;
+
+    #[test]
+    fn slide_regimes_from_the_end_state() {
+        let scene = sliding_column(2, 1.0, 3.0).unwrap();
+        let frame = |base_x: f64, blocks: &[(f64, f64, f64)]| Frame {
+            t: 3.0,
+            base: Pose::new(base_x, 0.0, 0.0),
+            blocks: blocks
+                .iter()
+                .map(|&(x, y, th)| Pose::new(x, y, th))
+                .collect(),
+        };
+        // Upright on the base, carried along.
+        let ride = frame(1.0, &[(1.0, 0.4, 0.0), (1.0, 0.8, 0.01)]);
+        assert_eq!(slide_regime(&scene, &ride), SlideRegime::RidesAlong);
+        // The base pulled out, the column upright on the floor.
+        let drop = frame(3.0, &[(0.1, 0.0, 0.0), (0.1, 0.4, -0.05)]);
+        assert_eq!(slide_regime(&scene, &drop), SlideRegime::Drops);
+        // A block lying on its side.
+        let topple = frame(3.0, &[(0.1, 0.0, 0.0), (0.4, -0.1, 1.5)]);
+        assert_eq!(slide_regime(&scene, &topple), SlideRegime::Topples);
+        // Rocking on the base within the tipping angle atan(0.2/0.4) = 26.57° rides along;
+        // beyond it topples.
+        let rock = frame(1.0, &[(1.0, 0.4, 0.0), (1.0, 0.8, 0.46)]);
+        assert_eq!(slide_regime(&scene, &rock), SlideRegime::RidesAlong);
+        let tip = frame(1.0, &[(1.0, 0.4, 0.0), (1.0, 0.8, -0.47)]);
+        assert_eq!(slide_regime(&scene, &tip), SlideRegime::Topples);
+    }
+
+    #[test]
+    fn a_slow_base_carries_the_column_and_a_bad_count_is_a_row_error() {
+        let options = RunOptions {
+            t_end: Some(0.5),
+            ..RunOptions::default()
+        };
+        let row = slide_row(2, 0.05, 0.5, &options);
+        assert_eq!(row.regime, Some(SlideRegime::RidesAlong), "{row:?}");
+        assert!((row.t_final - 0.5).abs() < 1e-12);
+        assert!(row.top_angle.is_some_and(|a| a.abs() < 1e-3));
+        let bad = slide_row(2, f64::NAN, 0.5, &options);
+        assert!(bad.error.is_some() && bad.regime.is_none());
+    }
+}

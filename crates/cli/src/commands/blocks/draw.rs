@@ -1,0 +1,178 @@
+//! Pictures of the stack: snapshots (Figure 4.4), the animation, and the top block's
+//! angle and height (Figure 4.5 (b), (c)). The frames come from `blockstack::record`.
+
+use crate::plot::{err, with_png, LinePlot, Series, FONT, PALETTE};
+use anyhow::Result;
+use blockstack::record::{Frame, TopSample};
+use blockstack::Scene;
+use plotters::prelude::*;
+use std::ops::Range;
+use std::path::{Path, PathBuf};
+
+/// A square window onto the plane of the stack: x and y ranges of equal length.
+#[derive(Debug, Clone, PartialEq)]
+pub struct View {
+    /// Horizontal range.
+    pub x: Range<f64>,
+    /// Vertical range.
+    pub y: Range<f64>,
+}
+
+/// A square view that holds every body of every frame and the floor, with a margin.
+fn view_of(scene: &Scene, frames: &[&Frame]) -> View {
+    let (mut x0, mut x1, mut y0, mut y1) = (f64::MAX, f64::MIN, f64::MAX, f64::MIN);
+    for f in frames.iter().filter(|f| f.is_finite()) {
+        for &(x, y) in f.outlines(scene).iter().flatten() {
+            (x0, x1, y0, y1) = (x0.min(x), x1.max(x), y0.min(y), y1.max(y));
+        }
+    }
+    if x0 > x1 {
+        (x0, x1, y0, y1) = (-1.0, 1.0, -1.0, 1.0);
+    }
+    if let Some(f) = scene.floor() {
+        y0 = y0.min(f.y);
+    }
+    let half = 0.55 * (x1 - x0).max(y1 - y0);
+    let (cx, cy) = (0.5 * (x0 + x1), 0.5 * (y0 + y1));
+    View {
+        x: cx - half..cx + half,
+        y: cy - half..cy + half,
+    }
+}
+
+/// Draws one frame of the stack onto a canvas: the floor as a line, the base black (as
+/// in Figure 4.4), the blocks as rotated rectangles in colour.
+fn draw_stack<DB: DrawingBackend>(
+    root: &DrawingArea<DB, plotters::coord::Shift>,
+    scene: &Scene,
+    frame: &Frame,
+    view: &View,
+    title: &str,
+) -> Result<()> {
+    let mut chart = ChartBuilder::on(root)
+        .caption(title, (FONT, 22))
+        .margin(12)
+        .x_label_area_size(40)
+        .y_label_area_size(50)
+        .build_cartesian_2d(view.x.clone(), view.y.clone())
+        .map_err(err)?;
+    chart
+        .configure_mesh()
+        .x_desc("x")
+        .y_desc("y")
+        .label_style((FONT, 14))
+        // No minor grid: cleaner pictures and a much smaller animation.
+        .light_line_style(TRANSPARENT)
+        .draw()
+        .map_err(err)?;
+    if let Some(f) = scene.floor() {
+        chart
+            .draw_series(LineSeries::new(
+                vec![(view.x.start, f.y), (view.x.end, f.y)],
+                BLACK.stroke_width(2),
+            ))
+            .map_err(err)?;
+    }
+    for (k, poly) in frame.outlines(scene).into_iter().enumerate() {
+        let color = if k == 0 {
+            BLACK
+        } else {
+            PALETTE[(k - 1) % PALETTE.len()]
+        };
+        let mut closed = poly.to_vec();
+        closed.push(poly[0]);
+        chart
+            .draw_series(std::iter::once(Polygon::new(
+                poly.to_vec(),
+                color.mix(0.6).filled(),
+            )))
+            .map_err(err)?;
+        chart
+            .draw_series(std::iter::once(PathElement::new(
+                closed,
+                BLACK.stroke_width(1),
+            )))
+            .map_err(err)?;
+    }
+    Ok(())
+}
+
+/// Draws the stack at time t with coordinates q: the base black (as in Figure 4.4), the
+/// blocks in colour, the floor as a line; equal scales on both axes.
+///
+/// # Errors
+/// Non-finite coordinates or an unwritable file.
+pub fn plot_stack(path: &Path, scene: &Scene, q: &[f64], t: f64, title: &str) -> Result<()> {
+    let frame = Frame::from_coordinates(scene, q, t);
+    anyhow::ensure!(
+        frame.is_finite(),
+        "cannot draw a stack with non-finite coordinates"
+    );
+    let view = view_of(scene, &[&frame]);
+    with_png(path, (800, 800), |root| {
+        draw_stack(root, scene, &frame, &view, title)
+    })
+}
+
+/// Draws frames into one PNG each with a common view (Figure 4.4 style snapshots).
+///
+/// # Errors
+/// A non-finite frame or an unwritable file.
+pub fn plot_snapshots(scene: &Scene, shots: &[(PathBuf, String, &Frame)]) -> Result<()> {
+    let frames: Vec<&Frame> = shots.iter().map(|s| s.2).collect();
+    let view = view_of(scene, &frames);
+    for (path, title, frame) in shots {
+        anyhow::ensure!(
+            frame.is_finite(),
+            "cannot draw a stack with non-finite coordinates"
+        );
+        with_png(path, (800, 800), |root| {
+            draw_stack(root, scene, frame, &view, title)
+        })?;
+    }
+    Ok(())
+}
+
+/// Delay between animation frames (ms).
+const ANIMATION_FRAME_MS: u32 = 80;
+
+/// Writes an animated GIF of `frames` (one common view), atomically.
+///
+/// # Errors
+/// No finite frame, or an unwritable file.
+pub fn write_animation(path: &Path, scene: &Scene, frames: &[Frame], title: &str) -> Result<()> {
+    let good: Vec<&Frame> = frames.iter().filter(|f| f.is_finite()).collect();
+    anyhow::ensure!(!good.is_empty(), "no frame to animate");
+    let view = view_of(scene, &good);
+    crate::plot::register_font();
+    let tmp = crate::output::temp_sibling(path);
+    {
+        let root = BitMapBackend::gif(&tmp, (480, 480), ANIMATION_FRAME_MS)
+            .map_err(|e| anyhow::anyhow!("cannot write {}: {e}", path.display()))?
+            .into_drawing_area();
+        for f in good {
+            root.fill(&WHITE).map_err(err)?;
+            draw_stack(&root, scene, f, &view, &format!("{title}, t = {:.2}", f.t))?;
+            root.present()
+                .map_err(|e| anyhow::anyhow!("cannot write {}: {e}", path.display()))?;
+        }
+    }
+    crate::output::commit_temp(path)
+}
+
+/// The top block's angle and height against time (Figures 4.5 (b), (c)).
+///
+/// # Errors
+/// An unwritable file.
+pub fn plot_top_block(path: &Path, top: &[TopSample], title: &str) -> Result<()> {
+    let angle = LinePlot::new(format!("{title}: top block angle"), "t", "theta (rad)").with(
+        Series::line("", top.iter().map(|p| (p.t, p.theta)).collect()),
+    );
+    let height = LinePlot::new(format!("{title}: top block height"), "t", "y")
+        .with(Series::line("", top.iter().map(|p| (p.t, p.y)).collect()));
+    with_png(path, (1400, 550), |root| {
+        let (left, right) = root.split_horizontally(700);
+        angle.draw(&left)?;
+        height.draw(&right)
+    })
+}

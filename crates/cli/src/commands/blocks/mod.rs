@@ -1,0 +1,122 @@
+//! `rollstack blocks`: the stack of blocks on a driven base (Ch. 4, App. G–I).
+//!
+//! - `run SCENE.toml` and `lire` ([`simulate`]): one simulation (§4.3–4.5) with the JSON
+//!   of docs/cli.md, a trajectory CSV written progressively (ERRATA 25), branch points,
+//!   snapshots of the stack, an animation and plots of the top block ([`draw`]);
+//! - `sweep frequency` (Figure 4.6) and `sweep slide` (Figure 4.7) ([`sweep`]): many runs
+//!   in parallel, one CSV row per parameter value in input order;
+//! - `painleve` ([`painleve`]): Painlevé's paradoxes for one block (App. I).
+//!
+//! Every number comes from `blockstack`: its simulation, its recorder and its studies.
+
+pub mod draw;
+pub mod painleve;
+pub mod simulate;
+pub mod sweep;
+
+use crate::angles::parse_finite;
+use anyhow::Result;
+use blockstack::simulation::{Prox, RunOptions};
+use clap::{Args, Subcommand};
+use std::path::PathBuf;
+
+pub use simulate::{
+    simulate_with_output, snapshot_name, OutputPlan, SimulationOutput, LIRE_SNAPSHOTS,
+};
+
+/// Arguments of `rollstack blocks`.
+#[derive(Debug, Args)]
+pub struct BlocksArgs {
+    /// Which analysis or simulation to run.
+    #[command(subcommand)]
+    pub command: BlocksCommand,
+}
+
+/// The subcommands of `rollstack blocks`.
+#[derive(Debug, Subcommand)]
+pub enum BlocksCommand {
+    /// Simulates a scene file (TOML, see `blockstack::scene_file`) from t = 0 to t_end.
+    Run(simulate::RunArgs),
+    /// The Leaning Tower of Lire (§4.3, Figure 4.4): blocks w = 1, h = 0.2, μ = 0.3 in the
+    /// harmonic maximum-overhang configuration (ERRATA 16) on a fixed table, with nothing
+    /// below it as in the thesis (`--floor`: a floor at the table's bottom).
+    Lire(simulate::LireArgs),
+    /// Parameter sweeps: failure time against the shaking frequency (Figure 4.6), top
+    /// block angle against the speed of the pulled base (Figure 4.7).
+    #[command(subcommand)]
+    Sweep(sweep::SweepCommand),
+    /// Painlevé's paradoxes for one block on a rough plane (App. I): least friction
+    /// coefficient, admissible angles, sign regions of b, line-contact forces.
+    Painleve(painleve::PainleveArgs),
+}
+
+/// Runs `rollstack blocks`.
+///
+/// # Errors
+/// Bad input or an unwritable output directory.
+pub fn run(args: &BlocksArgs) -> Result<()> {
+    match &args.command {
+        BlocksCommand::Run(a) => simulate::run_scene_file(a),
+        BlocksCommand::Lire(a) => simulate::run_lire(a),
+        BlocksCommand::Sweep(sweep::SweepCommand::Frequency(a)) => sweep::sweep_frequency(a),
+        BlocksCommand::Sweep(sweep::SweepCommand::Slide(a)) => sweep::sweep_slide(a),
+        BlocksCommand::Painleve(a) => painleve::run(a),
+    }
+}
+
+/// Solver overrides shared by `run`, `lire` and the sweeps.
+#[derive(Debug, Clone, Args)]
+pub struct SolverArgs {
+    /// Use one constant prox parameter r > 0 for every contact (the thesis: 0.3; model
+    /// units of mass per time) instead of the scene's choice (default: scaled per
+    /// constraint, r_k = 1/(w_kᵀM⁻¹w_k), docs/method.md §4).
+    #[arg(long, value_parser = parse_finite, allow_hyphen_values = true)]
+    pub prox_constant: Option<f64>,
+    /// Resolve and record branch points: on a step whose contact states alternate,
+    /// re-solve with each set of index sets seen and keep the self-consistent candidates
+    /// (docs/method.md §8). On by default; `--explore-branches false` skips these
+    /// re-solves: such a step is then only retried with other ρ∞ and as halved steps,
+    /// and the run ends there if those fail too.
+    #[arg(long, default_value_t = true, action = clap::ArgAction::Set, value_name = "BOOL")]
+    pub explore_branches: bool,
+}
+
+impl SolverArgs {
+    /// The library's run options for an end time override.
+    ///
+    /// # Errors
+    /// A non-positive end time or prox constant.
+    pub fn run_options(&self, t_end: Option<f64>, stop_at_failure: bool) -> Result<RunOptions> {
+        if let Some(t) = t_end {
+            anyhow::ensure!(t > 0.0, "--t-end must be positive, got {t}");
+        }
+        if let Some(r) = self.prox_constant {
+            anyhow::ensure!(r > 0.0, "--prox-constant must be positive, got {r}");
+        }
+        Ok(RunOptions {
+            t_end,
+            prox: self.prox_constant.map(Prox::Constant),
+            explore_branches: self.explore_branches,
+            stop_at_failure,
+        })
+    }
+}
+
+/// Output options of `run` and `lire`.
+#[derive(Debug, Clone, Args)]
+pub struct OutputArgs {
+    /// Directory for trajectory.csv, branch_points.csv, snapshots (PNG), the animation
+    /// (GIF), plots of the top block and run.json (created if missing).
+    #[arg(long)]
+    pub out: Option<PathBuf>,
+    /// Print one JSON object on stdout (otherwise a readable summary).
+    #[arg(long)]
+    pub json: bool,
+    /// Times (model time units) of the PNG snapshots of the stack, comma-separated; the
+    /// nearest computed step is drawn (default: lire 0,5,6.4; run 0, t_end/2, t_end).
+    #[arg(long, value_delimiter = ',', value_parser = parse_finite)]
+    pub snapshots: Option<Vec<f64>>,
+    /// Largest number of animation frames (one every 10th step or sparser); 0: no GIF.
+    #[arg(long, default_value_t = 120)]
+    pub max_frames: usize,
+}

@@ -1,0 +1,386 @@
+//! `rollstack blocks run` and `lire`: one simulation, its JSON report, and its files
+//! (trajectory written progressively, branch points, snapshots, animation, top block).
+
+use super::draw::{plot_snapshots, plot_top_block, write_animation};
+use super::{OutputArgs, SolverArgs};
+use crate::angles::parse_finite;
+use crate::output::{
+    commit_temp, ensure_dir, print_json, temp_sibling, write_csv_f64, write_run_json,
+};
+use anyhow::{Context, Result};
+use blockstack::record::{Frame, RecordPlan, Recorder, Recording};
+use blockstack::scenarios::{lire, lire_on_floor, Perturbation};
+use blockstack::simulation::{simulate, RunOptions, RunReport, RunSummary};
+use blockstack::Scene;
+use clap::{Args, ValueEnum};
+use serde::Serialize;
+use std::fs::File;
+use std::io::{BufWriter, Write};
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+/// Arguments of `rollstack blocks run`.
+#[derive(Debug, Args)]
+pub struct RunArgs {
+    /// The scene file (TOML): base and motion, blocks bottom to top, contact, solver,
+    /// optional floor. Unknown keys are errors.
+    pub scene: PathBuf,
+    /// End time (model time units; overrides the scene's solver.t_end).
+    #[arg(long, value_parser = parse_finite, allow_hyphen_values = true)]
+    pub t_end: Option<f64>,
+    #[command(flatten)]
+    #[allow(missing_docs)]
+    pub solver: SolverArgs,
+    #[command(flatten)]
+    #[allow(missing_docs)]
+    pub output: OutputArgs,
+}
+
+/// Which block of the Lire tower is pushed outward by 1 % of its width.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum PerturbArg {
+    /// The exact maximum-overhang configuration (an unstable equilibrium).
+    None,
+    /// The lowest free block: the whole column collapses (Figure 4.4).
+    Bottom,
+    /// The top block: it topples alone.
+    Top,
+}
+
+impl From<PerturbArg> for Perturbation {
+    fn from(p: PerturbArg) -> Self {
+        match p {
+            PerturbArg::None => Self::None,
+            PerturbArg::Bottom => Self::Bottom,
+            PerturbArg::Top => Self::Top,
+        }
+    }
+}
+
+/// Arguments of `rollstack blocks lire`.
+#[derive(Debug, Args)]
+pub struct LireArgs {
+    /// Number of free blocks on the table (the thesis: 4).
+    #[arg(long, default_value_t = 4)]
+    pub blocks: usize,
+    /// Which block is shifted outward by 1 % of its width.
+    #[arg(long, value_enum, default_value_t = PerturbArg::None)]
+    pub perturb: PerturbArg,
+    /// Put a floor at the bottom of the table so that the blocks that fall land (beyond
+    /// the thesis, whose blocks fall freely).
+    #[arg(long)]
+    pub floor: bool,
+    /// End time (model time units, g = 1; the thesis: 10).
+    #[arg(long, default_value_t = 10.0, value_parser = parse_finite, allow_hyphen_values = true)]
+    pub t_end: f64,
+    #[command(flatten)]
+    #[allow(missing_docs)]
+    pub solver: SolverArgs,
+    #[command(flatten)]
+    #[allow(missing_docs)]
+    pub output: OutputArgs,
+}
+
+/// The JSON of `rollstack blocks run` and `lire`: the library's report and the files
+/// written.
+#[derive(Debug, Serialize)]
+pub struct SimulationJson<'a> {
+    /// The run's report.
+    #[serde(flatten)]
+    pub report: &'a RunReport,
+    /// Files written into --out (relative names).
+    pub files: &'a [String],
+}
+
+/// Everything one simulation produced, for the commands and the tour.
+#[derive(Debug)]
+pub struct SimulationOutput {
+    /// The library's summary.
+    pub summary: RunSummary,
+    /// The JSON report.
+    pub report: RunReport,
+    /// Files written into the output directory (relative names).
+    pub files: Vec<String>,
+    /// What the recorder kept: snapshots, animation frames, top block, last state.
+    pub recording: Recording,
+    /// A failure while writing output during the run (the run itself went on).
+    pub write_error: Option<String>,
+}
+
+/// What to write besides the JSON.
+#[derive(Debug, Clone, Default)]
+pub struct OutputPlan {
+    /// Output directory, if any.
+    pub dir: Option<PathBuf>,
+    /// Snapshot times.
+    pub snapshots: Vec<f64>,
+    /// Largest number of GIF frames (0: none).
+    pub max_frames: usize,
+    /// A short name of the run for plot titles.
+    pub title: String,
+}
+
+/// Runs one scene, writing the trajectory progressively and, afterwards, the branch
+/// points, snapshots, animation, top-block plots and run.json into `plan.dir`.
+///
+/// # Errors
+/// A bad scene or options, or an output directory that cannot be created. A step that
+/// fails mid-run is not an Err: it is in `summary.error` (files are still written).
+pub fn simulate_with_output(
+    scene: &Scene,
+    options: &RunOptions,
+    plan: &OutputPlan,
+    command: &str,
+    inputs: &serde_json::Value,
+) -> Result<SimulationOutput> {
+    let start = Instant::now();
+    let t_end = options.t_end.unwrap_or(scene.solver.t_end);
+    let csv_path = plan.dir.as_ref().map(|d| d.join("trajectory.csv"));
+    let writer = match &csv_path {
+        Some(path) => {
+            ensure_dir(path.parent().unwrap_or(Path::new(".")))?;
+            let tmp = temp_sibling(path);
+            let file =
+                File::create(&tmp).with_context(|| format!("cannot write {}", tmp.display()))?;
+            Some(BufWriter::new(file))
+        }
+        None => None,
+    };
+    let record_plan = RecordPlan {
+        snapshots: plan.snapshots.clone(),
+        max_frames: plan.max_frames,
+    };
+    let mut recorder = Recorder::new(scene, t_end, &record_plan, writer)?;
+    let result = simulate(scene, options, |r| recorder.on_step(r));
+    let (recording, writer, write_error) = recorder.finish();
+    // Keep what was computed even when the run is refused or stops (ERRATA 25).
+    let finished = writer.zip(csv_path.as_ref()).map(|(mut w, path)| {
+        w.flush()
+            .with_context(|| format!("cannot write {}", path.display()))?;
+        drop(w);
+        commit_temp(path)
+    });
+    let summary = result.context("cannot simulate the scene")?;
+    let mut write_error = write_error.map(|e| e.to_string());
+    if let Some(Err(e)) = finished {
+        write_error.get_or_insert(format!("{e:#}"));
+    }
+    let t_final = recording.last.as_ref().map_or(0.0, |f| f.t);
+    let report = RunReport::new(&summary, scene, options, t_final);
+    let mut files = Vec::new();
+    if let Some(dir) = &plan.dir {
+        files = write_run_files(dir, scene, plan, &summary, &recording)?;
+        write_run_json(
+            dir,
+            command,
+            inputs,
+            &serde_json::json!({
+                "solver_s": summary.wall_time_s,
+                "total_s": start.elapsed().as_secs_f64(),
+                "steps": summary.steps,
+                "write_error": write_error,
+            }),
+        )?;
+    }
+    Ok(SimulationOutput {
+        summary,
+        report,
+        files,
+        recording,
+        write_error,
+    })
+}
+
+/// Writes branch_points.csv, the snapshots, the animation and the top block's plot into
+/// `dir`; returns the names of every file of the run (trajectory.csv and run.json too).
+fn write_run_files(
+    dir: &Path,
+    scene: &Scene,
+    plan: &OutputPlan,
+    summary: &RunSummary,
+    recording: &Recording,
+) -> Result<Vec<String>> {
+    let mut files = vec!["trajectory.csv".to_owned()];
+    let rows: Vec<Vec<f64>> = summary
+        .branch_points
+        .iter()
+        .map(|b| vec![b.t, b.candidates as f64, b.distinct as f64])
+        .collect();
+    write_csv_f64(
+        &dir.join("branch_points.csv"),
+        &["t", "candidates", "distinct"],
+        &rows,
+    )?;
+    files.push("branch_points.csv".to_owned());
+    let shots: Vec<(PathBuf, String, &Frame)> = recording
+        .snapshots
+        .iter()
+        .map(|(ts, f)| {
+            let name = snapshot_name(*ts);
+            files.push(name.clone());
+            // A run that stopped before a requested time shows its last state.
+            let note = if f.t < ts - 0.5 * scene.solver.dt {
+                format!(" (run ended before t = {ts})")
+            } else {
+                String::new()
+            };
+            (
+                dir.join(name),
+                format!("{}, t = {:.2}{note}", plan.title, f.t),
+                f,
+            )
+        })
+        .collect();
+    plot_snapshots(scene, &shots)?;
+    if plan.max_frames > 0 {
+        write_animation(
+            &dir.join("animation.gif"),
+            scene,
+            &recording.frames,
+            &plan.title,
+        )?;
+        files.push("animation.gif".to_owned());
+    }
+    plot_top_block(&dir.join("top_block.png"), &recording.top, &plan.title)?;
+    files.push("top_block.png".to_owned());
+    files.push("run.json".to_owned());
+    Ok(files)
+}
+
+/// File name of the snapshot at requested time t, e.g. `snapshot_t6.4.png`.
+#[must_use]
+pub fn snapshot_name(t: f64) -> String {
+    // Six decimals at most: `snapshot_t7.853982.png`, not all seventeen digits.
+    format!("snapshot_t{}.png", (t * 1e6).round() / 1e6)
+}
+
+/// Prints the report (JSON or text) and turns a run that stopped early or output that
+/// could not be written into a non-zero exit after the output is out.
+fn finish_command(out: &SimulationOutput, json: bool, dir: Option<&Path>) -> Result<()> {
+    let r = &out.report;
+    if json {
+        print_json(&SimulationJson {
+            report: r,
+            files: &out.files,
+        })?;
+    } else {
+        println!(
+            "{} steps to t = {:.4} (solver {:.3} s, {:.2} Newton iterations per step, prox {})",
+            r.steps, r.t_final, r.wall_time_s, r.newton_iterations_mean, r.prox
+        );
+        let time = |t: Option<f64>| t.map_or_else(|| "none".to_owned(), |t| format!("{t:.4}"));
+        println!(
+            "failure (loss of support) at t = {}, first full opening at t = {}",
+            time(r.failure_time),
+            time(r.opening_time)
+        );
+        println!(
+            "min gap {:.3e}, failed Newton steps {}, branch points {}, split steps {}, linear solves {}, largest energy increase {:.3e}",
+            r.min_gap, r.failed_steps, r.branch_points, r.split_steps, r.linear_solves, r.max_energy_increase
+        );
+        for (k, p) in r.final_poses.iter().enumerate() {
+            println!(
+                "block {}: x = {:.6}, y = {:.6}, theta = {:.6}",
+                k + 1,
+                p.x,
+                p.y,
+                p.theta
+            );
+        }
+        if let Some(dir) = dir {
+            println!("wrote {} files into {}", out.files.len(), dir.display());
+        }
+    }
+    if let Some(e) = &r.error {
+        anyhow::bail!(
+            "the simulation stopped at t = {:.6} after {} steps: {e}{}",
+            r.t_final,
+            r.steps,
+            dir.map_or_else(String::new, |d| format!(
+                " (results up to then are in {})",
+                d.display()
+            ))
+        );
+    }
+    if let Some(e) = &out.write_error {
+        anyhow::bail!("{e}");
+    }
+    Ok(())
+}
+
+fn read_scene(path: &Path) -> Result<Scene> {
+    let text = std::fs::read_to_string(path)
+        .with_context(|| format!("cannot read scene {}", path.display()))?;
+    Scene::from_toml(&text).with_context(|| format!("scene {}", path.display()))
+}
+
+/// Runs `rollstack blocks run`.
+///
+/// # Errors
+/// A bad scene, bad options, a run that stopped early, or unwritable output.
+pub fn run_scene_file(args: &RunArgs) -> Result<()> {
+    let scene = read_scene(&args.scene)?;
+    let options = args.solver.run_options(args.t_end, false)?;
+    let t_end = options.t_end.unwrap_or(scene.solver.t_end);
+    let plan = OutputPlan {
+        dir: args.output.out.clone(),
+        snapshots: args
+            .output
+            .snapshots
+            .clone()
+            .unwrap_or_else(|| vec![0.0, 0.5 * t_end, t_end]),
+        max_frames: args.output.max_frames,
+        title: args
+            .scene
+            .file_stem()
+            .map_or_else(|| "scene".to_owned(), |s| s.to_string_lossy().into_owned()),
+    };
+    let inputs = serde_json::json!({
+        "scene": args.scene.display().to_string(),
+        "t_end": t_end,
+        "prox_constant": args.solver.prox_constant,
+        "explore_branches": args.solver.explore_branches,
+        "snapshots": plan.snapshots,
+    });
+    let out = simulate_with_output(&scene, &options, &plan, "blocks run", &inputs)?;
+    finish_command(&out, args.output.json, plan.dir.as_deref())
+}
+
+/// Snapshot times of Figure 4.4.
+pub const LIRE_SNAPSHOTS: [f64; 3] = [0.0, 5.0, 6.4];
+
+/// Runs `rollstack blocks lire`.
+///
+/// # Errors
+/// Bad options, a run that stopped early, or unwritable output.
+pub fn run_lire(args: &LireArgs) -> Result<()> {
+    anyhow::ensure!(args.blocks >= 1, "--blocks must be at least 1");
+    let scene = if args.floor {
+        lire_on_floor(args.blocks, args.perturb.into())?
+    } else {
+        lire(args.blocks, args.perturb.into())?
+    };
+    let options = args.solver.run_options(Some(args.t_end), false)?;
+    let perturb = format!("{:?}", args.perturb).to_lowercase();
+    let plan = OutputPlan {
+        dir: args.output.out.clone(),
+        snapshots: args
+            .output
+            .snapshots
+            .clone()
+            .unwrap_or_else(|| LIRE_SNAPSHOTS.to_vec()),
+        max_frames: args.output.max_frames,
+        title: format!("Lire tower, perturbation {perturb}"),
+    };
+    let inputs = serde_json::json!({
+        "blocks": args.blocks,
+        "perturb": perturb,
+        "floor": args.floor,
+        "t_end": args.t_end,
+        "prox_constant": args.solver.prox_constant,
+        "explore_branches": args.solver.explore_branches,
+        "snapshots": plan.snapshots,
+    });
+    let out = simulate_with_output(&scene, &options, &plan, "blocks lire", &inputs)?;
+    finish_command(&out, args.output.json, plan.dir.as_deref())
+}
