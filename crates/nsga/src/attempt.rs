@@ -25,7 +25,6 @@ pub struct Trial {
     pub cycling: bool,
 }
 
-
 /// Why one Newton attempt at a step failed.
 #[derive(Debug, Clone, PartialEq)]
 pub enum AttemptFailure {

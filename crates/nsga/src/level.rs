@@ -161,7 +161,13 @@ impl LevelProblem<'_> {
 
 /// Pushes `r · (column c0 of W)ᵀ` as the entries of `row` over the velocity-like
 /// unknowns (∂(r · level)/∂v = r Wᵀ).
-fn push_level(jac: &mut Vec<(usize, usize, f64)>, w: &Triplets<f64>, c0: usize, row: usize, r: f64) {
+fn push_level(
+    jac: &mut Vec<(usize, usize, f64)>,
+    w: &Triplets<f64>,
+    c0: usize,
+    row: usize,
+    r: f64,
+) {
     for &(i, c, v) in &w.entries {
         if c == c0 {
             jac.push((row, i, r * v));

@@ -184,7 +184,12 @@ impl<S: System> MoreauStepper<S> {
             reuse_factorization: false,
             give_up: GiveUp::Never,
         };
-        match newton::solve(&mut problem, &mut z, &settings, &mut NewtonScratch::default()) {
+        match newton::solve(
+            &mut problem,
+            &mut z,
+            &settings,
+            &mut NewtonScratch::default(),
+        ) {
             Outcome::Converged { iterations, .. } => {
                 self.finish(t_m, &q_m, &z);
                 self.iterations += iterations as u64;
@@ -286,7 +291,12 @@ impl NewtonProblem for MoreauProblem<'_> {
         (self.rows.closed_rows.clone(), r)
     }
 
-    fn exact_direction(&mut self, _z: &[f64], _: &Vec<usize>, dz: &mut [f64]) -> Result<(), String> {
+    fn exact_direction(
+        &mut self,
+        _z: &[f64],
+        _: &Vec<usize>,
+        dz: &mut [f64],
+    ) -> Result<(), String> {
         dz.iter_mut().zip(&self.rows.res).for_each(|(d, r)| *d = -r);
         self.solver
             .solve(self.level.n(), &self.rows.jac, dz)

@@ -407,7 +407,10 @@ mod tests {
             &settings,
             &mut NewtonScratch::default(),
         );
-        assert!(matches!(out, Outcome::Converged { iterations: 1, .. }), "{out:?}");
+        assert!(
+            matches!(out, Outcome::Converged { iterations: 1, .. }),
+            "{out:?}"
+        );
         assert_eq!(x[0], 1.0);
     }
 }

@@ -101,4 +101,3 @@ pub(crate) fn prox_parameters(
         r_law.push(r_of(w));
     }
 }
-

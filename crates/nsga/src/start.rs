@@ -53,7 +53,12 @@ impl NewtonProblem for StartProblem<'_> {
         (self.rows.closed_rows.clone(), r)
     }
 
-    fn exact_direction(&mut self, _y: &[f64], _: &Vec<usize>, dy: &mut [f64]) -> Result<(), String> {
+    fn exact_direction(
+        &mut self,
+        _y: &[f64],
+        _: &Vec<usize>,
+        dy: &mut [f64],
+    ) -> Result<(), String> {
         let n = self.level.n();
         let rows = &mut self.rows;
         dy.iter_mut().zip(&rows.res).for_each(|(d, r)| *d = -r);
@@ -62,7 +67,8 @@ impl NewtonProblem for StartProblem<'_> {
         if solved.is_err() && eps > 0.0 {
             // Redundant closed contacts (see `Options::regularization`): ε on the
             // multiplier diagonal of every closed row.
-            rows.jac.extend(rows.closed_rows.iter().map(|&r| (r, r, eps)));
+            rows.jac
+                .extend(rows.closed_rows.iter().map(|&r| (r, r, eps)));
             dy.iter_mut().zip(&rows.res).for_each(|(d, r)| *d = -r);
             solved = self.solver.solve(n, &rows.jac, dy);
         }
@@ -147,7 +153,12 @@ pub fn consistent_start<S: System>(
     };
     let mut y = vec![0.0; problem.level.n()];
     let failed = |message: String| StepError::Start { t: t0, message };
-    match newton::solve(&mut problem, &mut y, &settings, &mut NewtonScratch::default()) {
+    match newton::solve(
+        &mut problem,
+        &mut y,
+        &settings,
+        &mut NewtonScratch::default(),
+    ) {
         Outcome::Converged { .. } => {
             let (op, ov) = (nu, nu + layout.n_position());
             Ok(Start {

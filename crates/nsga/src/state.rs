@@ -44,4 +44,3 @@ impl State {
         distance <= 1e-8 * (1.0 + norm(&other.q) + norm(&other.u))
     }
 }
-

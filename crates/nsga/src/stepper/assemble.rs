@@ -228,15 +228,12 @@ impl<S: System> Stepper<S> {
             jac.push((o.uu + i, col_v(c, o.cga, o.cf), -v));
             jac.push((o.qq + i, col_v(c, o.cga, o.cf), -0.5 * v));
         }
-        let copy_row = |jac: &mut Vec<(usize, usize, f64)>,
-                        m: &RowMat,
-                        src: usize,
-                        dst: usize,
-                        s: f64| {
-            for (c, v) in m.row(src) {
-                jac.push((dst, c, s * v));
-            }
-        };
+        let copy_row =
+            |jac: &mut Vec<(usize, usize, f64)>, m: &RowMat, src: usize, dst: usize, s: f64| {
+                for (c, v) in m.row(src) {
+                    jac.push((dst, c, s * v));
+                }
+            };
         for i in 0..o.ng {
             let rp = w.r_pos[i];
             copy_row(jac, &w.dg, i, o.kg + i, rp / dt);

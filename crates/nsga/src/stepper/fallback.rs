@@ -25,11 +25,7 @@ impl<S: System> Stepper<S> {
             Ok(()) => return Ok(()),
             Err(e) => e,
         };
-        if halvings > 0
-            && self
-                .split_step(2, |s| s.step_halving(halvings - 1))
-                .is_ok()
-        {
+        if halvings > 0 && self.split_step(2, |s| s.step_halving(halvings - 1)).is_ok() {
             return Ok(());
         }
         match error {
@@ -66,7 +62,9 @@ impl<S: System> Stepper<S> {
                 cycling,
                 best,
             } => (visited, cycling, best),
-            AttemptFailure::NonFinite | AttemptFailure::Singular { .. } => (Vec::new(), false, None),
+            AttemptFailure::NonFinite | AttemptFailure::Singular { .. } => {
+                (Vec::new(), false, None)
+            }
         };
         let mut retries = 1;
         let rho_retries = match self.options.rho_inf_retry {
@@ -82,7 +80,9 @@ impl<S: System> Stepper<S> {
                 }
                 Err(AttemptFailure::NotConverged { best: b, .. }) => {
                     singular = None;
-                    let residual = |t: &Option<Box<Trial>>| t.as_ref().map_or(f64::INFINITY, |t| t.stats.residual);
+                    let residual = |t: &Option<Box<Trial>>| {
+                        t.as_ref().map_or(f64::INFINITY, |t| t.stats.residual)
+                    };
                     if residual(&b) < residual(&best) {
                         best = b;
                     }
@@ -203,5 +203,4 @@ impl<S: System> Stepper<S> {
         self.last = Some(merged);
         Ok(self.committed())
     }
-
 }

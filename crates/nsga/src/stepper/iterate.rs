@@ -247,5 +247,4 @@ impl<S: System> Stepper<S> {
         }
         s
     }
-
 }

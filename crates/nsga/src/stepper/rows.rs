@@ -76,4 +76,3 @@ pub(crate) fn push_u_derivative(
         }
     }
 }
-
