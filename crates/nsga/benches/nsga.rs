@@ -4,7 +4,7 @@
 //! `cargo bench -p nsga --bench nsga -- --quick`
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
-use nsga::runs::{run_ball, Scheme};
+use nsga::studies::ball::{run_ball, Scheme};
 use nsga::systems::ball::BallCase;
 use nsga::systems::chain::Chain;
 use nsga::{

@@ -1,6 +1,6 @@
 //! Repeats ball case 1 (for profiling): `cargo run -p nsga --release --example ball_profile`.
 
-use nsga::runs::{run_ball, Scheme};
+use nsga::studies::ball::{run_ball, Scheme};
 use nsga::systems::ball::BallCase;
 use nsga::Prox;
 

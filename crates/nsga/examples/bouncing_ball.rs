@@ -2,7 +2,7 @@
 //!
 //! `cargo run -p nsga --release --example bouncing_ball`
 
-use nsga::runs::{run_ball, Scheme};
+use nsga::studies::ball::{run_ball, Scheme};
 use nsga::systems::ball::BallCase;
 use nsga::Prox;
 

@@ -18,7 +18,8 @@
 //! * [`moreau`]: the Moreau–Jean midpoint baseline on the same trait;
 //! * [`linalg`]: dense LU, Markowitz LU and sparse LU behind [`LinearSolver`];
 //! * [`systems`]: benchmark systems with known answers (free fall, oscillator,
-//!   bouncing ball, incline, rocking block, chain), and [`runs`] with whole ball runs.
+//!   bouncing ball, incline, rocking block, chain), and [`studies`] with whole runs of them
+//!   (the ball cases, work-precision diagrams).
 //!
 //! # Adding a system (design note)
 //!
@@ -103,11 +104,11 @@ pub mod options;
 pub mod params;
 mod prox;
 pub mod report;
-pub mod runs;
 pub mod sets;
 pub mod start;
 pub mod state;
 pub mod stepper;
+pub mod studies;
 pub mod system;
 pub mod systems;
 

@@ -1,6 +1,6 @@
 //! The benchmark systems against their analytic answers (issue 4, "benchmark systems").
 
-use nsga::runs::{run_ball, Scheme};
+use nsga::studies::ball::{run_ball, Scheme};
 use nsga::systems::ball::BallCase;
 use nsga::systems::chain::Chain;
 use nsga::systems::free_fall::FreeFall;

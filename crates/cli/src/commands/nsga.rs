@@ -7,10 +7,9 @@ use crate::output::{
 use crate::plot::{LinePlot, Series};
 use anyhow::{bail, Result};
 use clap::{Args, Subcommand, ValueEnum};
-use nsga::runs::{run_ball, work_precision_point, BallRun, Scheme, WorkPrecisionSystem};
-use nsga::systems::ball::BallCase;
+use nsga::studies::ball::{ball_report, BallRun, BallSample, Scheme};
+use nsga::studies::work_precision::{work_precision, WorkPrecisionRow, WorkPrecisionSystem};
 use nsga::Prox;
-use serde::Serialize;
 use std::path::{Path, PathBuf};
 
 /// Arguments of `rollstack nsga`.
@@ -118,25 +117,8 @@ pub enum SystemArg {
 pub fn run(args: &NsgaArgs) -> Result<()> {
     match &args.command {
         NsgaCommand::Ball(a) => ball(a),
-        NsgaCommand::WorkPrecision(a) => work_precision(a),
+        NsgaCommand::WorkPrecision(a) => work_precision_command(a),
     }
-}
-
-#[derive(Debug, Serialize)]
-struct BallJson {
-    case: u8,
-    scheme: &'static str,
-    dt: f64,
-    first_impact_time: Option<f64>,
-    rolling_onset_time: Option<f64>,
-    rest_time: Option<f64>,
-    final_velocity: [f64; 2],
-    min_gap: f64,
-    steps: usize,
-    newton_iterations_mean: f64,
-    wall_time_s: f64,
-    first_impact_time_exact: f64,
-    final_xdot_exact: Option<f64>,
 }
 
 fn ball(a: &BallArgs) -> Result<()> {
@@ -152,37 +134,17 @@ fn ball(a: &BallArgs) -> Result<()> {
         Some(r) => Prox::Constant(r),
         None => Prox::Scaled(1.0),
     };
-    let case = BallCase::new(a.case).map_err(anyhow::Error::msg)?;
-    let scheme: Scheme = a.scheme.into();
-    let r = run_ball(&case, scheme, dt, a.rho_inf, prox)?;
-    // Final rolling velocity from the conserved m ẋ − (Θ/R) φ̇ (cases where it rolls).
-    let final_xdot_exact = r
-        .rolling_onset_time
-        .map(|_| case.ball.rolling_velocity(case.u0[0], case.u0[2]));
-    let out = BallJson {
-        case: a.case,
-        scheme: match scheme {
-            Scheme::Nsga => "nsga",
-            Scheme::Moreau => "moreau",
-        },
-        dt,
-        first_impact_time: r.first_impact_time,
-        rolling_onset_time: r.rolling_onset_time,
-        rest_time: r.rest_time,
-        final_velocity: r.final_velocity,
-        min_gap: r.min_gap,
-        steps: r.steps,
-        newton_iterations_mean: r.newton_iterations_mean,
-        wall_time_s: r.wall_time_s,
-        first_impact_time_exact: case.first_impact_time(),
-        final_xdot_exact,
-    };
+    let (out, r) =
+        ball_report(a.case, a.scheme.into(), dt, a.rho_inf, prox).map_err(|e| match e {
+            nsga::StepError::InvalidInput(m) => anyhow::anyhow!(m),
+            e => e.into(),
+        })?;
     if let Some(dir) = &a.out {
         write_ball_files(dir, &r, a)?;
         write_run_json(
             dir,
             "nsga ball",
-            &serde_json::json!({"case": a.case, "dt": dt, "scheme": out.scheme,
+            &serde_json::json!({"case": a.case, "dt": dt, "scheme": out.scheme.name(),
             "rho_inf": a.rho_inf, "prox_r": a.prox_r}),
             &serde_json::json!({"wall_time_s": r.wall_time_s}),
         )?;
@@ -193,15 +155,15 @@ fn ball(a: &BallArgs) -> Result<()> {
         println!(
             "ball case {} ({}): first impact {:?} s (exact {:.4}), rolling from {:?} s, final (xdot, phidot) = ({:.5}, {:.4}), min gap {:.2e}, {:.2} Newton iterations/step, {:.3} ms",
             a.case,
-            out.scheme,
-            r.first_impact_time,
-            case.first_impact_time(),
-            r.rolling_onset_time,
-            r.final_velocity[0],
-            r.final_velocity[1],
-            r.min_gap,
-            r.newton_iterations_mean,
-            r.wall_time_s * 1e3
+            out.scheme.name(),
+            out.first_impact_time,
+            out.first_impact_time_exact,
+            out.rolling_onset_time,
+            out.final_velocity[0],
+            out.final_velocity[1],
+            out.min_gap,
+            out.newton_iterations_mean,
+            out.wall_time_s * 1e3
         );
     }
     Ok(())
@@ -241,9 +203,8 @@ fn write_ball_files(dir: &Path, r: &BallRun, a: &BallArgs) -> Result<()> {
         ],
         &rows,
     )?;
-    let pts = |f: &dyn Fn(&nsga::runs::BallSample) -> f64| {
-        r.samples.iter().map(|s| (s.t, f(s))).collect::<Vec<_>>()
-    };
+    let pts =
+        |f: &dyn Fn(&BallSample) -> f64| r.samples.iter().map(|s| (s.t, f(s))).collect::<Vec<_>>();
     LinePlot::new(
         format!("Bouncing ball, case {}", a.case),
         "t [s]",
@@ -258,16 +219,7 @@ fn write_ball_files(dir: &Path, r: &BallRun, a: &BallArgs) -> Result<()> {
     .save(&dir.join("trajectory.png"), (1000, 600))
 }
 
-#[derive(Debug, Serialize)]
-struct WpRow {
-    scheme: String,
-    rho_inf: Option<f64>,
-    dt: f64,
-    error: f64,
-    wall_time_s: f64,
-}
-
-fn work_precision(a: &WorkPrecisionArgs) -> Result<()> {
+fn work_precision_command(a: &WorkPrecisionArgs) -> Result<()> {
     let system = match a.system {
         SystemArg::Ball => WorkPrecisionSystem::Ball,
         SystemArg::Oscillator => WorkPrecisionSystem::Oscillator,
@@ -285,38 +237,14 @@ fn work_precision(a: &WorkPrecisionArgs) -> Result<()> {
         bail!("every --rho-inf value must be in [0, 1]");
     }
     let repeat = a.repeat.max(1);
-    let mut configs: Vec<(Scheme, Option<f64>)> =
-        rhos.iter().map(|&r| (Scheme::Nsga, Some(r))).collect();
-    configs.push((Scheme::Moreau, None));
-    let mut rows = Vec::new();
-    for &(scheme, rho) in &configs {
-        for &dt in &dts {
-            let mut best = f64::INFINITY;
-            let mut error = f64::NAN;
-            for _ in 0..repeat {
-                let (e, w) = work_precision_point(system, scheme, rho.unwrap_or(0.5), dt)?;
-                error = e;
-                best = best.min(w);
-            }
-            rows.push(WpRow {
-                scheme: match scheme {
-                    Scheme::Nsga => "nsga".into(),
-                    Scheme::Moreau => "moreau".into(),
-                },
-                rho_inf: rho,
-                dt,
-                error,
-                wall_time_s: best,
-            });
-        }
-    }
+    let rows = work_precision(system, &dts, &rhos, repeat)?;
     ensure_dir(&a.out)?;
     write_csv(
         &a.out.join("work_precision.csv"),
         &["scheme", "rho_inf", "dt", "error", "wall_time_s"],
         rows.iter().map(|r| {
             vec![
-                r.scheme.clone(),
+                r.scheme.name().to_owned(),
                 r.rho_inf.map_or(String::new(), |x| x.to_string()),
                 r.dt.to_string(),
                 r.error.to_string(),
@@ -330,11 +258,15 @@ fn work_precision(a: &WorkPrecisionArgs) -> Result<()> {
         "error [m]",
     );
     plot.log = (true, true);
-    for &(scheme, rho) in &configs {
+    let configs = rhos
+        .iter()
+        .map(|&r| (Scheme::Nsga, Some(r)))
+        .chain([(Scheme::Moreau, None)]);
+    for (scheme, rho) in configs {
         let label = rho.map_or("Moreau-Jean".to_owned(), |r| format!("NSGA rho_inf = {r}"));
         let pts: Vec<(f64, f64)> = rows
             .iter()
-            .filter(|r| r.rho_inf == rho && (r.scheme == "nsga") == (scheme == Scheme::Nsga))
+            .filter(|r: &&WorkPrecisionRow| r.rho_inf == rho && r.scheme == scheme)
             .map(|r| (r.wall_time_s, r.error.max(1e-16)))
             .collect();
         plot = plot.with(Series::line(label, pts));
@@ -352,7 +284,7 @@ fn work_precision(a: &WorkPrecisionArgs) -> Result<()> {
         for r in &rows {
             println!(
                 "{:>6} rho_inf={:>4} dt={:.1e}: error {:.3e}, {:.3e} s",
-                r.scheme,
+                r.scheme.name(),
                 r.rho_inf.map_or("-".into(), |x| x.to_string()),
                 r.dt,
                 r.error,

@@ -5,7 +5,8 @@ use super::{Block, Section};
 use crate::output::write_csv;
 use crate::plot::{LinePlot, Series};
 use anyhow::Result;
-use nsga::runs::{run_ball, work_precision_point, Scheme, WorkPrecisionSystem};
+use nsga::studies::ball::{run_ball, BallSample, Scheme};
+use nsga::studies::work_precision::{work_precision_point, WorkPrecisionSystem};
 use nsga::systems::ball::BallCase;
 use nsga::Prox;
 use std::path::Path;
@@ -65,7 +66,7 @@ pub fn section(dir: &Path) -> Result<Section> {
     ];
     write_csv(&dir.join("ball_cases.csv"), &header, &rows)?;
     if let Some(r) = &case2 {
-        let pts = |f: &dyn Fn(&nsga::runs::BallSample) -> f64| {
+        let pts = |f: &dyn Fn(&BallSample) -> f64| {
             r.samples.iter().map(|s| (s.t, f(s))).collect::<Vec<_>>()
         };
         LinePlot::new(

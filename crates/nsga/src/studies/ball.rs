@@ -1,5 +1,5 @@
-//! Whole runs of the benchmark systems with their headline numbers (used by tests,
-//! benches and the CLI).
+//! The paper's rotating bouncing ball (Capobianco et al. 2021, §5.1): whole runs with
+//! both schemes, their headline numbers, and the report of `rollstack nsga ball`.
 
 use crate::error::StepError;
 use crate::moreau::{MoreauOptions, MoreauStepper};
@@ -10,11 +10,23 @@ use std::time::Instant;
 
 /// Time-stepping scheme.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "lowercase")]
 pub enum Scheme {
     /// Nonsmooth generalized-α (this crate's stepper).
     Nsga,
     /// Moreau–Jean midpoint baseline.
     Moreau,
+}
+
+impl Scheme {
+    /// The scheme's name in files and JSON: `nsga` or `moreau`.
+    #[must_use]
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Nsga => "nsga",
+            Self::Moreau => "moreau",
+        }
+    }
 }
 
 /// One sample of a ball trajectory.
@@ -174,117 +186,94 @@ fn last_run_start(samples: &[BallSample], pred: impl Fn(&BallSample) -> bool) ->
     start
 }
 
-/// The systems of the work-precision diagram.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
-pub enum WorkPrecisionSystem {
-    /// Ball case 2: error of x(1.5) against [`BallCase::exact_x`].
-    Ball,
-    /// Linear oscillator (ω = 2π): phase-plane error √(Δx² + (Δẋ/ω)²) at t = 1.
-    Oscillator,
-    /// Turning incline (β̇ = 0.5, μ = 0.3): error of x(1.5) against the closed form.
-    Incline,
+/// The report of one ball run (`rollstack nsga ball --json`; docs/cli.md): the run's
+/// headline numbers beside the exact first impact and final rolling velocity.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct BallReport {
+    /// The case, 1–4.
+    pub case: u8,
+    /// The scheme.
+    pub scheme: Scheme,
+    /// Time step Δt (s).
+    pub dt: f64,
+    /// End time of the first step with a non-zero normal percussion (s).
+    pub first_impact_time: Option<f64>,
+    /// First time from which the ball rolls to the end (s).
+    pub rolling_onset_time: Option<f64>,
+    /// First time from which the bouncing has died out (s).
+    pub rest_time: Option<f64>,
+    /// Final (ẋ, φ̇) (m/s, rad/s).
+    pub final_velocity: [f64; 2],
+    /// Smallest gap y − R (m).
+    pub min_gap: f64,
+    /// Steps taken.
+    pub steps: usize,
+    /// Mean Newton iterations per step.
+    pub newton_iterations_mean: f64,
+    /// Solver wall time (s).
+    pub wall_time_s: f64,
+    /// The exact first impact time (s).
+    pub first_impact_time_exact: f64,
+    /// The exact final rolling velocity ẋ from the conserved m ẋ − (Θ/R) φ̇ (m/s), for
+    /// the runs that end rolling.
+    pub final_xdot_exact: Option<f64>,
 }
 
-/// One point of a work-precision diagram: the error against the closed form and the
-/// solver wall time of one run.
+/// Runs ball case `case` (1–4) with `scheme` and Δt, and reports it beside the closed
+/// forms; also returns the run with its trajectory.
 ///
 /// # Errors
-/// The first step error.
-pub fn work_precision_point(
-    system: WorkPrecisionSystem,
+/// [`StepError::InvalidInput`] for an unknown case or Δt outside (0, 0.1] s; the first
+/// step error.
+pub fn ball_report(
+    case: u8,
     scheme: Scheme,
-    rho_inf: f64,
     dt: f64,
-) -> Result<(f64, f64), StepError> {
-    use crate::systems::incline::Incline;
-    use crate::systems::oscillator::Oscillator;
-    match system {
-        WorkPrecisionSystem::Ball => {
-            let c = BallCase::new(2).map_err(StepError::InvalidInput)?;
-            let r = run_ball(&c, scheme, dt, rho_inf, Prox::Scaled(1.0))?;
-            let last = r.samples.last().expect("t0 sample");
-            let exact = c.exact_x(last.t).expect("case 2 has a closed form");
-            Ok(((last.q[0] - exact).abs(), r.wall_time_s))
-        }
-        WorkPrecisionSystem::Oscillator => {
-            let sys = Oscillator {
-                mass: 1.0,
-                stiffness: 4.0 * std::f64::consts::PI.powi(2),
-            };
-            let n = (1.0 / dt).round() as usize;
-            let (x, u, t, wall) = run_generic(sys, scheme, rho_inf, dt, n, &[1.0], &[0.0])?;
-            let (xe, ve) = sys.exact(1.0, 0.0, t);
-            // Phase-plane error: at a full period x alone hides the phase error.
-            Ok(((x[0] - xe).hypot((u[0] - ve) / sys.omega()), wall))
-        }
-        WorkPrecisionSystem::Incline => {
-            let sys = Incline {
-                mass: 1.0,
-                gravity: 9.81,
-                mu: 0.3,
-                beta0: 0.0,
-                beta_rate: 0.5,
-            };
-            let n = (1.5 / dt).round() as usize;
-            let (x, _, t, wall) =
-                run_generic(sys, scheme, rho_inf, dt, n, &[0.0, 0.0], &[0.0, 0.0])?;
-            Ok(((x[0] - sys.turning_position(t)).abs(), wall))
-        }
+    rho_inf: f64,
+    prox: Prox,
+) -> Result<(BallReport, BallRun), StepError> {
+    if !(dt > 0.0 && dt <= 0.1) {
+        return Err(StepError::InvalidInput(format!(
+            "dt must be in (0, 0.1] s, got {dt}"
+        )));
     }
+    let c = BallCase::new(case).map_err(StepError::InvalidInput)?;
+    let r = run_ball(&c, scheme, dt, rho_inf, prox)?;
+    let report = BallReport {
+        case,
+        scheme,
+        dt,
+        first_impact_time: r.first_impact_time,
+        rolling_onset_time: r.rolling_onset_time,
+        rest_time: r.rest_time,
+        final_velocity: r.final_velocity,
+        min_gap: r.min_gap,
+        steps: r.steps,
+        newton_iterations_mean: r.newton_iterations_mean,
+        wall_time_s: r.wall_time_s,
+        first_impact_time_exact: c.first_impact_time(),
+        final_xdot_exact: r
+            .rolling_onset_time
+            .map(|_| c.ball.rolling_velocity(c.u0[0], c.u0[2])),
+    };
+    Ok((report, r))
 }
 
-/// Runs `n` steps of either scheme; returns (q, u, t, wall time).
-fn run_generic<S: crate::system::System>(
-    sys: S,
-    scheme: Scheme,
-    rho_inf: f64,
-    dt: f64,
-    n: usize,
-    q0: &[f64],
-    u0: &[f64],
-) -> Result<(Vec<f64>, Vec<f64>, f64, f64), StepError> {
-    let start = Instant::now();
-    match scheme {
-        Scheme::Nsga => {
-            let mut s = Stepper::new(
-                sys,
-                0.0,
-                q0,
-                u0,
-                Options {
-                    dt,
-                    rho_inf,
-                    ..Options::default()
-                },
-            )?;
-            s.run(n, |_, _| {})?;
-            Ok((
-                s.state().q.clone(),
-                s.state().u.clone(),
-                s.state().t,
-                start.elapsed().as_secs_f64(),
-            ))
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn case_two_rolls_at_the_exact_velocity_and_bad_input_is_refused() {
+        let (r, run) = ball_report(2, Scheme::Nsga, 2e-3, 0.5, Prox::Scaled(1.0)).unwrap();
+        let exact = r.final_xdot_exact.expect("case 2 ends rolling");
+        assert!((r.final_velocity[0] - exact).abs() < 1e-6, "{r:?}");
+        assert!((r.first_impact_time.unwrap() - r.first_impact_time_exact).abs() < 2e-3);
+        assert_eq!(run.samples.len(), r.steps + 1);
+        assert_eq!(serde_json::to_value(r.scheme).unwrap(), "nsga");
+        for dt in [0.0, -1.0, 0.2, f64::NAN] {
+            assert!(ball_report(2, Scheme::Nsga, dt, 0.5, Prox::Scaled(1.0)).is_err());
         }
-        Scheme::Moreau => {
-            let mut s = MoreauStepper::new(
-                sys,
-                0.0,
-                q0,
-                u0,
-                MoreauOptions {
-                    dt,
-                    ..MoreauOptions::default()
-                },
-            )?;
-            for _ in 0..n {
-                s.step()?;
-            }
-            Ok((
-                s.state().q.clone(),
-                s.state().u.clone(),
-                s.state().t,
-                start.elapsed().as_secs_f64(),
-            ))
-        }
+        assert!(ball_report(5, Scheme::Moreau, 2e-3, 0.5, Prox::Scaled(1.0)).is_err());
     }
 }

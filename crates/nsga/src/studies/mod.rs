@@ -1,0 +1,9 @@
+//! Whole runs of the benchmark systems with answers known in closed form, and what the
+//! command line and the tour report of them.
+//!
+//! - [`ball`]: the paper's rotating bouncing ball, both schemes, and its report;
+//! - [`work_precision`]: error against solver time for NSGA at several ρ∞ and
+//!   Moreau–Jean.
+
+pub mod ball;
+pub mod work_precision;

@@ -1,0 +1,210 @@
+//! Work-precision diagrams of the benchmark systems with closed-form answers: error
+//! against solver time, NSGA at several ρ∞ beside Moreau–Jean.
+
+use super::ball::{run_ball, Scheme};
+use crate::error::StepError;
+use crate::moreau::{MoreauOptions, MoreauStepper};
+use crate::options::{Options, Prox};
+use crate::stepper::Stepper;
+use crate::systems::ball::BallCase;
+use std::time::Instant;
+
+/// The systems of the work-precision diagram.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+pub enum WorkPrecisionSystem {
+    /// Ball case 2: error of x(1.5) against [`BallCase::exact_x`].
+    Ball,
+    /// Linear oscillator (ω = 2π): phase-plane error √(Δx² + (Δẋ/ω)²) at t = 1.
+    Oscillator,
+    /// Turning incline (β̇ = 0.5, μ = 0.3): error of x(1.5) against the closed form.
+    Incline,
+}
+
+/// One point of a work-precision diagram: the error against the closed form and the
+/// solver wall time of one run.
+///
+/// # Errors
+/// The first step error.
+pub fn work_precision_point(
+    system: WorkPrecisionSystem,
+    scheme: Scheme,
+    rho_inf: f64,
+    dt: f64,
+) -> Result<(f64, f64), StepError> {
+    use crate::systems::incline::Incline;
+    use crate::systems::oscillator::Oscillator;
+    match system {
+        WorkPrecisionSystem::Ball => {
+            let c = BallCase::new(2).map_err(StepError::InvalidInput)?;
+            let r = run_ball(&c, scheme, dt, rho_inf, Prox::Scaled(1.0))?;
+            let last = r.samples.last().expect("t0 sample");
+            let exact = c.exact_x(last.t).expect("case 2 has a closed form");
+            Ok(((last.q[0] - exact).abs(), r.wall_time_s))
+        }
+        WorkPrecisionSystem::Oscillator => {
+            let sys = Oscillator {
+                mass: 1.0,
+                stiffness: 4.0 * std::f64::consts::PI.powi(2),
+            };
+            let n = (1.0 / dt).round() as usize;
+            let (x, u, t, wall) = run_generic(sys, scheme, rho_inf, dt, n, &[1.0], &[0.0])?;
+            let (xe, ve) = sys.exact(1.0, 0.0, t);
+            // Phase-plane error: at a full period x alone hides the phase error.
+            Ok(((x[0] - xe).hypot((u[0] - ve) / sys.omega()), wall))
+        }
+        WorkPrecisionSystem::Incline => {
+            let sys = Incline {
+                mass: 1.0,
+                gravity: 9.81,
+                mu: 0.3,
+                beta0: 0.0,
+                beta_rate: 0.5,
+            };
+            let n = (1.5 / dt).round() as usize;
+            let (x, _, t, wall) =
+                run_generic(sys, scheme, rho_inf, dt, n, &[0.0, 0.0], &[0.0, 0.0])?;
+            Ok(((x[0] - sys.turning_position(t)).abs(), wall))
+        }
+    }
+}
+
+/// Runs `n` steps of either scheme; returns (q, u, t, wall time).
+fn run_generic<S: crate::system::System>(
+    sys: S,
+    scheme: Scheme,
+    rho_inf: f64,
+    dt: f64,
+    n: usize,
+    q0: &[f64],
+    u0: &[f64],
+) -> Result<(Vec<f64>, Vec<f64>, f64, f64), StepError> {
+    let start = Instant::now();
+    match scheme {
+        Scheme::Nsga => {
+            let mut s = Stepper::new(
+                sys,
+                0.0,
+                q0,
+                u0,
+                Options {
+                    dt,
+                    rho_inf,
+                    ..Options::default()
+                },
+            )?;
+            s.run(n, |_, _| {})?;
+            Ok((
+                s.state().q.clone(),
+                s.state().u.clone(),
+                s.state().t,
+                start.elapsed().as_secs_f64(),
+            ))
+        }
+        Scheme::Moreau => {
+            let mut s = MoreauStepper::new(
+                sys,
+                0.0,
+                q0,
+                u0,
+                MoreauOptions {
+                    dt,
+                    ..MoreauOptions::default()
+                },
+            )?;
+            for _ in 0..n {
+                s.step()?;
+            }
+            Ok((
+                s.state().q.clone(),
+                s.state().u.clone(),
+                s.state().t,
+                start.elapsed().as_secs_f64(),
+            ))
+        }
+    }
+}
+
+/// One point of a work-precision diagram.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct WorkPrecisionRow {
+    /// The scheme.
+    pub scheme: Scheme,
+    /// ρ∞ (NSGA only).
+    pub rho_inf: Option<f64>,
+    /// Time step Δt (s).
+    pub dt: f64,
+    /// Error against the closed form (m).
+    pub error: f64,
+    /// The fastest solver wall time of the repetitions (s).
+    pub wall_time_s: f64,
+}
+
+/// The work-precision diagram of `system`: for NSGA at each ρ∞ of `rho_infs`, then
+/// Moreau–Jean, one point per Δt of `dts`; each point timed `repeat` times (at least
+/// once), keeping the fastest.
+///
+/// # Errors
+/// [`StepError::InvalidInput`] for a Δt outside (0, 0.1] s or a ρ∞ outside [0, 1]; the
+/// first step error.
+pub fn work_precision(
+    system: WorkPrecisionSystem,
+    dts: &[f64],
+    rho_infs: &[f64],
+    repeat: usize,
+) -> Result<Vec<WorkPrecisionRow>, StepError> {
+    if dts.iter().any(|&d| !(d > 0.0 && d <= 0.1)) {
+        return Err(StepError::InvalidInput(
+            "every dt must be in (0, 0.1] s".into(),
+        ));
+    }
+    if rho_infs.iter().any(|r| !(0.0..=1.0).contains(r)) {
+        return Err(StepError::InvalidInput(
+            "every rho_inf must be in [0, 1]".into(),
+        ));
+    }
+    let mut configs: Vec<(Scheme, Option<f64>)> =
+        rho_infs.iter().map(|&r| (Scheme::Nsga, Some(r))).collect();
+    configs.push((Scheme::Moreau, None));
+    let mut rows = Vec::new();
+    for &(scheme, rho) in &configs {
+        for &dt in dts {
+            let mut best = f64::INFINITY;
+            let mut error = f64::NAN;
+            for _ in 0..repeat.max(1) {
+                let (e, w) = work_precision_point(system, scheme, rho.unwrap_or(0.5), dt)?;
+                error = e;
+                best = best.min(w);
+            }
+            rows.push(WorkPrecisionRow {
+                scheme,
+                rho_inf: rho,
+                dt,
+                error,
+                wall_time_s: best,
+            });
+        }
+    }
+    Ok(rows)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_oscillator_converges_at_second_order_with_both_schemes() {
+        let rows =
+            work_precision(WorkPrecisionSystem::Oscillator, &[4e-3, 2e-3], &[0.5], 1).unwrap();
+        assert_eq!(rows.len(), 4);
+        for pair in rows.chunks(2) {
+            let order = (pair[0].error / pair[1].error).log2();
+            assert!(
+                (order - 2.0).abs() < 0.2,
+                "{:?}: order {order}",
+                pair[0].scheme
+            );
+        }
+        assert!(work_precision(WorkPrecisionSystem::Oscillator, &[0.0], &[0.5], 1).is_err());
+        assert!(work_precision(WorkPrecisionSystem::Oscillator, &[1e-3], &[1.5], 1).is_err());
+    }
+}
