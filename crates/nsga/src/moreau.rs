@@ -1,5 +1,5 @@
 //! The Moreau–Jean midpoint baseline (docs/method.md §6) on the same [`System`] trait,
-//! solved by the crate's one semismooth Newton engine ([`newton`](crate::newton)).
+//! solved by the crate's one semismooth Newton engine ([`crate::newton`]).
 
 use crate::error::StepError;
 use crate::level::{LevelProblem, LevelRows};

@@ -34,10 +34,10 @@ pub const MAX_REUSES: usize = 4;
 /// periods of 12 fit in the 40 iterations of blockstack's first attempts; the landings of
 /// the Lire collapse cycle with periods of 7 to 9 iterations, which with periods only up
 /// to 4 ran on to the iteration limit.
-const CYCLE_PERIODS: std::ops::RangeInclusive<usize> = 2..=12;
+pub const CYCLE_PERIODS: std::ops::RangeInclusive<usize> = 2..=12;
 
 /// Iterations without progress after which a fixed-set solve is given up.
-const STALL_ITERATIONS: usize = 3;
+pub const STALL_ITERATIONS: usize = 3;
 
 /// When an attempt stops before its iteration limit.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

@@ -80,7 +80,7 @@ impl NewtonProblem for StartProblem<'_> {
 /// constraints and, for the contacts with g_N ≤ tol and ġ_N ≤ tol (closed), the
 /// acceleration-level laws g̈_N ≥ 0 ⟂ λ_N ≥ 0 and Coulomb on λ_F (sliding contacts
 /// along −γ_F/‖γ_F‖, sticking ones by the prox on γ̇_F), by semismooth Newton (nsga's
-/// [`newton`](crate::newton) engine, full updates, to ‖R‖∞ ≤ 1e-12 (1 + ‖h‖∞)).
+/// [`crate::newton`] engine, full updates, to ‖R‖∞ ≤ 1e-12 (1 + ‖h‖∞)).
 ///
 /// # Errors
 /// [`StepError::Start`] when Newton does not converge or the matrix is singular.

@@ -1,16 +1,16 @@
 //! The nonsmooth generalized-α stepper (docs/method.md §3–4, paper eqs. 71–143).
 //!
 //! One concept per module:
-//! - [`unknowns`]: the unknowns x of a step (eq. 126) and their offsets;
-//! - [`iterate`]: what one iterate derives from x (eqs. 71–125), the system evaluated
+//! - `unknowns`: the unknowns x of a step (eq. 126) and their offsets;
+//! - `iterate`: what one iterate derives from x (eqs. 71–125), the system evaluated
 //!   there, and its index sets (eqs. 128–142);
-//! - [`assemble`]: the residual R(x) (eqs. 127–142) and its semismooth Jacobian (eq. 143);
-//! - [`rows`]: sparse rows over x and the chain rule through q_{n+1}(x), u_{n+1}(x);
-//! - [`solve`]: one Newton attempt at the step on nsga's [`newton`](crate::newton)
+//! - `assemble`: the residual R(x) (eqs. 127–142) and its semismooth Jacobian (eq. 143);
+//! - `rows`: sparse rows over x and the chain rule through q_{n+1}(x), u_{n+1}(x);
+//! - `solve`: one Newton attempt at the step on nsga's [`newton`](crate::newton)
 //!   engine, with open contacts pruned and singular matrices regularized;
-//! - [`fallback`]: the policy of a step whose first attempt fails (ρ∞ retries,
+//! - `fallback`: the policy of a step whose first attempt fails (ρ∞ retries,
 //!   fixed-set re-solves, best iterate, halving);
-//! - [`branch`]: the fixed-set re-solves and their self-consistent, deduplicated
+//! - `branch`: the fixed-set re-solves and their self-consistent, deduplicated
 //!   candidates (branch points).
 
 use crate::attempt::Trial;

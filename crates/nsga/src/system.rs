@@ -360,24 +360,49 @@ struct AdScratch {
 }
 
 /// A mechanical system with frictional contacts; see the module docs.
+///
+/// Units are the system's own, used consistently (SI in the bundled systems): the
+/// stepper never mixes them with constants of its own, except that its tolerances are
+/// on impulses (force × time) and lengths; see [`Options::tol`](crate::Options::tol).
+/// Signs: a gap is positive when open and negative when penetrating; the force
+/// directions W point along the force the constraint's multiplier exerts for a
+/// positive multiplier (a normal force pushes the gap open).
 pub trait System {
-    /// Sizes and contact data (called once, when a stepper is built).
+    /// Sizes and contact data, fixed for the whole run (called once, when a stepper is
+    /// built): nq, nu, the numbers of bilateral constraints, e_N per normal contact and
+    /// the friction laws ([`Layout::validate`] checks it).
     fn layout(&self) -> Layout;
 
-    /// Evaluates M, h, the constraint values, their W matrices and the χ, ζ terms at
-    /// (t, q, u). Written generically so that the default [`System::derivatives`] can
-    /// differentiate it exactly. W and χ must not depend on u.
+    /// Evaluates everything the stepper needs at (t, q, u) into `out`, whose vectors
+    /// come zeroed and whose triplet lists come empty (shapes in [`Evaluation`]):
+    ///
+    /// - `mass`: M(t, q), nu × nu, symmetric positive definite;
+    /// - `forces`: h(t, q, u), nu: applied and gyroscopic forces (gravity as −m g);
+    /// - `position`: p = (g, g_N), ng + nN: bilateral constraints (0 when satisfied),
+    ///   then the normal gaps (≥ 0 when open);
+    /// - `position_w`: W_p, nu × (ng + nN) as (velocity index, constraint index, value),
+    ///   so that ṗ = W_pᵀ u + χ_p; `position_chi`: χ_p (prescribed motion, else 0);
+    ///   `position_zeta`: ζ_p with p̈ = W_pᵀ a + ζ_p;
+    /// - `velocity_w`: W_v, nu × (nγ + nF): the bilateral velocity constraints γ and the
+    ///   friction slips γ_F (components of each law in a row, laws in layout order), so
+    ///   that v = W_vᵀ u + χ_v; `velocity_chi`: χ_v; `velocity_zeta`: ζ_v with
+    ///   v̇ = W_vᵀ a + ζ_v.
+    ///
+    /// Written generically over [`Scalar`] so that the default
+    /// [`System::derivatives`] can differentiate it exactly. W and χ must not depend on
+    /// u. `t` is the integrator's own time t_k = t0 + kΔt (ERRATA 20).
     fn evaluate<T: Scalar>(&self, t: f64, q: &[T], u: &[T], out: &mut Evaluation<T>);
 
-    /// The kinematic matrix B(t,q) (nq × nu) of q̇ = B u. Default: the identity (q̇ = u).
+    /// The kinematic matrix B(t,q) (nq × nu, as (coordinate, velocity, value) triplets)
+    /// of q̇ = B u. Default: the identity (q̇ = u).
     fn kinematics(&self, _t: f64, q: &[f64], b: &mut Triplets<f64>) {
         for i in 0..q.len() {
             b.push(i, i, 1.0);
         }
     }
 
-    /// Ḃ(t,q,u) u, the velocity-dependent part of q̈ = B a + Ḃ u. Default: zero
-    /// (`out` comes zeroed).
+    /// Ḃ(t,q,u) u (nq), the velocity-dependent part of q̈ = B a + Ḃ u, added to `out`
+    /// (which comes zeroed). Default: zero.
     fn kinematics_rate(&self, _t: f64, _q: &[f64], _u: &[f64], _out: &mut [f64]) {}
 
     /// The exact derivatives of [`System::evaluate`] the Newton iteration needs.

@@ -142,7 +142,7 @@ impl<S: System> Stepper<S> {
     ///
     /// The substeps' statistics are merged into one [`StepStats`]: iterations and retries
     /// summed (plus one retry for the failed whole step), `substeps` counted, the first
-    /// branch point kept; [`RunStats`] counts one step.
+    /// branch point kept; [`RunStats`](crate::RunStats) counts one step.
     ///
     /// # Errors
     /// [`StepError::InvalidInput`] for `parts` = 0; otherwise the first substep error,

@@ -1,4 +1,4 @@
-//! One Newton attempt at the step (eq. 143) on the crate's [`newton`](crate::newton)
+//! One Newton attempt at the step (eq. 143) on the crate's [`crate::newton`]
 //! engine: the step as a [`NewtonProblem`], the pruning of open contacts from the linear
 //! solve, and the Newton update with its regularization of singular matrices
 //! (docs/method.md §4, §7).
