@@ -4,7 +4,7 @@
 //! the motion is evaluated at the integrator's own time t (no resampled grid), so its
 //! position, velocity and acceleration always agree.
 
-use crate::block::{finite, positive};
+use input::{finite, positive};
 use crate::coordinates::{BodyState, Pose, Twist};
 use crate::error::BlockError;
 

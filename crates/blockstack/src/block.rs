@@ -2,6 +2,7 @@
 
 use crate::coordinates::Pose;
 use crate::error::BlockError;
+use input::{finite, positive};
 
 /// A rectangular rigid block of width w, height h and mass m (§4.2).
 ///
@@ -15,29 +16,6 @@ pub struct Block {
     mass: f64,
     /// Initial pose of the centre of mass.
     pub initial: Pose,
-}
-
-/// Checks that `value` is finite and positive.
-pub(crate) fn positive(name: &str, value: f64) -> Result<f64, BlockError> {
-    if !value.is_finite() {
-        return Err(BlockError::NonFinite(name.to_string()));
-    }
-    if value <= 0.0 {
-        return Err(BlockError::NotPositive {
-            name: name.to_string(),
-            value,
-        });
-    }
-    Ok(value)
-}
-
-/// Checks that `value` is finite.
-pub(crate) fn finite(name: &str, value: f64) -> Result<f64, BlockError> {
-    if value.is_finite() {
-        Ok(value)
-    } else {
-        Err(BlockError::NonFinite(name.to_string()))
-    }
 }
 
 impl Block {
@@ -116,15 +94,15 @@ mod tests {
     fn rejects_bad_sizes() {
         assert!(matches!(
             Block::new(-1.0, 1.0, 1.0),
-            Err(BlockError::NotPositive { .. })
+            Err(BlockError::Input(input::InputError::NotPositive { .. }))
         ));
         assert!(matches!(
             Block::new(1.0, 0.0, 1.0),
-            Err(BlockError::NotPositive { .. })
+            Err(BlockError::Input(input::InputError::NotPositive { .. }))
         ));
         assert!(matches!(
             Block::new(1.0, 1.0, f64::NAN),
-            Err(BlockError::NonFinite(_))
+            Err(BlockError::Input(input::InputError::NonFinite(_)))
         ));
         assert!(Block::new(1.0, 1.0, 1.0)
             .unwrap()

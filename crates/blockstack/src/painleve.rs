@@ -13,7 +13,7 @@
 //! Line contact (§I.2): both bottom corners on the plane, ϑ = ϑ' = 0, sliding with
 //! sgn(ẋ) = s; the normal forces solve the 2 × 2 LCP (I.2.5)–(I.2.6).
 
-use crate::block::positive;
+use input::positive;
 use crate::error::BlockError;
 
 /// The coefficient b(ϑ, sgn ẋ_P, μ_d) of (I.1.8), corrected per ERRATA 18.
@@ -219,13 +219,7 @@ pub fn line_contact_solutions(
 ) -> Result<Vec<LineContact>, BlockError> {
     positive("width", width)?;
     positive("height", height)?;
-    crate::block::finite("mu", mu_d)?;
-    if mu_d < 0.0 {
-        return Err(BlockError::Negative {
-            name: "mu".into(),
-            value: mu_d,
-        });
-    }
+    input::non_negative("mu", mu_d)?;
     let b = line_contact_matrix(width, height, mu_d, slip_sign);
     let tol = 1e-12;
     let mut out = Vec::new();

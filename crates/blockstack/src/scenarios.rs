@@ -220,9 +220,9 @@ impl Default for Shaking {
 /// # Errors
 /// Bad parameters (ω ≤ 0, negative μ, …).
 pub fn shaking_column(p: &Shaking) -> Result<Scene, BlockError> {
-    crate::block::positive("omega", p.omega)?;
-    crate::block::positive("periods", p.periods)?;
-    crate::block::positive("steps per period", p.steps_per_period)?;
+    input::positive("omega", p.omega)?;
+    input::positive("periods", p.periods)?;
+    input::positive("steps per period", p.steps_per_period)?;
     let base = Base::new(1.0, 0.1, BaseMotion::harmonic(p.amplitude, p.omega)?)?;
     let block = Block::new(0.2, 0.4, 1.0)?;
     let blocks = stack_on(&base, &vec![(block, 0.0, 0.0); p.blocks])?;

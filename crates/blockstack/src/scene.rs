@@ -2,7 +2,8 @@
 //! solver parameters (§4.2, "Simulation Parameters"), validated.
 
 use crate::base::Base;
-use crate::block::{finite, positive, Block};
+use crate::block::Block;
+use input::{finite, positive};
 use crate::coordinates::{BodyState, Pose, Scalar, Twist};
 use crate::error::BlockError;
 use crate::floor::Floor;
@@ -26,23 +27,9 @@ impl ContactParams {
     /// # Errors
     /// The first parameter out of range.
     pub fn validate(&self) -> Result<(), BlockError> {
-        finite("mu", self.mu)?;
-        if self.mu < 0.0 {
-            return Err(BlockError::Negative {
-                name: "mu".into(),
-                value: self.mu,
-            });
-        }
-        for (name, e) in [("e_n", self.e_n), ("e_f", self.e_f)] {
-            finite(name, e)?;
-            if !(0.0..=1.0).contains(&e) {
-                return Err(BlockError::OutOfRange {
-                    name: name.into(),
-                    range: "[0, 1]",
-                    value: e,
-                });
-            }
-        }
+        input::non_negative("mu", self.mu)?;
+        input::in_range("e_n", self.e_n, 0.0..=1.0, "[0, 1]")?;
+        input::in_range("e_f", self.e_f, 0.0..=1.0, "[0, 1]")?;
         Ok(())
     }
 }
@@ -93,14 +80,7 @@ impl SolverParams {
         positive("dt", self.dt)?;
         positive("t_end", self.t_end)?;
         positive("tol", self.tol)?;
-        finite("rho_inf", self.rho_inf)?;
-        if !(0.0..=1.0).contains(&self.rho_inf) {
-            return Err(BlockError::OutOfRange {
-                name: "rho_inf".into(),
-                range: "[0, 1]",
-                value: self.rho_inf,
-            });
-        }
+        input::in_range("rho_inf", self.rho_inf, 0.0..=1.0, "[0, 1]")?;
         match self.prox {
             Prox::Constant(r) => {
                 positive("r", r)?;
@@ -108,21 +88,16 @@ impl SolverParams {
             Prox::Scaled(alpha) => {
                 positive("r_alpha", alpha)?;
                 if alpha >= 2.0 {
-                    return Err(BlockError::OutOfRange {
+                    return Err(input::InputError::OutOfRange {
                         name: "r_alpha".into(),
                         range: "(0, 2)",
                         value: alpha,
-                    });
+                    }
+                    .into());
                 }
             }
         }
-        finite("gravity", self.gravity)?;
-        if self.gravity < 0.0 {
-            return Err(BlockError::Negative {
-                name: "gravity".into(),
-                value: self.gravity,
-            });
-        }
+        input::non_negative("gravity", self.gravity)?;
         Ok(())
     }
 }
@@ -370,11 +345,12 @@ pub(crate) fn stack_on_top(
     k: usize,
 ) -> Result<Block, BlockError> {
     if theta.abs() >= std::f64::consts::FRAC_PI_2 {
-        return Err(BlockError::OutOfRange {
+        return Err(input::InputError::OutOfRange {
             name: format!("block {} theta", k + 1),
             range: "(-pi/2, pi/2)",
             value: theta,
-        });
+        }
+        .into());
     }
     block.at(x, top + block.half_vertical_extent(theta), theta)
 }

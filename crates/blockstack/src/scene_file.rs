@@ -287,11 +287,11 @@ impl SceneFile {
         let mut blocks = Vec::with_capacity(column.len());
         for (k, (block, x, y, th)) in column.into_iter().enumerate() {
             let name = |what: &str| format!("block {} {what}", k + 1);
-            crate::block::finite(&name("x"), x)?;
-            crate::block::finite(&name("theta"), th)?;
+            input::finite(&name("x"), x)?;
+            input::finite(&name("theta"), th)?;
             let placed = match y {
                 // An explicit height: taken as is (the overlap check judges it).
-                Some(y) => block.at(x, crate::block::finite(&name("y"), y)?, th)?,
+                Some(y) => block.at(x, input::finite(&name("y"), y)?, th)?,
                 None => {
                     let top = blocks.last().map_or(base.top(), |b: &Block| {
                         b.initial.y + b.half_vertical_extent(b.initial.theta)
@@ -329,11 +329,7 @@ impl SceneFile {
 /// Prefixes "block k" to the name in a block-constructor error.
 fn name_block(e: BlockError, k: usize) -> BlockError {
     match e {
-        BlockError::NotPositive { name, value } => BlockError::NotPositive {
-            name: format!("block {k} {name}"),
-            value,
-        },
-        BlockError::NonFinite(name) => BlockError::NonFinite(format!("block {k} {name}")),
+        BlockError::Input(e) => BlockError::Input(e.prefixed(&format!("block {k}"))),
         other => other,
     }
 }

@@ -1,9 +1,10 @@
 //! Running a scene with the nonsmooth generalized-α stepper (§4.2–4.5): records per
 //! step, the failure times of §4.4, energy, branch points, and a summary.
 //!
-//! - **Start** (§4.3): nsga's consistent start solves once with every closed contact
-//!   closed and sticking, so a resting column starts with its static contact forces and
-//!   no first-step impulse.
+//! - **Start** (§4.3): nsga's consistent start (docs/method.md §5) solves the
+//!   acceleration-level contact problem of the contacts closed at t = 0 (each may stay
+//!   closed or separate, stick or slide), so a resting column starts with its static
+//!   contact forces and no first-step impulse.
 //! - **Failure** (§4.4, Figure 4.6): `failure_time` is the first time any block has lost
 //!   its support on the block beneath ((G.2.4) corrected, ERRATA 23); `opening_time` the
 //!   first time any interface is open along its whole edge (both gaps above
@@ -322,7 +323,7 @@ pub fn simulate(
     mut on_step: impl FnMut(&StepRecord),
 ) -> Result<RunSummary, BlockstackError> {
     let t_end = options.t_end.unwrap_or(scene.solver.t_end);
-    crate::block::positive("t_end", t_end)?;
+    input::positive("t_end", t_end)?;
     let opts = stepper_options(scene, options)?;
     let dt = opts.dt;
     let steps_wanted = step_count(t_end, dt);

@@ -204,7 +204,7 @@ impl<S: System> MoreauStepper<S> {
                 Err(StepError::Linear {
                     t: self.state.t,
                     message: "Moreau–Jean Newton did not converge".into(),
-                    state: Box::default(),
+                    state: Box::new(self.state.as_state()),
                 })
             }
         }

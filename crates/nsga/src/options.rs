@@ -7,7 +7,7 @@ use crate::linalg::MARKOWITZ_SPARSE_THRESHOLD;
 #[cfg(doc)]
 use crate::newton::{MAX_REUSES, REUSE_CONTRACTION};
 #[cfg(doc)]
-use crate::Stepper;
+use crate::{Stepper, SINGULAR_SETS_KEPT};
 
 /// How the prox parameter r is chosen (docs/method.md §4).
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
@@ -140,18 +140,6 @@ pub struct Options {
     #[serde(default)]
     pub boundary_resolves: bool,
 }
-
-/// How many index sets found to have a singular plain Newton matrix are remembered
-/// (see [`Options::regularization`]). Redundancy is a property of which contacts are
-/// closed, so the normal sets (A, B, C) of such a matrix stay singular while the bodies
-/// keep their arrangement, whatever the friction laws do. After the Lire collapse
-/// lands on a floor, Newton moves among a handful of normal sets and dozens of stick–slip
-/// combinations; remembering only the last singular set made it rediscover each at the
-/// cost of a failed plain factorization and a dense LU. Over the Lire collapse on a floor
-/// and 99 neighbours (`cargo run --release -p blockstack --example lire_nearby 100
-/// --floor`) that took
-/// 938 linear solves per run, against 810 remembering the normal sets of the last 16.
-pub const SINGULAR_SETS_KEPT: usize = 16;
 
 /// Default [`Options::retry_max_iter`]. Measured with the Lire collapse and the two
 /// block sweeps (`rollstack blocks lire --perturb bottom`, `blocks sweep frequency

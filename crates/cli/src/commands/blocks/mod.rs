@@ -68,7 +68,7 @@ pub fn run(args: &BlocksArgs) -> Result<()> {
 #[derive(Debug, Clone, Args)]
 pub struct SolverArgs {
     /// Use one constant prox parameter r > 0 for every contact (the thesis: 0.3; model
-    /// units of mass per time) instead of the scene's choice (default: scaled per
+    /// units of mass) instead of the scene's choice (default: scaled per
     /// constraint, r_k = 1/(w_kᵀM⁻¹w_k), docs/method.md §4).
     #[arg(long, value_parser = parse_finite, allow_hyphen_values = true)]
     pub prox_constant: Option<f64>,
