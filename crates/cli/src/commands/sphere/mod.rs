@@ -53,6 +53,15 @@ pub fn run(args: &SphereArgs) -> Result<()> {
     }
 }
 
+/// The direction of travel the `--cw` flag names.
+fn direction(cw: bool) -> Direction {
+    if cw {
+        Direction::Cw
+    } else {
+        Direction::Ccw
+    }
+}
+
 /// The `ccw` column of the CSV files: 1 for counter-clockwise travel, 0 for clockwise.
 fn ccw_column(direction: Direction) -> f64 {
     f64::from(u8::from(direction == Direction::Ccw))

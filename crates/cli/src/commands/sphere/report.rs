@@ -1,15 +1,15 @@
 //! `rollstack sphere holonomy`: the holonomy report of one rectangle
 //! ([`holonomy::studies::report`]).
 
-use super::ccw_column;
 use super::plots::{plot_level_sets, plot_rectangles};
+use super::{ccw_column, direction};
 use crate::angles::Angle;
 use crate::output::{ensure_dir, print_json, write_csv_f64, write_run_json};
 use anyhow::Result;
 use clap::Args;
 use holonomy::studies::plan::RectangleReport;
 use holonomy::studies::report::{holonomy_report, HolonomyReport};
-use holonomy::{Direction, PlacedRectangle, Rectangle};
+use holonomy::{PlacedRectangle, Rectangle};
 use std::path::{Path, PathBuf};
 
 /// The rectangle flags shared by `holonomy` and `roll`.
@@ -31,11 +31,7 @@ pub struct RectangleArgs {
 
 impl RectangleArgs {
     fn rectangle(&self) -> Result<Rectangle> {
-        let d = if self.cw {
-            Direction::Cw
-        } else {
-            Direction::Ccw
-        };
+        let d = direction(self.cw);
         Ok(Rectangle::new(self.theta.0, self.phi1.0, self.phi2.0, d)?)
     }
 }

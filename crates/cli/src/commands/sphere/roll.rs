@@ -1,13 +1,14 @@
 //! `rollstack sphere roll`: rolling along a closed path against the closed form, and the
 //! integrators' speed-vs-error study ([`holonomy::studies::roll`]).
 
+use super::direction;
 use super::plots::{plot_study, plot_traces};
 use crate::angles::{parse_number_list, Angle};
 use crate::output::{ensure_dir, print_json, write_csv, write_csv_f64, write_run_json};
 use anyhow::{bail, Context, Result};
 use clap::{Args, ValueEnum};
 use holonomy::studies::roll::{integrator_study, roll_report, ClosedPath, PathShape, StudyRow};
-use holonomy::{Direction, Integrator, Rectangle, Trajectory};
+use holonomy::{Integrator, Rectangle, Trajectory};
 use std::path::{Path, PathBuf};
 
 /// The two integrators of `sphere roll`.
@@ -69,11 +70,7 @@ pub struct RollArgs {
 impl RollArgs {
     /// The path the flags name: the circle, else the polygon, else the rectangle.
     fn shape(&self) -> Result<PathShape> {
-        let direction = if self.cw {
-            Direction::Cw
-        } else {
-            Direction::Ccw
-        };
+        let direction = direction(self.cw);
         if let Some(radius) = self.circle {
             return Ok(PathShape::Circle { radius, direction });
         }
@@ -96,11 +93,7 @@ impl RollArgs {
 pub(super) fn run(a: &RollArgs) -> Result<()> {
     let closed = ClosedPath::new(&a.shape()?)?;
     let (rep, traj) = roll_report(&closed, a.integrator.into(), a.steps)?;
-    let study = if a.study {
-        Some(integrator_study()?)
-    } else {
-        None
-    };
+    let study = a.study.then(integrator_study).transpose()?;
     let label = &closed.label;
     if let Some(dir) = &a.out {
         ensure_dir(dir)?;
