@@ -45,7 +45,10 @@ pub struct ClosedPath {
 }
 
 impl ClosedPath {
-    /// The path of a shape and its closed-form holonomy, for a sphere of radius 1.
+    /// The path of a shape and its closed-form holonomy, for a sphere of radius 1: the
+    /// product (2.4.2) (transposed (2.4.5) clockwise) for a rectangle, one rotation by
+    /// 2π√(1 + ρ²) for a circle ([`circle_holonomy`]), the product of the sides'
+    /// rotations (2.3.5) for a polygon ([`polygon_holonomy`]).
     ///
     /// # Errors
     /// A circle radius that is not finite and positive, a polygon with non-finite
