@@ -1,4 +1,4 @@
-//! `rollstack sphere ...` end to end: JSON keys of DESIGN.md and the thesis's numbers.
+//! `rollstack sphere ...` end to end: the JSON keys of docs/cli.md and the thesis's numbers.
 
 mod common;
 

@@ -12,8 +12,12 @@
 //!   each verified by the forward product; [`appendix_c`] the thesis's root-finding route;
 //! - [`euler`]: three rectangles for any rotation through the 3-2-3, 3-1-3, 3-2-1 and
 //!   3-1-2 Euler angles (§2.5, ERRATA items 5, 6);
-//! - [`roll`]: kinematic rolling along any closed polygon or circle, (2.3.4)–(2.3.5),
-//!   with an exact (Lie-group exponential) and an RK4 integrator.
+//! - [`mod@roll`]: kinematic rolling along any closed polygon or circle, (2.3.4)–(2.3.5),
+//!   with an exact (Lie-group exponential) and an RK4 integrator;
+//! - [`studies`]: what `rollstack sphere` and the tour report, as typed, serializable
+//!   results: the holonomy report of a rectangle, the plans with their waypoints, rolling
+//!   against the closed form and the integrators' speed-vs-error study, the level sets of
+//!   Figure 2.5, and the worked examples (2.4.10), (2.4.12) with their printed values.
 //!
 //! Conventions: lengths of rectangles are angles (units of the sphere's radius R), all
 //! angles are radians, components are on {A1, A2, A3 = E3}, and `R2 * R1` means R1 first.
@@ -33,6 +37,10 @@
 //! assert!(plans.iter().all(|p| p.error < 1e-12));
 //! assert!(plans.iter().any(|p| (p.rectangle.theta - rect.theta).abs() < 1e-9
 //!     && (p.rectangle.phi2 - rect.phi2).abs() < 1e-9));
+//!
+//! // The same as `rollstack sphere holonomy --json` prints it.
+//! let report = holonomy::studies::report::holonomy_report(&rect);
+//! assert!((report.e3_final[2] - 0.917896).abs() < 1e-6);
 //! # Ok::<(), holonomy::HolonomyError>(())
 //! ```
 #![warn(missing_docs)]
@@ -44,6 +52,7 @@ pub mod placed;
 pub mod planner;
 pub mod rectangle;
 pub mod roll;
+pub mod studies;
 
 pub use error::HolonomyError;
 pub use euler::{euler_plan, euler_plan_for_rotation, EulerPlan};
@@ -52,4 +61,4 @@ pub use planner::{plan_rectangles, shortest, PlannedRectangle};
 pub use rectangle::{
     holonomy_components, rectangle_holonomy, rectangle_holonomy_closed_form, Direction, Rectangle,
 };
-pub use roll::{circle_holonomy, roll, CentrePath, Integrator, Trajectory};
+pub use roll::{circle_holonomy, polygon_holonomy, roll, CentrePath, Integrator, Trajectory};

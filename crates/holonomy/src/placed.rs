@@ -19,6 +19,17 @@ pub struct PlacedRectangle {
 }
 
 impl PlacedRectangle {
+    /// The rectangle in the ground frame itself: heading 0 (Aᵢ = Eᵢ), starting at the
+    /// origin, as in Figure 2.3.
+    #[must_use]
+    pub fn at_origin(rectangle: Rectangle) -> Self {
+        Self {
+            rectangle,
+            heading: 0.0,
+            start: [0.0, 0.0],
+        }
+    }
+
     /// The frame rotation R(γ, E3), which maps Eᵢ to Aᵢ.
     #[must_use]
     pub fn frame(&self) -> Rotation3<f64> {
@@ -42,5 +53,19 @@ impl PlacedRectangle {
             .into_iter()
             .map(|[x, y]| [self.start[0] + c * x - s * y, self.start[1] + s * x + c * y])
             .collect()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::rectangle::Direction;
+
+    #[test]
+    fn at_origin_is_the_rectangle_itself() {
+        let r = Rectangle::new(1.0, 0.5, 2.0, Direction::Cw).unwrap();
+        let p = PlacedRectangle::at_origin(r);
+        assert_eq!(p.waypoints(), r.waypoints());
+        assert!(rotations::rotation_distance(&p.holonomy(), &r.holonomy()) < 1e-15);
     }
 }

@@ -206,7 +206,7 @@ pub fn axis_a_r(phi1: f64, phi2: f64) -> Vector3<f64> {
 /// Rectangle holonomy from the components (B.1.2)–(B.1.3), **corrected by ERRATA
 /// item 3** (`sx` read as `sy`, so M22 = cos²ϑ + cos φ2 sin²ϑ):
 ///
-/// [S] = Y(φ2 − φ1) [M] Y(φ1), Y(α) = [[cos α, 0, sin α], [0, 1, 0], [−sin α, 0, cos α]],
+/// `[S] = Y(φ2 − φ1) [M] Y(φ1)`, `Y(α) = [[cos α, 0, sin α], [0, 1, 0], [−sin α, 0, cos α]]`,
 ///
 /// with M exactly as printed in (B.1.3) (not its transpose, although the middle factor
 /// of (B.1.2) is typeset with the indices M_ji; checked against (2.4.2) to round-off).

@@ -211,6 +211,17 @@ pub enum Integrator {
     Rk4,
 }
 
+impl Integrator {
+    /// `"exact"` or `"rk4"`, as in the CLI's JSON.
+    #[must_use]
+    pub fn as_str(self) -> &'static str {
+        match self {
+            Self::Exact => "exact",
+            Self::Rk4 => "rk4",
+        }
+    }
+}
+
 /// One sample of a rolling motion.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct RollSample {
@@ -374,6 +385,36 @@ pub fn circle_holonomy(
     };
     let w = Vector3::new(0.0, 1.0 / sphere_radius, sign / circle_radius);
     Ok(Rotation3::from_scaled_axis(TAU * circle_radius * w))
+}
+
+/// The holonomy of rolling once around a closed polygon, in closed form: the product of
+/// the rotations of its sides in the order of travel, a side of length L along the
+/// horizontal unit vector d turning the sphere by L/R about E3 × d ((2.3.4)–(2.3.5)),
+/// S = R(Lₙ/R, E3 × dₙ) ⋯ R(L₁/R, E3 × d₁).
+///
+/// # Errors
+/// A non-positive or non-finite sphere radius, or a path with a circular arc
+/// ([`HolonomyError::InvalidPath`]): on an arc the axis turns and the product does not
+/// apply (see [`circle_holonomy`]).
+pub fn polygon_holonomy(
+    path: &CentrePath,
+    sphere_radius: f64,
+) -> Result<Rotation3<f64>, HolonomyError> {
+    check_radius(sphere_radius)?;
+    let mut q = UnitQuaternion::identity();
+    for seg in path.segments() {
+        if let Segment::Arc { .. } = seg {
+            return Err(HolonomyError::InvalidPath(
+                "the polygon holonomy needs straight sides, not arcs".into(),
+            ));
+        }
+        let (_, d) = seg.point_and_tangent(0.0);
+        q = UnitQuaternion::from_axis_angle(
+            &Unit::new_normalize(Vector3::z().cross(&d)),
+            seg.length() / sphere_radius,
+        ) * q;
+    }
+    Ok(q.to_rotation_matrix())
 }
 
 /// The unit axis and angle in [0, π] of a quaternion, for reporting.

@@ -23,4 +23,16 @@ pub enum RotationError {
     /// The name of an Euler-angle set is not one of the twelve.
     #[error("unknown Euler-angle set '{0}' (expected one of 1-2-1, 1-2-3, 1-3-1, 1-3-2, 2-1-2, 2-1-3, 2-3-1, 2-3-2, 3-1-2, 3-1-3, 3-2-1, 3-2-3)")]
     UnknownEulerSet(String),
+    /// The name of a representation is not one of `axis-angle`, `quaternion`, `matrix`,
+    /// `euler:SET`.
+    #[error("unknown representation '{0}' (expected axis-angle, quaternion, matrix or euler:SET)")]
+    UnknownRepresentation(String),
+    /// A representation got the wrong number of values.
+    #[error("{expected} values are needed for this representation, got {got}")]
+    WrongValueCount {
+        /// How many the representation takes.
+        expected: usize,
+        /// How many were given.
+        got: usize,
+    },
 }

@@ -9,10 +9,13 @@
 //!   (Rodrigues) formula of footnote 3 of Ch. 2 ([`compound`]);
 //! - all twelve Euler-angle sets ([`EulerSet`]), with their Euler basis gᵢ and dual basis
 //!   gⁱ (A.1.4), (A.2.2), and the angular velocity from angle rates (A.2.1);
-//! - the angular velocity of R(θ(t), r(t)) (2.2.5) and the [`skewt`] helper.
+//! - the angular velocity of R(θ(t), r(t)) (2.2.5) and the [`skewt`] helper;
+//! - a rotation from the values of any representation ([`Representation`]), and every
+//!   representation of one rotation at once ([`report`]: [`rotation_report`], the JSON of
+//!   `rollstack rotation`).
 //!
-//! Conventions (DESIGN.md): angles are radians; `R2 * R1` means R1 first; a matrix entry
-//! `[i][j]` is Eᵢ · R Eⱼ; a quaternion is (q0, q) with q0 the scalar part.
+//! Conventions (docs/architecture.md): angles are radians; `R2 * R1` means R1 first; a
+//! matrix entry `[i][j]` is Eᵢ · R Eⱼ; a quaternion is (q0, q) with q0 the scalar part.
 //!
 //! ```
 //! use rotations::{AxisAngle, EulerSet, Vector3};
@@ -26,6 +29,10 @@
 //! let angles = EulerSet::from_name("3-1-3")?.angles(&total);
 //! let back = EulerSet::from_name("3-1-3")?.rotation(angles);
 //! assert!((back.matrix() - total.matrix()).norm() < 1e-15);
+//!
+//! // Every representation at once (the JSON of `rollstack rotation`).
+//! let report = rotations::rotation_report(&total);
+//! assert!((report.angle - 2.0 * PI / 3.0).abs() < 1e-15 && report.euler.len() == 12);
 //! # Ok::<(), rotations::RotationError>(())
 //! ```
 #![warn(missing_docs)]
@@ -35,6 +42,8 @@ mod axis_angle;
 mod error;
 mod euler;
 mod quaternion;
+pub mod report;
+mod representation;
 mod skew;
 
 pub use angular_velocity::axis_angle_angular_velocity;
@@ -45,6 +54,8 @@ pub use quaternion::{
     canonical_quaternion, compound, quaternion_from_matrix, rotation_from_matrix,
     rotation_from_quaternion,
 };
+pub use report::{rotation_report, RotationReport};
+pub use representation::{Representation, MATRIX_INPUT_TOLERANCE};
 pub use skew::{axial, skewt};
 
 pub use nalgebra::{Matrix3, Rotation3, Unit, UnitQuaternion, Vector3};

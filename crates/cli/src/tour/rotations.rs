@@ -1,18 +1,15 @@
 //! Tour section: the rotation tools on one rotation, the holonomy (2.4.10) of the thesis.
+//! The numbers come from [`rotations::report`].
 
 use super::{Block, Section};
 use crate::output::write_csv;
 use crate::plot::{err, with_png, FONT, PALETTE};
 use anyhow::Result;
+use holonomy::studies::examples::printed_holonomy_2_4_10;
 use plotters::prelude::*;
-use rotations::{rotation_distance, AxisAngle, EulerSet, Rotation3, Vector3};
+use rotations::report::euler_round_trip;
+use rotations::{AxisAngle, EulerSet, Rotation3, Vector3};
 use std::path::Path;
-
-/// ψ = 62.7042°, s = −0.389418 A1 − 0.921061 A3: the holonomy printed in (2.4.10).
-fn example_rotation() -> Result<Rotation3<f64>> {
-    let axis = Vector3::new(-0.389_418, 0.0, -0.921_061);
-    Ok(AxisAngle::new(62.7042_f64.to_radians(), axis)?.to_rotation())
-}
 
 /// Builds the section: a table of four Euler decompositions, all twelve as CSV, and a
 /// picture of the rotated basis.
@@ -20,19 +17,20 @@ fn example_rotation() -> Result<Rotation3<f64>> {
 /// # Errors
 /// When a file cannot be written.
 pub fn section(dir: &Path) -> Result<Section> {
-    let r = example_rotation()?;
+    // ψ = 62.7042°, s = −0.389418 A1 − 0.921061 A3: the holonomy printed in (2.4.10).
+    let r = printed_holonomy_2_4_10()?;
     let mut rows = Vec::new();
     let mut worst: f64 = 0.0;
     for set in EulerSet::ALL {
-        let a = set.angles(&r);
-        let error = rotation_distance(&set.rotation(a), &r);
-        worst = worst.max(error);
+        let trip = euler_round_trip(set, &r);
+        worst = worst.max(trip.error);
+        let [a1, a2, a3] = trip.angles.map(f64::to_degrees);
         rows.push(vec![
             set.to_string(),
-            format!("{:.6}", a[0].to_degrees()),
-            format!("{:.6}", a[1].to_degrees()),
-            format!("{:.6}", a[2].to_degrees()),
-            format!("{error:.1e}"),
+            format!("{a1:.6}"),
+            format!("{a2:.6}"),
+            format!("{a3:.6}"),
+            format!("{:.1e}", trip.error),
         ]);
     }
     let header = ["set", "a1_deg", "a2_deg", "a3_deg", "roundtrip_error_rad"];
@@ -41,9 +39,7 @@ pub fn section(dir: &Path) -> Result<Section> {
 
     // A rotation about E3 sits at the singular value a2 = 0 of the 3-1-3 set.
     let about_e3 = AxisAngle::new(0.9, Vector3::z())?.to_rotation();
-    let set313 = EulerSet::from_name("3-1-3")?;
-    let singular = set313.angles(&about_e3);
-    let singular_error = rotation_distance(&set313.rotation(singular), &about_e3);
+    let singular = euler_round_trip(EulerSet::from_name("3-1-3")?, &about_e3);
 
     let aa = AxisAngle::from_rotation(&r);
     Ok(Section {
@@ -57,8 +53,8 @@ pub fn section(dir: &Path) -> Result<Section> {
                 aa.axis.z
             ),
             format!(
-                "singular 3-1-3 case (0.9 rad about E3): angles [{:.3}, {:.3}, {:.3}], error {singular_error:.1e} rad",
-                singular[0], singular[1], singular[2]
+                "singular 3-1-3 case (0.9 rad about E3): angles [{:.3}, {:.3}, {:.3}], error {:.1e} rad",
+                singular.angles[0], singular.angles[1], singular.angles[2], singular.error
             ),
         ],
         blocks: vec![

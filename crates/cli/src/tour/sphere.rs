@@ -1,16 +1,21 @@
 //! Tour section: the rolling sphere (Ch. 2): (2.4.10) reproduced, the rectangles of
-//! (2.4.12), an Euler three-rectangle plan, and rolling with both integrators.
+//! (2.4.12), an Euler three-rectangle plan, and rolling with both integrators. The
+//! numbers come from [`holonomy::studies`], the files are those of `rollstack sphere`.
 
 use super::{Block, Section};
 use crate::commands::sphere::{
-    holonomy_report, plan_report, plot_level_sets, plot_rectangle_panels, plot_rectangles,
-    plot_traces, roll_study, write_plan_csv, write_study, write_trajectory,
+    plot_level_sets, plot_rectangle_panels, plot_rectangles, plot_traces, write_plan_csv,
+    write_study, write_trajectory,
 };
 use anyhow::Result;
-use holonomy::roll::{roll, CentrePath, Integrator};
-use holonomy::{euler_plan, rectangle_holonomy, Direction, PlacedRectangle, Rectangle};
-use rotations::{rotation_distance, AxisAngle, EulerSet, Vector3};
-use std::f64::consts::{FRAC_PI_2, PI};
+use holonomy::studies::examples::{
+    rectangle_2_4_10, target_2_4_12, PRINTED_RECTANGLES_2_4_12, PRINTED_TOLERANCE_2_4_12,
+};
+use holonomy::studies::plan::{euler_plan_report, plan_report};
+use holonomy::studies::report::holonomy_report;
+use holonomy::studies::roll::{integrator_study, roll_report, ClosedPath, PathShape, StudyPath};
+use holonomy::{euler_plan, Direction, Integrator, Rectangle};
+use rotations::EulerSet;
 use std::path::Path;
 
 /// Builds the section.
@@ -22,12 +27,7 @@ pub fn section(dir: &Path) -> Result<Section> {
     let mut blocks = Vec::new();
 
     // (2.4.10) and Figure 2.1.
-    let r = Rectangle::new(
-        4.0 * PI / 3.0 - 0.5,
-        FRAC_PI_2 - 0.4,
-        3.0 * PI,
-        Direction::Ccw,
-    )?;
+    let r = rectangle_2_4_10();
     let rep = holonomy_report(&r);
     summary.push(format!(
         "(2.4.10): ψ = {:.4}° (printed 62.7042°), s = [{:.6}, {:.6}, {:.6}] (printed −0.389418, 0, −0.921061), e3(t1) = [{:.6}, {:.6}, {:.6}]",
@@ -43,12 +43,8 @@ pub fn section(dir: &Path) -> Result<Section> {
         "product (2.4.2) vs corrected closed form (2.4.6): {:.1e} rad; vs components (B.1.2): {:.1e}",
         rep.closed_form_error, rep.components_error
     ));
-    let traj = roll(
-        &CentrePath::rectangle(&r, 1.0)?,
-        1.0,
-        Integrator::Exact,
-        600,
-    )?;
+    let closed = ClosedPath::new(&PathShape::Rectangle(r))?;
+    let (rolled, traj) = roll_report(&closed, Integrator::Exact, 600)?;
     write_trajectory(&dir.join("figure_2_1_roll.csv"), &traj)?;
     plot_traces(
         &dir.join("figure_2_1.png"),
@@ -70,43 +66,22 @@ pub fn section(dir: &Path) -> Result<Section> {
     });
 
     // (2.4.12) and Figure 2.6.
-    let target = AxisAngle::new(1.5 * PI, Vector3::new(0.1, 0.98_f64.sqrt(), 0.1))?.to_rotation();
-    let (plans, plan) = plan_report(&target)?;
-    let printed = [
-        (3.0333, 3.5379, 8.6465),
-        (3.2499, 0.39626, 2.3633),
-        (3.2499, 6.6794, 8.6465),
-    ];
+    let plan = plan_report(&target_2_4_12()?)?;
     let mut thesis_three = Vec::new();
-    for (t, p1, p2) in printed {
-        if let Some(p) = plans.iter().find(|p| {
-            p.rectangle.direction == Direction::Ccw
-                && (p.rectangle.theta - t).abs() < 1e-4
-                && (p.rectangle.phi1 - p1).abs() < 1e-4
-                && (p.rectangle.phi2 - p2).abs() < 1e-4
-        }) {
-            thesis_three.push(*p);
+    for [t, p1, p2] in PRINTED_RECTANGLES_2_4_12 {
+        let printed = Rectangle::new(t, p1, p2, Direction::Ccw)?;
+        if let Some(found) = plan.find(&printed, PRINTED_TOLERANCE_2_4_12) {
+            thesis_three.push(found.clone());
         }
     }
     summary.push(format!(
         "(2.4.12): R(3π/2, 0.1A1 + √0.98A2 + 0.1A3): {} of the 3 printed rectangles found; {} rectangles in all (both directions, both quaternion signs), max error {:.1e} rad",
         thesis_three.len(),
-        plans.len(),
+        plan.rectangles.len(),
         plan.max_error
     ));
-    write_plan_csv(&dir.join("plan_2_4_12.csv"), &plans)?;
-    let placed = |r: Rectangle| PlacedRectangle {
-        rectangle: r,
-        heading: 0.0,
-        start: [0.0, 0.0],
-    };
-    plot_rectangle_panels(
-        &dir.join("figure_2_6.png"),
-        &thesis_three
-            .iter()
-            .map(|p| placed(p.rectangle))
-            .collect::<Vec<_>>(),
-    )?;
+    write_plan_csv(&dir.join("plan_2_4_12.csv"), &plan.rectangles)?;
+    plot_rectangle_panels(&dir.join("figure_2_6.png"), &thesis_three)?;
     blocks.push(Block::Table {
         header: [
             "ϑ",
@@ -126,7 +101,7 @@ pub fn section(dir: &Path) -> Result<Section> {
                     format!("{:.5}", r.theta),
                     format!("{:.5}", r.phi1),
                     format!("{:.5}", r.phi2),
-                    r.direction.to_owned(),
+                    r.direction.as_str().to_owned(),
                     format!("{:.4}", r.path_length),
                     format!("{:.1e}", r.error),
                 ]
@@ -155,7 +130,7 @@ pub fn section(dir: &Path) -> Result<Section> {
         ("3-2-1", [0.6, 0.5, 1.4], "figure_2_9a.png"),
         ("3-1-2", [0.6, 0.5, 1.4], "figure_2_9b.png"),
     ] {
-        let plan = euler_plan(EulerSet::from_name(set)?, angles)?;
+        let plan = euler_plan_report(&euler_plan(EulerSet::from_name(set)?, angles)?);
         plot_rectangles(
             &dir.join(file),
             &format!(
@@ -178,25 +153,24 @@ pub fn section(dir: &Path) -> Result<Section> {
     }
 
     // Rolling: both integrators against the closed form.
-    let rows = roll_study()?;
+    let rows = integrator_study()?;
     write_study(dir, &rows)?;
-    for integ in ["exact", "rk4"] {
+    for integrator in [Integrator::Exact, Integrator::Rk4] {
         if let Some(row) = rows
             .iter()
-            .find(|x| x.path == "circle" && x.integrator == integ && x.steps == 256)
+            .find(|x| x.path == StudyPath::Circle && x.integrator == integrator && x.steps == 256)
         {
             summary.push(format!(
-                "roll around a circle of radius 2R, {integ}, 256 steps: error {:.1e} rad in {:.1e} s",
-                row.error, row.wall_time_s
+                "roll around a circle of radius 2R, {}, 256 steps: error {:.1e} rad in {:.1e} s",
+                integrator.as_str(),
+                row.error,
+                row.wall_time_s
             ));
         }
     }
-    let check = rotation_distance(
-        &traj.final_orientation().to_rotation_matrix(),
-        &rectangle_holonomy(&r),
-    );
     summary.push(format!(
-        "roll around the rectangle of (2.4.10), exact integrator: error {check:.1e} rad"
+        "roll around the rectangle of (2.4.10), exact integrator: error {:.1e} rad",
+        rolled.error_vs_closed_form
     ));
     blocks.push(Block::Image {
         file: "roll_study.png".into(),
