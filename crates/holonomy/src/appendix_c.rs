@@ -39,7 +39,9 @@ pub fn plan_by_root_finding(
     target: &Rotation3<f64>,
 ) -> Result<Vec<PlannedRectangle>, HolonomyError> {
     if !target.matrix().iter().all(|v| v.is_finite()) {
-        return Err(HolonomyError::NonFinite("target rotation"));
+        return Err(HolonomyError::Input(input::InputError::NonFinite(
+            "target rotation".into(),
+        )));
     }
     let q = quaternion_from_matrix(target.matrix());
     if q.vector().norm() == 0.0 {

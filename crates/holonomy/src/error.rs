@@ -5,25 +5,9 @@ use rotations::RotationError;
 /// Why a rectangle, a target rotation, a path or a rolling run is not acceptable.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum HolonomyError {
-    /// An input value is NaN or infinite.
-    #[error("{0} is not finite")]
-    NonFinite(&'static str),
-    /// A length or angle that must not be negative is negative.
-    #[error("{name} must not be negative, got {value}")]
-    Negative {
-        /// Which quantity.
-        name: &'static str,
-        /// Its value.
-        value: f64,
-    },
-    /// A length that must be positive is zero or negative.
-    #[error("{name} must be positive, got {value}")]
-    NotPositive {
-        /// Which quantity.
-        name: &'static str,
-        /// Its value.
-        value: f64,
-    },
+    /// A value that is not finite, positive or non-negative.
+    #[error(transparent)]
+    Input(#[from] input::InputError),
     /// The starting point S is not on the side of the rectangle: φ1 ∉ [0, φ2] (Figure 2.3).
     #[error("the start parameter phi1 = {phi1} must lie in [0, phi2] = [0, {phi2}]")]
     StartOffSide {

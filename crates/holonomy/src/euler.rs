@@ -75,7 +75,9 @@ fn construction(set: EulerSet) -> Result<Construction, HolonomyError> {
 pub fn euler_plan(set: EulerSet, angles: [f64; 3]) -> Result<EulerPlan, HolonomyError> {
     let kind = construction(set)?;
     if angles.iter().any(|a| !a.is_finite()) {
-        return Err(HolonomyError::NonFinite("Euler angles"));
+        return Err(HolonomyError::Input(input::InputError::NonFinite(
+            "Euler angles".into(),
+        )));
     }
     let target = set.rotation(angles);
     let (lo, hi) = set.second_angle_range();
@@ -163,7 +165,9 @@ pub fn euler_plan_for_rotation(
     target: &Rotation3<f64>,
 ) -> Result<EulerPlan, HolonomyError> {
     if !target.matrix().iter().all(|v| v.is_finite()) {
-        return Err(HolonomyError::NonFinite("target rotation"));
+        return Err(HolonomyError::Input(input::InputError::NonFinite(
+            "target rotation".into(),
+        )));
     }
     construction(set)?;
     let mut plan = euler_plan(set, set.angles(target))?;

@@ -63,11 +63,13 @@ const MERGE: f64 = 1e-9;
 /// documentation for the method and the solution set.
 ///
 /// # Errors
-/// [`HolonomyError::NonFinite`] for a target with NaN entries;
+/// [`HolonomyError::Input`] for a target with NaN entries;
 /// [`HolonomyError::IdentityTarget`] for the identity (infinitely many rectangles).
 pub fn plan_rectangles(target: &Rotation3<f64>) -> Result<Vec<PlannedRectangle>, HolonomyError> {
     if !target.matrix().iter().all(|v| v.is_finite()) {
-        return Err(HolonomyError::NonFinite("target rotation"));
+        return Err(HolonomyError::Input(input::InputError::NonFinite(
+            "target rotation".into(),
+        )));
     }
     let q = quaternion_from_matrix(target.matrix());
     if q.vector().norm() == 0.0 {

@@ -68,7 +68,7 @@ impl Rectangle {
     /// A rectangle, checked: all values finite, ϑ ≥ 0, φ2 ≥ 0, 0 ≤ φ1 ≤ φ2.
     ///
     /// # Errors
-    /// [`HolonomyError::NonFinite`], [`HolonomyError::Negative`] or
+    /// [`HolonomyError::Input`] for a non-finite value or a negative ϑ or φ2;
     /// [`HolonomyError::StartOffSide`].
     pub fn new(
         theta: f64,
@@ -77,22 +77,10 @@ impl Rectangle {
         direction: Direction,
     ) -> Result<Self, HolonomyError> {
         for (name, v) in [("theta", theta), ("phi1", phi1), ("phi2", phi2)] {
-            if !v.is_finite() {
-                return Err(HolonomyError::NonFinite(name));
-            }
+            input::finite(name, v)?;
         }
-        if theta < 0.0 {
-            return Err(HolonomyError::Negative {
-                name: "theta",
-                value: theta,
-            });
-        }
-        if phi2 < 0.0 {
-            return Err(HolonomyError::Negative {
-                name: "phi2",
-                value: phi2,
-            });
-        }
+        input::non_negative("theta", theta)?;
+        input::non_negative("phi2", phi2)?;
         if !(0.0..=phi2).contains(&phi1) {
             return Err(HolonomyError::StartOffSide { phi1, phi2 });
         }

@@ -113,7 +113,9 @@ impl CentrePath {
     /// Non-finite coordinates, or fewer than two distinct vertices.
     pub fn polygon(vertices: &[[f64; 2]]) -> Result<Self, HolonomyError> {
         if vertices.iter().flatten().any(|v| !v.is_finite()) {
-            return Err(HolonomyError::NonFinite("polygon vertex"));
+            return Err(HolonomyError::Input(input::InputError::NonFinite(
+                "polygon vertex".into(),
+            )));
         }
         let n = vertices.len();
         let segments: Vec<Segment> = (0..n)
@@ -137,15 +139,7 @@ impl CentrePath {
     /// # Errors
     /// A radius that is not finite and positive.
     pub fn circle(radius: f64, direction: Direction) -> Result<Self, HolonomyError> {
-        if !radius.is_finite() {
-            return Err(HolonomyError::NonFinite("circle radius"));
-        }
-        if radius <= 0.0 {
-            return Err(HolonomyError::NotPositive {
-                name: "circle radius",
-                value: radius,
-            });
-        }
+        input::positive("circle radius", radius)?;
         let (cy, start, sweep) = match direction {
             Direction::Ccw => (radius, -0.5 * std::f64::consts::PI, TAU),
             Direction::Cw => (-radius, 0.5 * std::f64::consts::PI, -TAU),
@@ -189,15 +183,7 @@ impl CentrePath {
 }
 
 fn check_radius(r: f64) -> Result<(), HolonomyError> {
-    if !r.is_finite() {
-        return Err(HolonomyError::NonFinite("sphere radius"));
-    }
-    if r <= 0.0 {
-        return Err(HolonomyError::NotPositive {
-            name: "sphere radius",
-            value: r,
-        });
-    }
+    input::positive("sphere radius", r)?;
     Ok(())
 }
 

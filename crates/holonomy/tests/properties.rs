@@ -169,7 +169,9 @@ fn planner_hard_targets() {
     let nan = Rotation3::from_matrix_unchecked(nalgebra::Matrix3::from_element(f64::NAN));
     assert_eq!(
         plan_rectangles(&nan),
-        Err(HolonomyError::NonFinite("target rotation"))
+        Err(HolonomyError::Input(input::InputError::NonFinite(
+            "target rotation".into()
+        )))
     );
 }
 

@@ -11,7 +11,7 @@ use serde::{Deserialize, Serialize};
 /// `axis` need not be a unit vector; it is normalised.
 ///
 /// # Errors
-/// [`RotationError::ZeroAxis`] for a zero axis, [`RotationError::NonFinite`] for NaN or
+/// [`RotationError::ZeroAxis`] for a zero axis, [`RotationError::Input`] for NaN or
 /// infinite input.
 pub fn rotation_from_axis_angle(
     angle: f64,
@@ -19,7 +19,9 @@ pub fn rotation_from_axis_angle(
 ) -> Result<Rotation3<f64>, RotationError> {
     let r = unit_axis(axis)?;
     if !angle.is_finite() {
-        return Err(RotationError::NonFinite("angle"));
+        return Err(RotationError::Input(input::InputError::NonFinite(
+            "angle".into(),
+        )));
     }
     Ok(axis_angle_matrix(angle, &r))
 }
@@ -34,7 +36,9 @@ fn axis_angle_matrix(angle: f64, r: &Unit<Vector3<f64>>) -> Rotation3<f64> {
 /// Normalises an axis, rejecting zero and non-finite vectors.
 pub(crate) fn unit_axis(axis: &Vector3<f64>) -> Result<Unit<Vector3<f64>>, RotationError> {
     if !axis.iter().all(|v| v.is_finite()) {
-        return Err(RotationError::NonFinite("axis"));
+        return Err(RotationError::Input(input::InputError::NonFinite(
+            "axis".into(),
+        )));
     }
     Unit::try_new(*axis, 0.0).ok_or(RotationError::ZeroAxis)
 }
@@ -61,7 +65,9 @@ impl AxisAngle {
     /// A zero or non-finite axis, or a non-finite angle.
     pub fn new(angle: f64, axis: Vector3<f64>) -> Result<Self, RotationError> {
         if !angle.is_finite() {
-            return Err(RotationError::NonFinite("angle"));
+            return Err(RotationError::Input(input::InputError::NonFinite(
+                "angle".into(),
+            )));
         }
         Ok(Self {
             angle,

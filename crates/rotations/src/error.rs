@@ -9,9 +9,9 @@ pub enum RotationError {
     /// A quaternion of zero norm cannot be normalised.
     #[error("the quaternion is zero")]
     ZeroQuaternion,
-    /// An input value is NaN or infinite.
-    #[error("{0} is not finite")]
-    NonFinite(&'static str),
+    /// An input value is not finite.
+    #[error(transparent)]
+    Input(#[from] input::InputError),
     /// A matrix is not close to a proper orthogonal one.
     #[error("the matrix is not a rotation (|RᵀR − I| = {orthogonality:.2e}, det = {det:.6})")]
     NotARotation {

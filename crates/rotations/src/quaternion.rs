@@ -14,7 +14,9 @@ pub fn rotation_from_quaternion(
     q: [f64; 4],
 ) -> Result<(UnitQuaternion<f64>, Rotation3<f64>), RotationError> {
     if !q.iter().all(|v| v.is_finite()) {
-        return Err(RotationError::NonFinite("quaternion"));
+        return Err(RotationError::Input(input::InputError::NonFinite(
+            "quaternion".into(),
+        )));
     }
     let raw = Quaternion::new(q[0], q[1], q[2], q[3]);
     let norm = raw.norm();
@@ -129,7 +131,9 @@ pub fn rotation_from_matrix(
     tolerance: f64,
 ) -> Result<Rotation3<f64>, RotationError> {
     if !m.iter().all(|v| v.is_finite()) {
-        return Err(RotationError::NonFinite("matrix"));
+        return Err(RotationError::Input(input::InputError::NonFinite(
+            "matrix".into(),
+        )));
     }
     let orthogonality = (m.transpose() * m - Matrix3::identity()).norm();
     let det = m.determinant();

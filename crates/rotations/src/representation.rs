@@ -100,7 +100,9 @@ impl Representation {
             Self::Matrix => rotation_from_matrix(&Matrix3::from_row_slice(v), matrix_tolerance),
             Self::Euler(set) => {
                 if v.iter().any(|a| !a.is_finite()) {
-                    return Err(RotationError::NonFinite("Euler angles"));
+                    return Err(RotationError::Input(input::InputError::NonFinite(
+                        "Euler angles".into(),
+                    )));
                 }
                 Ok(set.rotation([v[0], v[1], v[2]]))
             }
