@@ -1,6 +1,6 @@
 //! The "Measure it": failed Newton steps and branch points of the Lire collapse
 //! (as in the thesis, and on a floor) and of one shaking run with the thesis's constant r = 0.3 and with the scaled prox
-//! (NSGA-SPEC §4), plus the long rest test (a column of 10 blocks, 10⁴ steps).
+//! (docs/method.md §4), plus the long rest test (a column of 10 blocks, 10⁴ steps).
 //!
 //! `cargo run --release -p blockstack --example measure`
 

@@ -4,9 +4,9 @@
 //! the motion is evaluated at the integrator's own time t (no resampled grid), so its
 //! position, velocity and acceleration always agree.
 
-use input::{finite, positive};
 use crate::coordinates::{BodyState, Pose, Twist};
 use crate::error::BlockError;
+use input::{finite, positive};
 
 /// Position, velocity and acceleration of the base along E₁ at one time.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]

@@ -19,7 +19,7 @@
 //!   exact sparse derivatives whose cost is linear in the number of blocks;
 //! - [`simulation`]: [`simulate`] runs a scene with the nonsmooth generalized-α stepper
 //!   (consistent start of §4.3, failure and opening times of §4.4, energy, branch points
-//!   of NSGA-SPEC §4 / ERRATA 22) and returns a [`RunSummary`].
+//!   of docs/method.md §8, ERRATA 22) and returns a [`RunSummary`].
 //!
 //! ```
 //! use blockstack::scenarios::{lire, Perturbation};

@@ -13,8 +13,8 @@
 //! Line contact (§I.2): both bottom corners on the plane, ϑ = ϑ' = 0, sliding with
 //! sgn(ẋ) = s; the normal forces solve the 2 × 2 LCP (I.2.5)–(I.2.6).
 
-use input::positive;
 use crate::error::BlockError;
+use input::positive;
 
 /// The coefficient b(ϑ, sgn ẋ_P, μ_d) of (I.1.8), corrected per ERRATA 18.
 #[must_use]

@@ -3,12 +3,12 @@
 
 use crate::base::Base;
 use crate::block::Block;
-use input::{finite, positive};
 use crate::coordinates::{BodyState, Pose, Scalar, Twist};
 use crate::error::BlockError;
 use crate::floor::Floor;
 use crate::interface::Size;
 use crate::overlap::penetration_depth;
+use input::{finite, positive};
 
 /// Coulomb friction and restitution, the same at every contact (§4.2).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -34,7 +34,7 @@ impl ContactParams {
     }
 }
 
-/// The prox parameter r of the contact laws (NSGA-SPEC §4): nsga's own choice,
+/// The prox parameter r of the contact laws (docs/method.md §4): nsga's own choice,
 /// `Prox::Scaled(α)` (r_k = α/(w_kᵀM⁻¹w_k), α ∈ (0, 2)) or `Prox::Constant(r)` (the
 /// thesis: r = 0.3).
 pub use nsga::Prox;

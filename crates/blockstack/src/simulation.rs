@@ -159,7 +159,7 @@ pub struct StepRecord {
     pub energy: f64,
 }
 
-/// A step resolved by fixed-set re-solves (NSGA-SPEC §4).
+/// A step resolved by fixed-set re-solves (docs/method.md §8).
 #[derive(Debug, Clone, serde::Serialize)]
 pub struct BranchRecord {
     /// Time at the start of the step.

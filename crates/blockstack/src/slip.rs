@@ -59,7 +59,7 @@ impl<T: Scalar> CornerOnFace<T> {
 
 /// The direction sgn(γ) of a scalar slip speed for the sliding friction force −μλ̂ sgn(γ),
 /// or `None` where it is undefined: |γ| ≤ `tol`. ERRATA 24: a slip row divides by ‖γ‖ and
-/// must not at zero; the caller then drops the direction term (NSGA-SPEC §3).
+/// must not at zero; the caller then drops the direction term (docs/method.md §3).
 #[must_use]
 pub fn slip_direction(gamma: f64, tol: f64) -> Option<f64> {
     (gamma.abs() > tol && gamma.is_finite()).then(|| gamma.signum())

@@ -1,6 +1,6 @@
 //! Angle input: radians by default, `90deg`, and multiples of π such as `3pi/2`.
 //!
-//! DESIGN.md (Conventions): every API takes radians; the command line also accepts
+//! docs/architecture.md (Conventions): every API takes radians; the command line also accepts
 //! degrees and π-fractions because that is how the thesis states its examples.
 
 use std::f64::consts::PI;

@@ -1,6 +1,6 @@
 //! Output files: atomic writes, CSV with a header row, JSON on stdout, and `run.json`.
 //!
-//! DESIGN.md (Conventions): files are written atomically (temp file, then rename) so an
+//! docs/architecture.md (Conventions): files are written atomically (temp file, then rename) so an
 //! interrupted run never leaves a partial file; `--json` prints one object on stdout.
 
 use anyhow::{Context, Result};

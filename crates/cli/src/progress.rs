@@ -1,4 +1,4 @@
-//! Progress bars on stderr, shown only when stderr is a terminal (DESIGN.md, Output).
+//! Progress bars on stderr, shown only when stderr is a terminal (docs/architecture.md, Conventions).
 
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use std::io::IsTerminal;

@@ -1,5 +1,5 @@
 //! Parameter sweeps: `A:B:STEP` ranges, `--shard K/N`, and an order-preserving
-//! parallel map on rayon with a progress bar (DESIGN.md, Conventions).
+//! parallel map on rayon with a progress bar (docs/architecture.md, Conventions).
 
 use anyhow::{bail, Result};
 use rayon::prelude::*;

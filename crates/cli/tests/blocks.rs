@@ -1,4 +1,4 @@
-//! `rollstack blocks …` end to end: JSON keys of DESIGN.md, the thesis's numbers
+//! `rollstack blocks …` end to end: JSON keys of docs/cli.md, the thesis's numbers
 //! (corrected by ERRATA 18), output files (progressive trajectory, sweeps in input
 //! order), and clean errors on bad input. Runs are short (t_end ≤ 1, few sweep points).
 
@@ -91,7 +91,7 @@ fn painleve_rejects_bad_input_with_one_line() {
     assert!(out.stdout.is_empty());
 }
 
-/// The DESIGN.md keys of `blocks run` / `blocks lire`, then the documented extras.
+/// The docs/cli.md keys of `blocks run` / `blocks lire`, then the documented extras.
 const RUN_KEYS: [&str; 6] = [
     "steps",
     "failure_time",

@@ -1,4 +1,4 @@
-//! `rollstack cylinder ...` end to end: JSON keys of DESIGN.md and the thesis's numbers
+//! `rollstack cylinder ...` end to end: JSON keys of docs/cli.md and the thesis's numbers
 //! (corrected per ERRATA 8–15).
 
 mod common;

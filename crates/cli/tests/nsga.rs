@@ -1,4 +1,4 @@
-//! `rollstack nsga`: JSON keys of DESIGN.md and the analytic ball answers.
+//! `rollstack nsga`: JSON keys of docs/cli.md and the analytic ball answers.
 
 mod common;
 

@@ -2,7 +2,7 @@
 //!
 //! Implements the scheme of G. Capobianco, J. Harsch, S. R. Eugster, R. I. Leine, *A
 //! nonsmooth generalized-alpha method for mechanical systems with frictional contact*,
-//! Int. J. Numer. Methods Eng. 122 (2021) 6497–6526, as specified in `NSGA-SPEC.md`
+//! Int. J. Numer. Methods Eng. 122 (2021) 6497–6526, as specified in `docs/method.md`
 //! (equation numbers in the docs are the paper's), used by the thesis in §4.2 and App. H.
 //!
 //! * [`system`]: the [`System`] trait a user implements (coordinates, mass, forces,
@@ -75,7 +75,7 @@
 //!
 //! # Prox parameter and units
 //!
-//! The prox parameter is scaled per constraint, r_k = α/(w_kᵀM⁻¹w_k) (NSGA-SPEC §4),
+//! The prox parameter is scaled per constraint, r_k = α/(w_kᵀM⁻¹w_k) (docs/method.md §4),
 //! with [`Prox::Constant`] kept to reproduce the thesis's r = 0.3. Residual rows are
 //! scaled to impulse units (acceleration-level rows × Δt, position-level rows ÷ Δt) so
 //! that one tolerance fits all rows.

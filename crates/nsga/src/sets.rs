@@ -1,4 +1,4 @@
-//! Index sets of the contact laws (paper eqs. 128–142, NSGA-SPEC §3).
+//! Index sets of the contact laws (paper eqs. 128–142, docs/method.md §3).
 
 /// The active sets of one step: per normal contact A ⊇ B ⊇ C, per friction law D ⊇ E.
 ///

@@ -2,7 +2,7 @@
 
 use crate::linalg::norm;
 
-/// The state carried from step to step (NSGA-SPEC §3 "Carried over").
+/// The state carried from step to step (docs/method.md §3 "Carried over").
 #[derive(Debug, Clone, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct State {
     /// Step counter k (t = t0 + k Δt, ERRATA 20).
