@@ -4,6 +4,21 @@
 //! the shared plumbing every command uses: angle parsing ([`angles`]), atomic output
 //! files and JSON ([`output`]), PNG plots with a bundled font ([`plot`]), progress bars
 //! ([`progress`]) and parameter sweeps ([`sweep`]).
+//!
+//! The library crates compute; this crate parses, calls them, and writes files. Its
+//! pieces are public so that they can be tested, and so that a command can be run from
+//! Rust exactly as from a shell:
+//!
+//! ```
+//! use clap::Parser;
+//!
+//! let cli = rollstack_cli::Cli::try_parse_from([
+//!     "rollstack", "rotation", "--from", "axis-angle", "--values", "0,0,1,90deg", "--json",
+//! ])?;
+//! rollstack_cli::run(cli)?; // prints the rotation in every representation as JSON
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
+#![warn(missing_docs)]
 
 pub mod angles;
 pub mod commands;
