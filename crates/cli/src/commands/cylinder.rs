@@ -106,7 +106,7 @@ impl From<MinimumForce> for MinForceJson {
     }
 }
 
-/// JSON of `cylinder support` (DESIGN.md keys first).
+/// JSON of `cylinder support` (the keys of docs/cli.md first).
 #[derive(Debug, Serialize)]
 pub struct SupportReport {
     /// N/mg at F_f = +μN e′2, (3.3.8)₊ corrected per ERRATA 9; null when no positive N.
@@ -576,7 +576,7 @@ pub struct RectangleArgs {
     pub out: Option<PathBuf>,
 }
 
-/// JSON of `cylinder holonomy rectangle` (DESIGN.md keys first).
+/// JSON of `cylinder holonomy rectangle` (the keys of docs/cli.md first).
 #[derive(Debug, Serialize)]
 pub struct RectangleReport {
     /// Δφ = ±(φ1 + φ2), rad, (3.4.6)–(3.4.8).
@@ -688,7 +688,7 @@ pub struct CircleArgs {
     pub out: Option<PathBuf>,
 }
 
-/// JSON of `cylinder holonomy circle` (DESIGN.md keys first).
+/// JSON of `cylinder holonomy circle` (the keys of docs/cli.md first).
 #[derive(Debug, Serialize)]
 pub struct CircleReport {
     /// Δφ = ±2πℓ/r, rad, (3.4.16).
@@ -871,7 +871,7 @@ pub struct FrobeniusArgs {
     pub json: bool,
 }
 
-/// JSON of `cylinder frobenius` (DESIGN.md keys first).
+/// JSON of `cylinder frobenius` (the keys of docs/cli.md first).
 #[derive(Debug, Serialize)]
 pub struct FrobeniusJson {
     /// Rank of W (ERRATA 13: 9 for the nine pair constraints, not 8).
