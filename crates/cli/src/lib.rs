@@ -23,7 +23,6 @@
 pub mod angles;
 pub mod commands;
 pub mod output;
-pub mod plot;
 pub mod progress;
 pub mod sweep;
 pub mod tour;

@@ -7,7 +7,7 @@ use anyhow::{Context, Result};
 use serde::Serialize;
 use std::fs;
 use std::io::Write;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 /// Creates `dir` (and parents) if needed.
 ///
@@ -17,15 +17,7 @@ pub fn ensure_dir(dir: &Path) -> Result<()> {
     fs::create_dir_all(dir).with_context(|| format!("cannot create directory {}", dir.display()))
 }
 
-/// A temporary sibling of `path` that keeps its extension (image encoders read it).
-#[must_use]
-pub fn temp_sibling(path: &Path) -> PathBuf {
-    let name = path
-        .file_name()
-        .map(|n| n.to_string_lossy().into_owned())
-        .unwrap_or_default();
-    path.with_file_name(format!(".tmp-{}-{name}", std::process::id()))
-}
+pub use figures::file::temp_sibling;
 
 /// Writes `bytes` to `path` atomically: a temporary sibling first, then a rename.
 ///
@@ -47,7 +39,7 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
 /// # Errors
 /// When the rename fails.
 pub fn commit_temp(path: &Path) -> Result<()> {
-    fs::rename(temp_sibling(path), path).with_context(|| format!("cannot write {}", path.display()))
+    figures::file::commit_temp(path).with_context(|| format!("cannot write {}", path.display()))
 }
 
 /// Writes a CSV file with a header row, atomically.

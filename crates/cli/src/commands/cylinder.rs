@@ -6,7 +6,6 @@
 
 use crate::angles::Angle;
 use crate::output::{ensure_dir, print_json, write_csv, write_run_json};
-use crate::plot::{LinePlot, Series};
 use anyhow::{Context, Result};
 use clap::{Args, Subcommand, ValueEnum};
 use cylinders::frobenius::{bilinear, frobenius_test, skew_matrices, FrobeniusReport};
@@ -15,6 +14,7 @@ use cylinders::kinematics::{Cylinder, Pose};
 use cylinders::pair::{CylinderPair, PairConstraints, PairSystem, SingleCylinder};
 use cylinders::rolling::{circle_motion, rectangle_segments, roll, RollingTrace};
 use cylinders::statics::{FrictionLimit, MinimumForce, SteadyBalance, SupportProblem};
+use figures::plot::{LinePlot, Series};
 use nalgebra::DVector;
 use rotations::{rotation_distance, AxisAngle};
 use serde::Serialize;
@@ -817,7 +817,8 @@ pub fn write_trace(dir: &Path, name: &str, trace: &RollingTrace, title: &str) ->
             (last.rim_point.x, last.rim_point.y),
         ],
     ))
-    .save(&dir.join(format!("{name}.png")), (900, 800))
+    .save(&dir.join(format!("{name}.png")), (900, 800))?;
+    Ok(())
 }
 
 // ---------------------------------------------------------------- Frobenius

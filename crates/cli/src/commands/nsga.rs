@@ -4,11 +4,12 @@
 use crate::output::{
     ensure_dir, print_json, require_finite, write_csv, write_csv_f64, write_run_json,
 };
-use crate::plot::{LinePlot, Series};
 use anyhow::{bail, Result};
 use clap::{Args, Subcommand, ValueEnum};
-use nsga::studies::ball::{ball_report, BallRun, BallSample, Scheme};
-use nsga::studies::work_precision::{work_precision, WorkPrecisionRow, WorkPrecisionSystem};
+use figures::nsga::{plot_ball, plot_work_precision};
+use nsga::studies::ball::{ball_report, BallRun, Scheme};
+use nsga::studies::work_precision::{work_precision, WorkPrecisionSystem};
+use nsga::systems::ball::BallCase;
 use nsga::Prox;
 use std::path::{Path, PathBuf};
 
@@ -203,20 +204,14 @@ fn write_ball_files(dir: &Path, r: &BallRun, a: &BallArgs) -> Result<()> {
         ],
         &rows,
     )?;
-    let pts =
-        |f: &dyn Fn(&BallSample) -> f64| r.samples.iter().map(|s| (s.t, f(s))).collect::<Vec<_>>();
-    LinePlot::new(
-        format!("Bouncing ball, case {}", a.case),
-        "t [s]",
-        "y [m], xdot [m/s], slip [m/s]",
-    )
-    .with(Series::line("y", pts(&|s| s.q[1])))
-    .with(Series::line("xdot", pts(&|s| s.u[0])))
-    .with(Series::line(
-        "slip xdot + R phidot",
-        pts(&|s| s.u[0] + 0.1 * s.u[2]),
-    ))
-    .save(&dir.join("trajectory.png"), (1000, 600))
+    let radius = BallCase::new(a.case).map_or(0.1, |c| c.ball.radius);
+    plot_ball(
+        &dir.join("trajectory.png"),
+        &format!("Bouncing ball, case {}", a.case),
+        r,
+        radius,
+    )?;
+    Ok(())
 }
 
 fn work_precision_command(a: &WorkPrecisionArgs) -> Result<()> {
@@ -252,26 +247,11 @@ fn work_precision_command(a: &WorkPrecisionArgs) -> Result<()> {
             ]
         }),
     )?;
-    let mut plot = LinePlot::new(
-        format!("Work-precision: {:?}", a.system).to_lowercase(),
-        "wall time [s]",
-        "error [m]",
-    );
-    plot.log = (true, true);
-    let configs = rhos
-        .iter()
-        .map(|&r| (Scheme::Nsga, Some(r)))
-        .chain([(Scheme::Moreau, None)]);
-    for (scheme, rho) in configs {
-        let label = rho.map_or("Moreau-Jean".to_owned(), |r| format!("NSGA rho_inf = {r}"));
-        let pts: Vec<(f64, f64)> = rows
-            .iter()
-            .filter(|r: &&WorkPrecisionRow| r.rho_inf == rho && r.scheme == scheme)
-            .map(|r| (r.wall_time_s, r.error.max(1e-16)))
-            .collect();
-        plot = plot.with(Series::line(label, pts));
-    }
-    plot.save(&a.out.join("work_precision.png"), (1000, 700))?;
+    plot_work_precision(
+        &a.out.join("work_precision.png"),
+        &format!("Work-precision: {:?}", a.system).to_lowercase(),
+        &rows,
+    )?;
     write_run_json(
         &a.out,
         "nsga work-precision",

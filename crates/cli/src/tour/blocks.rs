@@ -5,7 +5,6 @@
 //! failures, and Painlevé's paradoxes for one block (Figure I.2, ERRATA 18).
 
 use super::{Block, Section};
-use crate::commands::blocks::draw::plot_stack;
 use crate::commands::blocks::painleve::write_painleve_files;
 use crate::commands::blocks::sweep::write_slide_files;
 use crate::commands::blocks::{simulate_with_output, snapshot_name, OutputPlan, LIRE_SNAPSHOTS};
@@ -17,6 +16,7 @@ use blockstack::simulation::{simulate, Prox, RunOptions};
 use blockstack::studies::lire::{blocks_fallen, largest_drift};
 use blockstack::studies::painleve::painleve_report;
 use blockstack::studies::slide::{slide_row, SlideRegime};
+use figures::blocks::plot_stack;
 use std::path::Path;
 
 /// Builds the section.

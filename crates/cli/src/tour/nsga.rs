@@ -3,10 +3,10 @@
 
 use super::{Block, Section};
 use crate::output::write_csv;
-use crate::plot::{LinePlot, Series};
 use anyhow::Result;
-use nsga::studies::ball::{run_ball, BallSample, Scheme};
-use nsga::studies::work_precision::{work_precision_point, WorkPrecisionSystem};
+use figures::nsga::{plot_ball, plot_work_precision};
+use nsga::studies::ball::{run_ball, Scheme};
+use nsga::studies::work_precision::{work_precision_point, WorkPrecisionRow, WorkPrecisionSystem};
 use nsga::systems::ball::BallCase;
 use nsga::Prox;
 use std::path::Path;
@@ -49,7 +49,7 @@ pub fn section(dir: &Path) -> Result<Section> {
                     r.wall_time_s * 1e3
                 ));
                 if case == 2 {
-                    case2 = Some(r);
+                    case2 = Some((r, c.ball.radius));
                 }
             }
         }
@@ -65,31 +65,17 @@ pub fn section(dir: &Path) -> Result<Section> {
         "wall [ms]",
     ];
     write_csv(&dir.join("ball_cases.csv"), &header, &rows)?;
-    if let Some(r) = &case2 {
-        let pts = |f: &dyn Fn(&BallSample) -> f64| {
-            r.samples.iter().map(|s| (s.t, f(s))).collect::<Vec<_>>()
-        };
-        LinePlot::new(
+    if let Some((r, radius)) = &case2 {
+        plot_ball(
+            &dir.join("ball_case2.png"),
             "Bouncing ball, case 2 (e_N = 0, omega0 = 50 rad/s)",
-            "t [s]",
-            "[m], [m/s]",
-        )
-        .with(Series::line("height y", pts(&|s| s.q[1])))
-        .with(Series::line("xdot", pts(&|s| s.u[0])))
-        .with(Series::line(
-            "slip xdot + R phidot",
-            pts(&|s| s.u[0] + 0.1 * s.u[2]),
-        ))
-        .save(&dir.join("ball_case2.png"), (1000, 600))?;
+            r,
+            *radius,
+        )?;
     }
     // Work-precision on the oscillator.
     let dts = [8e-3, 4e-3, 2e-3, 1e-3, 5e-4];
-    let mut plot = LinePlot::new(
-        "Work-precision, linear oscillator (phase-plane error at 1 s)",
-        "wall time [s]",
-        "error [m]",
-    );
-    plot.log = (true, true);
+    let mut points = Vec::new();
     let mut wp_rows = Vec::new();
     for (scheme, rho) in [
         (Scheme::Nsga, 0.0),
@@ -97,10 +83,15 @@ pub fn section(dir: &Path) -> Result<Section> {
         (Scheme::Nsga, 1.0),
         (Scheme::Moreau, 0.5),
     ] {
-        let mut pts = Vec::new();
         for &dt in &dts {
             let (e, w) = work_precision_point(WorkPrecisionSystem::Oscillator, scheme, rho, dt)?;
-            pts.push((w, e.max(1e-16)));
+            points.push(WorkPrecisionRow {
+                scheme,
+                rho_inf: (scheme == Scheme::Nsga).then_some(rho),
+                dt,
+                error: e,
+                wall_time_s: w,
+            });
             wp_rows.push(vec![
                 format!("{scheme:?}"),
                 rho.to_string(),
@@ -109,14 +100,12 @@ pub fn section(dir: &Path) -> Result<Section> {
                 w.to_string(),
             ]);
         }
-        let label = if scheme == Scheme::Nsga {
-            format!("NSGA rho_inf = {rho}")
-        } else {
-            "Moreau-Jean".into()
-        };
-        plot = plot.with(Series::line(label, pts));
     }
-    plot.save(&dir.join("work_precision_oscillator.png"), (1000, 700))?;
+    plot_work_precision(
+        &dir.join("work_precision_oscillator.png"),
+        "Work-precision, linear oscillator (phase-plane error at 1 s)",
+        &points,
+    )?;
     write_csv(
         &dir.join("work_precision_oscillator.csv"),
         &["scheme", "rho_inf", "dt", "error", "wall_time_s"],

@@ -9,7 +9,6 @@
 //!
 //! Every number comes from `blockstack`: its simulation, its recorder and its studies.
 
-pub mod draw;
 pub mod painleve;
 pub mod simulate;
 pub mod sweep;

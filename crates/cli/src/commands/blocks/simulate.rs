@@ -1,7 +1,6 @@
 //! `rollstack blocks run` and `lire`: one simulation, its JSON report, and its files
 //! (trajectory written progressively, branch points, snapshots, animation, top block).
 
-use super::draw::{plot_snapshots, plot_top_block, write_animation};
 use super::{OutputArgs, SolverArgs};
 use crate::angles::parse_finite;
 use crate::output::{
@@ -13,6 +12,7 @@ use blockstack::scenarios::{lire, lire_on_floor, Perturbation};
 use blockstack::simulation::{simulate, RunOptions, RunReport, RunSummary};
 use blockstack::Scene;
 use clap::{Args, ValueEnum};
+use figures::blocks::{plot_snapshots, plot_top_block, write_animation};
 use serde::Serialize;
 use std::fs::File;
 use std::io::{BufWriter, Write};

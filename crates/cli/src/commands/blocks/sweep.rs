@@ -4,7 +4,6 @@
 use super::SolverArgs;
 use crate::angles::parse_finite;
 use crate::output::{ensure_dir, print_json, write_csv, write_run_json};
-use crate::plot::{LinePlot, Series};
 use crate::sweep::{par_map_ordered, parse_range, Shard};
 use anyhow::{Context, Result};
 use blockstack::record::finite_text as finite_cell;
@@ -12,6 +11,7 @@ use blockstack::scenarios::Shaking;
 use blockstack::studies::shaking::{frequency_row, FrequencyRow};
 use blockstack::studies::slide::{slide_row, SlideRegime, SlideRow};
 use clap::{Args, Subcommand};
+use figures::blocks::{plot_frequency_sweep, plot_slide_sweep};
 use serde::Serialize;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -230,18 +230,8 @@ pub fn write_frequency_files(dir: &Path, rows: &[FrequencyRow]) -> Result<()> {
             ]
         }),
     )?;
-    let points: Vec<(f64, f64)> = rows
-        .iter()
-        .filter_map(|r| r.inv_failure_time.map(|v| (r.omega, v)))
-        .collect();
-    LinePlot::new(
-        "Figure 4.6: onset of failure of a shaken column",
-        "omega (rad per time unit)",
-        "1/T (failure: loss of support)",
-    )
-    .with(Series::line("", points.clone()))
-    .with(Series::markers("1/T (0: survived)", points))
-    .save(&dir.join("sweep_frequency.png"), (900, 600))
+    plot_frequency_sweep(&dir.join("sweep_frequency.png"), rows)?;
+    Ok(())
 }
 
 /// Runs `rollstack blocks sweep slide`.
@@ -313,44 +303,6 @@ pub fn write_slide_files(dir: &Path, rows: &[SlideRow], t_end: f64) -> Result<()
             ]
         }),
     )?;
-    // The curve joins the runs that reached t_end; runs that stopped early are shown
-    // apart, at the angle they had when they stopped.
-    let mut plot = LinePlot::new(
-        format!("Figure 4.7: top block angle at t = {t_end} against base speed"),
-        "v0 (length per time unit)",
-        "theta of the top block (rad)",
-    )
-    .with(Series::line(
-        "",
-        rows.iter()
-            .filter(|r| r.error.is_none())
-            .filter_map(|r| r.top_angle.map(|a| (r.v0, a)))
-            .collect(),
-    ));
-    for regime in [
-        SlideRegime::RidesAlong,
-        SlideRegime::Topples,
-        SlideRegime::Drops,
-    ] {
-        let pts: Vec<(f64, f64)> = rows
-            .iter()
-            .filter(|r| r.regime == Some(regime))
-            .filter_map(|r| r.top_angle.map(|a| (r.v0, a)))
-            .collect();
-        if !pts.is_empty() {
-            plot = plot.with(Series::markers(regime.name(), pts));
-        }
-    }
-    let stopped: Vec<(f64, f64)> = rows
-        .iter()
-        .filter(|r| r.error.is_some())
-        .filter_map(|r| r.top_angle.map(|a| (r.v0, a)))
-        .collect();
-    if !stopped.is_empty() {
-        plot = plot.with(Series::markers(
-            "stopped early (angle at the stop)",
-            stopped,
-        ));
-    }
-    plot.save(&dir.join("sweep_slide.png"), (900, 600))
+    plot_slide_sweep(&dir.join("sweep_slide.png"), rows, t_end)?;
+    Ok(())
 }

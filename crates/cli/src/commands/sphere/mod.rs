@@ -6,12 +6,11 @@
 //! writes the files (docs/cli.md).
 
 mod plan;
-mod plots;
 mod report;
 mod roll;
 
+pub use figures::sphere::{plot_level_sets, plot_rectangle_panels, plot_rectangles, plot_traces};
 pub use plan::{parse_target, write_plan_csv, EulerPlanArgs, PlanArgs};
-pub use plots::{plot_level_sets, plot_rectangle_panels, plot_rectangles, plot_traces};
 pub use report::{HolonomyArgs, RectangleArgs};
 pub use roll::{write_study, write_trajectory, IntegratorArg, RollArgs};
 

@@ -1,12 +1,12 @@
 //! `rollstack sphere holonomy`: the holonomy report of one rectangle
 //! ([`holonomy::studies::report`]).
 
-use super::plots::{plot_level_sets, plot_rectangles};
 use super::{ccw_column, direction};
 use crate::angles::Angle;
 use crate::output::{ensure_dir, print_json, write_csv_f64, write_run_json};
 use anyhow::Result;
 use clap::Args;
+use figures::sphere::{plot_level_sets, plot_rectangles};
 use holonomy::studies::plan::RectangleReport;
 use holonomy::studies::report::{holonomy_report, HolonomyReport};
 use holonomy::{PlacedRectangle, Rectangle};

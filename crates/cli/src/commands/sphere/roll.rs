@@ -2,11 +2,11 @@
 //! integrators' speed-vs-error study ([`holonomy::studies::roll`]).
 
 use super::direction;
-use super::plots::{plot_study, plot_traces};
 use crate::angles::{parse_number_list, Angle};
 use crate::output::{ensure_dir, print_json, write_csv, write_csv_f64, write_run_json};
 use anyhow::{bail, Context, Result};
 use clap::{Args, ValueEnum};
+use figures::sphere::{plot_study, plot_traces};
 use holonomy::studies::roll::{integrator_study, roll_report, ClosedPath, PathShape, StudyRow};
 use holonomy::{Integrator, Rectangle, Trajectory};
 use std::path::{Path, PathBuf};
@@ -189,5 +189,6 @@ pub fn write_study(dir: &Path, rows: &[StudyRow]) -> Result<()> {
             ]
         }),
     )?;
-    plot_study(&dir.join("roll_study.png"), rows)
+    plot_study(&dir.join("roll_study.png"), rows)?;
+    Ok(())
 }

@@ -1,13 +1,19 @@
 //! Pictures of the stack: snapshots (Figure 4.4), the animation, and the top block's
-//! angle and height (Figure 4.5 (b), (c)). The frames come from `blockstack::record`.
+//! angle and height (Figure 4.5 (b), (c)). The frames come from [`blockstack::record`].
 
-use crate::plot::{err, with_png, LinePlot, Series, FONT, PALETTE};
-use anyhow::Result;
+use crate::plot::{with_png, LinePlot, Series, FONT, PALETTE};
+use crate::{err, file, write_error, FigureError, Result};
 use blockstack::record::{Frame, TopSample};
+use blockstack::studies::shaking::FrequencyRow;
+use blockstack::studies::slide::{SlideRegime, SlideRow};
 use blockstack::Scene;
 use plotters::prelude::*;
 use std::ops::Range;
 use std::path::{Path, PathBuf};
+
+/// The refusal to draw a frame whose coordinates are not all finite.
+const NON_FINITE: FigureError =
+    FigureError::Data("cannot draw a stack with non-finite coordinates");
 
 /// A square window onto the plane of the stack: x and y ranges of equal length.
 #[derive(Debug, Clone, PartialEq)]
@@ -104,10 +110,9 @@ fn draw_stack<DB: DrawingBackend>(
 /// Non-finite coordinates or an unwritable file.
 pub fn plot_stack(path: &Path, scene: &Scene, q: &[f64], t: f64, title: &str) -> Result<()> {
     let frame = Frame::from_coordinates(scene, q, t);
-    anyhow::ensure!(
-        frame.is_finite(),
-        "cannot draw a stack with non-finite coordinates"
-    );
+    if !frame.is_finite() {
+        return Err(NON_FINITE);
+    }
     let view = view_of(scene, &[&frame]);
     with_png(path, (800, 800), |root| {
         draw_stack(root, scene, &frame, &view, title)
@@ -122,10 +127,9 @@ pub fn plot_snapshots(scene: &Scene, shots: &[(PathBuf, String, &Frame)]) -> Res
     let frames: Vec<&Frame> = shots.iter().map(|s| s.2).collect();
     let view = view_of(scene, &frames);
     for (path, title, frame) in shots {
-        anyhow::ensure!(
-            frame.is_finite(),
-            "cannot draw a stack with non-finite coordinates"
-        );
+        if !frame.is_finite() {
+            return Err(NON_FINITE);
+        }
         with_png(path, (800, 800), |root| {
             draw_stack(root, scene, frame, &view, title)
         })?;
@@ -142,22 +146,23 @@ const ANIMATION_FRAME_MS: u32 = 80;
 /// No finite frame, or an unwritable file.
 pub fn write_animation(path: &Path, scene: &Scene, frames: &[Frame], title: &str) -> Result<()> {
     let good: Vec<&Frame> = frames.iter().filter(|f| f.is_finite()).collect();
-    anyhow::ensure!(!good.is_empty(), "no frame to animate");
+    if good.is_empty() {
+        return Err(FigureError::Data("no frame to animate"));
+    }
     let view = view_of(scene, &good);
     crate::plot::register_font();
-    let tmp = crate::output::temp_sibling(path);
+    let tmp = file::temp_sibling(path);
     {
         let root = BitMapBackend::gif(&tmp, (480, 480), ANIMATION_FRAME_MS)
-            .map_err(|e| anyhow::anyhow!("cannot write {}: {e}", path.display()))?
+            .map_err(|e| write_error(path, e))?
             .into_drawing_area();
         for f in good {
             root.fill(&WHITE).map_err(err)?;
             draw_stack(&root, scene, f, &view, &format!("{title}, t = {:.2}", f.t))?;
-            root.present()
-                .map_err(|e| anyhow::anyhow!("cannot write {}: {e}", path.display()))?;
+            root.present().map_err(|e| write_error(path, e))?;
         }
     }
-    crate::output::commit_temp(path)
+    file::commit_temp(path).map_err(|e| write_error(path, e))
 }
 
 /// The top block's angle and height against time (Figures 4.5 (b), (c)).
@@ -175,4 +180,72 @@ pub fn plot_top_block(path: &Path, top: &[TopSample], title: &str) -> Result<()>
         angle.draw(&left)?;
         height.draw(&right)
     })
+}
+
+/// Figure 4.6: the inverse time to failure 1/T of a shaken column against the
+/// frequency ω (0 where the column survived).
+///
+/// # Errors
+/// An unwritable file.
+pub fn plot_frequency_sweep(path: &Path, rows: &[FrequencyRow]) -> Result<()> {
+    let points: Vec<(f64, f64)> = rows
+        .iter()
+        .filter_map(|r| r.inv_failure_time.map(|v| (r.omega, v)))
+        .collect();
+    LinePlot::new(
+        "Figure 4.6: onset of failure of a shaken column",
+        "omega (rad per time unit)",
+        "1/T (failure: loss of support)",
+    )
+    .with(Series::line("", points.clone()))
+    .with(Series::markers("1/T (0: survived)", points))
+    .save(path, (900, 600))
+}
+
+/// Figure 4.7: the top block's angle at `t_end` against the base speed v₀, with each
+/// run's regime marked and runs that stopped early shown apart.
+///
+/// # Errors
+/// An unwritable file.
+pub fn plot_slide_sweep(path: &Path, rows: &[SlideRow], t_end: f64) -> Result<()> {
+    // The curve joins the runs that reached t_end; runs that stopped early are shown
+    // apart, at the angle they had when they stopped.
+    let mut plot = LinePlot::new(
+        format!("Figure 4.7: top block angle at t = {t_end} against base speed"),
+        "v0 (length per time unit)",
+        "theta of the top block (rad)",
+    )
+    .with(Series::line(
+        "",
+        rows.iter()
+            .filter(|r| r.error.is_none())
+            .filter_map(|r| r.top_angle.map(|a| (r.v0, a)))
+            .collect(),
+    ));
+    for regime in [
+        SlideRegime::RidesAlong,
+        SlideRegime::Topples,
+        SlideRegime::Drops,
+    ] {
+        let pts: Vec<(f64, f64)> = rows
+            .iter()
+            .filter(|r| r.regime == Some(regime))
+            .filter_map(|r| r.top_angle.map(|a| (r.v0, a)))
+            .collect();
+        if !pts.is_empty() {
+            plot = plot.with(Series::markers(regime.name(), pts));
+        }
+    }
+    let stopped: Vec<(f64, f64)> = rows
+        .iter()
+        .filter(|r| r.error.is_some())
+        .filter_map(|r| r.top_angle.map(|a| (r.v0, a)))
+        .collect();
+    if !stopped.is_empty() {
+        plot = plot.with(Series::markers(
+            "stopped early (angle at the stop)",
+            stopped,
+        ));
+    }
+    plot.save(path, (900, 600))
 }

@@ -5,7 +5,7 @@
 //! the one entry point that owns the file: it registers the font, draws into a
 //! temporary sibling and renames it into place.
 
-use anyhow::{anyhow, Context, Result};
+use crate::{file, write_error, Result};
 use plotters::coord::Shift;
 use plotters::prelude::*;
 use std::ops::Range;
@@ -39,21 +39,17 @@ where
     F: FnOnce(&Canvas<'_>) -> Result<()>,
 {
     register_font();
-    let tmp = crate::output::temp_sibling(path);
+    let tmp = file::temp_sibling(path);
     {
         let root = BitMapBackend::new(&tmp, size).into_drawing_area();
-        root.fill(&WHITE).map_err(|e| anyhow!("plot: {e}"))?;
+        root.fill(&WHITE).map_err(crate::err)?;
         draw(&root)?;
-        root.present()
-            .map_err(|e| anyhow!("cannot write {}: {e}", path.display()))?;
+        root.present().map_err(|e| write_error(path, e))?;
     }
-    crate::output::commit_temp(path).with_context(|| format!("plot {}", path.display()))
+    file::commit_temp(path).map_err(|e| write_error(path, e))
 }
 
-/// Converts any plotters error into an `anyhow` error.
-pub fn err<E: std::fmt::Display>(e: E) -> anyhow::Error {
-    anyhow!("plot: {e}")
-}
+pub use crate::err;
 
 /// A named polyline of a [`LinePlot`].
 #[derive(Debug, Clone)]
@@ -271,7 +267,7 @@ mod tests {
     #[test]
     fn writes_a_png_with_text() {
         let dir = std::env::temp_dir().join(format!("rollstack-plot-{}", std::process::id()));
-        crate::output::ensure_dir(&dir).unwrap();
+        std::fs::create_dir_all(&dir).unwrap();
         let p = dir.join("p.png");
         LinePlot::new("sin", "t [s]", "x [m]")
             .with(Series::line(

@@ -1,8 +1,8 @@
 //! The figures of `rollstack sphere` and the tour: Figures 2.1, 2.5, 2.6–2.9 and the
 //! integrator study, drawn from the data of [`holonomy::studies`].
 
-use crate::plot::{err, with_png, LinePlot, Series, FONT, PALETTE};
-use anyhow::Result;
+use crate::plot::{with_png, LinePlot, Series, FONT, PALETTE};
+use crate::{err, Result};
 use holonomy::rectangle::holonomy_angle;
 use holonomy::studies::level_sets::{level_set_branches, FIGURE_2_5_LEVELS_DEG};
 use holonomy::studies::plan::RectangleReport;
