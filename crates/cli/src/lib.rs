@@ -20,7 +20,6 @@
 //! ```
 #![warn(missing_docs)]
 
-pub mod angles;
 pub mod commands;
 pub mod output;
 pub mod progress;

@@ -1,45 +1,8 @@
-//! Parameter sweeps: `A:B:STEP` ranges, `--shard K/N`, and an order-preserving
+//! Parameter sweeps: `--shard K/N` and an order-preserving
 //! parallel map on rayon with a progress bar (docs/architecture.md, Conventions).
 
-use anyhow::{bail, Result};
 use rayon::prelude::*;
 use std::str::FromStr;
-
-/// Parses `A:B:STEP` into the values A, A+STEP, … up to B inclusive (within 1e-9 of a
-/// step), or a single number into one value.
-///
-/// # Errors
-/// Non-finite values, a step of the wrong sign or zero, or more than ten million points.
-pub fn parse_range(text: &str) -> Result<Vec<f64>> {
-    let parts: Vec<&str> = text.split(':').collect();
-    let num = |s: &str| -> Result<f64> {
-        let v: f64 = s.trim().parse().map_err(|_| {
-            anyhow::anyhow!("cannot read '{s}' in range '{text}' (expected A:B:STEP)")
-        })?;
-        if !v.is_finite() {
-            bail!("range '{text}' has a non-finite value");
-        }
-        Ok(v)
-    };
-    match parts.as_slice() {
-        [a] => Ok(vec![num(a)?]),
-        [a, b, step] => {
-            let (a, b, step) = (num(a)?, num(b)?, num(step)?);
-            if step == 0.0 || (b - a) * step < 0.0 {
-                bail!("range '{text}': STEP must be non-zero and point from A to B");
-            }
-            let n = ((b - a) / step + 1e-9).floor();
-            if n > 1e7 {
-                bail!("range '{text}' has more than ten million points");
-            }
-            // n is a checked non-negative count below 1e7, so the cast is exact.
-            #[allow(clippy::cast_possible_truncation, clippy::cast_sign_loss)]
-            let n = n as usize;
-            Ok((0..=n).map(|i| a + step * i as f64).collect())
-        }
-        _ => bail!("cannot read range '{text}' (expected A:B:STEP)"),
-    }
-}
 
 /// One part K of N (1-based) of a sweep, for splitting it across machines.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -114,17 +77,6 @@ where
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn ranges() {
-        assert_eq!(parse_range("1:2:0.5").unwrap(), vec![1.0, 1.5, 2.0]);
-        assert_eq!(parse_range("3").unwrap(), vec![3.0]);
-        assert_eq!(parse_range("0:1:0.1").unwrap().len(), 11);
-        assert_eq!(parse_range("2:1:-0.5").unwrap(), vec![2.0, 1.5, 1.0]);
-        for bad in ["1:2:0", "1:2:-1", "a:b:c", "1:2", "1:nan:1"] {
-            assert!(parse_range(bad).is_err(), "{bad}");
-        }
-    }
 
     #[test]
     fn shards_cover_in_order() {

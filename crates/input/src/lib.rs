@@ -3,6 +3,9 @@
 //! [`InputError`] (`#[error(transparent)] Input(#[from] InputError)`), so a bad μ reads
 //! the same whether the sphere, the cylinders or the block stack refuses it.
 //!
+//! [`text`] reads the forms a user types: angles (`1.2`, `90deg`, `3pi/2`), finite
+//! numbers, comma-separated lists and `A:B:STEP` ranges.
+//!
 //! ```
 //! use input::{in_range, non_negative, positive, InputError};
 //!
@@ -19,6 +22,8 @@
 //! # Ok::<(), InputError>(())
 //! ```
 #![warn(missing_docs)]
+
+pub mod text;
 
 use std::ops::RangeInclusive;
 

@@ -4,7 +4,6 @@
 //! Forces are divided by mg, angles are radians (`30deg`, `pi/10` accepted), lengths are
 //! in any one unit (the cylinder's radius r for the holonomy examples).
 
-use crate::angles::Angle;
 use crate::output::{ensure_dir, print_json, write_csv, write_run_json};
 use anyhow::{Context, Result};
 use clap::{Args, Subcommand, ValueEnum};
@@ -15,6 +14,7 @@ use cylinders::pair::{CylinderPair, PairConstraints, PairSystem, SingleCylinder}
 use cylinders::rolling::{circle_motion, rectangle_segments, roll, RollingTrace};
 use cylinders::statics::{FrictionLimit, MinimumForce, SteadyBalance, SupportProblem};
 use figures::plot::{LinePlot, Series};
+use input::text::Angle;
 use nalgebra::DVector;
 use rotations::{rotation_distance, AxisAngle};
 use serde::Serialize;

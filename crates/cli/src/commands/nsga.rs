@@ -221,13 +221,13 @@ fn work_precision_command(a: &WorkPrecisionArgs) -> Result<()> {
         SystemArg::Incline => WorkPrecisionSystem::Incline,
     };
     let dts = match &a.dts {
-        Some(s) => crate::angles::parse_number_list(s).map_err(anyhow::Error::msg)?,
+        Some(s) => input::text::parse_number_list(s).map_err(anyhow::Error::msg)?,
         None => vec![8e-3, 4e-3, 2e-3, 1e-3, 5e-4, 2.5e-4],
     };
     if dts.iter().any(|&d| !(d > 0.0 && d <= 0.1)) {
         bail!("every --dts value must be in (0, 0.1] s");
     }
-    let rhos = crate::angles::parse_number_list(&a.rho_inf).map_err(anyhow::Error::msg)?;
+    let rhos = input::text::parse_number_list(&a.rho_inf).map_err(anyhow::Error::msg)?;
     if rhos.iter().any(|r| !(0.0..=1.0).contains(r)) {
         bail!("every --rho-inf value must be in [0, 1]");
     }

@@ -1,10 +1,10 @@
 //! `rollstack rotation`: convert one rotation between every representation. The numbers
 //! come from [`rotations::rotation_report`]; this module reads the flags (docs/cli.md).
 
-use crate::angles::{parse_angle, parse_finite};
 use crate::output::print_json;
 use anyhow::{bail, Context, Result};
 use clap::Args;
+use input::text::{parse_angle, parse_finite};
 use rotations::{rotation_report, Representation, Rotation3, MATRIX_INPUT_TOLERANCE};
 
 /// Arguments of `rollstack rotation`.

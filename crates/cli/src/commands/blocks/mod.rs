@@ -13,10 +13,10 @@ pub mod painleve;
 pub mod simulate;
 pub mod sweep;
 
-use crate::angles::parse_finite;
 use anyhow::Result;
 use blockstack::simulation::{Prox, RunOptions};
 use clap::{Args, Subcommand};
+use input::text::parse_finite;
 use std::path::PathBuf;
 
 pub use simulate::{

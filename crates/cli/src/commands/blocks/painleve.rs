@@ -1,13 +1,13 @@
 //! `rollstack blocks painleve`: Painlevé's paradoxes for one block (App. I, ERRATA 18):
 //! the report of `blockstack::studies::painleve`, the b-sign grid and Figure I.2.
 
-use crate::angles::parse_finite;
 use crate::output::{ensure_dir, print_json, write_csv, write_run_json};
 use anyhow::{Context, Result};
 use blockstack::painleve::{b_grid, least_friction};
 use blockstack::studies::painleve::{painleve_report, PainleveReport};
 use clap::Args;
 use figures::painleve::plot_painleve;
+use input::text::parse_finite;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 

@@ -2,7 +2,6 @@
 //! (trajectory written progressively, branch points, snapshots, animation, top block).
 
 use super::{OutputArgs, SolverArgs};
-use crate::angles::parse_finite;
 use crate::output::{
     commit_temp, ensure_dir, print_json, temp_sibling, write_csv_f64, write_run_json,
 };
@@ -13,6 +12,7 @@ use blockstack::simulation::{simulate, RunOptions, RunReport, RunSummary};
 use blockstack::Scene;
 use clap::{Args, ValueEnum};
 use figures::blocks::{plot_snapshots, plot_top_block, write_animation};
+use input::text::parse_finite;
 use serde::Serialize;
 use std::fs::File;
 use std::io::{BufWriter, Write};

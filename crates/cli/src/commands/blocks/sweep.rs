@@ -2,16 +2,17 @@
 //! value from `blockstack::studies`, run in parallel and written in input order.
 
 use super::SolverArgs;
-use crate::angles::parse_finite;
 use crate::output::{ensure_dir, print_json, write_csv, write_run_json};
-use crate::sweep::{par_map_ordered, parse_range, Shard};
-use anyhow::{Context, Result};
+use crate::sweep::{par_map_ordered, Shard};
+use anyhow::Result;
 use blockstack::record::finite_text as finite_cell;
 use blockstack::scenarios::Shaking;
 use blockstack::studies::shaking::{frequency_row, FrequencyRow};
 use blockstack::studies::slide::{slide_row, SlideRegime, SlideRow};
 use clap::{Args, Subcommand};
 use figures::blocks::{plot_frequency_sweep, plot_slide_sweep};
+use input::text::parse_finite;
+use input::text::parse_range;
 use serde::Serialize;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -96,7 +97,7 @@ fn opt_cell(v: Option<f64>) -> String {
 }
 
 fn sweep_values(text: &str, name: &str, shard: Shard) -> Result<Vec<f64>> {
-    let all = parse_range(text).with_context(|| format!("--{name}"))?;
+    let all = parse_range(text).map_err(|e| anyhow::anyhow!("--{name}: {e}"))?;
     Ok(shard.select(&all).into_iter().map(|(_, v)| v).collect())
 }
 

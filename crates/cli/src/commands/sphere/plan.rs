@@ -2,13 +2,13 @@
 //! ([`holonomy::studies::plan`]).
 
 use super::ccw_column;
-use crate::angles::{parse_angle_list, parse_number_list, Angle};
 use crate::output::{ensure_dir, print_json, write_csv_f64, write_run_json};
 use anyhow::{bail, Context, Result};
 use clap::Args;
 use figures::sphere::{plot_rectangle_panels, plot_rectangles};
 use holonomy::euler_plan;
 use holonomy::studies::plan::{euler_plan_report, plan_report, RectangleReport};
+use input::text::{parse_angle_list, parse_number_list, Angle};
 use nalgebra::{Rotation3, Vector3};
 use rotations::{AxisAngle, EulerSet};
 use std::path::{Path, PathBuf};

@@ -2,7 +2,6 @@
 //! ([`holonomy::studies::report`]).
 
 use super::{ccw_column, direction};
-use crate::angles::Angle;
 use crate::output::{ensure_dir, print_json, write_csv_f64, write_run_json};
 use anyhow::Result;
 use clap::Args;
@@ -10,6 +9,7 @@ use figures::sphere::{plot_level_sets, plot_rectangles};
 use holonomy::studies::plan::RectangleReport;
 use holonomy::studies::report::{holonomy_report, HolonomyReport};
 use holonomy::{PlacedRectangle, Rectangle};
+use input::text::Angle;
 use std::path::{Path, PathBuf};
 
 /// The rectangle flags shared by `holonomy` and `roll`.

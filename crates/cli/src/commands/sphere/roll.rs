@@ -2,13 +2,13 @@
 //! integrators' speed-vs-error study ([`holonomy::studies::roll`]).
 
 use super::direction;
-use crate::angles::{parse_number_list, Angle};
 use crate::output::{ensure_dir, print_json, write_csv, write_csv_f64, write_run_json};
 use anyhow::{bail, Context, Result};
 use clap::{Args, ValueEnum};
 use figures::sphere::{plot_study, plot_traces};
 use holonomy::studies::roll::{integrator_study, roll_report, ClosedPath, PathShape, StudyRow};
 use holonomy::{Integrator, Rectangle, Trajectory};
+use input::text::{parse_number_list, Angle};
 use std::path::{Path, PathBuf};
 
 /// The two integrators of `sphere roll`.

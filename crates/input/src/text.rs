@@ -1,4 +1,6 @@
-//! Angle input: radians by default, `90deg`, and multiples of π such as `3pi/2`.
+//! Values written as text, as a user types them: angles in radians by default, `90deg`,
+//! and multiples of π such as `3pi/2`; finite numbers; comma-separated lists; and
+//! `A:B:STEP` ranges for sweeps.
 //!
 //! docs/architecture.md (Conventions): every API takes radians; the command line also accepts
 //! degrees and π-fractions because that is how the thesis states its examples.
@@ -6,7 +8,7 @@
 use std::f64::consts::PI;
 use std::str::FromStr;
 
-/// An angle in radians parsed from the command line.
+/// An angle in radians parsed from text.
 ///
 /// Accepted forms: `1.25` (radians), `90deg`, `-45deg`, `pi`, `-pi/4`, `3pi/2`,
 /// `0.5pi`, `2*pi/3`, `π/2`. Non-finite values are rejected.
@@ -115,6 +117,45 @@ pub fn parse_number_list(text: &str) -> Result<Vec<f64>, String> {
     text.split(',').map(parse_finite).collect()
 }
 
+/// Parses `A:B:STEP` into the values A, A+STEP, … up to B inclusive (within 1e-9 of a
+/// step), or a single number into one value.
+///
+/// # Errors
+/// Non-finite values, a step of the wrong sign or zero, or more than ten million points.
+pub fn parse_range(text: &str) -> Result<Vec<f64>, String> {
+    let parts: Vec<&str> = text.split(':').collect();
+    let num = |s: &str| -> Result<f64, String> {
+        let v: f64 = s
+            .trim()
+            .parse()
+            .map_err(|_| format!("cannot read '{s}' in range '{text}' (expected A:B:STEP)"))?;
+        if !v.is_finite() {
+            return Err(format!("range '{text}' has a non-finite value"));
+        }
+        Ok(v)
+    };
+    match parts.as_slice() {
+        [a] => Ok(vec![num(a)?]),
+        [a, b, step] => {
+            let (a, b, step) = (num(a)?, num(b)?, num(step)?);
+            if step == 0.0 || (b - a) * step < 0.0 {
+                return Err(format!(
+                    "range '{text}': STEP must be non-zero and point from A to B"
+                ));
+            }
+            let n = ((b - a) / step + 1e-9).floor();
+            if n > 1e7 {
+                return Err(format!("range '{text}' has more than ten million points"));
+            }
+            // n is a checked non-negative count below 1e7, so the cast is exact.
+            #[allow(clippy::cast_possible_truncation, clippy::cast_sign_loss)]
+            let n = n as usize;
+            Ok((0..=n).map(|i| a + step * i as f64).collect())
+        }
+        _ => Err(format!("cannot read range '{text}' (expected A:B:STEP)")),
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -144,5 +185,16 @@ mod tests {
     fn lists() {
         assert_eq!(parse_angle_list("0,pi/2,90deg").unwrap().len(), 3);
         assert!(parse_number_list("1,NaN").is_err());
+    }
+
+    #[test]
+    fn ranges() {
+        assert_eq!(parse_range("1:2:0.5").unwrap(), vec![1.0, 1.5, 2.0]);
+        assert_eq!(parse_range("3").unwrap(), vec![3.0]);
+        assert_eq!(parse_range("0:1:0.1").unwrap().len(), 11);
+        assert_eq!(parse_range("2:1:-0.5").unwrap(), vec![2.0, 1.5, 1.0]);
+        for bad in ["1:2:0", "1:2:-1", "a:b:c", "1:2", "1:nan:1"] {
+            assert!(parse_range(bad).is_err(), "{bad}");
+        }
     }
 }
