@@ -55,10 +55,7 @@ fn overhang(dir: &Path, summary: &mut Vec<String>, blocks: &mut Vec<Block>) -> R
         0.0,
         "Figure 4.3: maximum overhang, offsets w/8, w/6, w/4, w/2",
     )?;
-    blocks.push(Block::Image {
-        file: "blocks_lire_overhang.png".into(),
-        caption: "The four-block Leaning Tower of Lire on a fixed table (black) in the harmonic maximum-overhang configuration (ERRATA 16).".into(),
-    });
+    blocks.push(Block::image("blocks_lire_overhang.png", "The four-block Leaning Tower of Lire on a fixed table (black) in the harmonic maximum-overhang configuration (ERRATA 16)."));
     Ok(())
 }
 
@@ -132,8 +129,8 @@ fn lire_runs(dir: &Path, summary: &mut Vec<String>, blocks: &mut Vec<Block>) -> 
             r.error.clone().unwrap_or_default(),
         ]);
     }
-    blocks.push(Block::Table {
-        header: [
+    blocks.push(Block::table(
+        &[
             "perturbation",
             "drift at t = 5",
             "loss of support",
@@ -145,34 +142,22 @@ fn lire_runs(dir: &Path, summary: &mut Vec<String>, blocks: &mut Vec<Block>) -> 
             "branch points",
             "solver ms",
             "error",
-        ]
-        .iter()
-        .map(|s| (*s).to_owned())
-        .collect(),
+        ],
         rows,
-    });
+    ));
     for ts in LIRE_SNAPSHOTS {
-        blocks.push(Block::Image {
-            file: format!("lire_bottom/{}", snapshot_name(ts)),
-            caption: format!("Figure 4.4 at t = {ts}: the lowest block shifted right by 1 % of w makes the tower collapse. Black: the fixed table (the title shows the time of the state drawn)."),
-        });
+        blocks.push(Block::image(format!("lire_bottom/{}", snapshot_name(ts)), format!("Figure 4.4 at t = {ts}: the lowest block shifted right by 1 % of w makes the tower collapse. Black: the fixed table (the title shows the time of the state drawn).")));
     }
-    blocks.push(Block::Image {
-        file: "lire_bottom/animation.gif".into(),
-        caption: "The collapse, every 10th step: as in the thesis, nothing lies below the table and the blocks fall freely.".into(),
-    });
-    blocks.push(Block::Data {
-        file: "lire_bottom/trajectory.csv".into(),
-        description: "trajectory of the collapse: poses and interface forces per step".into(),
-    });
-    blocks.push(Block::Image {
-        file: "lire_floor/animation.gif".into(),
-        caption: "The same collapse on a floor at the bottom of the table (line; beyond the thesis): the blocks land and come to rest on the floor and the table edge.".into(),
-    });
-    blocks.push(Block::Data {
-        file: "lire_floor/trajectory.csv".into(),
-        description: "trajectory of the collapse on a floor".into(),
-    });
+    blocks.push(Block::image("lire_bottom/animation.gif", "The collapse, every 10th step: as in the thesis, nothing lies below the table and the blocks fall freely."));
+    blocks.push(Block::data(
+        "lire_bottom/trajectory.csv",
+        "trajectory of the collapse: poses and interface forces per step",
+    ));
+    blocks.push(Block::image("lire_floor/animation.gif", "The same collapse on a floor at the bottom of the table (line; beyond the thesis): the blocks land and come to rest on the floor and the table edge."));
+    blocks.push(Block::data(
+        "lire_floor/trajectory.csv",
+        "trajectory of the collapse on a floor",
+    ));
     Ok(())
 }
 
@@ -208,21 +193,16 @@ fn shaking(dir: &Path, summary: &mut Vec<String>, blocks: &mut Vec<Block>) -> Re
         r.failed_steps,
         r.error.as_ref().map_or_else(String::new, |e| format!(", stopped: {e}"))
     ));
-    blocks.push(Block::Image {
-        file: "shaking/animation.gif".into(),
-        caption: format!(
+    blocks.push(Block::image("shaking/animation.gif", format!(
             "A column of four blocks w = 0.2, h = 0.4 on a base shaken as x = {} sin({} t); failure {}.",
             p.amplitude,
             p.omega,
             time_text(r.failure_time)
-        ),
-    });
-    blocks.push(Block::Image {
-        file: "shaking/top_block.png".into(),
-        caption:
-            "Angle and height of the top block of the shaken column (cf. Figure 4.5 (b), (c))."
-                .into(),
-    });
+        )));
+    blocks.push(Block::image(
+        "shaking/top_block.png",
+        "Angle and height of the top block of the shaken column (cf. Figure 4.5 (b), (c)).",
+    ));
     Ok(())
 }
 
@@ -252,13 +232,9 @@ fn slide(dir: &Path, summary: &mut Vec<String>, blocks: &mut Vec<Block>) -> Resu
         "pulled base (§4.5, Figure 4.7), t = {t_end}: {}",
         regimes.join(", ")
     ));
-    blocks.push(Block::Table {
-        header: ["v0", "top angle at t = 3 (rad)", "regime", "error"]
-            .iter()
-            .map(|s| (*s).to_owned())
-            .collect(),
-        rows: rows
-            .iter()
+    blocks.push(Block::table(
+        &["v0", "top angle at t = 3 (rad)", "regime", "error"],
+        rows.iter()
             .map(|r| {
                 vec![
                     r.v0.to_string(),
@@ -268,15 +244,9 @@ fn slide(dir: &Path, summary: &mut Vec<String>, blocks: &mut Vec<Block>) -> Resu
                 ]
             })
             .collect(),
-    });
-    blocks.push(Block::Image {
-        file: "sweep_slide.png".into(),
-        caption: "Figure 4.7 (few points): top block angle at t = 3 against the base speed; small v0 rides along, intermediate v0 topples, large v0 drops almost straight (tablecloth trick).".into(),
-    });
-    blocks.push(Block::Data {
-        file: "sweep_slide.csv".into(),
-        description: "the slide sweep".into(),
-    });
+    ));
+    blocks.push(Block::image("sweep_slide.png", "Figure 4.7 (few points): top block angle at t = 3 against the base speed; small v0 rides along, intermediate v0 topples, large v0 drops almost straight (tablecloth trick)."));
+    blocks.push(Block::data("sweep_slide.csv", "the slide sweep"));
     Ok(())
 }
 
@@ -320,8 +290,8 @@ fn prox_comparison(summary: &mut Vec<String>, blocks: &mut Vec<Block>) -> Result
             .collect::<Vec<_>>()
             .join("; ")
     ));
-    blocks.push(Block::Table {
-        header: [
+    blocks.push(Block::table(
+        &[
             "run",
             "prox parameter",
             "steps",
@@ -329,12 +299,9 @@ fn prox_comparison(summary: &mut Vec<String>, blocks: &mut Vec<Block>) -> Result
             "branch points",
             "Newton its/step",
             "error",
-        ]
-        .iter()
-        .map(|s| (*s).to_owned())
-        .collect(),
+        ],
         rows,
-    });
+    ));
     Ok(())
 }
 
@@ -353,13 +320,10 @@ fn painleve(dir: &Path, summary: &mut Vec<String>, blocks: &mut Vec<Block>) -> R
         "line contact (I.2.10), w/h = 0.5, μ_d = 0.2, sliding right: n_R = {:.4}, n_L = {:.4}",
         lc.n_right, lc.n_left
     ));
-    blocks.push(Block::Image {
-        file: "painleve.png".into(),
-        caption: "Figure I.2 for w/h = 0.5: (a) admissible angles (I.1.3); (b) where b ≤ 0 (paradox) per slip direction, faded outside the admissible range; i, ii: least μ_d = 4/3.".into(),
-    });
-    blocks.push(Block::Data {
-        file: "painleve_b_grid.csv".into(),
-        description: "b(ϑ, ±1, μ_d) on a 121 × 121 grid".into(),
-    });
+    blocks.push(Block::image("painleve.png", "Figure I.2 for w/h = 0.5: (a) admissible angles (I.1.3); (b) where b ≤ 0 (paradox) per slip direction, faded outside the admissible range; i, ii: least μ_d = 4/3."));
+    blocks.push(Block::data(
+        "painleve_b_grid.csv",
+        "b(ϑ, ±1, μ_d) on a 121 × 121 grid",
+    ));
     Ok(())
 }

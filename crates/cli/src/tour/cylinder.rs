@@ -96,15 +96,12 @@ pub fn section(dir: &Path) -> Result<Section> {
             "Figure 3.8: minimum applied force vs ϑ; zero at D = arctan(2r/h)",
         ),
     ] {
-        blocks.push(Block::Image {
-            file: file.into(),
-            caption: caption.into(),
-        });
+        blocks.push(Block::image(file, caption));
     }
-    blocks.push(Block::Data {
-        file: "fig3_7_fig3_8.csv".into(),
-        description: "minimum force vs ϑ, with its case".into(),
-    });
+    blocks.push(Block::data(
+        "fig3_7_fig3_8.csv",
+        "minimum force vs ϑ, with its case",
+    ));
 
     // §3.4: Figures 3.10 and 3.12 (radians, ERRATA 8).
     let mut rows = Vec::new();
@@ -136,12 +133,10 @@ pub fn section(dir: &Path) -> Result<Section> {
             format!("{:.6}", trace.delta_phi()),
             format!("{product_error:.1e}"),
         ]);
-        images.push(Block::Image {
-            file: format!("{name}.png"),
-            caption: format!(
-                "Figure 3.10, Case {case:?}: traces of P (i) and of a rim point X (ii)"
-            ),
-        });
+        images.push(Block::image(
+            format!("{name}.png"),
+            format!("Figure 3.10, Case {case:?}: traces of P (i) and of a rim point X (ii)"),
+        ));
     }
     let (cyl, theta12, ell) = figure_3_12();
     for case in [PathCase::I, PathCase::II] {
@@ -162,12 +157,10 @@ pub fn section(dir: &Path) -> Result<Section> {
             format!("{:.6}", trace.delta_phi()),
             "-".into(),
         ]);
-        images.push(Block::Image {
-            file: format!("{name}.png"),
-            caption: format!(
-                "Figure 3.12, Case {case:?}: P traces a circle of radius ℓ = {ell:.5} r"
-            ),
-        });
+        images.push(Block::image(
+            format!("{name}.png"),
+            format!("Figure 3.12, Case {case:?}: P traces a circle of radius ℓ = {ell:.5} r"),
+        ));
     }
     summary.push(format!(
         "holonomy: Fig. 3.10 Δφ = ±{} rad (= 139π/12), Fig. 3.12 Δφ = ±{} rad (ℓ = {ell:.5} r)",

@@ -69,6 +69,33 @@ pub enum Block {
     },
 }
 
+impl Block {
+    /// A table from its column names and rows of cells.
+    #[must_use]
+    pub fn table(header: &[&str], rows: Vec<Vec<String>>) -> Self {
+        let header = header.iter().map(|s| (*s).to_owned()).collect();
+        Self::Table { header, rows }
+    }
+
+    /// An image with its caption.
+    #[must_use]
+    pub fn image(file: impl Into<String>, caption: impl Into<String>) -> Self {
+        Self::Image {
+            file: file.into(),
+            caption: caption.into(),
+        }
+    }
+
+    /// A link to a data file with what it holds.
+    #[must_use]
+    pub fn data(file: impl Into<String>, description: impl Into<String>) -> Self {
+        Self::Data {
+            file: file.into(),
+            description: description.into(),
+        }
+    }
+}
+
 /// A function that produces one section, writing its files into the directory given.
 pub type SectionFn = fn(&Path) -> Result<Section>;
 

@@ -52,18 +52,12 @@ pub fn section(dir: &Path) -> Result<Section> {
         "Figure 2.1: traces of C (i) and X (ii), rectangle of (2.4.10)",
     )?;
     plot_level_sets(&dir.join("figure_2_5.png"), Some((r.theta, r.phi2)))?;
-    blocks.push(Block::Image {
-        file: "figure_2_1.png".into(),
-        caption: "Figure 2.1: top view of the centre C and the material point X that started at the contact, for Ŝ(4π/3 − 0.5, π/2 − 0.4, 3π, ccw) of (2.4.10)".into(),
-    });
-    blocks.push(Block::Data {
-        file: "figure_2_1_roll.csv".into(),
-        description: "trajectory: s, centre, X, quaternion".into(),
-    });
-    blocks.push(Block::Image {
-        file: "figure_2_5.png".into(),
-        caption: "Figure 2.5: level sets of ψ(ϑ, φ2), from (2.4.11) with the factor 2 of ERRATA item 1; dot: the rectangle of (2.4.10)".into(),
-    });
+    blocks.push(Block::image("figure_2_1.png", "Figure 2.1: top view of the centre C and the material point X that started at the contact, for Ŝ(4π/3 − 0.5, π/2 − 0.4, 3π, ccw) of (2.4.10)"));
+    blocks.push(Block::data(
+        "figure_2_1_roll.csv",
+        "trajectory: s, centre, X, quaternion",
+    ));
+    blocks.push(Block::image("figure_2_5.png", "Figure 2.5: level sets of ψ(ϑ, φ2), from (2.4.11) with the factor 2 of ERRATA item 1; dot: the rectangle of (2.4.10)"));
 
     // (2.4.12) and Figure 2.6.
     let plan = plan_report(&target_2_4_12()?)?;
@@ -114,14 +108,11 @@ pub fn section(dir: &Path) -> Result<Section> {
          sign of the quaternion and clockwise travel give further rectangles the thesis does not list."
             .into(),
     ));
-    blocks.push(Block::Image {
-        file: "figure_2_6.png".into(),
-        caption: "Figure 2.6: the three rectangles of (2.4.12)".into(),
-    });
-    blocks.push(Block::Data {
-        file: "plan_2_4_12.csv".into(),
-        description: "all solutions".into(),
-    });
+    blocks.push(Block::image(
+        "figure_2_6.png",
+        "Figure 2.6: the three rectangles of (2.4.12)",
+    ));
+    blocks.push(Block::data("plan_2_4_12.csv", "all solutions"));
 
     // Euler plans, Figures 2.7–2.9.
     for (set, angles, file) in [
@@ -143,13 +134,13 @@ pub fn section(dir: &Path) -> Result<Section> {
             "Euler plan {set} ν = {angles:?}: composed holonomy error {:.1e} rad",
             plan.error
         ));
-        blocks.push(Block::Image {
-            file: file.into(),
-            caption: format!(
+        blocks.push(Block::image(
+            file,
+            format!(
                 "{set}: rectangle 1 cw, 2 ccw, 3 cw (ERRATA item 6); composed error {:.1e} rad",
                 plan.error
             ),
-        });
+        ));
     }
 
     // Rolling: both integrators against the closed form.
@@ -172,14 +163,11 @@ pub fn section(dir: &Path) -> Result<Section> {
         "roll around the rectangle of (2.4.10), exact integrator: error {:.1e} rad",
         rolled.error_vs_closed_form
     ));
-    blocks.push(Block::Image {
-        file: "roll_study.png".into(),
-        caption: "Error of the final orientation against the closed form vs wall time, exact (Lie-group exponential) and RK4 integrators, 8…4096 steps".into(),
-    });
-    blocks.push(Block::Data {
-        file: "roll_study.csv".into(),
-        description: "speed vs error of both integrators".into(),
-    });
+    blocks.push(Block::image("roll_study.png", "Error of the final orientation against the closed form vs wall time, exact (Lie-group exponential) and RK4 integrators, 8…4096 steps"));
+    blocks.push(Block::data(
+        "roll_study.csv",
+        "speed vs error of both integrators",
+    ));
 
     Ok(Section {
         title: "Rolling sphere: holonomy and path planning (Ch. 2)".into(),
