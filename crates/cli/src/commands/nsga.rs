@@ -86,9 +86,10 @@ pub struct WorkPrecisionArgs {
     /// Directory for work_precision.csv, work_precision.png and run.json.
     #[arg(long)]
     pub out: PathBuf,
-    /// Time steps Δt in s (comma-separated); default depends on the system.
-    #[arg(long)]
-    pub dts: Option<String>,
+    /// Time steps Δt in s (comma-separated, each in (0, 0.1]); the same default for
+    /// every system.
+    #[arg(long, default_value = "0.008,0.004,0.002,0.001,0.0005,0.00025")]
+    pub dts: String,
     /// Values of ρ∞ for NSGA (comma-separated).
     #[arg(long, default_value = "0,0.5,0.8,1")]
     pub rho_inf: String,
@@ -220,10 +221,7 @@ fn work_precision_command(a: &WorkPrecisionArgs) -> Result<()> {
         SystemArg::Oscillator => WorkPrecisionSystem::Oscillator,
         SystemArg::Incline => WorkPrecisionSystem::Incline,
     };
-    let dts = match &a.dts {
-        Some(s) => input::text::parse_number_list(s).map_err(anyhow::Error::msg)?,
-        None => vec![8e-3, 4e-3, 2e-3, 1e-3, 5e-4, 2.5e-4],
-    };
+    let dts = input::text::parse_number_list(&a.dts).map_err(anyhow::Error::msg)?;
     if dts.iter().any(|&d| !(d > 0.0 && d <= 0.1)) {
         bail!("every --dts value must be in (0, 0.1] s");
     }
