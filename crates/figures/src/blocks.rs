@@ -3,7 +3,7 @@
 
 use crate::plot::{with_png, LinePlot, Series, FONT, PALETTE};
 use crate::{err, file, write_error, FigureError, Result};
-use blockstack::record::{Frame, TopSample};
+use blockstack::record::{Frame, Recording, TopSample};
 use blockstack::studies::shaking::FrequencyRow;
 use blockstack::studies::slide::{SlideRegime, SlideRow};
 use blockstack::Scene;
@@ -180,6 +180,51 @@ pub fn plot_top_block(path: &Path, top: &[TopSample], title: &str) -> Result<()>
         angle.draw(&left)?;
         height.draw(&right)
     })
+}
+
+/// File name of the snapshot at requested time t, e.g. `snapshot_t6.4.png`.
+#[must_use]
+pub fn snapshot_name(t: f64) -> String {
+    // Six decimals at most: `snapshot_t7.853982.png`, not all seventeen digits.
+    format!("snapshot_t{}.png", (t * 1e6).round() / 1e6)
+}
+
+/// The pictures of one run in `dir`: a snapshot per requested time (one common view;
+/// a run that stopped earlier shows its last state and says so), the animation when
+/// `animate`, and the top block's angle and height. Returns the names of the files.
+///
+/// # Errors
+/// A non-finite frame or an unwritable file.
+pub fn draw_run(
+    dir: &Path,
+    scene: &Scene,
+    recording: &Recording,
+    title: &str,
+    animate: bool,
+) -> Result<Vec<String>> {
+    let mut files = Vec::new();
+    let shots: Vec<(PathBuf, String, &Frame)> = recording
+        .snapshots
+        .iter()
+        .map(|(ts, f)| {
+            let name = snapshot_name(*ts);
+            files.push(name.clone());
+            let note = if f.t < ts - 0.5 * scene.solver.dt {
+                format!(" (run ended before t = {ts})")
+            } else {
+                String::new()
+            };
+            (dir.join(name), format!("{title}, t = {:.2}{note}", f.t), f)
+        })
+        .collect();
+    plot_snapshots(scene, &shots)?;
+    if animate {
+        write_animation(&dir.join("animation.gif"), scene, &recording.frames, title)?;
+        files.push("animation.gif".to_owned());
+    }
+    plot_top_block(&dir.join("top_block.png"), &recording.top, title)?;
+    files.push("top_block.png".to_owned());
+    Ok(files)
 }
 
 /// Figure 4.6: the inverse time to failure 1/T of a shaken column against the

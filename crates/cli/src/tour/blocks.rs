@@ -7,7 +7,7 @@
 use super::{Block, Section};
 use crate::commands::blocks::painleve::write_painleve_files;
 use crate::commands::blocks::sweep::write_slide_files;
-use crate::commands::blocks::{simulate_with_output, snapshot_name, OutputPlan, LIRE_SNAPSHOTS};
+use crate::commands::blocks::{simulate_with_output, OutputPlan, LIRE_SNAPSHOTS};
 use anyhow::Result;
 use blockstack::scenarios::{
     lire, lire_on_floor, maximum_overhang, shaking_column, Perturbation, Shaking,
@@ -17,6 +17,7 @@ use blockstack::studies::lire::{blocks_fallen, largest_drift};
 use blockstack::studies::painleve::painleve_report;
 use blockstack::studies::slide::{slide_row, SlideRegime};
 use figures::blocks::plot_stack;
+use figures::blocks::snapshot_name;
 use std::path::Path;
 
 /// Builds the section.

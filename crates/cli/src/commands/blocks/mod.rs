@@ -19,9 +19,7 @@ use clap::{Args, Subcommand};
 use input::text::parse_finite;
 use std::path::PathBuf;
 
-pub use simulate::{
-    simulate_with_output, snapshot_name, OutputPlan, SimulationOutput, LIRE_SNAPSHOTS,
-};
+pub use simulate::{simulate_with_output, OutputPlan, SimulationOutput, LIRE_SNAPSHOTS};
 
 /// Arguments of `rollstack blocks`.
 #[derive(Debug, Args)]

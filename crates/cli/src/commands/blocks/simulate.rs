@@ -6,12 +6,12 @@ use crate::output::{
     commit_temp, ensure_dir, print_json, temp_sibling, write_csv_f64, write_run_json,
 };
 use anyhow::{Context, Result};
-use blockstack::record::{Frame, RecordPlan, Recorder, Recording};
+use blockstack::record::{RecordPlan, Recorder, Recording};
 use blockstack::scenarios::{lire, lire_on_floor, Perturbation};
 use blockstack::simulation::{simulate, RunOptions, RunReport, RunSummary};
 use blockstack::Scene;
 use clap::{Args, ValueEnum};
-use figures::blocks::{plot_snapshots, plot_top_block, write_animation};
+use figures::blocks::draw_run;
 use input::text::parse_finite;
 use serde::Serialize;
 use std::fs::File;
@@ -212,46 +212,15 @@ fn write_run_files(
         &rows,
     )?;
     files.push("branch_points.csv".to_owned());
-    let shots: Vec<(PathBuf, String, &Frame)> = recording
-        .snapshots
-        .iter()
-        .map(|(ts, f)| {
-            let name = snapshot_name(*ts);
-            files.push(name.clone());
-            // A run that stopped before a requested time shows its last state.
-            let note = if f.t < ts - 0.5 * scene.solver.dt {
-                format!(" (run ended before t = {ts})")
-            } else {
-                String::new()
-            };
-            (
-                dir.join(name),
-                format!("{}, t = {:.2}{note}", plan.title, f.t),
-                f,
-            )
-        })
-        .collect();
-    plot_snapshots(scene, &shots)?;
-    if plan.max_frames > 0 {
-        write_animation(
-            &dir.join("animation.gif"),
-            scene,
-            &recording.frames,
-            &plan.title,
-        )?;
-        files.push("animation.gif".to_owned());
-    }
-    plot_top_block(&dir.join("top_block.png"), &recording.top, &plan.title)?;
-    files.push("top_block.png".to_owned());
+    files.extend(draw_run(
+        dir,
+        scene,
+        recording,
+        &plan.title,
+        plan.max_frames > 0,
+    )?);
     files.push("run.json".to_owned());
     Ok(files)
-}
-
-/// File name of the snapshot at requested time t, e.g. `snapshot_t6.4.png`.
-#[must_use]
-pub fn snapshot_name(t: f64) -> String {
-    // Six decimals at most: `snapshot_t7.853982.png`, not all seventeen digits.
-    format!("snapshot_t{}.png", (t * 1e6).round() / 1e6)
 }
 
 /// Prints the report (JSON or text) and turns a run that stopped early or output that
