@@ -8,6 +8,7 @@
 //! a line of contact) and nearly parallel ones are handled without dividing by 1 − c².
 
 use crate::error::CylinderError;
+use input::InputError;
 use nalgebra::{Matrix2, RealField, Vector2, Vector3};
 use serde::{Deserialize, Serialize};
 
@@ -238,7 +239,7 @@ pub struct ClosestPointRates {
 ///
 /// # Errors
 /// [`CylinderError::ParallelAxes`] when 1 − c² ≤ 1e-12: H is singular and the closest
-/// points move along a line of contact; [`CylinderError::NonFinite`] for NaN input.
+/// points move along a line of contact; [`CylinderError::Input`] for NaN input.
 pub fn closest_point_rates(
     a: &AxisMotion,
     b: &AxisMotion,
@@ -253,7 +254,7 @@ pub fn closest_point_rates(
             m.angular_acceleration,
         ];
         if all.iter().any(|v| v.iter().any(|x| !x.is_finite())) {
-            return Err(CylinderError::NonFinite("axis motion"));
+            return Err(InputError::NonFinite("axis motion".into()).into());
         }
     }
     let (ea, eb) = (a.axis, b.axis);

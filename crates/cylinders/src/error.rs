@@ -1,40 +1,25 @@
 //! Errors of the cylinder models.
 
+use input::InputError;
+
 /// Why an input does not describe a valid cylinder problem.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum CylinderError {
-    /// An input value is NaN or infinite.
-    #[error("{0} must be a finite number")]
-    NonFinite(&'static str),
-    /// A length or ratio that must be positive is not.
-    #[error("{name} must be positive, got {value}")]
-    NotPositive {
-        /// Which input.
-        name: &'static str,
-        /// The value given.
-        value: f64,
-    },
-    /// A quantity that must not be negative is.
-    #[error("{name} must not be negative, got {value}")]
-    Negative {
-        /// Which input.
-        name: &'static str,
-        /// The value given.
-        value: f64,
-    },
+    /// A value that is not finite, positive, non-negative or within its range (the
+    /// checks every rollstack crate shares, [`input`]).
+    #[error(transparent)]
+    Input(#[from] InputError),
     /// The inclination is outside the range where the cylinder touches the plane at
     /// one rim point (§3.2: ϑ ∈ (0, π/2)).
     #[error("the inclination ϑ = {0} rad is outside (0, π/2): the point-contact assumption of §3.2 fails (at ϑ = 0 the base lies flat, at π/2 the side does)")]
     NotPointContact(f64),
-    /// An input outside its documented range.
-    #[error("{name} = {value} is outside {range}")]
-    OutOfRange {
-        /// Which input.
-        name: &'static str,
-        /// The value given.
-        value: f64,
-        /// The allowed range, in words.
-        range: &'static str,
+    /// A construction for two identical cylinders was given two different ones.
+    #[error("cylinder II (r, h) = {second:?} must be identical to cylinder I (r, h) = {first:?} for this construction")]
+    DifferentCylinders {
+        /// Radius and height of cylinder I.
+        first: [f64; 2],
+        /// Radius and height of cylinder II.
+        second: [f64; 2],
     },
     /// No applied force can sustain the steady motion at this inclination (the static
     /// friction criterion and F3 ≥ 0, N ≥ 0 cannot all hold), §3.3.
@@ -69,29 +54,52 @@ pub enum CylinderError {
     },
 }
 
-/// Rejects a non-finite value.
-pub(crate) fn finite(name: &'static str, value: f64) -> Result<f64, CylinderError> {
-    if value.is_finite() {
-        Ok(value)
-    } else {
-        Err(CylinderError::NonFinite(name))
-    }
-}
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::holonomy::{Direction, PathCase, RectanglePath};
+    use crate::kinematics::Cylinder;
+    use crate::statics::SupportProblem;
 
-/// Rejects a non-finite or non-positive value.
-pub(crate) fn positive(name: &'static str, value: f64) -> Result<f64, CylinderError> {
-    if finite(name, value)? > 0.0 {
-        Ok(value)
-    } else {
-        Err(CylinderError::NotPositive { name, value })
+    #[test]
+    fn generic_checks_read_as_input_errors() {
+        let e = Cylinder::new(1.0, f64::NAN).unwrap_err();
+        assert_eq!(
+            e,
+            CylinderError::Input(InputError::NonFinite("height h".into()))
+        );
+        assert_eq!(e.to_string(), "height h is not finite");
+        assert_eq!(
+            SupportProblem::new(0.1, -0.2).unwrap_err().to_string(),
+            "μ must not be negative, got -0.2"
+        );
+        assert_eq!(
+            Cylinder::new(-1.0, 1.0).unwrap_err().to_string(),
+            "radius r must be positive, got -1"
+        );
+        let s = RectanglePath::new(1.0, 2.0, 1.5, PathCase::I, Direction::Clockwise);
+        assert_eq!(s.unwrap_err().to_string(), "s must lie in [0, 1], got 1.5");
     }
-}
 
-/// Rejects a non-finite or negative value.
-pub(crate) fn non_negative(name: &'static str, value: f64) -> Result<f64, CylinderError> {
-    if finite(name, value)? >= 0.0 {
-        Ok(value)
-    } else {
-        Err(CylinderError::Negative { name, value })
+    #[test]
+    fn cylinder_specific_checks_keep_their_words() {
+        let e = crate::kinematics::check_point_contact(0.0).unwrap_err();
+        assert!(e.to_string().contains("outside (0, π/2)"), "{e}");
+        let pair = crate::pair::CylinderPair {
+            first: Cylinder::new(1.0, 2.0).unwrap(),
+            second: Cylinder::new(0.5, 2.0).unwrap(),
+        };
+        let e = pair.touching_configuration(0.4, 0.1, 0.5).unwrap_err();
+        assert_eq!(
+            e,
+            CylinderError::DifferentCylinders {
+                first: [1.0, 2.0],
+                second: [0.5, 2.0]
+            }
+        );
+        assert_eq!(
+            e.to_string(),
+            "cylinder II (r, h) = [0.5, 2.0] must be identical to cylinder I (r, h) = [1.0, 2.0] for this construction"
+        );
     }
 }

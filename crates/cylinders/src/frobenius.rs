@@ -18,6 +18,7 @@
 //! stays admissible.)
 
 use crate::error::CylinderError;
+use input::InputError;
 use nalgebra::{DMatrix, DVector, RealField};
 use num_dual::Dual64;
 use serde::{Deserialize, Serialize};
@@ -50,7 +51,7 @@ fn check_dimension<S: PfaffianSystem>(system: &S, q: &[f64]) -> Result<(), Cylin
         });
     }
     if q.iter().any(|v| !v.is_finite()) {
-        return Err(CylinderError::NonFinite("coordinates q"));
+        return Err(InputError::NonFinite("coordinates q".into()).into());
     }
     Ok(())
 }

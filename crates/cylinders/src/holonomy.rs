@@ -4,8 +4,9 @@
 //! Both paths change only the spin φ: the holonomy is a rotation A(Δφ, ₀e3) about the
 //! initial axis ₀e3 of the cylinder.
 
-use crate::error::{finite, positive, CylinderError};
+use crate::error::CylinderError;
 use crate::kinematics::{check_point_contact, Cylinder, EulerFrame};
+use input::{in_range, positive};
 use nalgebra::{Quaternion, Rotation3, Unit, UnitQuaternion, Vector3};
 use rotations::{compound, AxisAngle};
 use serde::{Deserialize, Serialize};
@@ -99,14 +100,7 @@ impl RectanglePath {
     ) -> Result<Self, CylinderError> {
         positive("φ1", phi1)?;
         positive("φ2", phi2)?;
-        finite("s", s)?;
-        if !(0.0..=1.0).contains(&s) {
-            return Err(CylinderError::OutOfRange {
-                name: "s",
-                value: s,
-                range: "[0, 1]",
-            });
-        }
+        in_range("s", s, 0.0..=1.0, "[0, 1]")?;
         Ok(Self {
             phi1,
             phi2,

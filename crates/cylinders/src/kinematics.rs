@@ -5,7 +5,8 @@
 //! (`f64`, or a dual number of `num-dual` for exact derivatives in [`crate::frobenius`]);
 //! their `f64` values are tested against the `rotations` crate.
 
-use crate::error::{finite, positive, CylinderError};
+use crate::error::CylinderError;
+use input::{finite, positive};
 use nalgebra::{Matrix3, RealField, SMatrix, Vector3};
 use rotations::EulerSet;
 use serde::{Deserialize, Serialize};

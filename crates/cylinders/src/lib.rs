@@ -13,6 +13,9 @@
 //! - [`pair`]: the single cylinder and the touching pair as constraint systems (App. F;
 //!   the rank of the nine constraints is 9, ERRATA 13).
 //! - [`contact`]: contact between two cylinders (App. E).
+//! - [`studies`]: what the command line and the tour report, as typed, serializable
+//!   results: the support at one inclination, the curves of Figures 3.3–3.8, the
+//!   holonomy reports and traces of Figures 3.10 and 3.12, the Frobenius reports.
 //!
 //! Lengths are in any consistent unit, angles in radians, forces divided by mg.
 //!
@@ -52,5 +55,6 @@ pub mod kinematics;
 pub mod pair;
 pub mod rolling;
 pub mod statics;
+pub mod studies;
 
 pub use error::CylinderError;

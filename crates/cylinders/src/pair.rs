@@ -10,6 +10,7 @@ use crate::contact::{closest_points, ground_gap, AxisSegment, ClosestPoints};
 use crate::error::CylinderError;
 use crate::frobenius::PfaffianSystem;
 use crate::kinematics::{contact_offset, rolling_matrix, rotation_columns, Cylinder, EulerFrame};
+use input::InputError;
 use nalgebra::{DMatrix, Matrix3, RealField, SMatrix, Vector3};
 use serde::{Deserialize, Serialize};
 use std::f64::consts::PI;
@@ -183,22 +184,23 @@ impl CylinderPair {
         heading: f64,
     ) -> Result<[f64; 12], CylinderError> {
         crate::kinematics::check_point_contact(theta)?;
-        crate::error::finite("contact position", contact_at)?;
-        crate::error::finite("heading", heading)?;
+        input::finite("contact position", contact_at)?;
+        input::finite("heading", heading)?;
         if self.first != self.second {
-            return Err(CylinderError::OutOfRange {
-                name: "cylinder II",
-                value: self.second.radius(),
-                range: "identical to cylinder I for this construction",
+            let size = |c: &Cylinder| [c.radius(), c.height()];
+            return Err(CylinderError::DifferentCylinders {
+                first: size(&self.first),
+                second: size(&self.second),
             });
         }
         let half = 0.5 * self.first.height();
         if contact_at.abs() >= half {
-            return Err(CylinderError::OutOfRange {
-                name: "contact position",
-                value: contact_at,
+            return Err(InputError::OutOfRange {
+                name: "contact position".into(),
                 range: "(−h/2, h/2)",
-            });
+                value: contact_at,
+            }
+            .into());
         }
         let (s, height) = (theta.sin(), self.first.f2(theta));
         let gap = self.first.radius() + self.second.radius();

@@ -10,11 +10,12 @@
 //! (the quaternion renormalised each step). The holonomy it produces is therefore an
 //! independent check of §3.4.
 
-use crate::error::{finite, positive, CylinderError};
+use crate::error::CylinderError;
 use crate::holonomy::{CirclePath, Motion, RectanglePath};
 use crate::kinematics::{
     check_point_contact, contact_offset_from_axis, rolling_matrix, three_one_three, Cylinder, Pose,
 };
+use input::{finite, non_negative, positive};
 use nalgebra::{Quaternion, Rotation3, UnitQuaternion, Vector3, Vector6};
 use serde::{Deserialize, Serialize};
 use std::f64::consts::PI;
@@ -171,12 +172,7 @@ pub fn roll(
     for seg in segments {
         finite("segment rate", seg.psi_rate)?;
         finite("segment rate", seg.phi_rate)?;
-        if !(seg.duration >= 0.0 && seg.duration.is_finite()) {
-            return Err(CylinderError::Negative {
-                name: "segment duration",
-                value: seg.duration,
-            });
-        }
+        non_negative("segment duration", seg.duration)?;
         let angle = seg.duration * (seg.psi_rate.abs() + seg.phi_rate.abs());
         let n = (angle / max_angle_step).ceil().max(1.0) as usize;
         let dt = seg.duration / n as f64;

@@ -10,7 +10,8 @@
 //! friction force is F_f = −F e′2. The "+" limit of (3.3.8) is F_f = +μN e′2 (F = −μN),
 //! the "−" limit is F_f = −μN e′2 (F = +μN).
 
-use crate::error::{finite, non_negative, CylinderError};
+use crate::error::CylinderError;
+use input::{finite, in_range, non_negative};
 use nalgebra::{Vector3, Vector6};
 use serde::{Deserialize, Serialize};
 use std::f64::consts::FRAC_PI_2;
@@ -249,14 +250,7 @@ impl SupportProblem {
     /// When ϑ is outside [0, π/2], or no admissible force exists
     /// ([`CylinderError::NoSupport`]).
     pub fn minimum_force(&self, theta: f64) -> Result<MinimumForce, CylinderError> {
-        finite("inclination ϑ", theta)?;
-        if !(0.0..=FRAC_PI_2).contains(&theta) {
-            return Err(CylinderError::OutOfRange {
-                name: "ϑ",
-                value: theta,
-                range: "[0, π/2]",
-            });
-        }
+        in_range("inclination ϑ", theta, 0.0..=FRAC_PI_2, "[0, π/2]")?;
         if theta == 0.0 || theta == FRAC_PI_2 {
             return Ok(MinimumForce {
                 f3_over_mg: 0.0,

@@ -9,6 +9,10 @@
 //!   plots render on machines without installed fonts.
 //! - [`blocks`]: the block stack: snapshots (Figure 4.4), the animation, the top block's
 //!   angle and height (Figure 4.5).
+//! - [`cylinders`]: the support-force curves of §3.3 (Figures 3.3–3.5, 3.7, 3.8) and
+//!   the plan view of a rolled trace (Figures 3.10, 3.12).
+//! - [`nsga`]: the bouncing ball and work-precision diagrams.
+//! - [`painleve`]: Figure I.2.
 //! - [`sphere`]: the rolling sphere: traces (Figure 2.1), rectangles and their panels
 //!   (Figures 2.6–2.9), the level sets of Figure 2.5, the integrator study.
 //! - [`rotations`]: a rotated basis and its axis in an oblique 3D view.
@@ -30,6 +34,7 @@
 #![warn(missing_docs)]
 
 pub mod blocks;
+pub mod cylinders;
 pub mod file;
 pub mod nsga;
 pub mod painleve;

@@ -2,15 +2,21 @@
 //! holonomies of Figures 3.10 and 3.12 (§3.4) and the Frobenius ranks (App. D, F).
 
 use super::{Block, Section};
-use crate::commands::cylinder::{support_report, write_statics, write_trace};
+use crate::commands::cylinder::{write_statics, write_trace};
 use anyhow::Result;
-use cylinders::frobenius::frobenius_test;
 use cylinders::holonomy::{figure_3_12, CirclePath, Direction, Figure310, PathCase};
-use cylinders::kinematics::{Cylinder, Pose};
-use cylinders::pair::{CylinderPair, PairConstraints, PairSystem, SingleCylinder};
-use cylinders::rolling::{circle_motion, rectangle_segments, roll};
-use rotations::rotation_distance;
+use cylinders::studies::frobenius::{
+    integrability_report, ConstraintSystem, FrobeniusCase, IntegrabilityReport, PairConfiguration,
+};
+use cylinders::studies::holonomy::{circle_report, rectangle_report, RollSettings};
+use cylinders::studies::support::support_report;
 use std::path::Path;
+
+/// The rolled checks of the tour: coarser than the command line's.
+const ROLL: RollSettings = RollSettings {
+    max_step: 2e-3,
+    record_every: 10,
+};
 
 fn opt(v: Option<f64>) -> String {
     v.map_or_else(|| "none".to_owned(), |v| format!("{v:.6}"))
@@ -108,30 +114,19 @@ pub fn section(dir: &Path) -> Result<Section> {
     let mut images = Vec::new();
     for case in [PathCase::I, PathCase::II] {
         let fig = Figure310::new(case);
-        let product_error = rotation_distance(
-            &fig.path.product(fig.theta, 0.0),
-            &fig.path.closed_form(fig.theta, 0.0),
-        );
-        let pose = Pose::on_plane(&fig.cylinder, 0.0, 0.0, [0.0, fig.theta, 0.0]);
-        let trace = roll(
-            &fig.cylinder,
-            &pose,
-            &rectangle_segments(&fig.path),
-            2e-3,
-            10,
-        )?;
+        let (rep, trace) = rectangle_report(&fig.cylinder, fig.theta, &fig.path, 0.0, ROLL)?;
         let name = format!("fig3_10_case_{case:?}");
         write_trace(
             dir,
             &name,
             &trace,
-            &format!("Fig. 3.10 ({case:?}): Δφ = {:.4} rad", fig.path.delta_phi()),
+            &format!("Fig. 3.10 ({case:?}): Δφ = {:.4} rad", rep.delta_phi),
         )?;
         rows.push(vec![
             format!("Fig. 3.10 rectangle, Case {case:?}"),
-            format!("{:.6}", fig.path.delta_phi()),
-            format!("{:.6}", trace.delta_phi()),
-            format!("{product_error:.1e}"),
+            format!("{:.6}", rep.delta_phi),
+            format!("{:.6}", rep.rolling_delta_phi),
+            format!("{:.1e}", rep.product_error),
         ]);
         images.push(Block::image(
             format!("{name}.png"),
@@ -141,9 +136,7 @@ pub fn section(dir: &Path) -> Result<Section> {
     let (cyl, theta12, ell) = figure_3_12();
     for case in [PathCase::I, PathCase::II] {
         let path = CirclePath::new(ell, case, Direction::CounterClockwise)?;
-        let hol = path.holonomy(&cyl, theta12)?;
-        let (pose, seg) = circle_motion(&cyl, theta12, &path)?;
-        let trace = roll(&cyl, &pose, &[seg], 2e-3, 10)?;
+        let (hol, trace) = circle_report(&cyl, theta12, &path, ROLL)?;
         let name = format!("fig3_12_case_{case:?}");
         write_trace(
             dir,
@@ -154,7 +147,7 @@ pub fn section(dir: &Path) -> Result<Section> {
         rows.push(vec![
             format!("Fig. 3.12 circle, Case {case:?} (k = {:.4} r)", hol.k),
             format!("{:.6}", hol.delta_phi),
-            format!("{:.6}", trace.delta_phi()),
+            format!("{:.6}", hol.rolling_delta_phi),
             "-".into(),
         ]);
         images.push(Block::image(
@@ -179,16 +172,10 @@ pub fn section(dir: &Path) -> Result<Section> {
     });
     blocks.extend(images);
 
-    // App. D, F: Frobenius ranks (ERRATA 13).
-    let single = SingleCylinder {
-        cylinder: Cylinder::gas_cylinder(),
-    };
-    let pair = CylinderPair::identical(Cylinder::gas_cylinder());
-    let q6 = [0.1, -0.2, 0.7, 0.5, 0.4, 0.3];
+    // App. D, F: Frobenius ranks (ERRATA 13), the gas cylinder at ϑ = 0.4.
     let mut rows = Vec::new();
     let mut ranks = Vec::new();
-    let single_report = frobenius_test(&single, &q6)?;
-    let mut push = |name: &str, r: &cylinders::frobenius::FrobeniusReport| {
+    let mut push = |name: &str, r: &IntegrabilityReport| {
         ranks.push(format!("{name} {}", r.rank));
         rows.push(vec![
             name.to_owned(),
@@ -202,19 +189,24 @@ pub fn section(dir: &Path) -> Result<Section> {
                 .map(|(i, _)| format!("Π{}", i + 1))
                 .collect::<Vec<_>>()
                 .join(" "),
-            r.system_integrable().to_string(),
+            r.system_integrable.to_string(),
         ]);
     };
-    push("single (6 coords, 3 constraints)", &single_report);
-    for (cfg, q) in [
-        ("touching", pair.touching_configuration(0.4, 0.3, 0.5)?),
-        ("generic", pair.generic_configuration(0.4, 0.3, 0.5)?),
+    let single = integrability_report(&FrobeniusCase::default())?;
+    push("single (6 coords, 3 constraints)", &single);
+    for (cfg, configuration) in [
+        ("touching", PairConfiguration::Touching),
+        ("generic", PairConfiguration::Generic),
     ] {
-        for (label, constraints) in [
-            ("pair7", PairConstraints::Seven),
-            ("pair9", PairConstraints::Nine),
+        for (label, system) in [
+            ("pair7", ConstraintSystem::Pair7),
+            ("pair9", ConstraintSystem::Pair9),
         ] {
-            let r = frobenius_test(&PairSystem { pair, constraints }, &q)?;
+            let r = integrability_report(&FrobeniusCase {
+                system,
+                configuration,
+                ..FrobeniusCase::default()
+            })?;
             push(&format!("{label} ({cfg})"), &r);
         }
     }

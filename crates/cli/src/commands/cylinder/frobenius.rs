@@ -1,0 +1,106 @@
+//! `rollstack cylinder frobenius`: the Frobenius integrability test of the rolling
+//! constraints ([`cylinders::studies::frobenius`]).
+
+use crate::output::print_json;
+use anyhow::Result;
+use clap::{Args, ValueEnum};
+use cylinders::kinematics::Cylinder;
+use cylinders::studies::frobenius::{
+    integrability_report, ConstraintSystem, FrobeniusCase, PairConfiguration,
+};
+use input::text::Angle;
+
+/// The constraint systems of `cylinder frobenius`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum SystemArg {
+    /// One cylinder: 6 coordinates, v_P = 0 (3 constraints), App. D.
+    Single,
+    /// The pair: 12 coordinates, Π1..Π7 of (3.5.13).
+    Pair7,
+    /// The pair: 12 coordinates, the nine rolling constraints of App. F.
+    Pair9,
+}
+
+impl From<SystemArg> for ConstraintSystem {
+    fn from(s: SystemArg) -> Self {
+        match s {
+            SystemArg::Single => Self::Single,
+            SystemArg::Pair7 => Self::Pair7,
+            SystemArg::Pair9 => Self::Pair9,
+        }
+    }
+}
+
+/// Where the pair is evaluated.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum ConfigArg {
+    /// The touching configuration shifted by fixed irregular offsets (not touching).
+    Generic,
+    /// Touching: both on the plane, leaning towards each other, axes r1 + r2 apart.
+    Touching,
+}
+
+impl From<ConfigArg> for PairConfiguration {
+    fn from(c: ConfigArg) -> Self {
+        match c {
+            ConfigArg::Generic => Self::Generic,
+            ConfigArg::Touching => Self::Touching,
+        }
+    }
+}
+
+/// Arguments of `rollstack cylinder frobenius`.
+#[derive(Debug, Args)]
+pub struct FrobeniusArgs {
+    /// Which constraint system.
+    #[arg(long, value_enum, default_value = "single")]
+    pub system: SystemArg,
+    /// Configuration of the pair.
+    #[arg(long, value_enum, default_value = "generic")]
+    pub config: ConfigArg,
+    /// Inclination ϑ of the cylinders, in (0, π/2), rad.
+    #[arg(long, allow_hyphen_values = true, default_value = "0.4")]
+    pub theta: Angle,
+    /// Heading (precession ψ of cylinder I), rad.
+    #[arg(long, allow_hyphen_values = true, default_value = "0.5")]
+    pub heading: Angle,
+    /// Where the cylinders touch along their axes, from the centre (m* = n*), metres.
+    #[arg(long, allow_hyphen_values = true, default_value_t = 0.3)]
+    pub contact_at: f64,
+    /// Radius r of each cylinder, metres (default: the gas cylinder of §3.6).
+    #[arg(long, default_value_t = 0.1143)]
+    pub r: f64,
+    /// Height h of each cylinder, metres.
+    #[arg(long, default_value_t = 1.2954)]
+    pub h: f64,
+    /// Print one JSON object on stdout.
+    #[arg(long)]
+    pub json: bool,
+}
+
+pub(super) fn run(a: &FrobeniusArgs) -> Result<()> {
+    let rep = integrability_report(&FrobeniusCase {
+        system: a.system.into(),
+        configuration: a.config.into(),
+        cylinder: Cylinder::new(a.r, a.h)?,
+        theta: a.theta.0,
+        heading: a.heading.0,
+        contact_at: a.contact_at,
+    })?;
+    if a.json {
+        return print_json(&rep);
+    }
+    println!(
+        "Frobenius test ({:?}): rank {} nullity {}",
+        a.system, rep.rank, rep.nullity
+    );
+    for (i, (v, ok)) in rep.max_abs_asb.iter().zip(&rep.integrable).enumerate() {
+        println!(
+            "  Π{}: max|aᵀSb| = {v:.3e}  {}",
+            i + 1,
+            if *ok { "integrable" } else { "not integrable" }
+        );
+    }
+    println!("  system integrable: {}", rep.system_integrable);
+    Ok(())
+}

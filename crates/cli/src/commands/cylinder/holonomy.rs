@@ -1,0 +1,236 @@
+//! `rollstack cylinder holonomy rectangle|circle`: Δφ when P traces a rectangle or a
+//! circle, checked by rolling along the path ([`cylinders::studies::holonomy`]).
+
+use crate::output::{ensure_dir, print_json, write_csv, write_run_json};
+use anyhow::{Context, Result};
+use clap::{Args, Subcommand, ValueEnum};
+use cylinders::holonomy::{CirclePath, Direction, PathCase, RectanglePath};
+use cylinders::kinematics::{check_point_contact, Cylinder};
+use cylinders::rolling::RollingTrace;
+use cylinders::studies::holonomy::{circle_report, plan_view, rectangle_report, RollSettings};
+use figures::cylinders::plot_trace;
+use input::text::Angle;
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+/// Arguments of `rollstack cylinder holonomy`.
+#[derive(Debug, Args)]
+pub struct HolonomyArgs {
+    /// The path traced by the contact point P.
+    #[command(subcommand)]
+    pub path: HolonomyPath,
+}
+
+/// The two paths of §3.4.
+#[derive(Debug, Subcommand)]
+pub enum HolonomyPath {
+    /// P traces a rectangle of sides rφ1/2, rφ2/2: the nine-rotation product (3.4.3).
+    Rectangle(RectangleArgs),
+    /// P traces a circle of radius ℓ, (3.4.10)–(3.4.16).
+    Circle(CircleArgs),
+}
+
+/// Case I (e′2 points out of the path) or II (in).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum CaseArg {
+    /// e′2 outward: Δφ > 0 counter-clockwise.
+    #[value(name = "I", alias = "i", alias = "1")]
+    One,
+    /// e′2 inward: Δφ < 0 counter-clockwise.
+    #[value(name = "II", alias = "ii", alias = "2")]
+    Two,
+}
+
+impl From<CaseArg> for PathCase {
+    fn from(c: CaseArg) -> Self {
+        match c {
+            CaseArg::One => PathCase::I,
+            CaseArg::Two => PathCase::II,
+        }
+    }
+}
+
+/// The direction of travel the `--cw` flag names.
+fn direction(cw: bool) -> Direction {
+    if cw {
+        Direction::Clockwise
+    } else {
+        Direction::CounterClockwise
+    }
+}
+
+/// Arguments of `rollstack cylinder holonomy rectangle`.
+#[derive(Debug, Args)]
+pub struct RectangleArgs {
+    /// Inclination ϑ, in (0, π/2), rad (`pi/10` accepted).
+    #[arg(long, allow_hyphen_values = true)]
+    pub theta: Angle,
+    /// φ1 > 0: a side of the rectangle is rφ1/2 long (rad of spin).
+    #[arg(long, allow_hyphen_values = true)]
+    pub phi1: Angle,
+    /// φ2 > 0: the other side is rφ2/2 long (rad of spin).
+    #[arg(long, allow_hyphen_values = true)]
+    pub phi2: Angle,
+    /// Start point S on the first side, s in [0, 1] (Figure 3.9).
+    #[arg(long, default_value_t = 0.0)]
+    pub s: f64,
+    /// Case I (e′2 outward) or II (inward).
+    #[arg(long = "case", value_enum, default_value = "I")]
+    pub case: CaseArg,
+    /// Travel clockwise; default counter-clockwise.
+    #[arg(long)]
+    pub cw: bool,
+    /// Initial precession ψ0, rad (sets ₀e3 of (3.4.4)).
+    #[arg(long, allow_hyphen_values = true, default_value = "0")]
+    pub psi0: Angle,
+    /// Height of the cylinder in units of r (only for the rolled traces; Figure 3.10: 8.3333).
+    #[arg(long, default_value_t = 25.0 / 3.0)]
+    pub h_over_r: f64,
+    /// Largest rotation per integration step of the rolled check, rad.
+    #[arg(long, default_value_t = 1e-3)]
+    pub max_step: f64,
+    /// Print one JSON object on stdout.
+    #[arg(long)]
+    pub json: bool,
+    /// Write rectangle_trace.csv, rectangle_trace.png (Figure 3.10) and run.json here.
+    #[arg(long)]
+    pub out: Option<PathBuf>,
+}
+
+/// The rolled check of the command line: a sample every 20 steps.
+fn settings(max_step: f64) -> RollSettings {
+    RollSettings {
+        max_step,
+        record_every: 20,
+    }
+}
+
+pub(super) fn run_rectangle(a: &RectangleArgs) -> Result<()> {
+    let start = Instant::now();
+    let theta = check_point_contact(a.theta.0)?;
+    let path = RectanglePath::new(a.phi1.0, a.phi2.0, a.s, a.case.into(), direction(a.cw))?;
+    let psi0 = a.psi0.0;
+    let cylinder = Cylinder::new(1.0, a.h_over_r)?;
+    let (rep, trace) = rectangle_report(&cylinder, theta, &path, psi0, settings(a.max_step))?;
+    if let Some(dir) = &a.out {
+        ensure_dir(dir)?;
+        let title = format!(
+            "Fig. 3.10: P traces a rectangle, Δφ = {:.4} rad",
+            rep.delta_phi
+        );
+        write_trace(dir, "rectangle_trace", &trace, &title)?;
+        write_run_json(
+            dir,
+            "cylinder holonomy rectangle",
+            &serde_json::json!({"theta": theta, "phi1": path.phi1, "phi2": path.phi2, "s": path.s,
+                "case": format!("{:?}", path.case), "cw": a.cw, "psi0": psi0, "h_over_r": a.h_over_r}),
+            &serde_json::json!({"total_s": start.elapsed().as_secs_f64()}),
+        )?;
+    }
+    if a.json {
+        return print_json(&rep);
+    }
+    println!(
+        "Rectangle (3.4.3): Δφ = {:.9} rad ({:?}, {:?})",
+        rep.delta_phi, path.case, path.direction
+    );
+    println!(
+        "  product vs closed form (3.4.5): {:.1e} rad",
+        rep.product_error
+    );
+    println!(
+        "  rolled along the path: Δφ = {:.9} rad, error {:.1e} rad",
+        rep.rolling_delta_phi, rep.rolling_error
+    );
+    Ok(())
+}
+
+/// Arguments of `rollstack cylinder holonomy circle`.
+#[derive(Debug, Args)]
+pub struct CircleArgs {
+    /// Radius ℓ of the circle traced by P (same unit as --h and --r).
+    #[arg(long)]
+    pub ell: f64,
+    /// Inclination ϑ, in (0, π/2), rad (`pi/10` accepted).
+    #[arg(long, allow_hyphen_values = true)]
+    pub theta: Angle,
+    /// Height h of the cylinder.
+    #[arg(long)]
+    pub h: f64,
+    /// Radius r of the cylinder.
+    #[arg(long)]
+    pub r: f64,
+    /// Case I (e′2 outward) or II (inward).
+    #[arg(long = "case", value_enum, default_value = "I")]
+    pub case: CaseArg,
+    /// Travel clockwise; default counter-clockwise.
+    #[arg(long)]
+    pub cw: bool,
+    /// Largest rotation per integration step of the rolled check, rad.
+    #[arg(long, default_value_t = 1e-3)]
+    pub max_step: f64,
+    /// Print one JSON object on stdout.
+    #[arg(long)]
+    pub json: bool,
+    /// Write circle_trace.csv, circle_trace.png (Figure 3.12) and run.json here.
+    #[arg(long)]
+    pub out: Option<PathBuf>,
+}
+
+pub(super) fn run_circle(a: &CircleArgs) -> Result<()> {
+    let start = Instant::now();
+    let cylinder = Cylinder::new(a.r, a.h)?;
+    let theta = a.theta.0;
+    let path = CirclePath::new(a.ell, a.case.into(), direction(a.cw))?;
+    let (rep, trace) = circle_report(&cylinder, theta, &path, settings(a.max_step))?;
+    if let Some(dir) = &a.out {
+        ensure_dir(dir)?;
+        let title = format!(
+            "Fig. 3.12: P traces a circle, Δφ = {:.4} rad",
+            rep.delta_phi
+        );
+        write_trace(dir, "circle_trace", &trace, &title)?;
+        write_run_json(
+            dir,
+            "cylinder holonomy circle",
+            &serde_json::json!({"ell": a.ell, "theta": theta, "h": a.h, "r": a.r,
+                "case": format!("{:?}", path.case), "cw": a.cw}),
+            &serde_json::json!({"total_s": start.elapsed().as_secs_f64()}),
+        )?;
+    }
+    if a.json {
+        return print_json(&rep);
+    }
+    println!(
+        "Circle (3.4.16): Δφ = {:.9} rad, k = {:.9} ({:?}, {:?})",
+        rep.delta_phi, rep.k, path.case, path.direction
+    );
+    println!(
+        "  rolled around the circle: Δφ = {:.9} rad",
+        rep.rolling_delta_phi
+    );
+    Ok(())
+}
+
+/// Writes a rolling trace as `{name}.csv` (t, centre, P, rim point X, φ) and a plan-view
+/// `{name}.png` with the traces of P (i) and X (ii), the start S and the rim point's
+/// start A and end B.
+///
+/// # Errors
+/// When a file cannot be written.
+pub fn write_trace(dir: &Path, name: &str, trace: &RollingTrace, title: &str) -> Result<()> {
+    let rows = trace.samples.iter().map(|s| {
+        let (c, p, x) = (s.center, s.contact, s.rim_point);
+        [s.t, c.x, c.y, c.z, p.x, p.y, x.x, x.y, x.z, s.phi].map(|v| v.to_string())
+    });
+    write_csv(
+        &dir.join(format!("{name}.csv")),
+        &[
+            "t", "center_x", "center_y", "center_z", "p_x", "p_y", "x_x", "x_y", "x_z", "phi",
+        ],
+        rows,
+    )?;
+    let view = plan_view(trace).context("empty trace")?;
+    plot_trace(&dir.join(format!("{name}.png")), view, title)?;
+    Ok(())
+}

@@ -1,0 +1,57 @@
+//! `rollstack cylinder support|statics|holonomy|frobenius`: the inclined rolling cylinder
+//! of Ch. 3 (App. D, E, F), corrected per ERRATA 8–15.
+//!
+//! Forces are divided by mg, angles are radians (`30deg`, `pi/10` accepted), lengths are
+//! in any one unit (the cylinder's radius r for the holonomy examples). Every number
+//! printed comes from [`cylinders::studies`]; this module reads the flags and writes the
+//! files (docs/cli.md).
+
+mod frobenius;
+mod holonomy;
+mod statics;
+mod support;
+
+pub use frobenius::{ConfigArg, FrobeniusArgs, SystemArg};
+pub use holonomy::{write_trace, CaseArg, CircleArgs, HolonomyArgs, HolonomyPath, RectangleArgs};
+pub use statics::{write_statics, StaticsArgs};
+pub use support::SupportArgs;
+
+use anyhow::Result;
+use clap::{Args, Subcommand};
+
+/// Arguments of `rollstack cylinder`.
+#[derive(Debug, Args)]
+pub struct CylinderArgs {
+    /// Which computation.
+    #[command(subcommand)]
+    pub command: CylinderCommand,
+}
+
+/// The subcommands of `rollstack cylinder`.
+#[derive(Debug, Subcommand)]
+pub enum CylinderCommand {
+    /// Support forces of a steadily rolling inclined cylinder at one inclination (§3.3).
+    Support(SupportArgs),
+    /// The support-force curves of Figures 3.3, 3.4, 3.5, 3.7 and 3.8 (CSV + PNG).
+    Statics(StaticsArgs),
+    /// Holonomy Δφ when the contact point traces a rectangle or a circle (§3.4).
+    Holonomy(HolonomyArgs),
+    /// Frobenius integrability test of the rolling constraints, numerically (App. D, F).
+    Frobenius(FrobeniusArgs),
+}
+
+/// Runs `rollstack cylinder ...`.
+///
+/// # Errors
+/// Bad input, or a file that cannot be written.
+pub fn run(args: &CylinderArgs) -> Result<()> {
+    match &args.command {
+        CylinderCommand::Support(a) => support::run(a),
+        CylinderCommand::Statics(a) => statics::run(a),
+        CylinderCommand::Holonomy(a) => match &a.path {
+            HolonomyPath::Rectangle(r) => holonomy::run_rectangle(r),
+            HolonomyPath::Circle(c) => holonomy::run_circle(c),
+        },
+        CylinderCommand::Frobenius(a) => frobenius::run(a),
+    }
+}

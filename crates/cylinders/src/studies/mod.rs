@@ -1,0 +1,20 @@
+//! What the command line and the tour report of the inclined rolling cylinder, as typed,
+//! serializable results: a program gets the numbers of `rollstack cylinder ... --json`
+//! and the rows of its CSV files (docs/cli.md) from these functions, without the command
+//! line. The field names of each report are the keys of that JSON.
+//!
+//! - [`support`]: the steady support at one inclination, (3.3.8)–(3.3.19), corrected per
+//!   ERRATA 9–11, checked against the balance laws (3.3.3);
+//! - [`statics`]: the support-force curves of Figures 3.3, 3.4, 3.5, 3.7 and 3.8;
+//! - [`holonomy`]: Δφ of a rectangle (3.4.3)–(3.4.9) and of a circle (3.4.10)–(3.4.16)
+//!   traced by P (radians, ERRATA 8), each checked by rolling along the path, and the
+//!   traces of Figures 3.10 and 3.12;
+//! - [`frobenius`]: the Frobenius test of the single cylinder (App. D) and of the pair
+//!   (§3.5, App. F; rank 9, ERRATA 13).
+//!
+//! Forces are divided by mg, angles are in radians, lengths in any one unit.
+
+pub mod frobenius;
+pub mod holonomy;
+pub mod statics;
+pub mod support;

@@ -1,0 +1,201 @@
+//! Steady support at one inclination (§3.3, corrected per ERRATA 9–11): what
+//! `rollstack cylinder support` prints.
+
+use crate::error::CylinderError;
+use crate::statics::{FrictionLimit, MinimumForce, SteadyBalance, SupportProblem};
+use serde::{Deserialize, Serialize};
+use std::f64::consts::FRAC_PI_2;
+
+/// The heading ψ at which the closed forms are checked against the balance laws: any
+/// value does, the steady support does not depend on it.
+const CHECK_HEADING: f64 = 0.7;
+
+/// The smallest applied force, (3.3.15)–(3.3.19), with its case named.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct MinimumForceReport {
+    /// F3/mg.
+    pub f3_over_mg: f64,
+    /// F/mg (horizontal, along e′2).
+    pub f_over_mg: f64,
+    /// ‖F_a‖/mg.
+    pub norm_over_mg: f64,
+    /// `unconstrained` (3.3.15), `friction_positive` / `friction_negative` (3.3.18),
+    /// `no_vertical_force` (3.3.19) or `flat_contact` ([`crate::statics::MinForceCase::name`]).
+    pub case: String,
+    /// The equation of the case ([`crate::statics::MinForceCase::equation`]).
+    pub equation: String,
+}
+
+impl From<MinimumForce> for MinimumForceReport {
+    fn from(m: MinimumForce) -> Self {
+        Self {
+            f3_over_mg: m.f3_over_mg,
+            f_over_mg: m.f_over_mg,
+            norm_over_mg: m.norm_over_mg,
+            case: m.case.name().into(),
+            equation: m.case.equation().into(),
+        }
+    }
+}
+
+/// The steady support of an inclined rolling cylinder at one inclination. Forces are
+/// divided by mg, angles in radians. The field names are the keys of
+/// `rollstack cylinder support --json` (docs/cli.md), those of docs/cli.md first.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct SupportReport {
+    /// N/mg at F_f = +μN e′2, (3.3.8)₊ corrected per ERRATA 9; `None` when no positive N.
+    pub n_over_mg_plus: Option<f64>,
+    /// N/mg at F_f = −μN e′2, (3.3.8)₋; `None` when no positive N.
+    pub n_over_mg_minus: Option<f64>,
+    /// N/mg on a smooth plane, (3.3.10); `None` when no positive N.
+    pub n_over_mg_smooth: Option<f64>,
+    /// Inclinations at which a steady support with 0 < N < mg exists: the (+) range of
+    /// (3.3.9), corrected per ERRATA 10, rad ([π/2, π/2] when empty).
+    pub theta_range: [f64; 2],
+    /// The minimum applied force, (3.3.15)–(3.3.19); `None` when no support exists.
+    pub min_force: Option<MinimumForceReport>,
+    /// The (−) range of (3.3.9), `None` when empty, rad.
+    pub theta_range_minus: Option<[f64; 2]>,
+    /// The range of (3.3.10), rad.
+    pub theta_range_smooth: Option<[f64; 2]>,
+    /// Admissible N/mg at this ϑ: [N₊, min(N₋, 1)], `None` when none.
+    pub admissible_n_over_mg: Option<[f64; 2]>,
+    /// The common point (ϑ, N/mg) of all (+) curves, (3.3.11); `None` for μ = 0.
+    pub common_point: Option<[f64; 2]>,
+    /// ϑ of point D, arctan(2r/h): zero applied force, rad.
+    pub self_balancing_theta: f64,
+    /// Largest difference between the closed forms and the balance laws (3.3.3) solved
+    /// numerically (QR) at this ϑ.
+    pub balance_law_error: f64,
+}
+
+fn pair(r: Option<(f64, f64)>) -> Option<[f64; 2]> {
+    r.map(|(a, b)| [a, b])
+}
+
+/// The steady support at inclination `theta` of a cylinder of aspect ratio `r_over_h`
+/// on a plane of friction coefficient `mu`: the limiting normal forces (3.3.8)
+/// (corrected per ERRATA 9) and (3.3.10), the feasible inclinations (3.3.9) (ERRATA 10),
+/// the common point (3.3.11), point D, and the minimum applied force (3.3.15)–(3.3.19)
+/// (its circle (3.3.20), ERRATA 11). Every closed form is checked against the balance
+/// laws (3.3.3) solved numerically ([`SteadyBalance`]); the largest disagreement is
+/// [`SupportReport::balance_law_error`].
+///
+/// # Errors
+/// ϑ outside (0, π/2) ([`CylinderError::NotPointContact`]), a negative or non-finite
+/// r/h or μ ([`CylinderError::Input`]).
+pub fn support_report(theta: f64, r_over_h: f64, mu: f64) -> Result<SupportReport, CylinderError> {
+    let p = SupportProblem::new(r_over_h, mu)?;
+    let plus = p.normal_force(theta, FrictionLimit::Plus)?;
+    let minus = p.normal_force(theta, FrictionLimit::Minus)?;
+    let smooth = p.normal_force(theta, FrictionLimit::Smooth)?;
+    let min_force = p.minimum_force(theta).ok();
+    let balance = SteadyBalance::new(&p, theta, CHECK_HEADING)?;
+    let mut balance_law_error: f64 = 0.0;
+    for (limit, closed) in [
+        (FrictionLimit::Plus, plus),
+        (FrictionLimit::Minus, minus),
+        (FrictionLimit::Smooth, smooth),
+    ] {
+        if let Some(n) = closed {
+            balance_law_error =
+                balance_law_error.max((balance.limiting_normal_force(limit) - n).abs());
+        }
+    }
+    if let (Some(m), Ok((f3, f))) = (min_force, balance.minimum_force()) {
+        balance_law_error = balance_law_error
+            .max((m.f3_over_mg - f3).abs())
+            .max((m.f_over_mg - f).abs());
+    }
+    let upper = minus.map_or(1.0, |n| n.min(1.0));
+    let admissible = plus.filter(|&n| n <= upper).map(|n| [n, upper]);
+    let (lo, hi) = p
+        .inclination_range(FrictionLimit::Plus)
+        .unwrap_or((FRAC_PI_2, FRAC_PI_2));
+    Ok(SupportReport {
+        n_over_mg_plus: plus,
+        n_over_mg_minus: minus,
+        n_over_mg_smooth: smooth,
+        theta_range: [lo, hi],
+        min_force: min_force.map(MinimumForceReport::from),
+        theta_range_minus: pair(p.inclination_range(FrictionLimit::Minus)),
+        theta_range_smooth: pair(p.inclination_range(FrictionLimit::Smooth)),
+        admissible_n_over_mg: admissible,
+        common_point: pair(p.common_point()),
+        self_balancing_theta: p.self_balancing_inclination(),
+        balance_law_error,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use input::InputError;
+
+    #[test]
+    fn thirty_degrees_matches_the_corrected_closed_forms() {
+        let rep = support_report(30f64.to_radians(), 0.1, 0.2).unwrap();
+        // (3.3.8) corrected (ERRATA 9): ½ sin ϑ / (sin ϑ − ρ cos ϑ ± μ(ρ sin ϑ + cos ϑ)).
+        let (s, c) = (0.5, 30f64.to_radians().cos());
+        let n = |sign: f64| 0.5 * s / (s - 0.1 * c + sign * 0.2 * (0.1 * s + c));
+        assert!((rep.n_over_mg_plus.unwrap() - n(1.0)).abs() < 1e-14);
+        assert!((rep.n_over_mg_minus.unwrap() - n(-1.0)).abs() < 1e-14);
+        assert!((rep.n_over_mg_smooth.unwrap() - n(0.0)).abs() < 1e-14);
+        assert!(rep.balance_law_error < 1e-12);
+        // ERRATA 10: the (+) range starts at max(0, …) = 0 here.
+        assert_eq!(rep.theta_range, [0.0, FRAC_PI_2]);
+        // (3.3.11) and point D.
+        assert!((rep.common_point.unwrap()[1] - 1.0 / 2.08).abs() < 1e-15);
+        assert!((rep.self_balancing_theta - 0.2f64.atan()).abs() < 1e-15);
+        let m = rep.min_force.unwrap();
+        assert_eq!(
+            (m.case.as_str(), m.equation.as_str()),
+            ("unconstrained", "(3.3.15)")
+        );
+        let admissible = rep.admissible_n_over_mg.unwrap();
+        assert!(admissible[0] <= admissible[1] && admissible[1] <= 1.0);
+    }
+
+    #[test]
+    fn json_keys_keep_their_order() {
+        let rep = support_report(0.5, 0.1, 0.2).unwrap();
+        let text = serde_json::to_string(&rep).unwrap();
+        let keys = [
+            "n_over_mg_plus",
+            "n_over_mg_minus",
+            "n_over_mg_smooth",
+            "theta_range",
+            "min_force",
+            "theta_range_minus",
+            "theta_range_smooth",
+            "admissible_n_over_mg",
+            "common_point",
+            "self_balancing_theta",
+            "balance_law_error",
+        ];
+        let at: Vec<usize> = keys
+            .iter()
+            .map(|k| text.find(&format!("\"{k}\":")).unwrap())
+            .collect();
+        assert!(at.windows(2).all(|w| w[0] < w[1]), "{text}");
+    }
+
+    #[test]
+    fn refuses_bad_input() {
+        assert!(matches!(
+            support_report(0.0, 0.1, 0.2),
+            Err(CylinderError::NotPointContact(_))
+        ));
+        assert_eq!(
+            support_report(0.5, 0.1, -0.1).unwrap_err(),
+            CylinderError::Input(InputError::Negative {
+                name: "μ".into(),
+                value: -0.1
+            })
+        );
+        assert_eq!(
+            support_report(0.5, f64::NAN, 0.2).unwrap_err().to_string(),
+            "r/h is not finite"
+        );
+    }
+}
