@@ -5,6 +5,7 @@
 //! user's own program draw the same figures, and no physics crate depends on a plotting
 //! library.
 //!
+//! - [`page`]: the tour's HTML page of sections (numbers, tables, figures, data links).
 //! - [`plot`]: line plots ([`plot::LinePlot`], [`plot::Series`]) with a bundled font, so
 //!   plots render on machines without installed fonts.
 //! - [`blocks`]: the block stack: snapshots (Figure 4.4), the animation, the top block's
@@ -37,6 +38,7 @@ pub mod blocks;
 pub mod cylinders;
 pub mod file;
 pub mod nsga;
+pub mod page;
 pub mod painleve;
 pub mod plot;
 pub mod rotations;

@@ -1,0 +1,156 @@
+//! The tour's page: sections of headline numbers, text, tables, figures and links to
+//! data files, rendered as one self-contained `index.html`.
+
+use std::fmt::Write as _;
+
+/// What one system shows on the page.
+#[derive(Debug, Default)]
+pub struct Section {
+    /// Heading in the page.
+    pub title: String,
+    /// A few lines for the terminal summary and the page (headline numbers).
+    pub summary: Vec<String>,
+    /// HTML blocks (tables, images), in order. Paths are relative to the tour directory.
+    pub blocks: Vec<Block>,
+}
+
+/// One piece of a section's page.
+#[derive(Debug)]
+pub enum Block {
+    /// A paragraph of plain text.
+    Text(String),
+    /// A PNG written into the tour directory, with a caption.
+    Image {
+        /// File name relative to the tour directory.
+        file: String,
+        /// Caption under the image.
+        caption: String,
+    },
+    /// A table with a header row.
+    Table {
+        /// Column names.
+        header: Vec<String>,
+        /// Cells, row by row.
+        rows: Vec<Vec<String>>,
+    },
+    /// A link to a data file (CSV) in the tour directory.
+    Data {
+        /// File name relative to the tour directory.
+        file: String,
+        /// What it holds.
+        description: String,
+    },
+}
+
+impl Block {
+    /// A table from its column names and rows of cells.
+    #[must_use]
+    pub fn table(header: &[&str], rows: Vec<Vec<String>>) -> Self {
+        let header = header.iter().map(|s| (*s).to_owned()).collect();
+        Self::Table { header, rows }
+    }
+
+    /// An image with its caption.
+    #[must_use]
+    pub fn image(file: impl Into<String>, caption: impl Into<String>) -> Self {
+        Self::Image {
+            file: file.into(),
+            caption: caption.into(),
+        }
+    }
+
+    /// A link to a data file with what it holds.
+    #[must_use]
+    pub fn data(file: impl Into<String>, description: impl Into<String>) -> Self {
+        Self::Data {
+            file: file.into(),
+            description: description.into(),
+        }
+    }
+}
+
+/// `s` with the characters HTML gives a meaning escaped.
+fn escape(s: &str) -> String {
+    s.replace('&', "&amp;")
+        .replace('<', "&lt;")
+        .replace('>', "&gt;")
+        .replace('"', "&quot;")
+}
+
+/// The HTML page of `sections` (each with the name of its directory, relative to the
+/// page), and a line per failed section.
+#[must_use]
+pub fn render_html(sections: &[(String, Section)], failures: &[String]) -> String {
+    let mut h = String::from(
+        "<!DOCTYPE html>\n<html><head><meta charset=\"utf-8\"><title>rollstack tour</title>\n\
+         <style>body{font-family:sans-serif;max-width:1100px;margin:auto;padding:1em}\
+         table{border-collapse:collapse}td,th{border:1px solid #bbb;padding:3px 8px;text-align:right}\
+         img{max-width:100%;border:1px solid #ddd}figure{margin:1em 0}</style></head><body>\n\
+         <h1>rollstack tour</h1>\n<p>Headline results of every system, computed with built-in \
+         defaults by <code>rollstack tour</code>. Equation numbers refer to Honein (2024).</p>\n<ul>",
+    );
+    for (name, s) in sections {
+        let _ = write!(h, "<li><a href=\"#{name}\">{}</a></li>", escape(&s.title));
+    }
+    h.push_str("</ul>\n");
+    for f in failures {
+        let _ = writeln!(h, "<p style=\"color:#b00\">Failed: {}</p>", escape(f));
+    }
+    for (name, s) in sections {
+        let _ = writeln!(h, "<h2 id=\"{name}\">{}</h2>", escape(&s.title));
+        if !s.summary.is_empty() {
+            h.push_str("<ul>");
+            for line in &s.summary {
+                let _ = write!(h, "<li>{}</li>", escape(line));
+            }
+            h.push_str("</ul>\n");
+        }
+        for b in &s.blocks {
+            render_block(&mut h, name, b);
+        }
+    }
+    h.push_str("</body></html>\n");
+    h
+}
+
+/// One block of a section whose files lie in `dir`.
+fn render_block(h: &mut String, dir: &str, block: &Block) {
+    match block {
+        Block::Text(t) => {
+            let _ = writeln!(h, "<p>{}</p>", escape(t));
+        }
+        Block::Image { file, caption } => {
+            let _ = writeln!(
+                h,
+                "<figure><img src=\"{dir}/{}\" alt=\"{}\"><figcaption>{}</figcaption></figure>",
+                escape(file),
+                escape(caption),
+                escape(caption)
+            );
+        }
+        Block::Table { header, rows } => {
+            h.push_str("<table><tr>");
+            for c in header {
+                let _ = write!(h, "<th>{}</th>", escape(c));
+            }
+            h.push_str("</tr>");
+            for r in rows {
+                h.push_str("<tr>");
+                for c in r {
+                    let _ = write!(h, "<td>{}</td>", escape(c));
+                }
+                h.push_str("</tr>");
+            }
+            h.push_str("</table>\n");
+        }
+        Block::Data { file, description } => {
+            let _ = writeln!(
+                h,
+                "<p>Data: <a href=\"{dir}/{}\">{}</a> ({})</p>",
+                escape(file),
+                escape(file),
+                escape(description)
+            );
+        }
+    }
+}
