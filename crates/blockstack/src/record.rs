@@ -177,6 +177,12 @@ pub fn finite_text(v: f64) -> String {
     }
 }
 
+/// An optional number as [`finite_text`]; an empty cell when absent.
+#[must_use]
+pub fn optional_text(v: Option<f64>) -> String {
+    v.map_or_else(String::new, finite_text)
+}
+
 /// Why the trajectory stopped being written.
 #[derive(Debug, thiserror::Error)]
 pub enum TrajectoryError {

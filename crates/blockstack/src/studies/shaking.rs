@@ -1,5 +1,6 @@
 //! The shaken column at one base frequency: its time to failure (§4.4, Figure 4.6).
 
+use crate::record::{finite_text, optional_text};
 use crate::scenarios::{shaking_column, Shaking};
 use crate::simulation::{simulate, RunOptions};
 
@@ -24,6 +25,38 @@ pub struct FrequencyRow {
     pub branch_points: usize,
     /// Solver time (s).
     pub wall_time_s: f64,
+}
+
+impl FrequencyRow {
+    /// The columns of `sweep_frequency.csv`, one per field, in order.
+    pub const CSV_HEADER: [&'static str; 9] = [
+        "omega",
+        "failure_time",
+        "inv_failure_time",
+        "opening_time",
+        "steps",
+        "error",
+        "failed_steps",
+        "branch_points",
+        "wall_time_s",
+    ];
+
+    /// The row's cells under [`Self::CSV_HEADER`]: numbers in shortest round-trip form,
+    /// an empty cell for a missing or non-finite value.
+    #[must_use]
+    pub fn csv_cells(&self) -> Vec<String> {
+        vec![
+            finite_text(self.omega),
+            optional_text(self.failure_time),
+            optional_text(self.inv_failure_time),
+            optional_text(self.opening_time),
+            self.steps.to_string(),
+            self.error.clone().unwrap_or_default(),
+            self.failed_steps.to_string(),
+            self.branch_points.to_string(),
+            finite_text(self.wall_time_s),
+        ]
+    }
 }
 
 /// Shakes the column `shaking` describes (its ω, amplitude, blocks, μ, steps per period
@@ -77,6 +110,22 @@ pub fn one_line(s: &str) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn csv_cells_match_the_header_and_leave_missing_values_empty() {
+        let row = frequency_row(
+            &Shaking {
+                omega: 0.5,
+                periods: 0.2,
+                ..Shaking::default()
+            },
+            &RunOptions::default(),
+        );
+        let cells = row.csv_cells();
+        assert_eq!(cells.len(), FrequencyRow::CSV_HEADER.len());
+        assert_eq!((cells[0].as_str(), cells[1].as_str()), ("0.5", ""));
+        assert_eq!(cells[2], "0.0");
+    }
 
     #[test]
     fn a_slowly_shaken_column_survives_and_a_bad_frequency_is_a_row_error() {

@@ -1,7 +1,7 @@
 //! The column on a pulled base at one speed: the top block's angle at the end and how
 //! the column ends (§4.5, Figure 4.7).
 
-use crate::record::Frame;
+use crate::record::{finite_text, optional_text, Frame};
 use crate::scenarios::sliding_column;
 use crate::scene::Scene;
 use crate::simulation::{simulate, RunOptions};
@@ -88,6 +88,38 @@ pub struct SlideRow {
     pub wall_time_s: f64,
 }
 
+impl SlideRow {
+    /// The columns of `sweep_slide.csv`, one per field, in order.
+    pub const CSV_HEADER: [&'static str; 9] = [
+        "v0",
+        "top_angle",
+        "regime",
+        "steps",
+        "error",
+        "t_final",
+        "failure_time",
+        "failed_steps",
+        "wall_time_s",
+    ];
+
+    /// The row's cells under [`Self::CSV_HEADER`]: numbers in shortest round-trip form,
+    /// an empty cell for a missing or non-finite value.
+    #[must_use]
+    pub fn csv_cells(&self) -> Vec<String> {
+        vec![
+            finite_text(self.v0),
+            optional_text(self.top_angle),
+            self.regime.map_or("", SlideRegime::name).to_owned(),
+            self.steps.to_string(),
+            self.error.clone().unwrap_or_default(),
+            finite_text(self.t_final),
+            optional_text(self.failure_time),
+            self.failed_steps.to_string(),
+            finite_text(self.wall_time_s),
+        ]
+    }
+}
+
 /// Runs the sliding column of `blocks` blocks on a base pulled at `v0` to `t_end`
 /// ([`sliding_column`]); every failure goes into the row.
 #[must_use]
@@ -135,6 +167,25 @@ pub fn slide_row(blocks: usize, v0: f64, t_end: f64, options: &RunOptions) -> Sl
 mod tests {
     use super::*;
     use crate::coordinates::Pose;
+
+    #[test]
+    fn csv_cells_match_the_header_and_name_the_regime() {
+        let row = SlideRow {
+            v0: 0.15,
+            top_angle: Some(0.25),
+            regime: Some(SlideRegime::Topples),
+            steps: 300,
+            error: None,
+            t_final: 3.0,
+            failure_time: None,
+            failed_steps: 0,
+            wall_time_s: f64::NAN,
+        };
+        let cells = row.csv_cells();
+        assert_eq!(cells.len(), SlideRow::CSV_HEADER.len());
+        assert_eq!(cells[..4], ["0.15", "0.25", "topples", "300"]);
+        assert_eq!(cells[8], "", "a non-finite number is an empty cell");
+    }
 
     #[test]
     fn slide_regimes_from_the_end_state() {

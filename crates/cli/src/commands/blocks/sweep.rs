@@ -5,7 +5,6 @@ use super::SolverArgs;
 use crate::output::{ensure_dir, print_json, write_csv, write_run_json};
 use crate::sweep::{par_map_ordered, Shard};
 use anyhow::Result;
-use blockstack::record::finite_text as finite_cell;
 use blockstack::scenarios::Shaking;
 use blockstack::studies::shaking::{frequency_row, FrequencyRow};
 use blockstack::studies::slide::{slide_row, SlideRegime, SlideRow};
@@ -90,10 +89,6 @@ pub struct SlideArgs {
     #[command(flatten)]
     #[allow(missing_docs)]
     pub output: SweepOutputArgs,
-}
-
-fn opt_cell(v: Option<f64>) -> String {
-    v.map_or_else(String::new, finite_cell)
 }
 
 fn sweep_values(text: &str, name: &str, shard: Shard) -> Result<Vec<f64>> {
@@ -206,30 +201,8 @@ fn error_suffix(error: Option<&String>) -> String {
 pub fn write_frequency_files(dir: &Path, rows: &[FrequencyRow]) -> Result<()> {
     write_csv(
         &dir.join("sweep_frequency.csv"),
-        &[
-            "omega",
-            "failure_time",
-            "inv_failure_time",
-            "opening_time",
-            "steps",
-            "error",
-            "failed_steps",
-            "branch_points",
-            "wall_time_s",
-        ],
-        rows.iter().map(|r| {
-            vec![
-                finite_cell(r.omega),
-                opt_cell(r.failure_time),
-                opt_cell(r.inv_failure_time),
-                opt_cell(r.opening_time),
-                r.steps.to_string(),
-                r.error.clone().unwrap_or_default(),
-                r.failed_steps.to_string(),
-                r.branch_points.to_string(),
-                finite_cell(r.wall_time_s),
-            ]
-        }),
+        &FrequencyRow::CSV_HEADER,
+        rows.iter().map(FrequencyRow::csv_cells),
     )?;
     plot_frequency_sweep(&dir.join("sweep_frequency.png"), rows)?;
     Ok(())
@@ -279,30 +252,8 @@ pub fn sweep_slide(args: &SlideArgs) -> Result<()> {
 pub fn write_slide_files(dir: &Path, rows: &[SlideRow], t_end: f64) -> Result<()> {
     write_csv(
         &dir.join("sweep_slide.csv"),
-        &[
-            "v0",
-            "top_angle",
-            "regime",
-            "steps",
-            "error",
-            "t_final",
-            "failure_time",
-            "failed_steps",
-            "wall_time_s",
-        ],
-        rows.iter().map(|r| {
-            vec![
-                finite_cell(r.v0),
-                opt_cell(r.top_angle),
-                r.regime.map_or("", SlideRegime::name).to_owned(),
-                r.steps.to_string(),
-                r.error.clone().unwrap_or_default(),
-                finite_cell(r.t_final),
-                opt_cell(r.failure_time),
-                r.failed_steps.to_string(),
-                finite_cell(r.wall_time_s),
-            ]
-        }),
+        &SlideRow::CSV_HEADER,
+        rows.iter().map(SlideRow::csv_cells),
     )?;
     plot_slide_sweep(&dir.join("sweep_slide.png"), rows, t_end)?;
     Ok(())
