@@ -1,9 +1,10 @@
 //! The `rollstack` command line, as a library so that its pieces can be tested.
 //!
 //! Layout: one module per command family in [`commands`], the main job in [`tour`], and
-//! the shared plumbing every command uses: angle parsing ([`angles`]), atomic output
-//! files and JSON ([`output`]), PNG plots with a bundled font ([`plot`]), progress bars
-//! ([`progress`]) and parameter sweeps ([`sweep`]).
+//! the shared plumbing every command uses: atomic output files and JSON ([`output`]),
+//! progress bars ([`progress`]) and sharded parallel sweeps ([`sweep`]). User values
+//! written as text (`3pi/2`, `90deg`, `A:B:STEP`) are read by [`input::text`]; every
+//! picture is drawn by the [`figures`] crate.
 //!
 //! The library crates compute; this crate parses, calls them, and writes files. Its
 //! pieces are public so that they can be tested, and so that a command can be run from

@@ -2,7 +2,7 @@
 //!
 //! - `run SCENE.toml` and `lire` ([`simulate`]): one simulation (§4.3–4.5) with the JSON
 //!   of docs/cli.md, a trajectory CSV written progressively (ERRATA 25), branch points,
-//!   snapshots of the stack, an animation and plots of the top block ([`draw`]);
+//!   snapshots of the stack, an animation and plots of the top block (drawn by [`figures::blocks`]);
 //! - `sweep frequency` (Figure 4.6) and `sweep slide` (Figure 4.7) ([`sweep`]): many runs
 //!   in parallel, one CSV row per parameter value in input order;
 //! - `painleve` ([`painleve`]): Painlevé's paradoxes for one block (App. I).
