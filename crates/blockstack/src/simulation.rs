@@ -207,13 +207,22 @@ pub struct RunSummary {
 /// Why a run stopped before its end time. It serializes as its message.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum RunError {
-    /// No consistent initial accelerations and forces exist (docs/method.md §5).
-    #[error("consistent start failed: {0}")]
+    /// No consistent initial accelerations and forces exist (docs/method.md §5), or the
+    /// stepper refused the initial state.
+    #[error("{}", start_message(.0))]
     Start(StepError),
     /// A step failed after every fallback of nsga's policy; the error carries the last
     /// good state ([`StepError::state`]).
     #[error("{0}")]
     Step(StepError),
+}
+
+/// The message of a failed start: nsga's own when it already says "consistent start".
+fn start_message(e: &StepError) -> String {
+    match e {
+        StepError::Start { .. } => e.to_string(),
+        other => format!("consistent start failed: {other}"),
+    }
 }
 
 impl RunError {
@@ -263,7 +272,7 @@ pub fn stepper_options(scene: &Scene, options: &RunOptions) -> Result<Options, B
 
 /// Number of steps to reach t_end with the scene's Δt (a final partial step is taken
 /// whole).
-fn step_count(t_end: f64, dt: f64) -> usize {
+pub(crate) fn step_count(t_end: f64, dt: f64) -> usize {
     let n = t_end / dt;
     // Round-off: 10/0.01 = 1000.0000000000001 is 1000 steps.
     let rounded = n.round();
