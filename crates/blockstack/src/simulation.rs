@@ -32,6 +32,7 @@
 use crate::coordinates::Pose;
 use crate::error::BlockError;
 use crate::scene::Scene;
+use crate::scene_info::{Defaults, SceneReport, SceneWarning};
 use crate::stack::StackContacts;
 use crate::system::StackSystem;
 use nsga::{Options, RhoInfRetry, SolverChoice, StepError, Stepper};
@@ -467,8 +468,9 @@ pub struct RunReport {
     /// Final poses of the free blocks, bottom to top.
     #[serde(rename = "final")]
     pub final_poses: Vec<BlockPose>,
-    /// Smallest normal gap seen (negative: penetration).
-    pub min_gap: f64,
+    /// Smallest normal gap seen among the closed contacts (negative: penetration), or
+    /// null when no contact was ever closed (or the run could not start).
+    pub min_gap: Option<f64>,
     /// Mean number of Newton iterations per step.
     pub newton_iterations_mean: f64,
     /// Solver time (s), without I/O.
@@ -491,17 +493,28 @@ pub struct RunReport {
     pub t_final: f64,
     /// The prox parameter used.
     pub prox: String,
+    /// What the scene may do unexpectedly ([`Scene::warnings`]).
+    pub warnings: Vec<SceneWarning>,
+    /// The parameters the run used, after defaults and overrides.
+    pub scene: SceneReport,
 }
 
 impl RunReport {
-    /// The report of a run of `scene` with `options` that reached `t_final`.
+    /// The report of a run of `scene` with `options` that reached `t_final`; `defaults`:
+    /// the scene-file keys that took their defaults (empty for scenes built in code).
     #[must_use]
-    pub fn new(summary: &RunSummary, scene: &Scene, options: &RunOptions, t_final: f64) -> Self {
+    pub fn new(
+        summary: &RunSummary,
+        scene: &Scene,
+        options: &RunOptions,
+        defaults: &Defaults,
+        t_final: f64,
+    ) -> Self {
         Self {
             steps: summary.steps,
             failure_time: summary.failure_time,
             final_poses: summary.final_poses.clone(),
-            min_gap: summary.min_gap,
+            min_gap: Some(summary.min_gap).filter(|g| g.is_finite()),
             newton_iterations_mean: summary.newton_iterations_mean,
             wall_time_s: summary.wall_time_s,
             opening_time: summary.opening_time,
@@ -513,6 +526,8 @@ impl RunReport {
             error: summary.error.as_ref().map(ToString::to_string),
             t_final,
             prox: format!("{:?}", options.prox.unwrap_or(scene.solver.prox)),
+            warnings: scene.warnings(),
+            scene: SceneReport::new(scene, options, defaults),
         }
     }
 }

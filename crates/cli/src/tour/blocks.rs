@@ -16,6 +16,7 @@ use blockstack::simulation::{simulate, Prox, RunOptions};
 use blockstack::studies::lire::{blocks_fallen, largest_drift};
 use blockstack::studies::painleve::painleve_report;
 use blockstack::studies::slide::{slide_row, SlideRegime};
+use blockstack::Defaults;
 use figures::blocks::plot_stack;
 use figures::blocks::snapshot_name;
 use std::path::Path;
@@ -97,6 +98,7 @@ fn lire_runs(dir: &Path, summary: &mut Vec<String>, blocks: &mut Vec<Block>) -> 
             snapshots: LIRE_SNAPSHOTS.to_vec(),
             max_frames: 100,
             title: format!("Lire tower, perturbation {name}"),
+            defaults: Defaults::default(),
         };
         let inputs =
             serde_json::json!({"blocks": 4, "perturb": name, "floor": floor, "t_end": 10.0});
@@ -122,7 +124,8 @@ fn lire_runs(dir: &Path, summary: &mut Vec<String>, blocks: &mut Vec<Block>) -> 
             time_text(r.failure_time),
             format!("{fallen} of 4"),
             format!("{:.2}", r.t_final),
-            format!("{:.3e}", r.min_gap),
+            r.min_gap
+                .map_or_else(|| "none".to_owned(), |g| format!("{g:.3e}")),
             format!("{:.2}", r.newton_iterations_mean),
             r.failed_steps.to_string(),
             r.branch_points.to_string(),
@@ -178,6 +181,7 @@ fn shaking(dir: &Path, summary: &mut Vec<String>, blocks: &mut Vec<Block>) -> Re
         snapshots: vec![0.0],
         max_frames: 100,
         title: format!("shaken column, omega = {}", p.omega),
+        defaults: Defaults::default(),
     };
     let inputs =
         serde_json::json!({"omega": p.omega, "amplitude": p.amplitude, "periods": p.periods});

@@ -1,14 +1,16 @@
 //! `rollstack blocks`: the stack of blocks on a driven base (Ch. 4, App. G–I).
 //!
-//! - `run SCENE.toml` and `lire` ([`simulate`]): one simulation (§4.3–4.5) with the JSON
-//!   of docs/cli.md, a trajectory CSV written progressively (ERRATA 25), branch points,
-//!   snapshots of the stack, an animation and plots of the top block ([`draw`]);
+//! - `run SCENE.toml` ([`simulate`]) and `lire` ([`lire`]): one simulation (§4.3–4.5)
+//!   with the JSON of docs/cli.md, a trajectory CSV written progressively (ERRATA 25),
+//!   branch points, snapshots of the stack, an animation and plots of the top block
+//!   (`figures::blocks::draw_run`);
 //! - `sweep frequency` (Figure 4.6) and `sweep slide` (Figure 4.7) ([`sweep`]): many runs
 //!   in parallel, one CSV row per parameter value in input order;
 //! - `painleve` ([`painleve`]): Painlevé's paradoxes for one block (App. I).
 //!
 //! Every number comes from `blockstack`: its simulation, its recorder and its studies.
 
+pub mod lire;
 pub mod painleve;
 pub mod simulate;
 pub mod sweep;
@@ -19,7 +21,8 @@ use clap::{Args, Subcommand};
 use input::text::parse_finite;
 use std::path::PathBuf;
 
-pub use simulate::{simulate_with_output, OutputPlan, SimulationOutput, LIRE_SNAPSHOTS};
+pub use lire::LIRE_SNAPSHOTS;
+pub use simulate::{simulate_with_output, OutputPlan, SimulationOutput};
 
 /// Arguments of `rollstack blocks`.
 #[derive(Debug, Args)]
@@ -37,7 +40,7 @@ pub enum BlocksCommand {
     /// The Leaning Tower of Lire (§4.3, Figure 4.4): blocks w = 1, h = 0.2, μ = 0.3 in the
     /// harmonic maximum-overhang configuration (ERRATA 16) on a fixed table, with nothing
     /// below it as in the thesis (`--floor`: a floor at the table's bottom).
-    Lire(simulate::LireArgs),
+    Lire(lire::LireArgs),
     /// Parameter sweeps: failure time against the shaking frequency (Figure 4.6), top
     /// block angle against the speed of the pulled base (Figure 4.7).
     #[command(subcommand)]
@@ -54,7 +57,7 @@ pub enum BlocksCommand {
 pub fn run(args: &BlocksArgs) -> Result<()> {
     match &args.command {
         BlocksCommand::Run(a) => simulate::run_scene_file(a),
-        BlocksCommand::Lire(a) => simulate::run_lire(a),
+        BlocksCommand::Lire(a) => lire::run_lire(a),
         BlocksCommand::Sweep(sweep::SweepCommand::Frequency(a)) => sweep::sweep_frequency(a),
         BlocksCommand::Sweep(sweep::SweepCommand::Slide(a)) => sweep::sweep_slide(a),
         BlocksCommand::Painleve(a) => painleve::run(a),
