@@ -1,10 +1,10 @@
-//! What a run says about its scene (defaults taken, warnings, the period keys) and about
-//! its failures (a run that cannot start still writes run.json with its error; no `inf`
-//! in the text).
+//! `rollstack blocks scenes`, `blocks run NAME`, `blocks shake`, and what a run says
+//! about its scene (defaults taken, warnings) and about its failures (a run that cannot
+//! start still writes run.json with its error; no `inf` in the text).
 
 mod common;
 
-use common::{json, run, temp_dir};
+use common::{json, rollstack, run, temp_dir};
 use serde_json::Value;
 use std::f64::consts::PI;
 use std::path::Path;
@@ -22,6 +22,80 @@ fn write(dir: &Path, name: &str, text: &str) -> String {
 
 fn read_json(path: &Path) -> Value {
     serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap()
+}
+
+#[test]
+fn scenes_lists_the_builtin_scenes_and_prints_one_as_its_file() {
+    let (ok, stdout, _) = run(&["blocks", "scenes"]);
+    assert!(ok);
+    for s in blockstack::scenes::builtin() {
+        let line = stdout
+            .lines()
+            .find(|l| l.starts_with(s.name))
+            .unwrap_or_else(|| panic!("{} not listed: {stdout}", s.name));
+        assert!(line.ends_with(s.description), "{line}");
+    }
+    let (ok, stdout, _) = run(&["blocks", "scenes", "shaking"]);
+    assert!(ok);
+    let file = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../blockstack/scenes/shaking.toml"
+    );
+    assert_eq!(stdout, std::fs::read_to_string(file).unwrap());
+    let (ok, stdout, stderr) = run(&["blocks", "scenes", "tower"]);
+    assert!(!ok && stdout.is_empty());
+    assert_eq!(stderr.trim().lines().count(), 1, "{stderr}");
+    assert!(
+        stderr.contains("no built-in scene 'tower'") && stderr.contains("lire, shaking, slide"),
+        "{stderr}"
+    );
+}
+
+#[test]
+fn run_takes_a_builtin_name_and_a_file_wins_over_it() {
+    let dir = temp_dir("scenes-by-name");
+    let out = dir.join("out");
+    let v = json(&[
+        "blocks",
+        "run",
+        "slide",
+        "--t-end",
+        "0.05",
+        "--max-frames",
+        "0",
+        "--json",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(v["steps"].as_u64(), Some(5));
+    assert_eq!(v["scene"]["motion"], "constant-velocity");
+    assert!(
+        v["warnings"].as_array().unwrap().is_empty(),
+        "slide has a floor"
+    );
+    let run_json = read_json(&out.join("run.json"));
+    assert_eq!(run_json["inputs"]["scene"], "slide");
+    assert!(run_json["error"].is_null());
+    // A file called `slide` in the working directory is read instead.
+    write(&dir, "slide", NO_FLOOR);
+    let o = std::process::Command::new(env!("CARGO_BIN_EXE_rollstack"))
+        .args(["blocks", "run", "slide", "--t-end", "0.02", "--json"])
+        .current_dir(&dir)
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let v: Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(v["scene"]["motion"], "fixed");
+    assert_eq!(v["final"].as_array().unwrap().len(), 2);
+    // Neither a file nor a built-in name: one line naming the built-in scenes.
+    let (ok, stdout, stderr) = run(&["blocks", "run", "tower", "--json"]);
+    assert!(!ok && stdout.is_empty());
+    assert_eq!(stderr.trim().lines().count(), 1, "{stderr}");
+    assert!(
+        stderr.contains("built-in scenes: lire, shaking, slide"),
+        "{stderr}"
+    );
+    std::fs::remove_dir_all(dir).unwrap();
 }
 
 #[test]
@@ -105,6 +179,67 @@ fn period_keys_are_checked_against_the_base_motion() {
     assert_eq!(v["steps"].as_u64(), Some(5));
     assert_eq!(v["scene"]["steps_per_period"], 50.0);
     assert!((v["scene"]["dt"].as_f64().unwrap() - 2.0 * PI / 300.0).abs() < 1e-15);
+    std::fs::remove_dir_all(dir).unwrap();
+}
+
+#[test]
+fn shake_runs_a_column_with_the_outputs_of_run() {
+    let dir = temp_dir("scenes-shake");
+    let v = json(&[
+        "blocks",
+        "shake",
+        "--blocks",
+        "6",
+        "--omega",
+        "6",
+        "--amplitude",
+        "0.1",
+        "--periods",
+        "0.1",
+        "--json",
+        "--out",
+        dir.to_str().unwrap(),
+    ]);
+    // 100 steps per period (default), 0.1 periods: 10 steps of 2π/600.
+    assert_eq!(v["steps"].as_u64(), Some(10));
+    assert_eq!(v["final"].as_array().unwrap().len(), 6);
+    assert!(v["error"].is_null() && v["warnings"].as_array().unwrap().is_empty());
+    let s = &v["scene"];
+    assert_eq!(
+        (s["blocks"].as_u64(), s["motion"].as_str()),
+        (Some(6), Some("harmonic"))
+    );
+    assert!((s["dt"].as_f64().unwrap() - 2.0 * PI / 600.0).abs() < 1e-15);
+    assert_eq!(s["steps_per_period"], 100.0);
+    assert_eq!(s["floor"], -0.05);
+    let files: Vec<&str> = v["files"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|f| f.as_str().unwrap())
+        .collect();
+    for f in [
+        "trajectory.csv",
+        "animation.gif",
+        "top_block.png",
+        "run.json",
+    ] {
+        assert!(files.contains(&f) && dir.join(f).exists(), "{f}: {files:?}");
+    }
+    let r = read_json(&dir.join("run.json"));
+    assert_eq!(r["command"], "blocks shake");
+    assert_eq!(r["inputs"]["omega"], 6.0);
+    assert_eq!(r["inputs"]["blocks"], 6);
+    // --t-end instead of --periods; both at once is a usage error.
+    let v = json(&["blocks", "shake", "--t-end", "0.05", "--json"]);
+    assert_eq!(v["scene"]["t_end"], 0.05);
+    let out = rollstack(&["blocks", "shake", "--t-end", "1", "--periods", "2"]);
+    assert_eq!(out.status.code(), Some(2));
+    let (ok, _, stderr) = run(&["blocks", "shake", "--omega", "0"]);
+    assert!(
+        !ok && stderr.contains("--omega must be positive"),
+        "{stderr}"
+    );
     std::fs::remove_dir_all(dir).unwrap();
 }
 

@@ -7,7 +7,7 @@
 use super::{Block, Section};
 use crate::commands::blocks::painleve::write_painleve_files;
 use crate::commands::blocks::sweep::write_slide_files;
-use crate::commands::blocks::{simulate_with_output, OutputPlan, LIRE_SNAPSHOTS};
+use crate::commands::blocks::{shake_inputs, simulate_with_output, OutputPlan, LIRE_SNAPSHOTS};
 use anyhow::Result;
 use blockstack::scenarios::{
     lire, lire_on_floor, maximum_overhang, shaking_column, Perturbation, Shaking,
@@ -183,9 +183,8 @@ fn shaking(dir: &Path, summary: &mut Vec<String>, blocks: &mut Vec<Block>) -> Re
         title: format!("shaken column, omega = {}", p.omega),
         defaults: Defaults::default(),
     };
-    let inputs =
-        serde_json::json!({"omega": p.omega, "amplitude": p.amplitude, "periods": p.periods});
-    let out = simulate_with_output(&scene, &tour_options(), &plan, "blocks shaking", &inputs)?;
+    let inputs = shake_inputs(&p);
+    let out = simulate_with_output(&scene, &tour_options(), &plan, "blocks shake", &inputs)?;
     let r = &out.report;
     summary.push(format!(
         "shaken column (§4.4), 4 blocks, x = {} sin({} t), μ = {}: failure (loss of support) {}, first full opening {}; {} steps, {} failed Newton steps{}",

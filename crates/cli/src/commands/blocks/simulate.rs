@@ -1,6 +1,6 @@
 //! `rollstack blocks run`: one simulation, its JSON report, and its files (trajectory
-//! written progressively, branch points, snapshots, animation, top block). `lire` and
-//! the tour run through [`simulate_with_output`] and [`finish_command`] too.
+//! written progressively, branch points, snapshots, animation, top block). `lire`,
+//! `shake` and the tour run through [`simulate_with_output`] and [`finish_command`] too.
 
 use super::{OutputArgs, SolverArgs};
 use crate::output::{
@@ -22,8 +22,8 @@ use std::time::Instant;
 /// Arguments of `rollstack blocks run`.
 #[derive(Debug, Args)]
 pub struct RunArgs {
-    /// The scene file (TOML): base and motion, blocks bottom to top, contact, solver,
-    /// optional floor. Unknown keys are errors.
+    /// The scene: a TOML file (keys: docs/scenes.md) or the name of a built-in scene
+    /// (`rollstack blocks scenes` lists them); an existing file wins over a name.
     pub scene: PathBuf,
     /// End time (model time units; overrides the scene's solver.t_end).
     #[arg(long, value_parser = parse_finite, allow_hyphen_values = true)]
@@ -36,7 +36,7 @@ pub struct RunArgs {
     pub output: OutputArgs,
 }
 
-/// The JSON of `rollstack blocks run` and `lire`: the library's report, the
+/// The JSON of `rollstack blocks run`, `lire` and `shake`: the library's report, the
 /// files written and the pictures left out.
 #[derive(Debug, Serialize)]
 pub struct SimulationJson<'a> {
@@ -273,10 +273,7 @@ pub fn finish_command(out: &SimulationOutput, json: bool, dir: Option<&Path>) ->
 /// # Errors
 /// A bad scene, bad options, a run that stopped early, or unwritable output.
 pub fn run_scene_file(args: &RunArgs) -> Result<()> {
-    let text = std::fs::read_to_string(&args.scene)
-        .with_context(|| format!("cannot read scene {}", args.scene.display()))?;
-    let loaded = blockstack::LoadedScene::from_toml(&text)
-        .with_context(|| format!("scene {}", args.scene.display()))?;
+    let loaded = super::scenes::load_scene(&args.scene)?;
     let scene = &loaded.scene;
     let options = args.solver.run_options(args.t_end, false)?;
     let t_end = options.t_end.unwrap_or(scene.solver.t_end);
