@@ -65,6 +65,30 @@ impl BaseMotion {
         })
     }
 
+    /// The motion's name in scene files: `fixed`, `harmonic`, `constant-velocity` or
+    /// `displacement`.
+    #[must_use]
+    pub fn name(&self) -> &'static str {
+        match self {
+            Self::Fixed => "fixed",
+            Self::Harmonic { .. } => "harmonic",
+            Self::ConstantVelocity { .. } => "constant-velocity",
+            Self::Displacement(_) => "displacement",
+        }
+    }
+
+    /// The period 2π/|ω| of a harmonic motion with ω ≠ 0 (time units); `None` for the
+    /// other motions.
+    #[must_use]
+    pub fn period(&self) -> Option<f64> {
+        match self {
+            Self::Harmonic { omega, .. } if *omega != 0.0 => {
+                Some(2.0 * std::f64::consts::PI / omega.abs())
+            }
+            _ => None,
+        }
+    }
+
     /// Position, velocity and acceleration at time t.
     #[must_use]
     pub fn at(&self, t: f64) -> BaseKinematics {

@@ -19,4 +19,12 @@ pub enum BlockError {
     /// A scene file or a scene description is malformed.
     #[error("invalid scene: {0}")]
     Scene(String),
+    /// No built-in scene has this name ([`crate::scenes`]).
+    #[error("no built-in scene '{name}' (built-in scenes: {known})")]
+    UnknownScene {
+        /// The name asked for.
+        name: String,
+        /// The built-in names, comma-separated.
+        known: String,
+    },
 }

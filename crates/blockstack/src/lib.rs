@@ -7,7 +7,9 @@
 //!   slip speed of each interface ([`Interface`], (G.2.2)–(G.3.2)), loss of support
 //!   ((G.2.4) corrected, ERRATA 23), an optional [`Floor`]; every quantity comes with its
 //!   exact force direction W and the velocity-product term ζ of its time derivative;
-//! - [`Scene`]s (validated, from TOML via [`SceneFile`]) and the thesis's scenarios
+//! - [`Scene`]s (validated, from TOML via [`SceneFile`]; keys in docs/scenes.md; the
+//!   built-in scenes of [`scenes`]; defaults taken, warnings and the resolved solver
+//!   parameters in [`scene_info`]) and the thesis's scenarios
 //!   ([`scenarios`]: Leaning Tower of Lire with the harmonic overhangs of ERRATA 16, the
 //!   shaken column, the sliding column);
 //! - [`Scene::contacts`]: all gaps and slips in the block coordinates, what a stepper
@@ -60,6 +62,8 @@ pub mod record;
 pub mod scenarios;
 pub mod scene;
 pub mod scene_file;
+pub mod scene_info;
+pub mod scenes;
 pub mod simulation;
 pub mod slip;
 pub mod stack;
@@ -75,7 +79,9 @@ pub use floor::{Floor, FloorContacts};
 pub use gaps::{CornerOnFace, Face, PairRow};
 pub use interface::{GapCase, Interface, InterfaceContacts, InterfaceGap, Size, Support};
 pub use scene::{ContactParams, Prox, Scene, SolverParams};
-pub use scene_file::SceneFile;
+pub use scene_file::{LoadedScene, SceneFile};
+pub use scene_info::{Defaults, SceneReport, SceneWarning};
+pub use scenes::BuiltinScene;
 pub use simulation::{
     simulate, BlockPose, BlockstackError, BranchRecord, InterfaceForce, RunError, RunOptions,
     RunReport, RunSummary, StepRecord,

@@ -1,5 +1,7 @@
 //! Scene files (TOML): the base, the blocks bottom to top, contact, solver and floor
-//! parameters. Unknown keys are errors; every error is one line.
+//! parameters. Unknown keys are errors; every error is one line. docs/scenes.md lists
+//! every key with its unit, default and meaning; [`crate::scenes`] holds the built-in
+//! scenes.
 //!
 //! ```toml
 //! [base]
@@ -22,12 +24,12 @@
 //!
 //! [contact]
 //! mu = 0.2
-//! e_n = 0.0
-//! e_f = 0.0
+//! e_n = 0.0                  # default 0
+//! e_f = 0.0                  # default 0
 //!
 //! [solver]                   # all optional
-//! dt = 0.01
-//! t_end = 10.0
+//! steps_per_period = 100     # harmonic base only; or dt = 0.0157... (default dt 0.01)
+//! periods = 10               # harmonic base only; or t_end = 15.7... (default t_end 10)
 //! rho_inf = 0.5
 //! # r = 0.3                  # constant prox parameter; absent: scaled per constraint
 //! r_alpha = 1.0              # alpha of the scaled prox parameter
@@ -39,13 +41,16 @@
 //! ```
 //!
 //! Block heights are stacked automatically: each block's lowest point rests on the top of
-//! the block below.
+//! the block below. [`LoadedScene::defaults`] lists the keys a file left out and the
+//! values they took; [`Scene::warnings`] says what the scene may do unexpectedly (no
+//! floor).
 
 use crate::base::{Base, BaseMotion, CubicSpline};
 use crate::block::Block;
 use crate::error::BlockError;
 use crate::floor::Floor;
 use crate::scene::{stack_on_top, ContactParams, Prox, Scene, SolverParams};
+use crate::scene_info::Defaults;
 use serde::{Deserialize, Serialize};
 
 /// The `[base]` table.
@@ -114,50 +119,48 @@ fn one_count() -> usize {
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct ContactFile {
-    /// Friction coefficient μ.
+    /// Friction coefficient μ (dimensionless, ≥ 0), the same at every contact.
     pub mu: f64,
-    /// Normal restitution (default 0).
-    #[serde(default)]
-    pub e_n: f64,
-    /// Tangential restitution (default 0).
-    #[serde(default)]
-    pub e_f: f64,
+    /// Normal restitution e_N ∈ [0, 1] (absent: 0).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub e_n: Option<f64>,
+    /// Tangential restitution e_F ∈ [0, 1] (absent: 0).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub e_f: Option<f64>,
 }
 
-/// The `[solver]` table (every key optional; defaults of §4.2).
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+/// The `[solver]` table: every key optional; an absent key takes the thesis's value
+/// (§4.2, [`SolverParams::default`]) and is reported ([`LoadedScene::defaults`]).
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct SolverFile {
-    /// Δt.
-    pub dt: f64,
-    /// End time.
-    pub t_end: f64,
-    /// ρ∞.
-    pub rho_inf: f64,
-    /// Constant prox parameter (absent: scaled).
+    /// Time step Δt (model time units).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub dt: Option<f64>,
+    /// Steps per base period N, instead of `dt`: Δt = 2π/(N|ω|) (harmonic motion only).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub steps_per_period: Option<f64>,
+    /// End time (model time units).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub t_end: Option<f64>,
+    /// Base periods P, instead of `t_end`: t_end = P·2π/|ω| (harmonic motion only).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub periods: Option<f64>,
+    /// Spectral radius at infinite frequency ρ∞ ∈ [0, 1].
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub rho_inf: Option<f64>,
+    /// Constant prox parameter r > 0 (absent: scaled per constraint with `r_alpha`).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub r: Option<f64>,
-    /// α of the scaled prox parameter.
-    pub r_alpha: f64,
-    /// Newton tolerance.
-    pub tol: f64,
-    /// Gravity.
-    pub gravity: f64,
-}
-
-impl Default for SolverFile {
-    fn default() -> Self {
-        let d = SolverParams::default();
-        Self {
-            dt: d.dt,
-            t_end: d.t_end,
-            rho_inf: d.rho_inf,
-            r: None,
-            r_alpha: 1.0,
-            tol: d.tol,
-            gravity: d.gravity,
-        }
-    }
+    /// α ∈ (0, 2) of the scaled prox parameter r_k = α/(w_kᵀM⁻¹w_k).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub r_alpha: Option<f64>,
+    /// Newton tolerance (> 0).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub tol: Option<f64>,
+    /// Gravity g (≥ 0, acting along −y; model units: the thesis's g = 1).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub gravity: Option<f64>,
 }
 
 /// The `[floor]` table.
@@ -267,9 +270,19 @@ impl SceneFile {
     /// Builds and validates the scene.
     ///
     /// # Errors
-    /// Negative or zero sizes and masses, μ < 0, restitution outside [0, 1], NaN,
-    /// overlapping blocks, a bad base motion or solver parameter: one line each.
+    /// As [`SceneFile::build`].
     pub fn to_scene(&self) -> Result<Scene, BlockError> {
+        self.build().map(|l| l.scene)
+    }
+
+    /// Builds and validates the scene, and lists the keys that took their defaults.
+    ///
+    /// # Errors
+    /// Negative or zero sizes and masses, μ < 0, restitution outside [0, 1], NaN,
+    /// overlapping blocks, a bad base motion or solver parameter, `dt` together with
+    /// `steps_per_period` (or `t_end` with `periods`), or either of those two for a
+    /// base motion that is not harmonic: one line each.
+    pub fn build(&self) -> Result<LoadedScene, BlockError> {
         let base = Base::new(self.base.width, self.base.height, self.base_motion()?)?;
         let mut column = Vec::new();
         let mut k = 0;
@@ -301,28 +314,103 @@ impl SceneFile {
             };
             blocks.push(placed);
         }
-        let floor = self.floor.map(|f| Floor::new(f.y.unwrap_or(base.bottom())));
-        let s = &self.solver;
-        let solver = SolverParams {
-            dt: s.dt,
-            t_end: s.t_end,
-            rho_inf: s.rho_inf,
-            prox: s.r.map_or(Prox::Scaled(s.r_alpha), Prox::Constant),
-            tol: s.tol,
-            gravity: s.gravity,
-        };
+        let mut defaults = Defaults::default();
+        let solver = self.solver_params(&base.motion, &mut defaults)?;
         let c = &self.contact;
-        Scene::new(
-            base,
-            blocks,
-            floor,
-            ContactParams {
-                mu: c.mu,
-                e_n: c.e_n,
-                e_f: c.e_f,
-            },
-            solver,
-        )
+        let contact = ContactParams {
+            mu: c.mu,
+            e_n: defaults.or("contact.e_n", c.e_n, 0.0),
+            e_f: defaults.or("contact.e_f", c.e_f, 0.0),
+        };
+        let floor = self
+            .floor
+            .map(|f| Floor::new(defaults.or("floor.y", f.y, base.bottom())));
+        let scene = Scene::new(base, blocks, floor, contact, solver)?;
+        Ok(LoadedScene { scene, defaults })
+    }
+
+    /// The `[solver]` table resolved: `steps_per_period` and `periods` turned into Δt and
+    /// t_end, absent keys given the defaults of [`SolverParams::default`].
+    fn solver_params(
+        &self,
+        motion: &BaseMotion,
+        defaults: &mut Defaults,
+    ) -> Result<SolverParams, BlockError> {
+        let s = &self.solver;
+        let d = SolverParams::default();
+        // The base period 2π/|ω|, for the keys that count in periods.
+        let period = |key: &str| {
+            motion.period().ok_or_else(|| {
+                BlockError::Scene(match motion {
+                    BaseMotion::Harmonic { .. } => {
+                        format!("[solver] {key} needs a base that moves (omega = 0 has no period)")
+                    }
+                    other => format!(
+                        "[solver] {key} needs a periodic base (motion = \"harmonic\"), not motion = \"{}\"",
+                        other.name()
+                    ),
+                })
+            })
+        };
+        let dt = match (s.dt, s.steps_per_period) {
+            (Some(_), Some(_)) => {
+                return Err(BlockError::Scene(
+                    "[solver] gives both dt and steps_per_period: give one of them".into(),
+                ))
+            }
+            (Some(dt), None) => dt,
+            (None, Some(n)) => {
+                let p = period("steps_per_period")?;
+                p / input::positive("solver steps_per_period", n)?
+            }
+            (None, None) => defaults.or("solver.dt", None, d.dt),
+        };
+        let t_end = match (s.t_end, s.periods) {
+            (Some(_), Some(_)) => {
+                return Err(BlockError::Scene(
+                    "[solver] gives both t_end and periods: give one of them".into(),
+                ))
+            }
+            (Some(t), None) => t,
+            (None, Some(n)) => {
+                let p = period("periods")?;
+                input::positive("solver periods", n)? * p
+            }
+            (None, None) => defaults.or("solver.t_end", None, d.t_end),
+        };
+        let rho_inf = defaults.or("solver.rho_inf", s.rho_inf, d.rho_inf);
+        let prox = match s.r {
+            Some(r) => Prox::Constant(r),
+            None => Prox::Scaled(defaults.or("solver.r_alpha", s.r_alpha, 1.0)),
+        };
+        Ok(SolverParams {
+            dt,
+            t_end,
+            rho_inf,
+            prox,
+            tol: defaults.or("solver.tol", s.tol, d.tol),
+            gravity: defaults.or("solver.gravity", s.gravity, d.gravity),
+        })
+    }
+}
+
+/// A scene built from a file, with the keys the file left out and the values they took.
+#[derive(Debug, Clone, PartialEq)]
+pub struct LoadedScene {
+    /// The validated scene.
+    pub scene: Scene,
+    /// The optional keys the file did not give (`solver.dt`, `contact.e_n`, `floor.y`, …)
+    /// with the values they took: solver keys first, then contact, then floor.
+    pub defaults: Defaults,
+}
+
+impl LoadedScene {
+    /// Parses, builds and validates a TOML scene (see docs/scenes.md).
+    ///
+    /// # Errors
+    /// Any syntax or validation error, as one line.
+    pub fn from_toml(text: &str) -> Result<Self, BlockError> {
+        SceneFile::parse(text)?.build()
     }
 }
 
@@ -335,18 +423,19 @@ fn name_block(e: BlockError, k: usize) -> BlockError {
 }
 
 impl Scene {
-    /// Parses and validates a TOML scene (see [`crate::scene_file`]).
+    /// Parses and validates a TOML scene (keys: docs/scenes.md, [`crate::scene_file`]).
     ///
     /// # Errors
     /// Any syntax or validation error, as one line.
     pub fn from_toml(text: &str) -> Result<Self, BlockError> {
-        SceneFile::parse(text)?.to_scene()
+        LoadedScene::from_toml(text).map(|l| l.scene)
     }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use std::f64::consts::PI;
 
     const GOOD: &str = r#"
 [base]
@@ -413,6 +502,58 @@ mu = 0.2
                 proptest::prop_assert!(!e.to_string().contains('\n'));
             }
         }
+    }
+
+    #[test]
+    fn steps_per_period_and_periods_count_in_base_periods() {
+        let text = GOOD.replace(
+            "[floor]",
+            "[solver]\nsteps_per_period = 100\nperiods = 10\n[floor]",
+        );
+        let l = LoadedScene::from_toml(&text).unwrap();
+        // The numbers the shaking scene used to spell out: 2π/(100·4) and 10·2π/4.
+        assert_eq!(l.scene.solver.dt, 0.015707963267948967);
+        assert_eq!(l.scene.solver.t_end, 15.707963267948966);
+        assert!(l.defaults.get("solver.dt").is_none());
+        assert!(l.defaults.get("solver.t_end").is_none());
+        // A new omega keeps 100 steps per period and 10 periods.
+        let six = Scene::from_toml(&text.replace("omega = 4.0", "omega = 6.0")).unwrap();
+        assert!((six.solver.dt - 2.0 * PI / 600.0).abs() < 1e-16);
+        assert!((six.solver.t_end - 10.0 * 2.0 * PI / 6.0).abs() < 1e-14);
+        // A negative omega has the same period.
+        let neg = Scene::from_toml(&text.replace("omega = 4.0", "omega = -4.0")).unwrap();
+        assert_eq!(neg.solver.dt, l.scene.solver.dt);
+        // Decimal numbers of steps and periods are taken as they are.
+        let half = Scene::from_toml(&text.replace("periods = 10", "periods = 0.5")).unwrap();
+        assert!((half.solver.t_end - PI / 4.0).abs() < 1e-15);
+    }
+
+    #[test]
+    fn period_keys_are_refused_where_they_mean_nothing() {
+        let solver = |keys: &str| GOOD.replace("[floor]", &format!("[solver]\n{keys}\n[floor]"));
+        assert!(err(&solver("dt = 0.01\nsteps_per_period = 100"))
+            .contains("both dt and steps_per_period"));
+        assert!(err(&solver("t_end = 1.0\nperiods = 10")).contains("both t_end and periods"));
+        let fixed = solver("steps_per_period = 100")
+            .replace("motion = \"harmonic\"\namplitude = 0.2\nomega = 4.0\n", "");
+        let e = err(&fixed);
+        assert!(
+            e.contains("steps_per_period needs a periodic base")
+                && e.contains("motion = \"fixed\""),
+            "{e}"
+        );
+        let sliding = solver("periods = 2").replace(
+            "motion = \"harmonic\"\namplitude = 0.2\nomega = 4.0",
+            "motion = \"constant-velocity\"\nv0 = 1.0",
+        );
+        assert!(err(&sliding).contains("periods needs a periodic base"));
+        assert!(
+            err(&solver("periods = 2").replace("omega = 4.0", "omega = 0.0"))
+                .contains("omega = 0 has no period")
+        );
+        assert!(err(&solver("steps_per_period = 0")).contains("steps_per_period must be positive"));
+        assert!(err(&solver("periods = -1")).contains("periods must be positive"));
+        assert!(err(&solver("steps_per_period = nan")).contains("steps_per_period"));
     }
 
     #[test]

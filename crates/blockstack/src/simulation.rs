@@ -32,6 +32,7 @@
 use crate::coordinates::Pose;
 use crate::error::BlockError;
 use crate::scene::Scene;
+use crate::scene_info::{Defaults, SceneReport, SceneWarning};
 use crate::stack::StackContacts;
 use crate::system::StackSystem;
 use nsga::{Options, RhoInfRetry, SolverChoice, StepError, Stepper};
@@ -207,13 +208,22 @@ pub struct RunSummary {
 /// Why a run stopped before its end time. It serializes as its message.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum RunError {
-    /// No consistent initial accelerations and forces exist (docs/method.md §5).
-    #[error("consistent start failed: {0}")]
+    /// No consistent initial accelerations and forces exist (docs/method.md §5), or the
+    /// stepper refused the initial state.
+    #[error("{}", start_message(.0))]
     Start(StepError),
     /// A step failed after every fallback of nsga's policy; the error carries the last
     /// good state ([`StepError::state`]).
     #[error("{0}")]
     Step(StepError),
+}
+
+/// The message of a failed start: nsga's own when it already says "consistent start".
+fn start_message(e: &StepError) -> String {
+    match e {
+        StepError::Start { .. } => e.to_string(),
+        other => format!("consistent start failed: {other}"),
+    }
 }
 
 impl RunError {
@@ -263,7 +273,7 @@ pub fn stepper_options(scene: &Scene, options: &RunOptions) -> Result<Options, B
 
 /// Number of steps to reach t_end with the scene's Δt (a final partial step is taken
 /// whole).
-fn step_count(t_end: f64, dt: f64) -> usize {
+pub(crate) fn step_count(t_end: f64, dt: f64) -> usize {
     let n = t_end / dt;
     // Round-off: 10/0.01 = 1000.0000000000001 is 1000 steps.
     let rounded = n.round();
@@ -458,8 +468,9 @@ pub struct RunReport {
     /// Final poses of the free blocks, bottom to top.
     #[serde(rename = "final")]
     pub final_poses: Vec<BlockPose>,
-    /// Smallest normal gap seen (negative: penetration).
-    pub min_gap: f64,
+    /// Smallest normal gap seen among the closed contacts (negative: penetration), or
+    /// null when no contact was ever closed (or the run could not start).
+    pub min_gap: Option<f64>,
     /// Mean number of Newton iterations per step.
     pub newton_iterations_mean: f64,
     /// Solver time (s), without I/O.
@@ -482,17 +493,28 @@ pub struct RunReport {
     pub t_final: f64,
     /// The prox parameter used.
     pub prox: String,
+    /// What the scene may do unexpectedly ([`Scene::warnings`]).
+    pub warnings: Vec<SceneWarning>,
+    /// The parameters the run used, after defaults and overrides.
+    pub scene: SceneReport,
 }
 
 impl RunReport {
-    /// The report of a run of `scene` with `options` that reached `t_final`.
+    /// The report of a run of `scene` with `options` that reached `t_final`; `defaults`:
+    /// the scene-file keys that took their defaults (empty for scenes built in code).
     #[must_use]
-    pub fn new(summary: &RunSummary, scene: &Scene, options: &RunOptions, t_final: f64) -> Self {
+    pub fn new(
+        summary: &RunSummary,
+        scene: &Scene,
+        options: &RunOptions,
+        defaults: &Defaults,
+        t_final: f64,
+    ) -> Self {
         Self {
             steps: summary.steps,
             failure_time: summary.failure_time,
             final_poses: summary.final_poses.clone(),
-            min_gap: summary.min_gap,
+            min_gap: Some(summary.min_gap).filter(|g| g.is_finite()),
             newton_iterations_mean: summary.newton_iterations_mean,
             wall_time_s: summary.wall_time_s,
             opening_time: summary.opening_time,
@@ -504,6 +526,8 @@ impl RunReport {
             error: summary.error.as_ref().map(ToString::to_string),
             t_final,
             prox: format!("{:?}", options.prox.unwrap_or(scene.solver.prox)),
+            warnings: scene.warnings(),
+            scene: SceneReport::new(scene, options, defaults),
         }
     }
 }

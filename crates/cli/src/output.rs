@@ -119,12 +119,29 @@ pub fn write_run_json(
     inputs: &impl Serialize,
     timings: &impl Serialize,
 ) -> Result<()> {
-    let record = serde_json::json!({
-        "command": command,
-        "version": env!("CARGO_PKG_VERSION"),
-        "inputs": inputs,
-        "timings": timings,
-    });
+    write_run_json_with(dir, command, inputs, timings, &serde_json::Map::new())
+}
+
+/// Writes `run.json` as [`write_run_json`] with the keys of `extra` after `timings`
+/// (the block simulations' `scene`, `warnings`, `notes` and `error`).
+///
+/// # Errors
+/// When the file cannot be written.
+pub fn write_run_json_with(
+    dir: &Path,
+    command: &str,
+    inputs: &impl Serialize,
+    timings: &impl Serialize,
+    extra: &serde_json::Map<String, serde_json::Value>,
+) -> Result<()> {
+    let mut record = serde_json::Map::new();
+    record.insert("command".into(), command.into());
+    record.insert("version".into(), env!("CARGO_PKG_VERSION").into());
+    record.insert("inputs".into(), serde_json::to_value(inputs)?);
+    record.insert("timings".into(), serde_json::to_value(timings)?);
+    for (k, v) in extra {
+        record.insert(k.clone(), v.clone());
+    }
     write_json(&dir.join("run.json"), &record)
 }
 

@@ -516,6 +516,26 @@ fn runs() -> Vec<Run> {
             true,
         ),
         run(
+            "blocks run",
+            &["slide", "--t-end", "0.03", "--max-frames", "0", "--json"],
+            true,
+        ),
+        run("blocks scenes", &[], false),
+        run("blocks scenes", &["shaking"], false),
+        run(
+            "blocks shake",
+            &[
+                "--blocks",
+                "2",
+                "--periods",
+                "0.05",
+                "--max-frames",
+                "2",
+                "--json",
+            ],
+            true,
+        ),
+        run(
             "blocks lire",
             &[
                 "--blocks",

@@ -189,42 +189,73 @@ pub fn snapshot_name(t: f64) -> String {
     format!("snapshot_t{}.png", (t * 1e6).round() / 1e6)
 }
 
+/// What [`draw_run`] drew, and what it left out and why.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct DrawnRun {
+    /// The files written, relative names.
+    pub files: Vec<String>,
+    /// One line per picture left out, e.g. "no animation.gif: no state was computed".
+    pub notes: Vec<String>,
+}
+
 /// The pictures of one run in `dir`: a snapshot per requested time (one common view;
 /// a run that stopped earlier shows its last state and says so), the animation when
-/// `animate`, and the top block's angle and height. Returns the names of the files.
+/// `animate`, and the top block's angle and height. A picture with nothing to draw (a
+/// run that could not start has no state at all; a state that is not finite cannot be
+/// drawn) is left out with a note instead.
 ///
 /// # Errors
-/// A non-finite frame or an unwritable file.
+/// An unwritable file.
 pub fn draw_run(
     dir: &Path,
     scene: &Scene,
     recording: &Recording,
     title: &str,
     animate: bool,
-) -> Result<Vec<String>> {
-    let mut files = Vec::new();
-    let shots: Vec<(PathBuf, String, &Frame)> = recording
-        .snapshots
-        .iter()
-        .map(|(ts, f)| {
-            let name = snapshot_name(*ts);
-            files.push(name.clone());
-            let note = if f.t < ts - 0.5 * scene.solver.dt {
-                format!(" (run ended before t = {ts})")
-            } else {
-                String::new()
-            };
-            (dir.join(name), format!("{title}, t = {:.2}{note}", f.t), f)
-        })
-        .collect();
+) -> Result<DrawnRun> {
+    let mut out = DrawnRun::default();
+    let why = |what: &str| {
+        if recording.last.is_none() {
+            format!("no {what}: no state was computed (the run did not start)")
+        } else {
+            format!("no {what}: no finite state to draw")
+        }
+    };
+    let mut shots: Vec<(PathBuf, String, &Frame)> = Vec::new();
+    for (ts, f) in &recording.snapshots {
+        let name = snapshot_name(*ts);
+        if !f.is_finite() {
+            out.notes
+                .push(format!("no {name}: the state at t = {} is not finite", f.t));
+            continue;
+        }
+        let note = if f.t < ts - 0.5 * scene.solver.dt {
+            format!(" (run ended before t = {ts})")
+        } else {
+            String::new()
+        };
+        shots.push((dir.join(&name), format!("{title}, t = {:.2}{note}", f.t), f));
+        out.files.push(name);
+    }
+    if recording.snapshots.is_empty() && recording.last.is_none() {
+        out.notes.push(why("snapshots"));
+    }
     plot_snapshots(scene, &shots)?;
     if animate {
-        write_animation(&dir.join("animation.gif"), scene, &recording.frames, title)?;
-        files.push("animation.gif".to_owned());
+        if recording.frames.iter().any(Frame::is_finite) {
+            write_animation(&dir.join("animation.gif"), scene, &recording.frames, title)?;
+            out.files.push("animation.gif".to_owned());
+        } else {
+            out.notes.push(why("animation.gif"));
+        }
     }
-    plot_top_block(&dir.join("top_block.png"), &recording.top, title)?;
-    files.push("top_block.png".to_owned());
-    Ok(files)
+    if recording.top.is_empty() {
+        out.notes.push(why("top_block.png"));
+    } else {
+        plot_top_block(&dir.join("top_block.png"), &recording.top, title)?;
+        out.files.push("top_block.png".to_owned());
+    }
+    Ok(out)
 }
 
 /// Figure 4.6: the inverse time to failure 1/T of a shaken column against the

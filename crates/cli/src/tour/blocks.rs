@@ -7,7 +7,7 @@
 use super::{Block, Section};
 use crate::commands::blocks::painleve::write_painleve_files;
 use crate::commands::blocks::sweep::write_slide_files;
-use crate::commands::blocks::{simulate_with_output, OutputPlan, LIRE_SNAPSHOTS};
+use crate::commands::blocks::{shake_inputs, simulate_with_output, OutputPlan, LIRE_SNAPSHOTS};
 use anyhow::Result;
 use blockstack::scenarios::{
     lire, lire_on_floor, maximum_overhang, shaking_column, Perturbation, Shaking,
@@ -16,6 +16,7 @@ use blockstack::simulation::{simulate, Prox, RunOptions};
 use blockstack::studies::lire::{blocks_fallen, largest_drift};
 use blockstack::studies::painleve::painleve_report;
 use blockstack::studies::slide::{slide_row, SlideRegime};
+use blockstack::Defaults;
 use figures::blocks::plot_stack;
 use figures::blocks::snapshot_name;
 use std::path::Path;
@@ -97,6 +98,7 @@ fn lire_runs(dir: &Path, summary: &mut Vec<String>, blocks: &mut Vec<Block>) -> 
             snapshots: LIRE_SNAPSHOTS.to_vec(),
             max_frames: 100,
             title: format!("Lire tower, perturbation {name}"),
+            defaults: Defaults::default(),
         };
         let inputs =
             serde_json::json!({"blocks": 4, "perturb": name, "floor": floor, "t_end": 10.0});
@@ -122,7 +124,8 @@ fn lire_runs(dir: &Path, summary: &mut Vec<String>, blocks: &mut Vec<Block>) -> 
             time_text(r.failure_time),
             format!("{fallen} of 4"),
             format!("{:.2}", r.t_final),
-            format!("{:.3e}", r.min_gap),
+            r.min_gap
+                .map_or_else(|| "none".to_owned(), |g| format!("{g:.3e}")),
             format!("{:.2}", r.newton_iterations_mean),
             r.failed_steps.to_string(),
             r.branch_points.to_string(),
@@ -178,10 +181,10 @@ fn shaking(dir: &Path, summary: &mut Vec<String>, blocks: &mut Vec<Block>) -> Re
         snapshots: vec![0.0],
         max_frames: 100,
         title: format!("shaken column, omega = {}", p.omega),
+        defaults: Defaults::default(),
     };
-    let inputs =
-        serde_json::json!({"omega": p.omega, "amplitude": p.amplitude, "periods": p.periods});
-    let out = simulate_with_output(&scene, &tour_options(), &plan, "blocks shaking", &inputs)?;
+    let inputs = shake_inputs(&p);
+    let out = simulate_with_output(&scene, &tour_options(), &plan, "blocks shake", &inputs)?;
     let r = &out.report;
     summary.push(format!(
         "shaken column (§4.4), 4 blocks, x = {} sin({} t), μ = {}: failure (loss of support) {}, first full opening {}; {} steps, {} failed Newton steps{}",

@@ -1,15 +1,20 @@
 //! `rollstack blocks`: the stack of blocks on a driven base (Ch. 4, App. G–I).
 //!
-//! - `run SCENE.toml` and `lire` ([`simulate`]): one simulation (§4.3–4.5) with the JSON
-//!   of docs/cli.md, a trajectory CSV written progressively (ERRATA 25), branch points,
-//!   snapshots of the stack, an animation and plots of the top block (drawn by [`figures::blocks`]);
+//! - `run SCENE` ([`simulate`]), `lire` ([`lire`]) and `shake` ([`shake`]): one
+//!   simulation (§4.3–4.5) with the JSON of docs/cli.md, a trajectory CSV written
+//!   progressively (ERRATA 25), branch points, snapshots of the stack, an animation and
+//!   plots of the top block ([`figures::blocks::draw_run`]);
+//! - `scenes [NAME]` ([`scenes`]): the built-in scenes, listed or printed as TOML;
 //! - `sweep frequency` (Figure 4.6) and `sweep slide` (Figure 4.7) ([`sweep`]): many runs
 //!   in parallel, one CSV row per parameter value in input order;
 //! - `painleve` ([`painleve`]): Painlevé's paradoxes for one block (App. I).
 //!
 //! Every number comes from `blockstack`: its simulation, its recorder and its studies.
 
+pub mod lire;
 pub mod painleve;
+pub mod scenes;
+pub mod shake;
 pub mod simulate;
 pub mod sweep;
 
@@ -19,7 +24,9 @@ use clap::{Args, Subcommand};
 use input::text::parse_finite;
 use std::path::PathBuf;
 
-pub use simulate::{simulate_with_output, OutputPlan, SimulationOutput, LIRE_SNAPSHOTS};
+pub use lire::LIRE_SNAPSHOTS;
+pub use shake::shake_inputs;
+pub use simulate::{simulate_with_output, OutputPlan, SimulationOutput};
 
 /// Arguments of `rollstack blocks`.
 #[derive(Debug, Args)]
@@ -32,12 +39,20 @@ pub struct BlocksArgs {
 /// The subcommands of `rollstack blocks`.
 #[derive(Debug, Subcommand)]
 pub enum BlocksCommand {
-    /// Simulates a scene file (TOML, see `blockstack::scene_file`) from t = 0 to t_end.
+    /// Simulates a scene from t = 0 to t_end: a TOML file (every key with its unit and
+    /// default: docs/scenes.md) or a built-in scene's name (`rollstack blocks scenes`).
     Run(simulate::RunArgs),
+    /// Lists the built-in scenes, or prints one (`rollstack blocks scenes NAME`) as TOML
+    /// to save, edit and run.
+    Scenes(scenes::ScenesArgs),
+    /// Shakes a column of blocks w = 0.2, h = 0.4 on a base w = 1, h = 0.1 moving as
+    /// x = A sin(ωt) (§4.4), with the outputs of `blocks run`; Δt and t_end count in base
+    /// periods.
+    Shake(shake::ShakeArgs),
     /// The Leaning Tower of Lire (§4.3, Figure 4.4): blocks w = 1, h = 0.2, μ = 0.3 in the
     /// harmonic maximum-overhang configuration (ERRATA 16) on a fixed table, with nothing
     /// below it as in the thesis (`--floor`: a floor at the table's bottom).
-    Lire(simulate::LireArgs),
+    Lire(lire::LireArgs),
     /// Parameter sweeps: failure time against the shaking frequency (Figure 4.6), top
     /// block angle against the speed of the pulled base (Figure 4.7).
     #[command(subcommand)]
@@ -54,7 +69,9 @@ pub enum BlocksCommand {
 pub fn run(args: &BlocksArgs) -> Result<()> {
     match &args.command {
         BlocksCommand::Run(a) => simulate::run_scene_file(a),
-        BlocksCommand::Lire(a) => simulate::run_lire(a),
+        BlocksCommand::Scenes(a) => scenes::run(a),
+        BlocksCommand::Shake(a) => shake::run_shake(a),
+        BlocksCommand::Lire(a) => lire::run_lire(a),
         BlocksCommand::Sweep(sweep::SweepCommand::Frequency(a)) => sweep::sweep_frequency(a),
         BlocksCommand::Sweep(sweep::SweepCommand::Slide(a)) => sweep::sweep_slide(a),
         BlocksCommand::Painleve(a) => painleve::run(a),
@@ -99,7 +116,7 @@ impl SolverArgs {
     }
 }
 
-/// Output options of `run` and `lire`.
+/// Output options of `run`, `shake` and `lire`.
 #[derive(Debug, Clone, Args)]
 pub struct OutputArgs {
     /// Directory for trajectory.csv, branch_points.csv, snapshots (PNG), the animation
@@ -110,7 +127,8 @@ pub struct OutputArgs {
     #[arg(long)]
     pub json: bool,
     /// Times (model time units) of the PNG snapshots of the stack, comma-separated; the
-    /// nearest computed step is drawn (default: lire 0,5,6.4; run 0, t_end/2, t_end).
+    /// nearest computed step is drawn (default: lire 0,5,6.4; run and shake 0, t_end/2,
+    /// t_end).
     #[arg(long, value_delimiter = ',', value_parser = parse_finite)]
     pub snapshots: Option<Vec<f64>>,
     /// Largest number of animation frames (one every 10th step or sparser); 0: no GIF.

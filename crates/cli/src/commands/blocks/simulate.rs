@@ -1,16 +1,16 @@
-//! `rollstack blocks run` and `lire`: one simulation, its JSON report, and its files
-//! (trajectory written progressively, branch points, snapshots, animation, top block).
+//! `rollstack blocks run`: one simulation, its JSON report, and its files (trajectory
+//! written progressively, branch points, snapshots, animation, top block). `lire`,
+//! `shake` and the tour run through [`simulate_with_output`] and [`finish_command`] too.
 
 use super::{OutputArgs, SolverArgs};
 use crate::output::{
-    commit_temp, ensure_dir, print_json, temp_sibling, write_csv_f64, write_run_json,
+    commit_temp, ensure_dir, print_json, temp_sibling, write_csv_f64, write_run_json_with,
 };
 use anyhow::{Context, Result};
 use blockstack::record::{RecordPlan, Recorder, Recording};
-use blockstack::scenarios::{lire, lire_on_floor, Perturbation};
 use blockstack::simulation::{simulate, RunOptions, RunReport, RunSummary};
-use blockstack::Scene;
-use clap::{Args, ValueEnum};
+use blockstack::{Defaults, Scene};
+use clap::Args;
 use figures::blocks::draw_run;
 use input::text::parse_finite;
 use serde::Serialize;
@@ -22,8 +22,8 @@ use std::time::Instant;
 /// Arguments of `rollstack blocks run`.
 #[derive(Debug, Args)]
 pub struct RunArgs {
-    /// The scene file (TOML): base and motion, blocks bottom to top, contact, solver,
-    /// optional floor. Unknown keys are errors.
+    /// The scene: a TOML file (keys: docs/scenes.md) or the name of a built-in scene
+    /// (`rollstack blocks scenes` lists them); an existing file wins over a name.
     pub scene: PathBuf,
     /// End time (model time units; overrides the scene's solver.t_end).
     #[arg(long, value_parser = parse_finite, allow_hyphen_values = true)]
@@ -36,53 +36,8 @@ pub struct RunArgs {
     pub output: OutputArgs,
 }
 
-/// Which block of the Lire tower is pushed outward by 1 % of its width.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
-pub enum PerturbArg {
-    /// The exact maximum-overhang configuration (an unstable equilibrium).
-    None,
-    /// The lowest free block: the whole column collapses (Figure 4.4).
-    Bottom,
-    /// The top block: it topples alone.
-    Top,
-}
-
-impl From<PerturbArg> for Perturbation {
-    fn from(p: PerturbArg) -> Self {
-        match p {
-            PerturbArg::None => Self::None,
-            PerturbArg::Bottom => Self::Bottom,
-            PerturbArg::Top => Self::Top,
-        }
-    }
-}
-
-/// Arguments of `rollstack blocks lire`.
-#[derive(Debug, Args)]
-pub struct LireArgs {
-    /// Number of free blocks on the table (the thesis: 4).
-    #[arg(long, default_value_t = 4)]
-    pub blocks: usize,
-    /// Which block is shifted outward by 1 % of its width.
-    #[arg(long, value_enum, default_value_t = PerturbArg::None)]
-    pub perturb: PerturbArg,
-    /// Put a floor at the bottom of the table so that the blocks that fall land (beyond
-    /// the thesis, whose blocks fall freely).
-    #[arg(long)]
-    pub floor: bool,
-    /// End time (model time units, g = 1; the thesis: 10).
-    #[arg(long, default_value_t = 10.0, value_parser = parse_finite, allow_hyphen_values = true)]
-    pub t_end: f64,
-    #[command(flatten)]
-    #[allow(missing_docs)]
-    pub solver: SolverArgs,
-    #[command(flatten)]
-    #[allow(missing_docs)]
-    pub output: OutputArgs,
-}
-
-/// The JSON of `rollstack blocks run` and `lire`: the library's report and the files
-/// written.
+/// The JSON of `rollstack blocks run`, `lire` and `shake`: the library's report, the
+/// files written and the pictures left out.
 #[derive(Debug, Serialize)]
 pub struct SimulationJson<'a> {
     /// The run's report.
@@ -90,6 +45,8 @@ pub struct SimulationJson<'a> {
     pub report: &'a RunReport,
     /// Files written into --out (relative names).
     pub files: &'a [String],
+    /// Pictures left out and why (a run that did not start has nothing to draw).
+    pub notes: &'a [String],
 }
 
 /// Everything one simulation produced, for the commands and the tour.
@@ -103,7 +60,9 @@ pub struct SimulationOutput {
     pub files: Vec<String>,
     /// What the recorder kept: snapshots, animation frames, top block, last state.
     pub recording: Recording,
-    /// A failure while writing output during the run (the run itself went on).
+    /// Pictures left out and why.
+    pub notes: Vec<String>,
+    /// A failure while writing output (the run itself went on, run.json was written).
     pub write_error: Option<String>,
 }
 
@@ -118,14 +77,18 @@ pub struct OutputPlan {
     pub max_frames: usize,
     /// A short name of the run for plot titles.
     pub title: String,
+    /// The scene-file keys that took their defaults (empty for scenes built in code).
+    pub defaults: Defaults,
 }
 
 /// Runs one scene, writing the trajectory progressively and, afterwards, the branch
 /// points, snapshots, animation, top-block plots and run.json into `plan.dir`.
 ///
 /// # Errors
-/// A bad scene or options, or an output directory that cannot be created. A step that
-/// fails mid-run is not an Err: it is in `summary.error` (files are still written).
+/// A bad scene or options, or an output directory that cannot be created or a run.json
+/// that cannot be written. A run that cannot start or stops mid-run is not an Err: it is
+/// in `summary.error`, with run.json and the files up to then; a picture with nothing to
+/// draw is left out with a note; another failure to write a file is in `write_error`.
 pub fn simulate_with_output(
     scene: &Scene,
     options: &RunOptions,
@@ -166,11 +129,24 @@ pub fn simulate_with_output(
         write_error.get_or_insert(format!("{e:#}"));
     }
     let t_final = recording.last.as_ref().map_or(0.0, |f| f.t);
-    let report = RunReport::new(&summary, scene, options, t_final);
-    let mut files = Vec::new();
+    let report = RunReport::new(&summary, scene, options, &plan.defaults, t_final);
+    let (mut files, mut notes) = (Vec::new(), Vec::new());
     if let Some(dir) = &plan.dir {
-        files = write_run_files(dir, scene, plan, &summary, &recording)?;
-        write_run_json(
+        files.push("trajectory.csv".to_owned());
+        match write_run_files(dir, scene, plan, &summary, &recording, &mut files) {
+            Ok(n) => notes = n,
+            Err(e) => {
+                write_error.get_or_insert(format!("{e:#}"));
+            }
+        }
+        files.push("run.json".to_owned());
+        let extra = serde_json::json!({
+            "scene": report.scene,
+            "warnings": report.warnings,
+            "notes": notes,
+            "error": report.error,
+        });
+        write_run_json_with(
             dir,
             command,
             inputs,
@@ -180,6 +156,7 @@ pub fn simulate_with_output(
                 "steps": summary.steps,
                 "write_error": write_error,
             }),
+            extra.as_object().expect("an object"),
         )?;
     }
     Ok(SimulationOutput {
@@ -187,20 +164,21 @@ pub fn simulate_with_output(
         report,
         files,
         recording,
+        notes,
         write_error,
     })
 }
 
 /// Writes branch_points.csv, the snapshots, the animation and the top block's plot into
-/// `dir`; returns the names of every file of the run (trajectory.csv and run.json too).
+/// `dir`, adding each file's name to `files`; returns the notes of the pictures left out.
 fn write_run_files(
     dir: &Path,
     scene: &Scene,
     plan: &OutputPlan,
     summary: &RunSummary,
     recording: &Recording,
+    files: &mut Vec<String>,
 ) -> Result<Vec<String>> {
-    let mut files = vec!["trajectory.csv".to_owned()];
     let rows: Vec<Vec<f64>> = summary
         .branch_points
         .iter()
@@ -212,27 +190,30 @@ fn write_run_files(
         &rows,
     )?;
     files.push("branch_points.csv".to_owned());
-    files.extend(draw_run(
-        dir,
-        scene,
-        recording,
-        &plan.title,
-        plan.max_frames > 0,
-    )?);
-    files.push("run.json".to_owned());
-    Ok(files)
+    let drawn = draw_run(dir, scene, recording, &plan.title, plan.max_frames > 0)?;
+    files.extend(drawn.files);
+    Ok(drawn.notes)
+}
+
+/// Prints the scene's warnings on stderr, one `warning: …` line each.
+pub fn print_warnings(scene: &Scene) {
+    for w in scene.warnings() {
+        eprintln!("warning: {w}");
+    }
 }
 
 /// Prints the report (JSON or text) and turns a run that stopped early or output that
 /// could not be written into a non-zero exit after the output is out.
-fn finish_command(out: &SimulationOutput, json: bool, dir: Option<&Path>) -> Result<()> {
+pub fn finish_command(out: &SimulationOutput, json: bool, dir: Option<&Path>) -> Result<()> {
     let r = &out.report;
     if json {
         print_json(&SimulationJson {
             report: r,
             files: &out.files,
+            notes: &out.notes,
         })?;
     } else {
+        println!("{}", r.scene);
         println!(
             "{} steps to t = {:.4} (solver {:.3} s, {:.2} Newton iterations per step, prox {})",
             r.steps, r.t_final, r.wall_time_s, r.newton_iterations_mean, r.prox
@@ -243,9 +224,12 @@ fn finish_command(out: &SimulationOutput, json: bool, dir: Option<&Path>) -> Res
             time(r.failure_time),
             time(r.opening_time)
         );
+        let min_gap = r
+            .min_gap
+            .map_or_else(|| "none".to_owned(), |g| format!("{g:.3e}"));
         println!(
-            "min gap {:.3e}, failed Newton steps {}, branch points {}, split steps {}, linear solves {}, largest energy increase {:.3e}",
-            r.min_gap, r.failed_steps, r.branch_points, r.split_steps, r.linear_solves, r.max_energy_increase
+            "min gap {min_gap}, failed Newton steps {}, branch points {}, split steps {}, linear solves {}, largest energy increase {:.3e}",
+            r.failed_steps, r.branch_points, r.split_steps, r.linear_solves, r.max_energy_increase
         );
         for (k, p) in r.final_poses.iter().enumerate() {
             println!(
@@ -256,20 +240,27 @@ fn finish_command(out: &SimulationOutput, json: bool, dir: Option<&Path>) -> Res
                 p.theta
             );
         }
+        for n in &out.notes {
+            println!("note: {n}");
+        }
         if let Some(dir) = dir {
             println!("wrote {} files into {}", out.files.len(), dir.display());
         }
     }
     if let Some(e) = &r.error {
-        anyhow::bail!(
-            "the simulation stopped at t = {:.6} after {} steps: {e}{}",
-            r.t_final,
-            r.steps,
-            dir.map_or_else(String::new, |d| format!(
-                " (results up to then are in {})",
-                d.display()
-            ))
-        );
+        let (what, kept) = if out.recording.last.is_none() {
+            ("the simulation could not start".to_owned(), "run.json is")
+        } else {
+            (
+                format!(
+                    "the simulation stopped at t = {:.6} after {} steps",
+                    r.t_final, r.steps
+                ),
+                "results up to then are",
+            )
+        };
+        let place = dir.map_or_else(String::new, |d| format!(" ({kept} in {})", d.display()));
+        anyhow::bail!("{what}: {e}{place}");
     }
     if let Some(e) = &out.write_error {
         anyhow::bail!("{e}");
@@ -277,18 +268,13 @@ fn finish_command(out: &SimulationOutput, json: bool, dir: Option<&Path>) -> Res
     Ok(())
 }
 
-fn read_scene(path: &Path) -> Result<Scene> {
-    let text = std::fs::read_to_string(path)
-        .with_context(|| format!("cannot read scene {}", path.display()))?;
-    Scene::from_toml(&text).with_context(|| format!("scene {}", path.display()))
-}
-
 /// Runs `rollstack blocks run`.
 ///
 /// # Errors
 /// A bad scene, bad options, a run that stopped early, or unwritable output.
 pub fn run_scene_file(args: &RunArgs) -> Result<()> {
-    let scene = read_scene(&args.scene)?;
+    let loaded = super::scenes::load_scene(&args.scene)?;
+    let scene = &loaded.scene;
     let options = args.solver.run_options(args.t_end, false)?;
     let t_end = options.t_end.unwrap_or(scene.solver.t_end);
     let plan = OutputPlan {
@@ -303,6 +289,7 @@ pub fn run_scene_file(args: &RunArgs) -> Result<()> {
             .scene
             .file_stem()
             .map_or_else(|| "scene".to_owned(), |s| s.to_string_lossy().into_owned()),
+        defaults: loaded.defaults.clone(),
     };
     let inputs = serde_json::json!({
         "scene": args.scene.display().to_string(),
@@ -311,45 +298,7 @@ pub fn run_scene_file(args: &RunArgs) -> Result<()> {
         "explore_branches": args.solver.explore_branches,
         "snapshots": plan.snapshots,
     });
-    let out = simulate_with_output(&scene, &options, &plan, "blocks run", &inputs)?;
-    finish_command(&out, args.output.json, plan.dir.as_deref())
-}
-
-/// Snapshot times of Figure 4.4.
-pub const LIRE_SNAPSHOTS: [f64; 3] = [0.0, 5.0, 6.4];
-
-/// Runs `rollstack blocks lire`.
-///
-/// # Errors
-/// Bad options, a run that stopped early, or unwritable output.
-pub fn run_lire(args: &LireArgs) -> Result<()> {
-    anyhow::ensure!(args.blocks >= 1, "--blocks must be at least 1");
-    let scene = if args.floor {
-        lire_on_floor(args.blocks, args.perturb.into())?
-    } else {
-        lire(args.blocks, args.perturb.into())?
-    };
-    let options = args.solver.run_options(Some(args.t_end), false)?;
-    let perturb = format!("{:?}", args.perturb).to_lowercase();
-    let plan = OutputPlan {
-        dir: args.output.out.clone(),
-        snapshots: args
-            .output
-            .snapshots
-            .clone()
-            .unwrap_or_else(|| LIRE_SNAPSHOTS.to_vec()),
-        max_frames: args.output.max_frames,
-        title: format!("Lire tower, perturbation {perturb}"),
-    };
-    let inputs = serde_json::json!({
-        "blocks": args.blocks,
-        "perturb": perturb,
-        "floor": args.floor,
-        "t_end": args.t_end,
-        "prox_constant": args.solver.prox_constant,
-        "explore_branches": args.solver.explore_branches,
-        "snapshots": plan.snapshots,
-    });
-    let out = simulate_with_output(&scene, &options, &plan, "blocks lire", &inputs)?;
+    print_warnings(scene);
+    let out = simulate_with_output(scene, &options, &plan, "blocks run", &inputs)?;
     finish_command(&out, args.output.json, plan.dir.as_deref())
 }

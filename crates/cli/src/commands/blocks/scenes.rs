@@ -1,0 +1,62 @@
+//! `rollstack blocks scenes [NAME]`: the built-in scenes of `blockstack::scenes`, listed
+//! or printed as TOML; and how `blocks run` finds its scene (a file, else a built-in
+//! name).
+
+use anyhow::{Context, Result};
+use blockstack::scene_file::LoadedScene;
+use blockstack::scenes;
+use clap::Args;
+use std::path::Path;
+
+/// Arguments of `rollstack blocks scenes`.
+#[derive(Debug, Args)]
+pub struct ScenesArgs {
+    /// A built-in scene to print as TOML (to save and edit); without it, every built-in
+    /// scene is listed with a one-line description.
+    pub name: Option<String>,
+}
+
+/// Runs `rollstack blocks scenes`.
+///
+/// # Errors
+/// An unknown name (the error lists the built-in names).
+pub fn run(args: &ScenesArgs) -> Result<()> {
+    match &args.name {
+        Some(name) => print!("{}", scenes::find(name)?.toml),
+        None => {
+            let width = scenes::names().iter().map(|n| n.len()).max().unwrap_or(0);
+            for s in scenes::builtin() {
+                println!("{:width$}  {}", s.name, s.description);
+            }
+            println!();
+            println!("`rollstack blocks scenes NAME > my.toml` prints one to start from;");
+            println!("`rollstack blocks run NAME` runs one; docs/scenes.md lists every key.");
+        }
+    }
+    Ok(())
+}
+
+/// The scene `blocks run` is given: the file at `arg` if there is one, else the built-in
+/// scene of that name.
+///
+/// # Errors
+/// An unreadable or invalid file; no such file and no such built-in scene (the error
+/// names the built-in scenes).
+pub fn load_scene(arg: &Path) -> Result<LoadedScene> {
+    if arg.exists() {
+        let text = std::fs::read_to_string(arg)
+            .with_context(|| format!("cannot read scene {}", arg.display()))?;
+        return LoadedScene::from_toml(&text).with_context(|| format!("scene {}", arg.display()));
+    }
+    let builtin = arg.to_str().and_then(|name| scenes::find(name).ok());
+    match builtin {
+        Some(s) => s
+            .load()
+            .with_context(|| format!("built-in scene {}", s.name)),
+        None => anyhow::bail!(
+            "cannot read scene {}: no such file, and no built-in scene of that name (built-in scenes: {})",
+            arg.display(),
+            scenes::names().join(", ")
+        ),
+    }
+}

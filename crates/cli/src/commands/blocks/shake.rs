@@ -1,0 +1,106 @@
+//! `rollstack blocks shake`: a column shaken at its base (§4.4), built by
+//! `blockstack::scenarios::shaking_column` from the flags and run like a scene, with the
+//! outputs of `blocks run`.
+
+use super::simulate::{finish_command, print_warnings, simulate_with_output, OutputPlan};
+use super::{OutputArgs, SolverArgs};
+use anyhow::Result;
+use blockstack::scenarios::{shaking_column, Shaking};
+use blockstack::Defaults;
+use clap::Args;
+use input::text::parse_finite;
+
+/// Arguments of `rollstack blocks shake`.
+#[derive(Debug, Args)]
+pub struct ShakeArgs {
+    /// Number of free blocks w = 0.2, h = 0.4, m = 1 in the column (≥ 1).
+    #[arg(long, default_value_t = 4)]
+    pub blocks: usize,
+    /// Angular frequency ω of the base, x = A sin(ωt) (rad per time unit, > 0).
+    #[arg(long, default_value_t = 4.0, value_parser = parse_finite, allow_hyphen_values = true)]
+    pub omega: f64,
+    /// Amplitude A of the base motion (length units).
+    #[arg(long, default_value_t = 0.2, value_parser = parse_finite, allow_hyphen_values = true)]
+    pub amplitude: f64,
+    /// Friction coefficient μ at every contact (dimensionless, ≥ 0).
+    #[arg(long, default_value_t = 0.2, value_parser = parse_finite, allow_hyphen_values = true)]
+    pub mu: f64,
+    /// Steps per base period N: Δt = 2π/(Nω) (Figure 4.6: 100).
+    #[arg(long, default_value_t = 100.0, value_parser = parse_finite, allow_hyphen_values = true)]
+    pub steps_per_period: f64,
+    /// Base periods simulated: t_end = P·2π/ω.
+    #[arg(long, default_value_t = 10.0, value_parser = parse_finite, allow_hyphen_values = true)]
+    pub periods: f64,
+    /// End time (model time units), instead of --periods.
+    #[arg(long, value_parser = parse_finite, allow_hyphen_values = true, conflicts_with = "periods")]
+    pub t_end: Option<f64>,
+    #[command(flatten)]
+    #[allow(missing_docs)]
+    pub solver: SolverArgs,
+    #[command(flatten)]
+    #[allow(missing_docs)]
+    pub output: OutputArgs,
+}
+
+/// Runs `rollstack blocks shake`.
+///
+/// # Errors
+/// Bad parameters, a run that could not start or stopped early, or unwritable output.
+pub fn run_shake(args: &ShakeArgs) -> Result<()> {
+    anyhow::ensure!(args.blocks >= 1, "--blocks must be at least 1");
+    anyhow::ensure!(
+        args.omega > 0.0,
+        "--omega must be positive, got {}",
+        args.omega
+    );
+    anyhow::ensure!(args.mu >= 0.0, "--mu must not be negative, got {}", args.mu);
+    let p = Shaking {
+        blocks: args.blocks,
+        amplitude: args.amplitude,
+        omega: args.omega,
+        periods: args.periods,
+        steps_per_period: args.steps_per_period,
+        mu: args.mu,
+    };
+    let scene = shaking_column(&p)?;
+    let options = args.solver.run_options(args.t_end, false)?;
+    let t_end = options.t_end.unwrap_or(scene.solver.t_end);
+    let plan = OutputPlan {
+        dir: args.output.out.clone(),
+        snapshots: args
+            .output
+            .snapshots
+            .clone()
+            .unwrap_or_else(|| vec![0.0, 0.5 * t_end, t_end]),
+        max_frames: args.output.max_frames,
+        title: format!(
+            "shaken column, x = {} sin({} t)",
+            args.amplitude, args.omega
+        ),
+        defaults: Defaults::default(),
+    };
+    let mut inputs = shake_inputs(&p);
+    if args.t_end.is_some() {
+        inputs["periods"] = serde_json::Value::Null;
+    }
+    inputs["t_end"] = t_end.into();
+    inputs["prox_constant"] = args.solver.prox_constant.into();
+    inputs["explore_branches"] = args.solver.explore_branches.into();
+    inputs["snapshots"] = serde_json::json!(plan.snapshots);
+    print_warnings(&scene);
+    let out = simulate_with_output(&scene, &options, &plan, "blocks shake", &inputs)?;
+    finish_command(&out, args.output.json, plan.dir.as_deref())
+}
+
+/// The `inputs` of a shaken column's run.json (`blocks shake` and the tour).
+#[must_use]
+pub fn shake_inputs(p: &Shaking) -> serde_json::Value {
+    serde_json::json!({
+        "blocks": p.blocks,
+        "omega": p.omega,
+        "amplitude": p.amplitude,
+        "mu": p.mu,
+        "steps_per_period": p.steps_per_period,
+        "periods": p.periods,
+    })
+}
