@@ -91,6 +91,30 @@ pub fn write_csv_f64(path: &Path, header: &[&str], rows: &[Vec<f64>]) -> Result<
     )
 }
 
+/// Writes rows of cells that a library formatted from numbers (the `csv_cells` of its
+/// reports), refusing a non-finite number (`NaN`, `inf`, `-inf`) as [`write_csv_f64`]
+/// does.
+///
+/// # Errors
+/// When a cell is not finite, a row has the wrong length or the file cannot be written.
+pub fn write_csv_finite<I>(path: &Path, header: &[&str], rows: I) -> Result<()>
+where
+    I: IntoIterator<Item = Vec<String>>,
+{
+    let rows: Vec<Vec<String>> = rows.into_iter().collect();
+    if let Some(v) = rows
+        .iter()
+        .flatten()
+        .find(|c| matches!(c.as_str(), "NaN" | "inf" | "-inf"))
+    {
+        anyhow::bail!(
+            "refusing to write non-finite value {v} to {}",
+            path.display()
+        );
+    }
+    write_csv(path, header, rows)
+}
+
 /// Serialises `value` as pretty JSON into `path`, atomically.
 ///
 /// # Errors
@@ -171,6 +195,9 @@ mod tests {
         assert_eq!(text, "x,y\n1,2.5\n-0.1,3\n");
         assert!(write_csv_f64(&p, &["x"], &[vec![f64::NAN]]).is_err());
         assert!(write_csv(&p, &["x", "y"], [["1"]]).is_err());
+        let cells = |v: f64| vec![v.to_string()];
+        assert!(write_csv_finite(&p, &["x"], [cells(1.0), cells(f64::NAN)]).is_err());
+        assert!(write_csv_finite(&p, &["x"], [cells(f64::NEG_INFINITY)]).is_err());
         // the failed writes left the good file in place
         assert_eq!(fs::read_to_string(&p).unwrap(), text);
         fs::remove_dir_all(dir).unwrap();

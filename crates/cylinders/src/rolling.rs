@@ -65,6 +65,26 @@ pub struct Sample {
     pub phi: f64,
 }
 
+impl Sample {
+    /// The columns of a rolling trace's CSV (rectangle_trace.csv, circle_trace.csv): the
+    /// time t, the centre of mass x̄ (E1, E2, E3), the contact point P (E1, E2; it lies on
+    /// the plane), the rim point X (E1, E2, E3) and the spin φ (rad).
+    pub const CSV_HEADER: [&'static str; 10] = [
+        "t", "center_x", "center_y", "center_z", "p_x", "p_y", "x_x", "x_y", "x_z", "phi",
+    ];
+
+    /// The cells of this sample's row under [`Self::CSV_HEADER`], numbers in shortest
+    /// round-trip form.
+    #[must_use]
+    pub fn csv_cells(&self) -> Vec<String> {
+        let (c, p, x) = (self.center, self.contact, self.rim_point);
+        [self.t, c.x, c.y, c.z, p.x, p.y, x.x, x.y, x.z, self.phi]
+            .iter()
+            .map(f64::to_string)
+            .collect()
+    }
+}
+
 /// The result of [`roll`].
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct RollingTrace {
@@ -294,6 +314,13 @@ mod tests {
         assert!((trace.delta_phi() - fig.path.delta_phi()).abs() < 1e-9);
         assert!(trace.closure_error() < 1e-9);
         assert!(trace.max_residual < 1e-12);
+        // The CSV row of a sample: P has no height column.
+        let last = trace.samples.last().unwrap();
+        let cells = last.csv_cells();
+        assert_eq!(cells.len(), Sample::CSV_HEADER.len());
+        assert_eq!(cells[0], last.t.to_string());
+        assert_eq!(cells[5], last.contact.y.to_string());
+        assert_eq!(cells[9], last.phi.to_string());
     }
 
     #[test]

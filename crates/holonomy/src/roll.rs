@@ -221,6 +221,28 @@ pub struct RollSample {
     pub orientation: UnitQuaternion<f64>,
 }
 
+impl RollSample {
+    /// The columns of a trajectory CSV (roll.csv): the arc length s, the centre C, the
+    /// marked point X (E1, E2, E3 components; units of R) and the orientation Q as a
+    /// quaternion [q0, q1, q2, q3] (scalar first).
+    pub const CSV_HEADER: [&'static str; 11] = [
+        "s", "cx", "cy", "cz", "xx", "xy", "xz", "q0", "q1", "q2", "q3",
+    ];
+
+    /// The cells of this sample's row under [`Self::CSV_HEADER`], numbers in shortest
+    /// round-trip form.
+    #[must_use]
+    pub fn csv_cells(&self) -> Vec<String> {
+        let q = self.orientation;
+        std::iter::once(self.s)
+            .chain(self.centre)
+            .chain(self.marked_point)
+            .chain([q.w, q.i, q.j, q.k])
+            .map(|v| v.to_string())
+            .collect()
+    }
+}
+
 /// The result of [`roll`].
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Trajectory {
@@ -408,4 +430,23 @@ pub fn polygon_holonomy(
 pub fn axis_angle(q: &UnitQuaternion<f64>) -> (f64, Unit<Vector3<f64>>) {
     let aa = rotations::AxisAngle::from_quaternion(q);
     (aa.angle, aa.axis)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_sample_has_one_cell_per_column() {
+        let path = CentrePath::circle(1.0, Direction::Ccw).unwrap();
+        let traj = roll(&path, 1.0, Integrator::Exact, 8).unwrap();
+        let first = traj.samples[0].csv_cells();
+        assert_eq!(first.len(), RollSample::CSV_HEADER.len());
+        // s = 0, the centre at height R, Q(0) = I.
+        assert_eq!(first[0], "0");
+        assert_eq!(first[3], "1");
+        assert_eq!(&first[7..], ["1", "0", "0", "0"]);
+        let last = traj.samples.last().unwrap();
+        assert_eq!(last.csv_cells()[7], last.orientation.w.to_string());
+    }
 }

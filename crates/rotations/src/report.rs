@@ -8,6 +8,7 @@ use crate::rotation_distance;
 use nalgebra::Rotation3;
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
+use std::fmt;
 
 /// The tolerance on the second Euler angle below which a set is reported singular
 /// ([`EulerSet::is_singular`]).
@@ -30,6 +31,48 @@ pub struct RotationReport {
     /// Sets for which the rotation is at a singular value of the second angle (the first
     /// angle was set to 0 there, App. A).
     pub euler_singular: Vec<String>,
+}
+
+impl fmt::Display for RotationReport {
+    /// The readable summary `rollstack rotation` prints: the rows of R (9 decimals), the
+    /// quaternion [q0, q1, q2, q3] (2.2.1)₂–(2.2.2), the angle in radians and degrees
+    /// with the unit axis (2.2.1)₁, and the angles (rad) of all twelve Euler sets
+    /// (A.1.2), those at a singular second angle marked. Lines are separated by `\n`,
+    /// with none after the last.
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        writeln!(f, "matrix (row i: Eᵢ · R Eⱼ):")?;
+        for row in self.matrix {
+            writeln!(f, "  [{:>12.9} {:>12.9} {:>12.9}]", row[0], row[1], row[2])?;
+        }
+        let [q0, q1, q2, q3] = self.quaternion;
+        writeln!(
+            f,
+            "quaternion [q0, q1, q2, q3] = [{q0:.9}, {q1:.9}, {q2:.9}, {q3:.9}]"
+        )?;
+        writeln!(
+            f,
+            "angle = {:.9} rad ({:.6}°), axis = [{:.9}, {:.9}, {:.9}]",
+            self.angle,
+            self.angle.to_degrees(),
+            self.axis[0],
+            self.axis[1],
+            self.axis[2]
+        )?;
+        write!(f, "Euler angles (rad):")?;
+        for (set, a) in &self.euler {
+            let flag = if self.euler_singular.contains(set) {
+                "  (singular: a1 set to 0)"
+            } else {
+                ""
+            };
+            write!(
+                f,
+                "\n  {set}: [{:>12.9}, {:>12.9}, {:>12.9}]{flag}",
+                a[0], a[1], a[2]
+            )?;
+        }
+        Ok(())
+    }
 }
 
 /// The rows of a rotation's matrix, entry `[i][j]` = Eᵢ · R Eⱼ, as the reports print them.
@@ -127,6 +170,27 @@ mod tests {
             assert_eq!(t.set, set);
             assert!(t.error < 1e-14, "{set}: {}", t.error);
         }
+    }
+
+    #[test]
+    fn the_text_shows_every_representation() {
+        let r = AxisAngle::new(0.9, Vector3::z()).unwrap().to_rotation();
+        let text = rotation_report(&r).to_string();
+        let lines: Vec<&str> = text.lines().collect();
+        // A header and three rows, quaternion, angle, a header and twelve sets.
+        assert_eq!(lines.len(), 1 + 3 + 1 + 1 + 1 + 12);
+        assert_eq!(lines[3], "  [ 0.000000000  0.000000000  1.000000000]");
+        assert!(
+            lines[4].ends_with("0.000000000, 0.434965534]"),
+            "{}",
+            lines[4]
+        );
+        assert!(lines[5].starts_with("angle = 0.900000000 rad (51.566202°)"));
+        assert_eq!(
+            lines[16],
+            "  3-1-3: [ 0.000000000,  0.000000000,  0.900000000]  (singular: a1 set to 0)"
+        );
+        assert!(!text.ends_with('\n'));
     }
 
     #[test]

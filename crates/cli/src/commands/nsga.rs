@@ -1,14 +1,16 @@
 //! `rollstack nsga ball|work-precision`: the nonsmooth generalized-α solver core on its
-//! benchmark systems (Capobianco et al. 2021; thesis §4.2).
+//! benchmark systems (Capobianco et al. 2021; thesis §4.2). The numbers, their text and
+//! the cells of the CSV files come from [`nsga::studies`]; this module reads the flags
+//! and writes the files (docs/cli.md).
 
 use crate::output::{
-    ensure_dir, print_json, require_finite, write_csv, write_csv_f64, write_run_json,
+    ensure_dir, print_json, require_finite, write_csv, write_csv_finite, write_run_json,
 };
 use anyhow::{bail, Result};
 use clap::{Args, Subcommand, ValueEnum};
 use figures::nsga::{plot_ball, plot_work_precision};
-use nsga::studies::ball::{ball_report, BallRun, Scheme};
-use nsga::studies::work_precision::{work_precision, WorkPrecisionSystem};
+use nsga::studies::ball::{ball_report, BallRun, BallSample, Scheme};
+use nsga::studies::work_precision::{work_precision, WorkPrecisionRow, WorkPrecisionSystem};
 use nsga::systems::ball::BallCase;
 use nsga::Prox;
 use std::path::{Path, PathBuf};
@@ -154,56 +156,17 @@ fn ball(a: &BallArgs) -> Result<()> {
     if a.json {
         print_json(&out)?;
     } else {
-        println!(
-            "ball case {} ({}): first impact {:?} s (exact {:.4}), rolling from {:?} s, final (xdot, phidot) = ({:.5}, {:.4}), min gap {:.2e}, {:.2} Newton iterations/step, {:.3} ms",
-            a.case,
-            out.scheme.name(),
-            out.first_impact_time,
-            out.first_impact_time_exact,
-            out.rolling_onset_time,
-            out.final_velocity[0],
-            out.final_velocity[1],
-            out.min_gap,
-            out.newton_iterations_mean,
-            out.wall_time_s * 1e3
-        );
+        println!("{out}");
     }
     Ok(())
 }
 
 fn write_ball_files(dir: &Path, r: &BallRun, a: &BallArgs) -> Result<()> {
     ensure_dir(dir)?;
-    let rows: Vec<Vec<f64>> = r
-        .samples
-        .iter()
-        .map(|s| {
-            vec![
-                s.t,
-                s.q[0],
-                s.q[1],
-                s.q[2],
-                s.u[0],
-                s.u[1],
-                s.u[2],
-                s.p_n,
-                s.iterations as f64,
-            ]
-        })
-        .collect();
-    write_csv_f64(
+    write_csv_finite(
         &dir.join("trajectory.csv"),
-        &[
-            "t",
-            "x",
-            "y",
-            "phi",
-            "xdot",
-            "ydot",
-            "phidot",
-            "p_n",
-            "newton_iterations",
-        ],
-        &rows,
+        &BallSample::CSV_HEADER,
+        r.samples.iter().map(BallSample::csv_cells),
     )?;
     let radius = BallCase::new(a.case).map_or(0.1, |c| c.ball.radius);
     plot_ball(
@@ -234,16 +197,8 @@ fn work_precision_command(a: &WorkPrecisionArgs) -> Result<()> {
     ensure_dir(&a.out)?;
     write_csv(
         &a.out.join("work_precision.csv"),
-        &["scheme", "rho_inf", "dt", "error", "wall_time_s"],
-        rows.iter().map(|r| {
-            vec![
-                r.scheme.name().to_owned(),
-                r.rho_inf.map_or(String::new(), |x| x.to_string()),
-                r.dt.to_string(),
-                r.error.to_string(),
-                r.wall_time_s.to_string(),
-            ]
-        }),
+        &WorkPrecisionRow::CSV_HEADER,
+        rows.iter().map(WorkPrecisionRow::csv_cells),
     )?;
     plot_work_precision(
         &a.out.join("work_precision.png"),
@@ -260,14 +215,7 @@ fn work_precision_command(a: &WorkPrecisionArgs) -> Result<()> {
         print_json(&serde_json::json!({"rows": rows, "csv": a.out.join("work_precision.csv")}))?;
     } else {
         for r in &rows {
-            println!(
-                "{:>6} rho_inf={:>4} dt={:.1e}: error {:.3e}, {:.3e} s",
-                r.scheme.name(),
-                r.rho_inf.map_or("-".into(), |x| x.to_string()),
-                r.dt,
-                r.error,
-                r.wall_time_s
-            );
+            println!("{r}");
         }
         println!("wrote {}", a.out.join("work_precision.csv").display());
     }

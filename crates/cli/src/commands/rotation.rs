@@ -1,5 +1,6 @@
 //! `rollstack rotation`: convert one rotation between every representation. The numbers
-//! come from [`rotations::rotation_report`]; this module reads the flags (docs/cli.md).
+//! and their text come from [`rotations::rotation_report`]; this module reads the flags
+//! (docs/cli.md).
 
 use crate::output::print_json;
 use anyhow::{bail, Context, Result};
@@ -71,31 +72,6 @@ pub fn run(args: &RotationArgs) -> Result<()> {
     if args.json {
         return print_json(&rep);
     }
-    println!("matrix (row i: Eᵢ · R Eⱼ):");
-    for row in rep.matrix {
-        println!("  [{:>12.9} {:>12.9} {:>12.9}]", row[0], row[1], row[2]);
-    }
-    let [q0, q1, q2, q3] = rep.quaternion;
-    println!("quaternion [q0, q1, q2, q3] = [{q0:.9}, {q1:.9}, {q2:.9}, {q3:.9}]");
-    println!(
-        "angle = {:.9} rad ({:.6}°), axis = [{:.9}, {:.9}, {:.9}]",
-        rep.angle,
-        rep.angle.to_degrees(),
-        rep.axis[0],
-        rep.axis[1],
-        rep.axis[2]
-    );
-    println!("Euler angles (rad):");
-    for (set, a) in &rep.euler {
-        let flag = if rep.euler_singular.contains(set) {
-            "  (singular: a1 set to 0)"
-        } else {
-            ""
-        };
-        println!(
-            "  {set}: [{:>12.9}, {:>12.9}, {:>12.9}]{flag}",
-            a[0], a[1], a[2]
-        );
-    }
+    println!("{rep}");
     Ok(())
 }

@@ -8,6 +8,7 @@ use crate::kinematics::{check_point_contact, Cylinder};
 use crate::pair::{CylinderPair, PairConstraints, PairSystem, SingleCylinder};
 use nalgebra::DVector;
 use serde::{Deserialize, Serialize};
+use std::fmt;
 use std::time::Instant;
 
 /// Which constraint system is tested.
@@ -102,6 +103,44 @@ impl IntegrabilityReport {
             .checked_sub(1)
             .map_or(0.0, |i| self.singular_values[i])
     }
+
+    /// This report with the system it tested, for its text ([`IntegrabilitySummary`]).
+    #[must_use]
+    pub fn summary(&self, system: ConstraintSystem) -> IntegrabilitySummary<'_> {
+        IntegrabilitySummary {
+            system,
+            report: self,
+        }
+    }
+}
+
+/// The readable text of `rollstack cylinder frobenius` (`Display`): one Frobenius test
+/// with the system it tested.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct IntegrabilitySummary<'a> {
+    /// The constraint system tested.
+    pub system: ConstraintSystem,
+    /// The test's result ([`integrability_report`]).
+    pub report: &'a IntegrabilityReport,
+}
+
+impl fmt::Display for IntegrabilitySummary<'_> {
+    /// The system with the rank and nullity of W, one line per constraint Πᵢ with
+    /// max |aᵀ S^Γ b| (D.1.5)–(D.1.6) and its verdict, and the verdict of the system.
+    /// Lines are separated by `\n`, with none after the last.
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let rep = self.report;
+        writeln!(
+            f,
+            "Frobenius test ({:?}): rank {} nullity {}",
+            self.system, rep.rank, rep.nullity
+        )?;
+        for (i, (v, ok)) in rep.max_abs_asb.iter().zip(&rep.integrable).enumerate() {
+            let verdict = if *ok { "integrable" } else { "not integrable" };
+            writeln!(f, "  Π{}: max|aᵀSb| = {v:.3e}  {verdict}", i + 1)?;
+        }
+        write!(f, "  system integrable: {}", rep.system_integrable)
+    }
 }
 
 /// The Frobenius test (D.1.5)–(D.1.6) of `case`'s constraint system with exact
@@ -192,6 +231,19 @@ mod tests {
         let json = serde_json::to_string(&rep).unwrap();
         assert!(json.starts_with("{\"rank\":3,\"nullity\":3,\"max_abs_asb\":"));
         assert!(json.contains(",\"d24\":[[") && json.contains(",\"wall_time_s\":"));
+        let text = rep.summary(ConstraintSystem::Single).to_string();
+        let lines: Vec<&str> = text.lines().collect();
+        assert_eq!(lines.len(), 1 + 3 + 1);
+        assert_eq!(lines[0], "Frobenius test (Single): rank 3 nullity 3");
+        assert_eq!(
+            lines[1],
+            format!(
+                "  Π1: max|aᵀSb| = {:.3e}  not integrable",
+                rep.max_abs_asb[0]
+            )
+        );
+        assert!(lines[3].ends_with("  integrable") && !lines[3].contains("not"));
+        assert_eq!(lines[4], "  system integrable: false");
     }
 
     #[test]

@@ -10,6 +10,7 @@ use crate::rolling::{circle_motion, rectangle_segments, roll, RollingTrace, Samp
 use nalgebra::Vector3;
 use rotations::{rotation_distance, AxisAngle};
 use serde::{Deserialize, Serialize};
+use std::fmt;
 
 /// How finely the rolled check integrates and records.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
@@ -41,6 +42,49 @@ pub struct RectangleReport {
     pub rolling_error: f64,
     /// ‖x̄_end − x̄_0‖ of the integrated motion (units of the cylinder's lengths).
     pub rolling_closure_error: f64,
+}
+
+impl RectangleReport {
+    /// This report with the path it was computed for, for its text
+    /// ([`RectangleSummary`]).
+    #[must_use]
+    pub fn summary<'a>(&'a self, path: &'a RectanglePath) -> RectangleSummary<'a> {
+        RectangleSummary { path, report: self }
+    }
+}
+
+/// The readable text of `rollstack cylinder holonomy rectangle` (`Display`): the
+/// holonomy of a rectangle with the path.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RectangleSummary<'a> {
+    /// The rectangle traced by P (its case and direction are shown).
+    pub path: &'a RectanglePath,
+    /// Its holonomy ([`rectangle_report`]).
+    pub report: &'a RectangleReport,
+}
+
+impl fmt::Display for RectangleSummary<'_> {
+    /// Δφ (rad) of (3.4.3) with the case and direction, the disagreement of the product
+    /// with the closed form (3.4.5) (rad), and Δφ and the error (rad) of the rolled
+    /// check. Lines are separated by `\n`, with none after the last.
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let rep = self.report;
+        writeln!(
+            f,
+            "Rectangle (3.4.3): Δφ = {:.9} rad ({:?}, {:?})",
+            rep.delta_phi, self.path.case, self.path.direction
+        )?;
+        writeln!(
+            f,
+            "  product vs closed form (3.4.5): {:.1e} rad",
+            rep.product_error
+        )?;
+        write!(
+            f,
+            "  rolled along the path: Δφ = {:.9} rad, error {:.1e} rad",
+            rep.rolling_delta_phi, rep.rolling_error
+        )
+    }
 }
 
 /// The holonomy of the rectangle `path` traced by P of `cylinder` at inclination
@@ -101,6 +145,44 @@ pub struct CircleReport {
     pub rolling_delta_phi: f64,
     /// ‖x̄_end − x̄_0‖ of the integrated motion.
     pub rolling_closure_error: f64,
+}
+
+impl CircleReport {
+    /// This report with the path it was computed for, for its text
+    /// ([`CircleSummary`]).
+    #[must_use]
+    pub fn summary<'a>(&'a self, path: &'a CirclePath) -> CircleSummary<'a> {
+        CircleSummary { path, report: self }
+    }
+}
+
+/// The readable text of `rollstack cylinder holonomy circle` (`Display`): the holonomy
+/// of a circle with the path.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct CircleSummary<'a> {
+    /// The circle traced by P (its case and direction are shown).
+    pub path: &'a CirclePath,
+    /// Its holonomy ([`circle_report`]).
+    pub report: &'a CircleReport,
+}
+
+impl fmt::Display for CircleSummary<'_> {
+    /// Δφ (rad) of (3.4.16) and the radius k of the centre's circle (3.4.15) with the case
+    /// and direction, and Δφ (rad) of the rolled check. Lines are separated by `\n`, with
+    /// none after the last.
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let rep = self.report;
+        writeln!(
+            f,
+            "Circle (3.4.16): Δφ = {:.9} rad, k = {:.9} ({:?}, {:?})",
+            rep.delta_phi, rep.k, self.path.case, self.path.direction
+        )?;
+        write!(
+            f,
+            "  rolled around the circle: Δφ = {:.9} rad",
+            rep.rolling_delta_phi
+        )
+    }
 }
 
 /// The holonomy of the circle `path` traced by P of `cylinder` at inclination `theta`:
@@ -193,6 +275,10 @@ mod tests {
         assert!((rep.rolling_delta_phi - rep.delta_phi).abs() < 1e-8);
         assert!(rep.rolling_error < 1e-8 && rep.rolling_closure_error < 1e-8);
         assert!((0.0..=PI).contains(&rep.product_angle));
+        let text = rep.summary(&fig.path).to_string();
+        assert!(text.starts_with("Rectangle (3.4.3): Δφ = 36.390114904 rad (I, "));
+        assert_eq!(text.lines().count(), 3);
+        assert!(text.ends_with(&format!("error {:.1e} rad", rep.rolling_error)));
         let view = plan_view(&trace).unwrap();
         assert_eq!(view.contact.len(), trace.samples.len());
         assert_eq!(view.start, (0.0, 0.0));
@@ -209,6 +295,13 @@ mod tests {
             assert!((rep.delta_phi.abs() - 59.3283).abs() < 5e-5, "{case:?}");
             assert!((rep.k - k).abs() < 1e-4, "{case:?}");
             assert!((rep.rolling_delta_phi - rep.delta_phi).abs() < 1e-8);
+            let text = rep.summary(&path).to_string();
+            let first = format!(
+                "Δφ = {:.9} rad, k = {:.9} ({case:?}, CounterClockwise)",
+                rep.delta_phi, rep.k
+            );
+            assert!(text.lines().next().unwrap().ends_with(&first), "{text}");
+            assert_eq!(text.lines().count(), 2);
         }
         let small = CirclePath::new(0.5, PathCase::I, Direction::CounterClockwise).unwrap();
         let bad = circle_report(&cylinder, theta, &small, COARSE);

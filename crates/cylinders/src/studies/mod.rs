@@ -12,7 +12,10 @@
 //! - [`frobenius`]: the Frobenius test of the single cylinder (App. D) and of the pair
 //!   (§3.5, App. F; rank 9, ERRATA 13).
 //!
-//! Forces are divided by mg, angles are in radians, lengths in any one unit.
+//! Forces are divided by mg, angles are in radians, lengths in any one unit. Each report
+//! also carries its readable text (`Display`, the lines `rollstack cylinder ...` prints
+//! without `--json`) and each row type the cells of its CSV rows (`CSV_HEADER` with
+//! `csv_cells` or `csv_rows`, numbers in Rust's shortest round-trip form).
 
 pub mod frobenius;
 pub mod holonomy;

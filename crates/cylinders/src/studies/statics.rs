@@ -1,6 +1,6 @@
 //! The support-force curves of Figures 3.3, 3.4, 3.5, 3.7 and 3.8 (§3.3, corrected per
-//! ERRATA 9–11) as typed rows and series: what `rollstack cylinder statics` writes to
-//! CSV and plots.
+//! ERRATA 9–11) as typed rows and series, with the cells of their CSV rows: what
+//! `rollstack cylinder statics` writes to CSV and plots.
 //!
 //! Inclinations are sampled at ϑ_k = (π/2) k / n, k = 1 … n − 1, so neither end of the
 //! point-contact range (0, π/2) is evaluated.
@@ -31,6 +31,16 @@ pub struct NormalForceRow {
     pub n_over_mg_minus: Option<f64>,
 }
 
+/// A CSV cell of an optional number: the number in shortest round-trip form, or empty
+/// when there is none (or it is not finite).
+fn optional_cell(v: Option<f64>) -> String {
+    v.filter(|v| v.is_finite())
+        .map_or_else(String::new, |v| v.to_string())
+}
+
+/// The N/mg columns of the statics CSV files: (3.3.8)₊, (3.3.10), (3.3.8)₋.
+const N_COLUMNS: [&str; 3] = ["n_over_mg_plus", "n_over_mg_smooth", "n_over_mg_minus"];
+
 impl NormalForceRow {
     /// N/mg at the friction limit `limit`.
     #[must_use]
@@ -40,6 +50,34 @@ impl NormalForceRow {
             FrictionLimit::Smooth => self.n_over_mg_smooth,
             FrictionLimit::Minus => self.n_over_mg_minus,
         }
+    }
+
+    /// The columns of fig3_3.csv: ϑ in rad and in degrees, then N/mg at F_f = +μN e′2
+    /// (3.3.8)₊, on a smooth plane (3.3.10) and at F_f = −μN e′2 (3.3.8)₋.
+    pub const CSV_HEADER: [&'static str; 5] = [
+        "theta",
+        "theta_deg",
+        N_COLUMNS[0],
+        N_COLUMNS[1],
+        N_COLUMNS[2],
+    ];
+
+    /// The cells of this row under [`Self::CSV_HEADER`]: numbers in shortest round-trip
+    /// form, an empty cell where there is no positive N.
+    #[must_use]
+    pub fn csv_cells(&self) -> Vec<String> {
+        let theta = [self.theta, self.theta.to_degrees()].map(|v| v.to_string());
+        theta.into_iter().chain(self.n_cells()).collect()
+    }
+
+    /// The three N/mg cells, in the order of [`N_COLUMNS`].
+    fn n_cells(&self) -> [String; 3] {
+        [
+            self.n_over_mg_plus,
+            self.n_over_mg_smooth,
+            self.n_over_mg_minus,
+        ]
+        .map(optional_cell)
     }
 }
 
@@ -77,6 +115,31 @@ impl NormalForceCurves {
         Ok(Self { r_over_h, mu, rows })
     }
 
+    /// The columns of fig3_4.csv and fig3_5.csv (one family member after another): r/h,
+    /// μ, ϑ (rad), then N/mg at (3.3.8)₊, (3.3.10) and (3.3.8)₋ as in
+    /// [`NormalForceRow::CSV_HEADER`].
+    pub const CSV_HEADER: [&'static str; 6] = [
+        "r_over_h",
+        "mu",
+        "theta",
+        N_COLUMNS[0],
+        N_COLUMNS[1],
+        N_COLUMNS[2],
+    ];
+
+    /// One row of cells per sampled inclination under [`Self::CSV_HEADER`]: numbers in
+    /// shortest round-trip form, an empty cell where there is no positive N.
+    #[must_use]
+    pub fn csv_rows(&self) -> Vec<Vec<String>> {
+        self.rows
+            .iter()
+            .map(|r| {
+                let keys = [self.r_over_h, self.mu, r.theta].map(|v| v.to_string());
+                keys.into_iter().chain(r.n_cells()).collect()
+            })
+            .collect()
+    }
+
     /// The curve of one limit as (ϑ in degrees, N/mg) points, clipped to N/mg ≤ 1
     /// (F3 ≥ 0: the figures' range).
     #[must_use]
@@ -106,6 +169,43 @@ pub struct MinimumForceRow {
     /// The minimum over the admissible forces, (3.3.15)–(3.3.19); `None` when no
     /// support exists.
     pub minimum: Option<MinimumForce>,
+}
+
+impl MinimumForceRow {
+    /// The columns of fig3_7_fig3_8.csv: ϑ in rad and in degrees; (F3/mg, F/mg) of the
+    /// unconstrained minimum (3.3.15) on the circle (3.3.20); whether it satisfies the
+    /// friction criterion (3.3.17) and F3 ≥ 0 (1 or 0); F3/mg, F/mg and ‖F_a‖/mg of the
+    /// minimum over the admissible forces (3.3.15)–(3.3.19); and its case
+    /// ([`MinForceCase::name`], `none` without a support).
+    pub const CSV_HEADER: [&'static str; 9] = [
+        "theta",
+        "theta_deg",
+        "circle_f3_over_mg",
+        "circle_f_over_mg",
+        "satisfies_3_3_17",
+        "min_f3_over_mg",
+        "min_f_over_mg",
+        "min_norm_over_mg",
+        "case",
+    ];
+
+    /// The cells of this row under [`Self::CSV_HEADER`]: numbers in shortest round-trip
+    /// form, the minimum's cells empty when there is no support.
+    #[must_use]
+    pub fn csv_cells(&self) -> Vec<String> {
+        let m = self.minimum;
+        vec![
+            self.theta.to_string(),
+            self.theta.to_degrees().to_string(),
+            self.unconstrained[0].to_string(),
+            self.unconstrained[1].to_string(),
+            u8::from(self.admissible).to_string(),
+            optional_cell(m.map(|m| m.f3_over_mg)),
+            optional_cell(m.map(|m| m.f_over_mg)),
+            optional_cell(m.map(|m| m.norm_over_mg)),
+            m.map_or_else(|| "none".to_owned(), |m| m.case.name().to_owned()),
+        ]
+    }
 }
 
 /// The data of Figures 3.3, 3.4, 3.5, 3.7 and 3.8 for one (r/h, μ).
@@ -281,6 +381,35 @@ mod tests {
         }
         let cone = fig.friction_bound(-1.0);
         assert_eq!((cone[0], cone[20]), ((0.0, -0.2), (1.0, -0.0)));
+    }
+
+    #[test]
+    fn csv_rows_have_one_cell_per_column() {
+        let fig = statics_figures(0.1, 0.6, 19).unwrap();
+        // 5°: no support on a smooth plane or at the (−) limit: empty cells.
+        let first = fig.figure_3_3.rows[0];
+        let cells = first.csv_cells();
+        assert_eq!(cells.len(), NormalForceRow::CSV_HEADER.len());
+        assert_eq!(cells[1], first.theta.to_degrees().to_string());
+        assert_eq!(cells[2], first.n_over_mg_plus.unwrap().to_string());
+        assert_eq!(&cells[3..], ["", ""]);
+        let family = &fig.figure_3_5[1];
+        let rows = family.csv_rows();
+        assert_eq!(rows.len(), family.rows.len());
+        assert!(rows
+            .iter()
+            .all(|r| r.len() == NormalForceCurves::CSV_HEADER.len()));
+        assert_eq!(rows[0][..2], ["0.1", "0.1"]);
+        assert_eq!(rows[0][3..], family.rows[0].csv_cells()[2..]);
+        for row in &fig.minimum_force {
+            let cells = row.csv_cells();
+            assert_eq!(cells.len(), MinimumForceRow::CSV_HEADER.len());
+            assert_eq!(cells[4], if row.admissible { "1" } else { "0" });
+            match row.minimum {
+                Some(m) => assert_eq!(cells[8], m.case.name()),
+                None => assert_eq!(&cells[5..], ["", "", "", "none"]),
+            }
+        }
     }
 
     #[test]

@@ -5,6 +5,7 @@ use crate::error::CylinderError;
 use crate::statics::{FrictionLimit, MinimumForce, SteadyBalance, SupportProblem};
 use serde::{Deserialize, Serialize};
 use std::f64::consts::FRAC_PI_2;
+use std::fmt;
 
 /// The heading ψ at which the closed forms are checked against the balance laws: any
 /// value does, the steady support does not depend on it.
@@ -67,6 +68,87 @@ pub struct SupportReport {
     /// Largest difference between the closed forms and the balance laws (3.3.3) solved
     /// numerically (QR) at this ϑ.
     pub balance_law_error: f64,
+}
+
+impl SupportReport {
+    /// This report with the inputs its text shows: the inclination ϑ (rad), the aspect
+    /// ratio r/h and the friction coefficient μ it was computed for ([`SupportSummary`]).
+    #[must_use]
+    pub fn summary(&self, theta: f64, r_over_h: f64, mu: f64) -> SupportSummary<'_> {
+        SupportSummary {
+            theta,
+            r_over_h,
+            mu,
+            report: self,
+        }
+    }
+}
+
+/// The readable text of `rollstack cylinder support` (`Display`): a steady support with
+/// the inputs it was computed for.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SupportSummary<'a> {
+    /// Inclination ϑ of the axis to the vertical, rad.
+    pub theta: f64,
+    /// Aspect ratio r/h.
+    pub r_over_h: f64,
+    /// Friction coefficient μ.
+    pub mu: f64,
+    /// The support at ϑ ([`support_report`]).
+    pub report: &'a SupportReport,
+}
+
+impl fmt::Display for SupportSummary<'_> {
+    /// ϑ (degrees), r/h and μ; N/mg at the two friction limits (3.3.8)± and on a smooth
+    /// plane (3.3.10) (`none` without a positive N); the (+) range of (3.3.9) (degrees);
+    /// the minimum applied force (3.3.15)–(3.3.19) over mg; and the disagreement of the
+    /// closed forms with the balance laws (3.3.3). Lines are separated by `\n`, with
+    /// none after the last.
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let rep = self.report;
+        let show = |v: Option<f64>| v.map_or_else(|| "none".to_owned(), |v| format!("{v:.6}"));
+        writeln!(
+            f,
+            "Steady support at ϑ = {:.4}° (r/h = {}, μ = {})",
+            self.theta.to_degrees(),
+            self.r_over_h,
+            self.mu
+        )?;
+        writeln!(
+            f,
+            "  N/mg  F_f = +μN e′2 (3.3.8)+: {}",
+            show(rep.n_over_mg_plus)
+        )?;
+        writeln!(
+            f,
+            "  N/mg  smooth plane (3.3.10):  {}",
+            show(rep.n_over_mg_smooth)
+        )?;
+        writeln!(
+            f,
+            "  N/mg  F_f = −μN e′2 (3.3.8)−: {}",
+            show(rep.n_over_mg_minus)
+        )?;
+        writeln!(
+            f,
+            "  feasible inclinations (3.3.9)+: ({:.4}°, {:.4}°)",
+            rep.theta_range[0].to_degrees(),
+            rep.theta_range[1].to_degrees()
+        )?;
+        match &rep.min_force {
+            Some(m) => writeln!(
+                f,
+                "  minimum force {}: F3/mg = {:.6}, F/mg = {:.6}, ‖F_a‖/mg = {:.6}",
+                m.equation, m.f3_over_mg, m.f_over_mg, m.norm_over_mg
+            )?,
+            None => writeln!(f, "  no admissible applied force at this inclination")?,
+        }
+        write!(
+            f,
+            "  closed forms vs balance laws (3.3.3): {:.1e}",
+            rep.balance_law_error
+        )
+    }
 }
 
 fn pair(r: Option<(f64, f64)>) -> Option<[f64; 2]> {
@@ -154,6 +236,32 @@ mod tests {
         );
         let admissible = rep.admissible_n_over_mg.unwrap();
         assert!(admissible[0] <= admissible[1] && admissible[1] <= 1.0);
+    }
+
+    #[test]
+    fn the_text_shows_the_forces() {
+        let theta = 30f64.to_radians();
+        let rep = support_report(theta, 0.1, 0.2).unwrap();
+        let text = rep.summary(theta, 0.1, 0.2).to_string();
+        let lines: Vec<&str> = text.lines().collect();
+        assert_eq!(lines.len(), 7);
+        assert_eq!(
+            lines[0],
+            "Steady support at ϑ = 30.0000° (r/h = 0.1, μ = 0.2)"
+        );
+        let plus = format!("{:.6}", rep.n_over_mg_plus.unwrap());
+        assert_eq!(lines[1], format!("  N/mg  F_f = +μN e′2 (3.3.8)+: {plus}"));
+        assert_eq!(
+            lines[4],
+            "  feasible inclinations (3.3.9)+: (0.0000°, 90.0000°)"
+        );
+        assert!(lines[5].starts_with("  minimum force (3.3.15): F3/mg = "));
+        // No smooth or (−) support at 5° with μ = 0.6.
+        let theta = 5f64.to_radians();
+        let rep = support_report(theta, 0.1, 0.6).unwrap();
+        let text = rep.summary(theta, 0.1, 0.6).to_string();
+        assert!(text.contains("  N/mg  smooth plane (3.3.10):  none\n"));
+        assert!(text.ends_with(&format!("{:.1e}", rep.balance_law_error)));
     }
 
     #[test]

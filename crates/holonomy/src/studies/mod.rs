@@ -13,10 +13,20 @@
 //! - [`examples`]: the worked examples of Ch. 2 with the values the thesis prints:
 //!   (2.4.10) and (2.4.12).
 //!
-//! Lengths are in units of the sphere's radius R throughout.
+//! Lengths are in units of the sphere's radius R throughout. Each report also carries
+//! its readable text (`Display`, the lines `rollstack sphere ...` prints without
+//! `--json`) and the cells of its CSV rows (`CSV_HEADER` with `csv_cells` or `csv_rows`,
+//! numbers in Rust's shortest round-trip form).
 
 pub mod examples;
 pub mod level_sets;
 pub mod plan;
 pub mod report;
 pub mod roll;
+
+use crate::rectangle::Direction;
+
+/// The `ccw` cell of the CSV files: `1` for counter-clockwise travel, `0` for clockwise.
+pub(crate) fn ccw_cell(direction: Direction) -> String {
+    u8::from(direction == Direction::Ccw).to_string()
+}

@@ -1,7 +1,7 @@
 //! The rectangles of the two planners with the paths a robot would follow: every
-//! rectangle producing a target rotation (App. C), what `rollstack sphere plan` prints,
-//! and the three rectangles of an Euler plan (§2.5), what `rollstack sphere euler-plan`
-//! prints.
+//! rectangle producing a target rotation (App. C), what `rollstack sphere plan` prints
+//! and writes to plan.csv, and the three rectangles of an Euler plan (§2.5), what
+//! `rollstack sphere euler-plan` prints and writes to euler_plan.csv.
 
 use crate::euler::EulerPlan;
 use crate::placed::PlacedRectangle;
@@ -11,6 +11,7 @@ use crate::HolonomyError;
 use nalgebra::Rotation3;
 use rotations::report::matrix_rows;
 use serde::{Deserialize, Serialize};
+use std::fmt;
 
 /// One rectangle of a plan, placed on the ground, with the corners of the centre's path.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -66,6 +67,25 @@ impl RectangleReport {
             direction: self.direction,
         }
     }
+
+    /// The columns of plan.csv: ϑ, φ1, φ2 (rad), `ccw` (1 or 0), the error (rad) and
+    /// the path length 2(ϑ + φ2) (units of R).
+    pub const PLAN_CSV_HEADER: [&'static str; 6] =
+        ["theta", "phi1", "phi2", "ccw", "error", "path_length"];
+
+    /// The cells of this rectangle's row under [`Self::PLAN_CSV_HEADER`], numbers in
+    /// shortest round-trip form.
+    #[must_use]
+    pub fn plan_csv_cells(&self) -> Vec<String> {
+        vec![
+            self.theta.to_string(),
+            self.phi1.to_string(),
+            self.phi2.to_string(),
+            super::ccw_cell(self.direction),
+            self.error.to_string(),
+            self.path_length.to_string(),
+        ]
+    }
 }
 
 /// Every rectangle (φ2 in [0, 3π]) that produces a target rotation.
@@ -90,6 +110,37 @@ impl PlanReport {
                 && (r.phi1 - rect.phi1).abs() < tol
                 && (r.phi2 - rect.phi2).abs() < tol
         })
+    }
+}
+
+impl fmt::Display for PlanReport {
+    /// How many rectangles there are, then one line each: ϑ, φ1, φ2 (rad), the direction,
+    /// the path length 2(ϑ + φ2) (units of R) and the error (rad), the shortest marked.
+    /// Lines are separated by `\n`, with none after the last.
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(
+            f,
+            "{} rectangle(s) with φ2 in [0, 3π]:",
+            self.rectangles.len()
+        )?;
+        for (i, r) in self.rectangles.iter().enumerate() {
+            let mark = if self.shortest == Some(i) {
+                "  <- shortest"
+            } else {
+                ""
+            };
+            write!(
+                f,
+                "\n  ϑ = {:.6}, φ1 = {:.6}, φ2 = {:.6}, {:>3}, length {:.4} R, error {:.1e}{mark}",
+                r.theta,
+                r.phi1,
+                r.phi2,
+                r.direction.as_str(),
+                r.path_length,
+                r.error
+            )?;
+        }
+        Ok(())
     }
 }
 
@@ -134,6 +185,59 @@ pub struct EulerPlanReport {
     pub angles: [f64; 3],
     /// Rows of the target (components on E).
     pub target_matrix: [[f64; 3]; 3],
+}
+
+impl EulerPlanReport {
+    /// The columns of euler_plan.csv: the rectangle's number in order of travel (1–3),
+    /// ϑ, φ1, φ2 (rad), `ccw` (1 or 0) and the heading of A1 from E1 (rad).
+    pub const CSV_HEADER: [&'static str; 6] =
+        ["rectangle", "theta", "phi1", "phi2", "ccw", "heading"];
+
+    /// One row of cells per rectangle under [`Self::CSV_HEADER`], numbers in shortest
+    /// round-trip form.
+    #[must_use]
+    pub fn csv_rows(&self) -> Vec<Vec<String>> {
+        self.rectangles
+            .iter()
+            .zip(1u8..)
+            .map(|(r, number)| {
+                vec![
+                    number.to_string(),
+                    r.theta.to_string(),
+                    r.phi1.to_string(),
+                    r.phi2.to_string(),
+                    super::ccw_cell(r.direction),
+                    r.heading.to_string(),
+                ]
+            })
+            .collect()
+    }
+}
+
+impl fmt::Display for EulerPlanReport {
+    /// The set, the angles (ν1, ν2, ν3) (rad) and the error of the composition (rad), then
+    /// one line per rectangle: ϑ, φ1, φ2 (rad), the direction and the heading (rad).
+    /// Lines are separated by `\n`, with none after the last.
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(
+            f,
+            "{} angles (ν1, ν2, ν3) = ({:.6}, {:.6}, {:.6}); composed error {:.1e} rad",
+            self.set, self.angles[0], self.angles[1], self.angles[2], self.error
+        )?;
+        for (i, r) in self.rectangles.iter().enumerate() {
+            write!(
+                f,
+                "\n  {}: ϑ = {:.6}, φ1 = {:.6}, φ2 = {:.6}, {:>3}, heading {:.6}",
+                i + 1,
+                r.theta,
+                r.phi1,
+                r.phi2,
+                r.direction.as_str(),
+                r.heading
+            )?;
+        }
+        Ok(())
+    }
 }
 
 /// The report of an Euler plan of §2.5 ((2.5.7)–(2.5.20), ERRATA items 5, 6). Each
@@ -184,6 +288,28 @@ mod tests {
     }
 
     #[test]
+    fn plan_text_and_csv() {
+        let rep = plan_report(&target_2_4_12().unwrap()).unwrap();
+        let text = rep.to_string();
+        let lines: Vec<&str> = text.lines().collect();
+        assert_eq!(lines.len(), rep.rectangles.len() + 1);
+        assert_eq!(
+            lines[0],
+            format!("{} rectangle(s) with φ2 in [0, 3π]:", rep.rectangles.len())
+        );
+        let best = rep.shortest.unwrap();
+        assert!(lines[best + 1].ends_with("  <- shortest"));
+        assert_eq!(text.matches("<- shortest").count(), 1);
+        let r = &rep.rectangles[best];
+        assert!(lines[best + 1].contains(&format!("ϑ = {:.6}, φ1 = {:.6}", r.theta, r.phi1)));
+        let cells = r.plan_csv_cells();
+        assert_eq!(cells.len(), RectangleReport::PLAN_CSV_HEADER.len());
+        assert_eq!(cells[0], r.theta.to_string());
+        assert_eq!(cells[3], "1");
+        assert_eq!(cells[5], r.path_length.to_string());
+    }
+
+    #[test]
     fn euler_plan_report_of_3_2_1() {
         let set = EulerSet::from_name("3-2-1").unwrap();
         let plan = euler_plan(set, [0.3, -0.5, 2.0]).unwrap();
@@ -200,5 +326,17 @@ mod tests {
         // ν2 < 0: the second rectangle is travelled clockwise (ERRATA item 6).
         assert_eq!(rep.rectangles[1].direction, Direction::Cw);
         assert_eq!(rep.target_matrix[1][2], plan.target.matrix()[(1, 2)]);
+        let text = rep.to_string();
+        assert!(text.starts_with("3-2-1 angles (ν1, ν2, ν3) = (0.300000, -0.500000, 2.000000)"));
+        assert_eq!(text.lines().count(), 4);
+        assert!(text.lines().nth(2).unwrap().contains(" cw, heading "));
+        let rows = rep.csv_rows();
+        assert_eq!(rows.len(), 3);
+        for (k, row) in rows.iter().enumerate() {
+            assert_eq!(row.len(), EulerPlanReport::CSV_HEADER.len());
+            assert_eq!(row[0], (k + 1).to_string());
+        }
+        assert_eq!(rows[1][4], "0");
+        assert_eq!(rows[2][5], rep.rectangles[2].heading.to_string());
     }
 }

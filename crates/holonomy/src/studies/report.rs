@@ -1,4 +1,5 @@
-//! The holonomy of one rectangle in every form: what `rollstack sphere holonomy` prints.
+//! The holonomy of one rectangle in every form: what `rollstack sphere holonomy` prints
+//! and writes to holonomy.csv.
 
 use crate::rectangle::{
     holonomy_components, no_holonomy_family, rectangle_holonomy, rectangle_holonomy_closed_form,
@@ -8,6 +9,7 @@ use nalgebra::Vector3;
 use rotations::report::matrix_rows;
 use rotations::{quaternion_from_matrix, rotation_distance, AxisAngle};
 use serde::{Deserialize, Serialize};
+use std::fmt;
 
 /// Tolerance on the angles (radians) for placing a rectangle in a no-holonomy family
 /// (2.4.8).
@@ -64,6 +66,96 @@ pub fn holonomy_report(rect: &Rectangle) -> HolonomyReport {
     }
 }
 
+impl HolonomyReport {
+    /// This report beside the rectangle it was computed for: its text and its CSV row
+    /// ([`HolonomySummary`]).
+    #[must_use]
+    pub fn summary<'a>(&'a self, rectangle: &'a Rectangle) -> HolonomySummary<'a> {
+        HolonomySummary {
+            rectangle,
+            report: self,
+        }
+    }
+}
+
+/// The holonomy of one rectangle with the rectangle itself: the readable text of
+/// `rollstack sphere holonomy` (`Display`) and the row of its holonomy.csv
+/// ([`HolonomySummary::CSV_HEADER`], [`HolonomySummary::csv_cells`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct HolonomySummary<'a> {
+    /// The rectangle Ŝ(ϑ, φ1, φ2, A1, A2, direction) (2.4.3).
+    pub rectangle: &'a Rectangle,
+    /// Its holonomy ([`holonomy_report`]).
+    pub report: &'a HolonomyReport,
+}
+
+impl HolonomySummary<'_> {
+    /// The columns of holonomy.csv: the rectangle (ϑ, φ1, φ2 in rad; `ccw` 1 or 0), the
+    /// canonical angle ψ (rad) and axis s of S, and the rows of S (`s{i}{k}` = Aᵢ · S Aₖ).
+    pub const CSV_HEADER: [&'static str; 17] = [
+        "theta", "phi1", "phi2", "ccw", "angle", "axis1", "axis2", "axis3", "s11", "s12", "s13",
+        "s21", "s22", "s23", "s31", "s32", "s33",
+    ];
+
+    /// The cells of the row under [`Self::CSV_HEADER`], numbers in shortest round-trip
+    /// form.
+    #[must_use]
+    pub fn csv_cells(&self) -> Vec<String> {
+        let (r, rep) = (self.rectangle, self.report);
+        let mut cells: Vec<String> = [r.theta, r.phi1, r.phi2]
+            .iter()
+            .map(f64::to_string)
+            .collect();
+        cells.push(super::ccw_cell(r.direction));
+        let numbers = std::iter::once(&rep.angle)
+            .chain(&rep.axis)
+            .chain(rep.matrix.iter().flatten());
+        cells.extend(numbers.map(f64::to_string));
+        cells
+    }
+}
+
+impl fmt::Display for HolonomySummary<'_> {
+    /// The rectangle, then ψ (rad and degrees) and s, e3(t1) = S E3, the disagreement of
+    /// the product (2.4.2) with the closed form (2.4.6) and with the components (B.1.2),
+    /// and the no-holonomy family (2.4.8) if any. Lines are separated by `\n`, with none
+    /// after the last.
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let (r, rep) = (self.rectangle, self.report);
+        writeln!(
+            f,
+            "S = Ŝ(ϑ = {}, φ1 = {}, φ2 = {}, {})",
+            r.theta,
+            r.phi1,
+            r.phi2,
+            r.direction.as_str()
+        )?;
+        writeln!(
+            f,
+            "  ψ = {:.9} rad ({:.6}°), s = [{:.6}, {:.6}, {:.6}]",
+            rep.angle,
+            rep.angle.to_degrees(),
+            rep.axis[0],
+            rep.axis[1],
+            rep.axis[2]
+        )?;
+        writeln!(
+            f,
+            "  e3(t1) = [{:.6}, {:.6}, {:.6}]",
+            rep.e3_final[0], rep.e3_final[1], rep.e3_final[2]
+        )?;
+        write!(
+            f,
+            "  product vs closed form (2.4.6): {:.1e} rad; vs components (B.1.2): {:.1e}",
+            rep.closed_form_error, rep.components_error
+        )?;
+        if let Some(family) = &rep.no_holonomy {
+            write!(f, "\n  no holonomy: (2.4.8) family {family:?}")?;
+        }
+        Ok(())
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -96,5 +188,25 @@ mod tests {
         let rep = holonomy_report(&r);
         assert_eq!(rep.no_holonomy, Some(NoHolonomy::ThetaMultipleOfTwoPi));
         assert!(rep.angle < 1e-12);
+        let text = rep.summary(&r).to_string();
+        assert!(text.starts_with("S = Ŝ(ϑ = 6.283185307179586, φ1 = 0.5, φ2 = 2, cw)\n"));
+        assert!(text.ends_with("\n  no holonomy: (2.4.8) family ThetaMultipleOfTwoPi"));
+    }
+
+    #[test]
+    fn text_and_csv_row_of_2_4_10() {
+        let rect = rectangle_2_4_10();
+        let rep = holonomy_report(&rect);
+        let summary = rep.summary(&rect);
+        let text = summary.to_string();
+        assert_eq!(text.lines().count(), 4);
+        // ψ in degrees as printed after (2.4.10), and e3(t1).
+        assert!(text.contains(&format!("({:.6}°)", rep.angle.to_degrees())));
+        assert!(text.contains("e3(t1) = [0.194194, 0.346057, 0.917896]"));
+        let cells = summary.csv_cells();
+        assert_eq!(cells.len(), HolonomySummary::CSV_HEADER.len());
+        assert_eq!(cells[3], "1");
+        assert_eq!(cells[4], rep.angle.to_string());
+        assert_eq!(cells[16], rep.matrix[2][2].to_string());
     }
 }

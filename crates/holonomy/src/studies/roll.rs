@@ -1,6 +1,6 @@
 //! Rolling along a closed path by integrating the rolling constraint (2.3.4)–(2.3.5),
 //! checked against the holonomy in closed form: what `rollstack sphere roll` prints, and
-//! the speed-vs-error study of the two integrators (`--study`).
+//! the speed-vs-error study of the two integrators (`--study`, roll_study.csv).
 //!
 //! The sphere has radius R = 1: lengths are in units of R.
 
@@ -13,6 +13,7 @@ use crate::HolonomyError;
 use nalgebra::Rotation3;
 use rotations::rotation_distance;
 use serde::{Deserialize, Serialize};
+use std::fmt;
 use std::time::Instant;
 
 /// The shape of a closed path of the centre, in units of R.
@@ -126,6 +127,76 @@ pub fn roll_report(
     Ok((report, trajectory))
 }
 
+impl RollReport {
+    /// This report with what it does not hold for its text: the path's label
+    /// ([`ClosedPath::label`]) and the rows of the integrator study, if one was run
+    /// ([`RollSummary`]).
+    #[must_use]
+    pub fn summary<'a>(&'a self, label: &'a str, study: Option<&'a [StudyRow]>) -> RollSummary<'a> {
+        RollSummary {
+            label,
+            report: self,
+            study,
+        }
+    }
+}
+
+/// The readable text of `rollstack sphere roll` (`Display`): one roll along a labelled
+/// path and, optionally, the integrator study.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RollSummary<'a> {
+    /// What the path is ([`ClosedPath::label`]).
+    pub label: &'a str,
+    /// The roll ([`roll_report`]).
+    pub report: &'a RollReport,
+    /// The rows of [`integrator_study`], when it was run.
+    pub study: Option<&'a [StudyRow]>,
+}
+
+impl fmt::Display for RollSummary<'_> {
+    /// The path, steps and integrator with the final ψ (rad) and axis s, the angle to
+    /// the closed-form holonomy (rad) and the wall time (s); then, with a study, one line
+    /// per row: path, integrator, steps, error (rad), wall time (s). Lines are separated
+    /// by `\n`, with none after the last.
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let rep = self.report;
+        writeln!(
+            f,
+            "{}, {} steps, {}: ψ = {:.9} rad, s = [{:.6}, {:.6}, {:.6}]",
+            self.label,
+            rep.steps,
+            rep.integrator.as_str(),
+            rep.angle,
+            rep.axis[0],
+            rep.axis[1],
+            rep.axis[2]
+        )?;
+        write!(
+            f,
+            "  error vs closed form: {:.2e} rad; wall time {:.2e} s",
+            rep.error_vs_closed_form, rep.wall_time_s
+        )?;
+        if let Some(rows) = self.study {
+            write!(
+                f,
+                "\n  study (path, integrator, steps, error rad, wall time s):"
+            )?;
+            for r in rows {
+                write!(
+                    f,
+                    "\n    {:<9} {:<5} {:>5} {:>9.2e} {:>9.2e}",
+                    r.path.as_str(),
+                    r.integrator.as_str(),
+                    r.steps,
+                    r.error,
+                    r.wall_time_s
+                )?;
+            }
+        }
+        Ok(())
+    }
+}
+
 /// The two paths of the integrator study.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "lowercase")]
@@ -160,6 +231,26 @@ pub struct StudyRow {
     pub error: f64,
     /// Median wall time of one run, s.
     pub wall_time_s: f64,
+}
+
+impl StudyRow {
+    /// The columns of roll_study.csv: the path (`rectangle` or `circle`), the integrator
+    /// (`exact` or `rk4`), the steps, the error (rad) and the median wall time (s).
+    pub const CSV_HEADER: [&'static str; 5] =
+        ["path", "integrator", "steps", "error_rad", "wall_time_s"];
+
+    /// The cells of this row under [`Self::CSV_HEADER`], numbers in shortest round-trip
+    /// form.
+    #[must_use]
+    pub fn csv_cells(&self) -> Vec<String> {
+        vec![
+            self.path.as_str().to_owned(),
+            self.integrator.as_str().to_owned(),
+            self.steps.to_string(),
+            self.error.to_string(),
+            self.wall_time_s.to_string(),
+        ]
+    }
 }
 
 /// The speed-vs-error study of the two integrators: the rectangle of (2.4.10) against
@@ -243,6 +334,44 @@ mod tests {
         assert_eq!(closed.label, "circle of radius 2 R");
         let (rk4, _) = roll_report(&closed, Integrator::Rk4, 400).unwrap();
         assert!(rk4.error_vs_closed_form < 1e-8);
+    }
+
+    #[test]
+    fn text_of_a_roll_with_and_without_a_study() {
+        let closed = ClosedPath::new(&PathShape::Circle {
+            radius: 2.0,
+            direction: Direction::Ccw,
+        })
+        .unwrap();
+        let (rep, _) = roll_report(&closed, Integrator::Rk4, 100).unwrap();
+        let text = rep.summary(&closed.label, None).to_string();
+        assert!(text.starts_with(&format!(
+            "circle of radius 2 R, 100 steps, rk4: ψ = {:.9} rad",
+            rep.angle
+        )));
+        assert!(text.contains(&format!(
+            "error vs closed form: {:.2e} rad",
+            rep.error_vs_closed_form
+        )));
+        assert_eq!(text.lines().count(), 2);
+        let rows = [StudyRow {
+            path: StudyPath::Circle,
+            integrator: Integrator::Exact,
+            steps: 8,
+            error: 2.5e-16,
+            wall_time_s: 1.5e-6,
+        }];
+        let text = rep.summary(&closed.label, Some(&rows)).to_string();
+        assert_eq!(
+            text.lines().last().unwrap(),
+            "    circle    exact     8  2.50e-16   1.50e-6"
+        );
+        let cells = rows[0].csv_cells();
+        assert_eq!(cells.len(), StudyRow::CSV_HEADER.len());
+        assert_eq!(
+            cells,
+            ["circle", "exact", "8", "0.00000000000000025", "0.0000015"]
+        );
     }
 
     #[test]

@@ -1,11 +1,13 @@
 //! The paper's rotating bouncing ball (Capobianco et al. 2021, §5.1): whole runs with
-//! both schemes, their headline numbers, and the report of `rollstack nsga ball`.
+//! both schemes, their headline numbers, the report of `rollstack nsga ball` and its
+//! text, and the cells of the trajectory CSV.
 
 use crate::error::StepError;
 use crate::moreau::{MoreauOptions, MoreauStepper};
 use crate::options::{Options, Prox};
 use crate::stepper::Stepper;
 use crate::systems::ball::BallCase;
+use std::fmt;
 use std::time::Instant;
 
 /// Time-stepping scheme.
@@ -45,6 +47,35 @@ pub struct BallSample {
 }
 
 impl BallSample {
+    /// The columns of the trajectory CSV (trajectory.csv): t (s), x, y (m), φ (rad),
+    /// ẋ, ẏ (m/s), φ̇ (rad/s), the normal percussion p_N of the step (N s) and its Newton
+    /// iterations.
+    pub const CSV_HEADER: [&'static str; 9] = [
+        "t",
+        "x",
+        "y",
+        "phi",
+        "xdot",
+        "ydot",
+        "phidot",
+        "p_n",
+        "newton_iterations",
+    ];
+
+    /// The cells of this sample's row under [`Self::CSV_HEADER`], numbers in shortest
+    /// round-trip form.
+    #[must_use]
+    pub fn csv_cells(&self) -> Vec<String> {
+        let numbers = std::iter::once(self.t)
+            .chain(self.q)
+            .chain(self.u)
+            .chain([self.p_n]);
+        numbers
+            .map(|v| v.to_string())
+            .chain([self.iterations.to_string()])
+            .collect()
+    }
+
     fn new(t: f64, q: &[f64], u: &[f64], p_n: f64, iterations: usize) -> Self {
         Self {
             t,
@@ -219,6 +250,29 @@ pub struct BallReport {
     pub final_xdot_exact: Option<f64>,
 }
 
+impl fmt::Display for BallReport {
+    /// One line: the case and scheme, the first impact (s) beside the exact one, the
+    /// rolling onset (s), the final (ẋ, φ̇) (m/s, rad/s), the smallest gap (m), the mean
+    /// Newton iterations per step and the wall time (ms). The times that may be missing
+    /// show as `Some(..)` or `None`.
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(
+            f,
+            "ball case {} ({}): first impact {:?} s (exact {:.4}), rolling from {:?} s, final (xdot, phidot) = ({:.5}, {:.4}), min gap {:.2e}, {:.2} Newton iterations/step, {:.3} ms",
+            self.case,
+            self.scheme.name(),
+            self.first_impact_time,
+            self.first_impact_time_exact,
+            self.rolling_onset_time,
+            self.final_velocity[0],
+            self.final_velocity[1],
+            self.min_gap,
+            self.newton_iterations_mean,
+            self.wall_time_s * 1e3
+        )
+    }
+}
+
 /// Runs ball case `case` (1–4) with `scheme` and Δt, and reports it beside the closed
 /// forms; also returns the run with its trajectory.
 ///
@@ -275,5 +329,26 @@ mod tests {
             assert!(ball_report(2, Scheme::Nsga, dt, 0.5, Prox::Scaled(1.0)).is_err());
         }
         assert!(ball_report(5, Scheme::Moreau, 2e-3, 0.5, Prox::Scaled(1.0)).is_err());
+    }
+
+    #[test]
+    fn text_and_trajectory_cells_of_case_two() {
+        let (r, run) = ball_report(2, Scheme::Nsga, 2e-3, 0.5, Prox::Scaled(1.0)).unwrap();
+        let text = r.to_string();
+        assert!(
+            text.starts_with("ball case 2 (nsga): first impact Some("),
+            "{text}"
+        );
+        assert!(text.contains("s (exact 0.4284), rolling from Some("));
+        assert!(text.contains(&format!(
+            "final (xdot, phidot) = ({:.5}, ",
+            r.final_velocity[0]
+        )));
+        assert!(text.ends_with(" ms") && !text.contains('\n'));
+        let first = run.samples[0].csv_cells();
+        assert_eq!(first.len(), BallSample::CSV_HEADER.len());
+        assert_eq!((first[0].as_str(), first[8].as_str()), ("0", "0"));
+        let last = run.samples.last().unwrap();
+        assert_eq!(last.csv_cells()[4], last.u[0].to_string());
     }
 }

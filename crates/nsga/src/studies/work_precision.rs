@@ -1,5 +1,6 @@
 //! Work-precision diagrams of the benchmark systems with closed-form answers: error
-//! against solver time, NSGA at several ρ∞ beside Moreau–Jean.
+//! against solver time, NSGA at several ρ∞ beside Moreau–Jean; the rows of
+//! `rollstack nsga work-precision` with their text and CSV cells.
 
 use super::ball::{run_ball, Scheme};
 use crate::error::StepError;
@@ -7,6 +8,7 @@ use crate::moreau::{MoreauOptions, MoreauStepper};
 use crate::options::{Options, Prox};
 use crate::stepper::Stepper;
 use crate::systems::ball::BallCase;
+use std::fmt;
 use std::time::Instant;
 
 /// The systems of the work-precision diagram.
@@ -139,6 +141,42 @@ pub struct WorkPrecisionRow {
     pub wall_time_s: f64,
 }
 
+impl WorkPrecisionRow {
+    /// The columns of work_precision.csv: the scheme (`nsga` or `moreau`), ρ∞ (empty for
+    /// Moreau–Jean), Δt (s), the error against the closed form (m) and the fastest wall
+    /// time (s).
+    pub const CSV_HEADER: [&'static str; 5] = ["scheme", "rho_inf", "dt", "error", "wall_time_s"];
+
+    /// The cells of this row under [`Self::CSV_HEADER`], numbers in shortest round-trip
+    /// form.
+    #[must_use]
+    pub fn csv_cells(&self) -> Vec<String> {
+        vec![
+            self.scheme.name().to_owned(),
+            self.rho_inf.map_or(String::new(), |x| x.to_string()),
+            self.dt.to_string(),
+            self.error.to_string(),
+            self.wall_time_s.to_string(),
+        ]
+    }
+}
+
+impl fmt::Display for WorkPrecisionRow {
+    /// One line: the scheme, ρ∞ (`-` for Moreau–Jean), Δt (s), the error (m) and the wall
+    /// time (s).
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(
+            f,
+            "{:>6} rho_inf={:>4} dt={:.1e}: error {:.3e}, {:.3e} s",
+            self.scheme.name(),
+            self.rho_inf.map_or("-".into(), |x| x.to_string()),
+            self.dt,
+            self.error,
+            self.wall_time_s
+        )
+    }
+}
+
 /// The work-precision diagram of `system`: for NSGA at each ρ∞ of `rho_infs`, then
 /// Moreau–Jean, one point per Δt of `dts`; each point timed `repeat` times (at least
 /// once), keeping the fastest.
@@ -206,5 +244,33 @@ mod tests {
         }
         assert!(work_precision(WorkPrecisionSystem::Oscillator, &[0.0], &[0.5], 1).is_err());
         assert!(work_precision(WorkPrecisionSystem::Oscillator, &[1e-3], &[1.5], 1).is_err());
+    }
+
+    #[test]
+    fn text_and_csv_cells_of_a_row() {
+        let nsga = WorkPrecisionRow {
+            scheme: Scheme::Nsga,
+            rho_inf: Some(0.5),
+            dt: 4e-3,
+            error: 4.955_710_870_921_851e-4,
+            wall_time_s: 3.0e-4,
+        };
+        assert_eq!(
+            nsga.to_string(),
+            "  nsga rho_inf= 0.5 dt=4.0e-3: error 4.956e-4, 3.000e-4 s"
+        );
+        let cells = nsga.csv_cells();
+        assert_eq!(cells.len(), WorkPrecisionRow::CSV_HEADER.len());
+        assert_eq!(
+            cells,
+            ["nsga", "0.5", "0.004", "0.0004955710870921851", "0.0003"]
+        );
+        let moreau = WorkPrecisionRow {
+            scheme: Scheme::Moreau,
+            rho_inf: None,
+            ..nsga
+        };
+        assert!(moreau.to_string().starts_with("moreau rho_inf=   - dt="));
+        assert_eq!(moreau.csv_cells()[1], "");
     }
 }

@@ -79,8 +79,9 @@ pub struct FrobeniusArgs {
 }
 
 pub(super) fn run(a: &FrobeniusArgs) -> Result<()> {
+    let system = a.system.into();
     let rep = integrability_report(&FrobeniusCase {
-        system: a.system.into(),
+        system,
         configuration: a.config.into(),
         cylinder: Cylinder::new(a.r, a.h)?,
         theta: a.theta.0,
@@ -90,17 +91,6 @@ pub(super) fn run(a: &FrobeniusArgs) -> Result<()> {
     if a.json {
         return print_json(&rep);
     }
-    println!(
-        "Frobenius test ({:?}): rank {} nullity {}",
-        a.system, rep.rank, rep.nullity
-    );
-    for (i, (v, ok)) in rep.max_abs_asb.iter().zip(&rep.integrable).enumerate() {
-        println!(
-            "  Π{}: max|aᵀSb| = {v:.3e}  {}",
-            i + 1,
-            if *ok { "integrable" } else { "not integrable" }
-        );
-    }
-    println!("  system integrable: {}", rep.system_integrable);
+    println!("{}", rep.summary(system));
     Ok(())
 }

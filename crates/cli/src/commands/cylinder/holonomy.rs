@@ -6,7 +6,7 @@ use anyhow::{Context, Result};
 use clap::{Args, Subcommand, ValueEnum};
 use cylinders::holonomy::{CirclePath, Direction, PathCase, RectanglePath};
 use cylinders::kinematics::{check_point_contact, Cylinder};
-use cylinders::rolling::RollingTrace;
+use cylinders::rolling::{RollingTrace, Sample};
 use cylinders::studies::holonomy::{circle_report, plan_view, rectangle_report, RollSettings};
 use figures::cylinders::plot_trace;
 use input::text::Angle;
@@ -130,18 +130,7 @@ pub(super) fn run_rectangle(a: &RectangleArgs) -> Result<()> {
     if a.json {
         return print_json(&rep);
     }
-    println!(
-        "Rectangle (3.4.3): Δφ = {:.9} rad ({:?}, {:?})",
-        rep.delta_phi, path.case, path.direction
-    );
-    println!(
-        "  product vs closed form (3.4.5): {:.1e} rad",
-        rep.product_error
-    );
-    println!(
-        "  rolled along the path: Δφ = {:.9} rad, error {:.1e} rad",
-        rep.rolling_delta_phi, rep.rolling_error
-    );
+    println!("{}", rep.summary(&path));
     Ok(())
 }
 
@@ -201,14 +190,7 @@ pub(super) fn run_circle(a: &CircleArgs) -> Result<()> {
     if a.json {
         return print_json(&rep);
     }
-    println!(
-        "Circle (3.4.16): Δφ = {:.9} rad, k = {:.9} ({:?}, {:?})",
-        rep.delta_phi, rep.k, path.case, path.direction
-    );
-    println!(
-        "  rolled around the circle: Δφ = {:.9} rad",
-        rep.rolling_delta_phi
-    );
+    println!("{}", rep.summary(&path));
     Ok(())
 }
 
@@ -219,16 +201,10 @@ pub(super) fn run_circle(a: &CircleArgs) -> Result<()> {
 /// # Errors
 /// When a file cannot be written.
 pub fn write_trace(dir: &Path, name: &str, trace: &RollingTrace, title: &str) -> Result<()> {
-    let rows = trace.samples.iter().map(|s| {
-        let (c, p, x) = (s.center, s.contact, s.rim_point);
-        [s.t, c.x, c.y, c.z, p.x, p.y, x.x, x.y, x.z, s.phi].map(|v| v.to_string())
-    });
     write_csv(
         &dir.join(format!("{name}.csv")),
-        &[
-            "t", "center_x", "center_y", "center_z", "p_x", "p_y", "x_x", "x_y", "x_z", "phi",
-        ],
-        rows,
+        &Sample::CSV_HEADER,
+        trace.samples.iter().map(Sample::csv_cells),
     )?;
     let view = plan_view(trace).context("empty trace")?;
     plot_trace(&dir.join(format!("{name}.png")), view, title)?;

@@ -3,8 +3,8 @@
 //!
 //! Forces are divided by mg, angles are radians (`30deg`, `pi/10` accepted), lengths are
 //! in any one unit (the cylinder's radius r for the holonomy examples). Every number
-//! printed comes from [`cylinders::studies`]; this module reads the flags and writes the
-//! files (docs/cli.md).
+//! printed, its text and the cells of the CSV files come from [`cylinders::studies`];
+//! this module reads the flags and writes the files (docs/cli.md).
 
 mod frobenius;
 mod holonomy;

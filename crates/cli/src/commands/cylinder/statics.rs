@@ -4,7 +4,9 @@
 use crate::output::{ensure_dir, write_csv, write_run_json};
 use anyhow::Result;
 use clap::Args;
-use cylinders::studies::statics::{statics_figures, NormalForceRow};
+use cylinders::studies::statics::{
+    statics_figures, MinimumForceRow, NormalForceCurves, NormalForceRow,
+};
 use figures::cylinders::plot_statics;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -40,20 +42,6 @@ pub(super) fn run(a: &StaticsArgs) -> Result<()> {
     Ok(())
 }
 
-/// A CSV cell: the number, or empty when there is none.
-fn cell(v: Option<f64>) -> String {
-    v.filter(|v| v.is_finite())
-        .map_or_else(String::new, |v| v.to_string())
-}
-
-/// The N/mg cells of a row: (3.3.8)₊, (3.3.10), (3.3.8)₋.
-fn n_cells(r: &NormalForceRow) -> [String; 3] {
-    [r.n_over_mg_plus, r.n_over_mg_smooth, r.n_over_mg_minus].map(cell)
-}
-
-/// The N/mg columns.
-const N_COLUMNS: [&str; 3] = ["n_over_mg_plus", "n_over_mg_smooth", "n_over_mg_minus"];
-
 /// The files [`write_statics`] writes.
 const FILES: [&str; 9] = [
     "fig3_3.csv",
@@ -75,50 +63,22 @@ const FILES: [&str; 9] = [
 pub fn write_statics(dir: &Path, r_over_h: f64, mu: f64, points: usize) -> Result<Vec<String>> {
     anyhow::ensure!(points >= 3, "--points must be at least 3");
     let fig = statics_figures(r_over_h, mu, points)?;
-    let rows = fig.figure_3_3.rows.iter().map(|r| {
-        let theta = [r.theta, r.theta.to_degrees()].map(|v| v.to_string());
-        [theta.to_vec(), n_cells(r).to_vec()].concat()
-    });
-    let header = [&["theta", "theta_deg"][..], &N_COLUMNS].concat();
-    write_csv(&dir.join("fig3_3.csv"), &header, rows)?;
+    write_csv(
+        &dir.join("fig3_3.csv"),
+        &NormalForceRow::CSV_HEADER,
+        fig.figure_3_3.rows.iter().map(NormalForceRow::csv_cells),
+    )?;
     for (name, family) in [("fig3_4", &fig.figure_3_4), ("fig3_5", &fig.figure_3_5)] {
-        let rows = family.iter().flat_map(|c| {
-            c.rows.iter().map(|r| {
-                let keys = [c.r_over_h, c.mu, r.theta].map(|v| v.to_string());
-                [keys.to_vec(), n_cells(r).to_vec()].concat()
-            })
-        });
-        let header = [&["r_over_h", "mu", "theta"][..], &N_COLUMNS].concat();
-        write_csv(&dir.join(format!("{name}.csv")), &header, rows)?;
+        write_csv(
+            &dir.join(format!("{name}.csv")),
+            &NormalForceCurves::CSV_HEADER,
+            family.iter().flat_map(NormalForceCurves::csv_rows),
+        )?;
     }
-    let rows = fig.minimum_force.iter().map(|r| {
-        let m = r.minimum;
-        vec![
-            r.theta.to_string(),
-            r.theta.to_degrees().to_string(),
-            r.unconstrained[0].to_string(),
-            r.unconstrained[1].to_string(),
-            u8::from(r.admissible).to_string(),
-            cell(m.map(|m| m.f3_over_mg)),
-            cell(m.map(|m| m.f_over_mg)),
-            cell(m.map(|m| m.norm_over_mg)),
-            m.map_or_else(|| "none".to_owned(), |m| m.case.name().to_owned()),
-        ]
-    });
     write_csv(
         &dir.join("fig3_7_fig3_8.csv"),
-        &[
-            "theta",
-            "theta_deg",
-            "circle_f3_over_mg",
-            "circle_f_over_mg",
-            "satisfies_3_3_17",
-            "min_f3_over_mg",
-            "min_f_over_mg",
-            "min_norm_over_mg",
-            "case",
-        ],
-        rows,
+        &MinimumForceRow::CSV_HEADER,
+        fig.minimum_force.iter().map(MinimumForceRow::csv_cells),
     )?;
     plot_statics(dir, &fig)?;
     Ok(FILES.map(String::from).to_vec())

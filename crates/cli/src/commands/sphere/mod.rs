@@ -2,8 +2,8 @@
 //!
 //! Lengths are in units of the sphere's radius R (so a side of length ϑR is given as the
 //! angle ϑ). Components are on {A1, A2, A3 = E3}; for the Euler plan the ground basis E.
-//! Every number printed comes from [`holonomy::studies`]; this module reads the flags and
-//! writes the files (docs/cli.md).
+//! Every number printed, its text and the cells of the CSV files come from
+//! [`holonomy::studies`]; this module reads the flags and writes the files (docs/cli.md).
 
 mod plan;
 mod report;
@@ -59,9 +59,4 @@ fn direction(cw: bool) -> Direction {
     } else {
         Direction::Ccw
     }
-}
-
-/// The `ccw` column of the CSV files: 1 for counter-clockwise travel, 0 for clockwise.
-fn ccw_column(direction: Direction) -> f64 {
-    f64::from(u8::from(direction == Direction::Ccw))
 }

@@ -1,13 +1,12 @@
 //! `rollstack sphere plan` and `euler-plan`: the rectangles of the two planners
 //! ([`holonomy::studies::plan`]).
 
-use super::ccw_column;
-use crate::output::{ensure_dir, print_json, write_csv_f64, write_run_json};
+use crate::output::{ensure_dir, print_json, write_csv_finite, write_run_json};
 use anyhow::{bail, Context, Result};
 use clap::Args;
 use figures::sphere::{plot_rectangle_panels, plot_rectangles};
 use holonomy::euler_plan;
-use holonomy::studies::plan::{euler_plan_report, plan_report, RectangleReport};
+use holonomy::studies::plan::{euler_plan_report, plan_report, EulerPlanReport, RectangleReport};
 use input::text::{parse_angle_list, parse_number_list, Angle};
 use nalgebra::{Rotation3, Vector3};
 use rotations::{AxisAngle, EulerSet};
@@ -72,23 +71,10 @@ pub fn parse_target(angle: f64, axis: &str) -> Result<Rotation3<f64>> {
 /// # Errors
 /// When the file cannot be written.
 pub fn write_plan_csv(path: &Path, rects: &[RectangleReport]) -> Result<()> {
-    let rows: Vec<Vec<f64>> = rects
-        .iter()
-        .map(|r| {
-            vec![
-                r.theta,
-                r.phi1,
-                r.phi2,
-                ccw_column(r.direction),
-                r.error,
-                r.path_length,
-            ]
-        })
-        .collect();
-    write_csv_f64(
+    write_csv_finite(
         path,
-        &["theta", "phi1", "phi2", "ccw", "error", "path_length"],
-        &rows,
+        &RectangleReport::PLAN_CSV_HEADER,
+        rects.iter().map(RectangleReport::plan_csv_cells),
     )
 }
 
@@ -111,23 +97,7 @@ pub(super) fn run_plan(a: &PlanArgs) -> Result<()> {
     if a.json {
         return print_json(&rep);
     }
-    println!("{} rectangle(s) with φ2 in [0, 3π]:", rep.rectangles.len());
-    for (i, r) in rep.rectangles.iter().enumerate() {
-        let mark = if rep.shortest == Some(i) {
-            "  <- shortest"
-        } else {
-            ""
-        };
-        println!(
-            "  ϑ = {:.6}, φ1 = {:.6}, φ2 = {:.6}, {:>3}, length {:.4} R, error {:.1e}{mark}",
-            r.theta,
-            r.phi1,
-            r.phi2,
-            r.direction.as_str(),
-            r.path_length,
-            r.error
-        );
-    }
+    println!("{rep}");
     Ok(())
 }
 
@@ -145,25 +115,10 @@ pub(super) fn run_euler_plan(a: &EulerPlanArgs) -> Result<()> {
     let rep = euler_plan_report(&euler_plan(set, [v[0], v[1], v[2]])?);
     if let Some(dir) = &a.out {
         ensure_dir(dir)?;
-        let rows: Vec<Vec<f64>> = rep
-            .rectangles
-            .iter()
-            .zip([1.0, 2.0, 3.0])
-            .map(|(r, index)| {
-                vec![
-                    index,
-                    r.theta,
-                    r.phi1,
-                    r.phi2,
-                    ccw_column(r.direction),
-                    r.heading,
-                ]
-            })
-            .collect();
-        write_csv_f64(
+        write_csv_finite(
             &dir.join("euler_plan.csv"),
-            &["rectangle", "theta", "phi1", "phi2", "ccw", "heading"],
-            &rows,
+            &EulerPlanReport::CSV_HEADER,
+            rep.csv_rows(),
         )?;
         plot_rectangles(
             &dir.join("euler_plan.png"),
@@ -183,20 +138,6 @@ pub(super) fn run_euler_plan(a: &EulerPlanArgs) -> Result<()> {
     if a.json {
         return print_json(&rep);
     }
-    println!(
-        "{} angles (ν1, ν2, ν3) = ({:.6}, {:.6}, {:.6}); composed error {:.1e} rad",
-        rep.set, rep.angles[0], rep.angles[1], rep.angles[2], rep.error
-    );
-    for (i, r) in rep.rectangles.iter().enumerate() {
-        println!(
-            "  {}: ϑ = {:.6}, φ1 = {:.6}, φ2 = {:.6}, {:>3}, heading {:.6}",
-            i + 1,
-            r.theta,
-            r.phi1,
-            r.phi2,
-            r.direction.as_str(),
-            r.heading
-        );
-    }
+    println!("{rep}");
     Ok(())
 }

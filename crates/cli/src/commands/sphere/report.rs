@@ -1,13 +1,13 @@
 //! `rollstack sphere holonomy`: the holonomy report of one rectangle
 //! ([`holonomy::studies::report`]).
 
-use super::{ccw_column, direction};
-use crate::output::{ensure_dir, print_json, write_csv_f64, write_run_json};
+use super::direction;
+use crate::output::{ensure_dir, print_json, write_csv_finite, write_run_json};
 use anyhow::Result;
 use clap::Args;
 use figures::sphere::{plot_level_sets, plot_rectangles};
 use holonomy::studies::plan::RectangleReport;
-use holonomy::studies::report::{holonomy_report, HolonomyReport};
+use holonomy::studies::report::{holonomy_report, HolonomySummary};
 use holonomy::{PlacedRectangle, Rectangle};
 use input::text::Angle;
 use std::path::{Path, PathBuf};
@@ -54,54 +54,24 @@ pub(super) fn run(a: &HolonomyArgs) -> Result<()> {
     let r = a.rect.rectangle()?;
     let rep = holonomy_report(&r);
     if let Some(dir) = &a.out {
-        write_files(dir, &r, &rep)?;
+        write_files(dir, &rep.summary(&r))?;
     }
     if a.json {
         return print_json(&rep);
     }
-    println!(
-        "S = Ŝ(ϑ = {}, φ1 = {}, φ2 = {}, {})",
-        r.theta,
-        r.phi1,
-        r.phi2,
-        r.direction.as_str()
-    );
-    println!(
-        "  ψ = {:.9} rad ({:.6}°), s = [{:.6}, {:.6}, {:.6}]",
-        rep.angle,
-        rep.angle.to_degrees(),
-        rep.axis[0],
-        rep.axis[1],
-        rep.axis[2]
-    );
-    println!(
-        "  e3(t1) = [{:.6}, {:.6}, {:.6}]",
-        rep.e3_final[0], rep.e3_final[1], rep.e3_final[2]
-    );
-    println!(
-        "  product vs closed form (2.4.6): {:.1e} rad; vs components (B.1.2): {:.1e}",
-        rep.closed_form_error, rep.components_error
-    );
-    if let Some(f) = &rep.no_holonomy {
-        println!("  no holonomy: (2.4.8) family {f:?}");
-    }
+    println!("{}", rep.summary(&r));
     Ok(())
 }
 
 /// holonomy.csv (the rectangle, ψ, s and the rows of S), rectangle.png, psi_level_sets.png
 /// and run.json.
-fn write_files(dir: &Path, r: &Rectangle, rep: &HolonomyReport) -> Result<()> {
+fn write_files(dir: &Path, summary: &HolonomySummary) -> Result<()> {
     ensure_dir(dir)?;
-    let mut row = vec![r.theta, r.phi1, r.phi2, ccw_column(r.direction), rep.angle];
-    row.extend(rep.axis);
-    row.extend(rep.matrix.iter().flatten());
-    write_csv_f64(
+    let r = summary.rectangle;
+    write_csv_finite(
         &dir.join("holonomy.csv"),
-        &[
-            "theta", "phi1", "phi2", "ccw", "angle", "axis1", "axis2", "axis3", "s11", "s12",
-            "s13", "s21", "s22", "s23", "s31", "s32", "s33",
-        ],
-        &[row],
+        &HolonomySummary::CSV_HEADER,
+        [summary.csv_cells()],
     )?;
     // The rectangle on its own: nothing to compare its holonomy with, so no error.
     let path = RectangleReport::new(&PlacedRectangle::at_origin(*r), 0.0, false);

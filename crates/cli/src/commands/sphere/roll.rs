@@ -2,10 +2,11 @@
 //! integrators' speed-vs-error study ([`holonomy::studies::roll`]).
 
 use super::direction;
-use crate::output::{ensure_dir, print_json, write_csv, write_csv_f64, write_run_json};
+use crate::output::{ensure_dir, print_json, write_csv, write_csv_finite, write_run_json};
 use anyhow::{bail, Context, Result};
 use clap::{Args, ValueEnum};
 use figures::sphere::{plot_study, plot_traces};
+use holonomy::roll::RollSample;
 use holonomy::studies::roll::{integrator_study, roll_report, ClosedPath, PathShape, StudyRow};
 use holonomy::{Integrator, Rectangle, Trajectory};
 use input::text::{parse_number_list, Angle};
@@ -116,32 +117,7 @@ pub(super) fn run(a: &RollArgs) -> Result<()> {
     if a.json {
         return print_json(&rep);
     }
-    println!(
-        "{label}, {} steps, {}: ψ = {:.9} rad, s = [{:.6}, {:.6}, {:.6}]",
-        a.steps,
-        rep.integrator.as_str(),
-        rep.angle,
-        rep.axis[0],
-        rep.axis[1],
-        rep.axis[2]
-    );
-    println!(
-        "  error vs closed form: {:.2e} rad; wall time {:.2e} s",
-        rep.error_vs_closed_form, rep.wall_time_s
-    );
-    if let Some(rows) = &study {
-        println!("  study (path, integrator, steps, error rad, wall time s):");
-        for r in rows {
-            println!(
-                "    {:<9} {:<5} {:>5} {:>9.2e} {:>9.2e}",
-                r.path.as_str(),
-                r.integrator.as_str(),
-                r.steps,
-                r.error,
-                r.wall_time_s
-            );
-        }
-    }
+    println!("{}", rep.summary(label, study.as_deref()));
     Ok(())
 }
 
@@ -150,24 +126,10 @@ pub(super) fn run(a: &RollArgs) -> Result<()> {
 /// # Errors
 /// When the file cannot be written.
 pub fn write_trajectory(path: &Path, traj: &Trajectory) -> Result<()> {
-    let rows: Vec<Vec<f64>> = traj
-        .samples
-        .iter()
-        .map(|s| {
-            let q = s.orientation;
-            let mut row = vec![s.s];
-            row.extend(s.centre);
-            row.extend(s.marked_point);
-            row.extend([q.w, q.i, q.j, q.k]);
-            row
-        })
-        .collect();
-    write_csv_f64(
+    write_csv_finite(
         path,
-        &[
-            "s", "cx", "cy", "cz", "xx", "xy", "xz", "q0", "q1", "q2", "q3",
-        ],
-        &rows,
+        &RollSample::CSV_HEADER,
+        traj.samples.iter().map(RollSample::csv_cells),
     )
 }
 
@@ -178,16 +140,8 @@ pub fn write_trajectory(path: &Path, traj: &Trajectory) -> Result<()> {
 pub fn write_study(dir: &Path, rows: &[StudyRow]) -> Result<()> {
     write_csv(
         &dir.join("roll_study.csv"),
-        &["path", "integrator", "steps", "error_rad", "wall_time_s"],
-        rows.iter().map(|r| {
-            vec![
-                r.path.as_str().to_owned(),
-                r.integrator.as_str().to_owned(),
-                r.steps.to_string(),
-                r.error.to_string(),
-                r.wall_time_s.to_string(),
-            ]
-        }),
+        &StudyRow::CSV_HEADER,
+        rows.iter().map(StudyRow::csv_cells),
     )?;
     plot_study(&dir.join("roll_study.png"), rows)?;
     Ok(())
