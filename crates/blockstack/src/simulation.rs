@@ -531,3 +531,42 @@ impl RunReport {
         }
     }
 }
+
+/// The readable summary `rollstack blocks run` prints: the scene as used, the run's
+/// counts, its events, and each block's final pose (lines, no trailing newline).
+impl std::fmt::Display for RunReport {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let time = |t: Option<f64>| t.map_or_else(|| "none".to_owned(), |t| format!("{t:.4}"));
+        let min_gap = self
+            .min_gap
+            .map_or_else(|| "none".to_owned(), |g| format!("{g:.3e}"));
+        writeln!(f, "{}", self.scene)?;
+        writeln!(
+            f,
+            "{} steps to t = {:.4} (solver {:.3} s, {:.2} Newton iterations per step, prox {})",
+            self.steps, self.t_final, self.wall_time_s, self.newton_iterations_mean, self.prox
+        )?;
+        writeln!(
+            f,
+            "failure (loss of support) at t = {}, first full opening at t = {}",
+            time(self.failure_time),
+            time(self.opening_time)
+        )?;
+        write!(
+            f,
+            "min gap {min_gap}, failed Newton steps {}, branch points {}, split steps {}, linear solves {}, largest energy increase {:.3e}",
+            self.failed_steps, self.branch_points, self.split_steps, self.linear_solves, self.max_energy_increase
+        )?;
+        for (k, p) in self.final_poses.iter().enumerate() {
+            write!(
+                f,
+                "\nblock {}: x = {:.6}, y = {:.6}, theta = {:.6}",
+                k + 1,
+                p.x,
+                p.y,
+                p.theta
+            )?;
+        }
+        Ok(())
+    }
+}

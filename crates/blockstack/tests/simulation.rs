@@ -302,3 +302,26 @@ fn bad_run_options_are_errors() {
     };
     assert!(simulate(&scene, &bad, |_| {}).is_err());
 }
+
+#[test]
+fn the_run_report_reads_as_the_summary_of_blocks_run() {
+    let scene = resting_column(2, 0.05).unwrap();
+    let options = RunOptions::default();
+    let summary = simulate(&scene, &options, |_| {}).unwrap();
+    let report = blockstack::simulation::RunReport::new(
+        &summary,
+        &scene,
+        &options,
+        &blockstack::scene_info::Defaults::default(),
+        0.05,
+    );
+    let text = report.to_string();
+    assert!(text.contains(&format!("{} steps to t = 0.0500", summary.steps)));
+    assert!(text.contains("failure (loss of support) at t = none"));
+    assert!(text.contains("block 2: x = 0.000000"));
+    assert!(!text.ends_with('\n'), "the caller adds the last newline");
+    let words: Vec<&str> = text
+        .split(|c: char| !(c.is_alphanumeric() || c == '_'))
+        .collect();
+    assert!(!words.contains(&"inf") && !words.contains(&"NaN"), "{text}");
+}

@@ -213,33 +213,7 @@ pub fn finish_command(out: &SimulationOutput, json: bool, dir: Option<&Path>) ->
             notes: &out.notes,
         })?;
     } else {
-        println!("{}", r.scene);
-        println!(
-            "{} steps to t = {:.4} (solver {:.3} s, {:.2} Newton iterations per step, prox {})",
-            r.steps, r.t_final, r.wall_time_s, r.newton_iterations_mean, r.prox
-        );
-        let time = |t: Option<f64>| t.map_or_else(|| "none".to_owned(), |t| format!("{t:.4}"));
-        println!(
-            "failure (loss of support) at t = {}, first full opening at t = {}",
-            time(r.failure_time),
-            time(r.opening_time)
-        );
-        let min_gap = r
-            .min_gap
-            .map_or_else(|| "none".to_owned(), |g| format!("{g:.3e}"));
-        println!(
-            "min gap {min_gap}, failed Newton steps {}, branch points {}, split steps {}, linear solves {}, largest energy increase {:.3e}",
-            r.failed_steps, r.branch_points, r.split_steps, r.linear_solves, r.max_energy_increase
-        );
-        for (k, p) in r.final_poses.iter().enumerate() {
-            println!(
-                "block {}: x = {:.6}, y = {:.6}, theta = {:.6}",
-                k + 1,
-                p.x,
-                p.y,
-                p.theta
-            );
-        }
+        println!("{r}");
         for n in &out.notes {
             println!("note: {n}");
         }
