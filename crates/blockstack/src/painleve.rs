@@ -141,6 +141,31 @@ pub struct BSample {
     pub admissible: bool,
 }
 
+impl BSample {
+    /// The columns of `painleve_b_grid.csv`.
+    pub const CSV_HEADER: [&'static str; 6] = [
+        "theta_rad",
+        "theta_deg",
+        "mu_d",
+        "b_slip_positive",
+        "b_slip_negative",
+        "admissible",
+    ];
+
+    /// The node's cells under [`Self::CSV_HEADER`] (`admissible` as 0 or 1).
+    #[must_use]
+    pub fn csv_cells(&self) -> Vec<String> {
+        vec![
+            self.theta.to_string(),
+            self.theta.to_degrees().to_string(),
+            self.mu.to_string(),
+            self.b_plus.to_string(),
+            self.b_minus.to_string(),
+            u8::from(self.admissible).to_string(),
+        ]
+    }
+}
+
 /// b on a grid of `n_theta` angles over (−π/2, π/2) (ends excluded) and `n_mu` values of
 /// μ_d over [0, mu_max], row-major in μ_d then ϑ.
 ///
@@ -256,6 +281,17 @@ pub fn line_contact_solutions(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn b_grid_csv_cells_match_the_header() {
+        let grid = b_grid(0.5, 3.0, 3, 3).unwrap();
+        for node in &grid {
+            let cells = node.csv_cells();
+            assert_eq!(cells.len(), BSample::CSV_HEADER.len());
+            assert!(cells[5] == "0" || cells[5] == "1");
+            assert_eq!(cells[2].parse::<f64>().unwrap(), node.mu);
+        }
+    }
 
     #[test]
     fn least_friction_is_four_thirds_at_tan_one_half() {

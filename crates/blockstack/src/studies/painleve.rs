@@ -57,6 +57,59 @@ pub struct PainleveReport {
     pub line_contact: LineContactReport,
 }
 
+impl PainleveReport {
+    /// The report with the aspect ratio w/h it was computed for, to print.
+    #[must_use]
+    pub fn summary(&self, aspect: f64) -> PainleveSummary<'_> {
+        PainleveSummary {
+            report: self,
+            aspect,
+        }
+    }
+}
+
+/// A [`PainleveReport`] with its aspect ratio: the text `rollstack blocks painleve`
+/// prints (the admissible angles (I.1.3), the least μ_d, the line-contact forces
+/// (I.2.10); lines, no trailing newline).
+#[derive(Debug, Clone, Copy)]
+pub struct PainleveSummary<'a> {
+    /// The report.
+    pub report: &'a PainleveReport,
+    /// w/h.
+    pub aspect: f64,
+}
+
+impl std::fmt::Display for PainleveSummary<'_> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let r = self.report;
+        writeln!(
+            f,
+            "w/h = {}: admissible angles ({:.3}°, {:.3}°) (I.1.3)",
+            self.aspect,
+            r.theta_min.to_degrees(),
+            r.theta_max.to_degrees()
+        )?;
+        write!(
+            f,
+            "least friction coefficient for a paradox: μ_d = {:.6} at ϑ = {:.3}° (sgn ẋ_P = {:+})",
+            r.mu_min,
+            r.theta_at_mu_min.to_degrees(),
+            r.slip_sign_at_mu_min
+        )?;
+        let lc = &r.line_contact;
+        for (name, sols) in [("right", &lc.sliding_right), ("left", &lc.sliding_left)] {
+            for s in sols {
+                write!(
+                    f,
+                    "\nline contact, μ_d = {}, sliding {name}: n_R = {:.6}, n_L = {:.6} (I.2.10)",
+                    lc.mu, s.n_right, s.n_left
+                )?;
+            }
+        }
+        Ok(())
+    }
+}
+
 /// The Painlevé analysis of App. I for a block of aspect w/h: the admissible angles
 /// (I.1.3), the least friction coefficient for which b of (I.1.8) (ERRATA 18) can vanish,
 /// per slip direction, and the line-contact LCP (I.2.10) solved for μ_d = `mu`.
@@ -103,6 +156,18 @@ pub fn painleve_report(aspect: f64, mu: f64) -> Result<PainleveReport, BlockErro
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_summary_names_the_least_friction_and_each_line_contact_solution() {
+        let report = painleve_report(0.5, 0.2).unwrap();
+        let text = report.summary(0.5).to_string();
+        assert!(text.starts_with("w/h = 0.5: admissible angles (-63.435°, 26.565°)"));
+        assert!(text.contains("μ_d = 1.333333"), "{text}");
+        let solutions =
+            report.line_contact.sliding_right.len() + report.line_contact.sliding_left.len();
+        assert_eq!(text.matches("line contact").count(), solutions);
+        assert!(!text.ends_with('\n'));
+    }
 
     #[test]
     fn the_least_friction_is_four_thirds_at_half_aspect() {

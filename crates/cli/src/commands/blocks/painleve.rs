@@ -3,7 +3,7 @@
 
 use crate::output::{ensure_dir, print_json, write_csv, write_run_json};
 use anyhow::{Context, Result};
-use blockstack::painleve::{b_grid, least_friction};
+use blockstack::painleve::{b_grid, BSample};
 use blockstack::studies::painleve::{painleve_report, PainleveReport};
 use clap::Args;
 use figures::painleve::plot_painleve;
@@ -46,8 +46,6 @@ pub fn run(args: &PainleveArgs) -> Result<()> {
         args.grid
     );
     let report = painleve_report(args.aspect, args.mu)?;
-    let (theta_min, theta_max) = (report.theta_min, report.theta_max);
-    let least = least_friction(args.aspect)?;
     if let Some(dir) = &args.out {
         write_painleve_files(dir, args.aspect, args.mu_max, args.grid, &report)?;
         write_run_json(
@@ -60,29 +58,7 @@ pub fn run(args: &PainleveArgs) -> Result<()> {
     if args.json {
         print_json(&report)?;
     } else {
-        println!(
-            "w/h = {}: admissible angles ({:.3}°, {:.3}°) (I.1.3)",
-            args.aspect,
-            theta_min.to_degrees(),
-            theta_max.to_degrees()
-        );
-        println!(
-            "least friction coefficient for a paradox: μ_d = {:.6} at ϑ = {:.3}° (sgn ẋ_P = {:+})",
-            least.mu,
-            least.theta.to_degrees(),
-            least.slip_sign
-        );
-        for (name, sols) in [
-            ("right", &report.line_contact.sliding_right),
-            ("left", &report.line_contact.sliding_left),
-        ] {
-            for s in sols {
-                println!(
-                    "line contact, μ_d = {}, sliding {name}: n_R = {:.6}, n_L = {:.6} (I.2.10)",
-                    args.mu, s.n_right, s.n_left
-                );
-            }
-        }
+        println!("{}", report.summary(args.aspect));
     }
     Ok(())
 }
@@ -102,27 +78,10 @@ pub fn write_painleve_files(
     // Everything that can fail on bad input comes before the first file is written.
     let samples = b_grid(aspect, mu_max, grid, grid)?;
     ensure_dir(dir)?;
-    let rows = samples.iter().map(|s| {
-        vec![
-            format!("{}", s.theta),
-            format!("{}", s.theta.to_degrees()),
-            format!("{}", s.mu),
-            format!("{}", s.b_plus),
-            format!("{}", s.b_minus),
-            format!("{}", u8::from(s.admissible)),
-        ]
-    });
     write_csv(
         &dir.join("painleve_b_grid.csv"),
-        &[
-            "theta_rad",
-            "theta_deg",
-            "mu_d",
-            "b_slip_positive",
-            "b_slip_negative",
-            "admissible",
-        ],
-        rows,
+        &BSample::CSV_HEADER,
+        samples.iter().map(BSample::csv_cells),
     )?;
     plot_painleve(
         &dir.join("painleve.png"),
