@@ -40,7 +40,13 @@ pub(crate) fn unit_axis(axis: &Vector3<f64>) -> Result<Unit<Vector3<f64>>, Rotat
             "axis".into(),
         )));
     }
-    Unit::try_new(*axis, 0.0).ok_or(RotationError::ZeroAxis)
+    // Scale by the largest component first: the norm of (1e300, 1e300, 0) overflows, and
+    // dividing by an infinite norm would give a zero axis.
+    let scale = axis.amax();
+    if scale == 0.0 {
+        return Err(RotationError::ZeroAxis);
+    }
+    Unit::try_new(axis / scale, 0.0).ok_or(RotationError::ZeroAxis)
 }
 
 /// A rotation as an angle θ and a unit axis r: R = R(θ, r).
@@ -145,6 +151,14 @@ impl AxisAngle {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_huge_axis_is_normalized_not_zeroed() {
+        let unit = AxisAngle::new(0.7, Vector3::new(1.0, 1.0, 0.0)).unwrap();
+        let huge = AxisAngle::new(0.7, Vector3::new(1e300, 1e300, 0.0)).unwrap();
+        assert!((unit.axis.into_inner() - huge.axis.into_inner()).norm() < 1e-15);
+        assert!((huge.to_rotation().matrix() - unit.to_rotation().matrix()).norm() < 1e-15);
+    }
     use std::f64::consts::PI;
 
     #[test]

@@ -18,12 +18,14 @@ pub fn rotation_from_quaternion(
             "quaternion".into(),
         )));
     }
-    let raw = Quaternion::new(q[0], q[1], q[2], q[3]);
-    let norm = raw.norm();
-    if norm == 0.0 {
+    // Scale by the largest component first, so that a quaternion of huge (or tiny)
+    // components normalizes instead of overflowing to a zero matrix.
+    let scale = q.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
+    if scale == 0.0 {
         return Err(RotationError::ZeroQuaternion);
     }
-    let unit = UnitQuaternion::new_unchecked(raw / norm);
+    let raw = Quaternion::new(q[0], q[1], q[2], q[3]) / scale;
+    let unit = UnitQuaternion::new_unchecked(raw / raw.norm());
     Ok((unit, quaternion_matrix(&unit)))
 }
 
@@ -150,6 +152,16 @@ pub fn rotation_from_matrix(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn huge_and_tiny_quaternions_normalize_to_the_same_rotation() {
+        let (_, r) = rotation_from_quaternion([1.0, 2.0, 3.0, 4.0]).unwrap();
+        for scale in [1e200, 1e300, 1e-200, 1e-310] {
+            let q = [scale, 2.0 * scale, 3.0 * scale, 4.0 * scale];
+            let (_, big) = rotation_from_quaternion(q).unwrap();
+            assert!((big.matrix() - r.matrix()).norm() < 1e-15, "scale {scale}");
+        }
+    }
     use nalgebra::Unit;
 
     #[test]
