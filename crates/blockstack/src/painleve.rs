@@ -166,6 +166,10 @@ impl BSample {
     }
 }
 
+/// The most nodes per axis of [`b_grid`]: 2000 × 2000 nodes are 160 MB, far finer than
+/// Figure I.2 needs.
+pub const MAX_GRID_NODES: usize = 2000;
+
 /// b on a grid of `n_theta` angles over (−π/2, π/2) (ends excluded) and `n_mu` values of
 /// μ_d over [0, mu_max], row-major in μ_d then ϑ.
 ///
@@ -183,6 +187,11 @@ pub fn b_grid(
         return Err(BlockError::Scene(
             "the b grid needs at least 2 nodes per axis".into(),
         ));
+    }
+    if n_theta > MAX_GRID_NODES || n_mu > MAX_GRID_NODES {
+        return Err(BlockError::Scene(format!(
+            "the b grid has at most {MAX_GRID_NODES} nodes per axis (4 million in all), got {n_theta} × {n_mu}"
+        )));
     }
     let half_pi = std::f64::consts::FRAC_PI_2;
     let mut out = Vec::with_capacity(n_theta * n_mu);
@@ -281,6 +290,15 @@ pub fn line_contact_solutions(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_grid_beyond_the_bound_is_refused() {
+        let err = b_grid(0.5, 3.0, 1_000_000, 1_000_000).unwrap_err();
+        assert!(
+            err.to_string().contains("at most 2000 nodes per axis"),
+            "{err}"
+        );
+    }
 
     #[test]
     fn b_grid_csv_cells_match_the_header() {

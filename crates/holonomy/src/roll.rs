@@ -260,11 +260,16 @@ impl Trajectory {
     }
 }
 
+/// The most steps [`roll`] takes: each keeps a sample of about 100 bytes, so a million
+/// steps is about 100 MB, far more than any plot or error study needs.
+pub const MAX_ROLL_STEPS: usize = 1_000_000;
+
 /// Rolls a sphere of radius `sphere_radius` once along `path` with about `steps` steps
 /// (each segment gets at least one, in proportion to its length).
 ///
 /// # Errors
-/// A non-positive radius, or `steps` smaller than the number of segments.
+/// A non-positive radius, `steps` smaller than the number of segments or above
+/// [`MAX_ROLL_STEPS`].
 pub fn roll(
     path: &CentrePath,
     sphere_radius: f64,
@@ -278,6 +283,14 @@ pub fn roll(
             steps,
             minimum: n_seg,
         });
+    }
+    if steps > MAX_ROLL_STEPS {
+        return Err(input::InputError::OutOfRange {
+            name: "steps".into(),
+            range: "[1, 1000000]",
+            value: steps as f64,
+        }
+        .into());
     }
     let total = path.length();
     let mut q = UnitQuaternion::identity();
@@ -435,6 +448,16 @@ pub fn axis_angle(q: &UnitQuaternion<f64>) -> (f64, Unit<Vector3<f64>>) {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn more_steps_than_memory_allows_are_refused() {
+        let path = CentrePath::circle(1.0, Direction::Ccw).unwrap();
+        let err = roll(&path, 1.0, Integrator::Exact, MAX_ROLL_STEPS + 1).unwrap_err();
+        assert!(
+            err.to_string().contains("steps must lie in [1, 1000000]"),
+            "{err}"
+        );
+    }
 
     #[test]
     fn a_sample_has_one_cell_per_column() {

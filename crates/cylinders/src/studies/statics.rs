@@ -229,6 +229,10 @@ pub struct StaticsFigures {
     pub self_balancing_theta: f64,
 }
 
+/// The most inclinations [`statics_figures`] samples: far finer than a plot resolves, and
+/// a bound on the work (a dozen curves of that many points).
+pub const MAX_POINTS: usize = 100_000;
+
 /// The inclinations ϑ_k = (π/2) k / `points`, k = 1 … `points` − 1, rad.
 #[must_use]
 pub fn sample_inclinations(points: usize) -> Vec<f64> {
@@ -243,16 +247,17 @@ pub fn sample_inclinations(points: usize) -> Vec<f64> {
 /// the unconstrained minimum on the circle (3.3.20) (ERRATA 11) of Figures 3.7 and 3.8.
 ///
 /// # Errors
-/// A negative or non-finite r/h or μ, fewer than 3 points ([`CylinderError::Input`]).
+/// A negative or non-finite r/h or μ, fewer than 3 or more than [`MAX_POINTS`] points
+/// ([`CylinderError::Input`]).
 pub fn statics_figures(
     r_over_h: f64,
     mu: f64,
     points: usize,
 ) -> Result<StaticsFigures, CylinderError> {
-    if points < 3 {
+    if !(3..=MAX_POINTS).contains(&points) {
         return Err(input::InputError::OutOfRange {
             name: "points".into(),
-            range: "[3, ∞)",
+            range: "[3, 100000]",
             value: points as f64,
         }
         .into());
@@ -345,6 +350,12 @@ impl StaticsFigures {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_point_count_beyond_the_bound_is_refused() {
+        let err = statics_figures(0.1, 0.2, 1_000_000_000_000).unwrap_err();
+        assert!(err.to_string().contains("[3, 100000]"), "{err}");
+    }
 
     #[test]
     fn figures_for_the_thesis_parameters() {

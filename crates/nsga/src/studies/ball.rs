@@ -111,11 +111,16 @@ pub struct BallRun {
     pub samples: Vec<BallSample>,
 }
 
+/// The most steps of one ball run: each keeps a sample (about 100 bytes), so two
+/// million steps (Δt = 0.75 µs for a 1.5 s case) are about 200 MB.
+pub const MAX_BALL_STEPS: usize = 2_000_000;
+
 /// Runs a ball case with a scheme and Δt; `prox` and `rho_inf` apply to NSGA (the
 /// thesis's constant r = 0.3 or the scaled default).
 ///
 /// # Errors
-/// The first step error.
+/// A Δt that is not positive or needs more than [`MAX_BALL_STEPS`] steps; the first step
+/// error.
 pub fn run_ball(
     case: &BallCase,
     scheme: Scheme,
@@ -126,6 +131,14 @@ pub fn run_ball(
     if !(dt > 0.0 && dt.is_finite()) {
         return Err(StepError::InvalidInput(format!(
             "dt = {dt} must be positive"
+        )));
+    }
+    if case.t_end / dt > MAX_BALL_STEPS as f64 {
+        return Err(StepError::InvalidInput(format!(
+            "dt = {dt} s needs {:.1e} steps to reach t = {} s; at most {MAX_BALL_STEPS} (dt ≥ {:.1e} s)",
+            case.t_end / dt,
+            case.t_end,
+            case.t_end / MAX_BALL_STEPS as f64
         )));
     }
     let steps = (case.t_end / dt).round() as usize;
@@ -316,6 +329,12 @@ pub fn ball_report(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_step_too_small_to_store_is_refused_before_any_work() {
+        let err = ball_report(2, Scheme::Nsga, 1e-300, 0.5, Prox::Scaled(1.0)).unwrap_err();
+        assert!(err.to_string().contains("at most 2000000"), "{err}");
+    }
 
     #[test]
     fn case_two_rolls_at_the_exact_velocity_and_bad_input_is_refused() {
