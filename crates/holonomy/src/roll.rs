@@ -264,12 +264,17 @@ impl Trajectory {
 /// steps is about 100 MB, far more than any plot or error study needs.
 pub const MAX_ROLL_STEPS: usize = 1_000_000;
 
+/// The longest path [`roll`] accepts, in sphere radii: beyond it the rolled angle s/R
+/// is so large that its rounding error exceeds a full turn (and squared coordinates
+/// overflow long before 1e300).
+pub const MAX_PATH_LENGTH: f64 = 1e9;
+
 /// Rolls a sphere of radius `sphere_radius` once along `path` with about `steps` steps
 /// (each segment gets at least one, in proportion to its length).
 ///
 /// # Errors
 /// A non-positive radius, `steps` smaller than the number of segments or above
-/// [`MAX_ROLL_STEPS`].
+/// [`MAX_ROLL_STEPS`], a path longer than [`MAX_PATH_LENGTH`] radii.
 pub fn roll(
     path: &CentrePath,
     sphere_radius: f64,
@@ -293,6 +298,11 @@ pub fn roll(
         .into());
     }
     let total = path.length();
+    if !(total <= MAX_PATH_LENGTH * sphere_radius) {
+        return Err(HolonomyError::InvalidPath(format!(
+            "the path is {total:e} long, more than {MAX_PATH_LENGTH:e} sphere radii: its rolled angle would lose every digit of the orientation"
+        )));
+    }
     let mut q = UnitQuaternion::identity();
     let mut s_total = 0.0;
     let start = path.segments[0].point_and_tangent(0.0).0;
@@ -448,6 +458,16 @@ pub fn axis_angle(q: &UnitQuaternion<f64>) -> (f64, Unit<Vector3<f64>>) {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_path_too_long_to_roll_accurately_is_refused() {
+        let path = CentrePath::circle(1e300, Direction::Ccw).unwrap();
+        let err = roll(&path, 1.0, Integrator::Exact, 100).unwrap_err();
+        assert!(err.to_string().contains("sphere radii"), "{err}");
+        let path = CentrePath::circle(1e6, Direction::Ccw).unwrap();
+        let traj = roll(&path, 1.0, Integrator::Exact, 100).unwrap();
+        assert!(traj.samples.iter().all(|s| s.centre.iter().all(|c| c.is_finite())));
+    }
 
     #[test]
     fn more_steps_than_memory_allows_are_refused() {
