@@ -298,7 +298,7 @@ pub fn roll(
         .into());
     }
     let total = path.length();
-    if !(total <= MAX_PATH_LENGTH * sphere_radius) {
+    if total.is_nan() || total > MAX_PATH_LENGTH * sphere_radius {
         return Err(HolonomyError::InvalidPath(format!(
             "the path is {total:e} long, more than {MAX_PATH_LENGTH:e} sphere radii: its rolled angle would lose every digit of the orientation"
         )));
