@@ -466,7 +466,10 @@ mod tests {
         assert!(err.to_string().contains("sphere radii"), "{err}");
         let path = CentrePath::circle(1e6, Direction::Ccw).unwrap();
         let traj = roll(&path, 1.0, Integrator::Exact, 100).unwrap();
-        assert!(traj.samples.iter().all(|s| s.centre.iter().all(|c| c.is_finite())));
+        assert!(traj
+            .samples
+            .iter()
+            .all(|s| s.centre.iter().all(|c| c.is_finite())));
     }
 
     #[test]
