@@ -3,6 +3,19 @@
 
 use std::fmt::Write as _;
 
+/// What the page says about itself: the program, when, and how to make it again.
+#[derive(Debug, Clone, Default)]
+pub struct PageHeader {
+    /// The rollstack version.
+    pub version: String,
+    /// The source commit, when known at build time.
+    pub commit: Option<String>,
+    /// The date the page was made (UTC, `YYYY-MM-DD`).
+    pub date: String,
+    /// The command line that makes the page.
+    pub command: String,
+}
+
 /// What one system shows on the page.
 #[derive(Debug, Default)]
 pub struct Section {
@@ -12,6 +25,20 @@ pub struct Section {
     pub summary: Vec<String>,
     /// HTML blocks (tables, images), in order. Paths are relative to the tour directory.
     pub blocks: Vec<Block>,
+}
+
+impl Section {
+    /// The files the section's blocks show or link (relative to its directory).
+    #[must_use]
+    pub fn linked_files(&self) -> Vec<&str> {
+        self.blocks
+            .iter()
+            .filter_map(|b| match b {
+                Block::Image { file, .. } | Block::Data { file, .. } => Some(file.as_str()),
+                Block::Text(_) | Block::Table { .. } => None,
+            })
+            .collect()
+    }
 }
 
 /// One piece of a section's page.
@@ -80,14 +107,30 @@ fn escape(s: &str) -> String {
 /// The HTML page of `sections` (each with the name of its directory, relative to the
 /// page), and a line per failed section.
 #[must_use]
-pub fn render_html(sections: &[(String, Section)], failures: &[String]) -> String {
+pub fn render_html(
+    header: &PageHeader,
+    sections: &[(String, Section)],
+    failures: &[String],
+) -> String {
     let mut h = String::from(
         "<!DOCTYPE html>\n<html><head><meta charset=\"utf-8\"><title>rollstack tour</title>\n\
          <style>body{font-family:sans-serif;max-width:1100px;margin:auto;padding:1em}\
          table{border-collapse:collapse}td,th{border:1px solid #bbb;padding:3px 8px;text-align:right}\
          img{max-width:100%;border:1px solid #ddd}figure{margin:1em 0}</style></head><body>\n\
          <h1>rollstack tour</h1>\n<p>Headline results of every system, computed with built-in \
-         defaults by <code>rollstack tour</code>. Equation numbers refer to Honein (2024).</p>\n<ul>",
+         defaults. Equation numbers refer to Honein (2024).</p>\n",
+    );
+    let commit = header
+        .commit
+        .as_deref()
+        .map_or_else(String::new, |c| format!(", commit {}", escape(c)));
+    let _ = writeln!(
+        h,
+        "<p>rollstack {}{commit}, {}. Reproduce this page with <code>{}</code>; one \
+         section alone with <code>rollstack tour --only NAME</code>.</p>\n<ul>",
+        escape(&header.version),
+        escape(&header.date),
+        escape(&header.command)
     );
     for (name, s) in sections {
         let _ = write!(h, "<li><a href=\"#{name}\">{}</a></li>", escape(&s.title));
@@ -98,6 +141,11 @@ pub fn render_html(sections: &[(String, Section)], failures: &[String]) -> Strin
     }
     for (name, s) in sections {
         let _ = writeln!(h, "<h2 id=\"{name}\">{}</h2>", escape(&s.title));
+        let _ = writeln!(
+            h,
+            "<p><small>Files in <code>{name}/</code>; this section alone: \
+             <code>rollstack tour --only {name}</code></small></p>"
+        );
         if !s.summary.is_empty() {
             h.push_str("<ul>");
             for line in &s.summary {

@@ -1,0 +1,45 @@
+//! The tour's page accounts for itself: every file the tour writes is shown or linked,
+//! and the page says which rollstack made it, when, and with which command.
+
+mod common;
+
+use common::{run, temp_dir};
+use std::path::Path;
+
+fn files_below(root: &Path, dir: &Path, out: &mut Vec<String>) {
+    for entry in std::fs::read_dir(dir).unwrap() {
+        let path = entry.unwrap().path();
+        if path.is_dir() {
+            files_below(root, &path, out);
+        } else {
+            out.push(
+                path.strip_prefix(root)
+                    .unwrap()
+                    .to_string_lossy()
+                    .replace('\\', "/"),
+            );
+        }
+    }
+}
+
+#[test]
+fn every_file_the_tour_writes_is_linked_and_the_page_names_its_maker() {
+    let dir = temp_dir("tour-links");
+    let out = dir.to_str().unwrap();
+    let (ok, _, stderr) = run(&["tour", "--out", out, "--only", "rotations,nsga"]);
+    assert!(ok, "{stderr}");
+    let page = std::fs::read_to_string(dir.join("index.html")).unwrap();
+    let mut files = Vec::new();
+    files_below(&dir, &dir, &mut files);
+    assert!(files.len() > 5, "{files:?}");
+    for file in files.iter().filter(|f| *f != "index.html") {
+        assert!(
+            page.contains(&format!("\"{file}\"")),
+            "{file} is not linked"
+        );
+    }
+    assert!(page.contains(&format!("rollstack {}", env!("CARGO_PKG_VERSION"))));
+    assert!(page.contains("<code>rollstack tour --out"));
+    assert!(page.contains("rollstack tour --only nsga"));
+    let _ = std::fs::remove_dir_all(&dir);
+}
