@@ -22,6 +22,7 @@
 #![warn(missing_docs)]
 
 pub mod commands;
+pub mod examples;
 pub mod output;
 pub mod progress;
 pub mod sweep;

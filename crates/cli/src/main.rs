@@ -1,10 +1,8 @@
 //! The `rollstack` binary: parses the command line and reports errors in one line.
 
-use clap::Parser;
-
 fn main() -> std::process::ExitCode {
     exit_quietly_on_broken_pipe();
-    let cli = rollstack_cli::Cli::parse();
+    let cli = rollstack_cli::examples::parse();
     match rollstack_cli::run(cli) {
         Ok(()) => std::process::ExitCode::SUCCESS,
         Err(err) => {
