@@ -427,7 +427,7 @@ mod tests {
     fn refuses_bad_input() {
         assert_eq!(
             statics_figures(0.1, 0.2, 2).unwrap_err().to_string(),
-            "points must lie in [3, ∞), got 2"
+            "points must lie in [3, 100000], got 2"
         );
         assert_eq!(
             statics_figures(-0.1, 0.2, 10).unwrap_err().to_string(),
