@@ -19,6 +19,10 @@ pub enum BlockError {
     /// A scene file or a scene description is malformed.
     #[error("invalid scene: {0}")]
     Scene(String),
+    /// A scene key (`contact.mu`, `blocks.0.width`) that names no number of the scene
+    /// ([`crate::studies::scene_sweep`]); the message names the keys that exist.
+    #[error("{0}")]
+    Key(String),
     /// No built-in scene has this name ([`crate::scenes`]).
     #[error("no built-in scene '{name}' (built-in scenes: {known})")]
     UnknownScene {

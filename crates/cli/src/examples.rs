@@ -56,6 +56,10 @@ pub const EXAMPLES: &[(&str, &str)] = &[
         "rollstack blocks sweep slide --v0 0.05:0.5:0.05 --out slide",
     ),
     (
+        "blocks sweep scene",
+        "rollstack blocks sweep scene shaking --set contact.mu=0.1:0.5:0.1 --t-end 5 --out mu",
+    ),
+    (
         "blocks painleve",
         "rollstack blocks painleve --aspect 0.5 --mu 0.6 --out painleve",
     ),

@@ -505,6 +505,155 @@ fn frequency_sweep_keeps_order_and_records_failing_runs() {
 }
 
 #[test]
+fn scene_sweep_runs_the_product_of_its_keys_in_order() {
+    let dir = temp_dir("blocks-sweep-scene");
+    let d = dir.to_str().unwrap();
+    // 3 × 2 combinations, the first --set slowest; μ = −0.1 is refused by the scene
+    // loader: its rows carry the error, the others run.
+    let v = json(&[
+        "blocks",
+        "sweep",
+        "scene",
+        "shaking",
+        "--set",
+        "contact.mu=-0.1:0.1:0.1",
+        "--set",
+        "base.amplitude=0.1,0.2",
+        "--set",
+        "blocks.count=2",
+        "--t-end",
+        "0.05",
+        "--out",
+        d,
+        "--json",
+    ]);
+    let rows = v["rows"].as_array().unwrap();
+    let set: Vec<(f64, f64, f64)> = rows
+        .iter()
+        .map(|r| {
+            (
+                f(&r["set"][0]["value"]),
+                f(&r["set"][1]["value"]),
+                f(&r["set"][2]["value"]),
+            )
+        })
+        .collect();
+    assert_eq!(
+        set,
+        [
+            (-0.1, 0.1, 2.0),
+            (-0.1, 0.2, 2.0),
+            (0.0, 0.1, 2.0),
+            (0.0, 0.2, 2.0),
+            (0.1, 0.1, 2.0),
+            (0.1, 0.2, 2.0)
+        ]
+    );
+    assert_eq!(rows[0]["set"][0]["key"], "contact.mu");
+    for r in &rows[..2] {
+        assert!(r["error"].as_str().unwrap().contains("mu"), "{r}");
+        assert!(r["t_final"].is_null() && r["steps"] == 0);
+    }
+    for r in &rows[2..] {
+        assert!(r["error"].is_null(), "{r}");
+        assert!(r["steps"].as_u64().unwrap() > 0 && f(&r["top_y"]) > 0.0);
+    }
+    let (header, csv_rows) = read_csv(&dir.join("sweep_scene.csv"));
+    assert_eq!(
+        header[..5],
+        [
+            "contact.mu",
+            "base.amplitude",
+            "blocks.count",
+            "failure_time",
+            "opening_time"
+        ]
+    );
+    let first_cells: Vec<(&str, &str)> = csv_rows
+        .iter()
+        .map(|r| (r[0].as_str(), r[1].as_str()))
+        .collect();
+    assert_eq!(
+        first_cells,
+        [
+            ("-0.1", "0.1"),
+            ("-0.1", "0.2"),
+            ("0.0", "0.1"),
+            ("0.0", "0.2"),
+            ("0.1", "0.1"),
+            ("0.1", "0.2")
+        ]
+    );
+    assert!(
+        std::fs::metadata(dir.join("sweep_scene.png"))
+            .unwrap()
+            .len()
+            > 1000
+    );
+    let run: Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("run.json")).unwrap()).unwrap();
+    assert_eq!(run["command"], "blocks sweep scene");
+    assert_eq!(run["inputs"]["set"][0], "contact.mu=-0.1:0.1:0.1");
+    // A shard holds its contiguous part of the combinations.
+    let v = json(&[
+        "blocks",
+        "sweep",
+        "scene",
+        "shaking",
+        "--set",
+        "contact.mu=0.1,0.2",
+        "--set",
+        "solver.periods=0.01,0.02",
+        "--shard",
+        "2/2",
+        "--out",
+        d,
+        "--json",
+    ]);
+    let rows = v["rows"].as_array().unwrap();
+    let mus: Vec<f64> = rows.iter().map(|r| f(&r["set"][0]["value"])).collect();
+    assert_eq!(mus, [0.2, 0.2]);
+    std::fs::remove_dir_all(dir).unwrap();
+}
+
+#[test]
+fn scene_sweep_refuses_unknown_keys_before_any_run() {
+    let dir = temp_dir("blocks-sweep-scene-bad");
+    let d = dir.to_str().unwrap();
+    let sweep = |set: &str| {
+        run(&[
+            "blocks", "sweep", "scene", "shaking", "--set", set, "--out", d,
+        ])
+    };
+    for (set, says) in [
+        ("contact.muu=0.1", "mu, e_n, e_f"),
+        ("blocks.3.width=0.1", "1 [[blocks]] entry"),
+        ("base.motion=1", "not a number"),
+        ("wind.speed=1", "base, blocks, contact, solver, floor"),
+    ] {
+        let (ok, _, stderr) = sweep(set);
+        assert!(!ok, "{set}");
+        assert_eq!(stderr.lines().count(), 1, "{stderr}");
+        assert!(stderr.contains(says), "{set}: {stderr}");
+    }
+    assert!(
+        !dir.exists(),
+        "nothing is written before the keys are checked"
+    );
+    let out = rollstack(&[
+        "blocks",
+        "sweep",
+        "scene",
+        "shaking",
+        "--set",
+        "contact.mu",
+        "--out",
+        d,
+    ]);
+    assert_eq!(out.status.code(), Some(2));
+}
+
+#[test]
 fn lire_top_perturbation_resolves_branch_points_by_default() {
     // The top block tips over the edge and lands on the floor: its contact states
     // alternate on the way (at t = 6.33), which the default resolves by fixed-set

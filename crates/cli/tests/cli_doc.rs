@@ -17,7 +17,8 @@
 //! the object (or of the objects in the array) above them; a key whose bullet says
 //! "keyed by" is a map with data-dependent keys. A column list starts with a paragraph
 //! ``CSV columns of `file.csv`:``: the columns are the code spans after that colon and the
-//! keys of the bullets that follow. `{k}` in a name stands for a number (`x{k}`: `x1`, …).
+//! keys of the bullets that follow. `{k}` in a name stands for a number (`x{k}`: `x1`, …),
+//! `{key}` for a dotted scene key (`contact.mu`).
 
 mod common;
 
@@ -107,9 +108,15 @@ fn split_at_colon(text: &str) -> (&str, Option<&str>) {
     (text, None)
 }
 
-/// Whether a documented name matches a real one: `{…}` matches one or more of
-/// `0-9 . -` (block numbers, snapshot times), everything else itself.
+/// Whether a documented name matches a real one: `{key}` matches a dotted scene key
+/// (`contact.mu`, `blocks.0.width`), another `{…}` one or more of `0-9 . -` (block
+/// numbers, snapshot times), everything else itself.
 fn name_matches(pattern: &str, text: &str) -> bool {
+    if let Some(after) = pattern.strip_prefix("{key}") {
+        return (1..=text.len())
+            .filter(|&k| text.is_char_boundary(k))
+            .any(|k| is_scene_key(&text[..k]) && name_matches(after, &text[k..]));
+    }
     if let Some(rest) = pattern.strip_prefix('{') {
         let Some(end) = rest.find('}') else {
             return pattern == text;
@@ -128,6 +135,17 @@ fn name_matches(pattern: &str, text: &str) -> bool {
         }
         _ => false,
     }
+}
+
+/// A dotted scene key: words of `a-z 0-9 _` joined by dots, at least two of them.
+fn is_scene_key(text: &str) -> bool {
+    let words: Vec<&str> = text.split('.').collect();
+    words.len() >= 2
+        && words.iter().all(|w| {
+            !w.is_empty()
+                && w.bytes()
+                    .all(|b| b.is_ascii_lowercase() || b.is_ascii_digit() || b == b'_')
+        })
 }
 
 /// One bullet of a list: its depth (two spaces per level) and its whole text.
@@ -567,6 +585,20 @@ fn runs() -> Vec<Run> {
             true,
         ),
         run(
+            "blocks sweep scene",
+            &[
+                "shaking",
+                "--set",
+                "contact.mu=0.2,0.3",
+                "--set",
+                "blocks.count=1",
+                "--t-end",
+                "0.05",
+                "--json",
+            ],
+            true,
+        ),
+        run(
             "blocks painleve",
             &["--aspect", "0.5", "--grid", "5", "--json"],
             true,
@@ -842,6 +874,8 @@ fn the_page_reader_reads_what_it_should() {
     assert!(!name_matches("x{k}", "x_x"));
     assert!(!name_matches("x{k}", "x"));
     assert!(name_matches("base_x", "base_x"));
+    assert!(name_matches("{key}", "contact.mu") && name_matches("{key}", "blocks.0.width"));
+    assert!(!name_matches("{key}", "failure_time") && !name_matches("{key}", "a..b"));
     assert_eq!(split_at_colon("`a:b`, `c`: d").0, "`a:b`, `c`");
     let doc = read_doc();
     let lire = &doc.sections["blocks lire"];

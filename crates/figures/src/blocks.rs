@@ -1,9 +1,11 @@
 //! Pictures of the stack: snapshots (Figure 4.4), the animation, and the top block's
-//! angle and height (Figure 4.5 (b), (c)). The frames come from [`blockstack::record`].
+//! angle and height (Figure 4.5 (b), (c)), and the sweeps' plots. The frames come from
+//! [`blockstack::record`].
 
 use crate::plot::{with_png, LinePlot, Series, FONT, PALETTE};
 use crate::{err, file, write_error, FigureError, Result};
 use blockstack::record::{Frame, Recording, TopSample};
+use blockstack::studies::scene_sweep::SceneRow;
 use blockstack::studies::shaking::FrequencyRow;
 use blockstack::studies::slide::{SlideRegime, SlideRow};
 use blockstack::Scene;
@@ -324,4 +326,184 @@ pub fn plot_slide_sweep(path: &Path, rows: &[SlideRow], t_end: f64) -> Result<()
         ));
     }
     plot.save(path, (900, 600))
+}
+
+/// Most lines the picture of a scene sweep draws (one colour each, [`PALETTE`]); a sweep
+/// with more combinations of its other keys is left without a picture.
+pub const SCENE_SWEEP_MAX_LINES: usize = 8;
+
+/// One line of a scene sweep's picture: its label and its rows, in order.
+pub type SweepLine<'a> = (String, Vec<&'a SceneRow>);
+
+/// The rows of a scene sweep as the lines of its picture: the key along x (the last
+/// swept key that takes more than one value, else the last key) and one line per
+/// combination of the other keys that take more than one value, labelled with their
+/// values (`contact.mu = 0.1`), in order of first appearance; one unlabelled line when
+/// only one key varies. `None` when no key is swept or there is no row.
+#[must_use]
+pub fn scene_sweep_lines(rows: &[SceneRow]) -> Option<(usize, Vec<SweepLine<'_>>)> {
+    let n = rows.first()?.set.len();
+    let varies = |i: usize| {
+        rows.iter()
+            .any(|r| r.set.get(i).map(|s| s.value) != rows[0].set.get(i).map(|s| s.value))
+    };
+    let x = (0..n).rev().find(|&i| varies(i)).or(n.checked_sub(1))?;
+    let mut lines: Vec<SweepLine<'_>> = Vec::new();
+    for row in rows {
+        let label = row
+            .set
+            .iter()
+            .enumerate()
+            .filter(|&(i, _)| i != x && varies(i))
+            .map(|(_, s)| format!("{} = {}", s.key, s.value))
+            .collect::<Vec<_>>()
+            .join(", ");
+        match lines.iter_mut().find(|(l, _)| *l == label) {
+            Some((_, members)) => members.push(row),
+            None => lines.push((label, vec![row])),
+        }
+    }
+    Some((x, lines))
+}
+
+/// The picture of a scene sweep: the failure time (runs with a loss of support) and the
+/// top block's angle at the end of each run (at the stop, for runs that stopped early)
+/// against one swept key, one line of markers per combination of the other keys
+/// ([`scene_sweep_lines`]). Left out with a note when no key is swept, there is no row,
+/// or the other keys have more than [`SCENE_SWEEP_MAX_LINES`] combinations.
+///
+/// # Errors
+/// An unwritable file.
+pub fn plot_scene_sweep(path: &Path, rows: &[SceneRow]) -> Result<DrawnRun> {
+    let name = path
+        .file_name()
+        .map_or_else(String::new, |n| n.to_string_lossy().into_owned());
+    let mut out = DrawnRun::default();
+    let Some((x, lines)) = scene_sweep_lines(rows) else {
+        out.notes
+            .push(format!("no {name}: no row with a swept key to draw"));
+        return Ok(out);
+    };
+    let key = rows[0].set[x].key.clone();
+    if lines.len() > SCENE_SWEEP_MAX_LINES {
+        out.notes.push(format!(
+            "no {name}: the keys other than {key} have {} combinations, more than the {SCENE_SWEEP_MAX_LINES} lines one picture shows (plot the CSV)",
+            lines.len()
+        ));
+        return Ok(out);
+    }
+    let panel = |title: &str, empty: &str, y_label: &str, y: fn(&SceneRow) -> Option<f64>| {
+        let title = if rows.iter().any(|r| y(r).is_some()) {
+            format!("{title} against {key}")
+        } else {
+            format!("{title} against {key} ({empty})")
+        };
+        lines.iter().fold(
+            LinePlot::new(title, key.as_str(), y_label),
+            |plot, (label, members)| {
+                let points = members
+                    .iter()
+                    .filter_map(|r| Some((r.set.get(x)?.value, y(r)?)))
+                    .collect();
+                plot.with(Series::joined_markers(label.as_str(), points))
+            },
+        )
+    };
+    let failure = panel(
+        "failure time",
+        "no run lost its support",
+        "failure time (loss of support)",
+        |r| r.failure_time,
+    );
+    let angle = panel(
+        "top block's angle at the end",
+        "no run computed a state",
+        "theta of the top block at t_final (rad)",
+        |r| r.top_theta,
+    );
+    with_png(path, (900, 1000), |root| {
+        let panels = root.split_evenly((2, 1));
+        failure.draw(&panels[0])?;
+        angle.draw(&panels[1])
+    })?;
+    out.files.push(name);
+    Ok(out)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use blockstack::studies::scene_sweep::{cartesian_product, Override};
+
+    fn rows(overrides: &[&str]) -> Vec<SceneRow> {
+        let o: Vec<Override> = overrides.iter().map(|s| s.parse().unwrap()).collect();
+        cartesian_product(&o)
+            .into_iter()
+            .enumerate()
+            .map(|(k, set)| SceneRow {
+                set,
+                failure_time: (k % 2 == 0).then_some(1.0 + k as f64),
+                opening_time: None,
+                t_final: Some(2.0),
+                steps: 10,
+                failed_steps: 0,
+                branch_points: 0,
+                min_gap: None,
+                top_x: Some(0.0),
+                top_y: Some(1.0),
+                top_theta: Some(0.1 * k as f64),
+                error: None,
+                wall_time_s: 0.0,
+            })
+            .collect()
+    }
+
+    #[test]
+    fn scene_sweep_lines_follow_the_other_keys() {
+        let one = rows(&["contact.mu=0.1:0.3:0.1"]);
+        let (x, lines) = scene_sweep_lines(&one).unwrap();
+        assert_eq!((x, lines.len()), (0, 1));
+        assert_eq!((lines[0].0.as_str(), lines[0].1.len()), ("", 3));
+        let three = rows(&[
+            "contact.mu=0.1,0.2",
+            "base.amplitude=0.1",
+            "base.omega=1,2,3",
+        ]);
+        let (x, lines) = scene_sweep_lines(&three).unwrap();
+        assert_eq!(x, 2);
+        let labels: Vec<&str> = lines.iter().map(|(l, _)| l.as_str()).collect();
+        assert_eq!(labels, ["contact.mu = 0.1", "contact.mu = 0.2"]);
+        assert!(lines.iter().all(|(_, m)| m.len() == 3));
+        // A last key with one value is not the x axis.
+        let fixed_last = rows(&["base.omega=1,2,3", "solver.periods=3"]);
+        let (x, lines) = scene_sweep_lines(&fixed_last).unwrap();
+        assert_eq!((x, lines.len()), (0, 1));
+        let (x, _) = scene_sweep_lines(&rows(&["a.x=1", "b.y=2"])).unwrap();
+        assert_eq!(x, 1);
+        assert!(scene_sweep_lines(&rows(&[])).is_none(), "no key");
+        assert!(scene_sweep_lines(&[]).is_none());
+    }
+
+    #[test]
+    fn scene_sweep_picture_or_a_note() {
+        let dir =
+            std::env::temp_dir().join(format!("rollstack-scene-sweep-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let path = dir.join("sweep_scene.png");
+        let drawn = plot_scene_sweep(&path, &rows(&["a.x=1,2", "b.y=0:1:0.5"])).unwrap();
+        assert_eq!(drawn.files, ["sweep_scene.png"]);
+        assert_eq!(&std::fs::read(&path).unwrap()[1..4], b"PNG");
+        let many =
+            plot_scene_sweep(&dir.join("many.png"), &rows(&["a.x=1:9:1", "b.y=1,2"])).unwrap();
+        assert!(
+            many.files.is_empty() && many.notes[0].contains("9 combinations"),
+            "{many:?}"
+        );
+        let fixed = plot_scene_sweep(&dir.join("fixed.png"), &rows(&["a.x=1"])).unwrap();
+        assert_eq!(fixed.files, ["fixed.png"]);
+        let none = plot_scene_sweep(&dir.join("none.png"), &[]).unwrap();
+        assert!(none.files.is_empty() && none.notes.len() == 1);
+        assert!(!dir.join("many.png").exists() && !dir.join("none.png").exists());
+        std::fs::remove_dir_all(dir).unwrap();
+    }
 }

@@ -60,6 +60,8 @@ pub struct Series {
     pub points: Vec<(f64, f64)>,
     /// Draw markers at the points instead of a line.
     pub markers: bool,
+    /// With `markers`: also join the markers by a line of the same colour.
+    pub joined: bool,
 }
 
 impl Series {
@@ -70,6 +72,7 @@ impl Series {
             label: label.into(),
             points,
             markers: false,
+            joined: false,
         }
     }
 
@@ -80,6 +83,16 @@ impl Series {
             label: label.into(),
             points,
             markers: true,
+            joined: false,
+        }
+    }
+
+    /// Markers at `points`, joined by a line of the same colour.
+    #[must_use]
+    pub fn joined_markers(label: impl Into<String>, points: Vec<(f64, f64)>) -> Self {
+        Self {
+            joined: true,
+            ..Self::markers(label, points)
         }
     }
 }
@@ -220,6 +233,11 @@ impl LinePlot {
                 .copied()
                 .filter(|p| p.0.is_finite() && p.1.is_finite());
             let anno = if s.markers {
+                if s.joined {
+                    chart
+                        .draw_series(LineSeries::new(pts.clone(), color.stroke_width(1)))
+                        .map_err(err)?;
+                }
                 chart
                     .draw_series(pts.map(|p| Circle::new(p, 3, color.filled())))
                     .map_err(err)?
@@ -277,6 +295,10 @@ mod tests {
                     .collect(),
             ))
             .with(Series::markers("pts", vec![(1.0, 0.5), (2.0, f64::NAN)]))
+            .with(Series::joined_markers(
+                "joined",
+                vec![(1.0, 0.2), (2.0, 0.3)],
+            ))
             .save(&p, (400, 300))
             .unwrap();
         let bytes = std::fs::read(&p).unwrap();

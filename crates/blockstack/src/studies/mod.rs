@@ -5,10 +5,13 @@
 //! - [`shaking`]: the shaken column's time to failure at one base frequency (Figure 4.6);
 //! - [`slide`]: the column on a pulled base at one speed, its top block's angle and how
 //!   it ends (Figure 4.7);
+//! - [`scene_sweep`]: any scene with some of its numbers set to other values, one run
+//!   per combination (`rollstack blocks sweep scene`);
 //! - [`lire`]: the outcome of a Leaning Tower of Lire run (Figure 4.4);
 //! - [`painleve`]: Painlevé's paradoxes for one block (App. I, Figure I.2).
 
 pub mod lire;
 pub mod painleve;
+pub mod scene_sweep;
 pub mod shaking;
 pub mod slide;

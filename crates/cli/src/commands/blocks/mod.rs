@@ -5,8 +5,9 @@
 //!   progressively (ERRATA 25), branch points, snapshots of the stack, an animation and
 //!   plots of the top block ([`figures::blocks::draw_run`]);
 //! - `scenes [NAME]` ([`scenes`]): the built-in scenes, listed or printed as TOML;
-//! - `sweep frequency` (Figure 4.6) and `sweep slide` (Figure 4.7) ([`sweep`]): many runs
-//!   in parallel, one CSV row per parameter value in input order;
+//! - `sweep frequency` (Figure 4.6) and `sweep slide` (Figure 4.7) ([`sweep`]), and
+//!   `sweep scene` ([`sweep_scene`]: any scene over any of its numeric keys): many runs in
+//!   parallel, one CSV row per parameter value (or combination) in input order;
 //! - `painleve` ([`painleve`]): Painlevé's paradoxes for one block (App. I).
 //!
 //! Every number comes from `blockstack`: its simulation, its recorder and its studies.
@@ -17,6 +18,7 @@ pub mod scenes;
 pub mod shake;
 pub mod simulate;
 pub mod sweep;
+pub mod sweep_scene;
 
 use anyhow::Result;
 use blockstack::simulation::{Prox, RunOptions};
@@ -54,7 +56,8 @@ pub enum BlocksCommand {
     /// below it as in the thesis (`--floor`: a floor at the table's bottom).
     Lire(lire::LireArgs),
     /// Parameter sweeps: failure time against the shaking frequency (Figure 4.6), top
-    /// block angle against the speed of the pulled base (Figure 4.7).
+    /// block angle against the speed of the pulled base (Figure 4.7), and any scene over
+    /// any of its numeric keys.
     #[command(subcommand)]
     Sweep(sweep::SweepCommand),
     /// Painlevé's paradoxes for one block on a rough plane (App. I): least friction
@@ -74,6 +77,7 @@ pub fn run(args: &BlocksArgs) -> Result<()> {
         BlocksCommand::Lire(a) => lire::run_lire(a),
         BlocksCommand::Sweep(sweep::SweepCommand::Frequency(a)) => sweep::sweep_frequency(a),
         BlocksCommand::Sweep(sweep::SweepCommand::Slide(a)) => sweep::sweep_slide(a),
+        BlocksCommand::Sweep(sweep::SweepCommand::Scene(a)) => sweep_scene::sweep_scene(a),
         BlocksCommand::Painleve(a) => painleve::run(a),
     }
 }

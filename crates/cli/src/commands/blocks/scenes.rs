@@ -43,16 +43,25 @@ pub fn run(args: &ScenesArgs) -> Result<()> {
 /// An unreadable or invalid file; no such file and no such built-in scene (the error
 /// names the built-in scenes).
 pub fn load_scene(arg: &Path) -> Result<LoadedScene> {
+    let (text, what) = scene_text(arg)?;
+    LoadedScene::from_toml(&text).with_context(|| what)
+}
+
+/// The TOML text of the scene `arg` names (a file, else a built-in scene), with what it
+/// is for error messages (`scene my.toml`, `built-in scene shaking`).
+///
+/// # Errors
+/// An unreadable file; no such file and no such built-in scene (the error names the
+/// built-in scenes).
+pub fn scene_text(arg: &Path) -> Result<(String, String)> {
     if arg.exists() {
         let text = std::fs::read_to_string(arg)
             .with_context(|| format!("cannot read scene {}", arg.display()))?;
-        return LoadedScene::from_toml(&text).with_context(|| format!("scene {}", arg.display()));
+        return Ok((text, format!("scene {}", arg.display())));
     }
     let builtin = arg.to_str().and_then(|name| scenes::find(name).ok());
     match builtin {
-        Some(s) => s
-            .load()
-            .with_context(|| format!("built-in scene {}", s.name)),
+        Some(s) => Ok((s.toml.to_owned(), format!("built-in scene {}", s.name))),
         None => anyhow::bail!(
             "cannot read scene {}: no such file, and no built-in scene of that name (built-in scenes: {})",
             arg.display(),

@@ -1,8 +1,10 @@
 //! `rollstack blocks sweep frequency|slide`: Figures 4.6 and 4.7, one row per parameter
-//! value from `blockstack::studies`, run in parallel and written in input order.
+//! value from `blockstack::studies`, run in parallel and written in input order; and the
+//! plumbing every sweep shares ([`sweep_values`], [`finish_sweep`]), which
+//! `sweep scene` ([`super::sweep_scene`]) uses too.
 
 use super::SolverArgs;
-use crate::output::{ensure_dir, print_json, write_csv, write_run_json};
+use crate::output::{ensure_dir, print_json, write_csv, write_run_json_with};
 use crate::sweep::{par_map_ordered, Shard};
 use anyhow::Result;
 use blockstack::scenarios::Shaking;
@@ -11,7 +13,7 @@ use blockstack::studies::slide::{slide_row, SlideRegime, SlideRow};
 use clap::{Args, Subcommand};
 use figures::blocks::{plot_frequency_sweep, plot_slide_sweep};
 use input::text::parse_finite;
-use input::text::parse_range;
+use input::text::parse_values;
 use serde::Serialize;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -25,6 +27,10 @@ pub enum SweepCommand {
     /// Angle of the top block at t_end against the speed v0 of the pulled base (Figure 4.7:
     /// base and blocks w = 0.2, h = 0.4, μ = 0.2, t_end = 3).
     Slide(SlideArgs),
+    /// Any scene over any of its numbers: each `--set KEY=VALUES` sets a scene key
+    /// (`contact.mu`, `base.omega`, `blocks.0.width`) to a range or list of values, one run
+    /// per combination (the first `--set` varies slowest).
+    Scene(super::sweep_scene::SceneArgs),
 }
 
 /// Options shared by the sweeps.
@@ -45,7 +51,8 @@ pub struct SweepOutputArgs {
 /// Arguments of `rollstack blocks sweep frequency`.
 #[derive(Debug, Args)]
 pub struct FrequencyArgs {
-    /// Base angular frequencies ω (rad per time unit), as A:B:STEP or one value.
+    /// Base angular frequencies ω (rad per time unit), as A:B:STEP, one value or a comma
+    /// list of them.
     #[arg(long, allow_hyphen_values = true)]
     pub omega: String,
     /// Number of base periods simulated per run (the run stops at the failure).
@@ -74,7 +81,8 @@ pub struct FrequencyArgs {
 /// Arguments of `rollstack blocks sweep slide`.
 #[derive(Debug, Args)]
 pub struct SlideArgs {
-    /// Base speeds v0 (length per time unit), as A:B:STEP or one value.
+    /// Base speeds v0 (length per time unit), as A:B:STEP, one value or a comma list of
+    /// them.
     #[arg(long, allow_hyphen_values = true)]
     pub v0: String,
     /// Time at which the top block's angle is read (Figure 4.7: 3; ERRATA 21).
@@ -91,8 +99,13 @@ pub struct SlideArgs {
     pub output: SweepOutputArgs,
 }
 
-fn sweep_values(text: &str, name: &str, shard: Shard) -> Result<Vec<f64>> {
-    let all = parse_range(text).map_err(|e| anyhow::anyhow!("--{name}: {e}"))?;
+/// The values of `--{name}` this shard runs: `A:B:STEP`, numbers and comma lists of them
+/// ([`parse_values`]).
+///
+/// # Errors
+/// Text that is not such a list.
+pub fn sweep_values(text: &str, name: &str, shard: Shard) -> Result<Vec<f64>> {
+    let all = parse_values(text).map_err(|e| anyhow::anyhow!("--{name}: {e}"))?;
     Ok(shard.select(&all).into_iter().map(|(_, v)| v).collect())
 }
 
@@ -129,6 +142,8 @@ pub fn sweep_frequency(args: &FrequencyArgs) -> Result<()> {
         "frequency",
         &args.output,
         &args.solver,
+        &["sweep_frequency.csv", "sweep_frequency.png"],
+        &serde_json::Map::new(),
         serde_json::json!({
             "omega": args.omega, "periods": args.periods, "amplitude": args.amplitude,
             "blocks": args.blocks, "steps_per_period": args.steps_per_period, "mu": args.mu,
@@ -150,14 +165,17 @@ pub fn sweep_frequency(args: &FrequencyArgs) -> Result<()> {
 }
 
 /// What every sweep does once its rows are written: `run.json` (inputs, version,
-/// timings), then either `{"rows": [...]}` on stdout or one line per row.
+/// timings, and the keys of `extra`), then either `{"rows": [...]}` (with the keys of
+/// `extra`) on stdout or one line per row, the notes and the files written.
 ///
 /// # Errors
 /// An unwritable directory.
-fn finish_sweep<R: Serialize>(
+pub fn finish_sweep<R: Serialize>(
     name: &str,
     output: &SweepOutputArgs,
     solver: &SolverArgs,
+    files: &[&str],
+    extra: &serde_json::Map<String, serde_json::Value>,
     mut inputs: serde_json::Value,
     rows: &[R],
     solver_seconds: f64,
@@ -167,7 +185,7 @@ fn finish_sweep<R: Serialize>(
     inputs["shard"] = format!("{}/{}", output.shard.index, output.shard.count).into();
     inputs["prox_constant"] = serde_json::json!(solver.prox_constant);
     inputs["explore_branches"] = solver.explore_branches.into();
-    write_run_json(
+    write_run_json_with(
         &output.out,
         &format!("blocks sweep {name}"),
         &inputs,
@@ -175,15 +193,28 @@ fn finish_sweep<R: Serialize>(
             "total_s": start.elapsed().as_secs_f64(),
             "solver_s": solver_seconds,
         }),
+        extra,
     )?;
     if output.json {
-        return print_json(&serde_json::json!({ "rows": rows }));
+        let mut object = serde_json::Map::new();
+        object.insert("rows".into(), serde_json::to_value(rows)?);
+        object.extend(extra.clone());
+        return print_json(&object);
     }
     for r in rows {
         println!("{}", line(r));
     }
+    let notes = extra.get("notes").and_then(serde_json::Value::as_array);
+    for n in notes
+        .into_iter()
+        .flatten()
+        .filter_map(serde_json::Value::as_str)
+    {
+        println!("note: {n}");
+    }
     println!(
-        "wrote sweep_{name}.csv and sweep_{name}.png into {}",
+        "wrote {} and run.json into {}",
+        files.join(", "),
         output.out.display()
     );
     Ok(())
@@ -227,6 +258,8 @@ pub fn sweep_slide(args: &SlideArgs) -> Result<()> {
         "slide",
         &args.output,
         &args.solver,
+        &["sweep_slide.csv", "sweep_slide.png"],
+        &serde_json::Map::new(),
         serde_json::json!({ "v0": args.v0, "t_end": args.t_end, "blocks": args.blocks }),
         &rows,
         rows.iter().map(|r| r.wall_time_s).sum(),

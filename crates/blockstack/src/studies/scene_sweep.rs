@@ -1,0 +1,812 @@
+//! Any scene swept over any of its numbers: the scene file with some keys set to other
+//! values (`contact.mu = 0.3`, `blocks.0.width = 0.25`), run once per combination, one
+//! typed row per run.
+//!
+//! - A key is a dotted path into the scene file (docs/scenes.md): `base.omega`,
+//!   `contact.mu`, `contact.e_n`, `solver.steps_per_period`, `floor.y`, …; for the
+//!   `[[blocks]]` entries, `blocks.K.width` sets entry K (counting from 0; an entry with
+//!   `count = 4` is four blocks) and `blocks.width` every entry. Only numbers can be set
+//!   ([`NUMERIC_KEYS`]); `blocks.count` takes whole numbers.
+//! - [`SceneSweep::new`] checks every key against the scene before anything runs: an
+//!   unknown key is one line naming the keys of its table.
+//! - A key absent from the file is added (`contact.e_n`; `floor.y` adds a floor). Setting
+//!   `solver.dt` drops the file's `solver.steps_per_period` and the reverse, and likewise
+//!   `solver.t_end` and `solver.periods`, so that the value set is the one used.
+//! - The changed file goes through the scene loader ([`SceneFile::build`]), so every
+//!   check of a scene applies; a value it refuses (μ < 0, overlapping blocks) and a run
+//!   that stops are the row's `error`, never the sweep's.
+//! - [`SceneSweep::points`] is the cartesian product of the overrides' values, the first
+//!   override varying slowest.
+//!
+//! ```
+//! use blockstack::studies::scene_sweep::{Override, SceneSweep};
+//! use blockstack::RunOptions;
+//!
+//! let text = blockstack::scenes::find("shaking")?.toml;
+//! let overrides: Vec<Override> = vec![
+//!     "contact.mu=0.1,0.3".parse().unwrap(),
+//!     "base.amplitude=0.1:0.2:0.1".parse().unwrap(),
+//! ];
+//! let sweep = SceneSweep::new(text, overrides)?;
+//! let points = sweep.points();
+//! assert_eq!(points.len(), 4);
+//! assert_eq!((points[1][0].value, points[1][1].value), (0.1, 0.2));
+//! let options = RunOptions { t_end: Some(0.05), ..RunOptions::default() };
+//! let row = sweep.row(&points[0], &options);
+//! assert!(row.error.is_none() && row.steps > 0);
+//! assert_eq!(sweep.csv_header()[..3], ["contact.mu", "base.amplitude", "failure_time"]);
+//!
+//! let typo = SceneSweep::new(text, vec!["contact.muu=0.1".parse().unwrap()]);
+//! assert!(typo.unwrap_err().to_string().contains("mu, e_n, e_f"));
+//! # Ok::<(), blockstack::BlockError>(())
+//! ```
+
+use crate::error::BlockError;
+use crate::record::{finite_text, optional_text};
+use crate::scene_file::{LoadedScene, SceneFile};
+use crate::simulation::{simulate, BlockPose, RunOptions};
+use crate::studies::shaking::one_line;
+use serde::Serialize;
+use std::fmt;
+use std::str::FromStr;
+
+/// The tables of a scene file with the keys a sweep can set: every numeric key.
+pub const NUMERIC_KEYS: [(&str, &[&str]); 5] = [
+    ("base", &["width", "height", "amplitude", "omega", "v0"]),
+    (
+        "blocks",
+        &["width", "height", "mass", "count", "x", "y", "theta"],
+    ),
+    ("contact", &["mu", "e_n", "e_f"]),
+    (
+        "solver",
+        &[
+            "dt",
+            "steps_per_period",
+            "t_end",
+            "periods",
+            "rho_inf",
+            "r",
+            "r_alpha",
+            "tol",
+            "gravity",
+        ],
+    ),
+    ("floor", &["y"]),
+];
+
+/// The keys of a scene file that are not numbers and cannot be swept.
+const OTHER_KEYS: [(&str, &str); 2] = [("base", "motion"), ("base", "samples")];
+
+/// Pairs of `[solver]` keys that say the same thing two ways: setting one drops the other.
+const ALTERNATIVES: [(&str, &str); 2] = [("dt", "steps_per_period"), ("t_end", "periods")];
+
+/// Most combinations one sweep may have (ten million).
+pub const MAX_POINTS: usize = 10_000_000;
+
+/// One swept key with its values, as typed: `contact.mu=0.1:0.5:0.1`.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Override {
+    /// The dotted scene key (`contact.mu`, `blocks.0.width`).
+    pub key: String,
+    /// Its values, in order.
+    pub values: Vec<f64>,
+}
+
+impl FromStr for Override {
+    type Err = String;
+
+    /// `KEY=VALUES`, the values as [`input::text::parse_values`] reads them: `A:B:STEP`,
+    /// one number, or a comma list of them.
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        let (key, values) = s.split_once('=').ok_or_else(|| {
+            format!("'{s}' is not KEY=VALUES (e.g. contact.mu=0.1:0.5:0.1 or base.omega=2,4,8)")
+        })?;
+        let key = key.trim();
+        if key.is_empty() {
+            return Err(format!("'{s}' has no key before '='"));
+        }
+        let values = input::text::parse_values(values).map_err(|e| format!("{key}: {e}"))?;
+        Ok(Self {
+            key: key.to_owned(),
+            values,
+        })
+    }
+}
+
+/// One key set to one value: a coordinate of a sweep's point.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct SetValue {
+    /// The dotted scene key.
+    pub key: String,
+    /// The value it is set to.
+    pub value: f64,
+}
+
+/// Which `[[blocks]]` entries, or which table, a key is in.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Place {
+    /// `[base]`, `[contact]`, `[solver]` or `[floor]`.
+    Table(&'static str),
+    /// `blocks.KEY`: every entry.
+    AllBlocks,
+    /// `blocks.K.KEY`: entry K, from 0.
+    Block(usize),
+}
+
+/// A checked scene key: where it is and which field it names.
+#[derive(Debug, Clone, PartialEq, Eq)]
+struct SceneKey {
+    text: String,
+    place: Place,
+    field: &'static str,
+}
+
+impl SceneKey {
+    /// Checks `text` against the keys of a scene file with `entries` `[[blocks]]` entries.
+    fn parse(text: &str, entries: usize) -> Result<Self, BlockError> {
+        let bad = |why: String| BlockError::Key(format!("scene key '{text}': {why}"));
+        let tables = || {
+            NUMERIC_KEYS
+                .iter()
+                .map(|(t, _)| *t)
+                .collect::<Vec<_>>()
+                .join(", ")
+        };
+        let parts: Vec<&str> = text.split('.').collect();
+        let Some((&table_name, rest)) = parts.split_first() else {
+            return Err(bad("empty".into()));
+        };
+        let Some(&(table, fields)) = NUMERIC_KEYS.iter().find(|(t, _)| *t == table_name) else {
+            return Err(bad(format!(
+                "no table '{table_name}' (a key is TABLE.KEY, TABLE one of {}; blocks.K.KEY for [[blocks]] entry K)",
+                tables()
+            )));
+        };
+        let (place, field) = match (table, rest) {
+            ("blocks", [field]) => (Place::AllBlocks, *field),
+            ("blocks", [k, field]) => {
+                let k: usize = k.parse().map_err(|_| {
+                    bad(format!(
+                        "'{k}' is not an entry number (blocks.K.KEY, K from 0, or blocks.KEY for every entry)"
+                    ))
+                })?;
+                if k >= entries {
+                    return Err(bad(format!(
+                        "the scene has {entries} [[blocks]] entr{} (blocks.0 to blocks.{}; an entry with count = N is N blocks)",
+                        if entries == 1 { "y" } else { "ies" },
+                        entries.saturating_sub(1)
+                    )));
+                }
+                (Place::Block(k), *field)
+            }
+            (_, [field]) => (Place::Table(table), *field),
+            _ => {
+                return Err(bad(format!(
+                    "expected {table}.KEY{}",
+                    if table == "blocks" {
+                        " or blocks.K.KEY"
+                    } else {
+                        ""
+                    }
+                )))
+            }
+        };
+        let numeric = || fields.join(", ");
+        let Some(&field) = fields.iter().find(|f| **f == field) else {
+            let header = if table == "blocks" {
+                "[[blocks]]".to_owned()
+            } else {
+                format!("[{table}]")
+            };
+            let what = if OTHER_KEYS.contains(&(table, field)) {
+                "not a number, so it cannot be swept".to_owned()
+            } else {
+                format!("{header} has no key '{field}'")
+            };
+            return Err(bad(format!(
+                "{what} (the numeric keys of {header}: {})",
+                numeric()
+            )));
+        };
+        Ok(Self {
+            text: text.to_owned(),
+            place,
+            field,
+        })
+    }
+
+    /// Whether two keys set the same number of some table or entry.
+    fn overlaps(&self, other: &Self) -> bool {
+        let same_place = match (self.place, other.place) {
+            (Place::Block(_), Place::AllBlocks) | (Place::AllBlocks, Place::Block(_)) => true,
+            (a, b) => a == b,
+        };
+        same_place
+            && (self.field == other.field
+                || ALTERNATIVES.iter().any(|&(a, b)| {
+                    (self.field, other.field) == (a, b) || (self.field, other.field) == (b, a)
+                }))
+    }
+
+    /// Sets this key to `value` in a scene file's table.
+    fn set(&self, file: &mut toml::Table, value: f64) -> Result<(), BlockError> {
+        let item = if self.field == "count" {
+            if value.fract() != 0.0 || !(0.0..=1e15).contains(&value) {
+                return Err(BlockError::Scene(format!(
+                    "{} must be a whole number, got {value}",
+                    self.text
+                )));
+            }
+            // A whole number in [0, 1e15]: the cast is exact.
+            #[allow(clippy::cast_possible_truncation)]
+            toml::Value::Integer(value as i64)
+        } else {
+            toml::Value::Float(value)
+        };
+        let field = self.field;
+        let set_in = |table: &mut toml::Table| {
+            table.insert(field.to_owned(), item.clone());
+            for &(a, b) in &ALTERNATIVES {
+                if field == a {
+                    table.remove(b);
+                } else if field == b {
+                    table.remove(a);
+                }
+            }
+        };
+        let not_table = |name: &str| BlockError::Scene(format!("{name} is not a table"));
+        match self.place {
+            Place::Table(name) => {
+                let table = file
+                    .entry(name)
+                    .or_insert_with(|| toml::Value::Table(toml::Table::new()));
+                set_in(table.as_table_mut().ok_or_else(|| not_table(name))?);
+            }
+            Place::AllBlocks | Place::Block(_) => {
+                let entries = file
+                    .get_mut("blocks")
+                    .and_then(toml::Value::as_array_mut)
+                    .ok_or_else(|| not_table("blocks"))?;
+                for (k, entry) in entries.iter_mut().enumerate() {
+                    if matches!(self.place, Place::Block(j) if j != k) {
+                        continue;
+                    }
+                    set_in(entry.as_table_mut().ok_or_else(|| not_table("blocks"))?);
+                }
+            }
+        }
+        Ok(())
+    }
+}
+
+/// A scene file and the keys swept over it, checked.
+#[derive(Debug, Clone)]
+pub struct SceneSweep {
+    file: toml::Table,
+    keys: Vec<SceneKey>,
+    overrides: Vec<Override>,
+}
+
+impl SceneSweep {
+    /// Reads the scene file `text` and checks the swept keys against it.
+    ///
+    /// # Errors
+    /// A file that does not parse as a scene file ([`SceneFile::parse`]); a key that is
+    /// not a numeric key of the scene, with the keys of its table ([`NUMERIC_KEYS`]); a
+    /// key given twice, or two keys that set the same number (`blocks.width` and
+    /// `blocks.0.width`; `solver.dt` and `solver.steps_per_period`); an override without
+    /// values; more than [`MAX_POINTS`] combinations. One line each. Values are not
+    /// checked here: a bad value is the error of its rows.
+    pub fn new(text: &str, overrides: Vec<Override>) -> Result<Self, BlockError> {
+        let parsed = SceneFile::parse(text)?;
+        let file: toml::Table = text
+            .parse()
+            .map_err(|e: toml::de::Error| BlockError::Scene(one_line(e.message())))?;
+        let mut keys: Vec<SceneKey> = Vec::with_capacity(overrides.len());
+        for o in &overrides {
+            let key = SceneKey::parse(&o.key, parsed.blocks.len())?;
+            if let Some(old) = keys.iter().find(|k| k.overlaps(&key)) {
+                return Err(BlockError::Key(format!(
+                    "scene keys '{}' and '{}' set the same number: sweep one of them",
+                    old.text, key.text
+                )));
+            }
+            if o.values.is_empty() {
+                return Err(BlockError::Key(format!(
+                    "scene key '{}' has no values",
+                    o.key
+                )));
+            }
+            keys.push(key);
+        }
+        let count = overrides
+            .iter()
+            .try_fold(1usize, |n, o| n.checked_mul(o.values.len()));
+        if count.is_none_or(|n| n > MAX_POINTS) {
+            return Err(BlockError::Key(format!(
+                "the sweep has more than {MAX_POINTS} combinations"
+            )));
+        }
+        Ok(Self {
+            file,
+            keys,
+            overrides,
+        })
+    }
+
+    /// The swept keys, in the order given.
+    #[must_use]
+    pub fn keys(&self) -> Vec<&str> {
+        self.keys.iter().map(|k| k.text.as_str()).collect()
+    }
+
+    /// The overrides, as given.
+    #[must_use]
+    pub fn overrides(&self) -> &[Override] {
+        &self.overrides
+    }
+
+    /// Every combination of the values ([`cartesian_product`]).
+    #[must_use]
+    pub fn points(&self) -> Vec<Vec<SetValue>> {
+        cartesian_product(&self.overrides)
+    }
+
+    /// The scene file with the keys of `point` set.
+    ///
+    /// # Errors
+    /// A key this sweep does not sweep, a count that is not a whole number, or a value
+    /// of the wrong type for the file's structure.
+    pub fn file(&self, point: &[SetValue]) -> Result<SceneFile, BlockError> {
+        let mut file = self.file.clone();
+        for set in point {
+            let key = self
+                .keys
+                .iter()
+                .find(|k| k.text == set.key)
+                .ok_or_else(|| {
+                    BlockError::Key(format!("scene key '{}' is not swept here", set.key))
+                })?;
+            key.set(&mut file, set.value)?;
+        }
+        file.try_into()
+            .map_err(|e: toml::de::Error| BlockError::Scene(one_line(e.message().trim())))
+    }
+
+    /// The scene of `point`, through the scene loader and all its checks.
+    ///
+    /// # Errors
+    /// As [`SceneSweep::file`], and every error of [`SceneFile::build`].
+    pub fn scene(&self, point: &[SetValue]) -> Result<LoadedScene, BlockError> {
+        self.file(point)?.build()
+    }
+
+    /// Runs the scene of `point` with `options` (its `t_end`, when given, overrides the
+    /// scene's); every failure (a value the loader refuses, a run that cannot start or
+    /// stops) goes into the row's `error`.
+    #[must_use]
+    pub fn row(&self, point: &[SetValue], options: &RunOptions) -> SceneRow {
+        let mut row = SceneRow {
+            set: point.to_vec(),
+            failure_time: None,
+            opening_time: None,
+            t_final: None,
+            steps: 0,
+            failed_steps: 0,
+            branch_points: 0,
+            min_gap: None,
+            top_x: None,
+            top_y: None,
+            top_theta: None,
+            error: None,
+            wall_time_s: 0.0,
+        };
+        let loaded = match self.scene(point) {
+            Ok(l) => l,
+            Err(e) => {
+                row.error = Some(one_line(&e.to_string()));
+                return row;
+            }
+        };
+        let mut last: Option<(f64, Option<BlockPose>)> = None;
+        match simulate(&loaded.scene, options, |r| {
+            last = Some((r.t, r.poses.last().copied()));
+        }) {
+            Ok(s) => {
+                row.failure_time = s.failure_time;
+                row.opening_time = s.opening_time;
+                row.steps = s.steps;
+                row.failed_steps = s.failed_steps;
+                row.branch_points = s.branch_points.len();
+                row.min_gap = Some(s.min_gap).filter(|g| g.is_finite());
+                row.error = s.error.map(|e| one_line(&e.to_string()));
+                row.wall_time_s = s.wall_time_s;
+                if let Some((t, top)) = last {
+                    row.t_final = Some(t);
+                    row.top_x = top.map(|p| p.x);
+                    row.top_y = top.map(|p| p.y);
+                    row.top_theta = top.map(|p| p.theta);
+                }
+            }
+            Err(e) => row.error = Some(one_line(&e.to_string())),
+        }
+        row
+    }
+
+    /// The columns of the sweep's CSV: the swept keys, then [`SceneRow::MEASURED`].
+    #[must_use]
+    pub fn csv_header(&self) -> Vec<String> {
+        SceneRow::csv_header(&self.keys())
+    }
+}
+
+/// Every combination of the overrides' values, the first override varying slowest
+/// (`a=1,2` and `b=3,4`: (1,3), (1,4), (2,3), (2,4)); one empty combination for no
+/// overrides.
+#[must_use]
+pub fn cartesian_product(overrides: &[Override]) -> Vec<Vec<SetValue>> {
+    let mut points: Vec<Vec<SetValue>> = vec![Vec::new()];
+    for o in overrides {
+        points = points
+            .iter()
+            .flat_map(|p| {
+                o.values.iter().map(move |&value| {
+                    let mut q = p.clone();
+                    q.push(SetValue {
+                        key: o.key.clone(),
+                        value,
+                    });
+                    q
+                })
+            })
+            .collect();
+    }
+    points
+}
+
+/// One run of a scene sweep: the values set, then what the run did.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct SceneRow {
+    /// The keys set and their values, in the order of the sweep's keys.
+    pub set: Vec<SetValue>,
+    /// First loss of support of a block (§4.4), or null.
+    pub failure_time: Option<f64>,
+    /// First full opening of an interface, or null.
+    pub opening_time: Option<f64>,
+    /// Time of the last state computed, or null when the run did not start.
+    pub t_final: Option<f64>,
+    /// Steps taken.
+    pub steps: usize,
+    /// Steps whose first Newton attempt failed.
+    pub failed_steps: usize,
+    /// Branch points recorded.
+    pub branch_points: usize,
+    /// Smallest gap among the contacts that can close over the run, or null when none
+    /// could.
+    pub min_gap: Option<f64>,
+    /// The top block's centre x at `t_final`.
+    pub top_x: Option<f64>,
+    /// The top block's centre y at `t_final`.
+    pub top_y: Option<f64>,
+    /// The top block's angle θ at `t_final` (rad).
+    pub top_theta: Option<f64>,
+    /// Why the scene was refused, could not start or stopped early; null otherwise.
+    pub error: Option<String>,
+    /// Solver time (s).
+    pub wall_time_s: f64,
+}
+
+impl SceneRow {
+    /// The measured columns, after the swept keys' columns.
+    pub const MEASURED: [&'static str; 12] = [
+        "failure_time",
+        "opening_time",
+        "t_final",
+        "steps",
+        "failed_steps",
+        "branch_points",
+        "min_gap",
+        "top_x",
+        "top_y",
+        "top_theta",
+        "error",
+        "wall_time_s",
+    ];
+
+    /// The CSV columns for the swept `keys`: one per key, then [`Self::MEASURED`].
+    #[must_use]
+    pub fn csv_header(keys: &[&str]) -> Vec<String> {
+        keys.iter()
+            .copied()
+            .chain(Self::MEASURED)
+            .map(str::to_owned)
+            .collect()
+    }
+
+    /// The row's cells under [`Self::csv_header`]: numbers in shortest round-trip form,
+    /// an empty cell for a missing or non-finite value.
+    #[must_use]
+    pub fn csv_cells(&self) -> Vec<String> {
+        let mut cells: Vec<String> = self.set.iter().map(|s| finite_text(s.value)).collect();
+        cells.extend([
+            optional_text(self.failure_time),
+            optional_text(self.opening_time),
+            optional_text(self.t_final),
+            self.steps.to_string(),
+            self.failed_steps.to_string(),
+            self.branch_points.to_string(),
+            optional_text(self.min_gap),
+            optional_text(self.top_x),
+            optional_text(self.top_y),
+            optional_text(self.top_theta),
+            self.error.clone().unwrap_or_default(),
+            finite_text(self.wall_time_s),
+        ]);
+        cells
+    }
+}
+
+/// One line: the values set, the failure time, the top block's angle and the steps.
+impl fmt::Display for SceneRow {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let set: Vec<String> = self
+            .set
+            .iter()
+            .map(|s| format!("{} = {}", s.key, s.value))
+            .collect();
+        let num = |v: Option<f64>| v.map_or_else(|| "none".to_owned(), |v| format!("{v:.4}"));
+        write!(
+            f,
+            "{}: failure at t = {}, top theta = {} at t = {}, {} steps",
+            set.join(", "),
+            num(self.failure_time),
+            num(self.top_theta),
+            num(self.t_final),
+            self.steps
+        )?;
+        if let Some(e) = &self.error {
+            write!(f, ", error: {e}")?;
+        }
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scenes;
+
+    fn shaking() -> &'static str {
+        scenes::find("shaking").unwrap().toml
+    }
+
+    fn over(text: &str) -> Override {
+        text.parse().unwrap()
+    }
+
+    fn set(key: &str, value: f64) -> SetValue {
+        SetValue {
+            key: key.to_owned(),
+            value,
+        }
+    }
+
+    fn key_error(keys: &[&str]) -> String {
+        let overrides = keys.iter().map(|k| over(&format!("{k}=1"))).collect();
+        let e = SceneSweep::new(shaking(), overrides)
+            .unwrap_err()
+            .to_string();
+        assert!(!e.contains('\n'), "{e}");
+        e
+    }
+
+    #[test]
+    fn overrides_read_key_equals_values() {
+        let o = over("contact.mu=0:0.5:0.05");
+        assert_eq!(o.key, "contact.mu");
+        assert_eq!(o.values.len(), 11);
+        assert!(o.values.contains(&0.15) && o.values.contains(&0.35));
+        assert_eq!(over(" base.omega = 2,4,8").values, vec![2.0, 4.0, 8.0]);
+        for bad in [
+            "contact.mu",
+            "=1",
+            "contact.mu=",
+            "contact.mu=1,x",
+            "a=1:2:0",
+        ] {
+            assert!(bad.parse::<Override>().is_err(), "{bad}");
+        }
+    }
+
+    #[test]
+    fn overrides_change_the_scene_through_the_loader() {
+        let sweep = SceneSweep::new(
+            shaking(),
+            vec![
+                over("contact.mu=0.3"),
+                over("base.omega=6"),
+                over("blocks.0.width=0.25"),
+                over("blocks.count=2"),
+                over("contact.e_n=0.5"),
+            ],
+        )
+        .unwrap();
+        let point = &sweep.points()[0];
+        let file = sweep.file(point).unwrap();
+        assert_eq!(file.contact.mu, 0.3);
+        assert_eq!(file.contact.e_n, Some(0.5));
+        assert_eq!(file.base.omega, Some(6.0));
+        assert_eq!((file.blocks[0].width, file.blocks[0].count), (0.25, 2));
+        let scene = sweep.scene(point).unwrap().scene;
+        assert_eq!(scene.n_blocks(), 2);
+        // steps_per_period = 100 follows the new omega.
+        assert!((scene.solver.dt - 2.0 * std::f64::consts::PI / 600.0).abs() < 1e-15);
+    }
+
+    #[test]
+    fn setting_one_of_two_alternatives_drops_the_other() {
+        let sweep = SceneSweep::new(
+            shaking(),
+            vec![over("solver.dt=0.02"), over("solver.t_end=0.1")],
+        )
+        .unwrap();
+        let file = sweep.file(&sweep.points()[0]).unwrap();
+        assert_eq!(
+            (file.solver.dt, file.solver.steps_per_period),
+            (Some(0.02), None)
+        );
+        assert_eq!((file.solver.t_end, file.solver.periods), (Some(0.1), None));
+        let scene = sweep.scene(&sweep.points()[0]).unwrap().scene;
+        assert_eq!((scene.solver.dt, scene.solver.t_end), (0.02, 0.1));
+    }
+
+    #[test]
+    fn absent_tables_are_added() {
+        let lire = scenes::find("lire").unwrap().toml;
+        assert!(crate::Scene::from_toml(lire).unwrap().floor().is_none());
+        let sweep = SceneSweep::new(lire, vec![over("floor.y=-5")]).unwrap();
+        let scene = sweep.scene(&sweep.points()[0]).unwrap().scene;
+        assert_eq!(scene.floor().map(|f| f.y), Some(-5.0));
+    }
+
+    #[test]
+    fn unknown_keys_are_one_line_naming_the_keys_of_their_table() {
+        let e = key_error(&["contact.muu"]);
+        assert!(
+            e.contains("'contact.muu'") && e.contains("mu, e_n, e_f"),
+            "{e}"
+        );
+        let e = key_error(&["colour.red"]);
+        assert!(e.contains("base, blocks, contact, solver, floor"), "{e}");
+        let e = key_error(&["base.motion"]);
+        assert!(
+            e.contains("not a number") && e.contains("width, height, amplitude"),
+            "{e}"
+        );
+        let e = key_error(&["blocks.1.width"]);
+        assert!(e.contains("1 [[blocks]] entry"), "{e}");
+        assert!(key_error(&["blocks.first.width"]).contains("entry number"));
+        assert!(key_error(&["blocks.0.colour"]).contains("mass, count"));
+        assert!(key_error(&["contact"]).contains("contact.KEY"));
+        assert!(key_error(&["contact.mu.x"]).contains("contact.KEY"));
+        assert!(key_error(&["contact.mu", "contact.mu"]).contains("same number"));
+        assert!(key_error(&["blocks.width", "blocks.0.width"]).contains("same number"));
+        assert!(key_error(&["solver.dt", "solver.steps_per_period"]).contains("same number"));
+        assert!(SceneSweep::new("[base]\n", vec![]).is_err());
+    }
+
+    #[test]
+    fn the_numeric_keys_are_every_key_of_a_scene_file() {
+        // A file with every key given: its keys are NUMERIC_KEYS and OTHER_KEYS.
+        let text = "[base]\nwidth = 1\nheight = 0.1\nmotion = \"harmonic\"\namplitude = 0.1\nomega = 1\nv0 = 1\nsamples = [[0, 0], [1, 1]]\n\
+            [[blocks]]\nwidth = 1\nheight = 1\nmass = 1\ncount = 1\nx = 0\ny = 1\ntheta = 0\n\
+            [contact]\nmu = 0.1\ne_n = 0\ne_f = 0\n\
+            [solver]\ndt = 0.1\nsteps_per_period = 1\nt_end = 1\nperiods = 1\nrho_inf = 0.5\nr = 1\nr_alpha = 1\ntol = 1e-9\ngravity = 1\n\
+            [floor]\ny = 0\n";
+        let file = SceneFile::parse(text).unwrap();
+        let value = toml::Table::try_from(&file).unwrap();
+        let mut seen = Vec::new();
+        for (table, v) in &value {
+            let inner = match v {
+                toml::Value::Array(a) => a[0].as_table().unwrap(),
+                other => other.as_table().unwrap(),
+            };
+            seen.extend(inner.keys().map(|k| format!("{table}.{k}")));
+        }
+        let mut known: Vec<String> = NUMERIC_KEYS
+            .iter()
+            .flat_map(|(t, keys)| keys.iter().map(move |k| format!("{t}.{k}")))
+            .chain(OTHER_KEYS.iter().map(|(t, k)| format!("{t}.{k}")))
+            .collect();
+        seen.sort();
+        known.sort();
+        assert_eq!(seen, known);
+    }
+
+    #[test]
+    fn the_product_varies_the_first_override_slowest() {
+        let o = [over("a.x=1,2"), over("b.y=3:5:1")];
+        let points = cartesian_product(&o);
+        let values: Vec<(f64, f64)> = points.iter().map(|p| (p[0].value, p[1].value)).collect();
+        assert_eq!(
+            values,
+            [
+                (1.0, 3.0),
+                (1.0, 4.0),
+                (1.0, 5.0),
+                (2.0, 3.0),
+                (2.0, 4.0),
+                (2.0, 5.0)
+            ]
+        );
+        assert!(points
+            .iter()
+            .all(|p| p[0].key == "a.x" && p[1].key == "b.y"));
+        assert_eq!(cartesian_product(&[]), vec![Vec::<SetValue>::new()]);
+    }
+
+    #[test]
+    fn a_bad_value_or_a_stopped_run_is_the_rows_error() {
+        let sweep = SceneSweep::new(
+            shaking(),
+            vec![over("contact.mu=-0.1,0.2"), over("blocks.count=1.5,1")],
+        )
+        .unwrap();
+        let options = RunOptions {
+            t_end: Some(0.05),
+            ..RunOptions::default()
+        };
+        let rows: Vec<SceneRow> = sweep
+            .points()
+            .iter()
+            .map(|p| sweep.row(p, &options))
+            .collect();
+        assert_eq!(rows.len(), 4);
+        assert!(
+            rows[0].error.as_deref().is_some_and(|e| e.contains("mu")),
+            "{:?}",
+            rows[0]
+        );
+        assert!(rows[1].error.as_deref().is_some_and(|e| e.contains("mu")));
+        let e = rows[2].error.as_deref().unwrap();
+        assert!(e.contains("blocks.count must be a whole number"), "{e}");
+        let good = &rows[3];
+        assert!(good.error.is_none() && good.steps > 0, "{good:?}");
+        // Steps of 2π/400: the last one passes t_end = 0.05.
+        assert!(
+            good.t_final.is_some_and(|t| (0.05..0.07).contains(&t)),
+            "{good:?}"
+        );
+        assert!(good.top_theta.is_some_and(|a| a.abs() < 1e-3));
+        // Failed rows keep their values and leave the measured cells empty.
+        let cells = rows[0].csv_cells();
+        assert_eq!(cells.len(), sweep.csv_header().len());
+        assert_eq!(cells[..4], ["-0.1", "1.5", "", ""]);
+        assert_eq!(
+            sweep
+                .row(&[set("contact.e_f", 0.0)], &options)
+                .error
+                .as_deref(),
+            Some("scene key 'contact.e_f' is not swept here")
+        );
+        let text = rows[3].to_string();
+        assert!(
+            text.starts_with("contact.mu = 0.2, blocks.count = 1: failure at t = none"),
+            "{text}"
+        );
+    }
+
+    #[test]
+    fn the_header_puts_the_keys_first() {
+        let sweep = SceneSweep::new(
+            shaking(),
+            vec![over("contact.mu=0.1"), over("base.omega=1")],
+        )
+        .unwrap();
+        let header = sweep.csv_header();
+        assert_eq!(header[..2], ["contact.mu", "base.omega"]);
+        assert_eq!(header[2..], SceneRow::MEASURED);
+        assert_eq!(sweep.keys(), ["contact.mu", "base.omega"]);
+    }
+}

@@ -1,0 +1,103 @@
+//! `rollstack blocks sweep scene`: a scene run once per combination of the values of its
+//! `--set` keys, with the rows of `blockstack::studies::scene_sweep`, run in parallel and
+//! written in input order through the plumbing of the other sweeps ([`super::sweep`]).
+
+use super::sweep::{finish_sweep, SweepOutputArgs};
+use super::SolverArgs;
+use crate::output::{ensure_dir, write_csv};
+use crate::sweep::par_map_ordered;
+use anyhow::{Context, Result};
+use blockstack::studies::scene_sweep::{Override, SceneRow, SceneSweep};
+use clap::Args;
+use figures::blocks::plot_scene_sweep;
+use input::text::parse_finite;
+use std::path::PathBuf;
+use std::time::Instant;
+
+/// Arguments of `rollstack blocks sweep scene`.
+#[derive(Debug, Args)]
+pub struct SceneArgs {
+    /// The scene: a TOML file (keys: docs/scenes.md) or the name of a built-in scene, as
+    /// in `blocks run`.
+    pub scene: PathBuf,
+    /// A scene key and its values, KEY=VALUES: `contact.mu=0.1:0.5:0.1`,
+    /// `base.omega=2,4,8`, `blocks.0.width=0.25` (`[[blocks]]` entry 0), `blocks.width=0.3`
+    /// (every entry). Repeat for a cartesian product; the first varies slowest.
+    #[arg(long = "set", required = true, value_name = "KEY=VALUES", allow_hyphen_values = true,
+          value_parser = check_override)]
+    pub set: Vec<String>,
+    /// End time of every run (model time units; overrides the scene's solver.t_end).
+    #[arg(long, value_parser = parse_finite, allow_hyphen_values = true)]
+    pub t_end: Option<f64>,
+    /// Stop each run at its first loss of support (the failure time is then its last
+    /// state).
+    #[arg(long)]
+    pub stop_at_failure: bool,
+    #[command(flatten)]
+    #[allow(missing_docs)]
+    pub solver: SolverArgs,
+    #[command(flatten)]
+    #[allow(missing_docs)]
+    pub output: SweepOutputArgs,
+}
+
+/// Runs `rollstack blocks sweep scene`.
+///
+/// # Errors
+/// An unreadable scene, an unknown key (before any run), bad options, or an unwritable
+/// output directory. A value the scene refuses is the error of its rows.
+pub fn sweep_scene(args: &SceneArgs) -> Result<()> {
+    let start = Instant::now();
+    let (text, what) = super::scenes::scene_text(&args.scene)?;
+    let overrides = args
+        .set
+        .iter()
+        .map(|s| s.parse::<Override>().map_err(anyhow::Error::msg))
+        .collect::<Result<Vec<_>>>()?;
+    let sweep = SceneSweep::new(&text, overrides).with_context(|| what)?;
+    let options = args.solver.run_options(args.t_end, args.stop_at_failure)?;
+    let points: Vec<_> = args
+        .output
+        .shard
+        .select(&sweep.points())
+        .into_iter()
+        .map(|(_, p)| p)
+        .collect();
+    let rows = par_map_ordered(&points, "scene", |p| sweep.row(p, &options));
+    let dir = &args.output.out;
+    ensure_dir(dir)?;
+    let header = sweep.csv_header();
+    write_csv(
+        &dir.join("sweep_scene.csv"),
+        &header.iter().map(String::as_str).collect::<Vec<_>>(),
+        rows.iter().map(SceneRow::csv_cells),
+    )?;
+    let drawn = plot_scene_sweep(&dir.join("sweep_scene.png"), &rows)?;
+    let mut files = vec!["sweep_scene.csv"];
+    files.extend(drawn.files.iter().map(String::as_str));
+    let mut extra = serde_json::Map::new();
+    extra.insert("notes".into(), serde_json::to_value(&drawn.notes)?);
+    finish_sweep(
+        "scene",
+        &args.output,
+        &args.solver,
+        &files,
+        &extra,
+        serde_json::json!({
+            "scene": args.scene.display().to_string(),
+            "set": args.set,
+            "t_end": args.t_end,
+            "stop_at_failure": args.stop_at_failure,
+        }),
+        &rows,
+        rows.iter().map(|r| r.wall_time_s).sum(),
+        start,
+        ToString::to_string,
+    )
+}
+
+/// Checks the syntax of one `--set KEY=VALUES` (keys are checked against the scene
+/// later), keeping the text as typed for `run.json`.
+fn check_override(text: &str) -> Result<String, String> {
+    text.parse::<Override>().map(|_| text.to_owned())
+}
