@@ -41,6 +41,16 @@ pub enum SchemeArg {
     Moreau,
 }
 
+impl From<SystemArg> for WorkPrecisionSystem {
+    fn from(s: SystemArg) -> Self {
+        match s {
+            SystemArg::Ball => Self::Ball,
+            SystemArg::Oscillator => Self::Oscillator,
+            SystemArg::Incline => Self::Incline,
+        }
+    }
+}
+
 impl From<SchemeArg> for Scheme {
     fn from(s: SchemeArg) -> Self {
         match s {
@@ -179,11 +189,7 @@ fn write_ball_files(dir: &Path, r: &BallRun, a: &BallArgs) -> Result<()> {
 }
 
 fn work_precision_command(a: &WorkPrecisionArgs) -> Result<()> {
-    let system = match a.system {
-        SystemArg::Ball => WorkPrecisionSystem::Ball,
-        SystemArg::Oscillator => WorkPrecisionSystem::Oscillator,
-        SystemArg::Incline => WorkPrecisionSystem::Incline,
-    };
+    let system: WorkPrecisionSystem = a.system.into();
     let dts = input::text::parse_number_list(&a.dts).map_err(anyhow::Error::msg)?;
     if dts.iter().any(|&d| !(d > 0.0 && d <= 0.1)) {
         bail!("every --dts value must be in (0, 0.1] s");
@@ -202,13 +208,13 @@ fn work_precision_command(a: &WorkPrecisionArgs) -> Result<()> {
     )?;
     plot_work_precision(
         &a.out.join("work_precision.png"),
-        &format!("Work-precision: {:?}", a.system).to_lowercase(),
+        &format!("Work-precision: {}", system.name()),
         &rows,
     )?;
     write_run_json(
         &a.out,
         "nsga work-precision",
-        &serde_json::json!({"system": format!("{:?}", a.system).to_lowercase(), "dts": dts, "rho_inf": rhos, "repeat": repeat}),
+        &serde_json::json!({"system": system.name(), "dts": dts, "rho_inf": rhos, "repeat": repeat}),
         &serde_json::json!({"total_wall_time_s": rows.iter().map(|r| r.wall_time_s).sum::<f64>()}),
     )?;
     if a.json {

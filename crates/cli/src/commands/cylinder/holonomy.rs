@@ -123,7 +123,7 @@ pub(super) fn run_rectangle(a: &RectangleArgs) -> Result<()> {
             dir,
             "cylinder holonomy rectangle",
             &serde_json::json!({"theta": theta, "phi1": path.phi1, "phi2": path.phi2, "s": path.s,
-                "case": format!("{:?}", path.case), "cw": a.cw, "psi0": psi0, "h_over_r": a.h_over_r}),
+                "case": path.case.name(), "cw": a.cw, "psi0": psi0, "h_over_r": a.h_over_r}),
             &serde_json::json!({"total_s": start.elapsed().as_secs_f64()}),
         )?;
     }
@@ -183,7 +183,7 @@ pub(super) fn run_circle(a: &CircleArgs) -> Result<()> {
             dir,
             "cylinder holonomy circle",
             &serde_json::json!({"ell": a.ell, "theta": theta, "h": a.h, "r": a.r,
-                "case": format!("{:?}", path.case), "cw": a.cw}),
+                "case": path.case.name(), "cw": a.cw}),
             &serde_json::json!({"total_s": start.elapsed().as_secs_f64()}),
         )?;
     }
