@@ -8,7 +8,7 @@ use cylinders::kinematics::Cylinder;
 use cylinders::studies::frobenius::{
     integrability_report, ConstraintSystem, FrobeniusCase, PairConfiguration,
 };
-use input::text::Angle;
+use input::text::RotationAngle;
 
 /// The constraint systems of `cylinder frobenius`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
@@ -60,10 +60,10 @@ pub struct FrobeniusArgs {
     pub config: ConfigArg,
     /// Inclination ϑ of the cylinders, in (0, π/2), rad.
     #[arg(long, allow_hyphen_values = true, default_value = "0.4")]
-    pub theta: Angle,
+    pub theta: RotationAngle,
     /// Heading (precession ψ of cylinder I), rad.
     #[arg(long, allow_hyphen_values = true, default_value = "0.5")]
-    pub heading: Angle,
+    pub heading: RotationAngle,
     /// Where the cylinders touch along their axes, from the centre (m* = n*), metres.
     #[arg(long, allow_hyphen_values = true, default_value_t = 0.3)]
     pub contact_at: f64,

@@ -9,7 +9,7 @@ use cylinders::kinematics::{check_point_contact, Cylinder};
 use cylinders::rolling::{RollingTrace, Sample};
 use cylinders::studies::holonomy::{circle_report, plan_view, rectangle_report, RollSettings};
 use figures::cylinders::plot_trace;
-use input::text::Angle;
+use input::text::{Angle, RotationAngle};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
@@ -64,7 +64,7 @@ fn direction(cw: bool) -> Direction {
 pub struct RectangleArgs {
     /// Inclination ϑ, in (0, π/2), rad (`pi/10` accepted).
     #[arg(long, allow_hyphen_values = true)]
-    pub theta: Angle,
+    pub theta: RotationAngle,
     /// φ1 > 0: a side of the rectangle is rφ1/2 long (rad of spin).
     #[arg(long, allow_hyphen_values = true)]
     pub phi1: Angle,
@@ -82,7 +82,7 @@ pub struct RectangleArgs {
     pub cw: bool,
     /// Initial precession ψ0, rad (sets ₀e3 of (3.4.4)).
     #[arg(long, allow_hyphen_values = true, default_value = "0")]
-    pub psi0: Angle,
+    pub psi0: RotationAngle,
     /// Height of the cylinder in units of r (only for the rolled traces; Figure 3.10: 8.3333).
     #[arg(long, default_value_t = 25.0 / 3.0)]
     pub h_over_r: f64,
@@ -142,7 +142,7 @@ pub struct CircleArgs {
     pub ell: f64,
     /// Inclination ϑ, in (0, π/2), rad (`pi/10` accepted).
     #[arg(long, allow_hyphen_values = true)]
-    pub theta: Angle,
+    pub theta: RotationAngle,
     /// Height h of the cylinder.
     #[arg(long)]
     pub h: f64,

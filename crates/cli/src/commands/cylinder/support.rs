@@ -5,14 +5,14 @@ use crate::output::print_json;
 use anyhow::Result;
 use clap::Args;
 use cylinders::studies::support::support_report;
-use input::text::Angle;
+use input::text::RotationAngle;
 
 /// Arguments of `rollstack cylinder support`.
 #[derive(Debug, Args)]
 pub struct SupportArgs {
     /// Inclination ϑ of the axis to the vertical, in (0, π/2), rad (`30deg` accepted).
     #[arg(long, allow_hyphen_values = true)]
-    pub theta: Angle,
+    pub theta: RotationAngle,
     /// Aspect ratio r/h (radius over height, dimensionless, ≥ 0).
     #[arg(long, default_value_t = 0.1, allow_hyphen_values = true)]
     pub r_over_h: f64,

@@ -1,0 +1,84 @@
+//! The words the commands share (docs/cli.md, Conventions): one flag per quantity in every
+//! command that takes it, the old names still accepted, and one explanation for the same
+//! mistake wherever it is made.
+
+mod common;
+
+use common::run;
+
+/// The explanation of a bare angle beyond 2π.
+fn degrees_hint(value: &str) -> String {
+    format!("{value} rad is more than 2π: write {value}deg for degrees, or give radians")
+}
+
+#[test]
+fn a_rotation_angle_in_degrees_without_deg_is_explained() {
+    let (ok, _, err) = run(&["sphere", "plan", "--angle", "90", "--axis", "0,0,1"]);
+    assert!(!ok && err.contains(&degrees_hint("90")), "{err}");
+    let (ok, _, err) = run(&["sphere", "plan", "--angle", "90deg", "--axis", "0,0,1"]);
+    assert!(ok, "{err}");
+    // The same words from every rotation angle, inclination and heading.
+    for args in [
+        vec!["cylinder", "support", "--theta", "45"],
+        vec!["cylinder", "frobenius", "--theta", "45"],
+        vec!["cylinder", "frobenius", "--heading", "45"],
+        vec![
+            "cylinder",
+            "holonomy",
+            "rectangle",
+            "--theta",
+            "45",
+            "--phi1",
+            "1",
+            "--phi2",
+            "1",
+        ],
+        vec![
+            "cylinder",
+            "holonomy",
+            "rectangle",
+            "--theta",
+            "0.3",
+            "--phi1",
+            "1",
+            "--phi2",
+            "1",
+            "--psi0",
+            "45",
+        ],
+        vec![
+            "cylinder", "holonomy", "circle", "--ell", "0.3", "--theta", "45", "--h", "1", "--r",
+            "1",
+        ],
+        vec!["rotation", "--from", "axis-angle", "--values", "0,0,1,45"],
+        vec![
+            "sphere",
+            "euler-plan",
+            "--set",
+            "3-1-3",
+            "--angles",
+            "30deg,45,60deg",
+        ],
+    ] {
+        let (ok, _, err) = run(&args);
+        assert!(!ok && err.contains(&degrees_hint("45")), "{args:?}: {err}");
+    }
+    let (ok, _, err) = run(&["cylinder", "support", "--theta", "45deg"]);
+    assert!(ok, "{err}");
+    // Path lengths given as angles may be long: φ2 = 9 rad, φ1 = 13π/3.
+    assert!(run(&["sphere", "holonomy", "--theta", "1", "--phi1", "0", "--phi2", "9"]).0);
+    let (ok, _, err) = run(&[
+        "cylinder",
+        "holonomy",
+        "rectangle",
+        "--theta",
+        "pi/10",
+        "--phi1",
+        "13pi/3",
+        "--phi2",
+        "7",
+        "--max-step",
+        "0.1",
+    ]);
+    assert!(ok, "{err}");
+}
