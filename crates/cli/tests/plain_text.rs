@@ -169,7 +169,7 @@ fn cases() -> Vec<Case> {
                 "0.01",
                 "--scheme",
                 "moreau",
-                "--prox-r",
+                "--prox-constant",
                 "0.3",
             ],
             true,

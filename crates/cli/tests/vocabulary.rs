@@ -12,6 +12,67 @@ fn degrees_hint(value: &str) -> String {
 }
 
 #[test]
+fn nsga_ball_takes_prox_constant_and_its_old_name() {
+    // run.json records the constant r under the one name, whichever name gave it.
+    for (flag, tag) in [("--prox-constant", "new"), ("--prox-r", "old")] {
+        let dir = common::temp_dir(&format!("vocabulary-prox-{tag}"));
+        let d = dir.to_string_lossy().into_owned();
+        let v = common::json(&[
+            "nsga", "ball", "--case", "2", "--dt", "0.01", flag, "0.3", "--out", &d, "--json",
+        ]);
+        assert_eq!(v["case"], 2);
+        let text = std::fs::read_to_string(dir.join("run.json")).unwrap();
+        let run_json: serde_json::Value = serde_json::from_str(&text).unwrap();
+        assert_eq!(run_json["inputs"]["prox_constant"], 0.3, "{flag}");
+        let _ = std::fs::remove_dir_all(dir);
+    }
+    let (ok, _, err) = run(&["nsga", "ball", "--case", "2", "--prox-constant", "-1"]);
+    assert!(
+        !ok && err.contains("--prox-constant must be positive"),
+        "{err}"
+    );
+    // The old name stays out of the help.
+    let (_, help, _) = run(&["nsga", "ball", "--help"]);
+    assert!(help.contains("--prox-constant") && !help.contains("--prox-r"));
+}
+
+#[test]
+fn work_precision_runs_without_out() {
+    let v = common::json(&[
+        "nsga",
+        "work-precision",
+        "--system",
+        "oscillator",
+        "--dts",
+        "0.01",
+        "--rho-inf",
+        "0.5",
+        "--repeat",
+        "1",
+        "--json",
+    ]);
+    assert_eq!(v["rows"].as_array().unwrap().len(), 2);
+    assert!(v["csv"].is_null());
+    assert_eq!(v["rows"][1]["scheme"], "moreau");
+    let (ok, text, _) = run(&[
+        "nsga",
+        "work-precision",
+        "--system",
+        "incline",
+        "--dts",
+        "0.01",
+        "--rho-inf",
+        "0.5",
+        "--repeat",
+        "1",
+    ]);
+    assert!(
+        ok && text.lines().count() == 2 && !text.contains("wrote"),
+        "{text}"
+    );
+}
+
+#[test]
 fn a_rotation_angle_in_degrees_without_deg_is_explained() {
     let (ok, _, err) = run(&["sphere", "plan", "--angle", "90", "--axis", "0,0,1"]);
     assert!(!ok && err.contains(&degrees_hint("90")), "{err}");
