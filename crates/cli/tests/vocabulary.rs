@@ -73,6 +73,71 @@ fn work_precision_runs_without_out() {
 }
 
 #[test]
+fn sweeps_and_statics_run_without_out() {
+    let v = common::json(&[
+        "blocks",
+        "sweep",
+        "frequency",
+        "--omega",
+        "10",
+        "--periods",
+        "0.2",
+        "--blocks",
+        "1",
+        "--json",
+    ]);
+    assert_eq!(v["rows"].as_array().unwrap().len(), 1);
+    let (ok, text, _) = run(&[
+        "blocks", "sweep", "slide", "--v0", "0.1", "--t-end", "0.05", "--blocks", "1",
+    ]);
+    assert!(
+        ok && text.starts_with("v0 = 0.1000: ") && !text.contains("wrote"),
+        "{text}"
+    );
+    let (ok, text, _) = run(&["cylinder", "statics", "--points", "11"]);
+    assert!(ok && text.starts_with("computed Figures 3.3"), "{text}");
+}
+
+#[test]
+fn slide_sweep_takes_mu() {
+    let slide = |mu: Option<&str>| {
+        let mut args = vec![
+            "blocks", "sweep", "slide", "--v0", "0.5", "--t-end", "0.3", "--blocks", "1", "--json",
+        ];
+        if let Some(mu) = mu {
+            args.extend(["--mu", mu]);
+        }
+        common::json(&args)["rows"][0].clone()
+    };
+    let default = slide(None);
+    assert_eq!(default, {
+        let mut v = slide(Some("0.2"));
+        v["wall_time_s"] = default["wall_time_s"].clone();
+        v
+    });
+    let rough = slide(Some("0.5"));
+    assert!(rough["error"].is_null() && default["error"].is_null());
+    assert_ne!(
+        rough["top_angle"], default["top_angle"],
+        "{rough} vs {default}"
+    );
+    let (ok, _, err) = run(&["blocks", "sweep", "slide", "--v0", "0.5", "--mu", "-1"]);
+    assert!(!ok && err.contains("--mu must not be negative"), "{err}");
+    // run.json records it.
+    let dir = common::temp_dir("vocabulary-slide-mu");
+    let d = dir.to_string_lossy().into_owned();
+    let (ok, _, _) = run(&[
+        "blocks", "sweep", "slide", "--v0", "0.5", "--t-end", "0.05", "--blocks", "1", "--mu",
+        "0.5", "--out", &d,
+    ]);
+    assert!(ok);
+    let run_json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("run.json")).unwrap()).unwrap();
+    assert_eq!(run_json["inputs"]["mu"], 0.5);
+    let _ = std::fs::remove_dir_all(dir);
+}
+
+#[test]
 fn a_rotation_angle_in_degrees_without_deg_is_explained() {
     let (ok, _, err) = run(&["sphere", "plan", "--angle", "90", "--axis", "0,0,1"]);
     assert!(!ok && err.contains(&degrees_hint("90")), "{err}");
