@@ -37,6 +37,81 @@ fn nsga_ball_takes_prox_constant_and_its_old_name() {
 }
 
 #[test]
+fn cylinder_commands_take_r_over_h() {
+    let rect = [
+        "cylinder",
+        "holonomy",
+        "rectangle",
+        "--theta",
+        "pi/10",
+        "--phi1",
+        "1",
+        "--phi2",
+        "1",
+        "--max-step",
+        "0.05",
+        "--json",
+    ];
+    let with = |extra: &[&str]| {
+        let mut args = rect.to_vec();
+        args.extend(extra);
+        common::json(&args)
+    };
+    let default = with(&[]);
+    // h/r = 25/3 is r/h = 0.12 (Figure 3.10), the default.
+    assert_eq!(default, with(&["--h-over-r", "8.333333333333334"]));
+    assert_eq!(default, with(&["--r-over-h", "0.12"]));
+    let squat = with(&["--r-over-h", "0.5"]);
+    assert_eq!(squat, with(&["--h-over-r", "2"]));
+    assert_ne!(
+        squat["rolling_closure_error"],
+        default["rolling_closure_error"]
+    );
+    let mut both = rect.to_vec();
+    both.extend(["--r-over-h", "0.5", "--h-over-r", "2"]);
+    assert!(!run(&both).0, "the two forms of one value conflict");
+    let (_, help, _) = run(&["cylinder", "holonomy", "rectangle", "--help"]);
+    assert!(help.contains("--r-over-h") && !help.contains("--h-over-r"));
+
+    // The circle and the Frobenius test: --r-over-h instead of --h.
+    let circle = |size: &[&str]| {
+        let mut args = vec![
+            "cylinder",
+            "holonomy",
+            "circle",
+            "--ell",
+            "0.3",
+            "--theta",
+            "pi/10",
+            "--max-step",
+            "0.05",
+            "--json",
+        ];
+        args.extend(size);
+        common::json(&args)
+    };
+    assert_eq!(
+        circle(&["--r", "0.1", "--h", "1"]),
+        circle(&["--r", "0.1", "--r-over-h", "0.1"])
+    );
+    let (ok, _, err) = run(&[
+        "cylinder", "holonomy", "circle", "--ell", "0.3", "--theta", "pi/10",
+    ]);
+    assert!(
+        !ok && err.contains("--h"),
+        "one of --h, --r-over-h is needed: {err}"
+    );
+    let frob = |size: &[&str]| {
+        let mut args = vec!["cylinder", "frobenius", "--r", "0.1", "--json"];
+        args.extend(size);
+        let mut v = common::json(&args);
+        v.as_object_mut().unwrap().remove("wall_time_s");
+        v
+    };
+    assert_eq!(frob(&["--h", "0.5"]), frob(&["--r-over-h", "0.2"]));
+}
+
+#[test]
 fn work_precision_runs_without_out() {
     let v = common::json(&[
         "nsga",
