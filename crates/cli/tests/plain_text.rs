@@ -100,7 +100,7 @@ fn cases() -> Vec<Case> {
         // No smooth or (−) support: the missing forces.
         case(
             &[
-                "cylinder", "support", "--theta", "5deg", "--mu", "0.6",
+                "cylinder", "support", "--theta", "5deg", "--mu", "0.6", "--mass", "2",
             ],
             true,
             false,

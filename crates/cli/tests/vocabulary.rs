@@ -283,3 +283,41 @@ fn a_rotation_angle_in_degrees_without_deg_is_explained() {
     ]);
     assert!(ok, "{err}");
 }
+
+#[test]
+fn cylinder_support_forces_in_newtons() {
+    let over_mg = common::json(&["cylinder", "support", "--theta", "30deg", "--json"]);
+    assert!(over_mg.get("forces_newton").is_none());
+    let v = common::json(&[
+        "cylinder",
+        "support",
+        "--theta",
+        "30deg",
+        "--mass",
+        "2",
+        "--gravity",
+        "10",
+        "--json",
+    ]);
+    let n = &v["forces_newton"];
+    assert_eq!(n["weight"], 20.0);
+    let f3 = over_mg["min_force"]["f3_over_mg"].as_f64().unwrap();
+    assert!((n["f3_up"].as_f64().unwrap() - 20.0 * f3).abs() < 1e-12);
+    // The /mg values are unchanged.
+    let mut without = v.clone();
+    without.as_object_mut().unwrap().remove("forces_newton");
+    assert_eq!(without, over_mg);
+    let (ok, text, _) = run(&["cylinder", "support", "--theta", "30deg", "--mass", "2"]);
+    assert!(ok);
+    assert!(text.contains("F3/mg = ") && text.contains(" (vertical, up), F/mg = "));
+    assert!(text.contains("(horizontal, along e′2)"), "{text}");
+    assert!(
+        text.contains("in newtons (m = 2 kg, g = 9.81 m/s²"),
+        "{text}"
+    );
+    let (ok, _, err) = run(&["cylinder", "support", "--theta", "30deg", "--gravity", "10"]);
+    assert!(
+        !ok && err.contains("--mass"),
+        "--gravity needs --mass: {err}"
+    );
+}
