@@ -246,19 +246,44 @@ pub fn shaking_column(p: &Shaking) -> Result<Scene, BlockError> {
     )
 }
 
+/// Parameters of the column on a pulled base (§4.5, Figure 4.7).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Sliding {
+    /// Number of free blocks (Figure 4.7: 4).
+    pub blocks: usize,
+    /// Speed v₀ of the base from t = 0.
+    pub v0: f64,
+    /// End time (Figure 4.7: 3; ERRATA 21 notes the published runs stopped at 2.5).
+    pub t_end: f64,
+    /// Friction coefficient at every contact (Figure 4.7: 0.2).
+    pub mu: f64,
+}
+
+impl Default for Sliding {
+    /// Figure 4.7 at v₀ = 1: four blocks, t_end = 3, μ = 0.2.
+    fn default() -> Self {
+        Self {
+            blocks: 4,
+            v0: 1.0,
+            t_end: 3.0,
+            mu: 0.2,
+        }
+    }
+}
+
 /// The column on a sliding base (§4.5, Figure 4.7): base and blocks all w = 0.2, h = 0.4,
-/// m = 1, μ = 0.2; the base moves at v₀ from t = 0; the blocks land on a floor at the base's
-/// bottom; t_end = 3 (Figure 4.7; ERRATA 21 notes the published runs stopped at 2.5).
+/// m = 1, friction `p.mu` (0.2 in the thesis); the base moves at v₀ from t = 0; the
+/// blocks land on a floor at the base's bottom; t_end = 3 in Figure 4.7.
 ///
 /// # Errors
-/// Bad parameters.
-pub fn sliding_column(blocks: usize, v0: f64, t_end: f64) -> Result<Scene, BlockError> {
-    let base = Base::new(0.2, 0.4, BaseMotion::constant_velocity(v0)?)?;
+/// Bad parameters (a negative μ, …).
+pub fn sliding_column(p: &Sliding) -> Result<Scene, BlockError> {
+    let base = Base::new(0.2, 0.4, BaseMotion::constant_velocity(p.v0)?)?;
     let block = Block::new(0.2, 0.4, 1.0)?;
-    let stacked = stack_on(&base, &vec![(block, 0.0, 0.0); blocks])?;
+    let stacked = stack_on(&base, &vec![(block, 0.0, 0.0); p.blocks])?;
     let floor = Some(Floor::new(base.bottom()));
     let solver = SolverParams {
-        t_end,
+        t_end: p.t_end,
         ..SolverParams::default()
     };
     Scene::new(
@@ -266,7 +291,7 @@ pub fn sliding_column(blocks: usize, v0: f64, t_end: f64) -> Result<Scene, Block
         stacked,
         floor,
         ContactParams {
-            mu: 0.2,
+            mu: p.mu,
             e_n: 0.0,
             e_f: 0.0,
         },
@@ -379,9 +404,20 @@ mod tests {
         assert_eq!(s.n_blocks(), 4);
         assert!((s.solver.dt - 2.0 * PI / 400.0).abs() < 1e-15);
         assert!((s.base().height() - 0.1).abs() < 1e-15);
-        let s = sliding_column(4, 1.0, 3.0).unwrap();
+        let s = sliding_column(&Sliding::default()).unwrap();
         assert_eq!(s.n_blocks(), 4);
         assert!((s.contact.mu - 0.2).abs() < 1e-15);
+        assert!((s.solver.t_end - 3.0).abs() < 1e-15);
+        let rough = Sliding {
+            mu: 0.5,
+            ..Sliding::default()
+        };
+        assert!((sliding_column(&rough).unwrap().contact.mu - 0.5).abs() < 1e-15);
+        let negative = Sliding {
+            mu: -0.1,
+            ..Sliding::default()
+        };
+        assert!(sliding_column(&negative).is_err());
         assert_eq!(s.n_normal_contacts(), 8 + 16);
     }
 }

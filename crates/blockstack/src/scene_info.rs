@@ -200,11 +200,22 @@ pub struct SceneReport {
     pub tol: f64,
     /// Gravity g (model units).
     pub gravity: f64,
-    /// The prox parameter, `Scaled(α)` or `Constant(r)`.
-    pub prox: String,
+    /// The prox parameter: text `scaled, alpha = 1` or `constant r = 0.3`, JSON
+    /// `"scaled(alpha=1)"` or `"constant(r=0.3)"` ([`Prox::label`]).
+    #[serde(serialize_with = "serialize_prox")]
+    pub prox: Prox,
     /// The scene-file keys that took their defaults, with their values (empty for scenes
     /// built in code); a key a run option overrides is not listed.
     pub defaults: Defaults,
+}
+
+/// Serializes a prox parameter as its one-token label (`"scaled(alpha=1)"`,
+/// `"constant(r=0.3)"`, [`Prox::label`]).
+///
+/// # Errors
+/// The serializer's.
+pub fn serialize_prox<S: Serializer>(prox: &Prox, s: S) -> Result<S::Ok, S::Error> {
+    s.serialize_str(&prox.label())
 }
 
 /// `v`, snapped to the nearest integer when it is one up to round-off (2π/(ω·(2π/(100ω)))
@@ -253,7 +264,7 @@ impl SceneReport {
             rho_inf: s.rho_inf,
             tol: s.tol,
             gravity: s.gravity,
-            prox: format!("{prox:?}"),
+            prox,
             defaults,
         }
     }
@@ -406,10 +417,11 @@ mod tests {
             ..RunOptions::default()
         };
         let r = SceneReport::new(&l.scene, &options, &l.defaults);
-        assert_eq!(
-            (r.t_end, r.steps, r.prox.as_str()),
-            (0.5, 50, "Constant(0.3)")
-        );
+        assert_eq!((r.t_end, r.steps, r.prox), (0.5, 50, Prox::Constant(0.3)));
+        assert!(r
+            .to_string()
+            .contains(", prox constant r = 0.3\ndefaults taken: "));
+        assert_eq!(serde_json::to_value(&r).unwrap()["prox"], "constant(r=0.3)");
         assert!(r.defaults.get("solver.t_end").is_none());
         assert!(r.defaults.get("solver.r_alpha").is_none());
         assert_eq!(r.defaults.get("solver.dt"), Some(0.01));

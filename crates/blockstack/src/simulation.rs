@@ -491,8 +491,10 @@ pub struct RunReport {
     pub error: Option<String>,
     /// Time reached.
     pub t_final: f64,
-    /// The prox parameter used.
-    pub prox: String,
+    /// The prox parameter used: text `scaled, alpha = 1` or `constant r = 0.3`, JSON
+    /// `"scaled(alpha=1)"` or `"constant(r=0.3)"` ([`Prox::label`]).
+    #[serde(serialize_with = "crate::scene_info::serialize_prox")]
+    pub prox: Prox,
     /// What the scene may do unexpectedly ([`Scene::warnings`]).
     pub warnings: Vec<SceneWarning>,
     /// The parameters the run used, after defaults and overrides.
@@ -525,7 +527,7 @@ impl RunReport {
             max_energy_increase: summary.max_energy_increase,
             error: summary.error.as_ref().map(ToString::to_string),
             t_final,
-            prox: format!("{:?}", options.prox.unwrap_or(scene.solver.prox)),
+            prox: options.prox.unwrap_or(scene.solver.prox),
             warnings: scene.warnings(),
             scene: SceneReport::new(scene, options, defaults),
         }

@@ -1,7 +1,7 @@
 //! The shipped scene files parse, validate and equal the scenario constructors.
 
 use blockstack::scenarios::{
-    lire, lire_on_floor, shaking_column, sliding_column, Perturbation, Shaking,
+    lire, lire_on_floor, shaking_column, sliding_column, Perturbation, Shaking, Sliding,
 };
 use blockstack::{BaseMotion, Scene};
 
@@ -61,5 +61,8 @@ fn shaking_file_is_the_section_4_4_column() {
 
 #[test]
 fn slide_file_is_the_section_4_5_column() {
-    same_start(&load("slide.toml"), &sliding_column(4, 1.0, 3.0).unwrap());
+    same_start(
+        &load("slide.toml"),
+        &sliding_column(&Sliding::default()).unwrap(),
+    );
 }

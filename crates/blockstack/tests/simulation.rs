@@ -2,7 +2,7 @@
 
 use blockstack::scenarios::{
     lire, lire_on_floor, nearby_lire_landings, resting_column, shaking_column, sliding_column,
-    Perturbation, Shaking,
+    Perturbation, Shaking, Sliding,
 };
 use blockstack::{simulate, RunOptions, RunSummary, Scene, StepRecord};
 
@@ -165,7 +165,11 @@ fn top_topple_energy_increase_is_a_second_order_integration_error() {
 }
 
 fn top_angle(v0: f64, t_end: f64) -> (RunSummary, Vec<StepRecord>) {
-    let scene = sliding_column(4, v0, 3.0).unwrap();
+    let scene = sliding_column(&Sliding {
+        v0,
+        ..Sliding::default()
+    })
+    .unwrap();
     run(&scene, t_end)
 }
 

@@ -464,6 +464,11 @@ fn runs() -> Vec<Run> {
         ),
         run("sphere roll", &["--steps", "40", "--json"], true),
         run("cylinder support", &["--theta", "30deg", "--json"], false),
+        run(
+            "cylinder support",
+            &["--theta", "30deg", "--mass", "2", "--json"],
+            false,
+        ),
         run("cylinder statics", &["--points", "11"], true),
         run(
             "cylinder holonomy rectangle",

@@ -23,6 +23,15 @@ pub enum PathCase {
 }
 
 impl PathCase {
+    /// The case's name in text, file names and JSON: `I` or `II`.
+    #[must_use]
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::I => "I",
+            Self::II => "II",
+        }
+    }
+
     /// +1 for Case I, −1 for Case II.
     #[must_use]
     pub fn sign(self) -> f64 {
@@ -44,6 +53,15 @@ pub enum Direction {
 }
 
 impl Direction {
+    /// The direction in text: `counter-clockwise` or `clockwise`.
+    #[must_use]
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::CounterClockwise => "counter-clockwise",
+            Self::Clockwise => "clockwise",
+        }
+    }
+
     /// +1 counter-clockwise, −1 clockwise.
     #[must_use]
     pub fn sign(self) -> f64 {

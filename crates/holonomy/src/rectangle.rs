@@ -229,8 +229,10 @@ pub fn holonomy_angle(theta: f64, phi2: f64) -> f64 {
     2.0 * q0.clamp(-1.0, 1.0).acos()
 }
 
-/// Which of the no-holonomy families (2.4.8) a rectangle belongs to, if any.
+/// Which of the no-holonomy families (2.4.8) a rectangle belongs to, if any. Serializes
+/// as its [`NoHolonomy::name`].
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
 pub enum NoHolonomy {
     /// (2.4.8)₁: ϑ and φ2 both odd multiples of π (S = R(2(2n − 1)π, s) = I).
     OddMultiplesOfPi,
@@ -238,6 +240,29 @@ pub enum NoHolonomy {
     ThetaMultipleOfTwoPi,
     /// (2.4.8)₃: φ2 a multiple of 2π.
     Phi2MultipleOfTwoPi,
+}
+
+impl NoHolonomy {
+    /// The family's name in JSON: `odd_multiples_of_pi`, `theta_multiple_of_two_pi` or
+    /// `phi2_multiple_of_two_pi`.
+    #[must_use]
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::OddMultiplesOfPi => "odd_multiples_of_pi",
+            Self::ThetaMultipleOfTwoPi => "theta_multiple_of_two_pi",
+            Self::Phi2MultipleOfTwoPi => "phi2_multiple_of_two_pi",
+        }
+    }
+
+    /// The family as text: its equation and condition, `(2.4.8)₂: ϑ a multiple of 2π`.
+    #[must_use]
+    pub fn description(self) -> &'static str {
+        match self {
+            Self::OddMultiplesOfPi => "(2.4.8)₁: ϑ and φ2 odd multiples of π",
+            Self::ThetaMultipleOfTwoPi => "(2.4.8)₂: ϑ a multiple of 2π",
+            Self::Phi2MultipleOfTwoPi => "(2.4.8)₃: φ2 a multiple of 2π",
+        }
+    }
 }
 
 /// The no-holonomy family (2.4.8) of a rectangle, with `tol` the tolerance on the

@@ -44,7 +44,7 @@ fn holonomy_report_json() {
     let flat = Rectangle::new(1.0, 0.0, std::f64::consts::TAU, Direction::Ccw).unwrap();
     let text = serde_json::to_string(&holonomy_report(&flat)).unwrap();
     assert!(
-        text.ends_with("\"no_holonomy\":\"Phi2MultipleOfTwoPi\"}"),
+        text.ends_with("\"no_holonomy\":\"phi2_multiple_of_two_pi\"}"),
         "{text}"
     );
 }

@@ -4,14 +4,33 @@
 //!
 //! docs/architecture.md (Conventions): every API takes radians; the command line also accepts
 //! degrees and π-fractions because that is how the thesis states its examples.
+//!
+//! Two kinds of angle: an [`Angle`] may have any size (a side of a rolled path given as
+//! the angle it turns the body, `3pi`), while a [`RotationAngle`] (the angle of a
+//! rotation, an inclination, a heading) refuses a bare number beyond ±2π, which is
+//! almost always degrees written without `deg`:
+//!
+//! ```
+//! use input::text::{parse_angle, parse_rotation_angle};
+//!
+//! assert_eq!(parse_angle("90")?, 90.0);
+//! assert_eq!(
+//!     parse_rotation_angle("90").unwrap_err(),
+//!     "90 rad is more than 2π: write 90deg for degrees, or give radians"
+//! );
+//! assert!((parse_rotation_angle("90deg")? - std::f64::consts::FRAC_PI_2).abs() < 1e-15);
+//! assert!((parse_rotation_angle("3pi")? - 3.0 * std::f64::consts::PI).abs() < 1e-15);
+//! # Ok::<(), String>(())
+//! ```
 
-use std::f64::consts::PI;
+use std::f64::consts::{PI, TAU};
 use std::str::FromStr;
 
 /// An angle in radians parsed from text.
 ///
 /// Accepted forms: `1.25` (radians), `90deg`, `-45deg`, `pi`, `-pi/4`, `3pi/2`,
-/// `0.5pi`, `2*pi/3`, `π/2`. Non-finite values are rejected.
+/// `0.5pi`, `2*pi/3`, `π/2`. Non-finite values are rejected; any size is accepted (for
+/// a rotation angle that refuses bare degrees, see [`RotationAngle`]).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Angle(pub f64);
 
@@ -21,6 +40,49 @@ impl FromStr for Angle {
     fn from_str(s: &str) -> Result<Self, Self::Err> {
         parse_angle(s).map(Angle)
     }
+}
+
+/// An angle of a rotation, an inclination or a heading, in radians, parsed from text
+/// ([`parse_rotation_angle`]): the forms of [`Angle`], but a bare number (no `deg`, no
+/// `pi`) larger than 2π in size is refused as degrees written without `deg`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RotationAngle(pub f64);
+
+impl FromStr for RotationAngle {
+    type Err = String;
+
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        parse_rotation_angle(s).map(RotationAngle)
+    }
+}
+
+/// Parses one rotation angle (see [`RotationAngle`]) to radians: [`parse_angle`], then a
+/// bare number beyond ±2π is refused with the explanation every angle flag of the
+/// command line gives ("90 rad is more than 2π: write 90deg for degrees, or give
+/// radians"). Degrees (`720deg`) and multiples of π (`3pi`) may be of any size.
+///
+/// # Errors
+/// As [`parse_angle`], and a bare number larger than 2π in size.
+pub fn parse_rotation_angle(text: &str) -> Result<f64, String> {
+    let value = parse_angle(text)?;
+    let s = text.trim().to_ascii_lowercase();
+    let bare = !(s.ends_with("deg") || s.contains("pi") || s.contains('π'));
+    if bare && value.abs() > TAU {
+        let t = text.trim();
+        let size = if value < 0.0 { " in size" } else { "" };
+        return Err(format!(
+            "{t} rad is more than 2π{size}: write {t}deg for degrees, or give radians"
+        ));
+    }
+    Ok(value)
+}
+
+/// Parses a comma-separated list of rotation angles ([`parse_rotation_angle`]).
+///
+/// # Errors
+/// The first entry that is not a rotation angle.
+pub fn parse_rotation_angle_list(text: &str) -> Result<Vec<f64>, String> {
+    text.split(',').map(parse_rotation_angle).collect()
 }
 
 /// Parses one angle (see [`Angle`]) to radians.
@@ -309,6 +371,31 @@ mod tests {
         for bad in ["", "nan", "inf", "pi/0", "abc", "3pi2", "1e999", "NaNdeg"] {
             assert!(parse_angle(bad).is_err(), "{bad}");
         }
+    }
+
+    #[test]
+    fn rotation_angles_refuse_bare_degrees() {
+        for ok in [
+            "6.28", "-6.28", "90deg", "-720deg", "3pi", "-4pi/3", "7π/2", "0",
+        ] {
+            assert!(parse_rotation_angle(ok).is_ok(), "{ok}");
+        }
+        assert_eq!(
+            parse_rotation_angle(" 45 ").unwrap_err(),
+            "45 rad is more than 2π: write 45deg for degrees, or give radians"
+        );
+        assert_eq!(
+            parse_rotation_angle("-90").unwrap_err(),
+            "-90 rad is more than 2π in size: write -90deg for degrees, or give radians"
+        );
+        assert!(parse_rotation_angle("abc").is_err());
+        assert_eq!(
+            "7".parse::<RotationAngle>(),
+            Err(parse_rotation_angle("7").unwrap_err())
+        );
+        assert_eq!("7".parse::<Angle>(), Ok(Angle(7.0)));
+        assert_eq!(parse_rotation_angle_list("0,90deg,pi").unwrap().len(), 3);
+        assert!(parse_rotation_angle_list("0,90,pi").is_err());
     }
 
     #[test]

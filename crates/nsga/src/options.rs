@@ -19,6 +19,37 @@ pub enum Prox {
     Constant(f64),
 }
 
+impl Prox {
+    /// The choice as one token for JSON and CSV: `scaled(alpha=1)` or `constant(r=0.3)`
+    /// (numbers in shortest round-trip form).
+    ///
+    /// ```
+    /// use nsga::Prox;
+    ///
+    /// assert_eq!(Prox::Scaled(1.0).label(), "scaled(alpha=1)");
+    /// assert_eq!(Prox::Constant(0.3).label(), "constant(r=0.3)");
+    /// assert_eq!(Prox::Constant(0.3).to_string(), "constant r = 0.3");
+    /// assert_eq!(Prox::Scaled(0.5).to_string(), "scaled, alpha = 0.5");
+    /// ```
+    #[must_use]
+    pub fn label(self) -> String {
+        match self {
+            Self::Scaled(alpha) => format!("scaled(alpha={alpha})"),
+            Self::Constant(r) => format!("constant(r={r})"),
+        }
+    }
+}
+
+impl std::fmt::Display for Prox {
+    /// The choice as text: `scaled, alpha = 1` or `constant r = 0.3`.
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Self::Scaled(alpha) => write!(f, "scaled, alpha = {alpha}"),
+            Self::Constant(r) => write!(f, "constant r = {r}"),
+        }
+    }
+}
+
 /// Which linear solver the Newton iteration uses.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 pub enum SolverChoice {

@@ -2,7 +2,7 @@
 //! the column ends (§4.5, Figure 4.7).
 
 use crate::record::{finite_text, optional_text, Frame};
-use crate::scenarios::sliding_column;
+use crate::scenarios::{sliding_column, Sliding};
 use crate::scene::Scene;
 use crate::simulation::{simulate, RunOptions};
 use crate::studies::shaking::one_line;
@@ -120,12 +120,12 @@ impl SlideRow {
     }
 }
 
-/// Runs the sliding column of `blocks` blocks on a base pulled at `v0` to `t_end`
-/// ([`sliding_column`]); every failure goes into the row.
+/// Runs the sliding column `p` (its blocks on a base pulled at `p.v0` to `p.t_end`, with
+/// friction `p.mu`, [`sliding_column`]); every failure goes into the row.
 #[must_use]
-pub fn slide_row(blocks: usize, v0: f64, t_end: f64, options: &RunOptions) -> SlideRow {
+pub fn slide_row(p: &Sliding, options: &RunOptions) -> SlideRow {
     let mut row = SlideRow {
-        v0,
+        v0: p.v0,
         top_angle: None,
         regime: None,
         steps: 0,
@@ -135,7 +135,7 @@ pub fn slide_row(blocks: usize, v0: f64, t_end: f64, options: &RunOptions) -> Sl
         failed_steps: 0,
         wall_time_s: 0.0,
     };
-    let scene = match sliding_column(blocks, v0, t_end) {
+    let scene = match sliding_column(p) {
         Ok(s) => s,
         Err(e) => {
             row.error = Some(one_line(&e.to_string()));
@@ -189,7 +189,11 @@ mod tests {
 
     #[test]
     fn slide_regimes_from_the_end_state() {
-        let scene = sliding_column(2, 1.0, 3.0).unwrap();
+        let scene = sliding_column(&Sliding {
+            blocks: 2,
+            ..Sliding::default()
+        })
+        .unwrap();
         let frame = |base_x: f64, blocks: &[(f64, f64, f64)]| Frame {
             t: 3.0,
             base: Pose::new(base_x, 0.0, 0.0),
@@ -221,11 +225,28 @@ mod tests {
             t_end: Some(0.5),
             ..RunOptions::default()
         };
-        let row = slide_row(2, 0.05, 0.5, &options);
+        let slow = Sliding {
+            blocks: 2,
+            v0: 0.05,
+            t_end: 0.5,
+            ..Sliding::default()
+        };
+        let row = slide_row(&slow, &options);
         assert_eq!(row.regime, Some(SlideRegime::RidesAlong), "{row:?}");
         assert!((row.t_final - 0.5).abs() < 1e-12);
         assert!(row.top_angle.is_some_and(|a| a.abs() < 1e-3));
-        let bad = slide_row(2, f64::NAN, 0.5, &options);
+        let bad = slide_row(
+            &Sliding {
+                v0: f64::NAN,
+                ..slow
+            },
+            &options,
+        );
         assert!(bad.error.is_some() && bad.regime.is_none());
+        let rough = slide_row(&Sliding { mu: -1.0, ..slow }, &options);
+        assert!(
+            rough.error.as_ref().is_some_and(|e| e.contains("mu")),
+            "{rough:?}"
+        );
     }
 }

@@ -41,6 +41,16 @@ pub enum SchemeArg {
     Moreau,
 }
 
+impl From<SystemArg> for WorkPrecisionSystem {
+    fn from(s: SystemArg) -> Self {
+        match s {
+            SystemArg::Ball => Self::Ball,
+            SystemArg::Oscillator => Self::Oscillator,
+            SystemArg::Incline => Self::Incline,
+        }
+    }
+}
+
 impl From<SchemeArg> for Scheme {
     fn from(s: SchemeArg) -> Self {
         match s {
@@ -68,8 +78,9 @@ pub struct BallArgs {
     pub rho_inf: f64,
     /// Constant prox parameter r in kg (the thesis uses 0.3); default: scaled per
     /// constraint, r = 1/(wᵀM⁻¹w).
-    #[arg(long)]
-    pub prox_r: Option<f64>,
+    // `--prox-r`, its old name, is a hidden alias (docs/cli.md "One name per concept").
+    #[arg(long, alias = "prox-r", value_parser = input::text::parse_finite, allow_hyphen_values = true)]
+    pub prox_constant: Option<f64>,
     /// Print one JSON object on stdout.
     #[arg(long)]
     pub json: bool,
@@ -85,9 +96,10 @@ pub struct WorkPrecisionArgs {
     /// phase-plane error √(Δx² + (Δẋ/ω)²) at 1 s in m) or incline (turning at 0.5 rad/s, μ = 0.3, error of x(1.5 s) in m).
     #[arg(long, value_enum)]
     pub system: SystemArg,
-    /// Directory for work_precision.csv, work_precision.png and run.json.
+    /// Directory for work_precision.csv, work_precision.png and run.json (without it,
+    /// nothing is written).
     #[arg(long)]
-    pub out: PathBuf,
+    pub out: Option<PathBuf>,
     /// Time steps Δt in s (comma-separated, each in (0, 0.1]); the same default for
     /// every system.
     #[arg(long, default_value = "0.008,0.004,0.002,0.001,0.0005,0.00025")]
@@ -133,8 +145,10 @@ fn ball(a: &BallArgs) -> Result<()> {
     if !(0.0..=1.0).contains(&a.rho_inf) {
         bail!("--rho-inf must be in [0, 1], got {}", a.rho_inf);
     }
-    let prox = match a.prox_r {
-        Some(r) if !(r.is_finite() && r > 0.0) => bail!("--prox-r must be positive, got {r}"),
+    let prox = match a.prox_constant {
+        Some(r) if !(r.is_finite() && r > 0.0) => {
+            bail!("--prox-constant must be positive, got {r}")
+        }
         Some(r) => Prox::Constant(r),
         None => Prox::Scaled(1.0),
     };
@@ -149,7 +163,7 @@ fn ball(a: &BallArgs) -> Result<()> {
             dir,
             "nsga ball",
             &serde_json::json!({"case": a.case, "dt": dt, "scheme": out.scheme.name(),
-            "rho_inf": a.rho_inf, "prox_r": a.prox_r}),
+            "rho_inf": a.rho_inf, "prox_constant": a.prox_constant}),
             &serde_json::json!({"wall_time_s": r.wall_time_s}),
         )?;
     }
@@ -179,11 +193,7 @@ fn write_ball_files(dir: &Path, r: &BallRun, a: &BallArgs) -> Result<()> {
 }
 
 fn work_precision_command(a: &WorkPrecisionArgs) -> Result<()> {
-    let system = match a.system {
-        SystemArg::Ball => WorkPrecisionSystem::Ball,
-        SystemArg::Oscillator => WorkPrecisionSystem::Oscillator,
-        SystemArg::Incline => WorkPrecisionSystem::Incline,
-    };
+    let system: WorkPrecisionSystem = a.system.into();
     let dts = input::text::parse_number_list(&a.dts).map_err(anyhow::Error::msg)?;
     if dts.iter().any(|&d| !(d > 0.0 && d <= 0.1)) {
         bail!("every --dts value must be in (0, 0.1] s");
@@ -194,30 +204,35 @@ fn work_precision_command(a: &WorkPrecisionArgs) -> Result<()> {
     }
     let repeat = a.repeat.max(1);
     let rows = work_precision(system, &dts, &rhos, repeat)?;
-    ensure_dir(&a.out)?;
-    write_csv(
-        &a.out.join("work_precision.csv"),
-        &WorkPrecisionRow::CSV_HEADER,
-        rows.iter().map(WorkPrecisionRow::csv_cells),
-    )?;
-    plot_work_precision(
-        &a.out.join("work_precision.png"),
-        &format!("Work-precision: {:?}", a.system).to_lowercase(),
-        &rows,
-    )?;
-    write_run_json(
-        &a.out,
-        "nsga work-precision",
-        &serde_json::json!({"system": format!("{:?}", a.system).to_lowercase(), "dts": dts, "rho_inf": rhos, "repeat": repeat}),
-        &serde_json::json!({"total_wall_time_s": rows.iter().map(|r| r.wall_time_s).sum::<f64>()}),
-    )?;
+    let csv = a.out.as_ref().map(|dir| dir.join("work_precision.csv"));
+    if let Some(dir) = &a.out {
+        ensure_dir(dir)?;
+        write_csv(
+            &dir.join("work_precision.csv"),
+            &WorkPrecisionRow::CSV_HEADER,
+            rows.iter().map(WorkPrecisionRow::csv_cells),
+        )?;
+        plot_work_precision(
+            &dir.join("work_precision.png"),
+            &format!("Work-precision: {}", system.name()),
+            &rows,
+        )?;
+        write_run_json(
+            dir,
+            "nsga work-precision",
+            &serde_json::json!({"system": system.name(), "dts": dts, "rho_inf": rhos, "repeat": repeat}),
+            &serde_json::json!({"total_wall_time_s": rows.iter().map(|r| r.wall_time_s).sum::<f64>()}),
+        )?;
+    }
     if a.json {
-        print_json(&serde_json::json!({"rows": rows, "csv": a.out.join("work_precision.csv")}))?;
+        print_json(&serde_json::json!({"rows": rows, "csv": csv}))?;
     } else {
         for r in &rows {
             println!("{r}");
         }
-        println!("wrote {}", a.out.join("work_precision.csv").display());
+        if let Some(csv) = &csv {
+            println!("wrote {}", csv.display());
+        }
     }
     Ok(())
 }

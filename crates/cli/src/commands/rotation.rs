@@ -5,7 +5,7 @@
 use crate::output::print_json;
 use anyhow::{bail, Context, Result};
 use clap::Args;
-use input::text::{parse_angle, parse_finite};
+use input::text::{parse_finite, parse_rotation_angle};
 use rotations::{rotation_report, Representation, Rotation3, MATRIX_INPUT_TOLERANCE};
 
 /// Arguments of `rollstack rotation`.
@@ -46,7 +46,7 @@ pub fn parse_rotation(repr: Representation, values: &str) -> Result<Rotation3<f6
         .enumerate()
         .map(|(i, text)| {
             if repr.is_angle(i) {
-                parse_angle(text)
+                parse_rotation_angle(text)
             } else {
                 parse_finite(text)
             }

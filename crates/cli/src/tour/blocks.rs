@@ -10,7 +10,7 @@ use crate::commands::blocks::sweep::write_slide_files;
 use crate::commands::blocks::{shake_inputs, simulate_with_output, OutputPlan, LIRE_SNAPSHOTS};
 use anyhow::Result;
 use blockstack::scenarios::{
-    lire, lire_on_floor, maximum_overhang, shaking_column, Perturbation, Shaking,
+    lire, lire_on_floor, maximum_overhang, shaking_column, Perturbation, Shaking, Sliding,
 };
 use blockstack::simulation::{simulate, Prox, RunOptions};
 use blockstack::studies::lire::{blocks_fallen, largest_drift};
@@ -219,8 +219,14 @@ fn slide(dir: &Path, summary: &mut Vec<String>, blocks: &mut Vec<Block>) -> Resu
         t_end: Some(t_end),
         ..tour_options()
     };
-    let rows =
-        crate::sweep::par_map_ordered(&SLIDE_SPEEDS, "v0", |&v| slide_row(4, v, t_end, &options));
+    let rows = crate::sweep::par_map_ordered(&SLIDE_SPEEDS, "v0", |&v0| {
+        let p = Sliding {
+            v0,
+            t_end,
+            ..Sliding::default()
+        };
+        slide_row(&p, &options)
+    });
     write_slide_files(dir, &rows, t_end)?;
     let regimes: Vec<String> = rows
         .iter()

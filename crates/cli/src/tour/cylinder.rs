@@ -115,44 +115,58 @@ pub fn section(dir: &Path) -> Result<Section> {
     for case in [PathCase::I, PathCase::II] {
         let fig = Figure310::new(case);
         let (rep, trace) = rectangle_report(&fig.cylinder, fig.theta, &fig.path, 0.0, ROLL)?;
-        let name = format!("fig3_10_case_{case:?}");
+        let name = format!("fig3_10_case_{}", case.name());
         write_trace(
             dir,
             &name,
             &trace,
-            &format!("Fig. 3.10 ({case:?}): Δφ = {:.4} rad", rep.delta_phi),
+            &format!("Fig. 3.10 ({}): Δφ = {:.4} rad", case.name(), rep.delta_phi),
         )?;
         rows.push(vec![
-            format!("Fig. 3.10 rectangle, Case {case:?}"),
+            format!("Fig. 3.10 rectangle, Case {}", case.name()),
             format!("{:.6}", rep.delta_phi),
             format!("{:.6}", rep.rolling_delta_phi),
             format!("{:.1e}", rep.product_error),
         ]);
         images.push(Block::image(
             format!("{name}.png"),
-            format!("Figure 3.10, Case {case:?}: traces of P (i) and of a rim point X (ii)"),
+            format!(
+                "Figure 3.10, Case {}: traces of P (i) and of a rim point X (ii)",
+                case.name()
+            ),
         ));
     }
     let (cyl, theta12, ell) = figure_3_12();
     for case in [PathCase::I, PathCase::II] {
         let path = CirclePath::new(ell, case, Direction::CounterClockwise)?;
         let (hol, trace) = circle_report(&cyl, theta12, &path, ROLL)?;
-        let name = format!("fig3_12_case_{case:?}");
+        let name = format!("fig3_12_case_{}", case.name());
         write_trace(
             dir,
             &name,
             &trace,
-            &format!("Fig. 3.12 ({case:?}): ℓ = {ell:.5} r, k = {:.4} r", hol.k),
+            &format!(
+                "Fig. 3.12 ({}): ℓ = {ell:.5} r, k = {:.4} r",
+                case.name(),
+                hol.k
+            ),
         )?;
         rows.push(vec![
-            format!("Fig. 3.12 circle, Case {case:?} (k = {:.4} r)", hol.k),
+            format!(
+                "Fig. 3.12 circle, Case {} (k = {:.4} r)",
+                case.name(),
+                hol.k
+            ),
             format!("{:.6}", hol.delta_phi),
             format!("{:.6}", hol.rolling_delta_phi),
             "-".into(),
         ]);
         images.push(Block::image(
             format!("{name}.png"),
-            format!("Figure 3.12, Case {case:?}: P traces a circle of radius ℓ = {ell:.5} r"),
+            format!(
+                "Figure 3.12, Case {}: P traces a circle of radius ℓ = {ell:.5} r",
+                case.name()
+            ),
         ));
     }
     summary.push(format!(

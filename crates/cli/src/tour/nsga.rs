@@ -76,7 +76,6 @@ pub fn section(dir: &Path) -> Result<Section> {
     // Work-precision on the oscillator.
     let dts = [8e-3, 4e-3, 2e-3, 1e-3, 5e-4];
     let mut points = Vec::new();
-    let mut wp_rows = Vec::new();
     for (scheme, rho) in [
         (Scheme::Nsga, 0.0),
         (Scheme::Nsga, 0.5),
@@ -92,13 +91,6 @@ pub fn section(dir: &Path) -> Result<Section> {
                 error: e,
                 wall_time_s: w,
             });
-            wp_rows.push(vec![
-                format!("{scheme:?}"),
-                rho.to_string(),
-                dt.to_string(),
-                e.to_string(),
-                w.to_string(),
-            ]);
         }
     }
     plot_work_precision(
@@ -108,8 +100,8 @@ pub fn section(dir: &Path) -> Result<Section> {
     )?;
     write_csv(
         &dir.join("work_precision_oscillator.csv"),
-        &["scheme", "rho_inf", "dt", "error", "wall_time_s"],
-        &wp_rows,
+        &WorkPrecisionRow::CSV_HEADER,
+        points.iter().map(WorkPrecisionRow::csv_cells),
     )?;
     Ok(Section {
         title: "Solver core: nonsmooth generalized-alpha (Capobianco et al. 2021)".into(),

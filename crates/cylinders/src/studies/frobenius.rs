@@ -23,6 +23,19 @@ pub enum ConstraintSystem {
     Pair9,
 }
 
+impl ConstraintSystem {
+    /// The system's name in text and JSON, as the command line spells it: `single`,
+    /// `pair7` or `pair9`.
+    #[must_use]
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Single => "single",
+            Self::Pair7 => "pair7",
+            Self::Pair9 => "pair9",
+        }
+    }
+}
+
 /// Where the pair is evaluated.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
@@ -132,8 +145,10 @@ impl fmt::Display for IntegrabilitySummary<'_> {
         let rep = self.report;
         writeln!(
             f,
-            "Frobenius test ({:?}): rank {} nullity {}",
-            self.system, rep.rank, rep.nullity
+            "Frobenius test ({}): rank {} nullity {}",
+            self.system.name(),
+            rep.rank,
+            rep.nullity
         )?;
         for (i, (v, ok)) in rep.max_abs_asb.iter().zip(&rep.integrable).enumerate() {
             let verdict = if *ok { "integrable" } else { "not integrable" };
@@ -234,7 +249,7 @@ mod tests {
         let text = rep.summary(ConstraintSystem::Single).to_string();
         let lines: Vec<&str> = text.lines().collect();
         assert_eq!(lines.len(), 1 + 3 + 1);
-        assert_eq!(lines[0], "Frobenius test (Single): rank 3 nullity 3");
+        assert_eq!(lines[0], "Frobenius test (single): rank 3 nullity 3");
         assert_eq!(
             lines[1],
             format!(
@@ -258,6 +273,8 @@ mod tests {
             assert_eq!((nine.rank, nine.nullity), (9, 3), "{configuration:?}");
             assert_eq!(nine.max_abs_asb.len(), 9);
             assert_eq!(nine.d24, None);
+            let text = nine.summary(ConstraintSystem::Pair9).to_string();
+            assert!(text.starts_with("Frobenius test (pair9): rank 9 nullity 3\n"));
             let seven = integrability_report(&case(ConstraintSystem::Pair7)).unwrap();
             assert_eq!(seven.rank, 7);
             assert_eq!(

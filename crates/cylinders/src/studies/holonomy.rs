@@ -71,8 +71,10 @@ impl fmt::Display for RectangleSummary<'_> {
         let rep = self.report;
         writeln!(
             f,
-            "Rectangle (3.4.3): Δφ = {:.9} rad ({:?}, {:?})",
-            rep.delta_phi, self.path.case, self.path.direction
+            "Rectangle (3.4.3): Δφ = {:.9} rad (case {}, {})",
+            rep.delta_phi,
+            self.path.case.name(),
+            self.path.direction.name()
         )?;
         writeln!(
             f,
@@ -174,8 +176,11 @@ impl fmt::Display for CircleSummary<'_> {
         let rep = self.report;
         writeln!(
             f,
-            "Circle (3.4.16): Δφ = {:.9} rad, k = {:.9} ({:?}, {:?})",
-            rep.delta_phi, rep.k, self.path.case, self.path.direction
+            "Circle (3.4.16): Δφ = {:.9} rad, k = {:.9} (case {}, {})",
+            rep.delta_phi,
+            rep.k,
+            self.path.case.name(),
+            self.path.direction.name()
         )?;
         write!(
             f,
@@ -276,7 +281,7 @@ mod tests {
         assert!(rep.rolling_error < 1e-8 && rep.rolling_closure_error < 1e-8);
         assert!((0.0..=PI).contains(&rep.product_angle));
         let text = rep.summary(&fig.path).to_string();
-        assert!(text.starts_with("Rectangle (3.4.3): Δφ = 36.390114904 rad (I, "));
+        assert!(text.starts_with("Rectangle (3.4.3): Δφ = 36.390114904 rad (case I, "));
         assert_eq!(text.lines().count(), 3);
         assert!(text.ends_with(&format!("error {:.1e} rad", rep.rolling_error)));
         let view = plan_view(&trace).unwrap();
@@ -297,8 +302,10 @@ mod tests {
             assert!((rep.rolling_delta_phi - rep.delta_phi).abs() < 1e-8);
             let text = rep.summary(&path).to_string();
             let first = format!(
-                "Δφ = {:.9} rad, k = {:.9} ({case:?}, CounterClockwise)",
-                rep.delta_phi, rep.k
+                "Δφ = {:.9} rad, k = {:.9} (case {}, counter-clockwise)",
+                rep.delta_phi,
+                rep.k,
+                case.name()
             );
             assert!(text.lines().next().unwrap().ends_with(&first), "{text}");
             assert_eq!(text.lines().count(), 2);

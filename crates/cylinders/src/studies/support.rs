@@ -3,6 +3,7 @@
 
 use crate::error::CylinderError;
 use crate::statics::{FrictionLimit, MinimumForce, SteadyBalance, SupportProblem};
+use input::positive;
 use serde::{Deserialize, Serialize};
 use std::f64::consts::FRAC_PI_2;
 use std::fmt;
@@ -68,9 +69,65 @@ pub struct SupportReport {
     /// Largest difference between the closed forms and the balance laws (3.3.3) solved
     /// numerically (QR) at this ϑ.
     pub balance_law_error: f64,
+    /// The same forces in newtons for a given mass and gravity
+    /// ([`SupportReport::with_weight`]); absent (not serialized) otherwise.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub forces_newton: Option<SupportForces>,
+}
+
+/// The support forces of a [`SupportReport`] in newtons, for a cylinder of mass m under
+/// gravity g: each value over mg times mg. The names say the directions: N pushes up
+/// (along E3), F3 is the applied force's vertical component (positive up, along E3) and F
+/// its horizontal one (along e′2, horizontal and perpendicular to e′1; the axis
+/// e3 = −sin ϑ e′2 + cos ϑ E3 leans towards −e′2).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct SupportForces {
+    /// Mass m, kg.
+    pub mass: f64,
+    /// Gravity g, m/s².
+    pub gravity: f64,
+    /// The weight mg, N (vertical, down).
+    pub weight: f64,
+    /// Normal force N (vertical, up) at F_f = +μN e′2, N; `None` when no positive N.
+    pub n_plus: Option<f64>,
+    /// Normal force N (vertical, up) at F_f = −μN e′2, N; `None` when no positive N.
+    pub n_minus: Option<f64>,
+    /// Normal force N (vertical, up) on a smooth plane, N; `None` when no positive N.
+    pub n_smooth: Option<f64>,
+    /// The minimum applied force's vertical component F3 (positive up), N; `None` when no
+    /// support exists.
+    pub f3_up: Option<f64>,
+    /// The minimum applied force's horizontal component F along e′2, N; `None` when no
+    /// support exists.
+    pub f_along_e2: Option<f64>,
+    /// The minimum applied force's magnitude ‖F_a‖, N; `None` when no support exists.
+    pub f_norm: Option<f64>,
 }
 
 impl SupportReport {
+    /// This report with its forces also in newtons ([`SupportReport::forces_newton`]) for
+    /// a cylinder of mass `mass` (kg) under gravity `gravity` (m/s²).
+    ///
+    /// # Errors
+    /// A mass or gravity that is not positive ([`CylinderError::Input`]).
+    pub fn with_weight(mut self, mass: f64, gravity: f64) -> Result<Self, CylinderError> {
+        let mg = positive("mass", mass)? * positive("gravity", gravity)?;
+        let newton = |v: Option<f64>| v.map(|v| v * mg);
+        let min = self.min_force.as_ref();
+        self.forces_newton = Some(SupportForces {
+            mass,
+            gravity,
+            weight: mg,
+            n_plus: newton(self.n_over_mg_plus),
+            n_minus: newton(self.n_over_mg_minus),
+            n_smooth: newton(self.n_over_mg_smooth),
+            f3_up: newton(min.map(|m| m.f3_over_mg)),
+            f_along_e2: newton(min.map(|m| m.f_over_mg)),
+            f_norm: newton(min.map(|m| m.norm_over_mg)),
+        });
+        Ok(self)
+    }
+
     /// This report with the inputs its text shows: the inclination ϑ (rad), the aspect
     /// ratio r/h and the friction coefficient μ it was computed for ([`SupportSummary`]).
     #[must_use]
@@ -101,9 +158,10 @@ pub struct SupportSummary<'a> {
 impl fmt::Display for SupportSummary<'_> {
     /// ϑ (degrees), r/h and μ; N/mg at the two friction limits (3.3.8)± and on a smooth
     /// plane (3.3.10) (`none` without a positive N); the (+) range of (3.3.9) (degrees);
-    /// the minimum applied force (3.3.15)–(3.3.19) over mg; and the disagreement of the
-    /// closed forms with the balance laws (3.3.3). Lines are separated by `\n`, with
-    /// none after the last.
+    /// the minimum applied force (3.3.15)–(3.3.19) over mg, each component named by its
+    /// direction; the disagreement of the closed forms with the balance laws (3.3.3); and,
+    /// with [`SupportReport::with_weight`], the forces in newtons. Lines are separated by
+    /// `\n`, with none after the last.
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         let rep = self.report;
         let show = |v: Option<f64>| v.map_or_else(|| "none".to_owned(), |v| format!("{v:.6}"));
@@ -138,7 +196,7 @@ impl fmt::Display for SupportSummary<'_> {
         match &rep.min_force {
             Some(m) => writeln!(
                 f,
-                "  minimum force {}: F3/mg = {:.6}, F/mg = {:.6}, ‖F_a‖/mg = {:.6}",
+                "  minimum force {}: F3/mg = {:.6} (vertical, up), F/mg = {:.6} (horizontal, along e′2), ‖F_a‖/mg = {:.6}",
                 m.equation, m.f3_over_mg, m.f_over_mg, m.norm_over_mg
             )?,
             None => writeln!(f, "  no admissible applied force at this inclination")?,
@@ -147,7 +205,31 @@ impl fmt::Display for SupportSummary<'_> {
             f,
             "  closed forms vs balance laws (3.3.3): {:.1e}",
             rep.balance_law_error
-        )
+        )?;
+        if let Some(n) = &rep.forces_newton {
+            let show =
+                |v: Option<f64>| v.map_or_else(|| "none".to_owned(), |v| format!("{v:.6} N"));
+            write!(
+                f,
+                "\n  in newtons (m = {} kg, g = {} m/s², weight mg = {:.6} N, down): N (vertical, up) {} (+), {} (smooth), {} (−)",
+                n.mass,
+                n.gravity,
+                n.weight,
+                show(n.n_plus),
+                show(n.n_smooth),
+                show(n.n_minus)
+            )?;
+            if rep.min_force.is_some() {
+                write!(
+                    f,
+                    "\n  minimum force in newtons: F3 = {} (vertical, up), F = {} (horizontal, along e′2), ‖F_a‖ = {}",
+                    show(n.f3_up),
+                    show(n.f_along_e2),
+                    show(n.f_norm)
+                )?;
+            }
+        }
+        Ok(())
     }
 }
 
@@ -206,6 +288,7 @@ pub fn support_report(theta: f64, r_over_h: f64, mu: f64) -> Result<SupportRepor
         common_point: pair(p.common_point()),
         self_balancing_theta: p.self_balancing_inclination(),
         balance_law_error,
+        forces_newton: None,
     })
 }
 
@@ -262,6 +345,42 @@ mod tests {
         let text = rep.summary(theta, 0.1, 0.6).to_string();
         assert!(text.contains("  N/mg  smooth plane (3.3.10):  none\n"));
         assert!(text.ends_with(&format!("{:.1e}", rep.balance_law_error)));
+    }
+
+    #[test]
+    fn forces_in_newtons_name_their_directions() {
+        let theta = 30f64.to_radians();
+        let rep = support_report(theta, 0.1, 0.2).unwrap();
+        let json = serde_json::to_value(&rep).unwrap();
+        assert!(json.get("forces_newton").is_none(), "absent without a mass");
+        let heavy = rep.clone().with_weight(2.0, 9.81).unwrap();
+        let n = heavy.forces_newton.as_ref().unwrap();
+        assert!((n.weight - 19.62).abs() < 1e-12);
+        let m = rep.min_force.as_ref().unwrap();
+        assert!((n.f3_up.unwrap() - 19.62 * m.f3_over_mg).abs() < 1e-12);
+        assert!((n.n_plus.unwrap() - 19.62 * rep.n_over_mg_plus.unwrap()).abs() < 1e-12);
+        let text = heavy.summary(theta, 0.1, 0.2).to_string();
+        let lines: Vec<&str> = text.lines().collect();
+        assert_eq!(lines.len(), 9);
+        assert!(
+            lines[5].contains(" (vertical, up), F/mg = "),
+            "{}",
+            lines[5]
+        );
+        assert!(lines[7].starts_with(
+            "  in newtons (m = 2 kg, g = 9.81 m/s², weight mg = 19.620000 N, down): N (vertical, up) "
+        ));
+        assert!(lines[8].starts_with("  minimum force in newtons: F3 = "));
+        assert!(lines[8].contains(" N (vertical, up), F = "));
+        let keys: Vec<String> = serde_json::to_value(&heavy).unwrap()["forces_newton"]
+            .as_object()
+            .unwrap()
+            .keys()
+            .cloned()
+            .collect();
+        assert_eq!(keys.len(), 9);
+        assert!(rep.clone().with_weight(0.0, 9.81).is_err());
+        assert!(rep.with_weight(1.0, f64::NAN).is_err());
     }
 
     #[test]

@@ -150,7 +150,7 @@ impl fmt::Display for HolonomySummary<'_> {
             rep.closed_form_error, rep.components_error
         )?;
         if let Some(family) = &rep.no_holonomy {
-            write!(f, "\n  no holonomy: (2.4.8) family {family:?}")?;
+            write!(f, "\n  no holonomy: {}", family.description())?;
         }
         Ok(())
     }
@@ -190,7 +190,18 @@ mod tests {
         assert!(rep.angle < 1e-12);
         let text = rep.summary(&r).to_string();
         assert!(text.starts_with("S = Ŝ(ϑ = 6.283185307179586, φ1 = 0.5, φ2 = 2, cw)\n"));
-        assert!(text.ends_with("\n  no holonomy: (2.4.8) family ThetaMultipleOfTwoPi"));
+        assert!(text.ends_with("\n  no holonomy: (2.4.8)₂: ϑ a multiple of 2π"));
+        assert_eq!(
+            serde_json::to_value(&rep).unwrap()["no_holonomy"],
+            "theta_multiple_of_two_pi"
+        );
+        for family in [
+            NoHolonomy::OddMultiplesOfPi,
+            NoHolonomy::ThetaMultipleOfTwoPi,
+            NoHolonomy::Phi2MultipleOfTwoPi,
+        ] {
+            assert_eq!(serde_json::to_value(family).unwrap(), family.name());
+        }
     }
 
     #[test]

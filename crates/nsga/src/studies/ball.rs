@@ -266,17 +266,18 @@ pub struct BallReport {
 impl fmt::Display for BallReport {
     /// One line: the case and scheme, the first impact (s) beside the exact one, the
     /// rolling onset (s), the final (ẋ, φ̇) (m/s, rad/s), the smallest gap (m), the mean
-    /// Newton iterations per step and the wall time (ms). The times that may be missing
-    /// show as `Some(..)` or `None`.
+    /// Newton iterations per step and the wall time (ms). A time that does not exist
+    /// (no impact, never rolling) shows as `none`.
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let time = |t: Option<f64>| t.map_or_else(|| "none".to_owned(), |t| format!("{t} s"));
         write!(
             f,
-            "ball case {} ({}): first impact {:?} s (exact {:.4}), rolling from {:?} s, final (xdot, phidot) = ({:.5}, {:.4}), min gap {:.2e}, {:.2} Newton iterations/step, {:.3} ms",
+            "ball case {} ({}): first impact {} (exact {:.4} s), rolling from {}, final (xdot, phidot) = ({:.5}, {:.4}), min gap {:.2e}, {:.2} Newton iterations/step, {:.3} ms",
             self.case,
             self.scheme.name(),
-            self.first_impact_time,
+            time(self.first_impact_time),
             self.first_impact_time_exact,
-            self.rolling_onset_time,
+            time(self.rolling_onset_time),
             self.final_velocity[0],
             self.final_velocity[1],
             self.min_gap,
@@ -354,11 +355,20 @@ mod tests {
     fn text_and_trajectory_cells_of_case_two() {
         let (r, run) = ball_report(2, Scheme::Nsga, 2e-3, 0.5, Prox::Scaled(1.0)).unwrap();
         let text = r.to_string();
+        let impact = r.first_impact_time.unwrap();
+        let rolling = r.rolling_onset_time.unwrap();
         assert!(
-            text.starts_with("ball case 2 (nsga): first impact Some("),
+            text.starts_with(&format!(
+                "ball case 2 (nsga): first impact {impact} s (exact 0.4284 s), rolling from {rolling} s, "
+            )),
             "{text}"
         );
-        assert!(text.contains("s (exact 0.4284), rolling from Some("));
+        // Case 1 bounces to rest and never rolls.
+        let (r1, _) = ball_report(1, Scheme::Nsga, 2e-3, 0.5, Prox::Scaled(1.0)).unwrap();
+        assert_eq!(r1.rolling_onset_time, None);
+        let text1 = r1.to_string();
+        assert!(text1.contains(", rolling from none, "), "{text1}");
+        assert!(!text1.contains("Some(") && !text1.contains("None"));
         assert!(text.contains(&format!(
             "final (xdot, phidot) = ({:.5}, ",
             r.final_velocity[0]

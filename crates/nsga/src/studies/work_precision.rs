@@ -13,6 +13,7 @@ use std::time::Instant;
 
 /// The systems of the work-precision diagram.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "lowercase")]
 pub enum WorkPrecisionSystem {
     /// Ball case 2: error of x(1.5) against [`BallCase::exact_x`].
     Ball,
@@ -20,6 +21,18 @@ pub enum WorkPrecisionSystem {
     Oscillator,
     /// Turning incline (β̇ = 0.5, μ = 0.3): error of x(1.5) against the closed form.
     Incline,
+}
+
+impl WorkPrecisionSystem {
+    /// The system's name in files and JSON: `ball`, `oscillator` or `incline`.
+    #[must_use]
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Ball => "ball",
+            Self::Oscillator => "oscillator",
+            Self::Incline => "incline",
+        }
+    }
 }
 
 /// One point of a work-precision diagram: the error against the closed form and the
@@ -271,6 +284,11 @@ mod tests {
             ..nsga
         };
         assert!(moreau.to_string().starts_with("moreau rho_inf=   - dt="));
-        assert_eq!(moreau.csv_cells()[1], "");
+        assert_eq!(moreau.csv_cells()[..2], ["moreau", ""]);
+        assert_eq!(WorkPrecisionSystem::Oscillator.name(), "oscillator");
+        assert_eq!(
+            serde_json::to_value(WorkPrecisionSystem::Incline).unwrap(),
+            "incline"
+        );
     }
 }

@@ -69,7 +69,10 @@ pub fn run_lire(args: &LireArgs) -> Result<()> {
         lire(args.blocks, args.perturb.into())?
     };
     let options = args.solver.run_options(Some(args.t_end), false)?;
-    let perturb = format!("{:?}", args.perturb).to_lowercase();
+    let perturb = args
+        .perturb
+        .to_possible_value()
+        .map_or_else(String::new, |v| v.get_name().to_owned());
     let plan = OutputPlan {
         dir: args.output.out.clone(),
         snapshots: args

@@ -7,7 +7,7 @@ use super::SolverArgs;
 use crate::output::{ensure_dir, print_json, write_csv, write_run_json_with};
 use crate::sweep::{par_map_ordered, Shard};
 use anyhow::Result;
-use blockstack::scenarios::Shaking;
+use blockstack::scenarios::{Shaking, Sliding};
 use blockstack::studies::shaking::{frequency_row, FrequencyRow};
 use blockstack::studies::slide::{slide_row, SlideRegime, SlideRow};
 use clap::{Args, Subcommand};
@@ -40,9 +40,10 @@ pub struct SweepOutputArgs {
     /// concatenate in input order).
     #[arg(long, default_value = "1/1")]
     pub shard: Shard,
-    /// Directory for the CSV, the PNG and run.json (created if missing).
+    /// Directory for the CSV, the PNG and run.json (created if missing); without it,
+    /// nothing is written.
     #[arg(long)]
-    pub out: PathBuf,
+    pub out: Option<PathBuf>,
     /// Also print the rows as one JSON object on stdout.
     #[arg(long)]
     pub json: bool,
@@ -91,6 +92,9 @@ pub struct SlideArgs {
     /// Number of free blocks on the base (Figure 4.7: 4, the thesis's "five" with the base).
     #[arg(long, default_value_t = 4)]
     pub blocks: usize,
+    /// Friction coefficient μ at every contact (dimensionless; Figure 4.7: 0.2).
+    #[arg(long, default_value_t = 0.2, value_parser = parse_finite, allow_hyphen_values = true)]
+    pub mu: f64,
     #[command(flatten)]
     #[allow(missing_docs)]
     pub solver: SolverArgs,
@@ -135,9 +139,10 @@ pub fn sweep_frequency(args: &FrequencyArgs) -> Result<()> {
         };
         frequency_row(&shaking, &options)
     });
-    let dir = &args.output.out;
-    ensure_dir(dir)?;
-    write_frequency_files(dir, &rows)?;
+    if let Some(dir) = &args.output.out {
+        ensure_dir(dir)?;
+        write_frequency_files(dir, &rows)?;
+    }
     finish_sweep(
         "frequency",
         &args.output,
@@ -165,8 +170,9 @@ pub fn sweep_frequency(args: &FrequencyArgs) -> Result<()> {
 }
 
 /// What every sweep does once its rows are written: `run.json` (inputs, version,
-/// timings, and the keys of `extra`), then either `{"rows": [...]}` (with the keys of
-/// `extra`) on stdout or one line per row, the notes and the files written.
+/// timings, and the keys of `extra`) when there is an output directory, then either
+/// `{"rows": [...]}` (with the keys of `extra`) on stdout or one line per row, the notes
+/// and the files written.
 ///
 /// # Errors
 /// An unwritable directory.
@@ -185,16 +191,18 @@ pub fn finish_sweep<R: Serialize>(
     inputs["shard"] = format!("{}/{}", output.shard.index, output.shard.count).into();
     inputs["prox_constant"] = serde_json::json!(solver.prox_constant);
     inputs["explore_branches"] = solver.explore_branches.into();
-    write_run_json_with(
-        &output.out,
-        &format!("blocks sweep {name}"),
-        &inputs,
-        &serde_json::json!({
-            "total_s": start.elapsed().as_secs_f64(),
-            "solver_s": solver_seconds,
-        }),
-        extra,
-    )?;
+    if let Some(dir) = &output.out {
+        write_run_json_with(
+            dir,
+            &format!("blocks sweep {name}"),
+            &inputs,
+            &serde_json::json!({
+                "total_s": start.elapsed().as_secs_f64(),
+                "solver_s": solver_seconds,
+            }),
+            extra,
+        )?;
+    }
     if output.json {
         let mut object = serde_json::Map::new();
         object.insert("rows".into(), serde_json::to_value(rows)?);
@@ -212,11 +220,13 @@ pub fn finish_sweep<R: Serialize>(
     {
         println!("note: {n}");
     }
-    println!(
-        "wrote {} and run.json into {}",
-        files.join(", "),
-        output.out.display()
-    );
+    if let Some(dir) = &output.out {
+        println!(
+            "wrote {} and run.json into {}",
+            files.join(", "),
+            dir.display()
+        );
+    }
     Ok(())
 }
 
@@ -246,21 +256,31 @@ pub fn write_frequency_files(dir: &Path, rows: &[FrequencyRow]) -> Result<()> {
 pub fn sweep_slide(args: &SlideArgs) -> Result<()> {
     let start = Instant::now();
     anyhow::ensure!(args.blocks >= 1, "--blocks must be at least 1");
+    anyhow::ensure!(args.mu >= 0.0, "--mu must not be negative");
     let options = args.solver.run_options(Some(args.t_end), false)?;
     let speeds = sweep_values(&args.v0, "v0", args.output.shard)?;
-    let rows = par_map_ordered(&speeds, "v0", |&v| {
-        slide_row(args.blocks, v, args.t_end, &options)
+    let rows = par_map_ordered(&speeds, "v0", |&v0| {
+        let p = Sliding {
+            blocks: args.blocks,
+            v0,
+            t_end: args.t_end,
+            mu: args.mu,
+        };
+        slide_row(&p, &options)
     });
-    let dir = &args.output.out;
-    ensure_dir(dir)?;
-    write_slide_files(dir, &rows, args.t_end)?;
+    if let Some(dir) = &args.output.out {
+        ensure_dir(dir)?;
+        write_slide_files(dir, &rows, args.t_end)?;
+    }
     finish_sweep(
         "slide",
         &args.output,
         &args.solver,
         &["sweep_slide.csv", "sweep_slide.png"],
         &serde_json::Map::new(),
-        serde_json::json!({ "v0": args.v0, "t_end": args.t_end, "blocks": args.blocks }),
+        serde_json::json!({
+            "v0": args.v0, "t_end": args.t_end, "blocks": args.blocks, "mu": args.mu,
+        }),
         &rows,
         rows.iter().map(|r| r.wall_time_s).sum(),
         start,

@@ -64,19 +64,24 @@ pub fn sweep_scene(args: &SceneArgs) -> Result<()> {
         .map(|(_, p)| p)
         .collect();
     let rows = par_map_ordered(&points, "scene", |p| sweep.row(p, &options));
-    let dir = &args.output.out;
-    ensure_dir(dir)?;
-    let header = sweep.csv_header();
-    write_csv(
-        &dir.join("sweep_scene.csv"),
-        &header.iter().map(String::as_str).collect::<Vec<_>>(),
-        rows.iter().map(SceneRow::csv_cells),
-    )?;
-    let drawn = plot_scene_sweep(&dir.join("sweep_scene.png"), &rows)?;
-    let mut files = vec!["sweep_scene.csv"];
-    files.extend(drawn.files.iter().map(String::as_str));
+    let mut files = Vec::new();
+    let mut notes = Vec::new();
+    if let Some(dir) = &args.output.out {
+        ensure_dir(dir)?;
+        let header = sweep.csv_header();
+        write_csv(
+            &dir.join("sweep_scene.csv"),
+            &header.iter().map(String::as_str).collect::<Vec<_>>(),
+            rows.iter().map(SceneRow::csv_cells),
+        )?;
+        let drawn = plot_scene_sweep(&dir.join("sweep_scene.png"), &rows)?;
+        files.push("sweep_scene.csv".to_owned());
+        files.extend(drawn.files);
+        notes = drawn.notes;
+    }
+    let files: Vec<&str> = files.iter().map(String::as_str).collect();
     let mut extra = serde_json::Map::new();
-    extra.insert("notes".into(), serde_json::to_value(&drawn.notes)?);
+    extra.insert("notes".into(), serde_json::to_value(&notes)?);
     finish_sweep(
         "scene",
         &args.output,

@@ -8,7 +8,7 @@ use cylinders::kinematics::Cylinder;
 use cylinders::studies::frobenius::{
     integrability_report, ConstraintSystem, FrobeniusCase, PairConfiguration,
 };
-use input::text::Angle;
+use input::text::{parse_finite, RotationAngle};
 
 /// The constraint systems of `cylinder frobenius`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
@@ -60,10 +60,10 @@ pub struct FrobeniusArgs {
     pub config: ConfigArg,
     /// Inclination ϑ of the cylinders, in (0, π/2), rad.
     #[arg(long, allow_hyphen_values = true, default_value = "0.4")]
-    pub theta: Angle,
+    pub theta: RotationAngle,
     /// Heading (precession ψ of cylinder I), rad.
     #[arg(long, allow_hyphen_values = true, default_value = "0.5")]
-    pub heading: Angle,
+    pub heading: RotationAngle,
     /// Where the cylinders touch along their axes, from the centre (m* = n*), metres.
     #[arg(long, allow_hyphen_values = true, default_value_t = 0.3)]
     pub contact_at: f64,
@@ -73,6 +73,9 @@ pub struct FrobeniusArgs {
     /// Height h of each cylinder, metres.
     #[arg(long, default_value_t = 1.2954)]
     pub h: f64,
+    /// Aspect ratio r/h of each cylinder, instead of --h (h = r / (r/h)).
+    #[arg(long, conflicts_with = "h", value_parser = parse_finite, allow_hyphen_values = true)]
+    pub r_over_h: Option<f64>,
     /// Print one JSON object on stdout.
     #[arg(long)]
     pub json: bool,
@@ -80,10 +83,17 @@ pub struct FrobeniusArgs {
 
 pub(super) fn run(a: &FrobeniusArgs) -> Result<()> {
     let system = a.system.into();
+    let h = match a.r_over_h {
+        Some(ratio) => {
+            anyhow::ensure!(ratio > 0.0, "--r-over-h must be positive, got {ratio}");
+            a.r / ratio
+        }
+        None => a.h,
+    };
     let rep = integrability_report(&FrobeniusCase {
         system,
         configuration: a.config.into(),
-        cylinder: Cylinder::new(a.r, a.h)?,
+        cylinder: Cylinder::new(a.r, h)?,
         theta: a.theta.0,
         heading: a.heading.0,
         contact_at: a.contact_at,

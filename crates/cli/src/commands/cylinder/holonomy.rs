@@ -9,7 +9,7 @@ use cylinders::kinematics::{check_point_contact, Cylinder};
 use cylinders::rolling::{RollingTrace, Sample};
 use cylinders::studies::holonomy::{circle_report, plan_view, rectangle_report, RollSettings};
 use figures::cylinders::plot_trace;
-use input::text::Angle;
+use input::text::{parse_finite, Angle, RotationAngle};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
@@ -64,7 +64,7 @@ fn direction(cw: bool) -> Direction {
 pub struct RectangleArgs {
     /// Inclination ϑ, in (0, π/2), rad (`pi/10` accepted).
     #[arg(long, allow_hyphen_values = true)]
-    pub theta: Angle,
+    pub theta: RotationAngle,
     /// φ1 > 0: a side of the rectangle is rφ1/2 long (rad of spin).
     #[arg(long, allow_hyphen_values = true)]
     pub phi1: Angle,
@@ -82,10 +82,14 @@ pub struct RectangleArgs {
     pub cw: bool,
     /// Initial precession ψ0, rad (sets ₀e3 of (3.4.4)).
     #[arg(long, allow_hyphen_values = true, default_value = "0")]
-    pub psi0: Angle,
-    /// Height of the cylinder in units of r (only for the rolled traces; Figure 3.10: 8.3333).
-    #[arg(long, default_value_t = 25.0 / 3.0)]
-    pub h_over_r: f64,
+    pub psi0: RotationAngle,
+    /// Aspect ratio r/h of the cylinder, for the rolled traces only (lengths are in units
+    /// of r; Figure 3.10: 0.12, h = 8.3333 r).
+    #[arg(long, default_value_t = 0.12, value_parser = parse_finite, allow_hyphen_values = true)]
+    pub r_over_h: f64,
+    /// The old form of `--r-over-h`: the height in units of r, h/r = 1/(r/h).
+    #[arg(long, hide = true, conflicts_with = "r_over_h", value_parser = parse_finite, allow_hyphen_values = true)]
+    pub h_over_r: Option<f64>,
     /// Largest rotation per integration step of the rolled check, rad.
     #[arg(long, default_value_t = 1e-3)]
     pub max_step: f64,
@@ -110,7 +114,8 @@ pub(super) fn run_rectangle(a: &RectangleArgs) -> Result<()> {
     let theta = check_point_contact(a.theta.0)?;
     let path = RectanglePath::new(a.phi1.0, a.phi2.0, a.s, a.case.into(), direction(a.cw))?;
     let psi0 = a.psi0.0;
-    let cylinder = Cylinder::new(1.0, a.h_over_r)?;
+    let h_over_r = height_over_radius(a.r_over_h, a.h_over_r)?;
+    let cylinder = Cylinder::new(1.0, h_over_r)?;
     let (rep, trace) = rectangle_report(&cylinder, theta, &path, psi0, settings(a.max_step))?;
     if let Some(dir) = &a.out {
         ensure_dir(dir)?;
@@ -123,7 +128,7 @@ pub(super) fn run_rectangle(a: &RectangleArgs) -> Result<()> {
             dir,
             "cylinder holonomy rectangle",
             &serde_json::json!({"theta": theta, "phi1": path.phi1, "phi2": path.phi2, "s": path.s,
-                "case": format!("{:?}", path.case), "cw": a.cw, "psi0": psi0, "h_over_r": a.h_over_r}),
+                "case": path.case.name(), "cw": a.cw, "psi0": psi0, "r_over_h": 1.0 / h_over_r}),
             &serde_json::json!({"total_s": start.elapsed().as_secs_f64()}),
         )?;
     }
@@ -134,20 +139,38 @@ pub(super) fn run_rectangle(a: &RectangleArgs) -> Result<()> {
     Ok(())
 }
 
+/// h/r from `--r-over-h` or, when given, its old inverse form `--h-over-r`.
+fn height_over_radius(r_over_h: f64, h_over_r: Option<f64>) -> Result<f64> {
+    match h_over_r {
+        Some(h) => Ok(h),
+        None => {
+            anyhow::ensure!(
+                r_over_h > 0.0,
+                "--r-over-h must be positive, got {r_over_h}"
+            );
+            Ok(1.0 / r_over_h)
+        }
+    }
+}
+
 /// Arguments of `rollstack cylinder holonomy circle`.
 #[derive(Debug, Args)]
+#[command(group = clap::ArgGroup::new("height").required(true).args(["h", "r_over_h"]))]
 pub struct CircleArgs {
-    /// Radius ℓ of the circle traced by P (same unit as --h and --r).
+    /// Radius ℓ of the circle traced by P (same unit as --r and --h).
     #[arg(long)]
     pub ell: f64,
     /// Inclination ϑ, in (0, π/2), rad (`pi/10` accepted).
     #[arg(long, allow_hyphen_values = true)]
-    pub theta: Angle,
-    /// Height h of the cylinder.
+    pub theta: RotationAngle,
+    /// Height h of the cylinder (or give --r-over-h).
     #[arg(long)]
-    pub h: f64,
-    /// Radius r of the cylinder.
-    #[arg(long)]
+    pub h: Option<f64>,
+    /// Aspect ratio r/h of the cylinder, instead of --h (h = r / (r/h)).
+    #[arg(long, value_parser = parse_finite, allow_hyphen_values = true)]
+    pub r_over_h: Option<f64>,
+    /// Radius r of the cylinder (the unit of ℓ and h by default).
+    #[arg(long, default_value_t = 1.0)]
     pub r: f64,
     /// Case I (e′2 outward) or II (inward).
     #[arg(long = "case", value_enum, default_value = "I")]
@@ -168,7 +191,15 @@ pub struct CircleArgs {
 
 pub(super) fn run_circle(a: &CircleArgs) -> Result<()> {
     let start = Instant::now();
-    let cylinder = Cylinder::new(a.r, a.h)?;
+    let h = match (a.h, a.r_over_h) {
+        (Some(h), _) => h,
+        (None, Some(ratio)) => {
+            anyhow::ensure!(ratio > 0.0, "--r-over-h must be positive, got {ratio}");
+            a.r / ratio
+        }
+        (None, None) => anyhow::bail!("give the height as --h or --r-over-h"),
+    };
+    let cylinder = Cylinder::new(a.r, h)?;
     let theta = a.theta.0;
     let path = CirclePath::new(a.ell, a.case.into(), direction(a.cw))?;
     let (rep, trace) = circle_report(&cylinder, theta, &path, settings(a.max_step))?;
@@ -182,8 +213,8 @@ pub(super) fn run_circle(a: &CircleArgs) -> Result<()> {
         write_run_json(
             dir,
             "cylinder holonomy circle",
-            &serde_json::json!({"ell": a.ell, "theta": theta, "h": a.h, "r": a.r,
-                "case": format!("{:?}", path.case), "cw": a.cw}),
+            &serde_json::json!({"ell": a.ell, "theta": theta, "h": h, "r": a.r,
+                "case": path.case.name(), "cw": a.cw}),
             &serde_json::json!({"total_s": start.elapsed().as_secs_f64()}),
         )?;
     }

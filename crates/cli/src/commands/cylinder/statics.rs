@@ -23,22 +23,36 @@ pub struct StaticsArgs {
     /// Number of inclinations sampled in (0, 90°).
     #[arg(long, default_value_t = 721)]
     pub points: usize,
-    /// Write fig3_3.csv … fig3_8.csv, their PNGs and run.json here.
+    /// Write fig3_3.csv … fig3_8.csv, their PNGs and run.json here (without it, the
+    /// curves are computed and nothing is written).
     #[arg(long)]
-    pub out: PathBuf,
+    pub out: Option<PathBuf>,
 }
 
 pub(super) fn run(a: &StaticsArgs) -> Result<()> {
     let start = Instant::now();
-    ensure_dir(&a.out)?;
-    let files = write_statics(&a.out, a.r_over_h, a.mu, a.points)?;
+    let Some(dir) = &a.out else {
+        anyhow::ensure!(a.points >= 3, "--points must be at least 3");
+        let fig = statics_figures(a.r_over_h, a.mu, a.points)?;
+        println!(
+            "computed Figures 3.3, 3.4, 3.5, 3.7 and 3.8 at {} inclinations (r/h = {}, μ = {}); \
+             point D at ϑ = {:.4}°; give --out DIR to write their CSV and PNG files",
+            fig.minimum_force.len(),
+            fig.r_over_h,
+            fig.mu,
+            fig.self_balancing_theta.to_degrees()
+        );
+        return Ok(());
+    };
+    ensure_dir(dir)?;
+    let files = write_statics(dir, a.r_over_h, a.mu, a.points)?;
     write_run_json(
-        &a.out,
+        dir,
         "cylinder statics",
         &serde_json::json!({"r_over_h": a.r_over_h, "mu": a.mu, "points": a.points}),
         &serde_json::json!({"total_s": start.elapsed().as_secs_f64()}),
     )?;
-    println!("wrote {} files into {}", files.len() + 1, a.out.display());
+    println!("wrote {} files into {}", files.len() + 1, dir.display());
     Ok(())
 }
 

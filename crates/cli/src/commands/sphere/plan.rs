@@ -7,7 +7,7 @@ use clap::Args;
 use figures::sphere::{plot_rectangle_panels, plot_rectangles};
 use holonomy::euler_plan;
 use holonomy::studies::plan::{euler_plan_report, plan_report, EulerPlanReport, RectangleReport};
-use input::text::{parse_angle_list, parse_number_list, Angle};
+use input::text::{parse_number_list, parse_rotation_angle_list, RotationAngle};
 use nalgebra::{Rotation3, Vector3};
 use rotations::{AxisAngle, EulerSet};
 use std::path::{Path, PathBuf};
@@ -18,7 +18,7 @@ use std::time::Instant;
 pub struct PlanArgs {
     /// Angle of the target rotation ψ, rad (`270deg`, `3pi/2` accepted).
     #[arg(long, allow_hyphen_values = true)]
-    pub angle: Angle,
+    pub angle: RotationAngle,
     /// Axis of the target rotation, `X,Y,Z` on A1, A2, A3 (normalised; not zero).
     #[arg(long, allow_hyphen_values = true)]
     pub axis: String,
@@ -103,7 +103,7 @@ pub(super) fn run_plan(a: &PlanArgs) -> Result<()> {
 
 pub(super) fn run_euler_plan(a: &EulerPlanArgs) -> Result<()> {
     let set = EulerSet::from_name(&a.set)?;
-    let v = parse_angle_list(&a.angles)
+    let v = parse_rotation_angle_list(&a.angles)
         .map_err(anyhow::Error::msg)
         .context("--angles")?;
     if v.len() != 3 {
