@@ -88,3 +88,9 @@ fn work_precision_writes_csv_png_and_run_json() {
     assert!(dir.join("work_precision.png").exists() && dir.join("run.json").exists());
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+#[test]
+fn zero_repetitions_are_refused_not_silently_raised() {
+    let (ok, _, stderr) = common::run(&["nsga", "work-precision", "--repeat", "0"]);
+    assert!(!ok && stderr.contains("--repeat"), "{stderr}");
+}

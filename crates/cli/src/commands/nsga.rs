@@ -107,9 +107,9 @@ pub struct WorkPrecisionArgs {
     /// Values of ρ∞ for NSGA (comma-separated).
     #[arg(long, default_value = "0,0.5,0.8,1")]
     pub rho_inf: String,
-    /// Repetitions per point; the fastest wall time is kept.
-    #[arg(long, default_value_t = 3)]
-    pub repeat: usize,
+    /// Repetitions per point (1 to 1000); the fastest wall time is kept.
+    #[arg(long, default_value_t = 3, value_parser = clap::value_parser!(u16).range(1..=1000))]
+    pub repeat: u16,
     /// Print one JSON object on stdout.
     #[arg(long)]
     pub json: bool,
@@ -202,7 +202,7 @@ fn work_precision_command(a: &WorkPrecisionArgs) -> Result<()> {
     if rhos.iter().any(|r| !(0.0..=1.0).contains(r)) {
         bail!("every --rho-inf value must be in [0, 1]");
     }
-    let repeat = a.repeat.max(1);
+    let repeat = usize::from(a.repeat);
     let rows = work_precision(system, &dts, &rhos, repeat)?;
     let csv = a.out.as_ref().map(|dir| dir.join("work_precision.csv"));
     if let Some(dir) = &a.out {
