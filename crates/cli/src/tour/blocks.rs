@@ -180,7 +180,7 @@ fn shaking(dir: &Path, summary: &mut Vec<String>, blocks: &mut Vec<Block>) -> Re
         dir: Some(dir.join("shaking")),
         snapshots: vec![0.0],
         max_frames: 100,
-        title: format!("shaken column, omega = {}", p.omega),
+        title: format!("shaken column, ω = {}", p.omega),
         defaults: Defaults::default(),
     };
     let inputs = shake_inputs(&p);
