@@ -3,11 +3,12 @@
 
 use crate::axis::{TickedRange, Ticks};
 use crate::plot::{
-    draw_title_reserving, fit_title, with_png, Canvas, LinePlot, Series, BASE_COLOR, FONT, PALETTE,
-    TITLE_PX,
+    draw_title_reserving, fit_title, with_png, Canvas, LinePlot, Series, Style, BASE_COLOR, FONT,
+    GUIDE_COLOR, PALETTE, TITLE_PX,
 };
 use crate::{err, file, write_error, FigureError, Result};
 use blockstack::record::{Frame, Recording, TopSample};
+use blockstack::scenarios::Shaking;
 use blockstack::studies::shaking::FrequencyRow;
 use blockstack::studies::slide::{SlideRegime, SlideRow};
 use blockstack::Scene;
@@ -604,46 +605,176 @@ pub fn draw_run(
     Ok(out)
 }
 
-/// Figure 4.6: the inverse time to failure 1/T of a shaken column against the
-/// frequency ω (0 where the column survived).
+/// What a frequency sweep holds fixed (ω is the swept parameter): what its figure's
+/// title says.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct FrequencySweep {
+    /// Number of free blocks.
+    pub blocks: usize,
+    /// Base amplitude A, length units.
+    pub amplitude: f64,
+    /// Friction coefficient μ.
+    pub mu: f64,
+    /// Base periods simulated per run.
+    pub periods: f64,
+    /// Steps per base period N (Δt = 2π/(Nω)).
+    pub steps_per_period: f64,
+}
+
+impl FrequencySweep {
+    /// The fixed parameters of shaken columns like `s` (its ω is not used).
+    #[must_use]
+    pub fn of(s: &Shaking) -> Self {
+        Self {
+            blocks: s.blocks,
+            amplitude: s.amplitude,
+            mu: s.mu,
+            periods: s.periods,
+            steps_per_period: s.steps_per_period,
+        }
+    }
+
+    /// Whether these are the parameters of Figure 4.6 (four blocks, A = 0.2, μ = 0.2,
+    /// Δt = 2π/(100ω), the defaults of [`Shaking`]); the number of periods only bounds
+    /// each run.
+    #[must_use]
+    pub fn is_figure_4_6(&self) -> bool {
+        let thesis = Shaking::default();
+        self.blocks == thesis.blocks
+            && self.amplitude == thesis.amplitude
+            && self.mu == thesis.mu
+            && self.steps_per_period == thesis.steps_per_period
+    }
+
+    /// The figure's title, from the parameters: e.g. "Failure time of a shaken column,
+    /// 4 blocks, A = 0.2, μ = 0.2, 10 periods (cf. Figure 4.6)"; the steps per period
+    /// are named when they are not the thesis's 100, and "cf. Figure 4.6" only when
+    /// [`Self::is_figure_4_6`].
+    #[must_use]
+    pub fn title(&self) -> String {
+        let blocks = plural(self.blocks, "block");
+        let mut t = format!(
+            "Failure time of a shaken column, {blocks}, A = {}, μ = {}, {} periods",
+            self.amplitude, self.mu, self.periods
+        );
+        if self.steps_per_period != Shaking::default().steps_per_period {
+            t.push_str(&format!(", {} steps per period", self.steps_per_period));
+        }
+        if self.is_figure_4_6() {
+            t.push_str(" (cf. Figure 4.6)");
+        }
+        t
+    }
+}
+
+/// "1 block", "4 blocks".
+fn plural(n: usize, what: &str) -> String {
+    if n == 1 {
+        format!("1 {what}")
+    } else {
+        format!("{n} {what}s")
+    }
+}
+
+/// The inverse time to failure 1/T of a shaken column against the frequency ω
+/// (Figure 4.6 with its parameters), 0 where the column survived: a marker per run,
+/// failed and surviving runs told apart; with [`DENSE_POINTS`](crate::plot::DENSE_POINTS)
+/// runs or more, one curve through all of them with its markers. Runs that stopped
+/// before failing or surviving have no value and no marker.
 ///
 /// # Errors
 /// An unwritable file.
-pub fn plot_frequency_sweep(path: &Path, rows: &[FrequencyRow]) -> Result<()> {
+pub fn plot_frequency_sweep(
+    path: &Path,
+    rows: &[FrequencyRow],
+    sweep: &FrequencySweep,
+) -> Result<()> {
     let points: Vec<(f64, f64)> = rows
         .iter()
         .filter_map(|r| r.inv_failure_time.map(|v| (r.omega, v)))
         .collect();
-    LinePlot::new(
-        "Figure 4.6: onset of failure of a shaken column",
-        "omega (rad per time unit)",
-        "1/T (failure: loss of support)",
-    )
-    .with(Series::line("", points.clone()))
-    .with(Series::markers("1/T (0: survived)", points))
-    .save(path, (900, 600))
+    let mut plot = LinePlot::new(sweep.title(), "ω [rad / time unit]", "1/T [1 / time unit]");
+    let survived = format!("survived {} periods", sweep.periods);
+    let dense = Series::computed("", points.clone());
+    if dense.line {
+        let mut sorted = points;
+        sorted.sort_by(|a, b| a.0.total_cmp(&b.0));
+        plot = plot.with(Series::line_and_markers(
+            format!("1/T (T: first loss of support; 0: {survived})"),
+            sorted,
+        ));
+    } else {
+        let failed: Vec<(f64, f64)> = points.iter().copied().filter(|p| p.1 > 0.0).collect();
+        let kept: Vec<(f64, f64)> = points.into_iter().filter(|p| p.1 <= 0.0).collect();
+        if !failed.is_empty() {
+            plot = plot.with(Series::markers("1/T, T: first loss of support", failed));
+        }
+        if !kept.is_empty() {
+            plot = plot.with(Series::markers(format!("{survived} (1/T = 0)"), kept));
+        }
+    }
+    plot.save(path, (1000, 620))
 }
 
-/// Figure 4.7: the top block's angle at `t_end` against the base speed v₀, with each
-/// run's regime marked and runs that stopped early shown apart.
+/// What a slide sweep holds fixed (v₀ is the swept parameter).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SlideSweep {
+    /// Number of free blocks on the base.
+    pub blocks: usize,
+    /// Time at which the top block's angle is read.
+    pub t_end: f64,
+}
+
+impl SlideSweep {
+    /// Whether these are the parameters of Figure 4.7: four blocks (five bodies with
+    /// the base), angle read at t = 3.
+    #[must_use]
+    pub fn is_figure_4_7(&self) -> bool {
+        self.blocks == 4 && self.t_end == 3.0
+    }
+
+    /// The figure's title, e.g. "Top block angle at t = 3 on a pulled base, 4 blocks
+    /// (cf. Figure 4.7)", "cf." only for [`Self::is_figure_4_7`].
+    #[must_use]
+    pub fn title(&self) -> String {
+        let mut t = format!(
+            "Top block angle at t = {} on a pulled base, {}",
+            self.t_end,
+            plural(self.blocks, "block")
+        );
+        if self.is_figure_4_7() {
+            t.push_str(" (cf. Figure 4.7)");
+        }
+        t
+    }
+}
+
+/// The top block's angle at `t_end` against the base speed v₀ (Figure 4.7 with its
+/// parameters): a marker per run in the colour and shape of its regime, runs that
+/// stopped early apart (at the angle they had when they stopped); with
+/// [`DENSE_POINTS`](crate::plot::DENSE_POINTS) runs or more that reached `t_end`, a grey
+/// line joins them under the markers.
 ///
 /// # Errors
 /// An unwritable file.
-pub fn plot_slide_sweep(path: &Path, rows: &[SlideRow], t_end: f64) -> Result<()> {
-    // The curve joins the runs that reached t_end; runs that stopped early are shown
-    // apart, at the angle they had when they stopped.
+pub fn plot_slide_sweep(path: &Path, rows: &[SlideRow], sweep: &SlideSweep) -> Result<()> {
     let mut plot = LinePlot::new(
-        format!("Figure 4.7: top block angle at t = {t_end} against base speed"),
-        "v0 (length per time unit)",
-        "theta of the top block (rad)",
-    )
-    .with(Series::line(
-        "",
-        rows.iter()
-            .filter(|r| r.error.is_none())
-            .filter_map(|r| r.top_angle.map(|a| (r.v0, a)))
-            .collect(),
-    ));
+        sweep.title(),
+        "v0 [length / time unit]",
+        "θ of the top block [rad]",
+    );
+    let mut reached: Vec<(f64, f64)> = rows
+        .iter()
+        .filter(|r| r.error.is_none())
+        .filter_map(|r| r.top_angle.map(|a| (r.v0, a)))
+        .collect();
+    if reached.len() >= crate::plot::DENSE_POINTS {
+        reached.sort_by(|a, b| a.0.total_cmp(&b.0));
+        plot = plot.with(
+            Series::line(format!("runs that reached t = {}", sweep.t_end), reached)
+                .styled(Style::color(GUIDE_COLOR).width(1)),
+        );
+    }
     for regime in [
         SlideRegime::RidesAlong,
         SlideRegime::Topples,
@@ -669,7 +800,7 @@ pub fn plot_slide_sweep(path: &Path, rows: &[SlideRow], t_end: f64) -> Result<()
             stopped,
         ));
     }
-    plot.save(path, (900, 600))
+    plot.save(path, (1000, 620))
 }
 
 #[cfg(test)]
@@ -799,5 +930,38 @@ mod tests {
         // Neighbours never share a colour, and the first twelve blocks are all different.
         let first: Vec<RGBColor> = (1..=12).map(body_color).collect();
         assert!((0..12).all(|i| !first[i + 1..].contains(&first[i])));
+    }
+
+    #[test]
+    fn sweep_titles_name_their_parameters() {
+        let thesis = FrequencySweep::of(&Shaking::default());
+        assert_eq!(
+            thesis.title(),
+            "Failure time of a shaken column, 4 blocks, A = 0.2, μ = 0.2, 10 periods (cf. Figure 4.6)"
+        );
+        let mine = FrequencySweep {
+            blocks: 1,
+            mu: 0.5,
+            steps_per_period: 50.0,
+            ..thesis
+        };
+        assert_eq!(
+            mine.title(),
+            "Failure time of a shaken column, 1 block, A = 0.2, μ = 0.5, 10 periods, 50 steps per period"
+        );
+        assert!(!mine.is_figure_4_6());
+        let slide = SlideSweep {
+            blocks: 4,
+            t_end: 3.0,
+        };
+        assert_eq!(
+            slide.title(),
+            "Top block angle at t = 3 on a pulled base, 4 blocks (cf. Figure 4.7)"
+        );
+        let other = SlideSweep {
+            t_end: 2.5,
+            ..slide
+        };
+        assert!(!other.title().contains("Figure"));
     }
 }

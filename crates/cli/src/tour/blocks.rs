@@ -17,8 +17,8 @@ use blockstack::studies::lire::{blocks_fallen, largest_drift};
 use blockstack::studies::painleve::painleve_report;
 use blockstack::studies::slide::{slide_row, SlideRegime};
 use blockstack::Defaults;
-use figures::blocks::plot_stack;
 use figures::blocks::snapshot_name;
+use figures::blocks::{plot_stack, SlideSweep};
 use std::path::Path;
 
 /// Builds the section.
@@ -221,7 +221,7 @@ fn slide(dir: &Path, summary: &mut Vec<String>, blocks: &mut Vec<Block>) -> Resu
     };
     let rows =
         crate::sweep::par_map_ordered(&SLIDE_SPEEDS, "v0", |&v| slide_row(4, v, t_end, &options));
-    write_slide_files(dir, &rows, t_end)?;
+    write_slide_files(dir, &rows, &SlideSweep { blocks: 4, t_end })?;
     let regimes: Vec<String> = rows
         .iter()
         .map(|r| {
