@@ -2,9 +2,14 @@
 //! angle and height (Figure 4.5 (b), (c)), and the sweeps' plots. The frames come from
 //! [`blockstack::record`].
 
-use crate::plot::{with_png, LinePlot, Series, FONT, PALETTE};
+use crate::axis::{TickedRange, Ticks};
+use crate::plot::{
+    draw_title_reserving, fit_title, with_png, Canvas, LinePlot, Series, Style, BASE_COLOR, FONT,
+    GUIDE_COLOR, PALETTE, TITLE_PX,
+};
 use crate::{err, file, write_error, FigureError, Result};
 use blockstack::record::{Frame, Recording, TopSample};
+use blockstack::scenarios::Shaking;
 use blockstack::studies::scene_sweep::SceneRow;
 use blockstack::studies::shaking::FrequencyRow;
 use blockstack::studies::slide::{SlideRegime, SlideRow};
@@ -17,7 +22,24 @@ use std::path::{Path, PathBuf};
 const NON_FINITE: FigureError =
     FigureError::Data("cannot draw a stack with non-finite coordinates");
 
-/// A square window onto the plane of the stack: x and y ranges of equal length.
+/// The axis labels of a picture of the stack (model units, g = 1).
+const X_LABEL: &str = "x [length unit]";
+/// See [`X_LABEL`].
+const Y_LABEL: &str = "y [length unit]";
+
+/// The fill colour of body `k` of a stack (0: the base): the base in [`BASE_COLOR`],
+/// block k in the k-th colour of [`PALETTE`] (cycling after twelve), so no block ever
+/// has the base's colour.
+#[must_use]
+pub fn body_color(k: usize) -> RGBColor {
+    if k == 0 {
+        BASE_COLOR
+    } else {
+        PALETTE[(k - 1) % PALETTE.len()]
+    }
+}
+
+/// A window onto the plane of the stack.
 #[derive(Debug, Clone, PartialEq)]
 pub struct View {
     /// Horizontal range.
@@ -26,73 +48,347 @@ pub struct View {
     pub y: Range<f64>,
 }
 
-/// A square view that holds every body of every frame and the floor, with a margin.
-fn view_of(scene: &Scene, frames: &[&Frame]) -> View {
-    let (mut x0, mut x1, mut y0, mut y1) = (f64::MAX, f64::MIN, f64::MAX, f64::MIN);
-    for f in frames.iter().filter(|f| f.is_finite()) {
-        for &(x, y) in f.outlines(scene).iter().flatten() {
-            (x0, x1, y0, y1) = (x0.min(x), x1.max(x), y0.min(y), y1.max(y));
-        }
-    }
-    if x0 > x1 {
-        (x0, x1, y0, y1) = (-1.0, 1.0, -1.0, 1.0);
-    }
-    if let Some(f) = scene.floor() {
-        y0 = y0.min(f.y);
-    }
-    let half = 0.55 * (x1 - x0).max(y1 - y0);
-    let (cx, cy) = (0.5 * (x0 + x1), 0.5 * (y0 + y1));
-    View {
-        x: cx - half..cx + half,
-        y: cy - half..cy + half,
+impl View {
+    /// Whether any point of `poly` lies inside.
+    fn shows(&self, poly: &[(f64, f64)]) -> bool {
+        let b = Bounds::of(poly.iter().copied());
+        b.x0 < self.x.end && b.x1 > self.x.start && b.y0 < self.y.end && b.y1 > self.y.start
     }
 }
 
-/// Draws one frame of the stack onto a canvas: the floor as a line, the base black (as
-/// in Figure 4.4), the blocks as rotated rectangles in colour.
-fn draw_stack<DB: DrawingBackend>(
-    root: &DrawingArea<DB, plotters::coord::Shift>,
+/// An axis-aligned box.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Bounds {
+    x0: f64,
+    x1: f64,
+    y0: f64,
+    y1: f64,
+}
+
+impl Bounds {
+    const EMPTY: Self = Self {
+        x0: f64::MAX,
+        x1: f64::MIN,
+        y0: f64::MAX,
+        y1: f64::MIN,
+    };
+
+    fn of(points: impl IntoIterator<Item = (f64, f64)>) -> Self {
+        points.into_iter().fold(Self::EMPTY, |b, (x, y)| Self {
+            x0: b.x0.min(x),
+            x1: b.x1.max(x),
+            y0: b.y0.min(y),
+            y1: b.y1.max(y),
+        })
+    }
+
+    fn union(self, o: Self) -> Self {
+        Self {
+            x0: self.x0.min(o.x0),
+            x1: self.x1.max(o.x1),
+            y0: self.y0.min(o.y0),
+            y1: self.y1.max(o.y1),
+        }
+    }
+
+    fn is_empty(&self) -> bool {
+        self.x0 > self.x1
+    }
+
+    /// The larger side.
+    fn size(&self) -> f64 {
+        (self.x1 - self.x0).max(self.y1 - self.y0)
+    }
+
+    fn centre(&self) -> (f64, f64) {
+        (0.5 * (self.x0 + self.x1), 0.5 * (self.y0 + self.y1))
+    }
+
+    fn shifted(self, dx: f64, dy: f64) -> Self {
+        Self {
+            x0: self.x0 + dx,
+            x1: self.x1 + dx,
+            y0: self.y0 + dy,
+            y1: self.y1 + dy,
+        }
+    }
+
+    /// The distance between two boxes (0 when they overlap).
+    fn gap(&self, o: &Self) -> f64 {
+        let dx = (o.x0 - self.x1).max(self.x0 - o.x1).max(0.0);
+        let dy = (o.y0 - self.y1).max(self.y0 - o.y1).max(0.0);
+        dx.hypot(dy)
+    }
+
+    /// A view of `w` × `h` centred here, with a margin of [`VIEW_MARGIN`] times the
+    /// larger side all round.
+    fn view(&self, w: f64, h: f64) -> View {
+        let (cx, cy) = self.centre();
+        let m = VIEW_MARGIN * w.max(h);
+        View {
+            x: cx - 0.5 * w - m..cx + 0.5 * w + m,
+            y: cy - 0.5 * h - m..cy + 0.5 * h + m,
+        }
+    }
+
+    /// This box as a view, with the margin.
+    fn padded(&self) -> View {
+        self.view(self.x1 - self.x0, self.y1 - self.y0)
+    }
+}
+
+/// The margin around the framed bodies, as a fraction of their size on each side.
+const VIEW_MARGIN: f64 = 0.1;
+
+/// A fixed camera frames at most this many times the largest extent of the bodies in
+/// play in any one frame; beyond, the camera follows them.
+const FIXED_CAMERA_LIMIT: f64 = 2.0;
+
+/// A block is in play while it is within this fraction of the first frame's size from
+/// where that frame's bodies were (carried along with the base).
+const REACH: f64 = 0.5;
+
+/// The views in which to draw `frames` (one per frame), framed on the bodies rather
+/// than on everything every body ever reached:
+///
+/// 1. L is the size (larger side) of the first frame's bodies, the base included.
+/// 2. In each frame the bodies *in play* are the base and every block within L/2 of
+///    the first frame's box carried along with the base (the base's displacement
+///    added). A block that has fallen or flown farther than that (a block dropping off
+///    the Lire table, falling without a floor for ever) is ignored: it leaves the
+///    picture, and the frame names it "out of view", rather than shrinking the stack to
+///    a few pixels. A floor within L/4 below the bodies in play is kept in view.
+/// 3. When all frames' bodies in play fit in a box at most twice as large as those of
+///    the most spread-out frame, every frame gets that one box (a fixed camera, as for
+///    a shaken column or a collapsing tower). Otherwise (a base pulled far) the camera
+///    follows: a box as wide and as high as the largest one-frame extents, centred on
+///    each frame's bodies in play.
+///
+/// Views have a margin of 10 % of their larger side; a picture widens them to its own
+/// proportions (equal scales on both axes), adding room above a floor rather than
+/// below it. Non-finite frames should be left out.
+#[must_use]
+pub fn frame_views(scene: &Scene, frames: &[&Frame]) -> Vec<View> {
+    let Some(first) = frames.first() else {
+        return Vec::new();
+    };
+    let bodies = |f: &Frame| -> Vec<Bounds> {
+        f.outlines(scene)
+            .iter()
+            .map(|o| Bounds::of(o.iter().copied()))
+            .collect()
+    };
+    let home = bodies(first).into_iter().fold(Bounds::EMPTY, Bounds::union);
+    let size = home.size().max(1e-9);
+    let reach = REACH * size;
+    let in_play: Vec<Bounds> = frames
+        .iter()
+        .map(|f| {
+            let carried = home.shifted(f.base.x - first.base.x, f.base.y - first.base.y);
+            let mut b = bodies(f)
+                .into_iter()
+                .enumerate()
+                .filter(|(k, b)| *k == 0 || b.gap(&carried) <= reach)
+                .fold(Bounds::EMPTY, |acc, (_, b)| acc.union(b));
+            if let Some(floor) = scene.floor() {
+                if floor.y < b.y0 && floor.y >= b.y0 - 0.25 * size {
+                    b.y0 = floor.y;
+                }
+            }
+            b
+        })
+        .collect();
+    let all = in_play.iter().fold(Bounds::EMPTY, |a, b| a.union(*b));
+    if all.is_empty() {
+        return vec![home.padded(); frames.len()];
+    }
+    let widest = in_play
+        .iter()
+        .map(Bounds::size)
+        .fold(0.0, f64::max)
+        .max(1e-9);
+    if all.size() <= FIXED_CAMERA_LIMIT * widest {
+        vec![all.padded(); frames.len()]
+    } else {
+        let w = in_play.iter().map(|b| b.x1 - b.x0).fold(0.0, f64::max);
+        let h = in_play.iter().map(|b| b.y1 - b.y0).fold(0.0, f64::max);
+        in_play.iter().map(|b| b.view(w, h)).collect()
+    }
+}
+
+/// Height of a picture of the stack `width` pixels wide: as high as the views'
+/// proportions ask (the tallest of them), between half and 1.25 times the width.
+fn picture_height(width: u32, views: &[View]) -> u32 {
+    let ratio = views
+        .iter()
+        .map(|v| (v.y.end - v.y.start) / (v.x.end - v.x.start))
+        .filter(|r| r.is_finite())
+        .fold(0.0, f64::max)
+        .clamp(0.5, 1.25);
+    // Around the plotting area: label areas, margins and the title, about 80 pixels
+    // across and 120 up.
+    let plot_w = f64::from(width.saturating_sub(80));
+    #[allow(clippy::cast_possible_truncation, clippy::cast_sign_loss)]
+    let plot_h = (plot_w * ratio).round() as u32;
+    plot_h + 120
+}
+
+/// The part of a convex polygon inside a view (Sutherland–Hodgman), empty when none.
+fn clip(poly: &[(f64, f64)], view: &View) -> Vec<(f64, f64)> {
+    let mut out = poly.to_vec();
+    let edges: [(usize, f64, bool); 4] = [
+        (0, view.x.start, true),
+        (0, view.x.end, false),
+        (1, view.y.start, true),
+        (1, view.y.end, false),
+    ];
+    for (axis, at, keep_above) in edges {
+        let coord = |p: (f64, f64)| if axis == 0 { p.0 } else { p.1 };
+        let inside = |p: (f64, f64)| (coord(p) >= at) == keep_above || coord(p) == at;
+        let input = std::mem::take(&mut out);
+        for (i, &p) in input.iter().enumerate() {
+            let q = input[(i + 1) % input.len()];
+            if inside(p) {
+                out.push(p);
+            }
+            if inside(p) != inside(q) {
+                let f = (at - coord(p)) / (coord(q) - coord(p));
+                out.push((p.0 + f * (q.0 - p.0), p.1 + f * (q.1 - p.1)));
+            }
+        }
+        if out.is_empty() {
+            break;
+        }
+    }
+    out
+}
+
+/// The layout shared by every frame of one figure: title room, label areas, so that
+/// the plotting area, and with it the scale, is the same in every frame.
+#[derive(Debug, Clone, Copy)]
+struct StackLayout {
+    title_px: u32,
+    title_lines: usize,
+    x_area: u32,
+    y_area: u32,
+}
+
+/// Space around a stack chart, pixels.
+const STACK_MARGIN: u32 = 12;
+
+impl StackLayout {
+    /// The layout for frames with these titles and views on `area`.
+    fn new(area: &Canvas<'_>, titles: &[String], views: &[View]) -> Self {
+        let measure = |s: &str, px: u32| {
+            area.estimate_text_size(s, &TextStyle::from((FONT, px).into_font()))
+                .map_or(0, |d| d.0)
+        };
+        let (w, _) = area.dim_in_pixel();
+        let longest = titles
+            .iter()
+            .max_by_key(|t| measure(t, TITLE_PX))
+            .cloned()
+            .unwrap_or_default();
+        let (lines, title_px) = fit_title(&longest, w.saturating_sub(24), TITLE_PX, measure);
+        let widest_tick = views
+            .iter()
+            .flat_map(|v| Ticks::linear(v.y.start, v.y.end).labels)
+            .map(|l| measure(&l, 14))
+            .max()
+            .unwrap_or(0);
+        Self {
+            title_px,
+            title_lines: lines.len(),
+            x_area: 50,
+            y_area: widest_tick + 44,
+        }
+    }
+
+    /// The view widened to the plotting area's proportions (equal scales), about its
+    /// centre; when it holds a floor, the added height goes above the floor rather than
+    /// below (nothing is below a floor but the margin).
+    fn stretched(view: &View, plot_px: (u32, u32), floor: Option<f64>) -> (Range<f64>, Range<f64>) {
+        let (w, h) = (f64::from(plot_px.0), f64::from(plot_px.1));
+        let scale = ((view.x.end - view.x.start) / w).max((view.y.end - view.y.start) / h);
+        let cx = 0.5 * (view.x.start + view.x.end);
+        let cy = 0.5 * (view.y.start + view.y.end);
+        let x = cx - 0.5 * scale * w..cx + 0.5 * scale * w;
+        let y = if floor.is_some_and(|f| view.y.contains(&f)) {
+            view.y.start..view.y.start + scale * h
+        } else {
+            cy - 0.5 * scale * h..cy + 0.5 * scale * h
+        };
+        (x, y)
+    }
+}
+
+/// Draws one frame of the stack onto a canvas: the floor as a line, the base in
+/// [`BASE_COLOR`], the blocks as rotated rectangles in colour, clipped to the view; the
+/// bodies out of view are named in the corner.
+fn draw_stack(
+    root: &Canvas<'_>,
     scene: &Scene,
     frame: &Frame,
     view: &View,
     title: &str,
+    layout: &StackLayout,
 ) -> Result<()> {
-    let mut chart = ChartBuilder::on(root)
-        .caption(title, (FONT, 22))
-        .margin(12)
-        .x_label_area_size(40)
-        .y_label_area_size(50)
-        .build_cartesian_2d(view.x.clone(), view.y.clone())
+    let area = draw_title_reserving(root, title, layout.title_px, layout.title_lines)?;
+    let (w, h) = area.dim_in_pixel();
+    let plot_px = (
+        w.saturating_sub(2 * STACK_MARGIN + layout.y_area).max(10),
+        h.saturating_sub(2 * STACK_MARGIN + layout.x_area).max(10),
+    );
+    let (xr, yr) = StackLayout::stretched(view, plot_px, scene.floor().map(|f| f.y));
+    let view = View {
+        x: xr.clone(),
+        y: yr.clone(),
+    };
+    let (xt, yt) = (
+        Ticks::linear(xr.start, xr.end),
+        Ticks::linear(yr.start, yr.end),
+    );
+    let mut chart = ChartBuilder::on(&area)
+        .margin(STACK_MARGIN)
+        .x_label_area_size(layout.x_area)
+        .y_label_area_size(layout.y_area)
+        .build_cartesian_2d(
+            TickedRange::new(xr.clone(), xt),
+            TickedRange::new(yr.clone(), yt),
+        )
         .map_err(err)?;
     chart
         .configure_mesh()
-        .x_desc("x")
-        .y_desc("y")
+        .x_desc(X_LABEL)
+        .y_desc(Y_LABEL)
         .label_style((FONT, 14))
+        .axis_desc_style((FONT, 16))
+        .bold_line_style(RGBColor(215, 215, 215))
         // No minor grid: cleaner pictures and a much smaller animation.
         .light_line_style(TRANSPARENT)
         .draw()
         .map_err(err)?;
-    if let Some(f) = scene.floor() {
+    if let Some(f) = scene.floor().filter(|f| yr.contains(&f.y)) {
         chart
             .draw_series(LineSeries::new(
-                vec![(view.x.start, f.y), (view.x.end, f.y)],
+                vec![(xr.start, f.y), (xr.end, f.y)],
                 BLACK.stroke_width(2),
             ))
             .map_err(err)?;
     }
+    let mut hidden = Vec::new();
     for (k, poly) in frame.outlines(scene).into_iter().enumerate() {
-        let color = if k == 0 {
-            BLACK
-        } else {
-            PALETTE[(k - 1) % PALETTE.len()]
-        };
-        let mut closed = poly.to_vec();
-        closed.push(poly[0]);
+        let shown = clip(&poly, &view);
+        if shown.len() < 3 || !view.shows(&poly) {
+            hidden.push(k);
+            continue;
+        }
+        let mut closed = shown.clone();
+        closed.push(shown[0]);
         chart
             .draw_series(std::iter::once(Polygon::new(
-                poly.to_vec(),
-                color.mix(0.6).filled(),
+                shown,
+                body_color(k).mix(0.75).filled(),
             )))
             .map_err(err)?;
         chart
@@ -102,11 +398,41 @@ fn draw_stack<DB: DrawingBackend>(
             )))
             .map_err(err)?;
     }
+    if !hidden.is_empty() {
+        let plot = chart.plotting_area().strip_coord_spec();
+        let (_, ph) = plot.dim_in_pixel();
+        #[allow(clippy::cast_possible_wrap)]
+        plot.draw_text(
+            &format!("out of view: {}", body_names(&hidden)),
+            &(FONT, 14).into_font().color(&BLACK),
+            (8, ph as i32 - 22),
+        )
+        .map_err(err)?;
+    }
     Ok(())
 }
 
-/// Draws the stack at time t with coordinates q: the base black (as in Figure 4.4), the
-/// blocks in colour, the floor as a line; equal scales on both axes.
+/// "base, blocks 3, 4", "block 2": bodies by number (0: the base).
+fn body_names(bodies: &[usize]) -> String {
+    let blocks: Vec<String> = bodies
+        .iter()
+        .filter(|&&k| k > 0)
+        .map(ToString::to_string)
+        .collect();
+    let mut parts = Vec::new();
+    if bodies.contains(&0) {
+        parts.push("base".to_owned());
+    }
+    match blocks.len() {
+        0 => {}
+        1 => parts.push(format!("block {}", blocks[0])),
+        _ => parts.push(format!("blocks {}", blocks.join(", "))),
+    }
+    parts.join(", ")
+}
+
+/// Draws the stack at time t with coordinates q: the base in [`BASE_COLOR`] (black in
+/// Figure 4.4), the blocks in colour, the floor as a line; equal scales on both axes.
 ///
 /// # Errors
 /// Non-finite coordinates or an unwritable file.
@@ -115,25 +441,29 @@ pub fn plot_stack(path: &Path, scene: &Scene, q: &[f64], t: f64, title: &str) ->
     if !frame.is_finite() {
         return Err(NON_FINITE);
     }
-    let view = view_of(scene, &[&frame]);
-    with_png(path, (800, 800), |root| {
-        draw_stack(root, scene, &frame, &view, title)
+    let views = frame_views(scene, &[&frame]);
+    with_png(path, (800, picture_height(800, &views)), |root| {
+        let layout = StackLayout::new(root, &[title.to_owned()], &views);
+        draw_stack(root, scene, &frame, &views[0], title, &layout)
     })
 }
 
-/// Draws frames into one PNG each with a common view (Figure 4.4 style snapshots).
+/// Draws frames into one PNG each, framed together ([`frame_views`]: one common view
+/// unless the bodies travel far) (Figure 4.4 style snapshots).
 ///
 /// # Errors
 /// A non-finite frame or an unwritable file.
 pub fn plot_snapshots(scene: &Scene, shots: &[(PathBuf, String, &Frame)]) -> Result<()> {
+    if shots.iter().any(|s| !s.2.is_finite()) {
+        return Err(NON_FINITE);
+    }
     let frames: Vec<&Frame> = shots.iter().map(|s| s.2).collect();
-    let view = view_of(scene, &frames);
-    for (path, title, frame) in shots {
-        if !frame.is_finite() {
-            return Err(NON_FINITE);
-        }
-        with_png(path, (800, 800), |root| {
-            draw_stack(root, scene, frame, &view, title)
+    let views = frame_views(scene, &frames);
+    let titles: Vec<String> = shots.iter().map(|s| s.1.clone()).collect();
+    for ((path, title, frame), view) in shots.iter().zip(&views) {
+        with_png(path, (800, picture_height(800, &views)), |root| {
+            let layout = StackLayout::new(root, &titles, &views);
+            draw_stack(root, scene, frame, view, title, &layout)
         })?;
     }
     Ok(())
@@ -142,7 +472,8 @@ pub fn plot_snapshots(scene: &Scene, shots: &[(PathBuf, String, &Frame)]) -> Res
 /// Delay between animation frames (ms).
 const ANIMATION_FRAME_MS: u32 = 80;
 
-/// Writes an animated GIF of `frames` (one common view), atomically.
+/// Writes an animated GIF of `frames`, framed on the bodies ([`frame_views`]),
+/// atomically. Each frame's title is `title` and its time, fitted to the width.
 ///
 /// # Errors
 /// No finite frame, or an unwritable file.
@@ -151,16 +482,22 @@ pub fn write_animation(path: &Path, scene: &Scene, frames: &[Frame], title: &str
     if good.is_empty() {
         return Err(FigureError::Data("no frame to animate"));
     }
-    let view = view_of(scene, &good);
+    let views = frame_views(scene, &good);
+    let titles: Vec<String> = good
+        .iter()
+        .map(|f| format!("{title}, t = {:.2}", f.t))
+        .collect();
     crate::plot::register_font();
     let tmp = file::temp_sibling(path);
     {
-        let root = BitMapBackend::gif(&tmp, (480, 480), ANIMATION_FRAME_MS)
+        let size = (480, picture_height(480, &views));
+        let root = BitMapBackend::gif(&tmp, size, ANIMATION_FRAME_MS)
             .map_err(|e| write_error(path, e))?
             .into_drawing_area();
-        for f in good {
+        let layout = StackLayout::new(&root, &titles, &views);
+        for ((f, view), t) in good.iter().zip(&views).zip(&titles) {
             root.fill(&WHITE).map_err(err)?;
-            draw_stack(&root, scene, f, &view, &format!("{title}, t = {:.2}", f.t))?;
+            draw_stack(&root, scene, f, view, t, &layout)?;
             root.present().map_err(|e| write_error(path, e))?;
         }
     }
@@ -172,11 +509,21 @@ pub fn write_animation(path: &Path, scene: &Scene, frames: &[Frame], title: &str
 /// # Errors
 /// An unwritable file.
 pub fn plot_top_block(path: &Path, top: &[TopSample], title: &str) -> Result<()> {
-    let angle = LinePlot::new(format!("{title}: top block angle"), "t", "theta (rad)").with(
-        Series::line("", top.iter().map(|p| (p.t, p.theta)).collect()),
-    );
-    let height = LinePlot::new(format!("{title}: top block height"), "t", "y")
-        .with(Series::line("", top.iter().map(|p| (p.t, p.y)).collect()));
+    let angle = LinePlot::new(
+        format!("{title}: top block angle"),
+        "t [time unit]",
+        "θ [rad]",
+    )
+    .with(Series::line(
+        "",
+        top.iter().map(|p| (p.t, p.theta)).collect(),
+    ));
+    let height = LinePlot::new(
+        format!("{title}: top block height"),
+        "t [time unit]",
+        "y [length unit]",
+    )
+    .with(Series::line("", top.iter().map(|p| (p.t, p.y)).collect()));
     with_png(path, (1400, 550), |root| {
         let (left, right) = root.split_horizontally(700);
         angle.draw(&left)?;
@@ -260,46 +607,179 @@ pub fn draw_run(
     Ok(out)
 }
 
-/// Figure 4.6: the inverse time to failure 1/T of a shaken column against the
-/// frequency ω (0 where the column survived).
+/// What a frequency sweep holds fixed (ω is the swept parameter): what its figure's
+/// title says.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct FrequencySweep {
+    /// Number of free blocks.
+    pub blocks: usize,
+    /// Base amplitude A, length units.
+    pub amplitude: f64,
+    /// Friction coefficient μ.
+    pub mu: f64,
+    /// Base periods simulated per run.
+    pub periods: f64,
+    /// Steps per base period N (Δt = 2π/(Nω)).
+    pub steps_per_period: f64,
+}
+
+impl FrequencySweep {
+    /// The fixed parameters of shaken columns like `s` (its ω is not used).
+    #[must_use]
+    pub fn of(s: &Shaking) -> Self {
+        Self {
+            blocks: s.blocks,
+            amplitude: s.amplitude,
+            mu: s.mu,
+            periods: s.periods,
+            steps_per_period: s.steps_per_period,
+        }
+    }
+
+    /// Whether these are the parameters of Figure 4.6 (four blocks, A = 0.2, μ = 0.2,
+    /// Δt = 2π/(100ω), the defaults of [`Shaking`]); the number of periods only bounds
+    /// each run.
+    #[must_use]
+    pub fn is_figure_4_6(&self) -> bool {
+        let thesis = Shaking::default();
+        self.blocks == thesis.blocks
+            && self.amplitude == thesis.amplitude
+            && self.mu == thesis.mu
+            && self.steps_per_period == thesis.steps_per_period
+    }
+
+    /// The figure's title, from the parameters: e.g. "Failure time of a shaken column,
+    /// 4 blocks, A = 0.2, μ = 0.2, 10 periods (cf. Figure 4.6)"; the steps per period
+    /// are named when they are not the thesis's 100, and "cf. Figure 4.6" only when
+    /// [`Self::is_figure_4_6`].
+    #[must_use]
+    pub fn title(&self) -> String {
+        let blocks = plural(self.blocks, "block");
+        let mut t = format!(
+            "Failure time of a shaken column, {blocks}, A = {}, μ = {}, {} periods",
+            self.amplitude, self.mu, self.periods
+        );
+        if self.steps_per_period != Shaking::default().steps_per_period {
+            t.push_str(&format!(", {} steps per period", self.steps_per_period));
+        }
+        if self.is_figure_4_6() {
+            t.push_str(" (cf. Figure 4.6)");
+        }
+        t
+    }
+}
+
+/// "1 block", "4 blocks".
+fn plural(n: usize, what: &str) -> String {
+    if n == 1 {
+        format!("1 {what}")
+    } else {
+        format!("{n} {what}s")
+    }
+}
+
+/// The inverse time to failure 1/T of a shaken column against the frequency ω
+/// (Figure 4.6 with its parameters), 0 where the column survived: a marker per run,
+/// failed and surviving runs told apart; with [`DENSE_POINTS`](crate::plot::DENSE_POINTS)
+/// runs or more, one curve through all of them with its markers. Runs that stopped
+/// before failing or surviving have no value and no marker.
 ///
 /// # Errors
 /// An unwritable file.
-pub fn plot_frequency_sweep(path: &Path, rows: &[FrequencyRow]) -> Result<()> {
+pub fn plot_frequency_sweep(
+    path: &Path,
+    rows: &[FrequencyRow],
+    sweep: &FrequencySweep,
+) -> Result<()> {
     let points: Vec<(f64, f64)> = rows
         .iter()
         .filter_map(|r| r.inv_failure_time.map(|v| (r.omega, v)))
         .collect();
-    LinePlot::new(
-        "Figure 4.6: onset of failure of a shaken column",
-        "omega (rad per time unit)",
-        "1/T (failure: loss of support)",
-    )
-    .with(Series::line("", points.clone()))
-    .with(Series::markers("1/T (0: survived)", points))
-    .save(path, (900, 600))
+    let mut plot = LinePlot::new(sweep.title(), "ω [rad / time unit]", "1/T [1 / time unit]");
+    let survived = format!("survived {} periods", sweep.periods);
+    let dense = Series::computed("", points.clone());
+    if dense.line {
+        let mut sorted = points;
+        sorted.sort_by(|a, b| a.0.total_cmp(&b.0));
+        plot = plot.with(Series::line_and_markers(
+            format!("1/T (T: first loss of support; 0: {survived})"),
+            sorted,
+        ));
+    } else {
+        let failed: Vec<(f64, f64)> = points.iter().copied().filter(|p| p.1 > 0.0).collect();
+        let kept: Vec<(f64, f64)> = points.into_iter().filter(|p| p.1 <= 0.0).collect();
+        if !failed.is_empty() {
+            plot = plot.with(Series::markers("1/T, T: first loss of support", failed));
+        }
+        if !kept.is_empty() {
+            plot = plot.with(Series::markers(format!("{survived} (1/T = 0)"), kept));
+        }
+    }
+    plot.save(path, (1000, 620))
 }
 
-/// Figure 4.7: the top block's angle at `t_end` against the base speed v₀, with each
-/// run's regime marked and runs that stopped early shown apart.
+/// What a slide sweep holds fixed (v₀ is the swept parameter).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SlideSweep {
+    /// Number of free blocks on the base.
+    pub blocks: usize,
+    /// Time at which the top block's angle is read.
+    pub t_end: f64,
+    /// Friction coefficient μ.
+    pub mu: f64,
+}
+
+impl SlideSweep {
+    /// Whether these are the parameters of Figure 4.7: four blocks (five bodies with
+    /// the base), μ = 0.2, angle read at t = 3.
+    #[must_use]
+    pub fn is_figure_4_7(&self) -> bool {
+        self.blocks == 4 && self.t_end == 3.0 && self.mu == 0.2
+    }
+
+    /// The figure's title, e.g. "Top block angle at t = 3 on a pulled base, 4 blocks
+    /// (cf. Figure 4.7)", "cf." only for [`Self::is_figure_4_7`].
+    #[must_use]
+    pub fn title(&self) -> String {
+        let mut t = format!(
+            "Top block angle at t = {} on a pulled base, {}, μ = {}",
+            self.t_end,
+            plural(self.blocks, "block"),
+            self.mu
+        );
+        if self.is_figure_4_7() {
+            t.push_str(" (cf. Figure 4.7)");
+        }
+        t
+    }
+}
+
+/// The top block's angle at `t_end` against the base speed v₀ (Figure 4.7 with its
+/// parameters): a marker per run in the colour and shape of its regime, runs that
+/// stopped early apart (at the angle they had when they stopped); with
+/// [`DENSE_POINTS`](crate::plot::DENSE_POINTS) runs or more that reached `t_end`, a grey
+/// line joins them under the markers.
 ///
 /// # Errors
 /// An unwritable file.
-pub fn plot_slide_sweep(path: &Path, rows: &[SlideRow], t_end: f64) -> Result<()> {
-    // The curve joins the runs that reached t_end; runs that stopped early are shown
-    // apart, at the angle they had when they stopped.
+pub fn plot_slide_sweep(path: &Path, rows: &[SlideRow], sweep: &SlideSweep) -> Result<()> {
     let mut plot = LinePlot::new(
-        format!("Figure 4.7: top block angle at t = {t_end} against base speed"),
-        "v0 (length per time unit)",
-        "theta of the top block (rad)",
-    )
-    .with(Series::line(
-        "",
-        rows.iter()
-            .filter(|r| r.error.is_none())
-            .filter_map(|r| r.top_angle.map(|a| (r.v0, a)))
-            .collect(),
-    ));
+        sweep.title(),
+        "v0 [length / time unit]",
+        "θ of the top block [rad]",
+    );
+    let mut reached: Vec<(f64, f64)> = rows
+        .iter()
+        .filter(|r| r.error.is_none())
+        .filter_map(|r| r.top_angle.map(|a| (r.v0, a)))
+        .collect();
+    if reached.len() >= crate::plot::DENSE_POINTS {
+        reached.sort_by(|a, b| a.0.total_cmp(&b.0));
+        plot = plot.with(
+            Series::line(format!("runs that reached t = {}", sweep.t_end), reached)
+                .styled(Style::color(GUIDE_COLOR).width(1)),
+        );
+    }
     for regime in [
         SlideRegime::RidesAlong,
         SlideRegime::Topples,
@@ -325,7 +805,7 @@ pub fn plot_slide_sweep(path: &Path, rows: &[SlideRow], t_end: f64) -> Result<()
             stopped,
         ));
     }
-    plot.save(path, (900, 600))
+    plot.save(path, (1000, 620))
 }
 
 /// Most lines the picture of a scene sweep draws (one colour each, [`PALETTE`]); a sweep
@@ -405,7 +885,7 @@ pub fn plot_scene_sweep(path: &Path, rows: &[SceneRow]) -> Result<DrawnRun> {
                     .iter()
                     .filter_map(|r| Some((r.set.get(x)?.value, y(r)?)))
                     .collect();
-                plot.with(Series::joined_markers(label.as_str(), points))
+                plot.with(Series::line_and_markers(label.as_str(), points))
             },
         )
     };
@@ -431,7 +911,7 @@ pub fn plot_scene_sweep(path: &Path, rows: &[SceneRow]) -> Result<DrawnRun> {
 }
 
 #[cfg(test)]
-mod tests {
+mod scene_sweep_tests {
     use super::*;
     use blockstack::studies::scene_sweep::{cartesian_product, Override};
 
@@ -505,5 +985,174 @@ mod tests {
         assert!(none.files.is_empty() && none.notes.len() == 1);
         assert!(!dir.join("many.png").exists() && !dir.join("none.png").exists());
         std::fs::remove_dir_all(dir).unwrap();
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use blockstack::scenarios::{lire, shaking_column, sliding_column, Perturbation};
+    use blockstack::Pose;
+
+    /// The box of every body of a frame.
+    fn extent(scene: &Scene, f: &Frame) -> Bounds {
+        Bounds::of(f.outlines(scene).into_iter().flatten())
+    }
+
+    fn inside(view: &View, b: &Bounds) -> bool {
+        view.x.start <= b.x0 && b.x1 <= view.x.end && view.y.start <= b.y0 && b.y1 <= view.y.end
+    }
+
+    /// Frames of a scene's bodies moved by `motion(t, k, pose)` (k = 0: the base).
+    fn moved(scene: &Scene, motion: impl Fn(f64, usize, Pose) -> Pose) -> Vec<Frame> {
+        let start = Frame::from_coordinates(scene, &scene.initial_coordinates(), 0.0);
+        (0..=100)
+            .map(|i| {
+                let t = 0.1 * f64::from(i);
+                Frame {
+                    t,
+                    base: motion(t, 0, start.base),
+                    blocks: (1..)
+                        .zip(&start.blocks)
+                        .map(|(k, p)| motion(t, k, *p))
+                        .collect(),
+                }
+            })
+            .collect()
+    }
+
+    #[test]
+    fn a_tower_falling_off_its_table_stays_large_in_a_fixed_view() {
+        // The Lire tower without a floor: the blocks slide off and fall for ever, 50
+        // length units in 10 time units; the table stays.
+        let scene = lire(4, Perturbation::Bottom).unwrap();
+        let frames = moved(&scene, |t, k, p| {
+            if k == 0 {
+                p
+            } else {
+                Pose::new(p.x + 0.2 * t, p.y - 0.5 * t * t, p.theta + 0.3 * t)
+            }
+        });
+        let refs: Vec<&Frame> = frames.iter().collect();
+        let views = frame_views(&scene, &refs);
+        assert_eq!(views.len(), frames.len());
+        assert!(views.iter().all(|v| v == &views[0]), "one camera");
+        let tower = extent(&scene, &frames[0]);
+        assert!(inside(&views[0], &tower));
+        // All positions together are 50 high; the view stays within a few tower sizes,
+        // so a block 0.2 high keeps 20 pixels and more of a 480-pixel animation.
+        let all = frames
+            .iter()
+            .fold(Bounds::EMPTY, |a, f| a.union(extent(&scene, f)));
+        assert!(all.y1 - all.y0 > 45.0);
+        let height = views[0].y.end - views[0].y.start;
+        assert!(height <= 3.0 * tower.size(), "{height}");
+        assert!(480.0 * 0.2 / height >= 20.0);
+    }
+
+    #[test]
+    fn a_shaken_column_gets_one_view_that_holds_it_always() {
+        let scene = shaking_column(&blockstack::scenarios::Shaking::default()).unwrap();
+        let frames = moved(&scene, |t, k, p| {
+            let dx = 0.2 * (2.0 * t).sin();
+            Pose::new(p.x + dx, p.y, p.theta + 0.05 * (k as f64) * (3.0 * t).sin())
+        });
+        let refs: Vec<&Frame> = frames.iter().collect();
+        let views = frame_views(&scene, &refs);
+        assert!(views.iter().all(|v| v == &views[0]));
+        assert!(frames.iter().all(|f| inside(&views[0], &extent(&scene, f))));
+        // Framed on the bodies: the column fills most of the view's height.
+        let column = extent(&scene, &frames[0]);
+        let height = views[0].y.end - views[0].y.start;
+        assert!((column.y1 - column.y0) / height > 0.6);
+    }
+
+    #[test]
+    fn a_column_pulled_far_is_followed() {
+        // Base and blocks travel 30 length units together: a fixed view of all of it
+        // would make the blocks specks; the camera follows them instead.
+        let scene = sliding_column(&blockstack::scenarios::Sliding {
+            v0: 3.0,
+            t_end: 10.0,
+            ..Default::default()
+        })
+        .unwrap();
+        let frames = moved(&scene, |t, _, p| Pose::new(p.x + 3.0 * t, p.y, p.theta));
+        let refs: Vec<&Frame> = frames.iter().collect();
+        let views = frame_views(&scene, &refs);
+        assert_ne!(views[0], views[100]);
+        let size = extent(&scene, &frames[0]).size();
+        for (v, f) in views.iter().zip(&frames) {
+            assert!(inside(v, &extent(&scene, f)));
+            assert!(v.x.end - v.x.start <= 1.5 * size);
+        }
+    }
+
+    #[test]
+    fn clipping_keeps_the_part_in_view() {
+        let view = View {
+            x: 0.0..1.0,
+            y: 0.0..1.0,
+        };
+        let square = [(0.25, 0.25), (0.75, 0.25), (0.75, 0.75), (0.25, 0.75)];
+        assert_eq!(clip(&square, &view), square.to_vec());
+        let half_out = [(0.5, 0.5), (1.5, 0.5), (1.5, 0.8), (0.5, 0.8)];
+        let c = clip(&half_out, &view);
+        assert!(c.iter().all(|p| p.0 <= 1.0 && p.0 >= 0.5));
+        assert!(c.contains(&(1.0, 0.5)) && c.contains(&(1.0, 0.8)));
+        let out = [(2.0, 2.0), (3.0, 2.0), (3.0, 3.0), (2.0, 3.0)];
+        assert!(clip(&out, &view).is_empty());
+    }
+
+    #[test]
+    fn bodies_out_of_view_are_named() {
+        assert_eq!(body_names(&[3, 4]), "blocks 3, 4");
+        assert_eq!(body_names(&[0, 2]), "base, block 2");
+    }
+
+    #[test]
+    fn no_block_has_the_base_colour() {
+        assert_eq!(body_color(0), BASE_COLOR);
+        for k in 1..=40 {
+            assert_ne!(body_color(k), BASE_COLOR);
+            assert_ne!(body_color(k), BLACK);
+        }
+        // Neighbours never share a colour, and the first twelve blocks are all different.
+        let first: Vec<RGBColor> = (1..=12).map(body_color).collect();
+        assert!((0..12).all(|i| !first[i + 1..].contains(&first[i])));
+    }
+
+    #[test]
+    fn sweep_titles_name_their_parameters() {
+        let thesis = FrequencySweep::of(&Shaking::default());
+        assert_eq!(
+            thesis.title(),
+            "Failure time of a shaken column, 4 blocks, A = 0.2, μ = 0.2, 10 periods (cf. Figure 4.6)"
+        );
+        let mine = FrequencySweep {
+            blocks: 1,
+            mu: 0.5,
+            steps_per_period: 50.0,
+            ..thesis
+        };
+        assert_eq!(
+            mine.title(),
+            "Failure time of a shaken column, 1 block, A = 0.2, μ = 0.5, 10 periods, 50 steps per period"
+        );
+        assert!(!mine.is_figure_4_6());
+        let slide = SlideSweep {
+            blocks: 4,
+            t_end: 3.0,
+            mu: 0.2,
+        };
+        assert_eq!(
+            slide.title(),
+            "Top block angle at t = 3 on a pulled base, 4 blocks, μ = 0.2 (cf. Figure 4.7)"
+        );
+        let other = SlideSweep {
+            t_end: 2.5,
+            ..slide
+        };
+        assert!(!other.title().contains("Figure"));
     }
 }

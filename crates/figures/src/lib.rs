@@ -7,7 +7,9 @@
 //!
 //! - [`page`]: the tour's HTML page of sections (numbers, tables, figures, data links).
 //! - [`plot`]: line plots ([`plot::LinePlot`], [`plot::Series`]) with a bundled font, so
-//!   plots render on machines without installed fonts.
+//!   plots render on machines without installed fonts: a style of its own per curve,
+//!   legends placed off the data, titles fitted to the width.
+//! - [`axis`]: round ticks, decades on logarithmic axes (`1e-6`).
 //! - [`blocks`]: the block stack: snapshots (Figure 4.4), the animation, the top block's
 //!   angle and height (Figure 4.5).
 //! - [`cylinders`]: the support-force curves of §3.3 (Figures 3.3–3.5, 3.7, 3.8) and
@@ -34,6 +36,7 @@
 //! ```
 #![warn(missing_docs)]
 
+pub mod axis;
 pub mod blocks;
 pub mod cylinders;
 pub mod file;

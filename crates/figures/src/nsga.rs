@@ -16,7 +16,7 @@ pub fn plot_ball(path: &Path, title: &str, run: &BallRun, radius: f64) -> Result
     let pts = |f: &dyn Fn(&BallSample) -> f64| {
         run.samples.iter().map(|s| (s.t, f(s))).collect::<Vec<_>>()
     };
-    LinePlot::new(title, "t [s]", "y [m], xdot [m/s], slip [m/s]")
+    LinePlot::new(title, "t [s]", "y [m]; xdot, slip [m/s]")
         .with(Series::line("y", pts(&|s| s.q[1])))
         .with(Series::line("xdot", pts(&|s| s.u[0])))
         .with(Series::line(
@@ -26,8 +26,9 @@ pub fn plot_ball(path: &Path, title: &str, run: &BallRun, radius: f64) -> Result
         .save(path, (1000, 600))
 }
 
-/// A work-precision diagram: error against wall time on log–log axes, one line per
-/// scheme and ρ∞, in the order the rows first name them.
+/// A work-precision diagram: error against wall time on log–log axes (ticks on the
+/// decades, [`crate::axis`]), one line with a marker per run for each scheme and ρ∞, in
+/// the order the rows first name them. Errors are floored at 1e-16.
 ///
 /// # Errors
 /// An unwritable file.
@@ -51,7 +52,7 @@ pub fn plot_work_precision(path: &Path, title: &str, rows: &[WorkPrecisionRow]) 
             .filter(|r| r.rho_inf == rho && r.scheme == scheme)
             .map(|r| (r.wall_time_s, r.error.max(1e-16)))
             .collect();
-        plot = plot.with(Series::line(label, pts));
+        plot = plot.with(Series::line_and_markers(label, pts));
     }
     plot.save(path, (1000, 700))
 }

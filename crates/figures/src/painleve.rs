@@ -2,7 +2,8 @@
 //! thesis, ERRATA 18): (a) the admissible angles against the aspect ratio, (b) the
 //! region b ≤ 0 in the (ϑ, μ_d) plane per slip direction.
 
-use crate::plot::{with_png, Canvas, LinePlot, Series, FONT, PALETTE};
+use crate::axis::{TickedRange, Ticks};
+use crate::plot::{draw_title, with_png, Canvas, LinePlot, Series, FONT, PALETTE, TITLE_PX};
 use crate::{err, Result};
 use blockstack::painleve::{admissible_range, critical_mu, BSample};
 use blockstack::studies::painleve::PainleveReport;
@@ -34,16 +35,20 @@ pub fn plot_painleve(
         lo.push((r, a.to_degrees()));
         hi.push((r, b.to_degrees()));
     }
-    let panel_a = LinePlot::new("(a) admissible angles (I.1.3)", "aspect w/h", "angle (deg)")
-        .with(Series::line("theta_max = atan(w/h)", hi))
-        .with(Series::line("theta_min = -atan(h/w)", lo))
-        .with(Series::markers(
-            format!("w/h = {aspect}"),
-            vec![
-                (aspect, report.theta_min.to_degrees()),
-                (aspect, report.theta_max.to_degrees()),
-            ],
-        ));
+    let panel_a = LinePlot::new(
+        "(a) admissible angles (I.1.3)",
+        "aspect w/h [dimensionless]",
+        "angle ϑ [deg]",
+    )
+    .with(Series::line("ϑ_max = atan(w/h)", hi))
+    .with(Series::line("ϑ_min = −atan(h/w)", lo))
+    .with(Series::markers(
+        format!("w/h = {aspect}"),
+        vec![
+            (aspect, report.theta_min.to_degrees()),
+            (aspect, report.theta_max.to_degrees()),
+        ],
+    ));
     with_png(path, (1400, 600), |root| {
         let (left, right) = root.split_horizontally(560);
         panel_a.draw(&left)?;
@@ -60,18 +65,28 @@ fn draw_b_regions(
     report: &PainleveReport,
     grid: &[BSample],
 ) -> Result<()> {
-    let mut chart = ChartBuilder::on(root)
-        .caption("(b) Painlevé region b <= 0 (I.1.8, ERRATA 18)", (FONT, 22))
+    let area = draw_title(
+        root,
+        "(b) Painlevé region b ≤ 0 (I.1.8, ERRATA 18)",
+        TITLE_PX,
+    )?;
+    let mut chart = ChartBuilder::on(&area)
         .margin(12)
-        .x_label_area_size(45)
-        .y_label_area_size(60)
-        .build_cartesian_2d(-90.0..90.0, 0.0..mu_max)
+        .x_label_area_size(50)
+        .y_label_area_size(64)
+        .build_cartesian_2d(
+            TickedRange::new(-90.0..90.0, Ticks::linear(-90.0, 90.0)),
+            TickedRange::new(0.0..mu_max, Ticks::linear(0.0, mu_max)),
+        )
         .map_err(err)?;
     chart
         .configure_mesh()
-        .x_desc("theta (deg)")
-        .y_desc("mu_d")
+        .x_desc("ϑ [deg]")
+        .y_desc("μ_d [dimensionless]")
         .label_style((FONT, 14))
+        .axis_desc_style((FONT, 16))
+        .bold_line_style(RGBColor(200, 200, 200))
+        .light_line_style(RGBColor(236, 236, 236))
         .draw()
         .map_err(err)?;
     let (dt, dm) = (180.0 / n_grid as f64, mu_max / (n_grid - 1) as f64);
@@ -108,14 +123,19 @@ fn draw_b_regions(
                 PathElement::new(vec![(x, y), (x + 20, y)], color.stroke_width(2))
             });
     }
-    for th in [report.theta_min, report.theta_max] {
+    for (i, th) in [report.theta_min, report.theta_max].into_iter().enumerate() {
         let d = th.to_degrees();
-        chart
+        let drawn = chart
             .draw_series(LineSeries::new(
                 vec![(d, 0.0), (d, mu_max)],
                 BLACK.stroke_width(1),
             ))
             .map_err(err)?;
+        if i == 0 {
+            drawn
+                .label("ϑ_min, ϑ_max (I.1.3)")
+                .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], BLACK));
+        }
     }
     let points = [
         (
@@ -136,10 +156,13 @@ fn draw_b_regions(
                 + Text::new(name.to_string(), (8, -18), (FONT, 18))
         }))
         .map_err(err)?;
+    // Lower right: the regions b ≤ 0 open upwards from their minima i, ii at
+    // μ_d = 4/3 (tan ϑ = ±1/2), so the bottom of the plane is empty.
     chart
         .configure_series_labels()
+        .position(SeriesLabelPosition::LowerRight)
         .label_font((FONT, 14))
-        .background_style(WHITE.mix(0.8))
+        .background_style(WHITE.mix(0.9))
         .border_style(BLACK)
         .draw()
         .map_err(err)?;

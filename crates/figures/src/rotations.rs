@@ -20,7 +20,10 @@ pub fn draw_basis(path: &Path, r: &Rotation3<f64>) -> Result<()> {
     let axis = AxisAngle::from_rotation(r).axis.into_inner();
     with_png(path, (640, 560), |root| {
         let mut chart = ChartBuilder::on(root)
-            .caption("Rotated basis eᵢ = R Eᵢ", (FONT, 22))
+            .caption(
+                "Rotated basis eᵢ = R Eᵢ (grey: Eᵢ; components on Eᵢ, unit vectors)",
+                (FONT, 18),
+            )
             .margin(10)
             .build_cartesian_3d(-1.1..1.1, -1.1..1.1, -1.1..1.1)
             .map_err(err)?;

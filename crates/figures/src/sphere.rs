@@ -1,18 +1,21 @@
 //! The figures of `rollstack sphere` and the tour: Figures 2.1, 2.5, 2.6–2.9 and the
 //! integrator study, drawn from the data of [`holonomy::studies`].
 
-use crate::plot::{with_png, LinePlot, Series, FONT, PALETTE};
-use crate::{err, Result};
+use crate::plot::{
+    draw_title, with_png, Legend, LinePlot, Series, Style, BASE_COLOR, PALETTE, TITLE_PX,
+};
+use crate::Result;
 use holonomy::rectangle::holonomy_angle;
 use holonomy::studies::level_sets::{level_set_branches, FIGURE_2_5_LEVELS_DEG};
 use holonomy::studies::plan::RectangleReport;
 use holonomy::studies::roll::{StudyPath, StudyRow};
 use holonomy::{Integrator, Trajectory};
-use plotters::prelude::*;
 use std::f64::consts::TAU;
+use std::ops::Range;
 use std::path::Path;
 
-/// Figure 2.1: top view of the traces of the centre C (i) and the marked point X (ii).
+/// Figure 2.1: top view of the traces of the centre C (i) and the marked point X (ii),
+/// with arrows in the direction of travel.
 ///
 /// # Errors
 /// When the PNG cannot be written.
@@ -29,7 +32,7 @@ pub fn plot_traces(path: &Path, traj: &Trajectory, title: &str) -> Result<()> {
         .collect();
     let ends = vec![x[0], *x.last().unwrap_or(&x[0])];
     let mut plot = LinePlot::new(title, "E1 [R]", "E2 [R]")
-        .with(Series::line("i: centre C", c))
+        .with(Series::line("i: centre C", c).with_arrows())
         .with(Series::line("ii: material point X", x))
         .with(Series::markers("X at t0 (A) and t1 (B)", ends));
     plot.equal_aspect = true;
@@ -41,8 +44,8 @@ fn outline(r: &RectangleReport) -> Vec<(f64, f64)> {
     r.waypoints.iter().map(|w| (w[0], w[1])).collect()
 }
 
-/// Draws rectangles (the centre's path) in one frame, numbered, with the start S (the
-/// direction of travel is in the legend).
+/// Draws rectangles (the centre's path) in one frame, numbered, with arrows in the
+/// direction of travel and the start S.
 ///
 /// # Errors
 /// When the PNG cannot be written.
@@ -50,143 +53,199 @@ pub fn plot_rectangles(path: &Path, title: &str, rects: &[RectangleReport]) -> R
     let mut plot = LinePlot::new(title, "E1 [R]", "E2 [R]");
     plot.equal_aspect = true;
     for (i, r) in rects.iter().enumerate() {
-        plot = plot.with(Series::line(
-            format!(
-                "{}: ϑ={:.3}, φ1={:.3}, φ2={:.3}, {}",
-                i + 1,
-                r.theta,
-                r.phi1,
-                r.phi2,
-                r.direction.as_str()
-            ),
-            outline(r),
-        ));
-    }
-    plot = plot.with(Series::markers("S", vec![(0.0, 0.0)]));
-    plot.save(path, (900, 900))
-}
-
-/// Figure 2.6: each rectangle in its own panel (at most six), same scale.
-///
-/// # Errors
-/// When the PNG cannot be written.
-pub fn plot_rectangle_panels(path: &Path, rects: &[RectangleReport]) -> Result<()> {
-    let rects = &rects[..rects.len().min(6)];
-    let n = rects.len().max(1);
-    #[allow(clippy::cast_possible_truncation)]
-    let cols = n.min(3) as u32;
-    #[allow(clippy::cast_possible_truncation)]
-    let rows_n = n.div_ceil(3) as u32;
-    with_png(path, (420 * cols, 440 * rows_n), |root| {
-        let areas = root.split_evenly((rows_n as usize, cols as usize));
-        for (r, area) in rects.iter().zip(areas.iter()) {
-            let mut plot = LinePlot::new(
+        plot = plot.with(
+            Series::line(
                 format!(
-                    "ϑ={:.4} φ1={:.4} φ2={:.4} {}",
+                    "{}: ϑ={:.3}, φ1={:.3}, φ2={:.3}, {}",
+                    i + 1,
                     r.theta,
                     r.phi1,
                     r.phi2,
                     r.direction.as_str()
                 ),
+                outline(r),
+            )
+            .with_arrows(),
+        );
+    }
+    plot =
+        plot.with(Series::markers("S: start", vec![(0.0, 0.0)]).styled(Style::color(BASE_COLOR)));
+    plot.save(path, (900, 900))
+}
+
+/// Size of one panel of [`plot_rectangle_panels`], pixels.
+const PANEL: (u32, u32) = (400, 420);
+
+/// Figure 2.6: every rectangle in its own panel (a grid of up to four columns), all to
+/// one scale, each path with arrows in the direction of travel and its start S. The
+/// rectangle `shortest` (an index into `rects`) is drawn thicker in another colour
+/// (vermillion, the others blue), and its panel title says "shortest"; the start S is
+/// a dark grey dot.
+///
+/// # Errors
+/// When the PNG cannot be written.
+pub fn plot_rectangle_panels(
+    path: &Path,
+    title: &str,
+    rects: &[RectangleReport],
+    shortest: Option<usize>,
+) -> Result<()> {
+    let n = rects.len().max(1);
+    let cols = panel_columns(n);
+    let rows_n = n.div_ceil(cols);
+    // One scale: the box of all paths (they all start at S = 0), padded.
+    let all: Vec<(f64, f64)> = rects.iter().flat_map(outline).collect();
+    let bounds = common_bounds(&all);
+    #[allow(clippy::cast_possible_truncation)]
+    let (c, r) = (cols as u32, rows_n as u32);
+    with_png(path, (PANEL.0 * c, PANEL.1 * r + 40), |root| {
+        let area = draw_title(root, title, TITLE_PX)?;
+        let panels = area.split_evenly((rows_n, cols));
+        for (i, (rect, panel)) in rects.iter().zip(panels.iter()).enumerate() {
+            let best = shortest == Some(i);
+            let style = if best {
+                Style::color(PALETTE[1]).width(4)
+            } else {
+                Style::color(PALETTE[0])
+            };
+            let mut plot = LinePlot::new(
+                format!(
+                    "{}{}: ϑ={:.3} φ1={:.3} φ2={:.3} {}, length {:.3} R",
+                    if best { "shortest, no. " } else { "no. " },
+                    i + 1,
+                    rect.theta,
+                    rect.phi1,
+                    rect.phi2,
+                    rect.direction.as_str(),
+                    rect.path_length,
+                ),
                 "A1 [R]",
                 "A2 [R]",
             )
-            .with(Series::line("", outline(r)))
-            .with(Series::markers("", vec![(0.0, 0.0)]));
+            .with(Series::line("", outline(rect)).with_arrows().styled(style))
+            .with(Series::markers("", vec![(0.0, 0.0)]).styled(Style::color(BASE_COLOR)));
             plot.equal_aspect = true;
-            plot.draw(area)?;
+            plot.bounds = Some(bounds.clone());
+            plot.draw(panel)?;
         }
         Ok(())
     })
 }
 
+/// Columns of a grid of `n` panels: all in one row up to three, then four (twelve
+/// rectangles: 4 × 3).
+#[must_use]
+pub fn panel_columns(n: usize) -> usize {
+    match n {
+        0..=3 => n.max(1),
+        4 => 2,
+        5..=9 => 3,
+        _ => 4,
+    }
+}
+
+/// The box of `points` padded by 8 % (a unit box around the origin when empty).
+fn common_bounds(points: &[(f64, f64)]) -> (Range<f64>, Range<f64>) {
+    let (mut x0, mut x1, mut y0, mut y1) = (0.0f64, 0.0f64, 0.0f64, 0.0f64);
+    for &(x, y) in points.iter().filter(|p| p.0.is_finite() && p.1.is_finite()) {
+        (x0, x1, y0, y1) = (x0.min(x), x1.max(x), y0.min(y), y1.max(y));
+    }
+    let pad = 0.08 * (x1 - x0).max(y1 - y0).max(1e-9);
+    (x0 - pad..x1 + pad, y0 - pad..y1 + pad)
+}
+
 /// Figure 2.5: the level sets of ψ(ϑ, φ2) over [0, 2π]² ([`level_set_branches`],
-/// (2.4.11) with the factor 2 of ERRATA item 1). A marked point shows `mark` if given.
+/// (2.4.11) with the factor 2 of ERRATA item 1), one colour per level, the legend
+/// beside the square. A marked point shows `mark` if given.
 ///
 /// # Errors
 /// When the PNG cannot be written.
 pub fn plot_level_sets(path: &Path, mark: Option<(f64, f64)>) -> Result<()> {
-    with_png(path, (820, 800), |root| {
-        let mut chart = ChartBuilder::on(root)
-            .caption(
-                "Level sets of ψ(ϑ, φ2), (2.4.11) corrected (Figure 2.5)",
-                (FONT, 22),
-            )
-            .margin(12)
-            .x_label_area_size(45)
-            .y_label_area_size(60)
-            .build_cartesian_2d(0.0..TAU, 0.0..TAU)
-            .map_err(err)?;
-        chart
-            .configure_mesh()
-            .x_desc("ϑ [rad]")
-            .y_desc("φ2 [rad]")
-            .label_style((FONT, 14))
-            .axis_desc_style((FONT, 16))
-            .draw()
-            .map_err(err)?;
-        for (i, deg) in FIGURE_2_5_LEVELS_DEG.iter().enumerate() {
-            let color = PALETTE[i % PALETTE.len()];
-            for branch in level_set_branches(deg.to_radians(), 400) {
-                let points = branch.into_iter().map(|[t, p]| (t, p));
-                chart
-                    .draw_series(LineSeries::new(points, color.stroke_width(2)))
-                    .map_err(err)?;
-            }
-            chart
-                .draw_series(std::iter::empty::<Circle<(f64, f64), i32>>())
-                .map_err(err)?
-                .label(format!("ψ = {deg}°"))
-                .legend(move |(x, y)| {
-                    PathElement::new(vec![(x, y), (x + 18, y)], color.stroke_width(2))
-                });
+    let mut plot = LinePlot::new(
+        "Level sets of ψ(ϑ, φ2), (2.4.11) corrected (Figure 2.5)",
+        "ϑ [rad]",
+        "φ2 [rad]",
+    );
+    plot.equal_aspect = true;
+    plot.legend = Legend::Right;
+    plot.bounds = Some((0.0..TAU, 0.0..TAU));
+    for deg in FIGURE_2_5_LEVELS_DEG {
+        // The branches as one series, broken between them.
+        let mut points = Vec::new();
+        for branch in level_set_branches(deg.to_radians(), 400) {
+            points.extend(branch.into_iter().map(|[t, p]| (t, p)));
+            points.push((f64::NAN, f64::NAN));
         }
-        if let Some((t, p)) = mark {
-            // The rectangle's place in the window [0, 2π]² (ψ has period 2π in both).
-            let (t, p) = (t.rem_euclid(TAU), p.rem_euclid(TAU));
-            chart
-                .draw_series(std::iter::once(Circle::new((t, p), 5, BLACK.filled())))
-                .map_err(err)?
-                .label(format!(
+        plot = plot.with(Series::line(format!("ψ = {deg}°"), points));
+    }
+    if let Some((t, p)) = mark {
+        // The rectangle's place in the window [0, 2π]² (ψ has period 2π in both).
+        let (t, p) = (t.rem_euclid(TAU), p.rem_euclid(TAU));
+        plot = plot.with(
+            Series::markers(
+                format!(
                     "this rectangle: ψ = {:.2}°",
                     holonomy_angle(t, p).to_degrees()
-                ))
-                .legend(|(x, y)| Circle::new((x + 9, y), 4, BLACK.filled()));
-        }
-        chart
-            .configure_series_labels()
-            .label_font((FONT, 14))
-            .background_style(WHITE.mix(0.85))
-            .border_style(BLACK)
-            .position(SeriesLabelPosition::UpperRight)
-            .draw()
-            .map_err(err)?;
-        Ok(())
-    })
+                ),
+                vec![(t, p)],
+            )
+            .styled(Style::color(BASE_COLOR)),
+        );
+    }
+    plot.save(path, (1000, 760))
 }
 
-/// The integrator study: error of the final orientation against wall time, log–log.
+/// The integrator study: error of the final orientation against wall time on log–log
+/// axes, a marker per run.
 ///
 /// # Errors
 /// When the PNG cannot be written.
 pub fn plot_study(path: &Path, rows: &[StudyRow]) -> Result<()> {
     let mut plot = LinePlot::new(
         "Rolling integrators: error of the final orientation vs wall time",
-        "log10 of the wall time [s]",
-        "log10 of the error [rad] (floored at 1e-17)",
+        "wall time [s]",
+        "error [rad] (floored at 1e-17)",
     );
+    plot.log = (true, true);
     for shape in [StudyPath::Rectangle, StudyPath::Circle] {
         for integrator in [Integrator::Exact, Integrator::Rk4] {
             let pts = rows
                 .iter()
                 .filter(|r| r.path == shape && r.integrator == integrator)
-                .map(|r| (r.wall_time_s.log10(), r.error.max(1e-17).log10()))
+                .map(|r| (r.wall_time_s, r.error.max(1e-17)))
                 .collect();
-            plot = plot.with(Series::line(
+            plot = plot.with(Series::line_and_markers(
                 format!("{}, {}", integrator.as_str(), shape.as_str()),
                 pts,
             ));
         }
     }
     plot.save(path, (900, 600))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use holonomy::studies::plan::plan_report;
+    use nalgebra::{Rotation3, Vector3};
+
+    #[test]
+    fn every_rectangle_gets_a_panel() {
+        assert_eq!(panel_columns(1), 1);
+        assert_eq!(panel_columns(3), 3);
+        assert_eq!(panel_columns(6), 3);
+        assert_eq!(panel_columns(12), 4);
+        // 90° about A1: twelve rectangles, all drawn (4 × 3 panels), not the first six.
+        let target = Rotation3::from_axis_angle(&Vector3::x_axis(), std::f64::consts::FRAC_PI_2);
+        let rep = plan_report(&target).unwrap();
+        assert_eq!(rep.rectangles.len(), 12);
+        let dir = std::env::temp_dir().join(format!("figures-panels-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let path = dir.join("plan.png");
+        plot_rectangle_panels(&path, "plan", &rep.rectangles, rep.shortest).unwrap();
+        let png = std::fs::read(&path).unwrap();
+        let dim = |at: usize| u32::from_be_bytes([png[at], png[at + 1], png[at + 2], png[at + 3]]);
+        assert_eq!((dim(16), dim(20)), (4 * PANEL.0, 3 * PANEL.1 + 40));
+        std::fs::remove_dir_all(dir).unwrap();
+    }
 }

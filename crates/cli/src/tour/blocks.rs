@@ -17,8 +17,8 @@ use blockstack::studies::lire::{blocks_fallen, largest_drift};
 use blockstack::studies::painleve::painleve_report;
 use blockstack::studies::slide::{slide_row, SlideRegime};
 use blockstack::Defaults;
-use figures::blocks::plot_stack;
 use figures::blocks::snapshot_name;
+use figures::blocks::{plot_stack, SlideSweep};
 use std::path::Path;
 
 /// Builds the section.
@@ -180,7 +180,7 @@ fn shaking(dir: &Path, summary: &mut Vec<String>, blocks: &mut Vec<Block>) -> Re
         dir: Some(dir.join("shaking")),
         snapshots: vec![0.0],
         max_frames: 100,
-        title: format!("shaken column, omega = {}", p.omega),
+        title: format!("shaken column, ω = {}", p.omega),
         defaults: Defaults::default(),
     };
     let inputs = shake_inputs(&p);
@@ -227,7 +227,16 @@ fn slide(dir: &Path, summary: &mut Vec<String>, blocks: &mut Vec<Block>) -> Resu
         };
         slide_row(&p, &options)
     });
-    write_slide_files(dir, &rows, t_end)?;
+    let sliding = Sliding::default();
+    write_slide_files(
+        dir,
+        &rows,
+        &SlideSweep {
+            blocks: sliding.blocks,
+            t_end,
+            mu: sliding.mu,
+        },
+    )?;
     let regimes: Vec<String> = rows
         .iter()
         .map(|r| {

@@ -75,7 +75,12 @@ pub fn section(dir: &Path) -> Result<Section> {
         plan.max_error
     ));
     write_plan_csv(&dir.join("plan_2_4_12.csv"), &plan.rectangles)?;
-    plot_rectangle_panels(&dir.join("figure_2_6.png"), &thesis_three)?;
+    plot_rectangle_panels(
+        &dir.join("figure_2_6.png"),
+        "Figure 2.6: the three rectangles of (2.4.12)",
+        &thesis_three,
+        None,
+    )?;
     blocks.push(Block::Table {
         header: [
             "ϑ",

@@ -68,23 +68,52 @@ impl RectangleReport {
         }
     }
 
-    /// The columns of plan.csv: ϑ, φ1, φ2 (rad), `ccw` (1 or 0), the error (rad) and
-    /// the path length 2(ϑ + φ2) (units of R).
-    pub const PLAN_CSV_HEADER: [&'static str; 6] =
-        ["theta", "phi1", "phi2", "ccw", "error", "path_length"];
+    /// The columns of plan.csv: ϑ, φ1, φ2 (rad), `ccw` (1 or 0), the error (rad), the
+    /// path length 2(ϑ + φ2) (units of R), then the six corners of the centre's path in
+    /// order of travel, from S back to S ([`Rectangle::waypoints`]): `x1`, `y1` … `x6`,
+    /// `y6` (ground coordinates, units of R), as the JSON's `waypoints`.
+    pub const PLAN_CSV_HEADER: [&'static str; 18] = [
+        "theta",
+        "phi1",
+        "phi2",
+        "ccw",
+        "error",
+        "path_length",
+        "x1",
+        "y1",
+        "x2",
+        "y2",
+        "x3",
+        "y3",
+        "x4",
+        "y4",
+        "x5",
+        "y5",
+        "x6",
+        "y6",
+    ];
 
     /// The cells of this rectangle's row under [`Self::PLAN_CSV_HEADER`], numbers in
-    /// shortest round-trip form.
+    /// shortest round-trip form; waypoint cells beyond the path's corners (never for a
+    /// rectangle's six) are empty.
     #[must_use]
     pub fn plan_csv_cells(&self) -> Vec<String> {
-        vec![
+        let mut cells = vec![
             self.theta.to_string(),
             self.phi1.to_string(),
             self.phi2.to_string(),
             super::ccw_cell(self.direction),
             self.error.to_string(),
             self.path_length.to_string(),
-        ]
+        ];
+        let corners = (Self::PLAN_CSV_HEADER.len() - cells.len()) / 2;
+        for k in 0..corners {
+            match self.waypoints.get(k) {
+                Some([x, y]) => cells.extend([x.to_string(), y.to_string()]),
+                None => cells.extend([String::new(), String::new()]),
+            }
+        }
+        cells
     }
 }
 
@@ -307,6 +336,16 @@ mod tests {
         assert_eq!(cells[0], r.theta.to_string());
         assert_eq!(cells[3], "1");
         assert_eq!(cells[5], r.path_length.to_string());
+        // The corners, as the JSON's waypoints: x1, y1 … x6, y6, S to S.
+        assert_eq!(r.waypoints.len(), 6);
+        assert_eq!(RectangleReport::PLAN_CSV_HEADER[6], "x1");
+        assert_eq!(RectangleReport::PLAN_CSV_HEADER[17], "y6");
+        for (k, [x, y]) in r.waypoints.iter().enumerate() {
+            assert_eq!(cells[6 + 2 * k], x.to_string());
+            assert_eq!(cells[7 + 2 * k], y.to_string());
+        }
+        assert_eq!(cells[6], "0");
+        assert_eq!(cells[16..], ["0", "0"]);
     }
 
     #[test]

@@ -11,7 +11,7 @@ use blockstack::scenarios::{Shaking, Sliding};
 use blockstack::studies::shaking::{frequency_row, FrequencyRow};
 use blockstack::studies::slide::{slide_row, SlideRegime, SlideRow};
 use clap::{Args, Subcommand};
-use figures::blocks::{plot_frequency_sweep, plot_slide_sweep};
+use figures::blocks::{plot_frequency_sweep, plot_slide_sweep, FrequencySweep, SlideSweep};
 use input::text::parse_finite;
 use input::text::parse_values;
 use serde::Serialize;
@@ -128,20 +128,20 @@ pub fn sweep_frequency(args: &FrequencyArgs) -> Result<()> {
     anyhow::ensure!(args.mu >= 0.0, "--mu must not be negative");
     let options = args.solver.run_options(None, true)?;
     let omegas = sweep_values(&args.omega, "omega", args.output.shard)?;
+    let column = |omega| Shaking {
+        blocks: args.blocks,
+        amplitude: args.amplitude,
+        omega,
+        periods: args.periods,
+        steps_per_period: args.steps_per_period,
+        mu: args.mu,
+    };
     let rows = par_map_ordered(&omegas, "omega", |&omega| {
-        let shaking = Shaking {
-            blocks: args.blocks,
-            amplitude: args.amplitude,
-            omega,
-            periods: args.periods,
-            steps_per_period: args.steps_per_period,
-            mu: args.mu,
-        };
-        frequency_row(&shaking, &options)
+        frequency_row(&column(omega), &options)
     });
     if let Some(dir) = &args.output.out {
         ensure_dir(dir)?;
-        write_frequency_files(dir, &rows)?;
+        write_frequency_files(dir, &rows, &FrequencySweep::of(&column(1.0)))?;
     }
     finish_sweep(
         "frequency",
@@ -235,17 +235,22 @@ fn error_suffix(error: Option<&String>) -> String {
     error.map_or_else(String::new, |e| format!(", error: {e}"))
 }
 
-/// Writes `sweep_frequency.csv` and `sweep_frequency.png` (Figure 4.6).
+/// Writes `sweep_frequency.csv` and `sweep_frequency.png` (Figure 4.6 with the
+/// parameters of `sweep`, which the title names).
 ///
 /// # Errors
 /// An unwritable directory.
-pub fn write_frequency_files(dir: &Path, rows: &[FrequencyRow]) -> Result<()> {
+pub fn write_frequency_files(
+    dir: &Path,
+    rows: &[FrequencyRow],
+    sweep: &FrequencySweep,
+) -> Result<()> {
     write_csv(
         &dir.join("sweep_frequency.csv"),
         &FrequencyRow::CSV_HEADER,
         rows.iter().map(FrequencyRow::csv_cells),
     )?;
-    plot_frequency_sweep(&dir.join("sweep_frequency.png"), rows)?;
+    plot_frequency_sweep(&dir.join("sweep_frequency.png"), rows, sweep)?;
     Ok(())
 }
 
@@ -270,7 +275,12 @@ pub fn sweep_slide(args: &SlideArgs) -> Result<()> {
     });
     if let Some(dir) = &args.output.out {
         ensure_dir(dir)?;
-        write_slide_files(dir, &rows, args.t_end)?;
+        let sweep = SlideSweep {
+            blocks: args.blocks,
+            t_end: args.t_end,
+            mu: args.mu,
+        };
+        write_slide_files(dir, &rows, &sweep)?;
     }
     finish_sweep(
         "slide",
@@ -298,16 +308,17 @@ pub fn sweep_slide(args: &SlideArgs) -> Result<()> {
     )
 }
 
-/// Writes `sweep_slide.csv` and `sweep_slide.png` (Figure 4.7).
+/// Writes `sweep_slide.csv` and `sweep_slide.png` (Figure 4.7 with the parameters of
+/// `sweep`, which the title names).
 ///
 /// # Errors
 /// An unwritable directory.
-pub fn write_slide_files(dir: &Path, rows: &[SlideRow], t_end: f64) -> Result<()> {
+pub fn write_slide_files(dir: &Path, rows: &[SlideRow], sweep: &SlideSweep) -> Result<()> {
     write_csv(
         &dir.join("sweep_slide.csv"),
         &SlideRow::CSV_HEADER,
         rows.iter().map(SlideRow::csv_cells),
     )?;
-    plot_slide_sweep(&dir.join("sweep_slide.png"), rows, t_end)?;
+    plot_slide_sweep(&dir.join("sweep_slide.png"), rows, sweep)?;
     Ok(())
 }

@@ -86,7 +86,17 @@ pub(super) fn run_plan(a: &PlanArgs) -> Result<()> {
     if let Some(dir) = &a.out {
         ensure_dir(dir)?;
         write_plan_csv(&dir.join("plan.csv"), &rep.rectangles)?;
-        plot_rectangle_panels(&dir.join("plan.png"), &rep.rectangles)?;
+        let title = format!(
+            "{} rectangle(s) producing the rotation by ψ = {:.4} rad about ({}){}; dot: start S",
+            rep.rectangles.len(),
+            a.angle.0,
+            a.axis,
+            rep.shortest.map_or_else(String::new, |i| format!(
+                "; the shortest, no. {}, thick in vermillion",
+                i + 1
+            ))
+        );
+        plot_rectangle_panels(&dir.join("plan.png"), &title, &rep.rectangles, rep.shortest)?;
         write_run_json(
             dir,
             "sphere plan",
