@@ -1,11 +1,10 @@
 //! `rollstack blocks lire`: the Leaning Tower of Lire (§4.3, Figure 4.4), run like a
 //! scene with [`simulate_with_output`].
 
-use super::simulate::{finish_command, print_warnings, simulate_with_output, OutputPlan};
+use super::simulate::{finish_command, print_warnings, simulate_with_output};
 use super::{OutputArgs, SolverArgs};
 use anyhow::Result;
 use blockstack::scenarios::{lire, lire_on_floor, Perturbation};
-use blockstack::Defaults;
 use clap::{Args, ValueEnum};
 use input::text::parse_finite;
 
@@ -73,17 +72,10 @@ pub fn run_lire(args: &LireArgs) -> Result<()> {
         .perturb
         .to_possible_value()
         .map_or_else(String::new, |v| v.get_name().to_owned());
-    let plan = OutputPlan {
-        dir: args.output.out.clone(),
-        snapshots: args
-            .output
-            .snapshots
-            .clone()
-            .unwrap_or_else(|| LIRE_SNAPSHOTS.to_vec()),
-        max_frames: args.output.max_frames,
-        title: format!("Lire tower, perturbation {perturb}"),
-        defaults: Defaults::default(),
-    };
+    let plan = args.output.plan(
+        LIRE_SNAPSHOTS.to_vec(),
+        format!("Lire tower, perturbation {perturb}"),
+    );
     let inputs = serde_json::json!({
         "blocks": args.blocks,
         "perturb": perturb,

@@ -139,3 +139,17 @@ pub struct OutputArgs {
     #[arg(long, default_value_t = 120)]
     pub max_frames: usize,
 }
+
+impl OutputArgs {
+    /// The output plan of a run: `default_snapshots` unless `--snapshots` was given.
+    #[must_use]
+    pub fn plan(&self, default_snapshots: Vec<f64>, title: String) -> OutputPlan {
+        OutputPlan {
+            dir: self.out.clone(),
+            snapshots: self.snapshots.clone().unwrap_or(default_snapshots),
+            max_frames: self.max_frames,
+            title,
+            defaults: blockstack::scene_info::Defaults::default(),
+        }
+    }
+}

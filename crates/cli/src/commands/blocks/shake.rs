@@ -2,11 +2,10 @@
 //! `blockstack::scenarios::shaking_column` from the flags and run like a scene, with the
 //! outputs of `blocks run`.
 
-use super::simulate::{finish_command, print_warnings, simulate_with_output, OutputPlan};
+use super::simulate::{finish_command, print_warnings, simulate_with_output};
 use super::{OutputArgs, SolverArgs};
 use anyhow::Result;
 use blockstack::scenarios::{shaking_column, Shaking};
-use blockstack::Defaults;
 use clap::Args;
 use input::text::parse_finite;
 
@@ -65,20 +64,13 @@ pub fn run_shake(args: &ShakeArgs) -> Result<()> {
     let scene = shaking_column(&p)?;
     let options = args.solver.run_options(args.t_end, false)?;
     let t_end = options.t_end.unwrap_or(scene.solver.t_end);
-    let plan = OutputPlan {
-        dir: args.output.out.clone(),
-        snapshots: args
-            .output
-            .snapshots
-            .clone()
-            .unwrap_or_else(|| vec![0.0, 0.5 * t_end, t_end]),
-        max_frames: args.output.max_frames,
-        title: format!(
+    let plan = args.output.plan(
+        vec![0.0, 0.5 * t_end, t_end],
+        format!(
             "shaken column, x = {} sin({} t)",
             args.amplitude, args.omega
         ),
-        defaults: Defaults::default(),
-    };
+    );
     let mut inputs = shake_inputs(&p);
     if args.t_end.is_some() {
         inputs["periods"] = serde_json::Value::Null;
