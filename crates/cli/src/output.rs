@@ -31,7 +31,7 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
         f.write_all(bytes)
             .with_context(|| format!("cannot write {}", tmp.display()))?;
     }
-    fs::rename(&tmp, path).with_context(|| format!("cannot write {}", path.display()))
+    commit_temp(path)
 }
 
 /// Finishes a file produced at [`temp_sibling`]`(path)` by renaming it into place.
@@ -76,18 +76,12 @@ where
 /// # Errors
 /// When a value is not finite or the file cannot be written.
 pub fn write_csv_f64(path: &Path, header: &[&str], rows: &[Vec<f64>]) -> Result<()> {
-    for row in rows {
-        if let Some(v) = row.iter().find(|v| !v.is_finite()) {
-            anyhow::bail!(
-                "refusing to write non-finite value {v} to {}",
-                path.display()
-            );
-        }
-    }
-    write_csv(
+    // f64's text of a non-finite value is NaN, inf or -inf: the one check of
+    // write_csv_finite refuses it.
+    write_csv_finite(
         path,
         header,
-        rows.iter().map(|r| r.iter().map(f64::to_string)),
+        rows.iter().map(|r| r.iter().map(f64::to_string).collect()),
     )
 }
 
