@@ -538,10 +538,12 @@ impl RunReport {
 /// counts, its events, and each block's final pose (lines, no trailing newline).
 impl std::fmt::Display for RunReport {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        let time = |t: Option<f64>| t.map_or_else(|| "none".to_owned(), |t| format!("{t:.4}"));
-        let min_gap = self
-            .min_gap
-            .map_or_else(|| "none".to_owned(), |g| format!("{g:.3e}"));
+        let time =
+            |t: Option<f64>| t.map_or_else(|| "never".to_owned(), |t| format!("at t = {t:.4}"));
+        let min_gap = self.min_gap.map_or_else(
+            || "none (no contact could close)".to_owned(),
+            |g| format!("{g:.3e}"),
+        );
         writeln!(f, "{}", self.scene)?;
         writeln!(
             f,
@@ -550,7 +552,7 @@ impl std::fmt::Display for RunReport {
         )?;
         writeln!(
             f,
-            "failure (loss of support) at t = {}, first full opening at t = {}",
+            "failure (loss of support) {}, first full opening {}",
             time(self.failure_time),
             time(self.opening_time)
         )?;

@@ -321,7 +321,7 @@ fn the_run_report_reads_as_the_summary_of_blocks_run() {
     );
     let text = report.to_string();
     assert!(text.contains(&format!("{} steps to t = 0.0500", summary.steps)));
-    assert!(text.contains("failure (loss of support) at t = none"));
+    assert!(text.contains("failure (loss of support) never"));
     assert!(text.contains("block 2: x = 0.000000"));
     assert!(!text.ends_with('\n'), "the caller adds the last newline");
     let words: Vec<&str> = text

@@ -42,12 +42,12 @@ pub fn commit_temp(path: &Path) -> Result<()> {
     figures::file::commit_temp(path).with_context(|| format!("cannot write {}", path.display()))
 }
 
-/// Writes a CSV file with a header row, atomically.
-///
-/// Non-finite numbers must not reach a file: rows are strings the caller formatted.
+/// Writes a CSV file with a header row, atomically. Rows are cells a library formatted
+/// (the `csv_cells` of its reports, numbers in shortest round-trip form); a non-finite
+/// number (`NaN`, `inf`, `-inf`) is refused, so that none reaches a file.
 ///
 /// # Errors
-/// When a row has the wrong length or the file cannot be written.
+/// When a cell is not finite, a row has the wrong length or the file cannot be written.
 pub fn write_csv<I, R>(path: &Path, header: &[&str], rows: I) -> Result<()>
 where
     I: IntoIterator<Item = R>,
@@ -65,48 +65,19 @@ where
             header.len(),
             path.display()
         );
+        if let Some(v) = row
+            .iter()
+            .find(|c| matches!(c.as_str(), "NaN" | "inf" | "-inf"))
+        {
+            anyhow::bail!(
+                "refusing to write non-finite value {v} to {}",
+                path.display()
+            );
+        }
         w.write_record(&row)?;
     }
     let bytes = w.into_inner().context("cannot flush CSV")?;
     write_atomic(path, &bytes)
-}
-
-/// Writes rows of numbers as CSV (shortest round-trip formatting, `NaN` refused).
-///
-/// # Errors
-/// When a value is not finite or the file cannot be written.
-pub fn write_csv_f64(path: &Path, header: &[&str], rows: &[Vec<f64>]) -> Result<()> {
-    // f64's text of a non-finite value is NaN, inf or -inf: the one check of
-    // write_csv_finite refuses it.
-    write_csv_finite(
-        path,
-        header,
-        rows.iter().map(|r| r.iter().map(f64::to_string).collect()),
-    )
-}
-
-/// Writes rows of cells that a library formatted from numbers (the `csv_cells` of its
-/// reports), refusing a non-finite number (`NaN`, `inf`, `-inf`) as [`write_csv_f64`]
-/// does.
-///
-/// # Errors
-/// When a cell is not finite, a row has the wrong length or the file cannot be written.
-pub fn write_csv_finite<I>(path: &Path, header: &[&str], rows: I) -> Result<()>
-where
-    I: IntoIterator<Item = Vec<String>>,
-{
-    let rows: Vec<Vec<String>> = rows.into_iter().collect();
-    if let Some(v) = rows
-        .iter()
-        .flatten()
-        .find(|c| matches!(c.as_str(), "NaN" | "inf" | "-inf"))
-    {
-        anyhow::bail!(
-            "refusing to write non-finite value {v} to {}",
-            path.display()
-        );
-    }
-    write_csv(path, header, rows)
 }
 
 /// Serialises `value` as pretty JSON into `path`, atomically.
@@ -184,14 +155,14 @@ mod tests {
         let dir = std::env::temp_dir().join(format!("rollstack-out-{}", std::process::id()));
         ensure_dir(&dir).unwrap();
         let p = dir.join("a.csv");
-        write_csv_f64(&p, &["x", "y"], &[vec![1.0, 2.5], vec![-0.1, 3.0]]).unwrap();
+        let cells = |r: &[f64]| r.iter().map(f64::to_string).collect::<Vec<_>>();
+        write_csv(&p, &["x", "y"], [cells(&[1.0, 2.5]), cells(&[-0.1, 3.0])]).unwrap();
         let text = fs::read_to_string(&p).unwrap();
         assert_eq!(text, "x,y\n1,2.5\n-0.1,3\n");
-        assert!(write_csv_f64(&p, &["x"], &[vec![f64::NAN]]).is_err());
         assert!(write_csv(&p, &["x", "y"], [["1"]]).is_err());
-        let cells = |v: f64| vec![v.to_string()];
-        assert!(write_csv_finite(&p, &["x"], [cells(1.0), cells(f64::NAN)]).is_err());
-        assert!(write_csv_finite(&p, &["x"], [cells(f64::NEG_INFINITY)]).is_err());
+        assert!(write_csv(&p, &["x"], [cells(&[1.0]), cells(&[f64::NAN])]).is_err());
+        assert!(write_csv(&p, &["x"], [cells(&[f64::INFINITY])]).is_err());
+        assert!(write_csv(&p, &["x"], [cells(&[f64::NEG_INFINITY])]).is_err());
         // the failed writes left the good file in place
         assert_eq!(fs::read_to_string(&p).unwrap(), text);
         fs::remove_dir_all(dir).unwrap();

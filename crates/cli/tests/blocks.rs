@@ -429,11 +429,11 @@ fn slide_sweep_shards_write_rows_in_input_order() {
 }
 
 #[test]
-fn frequency_sweep_keeps_order_and_records_failing_runs() {
+fn frequency_sweep_keeps_order_and_refuses_bad_values_before_any_run() {
     let dir = temp_dir("blocks-frequency");
     let d = dir.to_str().unwrap();
-    // ω = −2 and 0 cannot be run: their rows carry the error, the others still run.
-    let v = json(&[
+    // ω = −2 and 0 cannot be run: the sweep names the first and runs nothing.
+    let (ok, stdout, stderr) = run(&[
         "blocks",
         "sweep",
         "frequency",
@@ -443,13 +443,32 @@ fn frequency_sweep_keeps_order_and_records_failing_runs() {
         "0.1",
         "--out",
         d,
+    ]);
+    assert!(!ok && stdout.is_empty(), "{stdout}");
+    assert_eq!(
+        stderr.trim_end(),
+        "error: --omega -2: omega must be positive, got -2"
+    );
+    assert!(
+        !dir.exists(),
+        "nothing is written before the values are checked"
+    );
+    let v = json(&[
+        "blocks",
+        "sweep",
+        "frequency",
+        "--omega",
+        "2:4:1",
+        "--periods",
+        "0.1",
+        "--out",
+        d,
         "--json",
     ]);
     let rows = v["rows"].as_array().unwrap();
     let omegas: Vec<f64> = rows.iter().map(|r| f(&r["omega"])).collect();
-    assert_eq!(omegas, vec![-2.0, 0.0, 2.0, 4.0]);
-    assert!(rows[0]["error"].is_string() && rows[1]["error"].is_string());
-    for r in &rows[2..] {
+    assert_eq!(omegas, vec![2.0, 3.0, 4.0]);
+    for r in rows {
         assert!(r["error"].is_null(), "{r}");
         // Δt = 2π/(100ω): a tenth of a period is 10 steps (or fewer after a failure).
         assert!(r["steps"].as_u64().unwrap() <= 10);
@@ -508,15 +527,36 @@ fn frequency_sweep_keeps_order_and_records_failing_runs() {
 fn scene_sweep_runs_the_product_of_its_keys_in_order() {
     let dir = temp_dir("blocks-sweep-scene");
     let d = dir.to_str().unwrap();
-    // 3 × 2 combinations, the first --set slowest; μ = −0.1 is refused by the scene
-    // loader: its rows carry the error, the others run.
-    let v = json(&[
+    // A value the scene refuses (μ = −0.1) stops the sweep before any run, naming it.
+    let (ok, _, stderr) = run(&[
         "blocks",
         "sweep",
         "scene",
         "shaking",
         "--set",
         "contact.mu=-0.1:0.1:0.1",
+        "--set",
+        "base.amplitude=0.1,0.2",
+        "--out",
+        d,
+    ]);
+    assert!(
+        !ok && stderr.contains("--set contact.mu=-0.1 --set base.amplitude=0.1"),
+        "{stderr}"
+    );
+    assert!(stderr.contains("mu must not be negative"), "{stderr}");
+    assert!(
+        !dir.exists(),
+        "nothing is written before the values are checked"
+    );
+    // 3 × 2 combinations, the first --set slowest.
+    let v = json(&[
+        "blocks",
+        "sweep",
+        "scene",
+        "shaking",
+        "--set",
+        "contact.mu=0:0.2:0.1",
         "--set",
         "base.amplitude=0.1,0.2",
         "--set",
@@ -541,20 +581,16 @@ fn scene_sweep_runs_the_product_of_its_keys_in_order() {
     assert_eq!(
         set,
         [
-            (-0.1, 0.1, 2.0),
-            (-0.1, 0.2, 2.0),
             (0.0, 0.1, 2.0),
             (0.0, 0.2, 2.0),
             (0.1, 0.1, 2.0),
-            (0.1, 0.2, 2.0)
+            (0.1, 0.2, 2.0),
+            (0.2, 0.1, 2.0),
+            (0.2, 0.2, 2.0)
         ]
     );
     assert_eq!(rows[0]["set"][0]["key"], "contact.mu");
-    for r in &rows[..2] {
-        assert!(r["error"].as_str().unwrap().contains("mu"), "{r}");
-        assert!(r["t_final"].is_null() && r["steps"] == 0);
-    }
-    for r in &rows[2..] {
+    for r in rows {
         assert!(r["error"].is_null(), "{r}");
         assert!(r["steps"].as_u64().unwrap() > 0 && f(&r["top_y"]) > 0.0);
     }
@@ -576,12 +612,12 @@ fn scene_sweep_runs_the_product_of_its_keys_in_order() {
     assert_eq!(
         first_cells,
         [
-            ("-0.1", "0.1"),
-            ("-0.1", "0.2"),
             ("0.0", "0.1"),
             ("0.0", "0.2"),
             ("0.1", "0.1"),
-            ("0.1", "0.2")
+            ("0.1", "0.2"),
+            ("0.2", "0.1"),
+            ("0.2", "0.2")
         ]
     );
     assert!(
@@ -593,7 +629,7 @@ fn scene_sweep_runs_the_product_of_its_keys_in_order() {
     let run: Value =
         serde_json::from_str(&std::fs::read_to_string(dir.join("run.json")).unwrap()).unwrap();
     assert_eq!(run["command"], "blocks sweep scene");
-    assert_eq!(run["inputs"]["set"][0], "contact.mu=-0.1:0.1:0.1");
+    assert_eq!(run["inputs"]["set"][0], "contact.mu=0:0.2:0.1");
     // A shard holds its contiguous part of the combinations.
     let v = json(&[
         "blocks",

@@ -448,6 +448,11 @@ fn runs() -> Vec<Run> {
             false,
         ),
         run(
+            "rotation",
+            &["--from", "euler:3-1-3", "--values", "0.3,0.4,0.5"],
+            true,
+        ),
+        run(
             "sphere holonomy",
             &["--theta", "pi/2", "--phi1", "0", "--phi2", "pi", "--json"],
             true,
@@ -747,6 +752,13 @@ fn documented_outputs_match_the_program() {
         if r.out {
             for f in files_below(&dir) {
                 let path = dir.join(&f);
+                // The tour's files are those of the commands it runs, documented with
+                // them; its section names the directory each command writes into.
+                if r.section == "tour" && f.matches('/').count() >= 2 {
+                    let step: Vec<&str> = f.splitn(3, '/').take(2).collect();
+                    s.files.insert(format!("{}/", step.join("/")));
+                    continue;
+                }
                 if f == "run.json" {
                     let v: Value =
                         serde_json::from_str(&std::fs::read_to_string(&path).unwrap()).unwrap();

@@ -406,7 +406,7 @@ fn the_tour_work_precision_file_names_its_schemes() {
     let d = dir.to_string_lossy().into_owned();
     let (ok, _, stderr) = common::run(&["tour", "--only", "nsga", "--out", &d]);
     assert!(ok, "{stderr}");
-    let csv = std::fs::read_to_string(dir.join("nsga/work_precision_oscillator.csv")).unwrap();
+    let csv = std::fs::read_to_string(dir.join("nsga/work_precision/work_precision.csv")).unwrap();
     let mut lines = csv.lines();
     assert_eq!(lines.next(), Some("scheme,rho_inf,dt,error,wall_time_s"));
     let rows: Vec<Vec<&str>> = lines.map(|l| l.split(',').collect()).collect();

@@ -174,10 +174,11 @@ fn tour_writes_the_rotation_section() {
         String::from_utf8_lossy(&out.stderr)
     );
     let html = std::fs::read_to_string(dir.join("index.html")).unwrap();
-    assert!(html.contains("rotations/rotated_basis.png"));
-    let png = std::fs::read(dir.join("rotations/rotated_basis.png")).unwrap();
+    assert!(html.contains("rotations/holonomy_2_4_10/rotated_basis.png"));
+    let png = std::fs::read(dir.join("rotations/holonomy_2_4_10/rotated_basis.png")).unwrap();
     assert_eq!(&png[1..4], b"PNG");
-    let csv = std::fs::read_to_string(dir.join("rotations/euler_angles.csv")).unwrap();
+    let csv =
+        std::fs::read_to_string(dir.join("rotations/holonomy_2_4_10/euler_angles.csv")).unwrap();
     assert_eq!(csv.lines().count(), 13);
     std::fs::remove_dir_all(dir).unwrap();
 }

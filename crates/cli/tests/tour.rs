@@ -43,3 +43,24 @@ fn every_file_the_tour_writes_is_linked_and_the_page_names_its_maker() {
     assert!(page.contains("rollstack tour --only nsga"));
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+#[test]
+fn every_tour_step_is_a_command_line_that_parses_and_is_documented() {
+    let doc =
+        std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/../../docs/cli.md")).unwrap();
+    for section in rollstack_cli::tour::SECTIONS {
+        for step in section.steps {
+            let mut args: Vec<&str> = std::iter::once("rollstack")
+                .chain(step.args.split_whitespace())
+                .collect();
+            if !step.out.is_empty() {
+                args.extend(["--out", "unused"]);
+                let dir = format!("`{}/{}/`", section.name, step.out);
+                assert!(doc.contains(&dir), "docs/cli.md does not name {dir}");
+            }
+            if let Err(e) = rollstack_cli::examples::command().try_get_matches_from(&args) {
+                panic!("{args:?}: {e}");
+            }
+        }
+    }
+}

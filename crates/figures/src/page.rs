@@ -35,7 +35,7 @@ impl Section {
             .iter()
             .filter_map(|b| match b {
                 Block::Image { file, .. } | Block::Data { file, .. } => Some(file.as_str()),
-                Block::Text(_) | Block::Table { .. } => None,
+                Block::Text(_) | Block::Table { .. } | Block::Command { .. } => None,
             })
             .collect()
     }
@@ -59,6 +59,13 @@ pub enum Block {
         header: Vec<String>,
         /// Cells, row by row.
         rows: Vec<Vec<String>>,
+    },
+    /// A command line and the text it printed.
+    Command {
+        /// The command line, as a user would type it.
+        line: String,
+        /// What it printed on stdout.
+        output: String,
     },
     /// A link to a data file (CSV) in the tour directory.
     Data {
@@ -190,6 +197,14 @@ fn render_block(h: &mut String, dir: &str, block: &Block) {
                 h.push_str("</tr>");
             }
             h.push_str("</table>\n");
+        }
+        Block::Command { line, output } => {
+            let _ = writeln!(
+                h,
+                "<pre style=\"background:#f4f4f4;padding:6px\"><b>$ {}</b>\n{}</pre>",
+                escape(line),
+                escape(output.trim_end())
+            );
         }
         Block::Data { file, description } => {
             let _ = writeln!(

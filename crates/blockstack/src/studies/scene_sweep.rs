@@ -556,11 +556,13 @@ impl fmt::Display for SceneRow {
             .map(|s| format!("{} = {}", s.key, s.value))
             .collect();
         let num = |v: Option<f64>| v.map_or_else(|| "none".to_owned(), |v| format!("{v:.4}"));
+        let failure = self
+            .failure_time
+            .map_or_else(|| "never".to_owned(), |t| format!("at t = {t:.4}"));
         write!(
             f,
-            "{}: failure at t = {}, top theta = {} at t = {}, {} steps",
+            "{}: failure {failure}, top theta = {} at t = {}, {} steps",
             set.join(", "),
-            num(self.failure_time),
             num(self.top_theta),
             num(self.t_final),
             self.steps
@@ -792,7 +794,7 @@ mod tests {
         );
         let text = rows[3].to_string();
         assert!(
-            text.starts_with("contact.mu = 0.2, blocks.count = 1: failure at t = none"),
+            text.starts_with("contact.mu = 0.2, blocks.count = 1: failure never"),
             "{text}"
         );
     }

@@ -59,6 +59,24 @@ impl FrequencyRow {
     }
 }
 
+/// One line: ω, the failure time (or "never") and the steps, with the error if any.
+impl std::fmt::Display for FrequencyRow {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let failure = self
+            .failure_time
+            .map_or_else(|| "never".to_owned(), |t| format!("at t = {t:.4}"));
+        write!(
+            f,
+            "omega = {:.4}: failure {failure}, {} steps",
+            self.omega, self.steps
+        )?;
+        if let Some(e) = &self.error {
+            write!(f, ", error: {e}")?;
+        }
+        Ok(())
+    }
+}
+
 /// Shakes the column `shaking` describes (its ω, amplitude, blocks, μ, steps per period
 /// and periods) until its first loss of support or the end of its periods; every
 /// failure (a bad parameter, a step that cannot be resolved) goes into the row.

@@ -120,6 +120,26 @@ impl SlideRow {
     }
 }
 
+/// One line: v0, the top block's angle at the end, and the regime, with the error if any.
+impl std::fmt::Display for SlideRow {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let angle = self
+            .top_angle
+            .map_or_else(|| "-".to_owned(), |a| format!("{a:.4} rad"));
+        write!(
+            f,
+            "v0 = {:.4}: top angle {angle} at t = {:.3}, {}",
+            self.v0,
+            self.t_final,
+            self.regime.map_or("-", SlideRegime::name)
+        )?;
+        if let Some(e) = &self.error {
+            write!(f, ", error: {e}")?;
+        }
+        Ok(())
+    }
+}
+
 /// Runs the sliding column `p` (its blocks on a base pulled at `p.v0` to `p.t_end`, with
 /// friction `p.mu`, [`sliding_column`]); every failure goes into the row.
 #[must_use]

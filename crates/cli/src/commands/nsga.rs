@@ -3,9 +3,7 @@
 //! the cells of the CSV files come from [`nsga::studies`]; this module reads the flags
 //! and writes the files (docs/cli.md).
 
-use crate::output::{
-    ensure_dir, print_json, require_finite, write_csv, write_csv_finite, write_run_json,
-};
+use crate::output::{ensure_dir, print_json, require_finite, write_csv, write_run_json};
 use anyhow::{bail, Result};
 use clap::{Args, Subcommand, ValueEnum};
 use figures::nsga::{plot_ball, plot_work_precision};
@@ -177,7 +175,7 @@ fn ball(a: &BallArgs) -> Result<()> {
 
 fn write_ball_files(dir: &Path, r: &BallRun, a: &BallArgs) -> Result<()> {
     ensure_dir(dir)?;
-    write_csv_finite(
+    write_csv(
         &dir.join("trajectory.csv"),
         &BallSample::CSV_HEADER,
         r.samples.iter().map(BallSample::csv_cells),

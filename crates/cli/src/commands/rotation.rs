@@ -2,11 +2,14 @@
 //! and their text come from [`rotations::rotation_report`]; this module reads the flags
 //! (docs/cli.md).
 
-use crate::output::print_json;
+use crate::output::{ensure_dir, print_json, write_csv, write_run_json};
 use anyhow::{bail, Context, Result};
 use clap::Args;
+use figures::rotations::draw_basis;
 use input::text::{parse_finite, parse_rotation_angle};
-use rotations::{rotation_report, Representation, Rotation3, MATRIX_INPUT_TOLERANCE};
+use rotations::report::euler_round_trip;
+use rotations::{rotation_report, EulerSet, Representation, Rotation3, MATRIX_INPUT_TOLERANCE};
+use std::path::{Path, PathBuf};
 
 /// Arguments of `rollstack rotation`.
 #[derive(Debug, Args)]
@@ -25,6 +28,10 @@ pub struct RotationArgs {
     /// Print one JSON object on stdout (otherwise a readable summary).
     #[arg(long)]
     pub json: bool,
+    /// Directory for the twelve Euler sets with their round-trip errors (euler_angles.csv),
+    /// the rotated basis (rotated_basis.png) and run.json; without it, nothing is written.
+    #[arg(long)]
+    pub out: Option<PathBuf>,
 }
 
 /// Reads the text of `--values` for a representation (angles may be written `90deg` or
@@ -68,10 +75,32 @@ pub fn parse_rotation(repr: Representation, values: &str) -> Result<Rotation3<f6
 /// Bad input (see [`parse_rotation`]).
 pub fn run(args: &RotationArgs) -> Result<()> {
     let repr = Representation::from_name(&args.from)?;
-    let rep = rotation_report(&parse_rotation(repr, &args.values)?);
+    let rotation = parse_rotation(repr, &args.values)?;
+    let rep = rotation_report(&rotation);
+    if let Some(dir) = &args.out {
+        write_files(dir, &rotation, args)?;
+    }
     if args.json {
         return print_json(&rep);
     }
     println!("{rep}");
     Ok(())
+}
+
+/// The files of `rotation --out`: every Euler set's angles (rad) and round-trip error
+/// (rad), the rotated basis, and run.json.
+fn write_files(dir: &Path, rotation: &Rotation3<f64>, args: &RotationArgs) -> Result<()> {
+    ensure_dir(dir)?;
+    let rows = EulerSet::ALL.iter().map(|&set| {
+        let trip = euler_round_trip(set, rotation);
+        let [a1, a2, a3] = trip.angles;
+        std::iter::once(set.to_string())
+            .chain([a1, a2, a3, trip.error].iter().map(f64::to_string))
+            .collect::<Vec<String>>()
+    });
+    let header = ["set", "a1_rad", "a2_rad", "a3_rad", "roundtrip_error_rad"];
+    write_csv(&dir.join("euler_angles.csv"), &header, rows)?;
+    draw_basis(&dir.join("rotated_basis.png"), rotation)?;
+    let inputs = serde_json::json!({"from": args.from, "values": args.values});
+    write_run_json(dir, "rotation", &inputs, &serde_json::json!({}))
 }

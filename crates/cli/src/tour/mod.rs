@@ -1,21 +1,18 @@
 //! `rollstack tour --out DIR`: the main job.
 //!
-//! Runs the headline result of every system with built-in defaults, writes CSV and PNG
-//! files into DIR, an `index.html` that shows them, and prints a short summary. Each
-//! system contributes one [`Section`] from its own module; a section that fails is
-//! reported in the page and the summary, the others still run, and the command then
-//! exits non-zero.
+//! Runs the headline results of every system as the `rollstack` commands that reproduce
+//! them ([`sections::SECTIONS`]), each writing into its own directory below DIR, and
+//! writes an `index.html` that shows every command, what it printed and every file it
+//! wrote. A command that fails is reported in the page and the summary, the others still
+//! run, and the tour then exits non-zero.
 
-mod blocks;
-mod cylinder;
-mod nsga;
-mod rotations;
-mod sphere;
+mod sections;
 
 use crate::output::{ensure_dir, write_atomic};
-use anyhow::Result;
+use anyhow::{Context, Result};
 use clap::Args;
 pub use figures::page::{render_html, Block, PageHeader, Section};
+pub use sections::SECTIONS;
 use std::path::{Path, PathBuf};
 use std::time::{Instant, SystemTime};
 
@@ -30,57 +27,55 @@ pub struct TourArgs {
     pub only: Vec<String>,
 }
 
-/// A function that produces one section, writing its files into the directory given.
-pub type SectionFn = fn(&Path) -> Result<Section>;
+/// One step of a tour section: a `rollstack` command line, run as a user would run it.
+#[derive(Debug, Clone, Copy)]
+pub struct Step {
+    /// The arguments after `rollstack`, separated by spaces (none contains a space).
+    pub args: &'static str,
+    /// The directory, below the section's, that the command writes into (`--out`); empty
+    /// for a command that only prints.
+    pub out: &'static str,
+    /// What the step shows and the thesis's numbers to compare with (may be empty).
+    pub text: &'static str,
+}
 
-/// The sections of the tour, in page order. Each system adds its entry here.
-const SECTIONS: &[(&str, SectionFn)] = &[
-    ("rotations", rotations::section),
-    ("sphere", sphere::section),
-    ("nsga", nsga::section),
-    ("cylinder", cylinder::section),
-    ("blocks", blocks::section),
-];
+/// One section of the tour: a system and the commands that show it.
+#[derive(Debug, Clone, Copy)]
+pub struct SectionPlan {
+    /// The section's directory and its name for `--only`.
+    pub name: &'static str,
+    /// Its heading.
+    pub title: &'static str,
+    /// Its commands, in page order.
+    pub steps: &'static [Step],
+}
 
 /// Runs the tour.
 ///
 /// # Errors
-/// When the output directory cannot be written, or when any section failed (after
-/// all sections ran and the page was written).
+/// When this is not the `rollstack` executable, when the output directory cannot be
+/// written, or when any command failed (after all ran and the page was written).
 pub fn run(args: &TourArgs) -> Result<()> {
-    let known: Vec<&str> = SECTIONS.iter().map(|(name, _)| *name).collect();
+    let known: Vec<&str> = SECTIONS.iter().map(|s| s.name).collect();
     if let Some(bad) = args.only.iter().find(|o| !known.contains(&o.as_str())) {
         anyhow::bail!(
             "unknown tour section '{bad}' (sections: {})",
             known.join(", ")
         );
     }
+    let exe = rollstack_executable()?;
     ensure_dir(&args.out)?;
     let mut done = Vec::new();
     let mut failures = Vec::new();
     let selected = SECTIONS
         .iter()
-        .filter(|(name, _)| args.only.is_empty() || args.only.iter().any(|o| o == name));
-    for (name, make) in selected {
-        let dir = args.out.join(name);
+        .filter(|s| args.only.is_empty() || args.only.iter().any(|o| o == s.name));
+    for plan in selected {
+        let dir = args.out.join(plan.name);
         ensure_dir(&dir)?;
-        let start = Instant::now();
-        let outcome = make(&dir);
-        let seconds = start.elapsed().as_secs_f64();
-        match outcome {
-            Ok(mut section) => {
-                link_every_file(&dir, &mut section)?;
-                println!("== {} ({seconds:.2} s)", section.title);
-                for line in &section.summary {
-                    println!("   {line}");
-                }
-                done.push(((*name).to_owned(), section));
-            }
-            Err(e) => {
-                println!("== {name}: FAILED: {e:#}");
-                failures.push(format!("{name}: {e:#}"));
-            }
-        }
+        println!("== {}", plan.title);
+        let section = run_section(&exe, plan, &dir, &mut failures)?;
+        done.push((plan.name.to_owned(), section));
     }
     let index = args.out.join("index.html");
     let header = PageHeader {
@@ -96,32 +91,97 @@ pub fn run(args: &TourArgs) -> Result<()> {
     println!("wrote {}", index.display());
     anyhow::ensure!(
         failures.is_empty(),
-        "{} tour section(s) failed",
+        "{} tour command(s) failed",
         failures.len()
     );
     Ok(())
 }
 
-/// Adds a link to every file in `dir` (and below) that the section's blocks do not show,
-/// so that the page accounts for everything the tour wrote.
-fn link_every_file(dir: &Path, section: &mut Section) -> Result<()> {
+/// The running program, which the tour calls for each step: the tour is the commands
+/// a user would type, run the same way.
+fn rollstack_executable() -> Result<PathBuf> {
+    let exe = std::env::current_exe().context("cannot locate the running executable")?;
+    let is_rollstack = exe
+        .file_stem()
+        .is_some_and(|s| s.to_string_lossy().starts_with("rollstack"));
+    anyhow::ensure!(
+        is_rollstack,
+        "the tour runs rollstack's commands and must be started as `rollstack tour`"
+    );
+    Ok(exe)
+}
+
+/// Runs the steps of one section into `dir`: the page shows each step's text, its
+/// command and output, and every file it wrote. A failed step is recorded in `failures`
+/// and on the page; the later steps still run.
+fn run_section(
+    exe: &Path,
+    plan: &SectionPlan,
+    dir: &Path,
+    failures: &mut Vec<String>,
+) -> Result<Section> {
+    let mut blocks = Vec::new();
+    for step in plan.steps {
+        if !step.text.is_empty() {
+            blocks.push(Block::Text(step.text.to_owned()));
+        }
+        let start = Instant::now();
+        let (line, output, ok) = run_step(exe, step, dir)?;
+        println!("$ {line}   ({:.1} s)", start.elapsed().as_secs_f64());
+        for l in output.lines() {
+            println!("   {l}");
+        }
+        if !ok {
+            failures.push(format!("{}: `{line}` failed", plan.name));
+        }
+        blocks.push(Block::Command { line, output });
+        if !step.out.is_empty() {
+            link_files(dir, step.out, &mut blocks)?;
+        }
+    }
+    Ok(Section {
+        title: plan.title.to_owned(),
+        summary: Vec::new(),
+        blocks,
+    })
+}
+
+/// Runs one step: its command line as shown, what it printed (stdout, then stderr), and
+/// whether it succeeded.
+fn run_step(exe: &Path, step: &Step, dir: &Path) -> Result<(String, String, bool)> {
+    let mut argv: Vec<String> = step.args.split_whitespace().map(str::to_owned).collect();
+    if !step.out.is_empty() {
+        argv.push("--out".into());
+        argv.push(dir.join(step.out).to_string_lossy().into_owned());
+    }
+    let line = format!("rollstack {}", argv.join(" "));
+    let out = std::process::Command::new(exe)
+        .args(&argv)
+        .output()
+        .with_context(|| format!("cannot run `{line}`"))?;
+    let mut text = String::from_utf8_lossy(&out.stdout).into_owned();
+    text.push_str(&String::from_utf8_lossy(&out.stderr));
+    Ok((line, text, out.status.success()))
+}
+
+/// Adds every file the step wrote into `dir/sub` to the page: pictures shown, data linked.
+fn link_files(dir: &Path, sub: &str, blocks: &mut Vec<Block>) -> Result<()> {
     let mut files = Vec::new();
-    list_files(dir, dir, &mut files)?;
+    let root = dir.join(sub);
+    if root.is_dir() {
+        list_files(&root, &root, &mut files)?;
+    }
     files.sort();
-    let linked: Vec<String> = section
-        .linked_files()
-        .iter()
-        .map(|f| (*f).to_owned())
-        .collect();
-    for file in files.into_iter().filter(|f| !linked.contains(f)) {
-        let what = match file.rsplit('.').next() {
-            Some("csv") => "data",
-            Some("png") => "figure",
-            Some("gif") => "animation",
-            Some("json") => "the run's record: command, inputs, version, timings",
-            _ => "file",
-        };
-        section.blocks.push(Block::data(file, what));
+    for file in files {
+        let path = format!("{sub}/{file}");
+        blocks.push(match file.rsplit('.').next() {
+            Some("png" | "gif") => Block::image(path, file),
+            Some("csv") => Block::data(path, "data"),
+            Some("json") => {
+                Block::data(path, "the run's record: command, inputs, version, timings")
+            }
+            _ => Block::data(path, "file"),
+        });
     }
     Ok(())
 }

@@ -26,9 +26,7 @@ use clap::{Args, Subcommand};
 use input::text::parse_finite;
 use std::path::PathBuf;
 
-pub use lire::LIRE_SNAPSHOTS;
-pub use shake::shake_inputs;
-pub use simulate::{simulate_with_output, OutputPlan, SimulationOutput};
+use simulate::OutputPlan;
 
 /// Arguments of `rollstack blocks`.
 #[derive(Debug, Args)]

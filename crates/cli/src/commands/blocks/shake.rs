@@ -71,28 +71,14 @@ pub fn run_shake(args: &ShakeArgs) -> Result<()> {
             args.amplitude, args.omega
         ),
     );
-    let mut inputs = shake_inputs(&p);
-    if args.t_end.is_some() {
-        inputs["periods"] = serde_json::Value::Null;
-    }
-    inputs["t_end"] = t_end.into();
-    inputs["prox_constant"] = args.solver.prox_constant.into();
-    inputs["explore_branches"] = args.solver.explore_branches.into();
-    inputs["snapshots"] = serde_json::json!(plan.snapshots);
+    let inputs = serde_json::json!({
+        "blocks": p.blocks, "omega": p.omega, "amplitude": p.amplitude, "mu": p.mu,
+        "steps_per_period": p.steps_per_period,
+        "periods": args.t_end.is_none().then_some(p.periods), "t_end": t_end,
+        "prox_constant": args.solver.prox_constant,
+        "explore_branches": args.solver.explore_branches, "snapshots": plan.snapshots,
+    });
     print_warnings(&scene);
     let out = simulate_with_output(&scene, &options, &plan, "blocks shake", &inputs)?;
     finish_command(&out, args.output.json, plan.dir.as_deref())
-}
-
-/// The `inputs` of a shaken column's run.json (`blocks shake` and the tour).
-#[must_use]
-pub fn shake_inputs(p: &Shaking) -> serde_json::Value {
-    serde_json::json!({
-        "blocks": p.blocks,
-        "omega": p.omega,
-        "amplitude": p.amplitude,
-        "mu": p.mu,
-        "steps_per_period": p.steps_per_period,
-        "periods": p.periods,
-    })
 }

@@ -1,10 +1,10 @@
 //! `rollstack blocks run`: one simulation, its JSON report, and its files (trajectory
 //! written progressively, branch points, snapshots, animation, top block). `lire`,
-//! `shake` and the tour run through [`simulate_with_output`] and [`finish_command`] too.
+//! `shake` run through [`simulate_with_output`] and [`finish_command`] too.
 
 use super::{OutputArgs, SolverArgs};
 use crate::output::{
-    commit_temp, ensure_dir, print_json, temp_sibling, write_csv_f64, write_run_json_with,
+    commit_temp, ensure_dir, print_json, temp_sibling, write_csv, write_run_json_with,
 };
 use anyhow::{Context, Result};
 use blockstack::record::{RecordPlan, Recorder, Recording};
@@ -49,11 +49,9 @@ pub struct SimulationJson<'a> {
     pub notes: &'a [String],
 }
 
-/// Everything one simulation produced, for the commands and the tour.
+/// Everything one simulation produced, for the commands.
 #[derive(Debug)]
 pub struct SimulationOutput {
-    /// The library's summary.
-    pub summary: RunSummary,
     /// The JSON report.
     pub report: RunReport,
     /// Files written into the output directory (relative names).
@@ -160,7 +158,6 @@ pub fn simulate_with_output(
         )?;
     }
     Ok(SimulationOutput {
-        summary,
         report,
         files,
         recording,
@@ -179,15 +176,17 @@ fn write_run_files(
     recording: &Recording,
     files: &mut Vec<String>,
 ) -> Result<Vec<String>> {
-    let rows: Vec<Vec<f64>> = summary
-        .branch_points
-        .iter()
-        .map(|b| vec![b.t, b.candidates as f64, b.distinct as f64])
-        .collect();
-    write_csv_f64(
+    let rows = summary.branch_points.iter().map(|b| {
+        [
+            b.t.to_string(),
+            b.candidates.to_string(),
+            b.distinct.to_string(),
+        ]
+    });
+    write_csv(
         &dir.join("branch_points.csv"),
         &["t", "candidates", "distinct"],
-        &rows,
+        rows,
     )?;
     files.push("branch_points.csv".to_owned());
     let drawn = draw_run(dir, scene, recording, &plan.title, plan.max_frames > 0)?;
@@ -251,20 +250,15 @@ pub fn run_scene_file(args: &RunArgs) -> Result<()> {
     let scene = &loaded.scene;
     let options = args.solver.run_options(args.t_end, false)?;
     let t_end = options.t_end.unwrap_or(scene.solver.t_end);
-    let plan = OutputPlan {
-        dir: args.output.out.clone(),
-        snapshots: args
-            .output
-            .snapshots
-            .clone()
-            .unwrap_or_else(|| vec![0.0, 0.5 * t_end, t_end]),
-        max_frames: args.output.max_frames,
-        title: args
-            .scene
-            .file_stem()
-            .map_or_else(|| "scene".to_owned(), |s| s.to_string_lossy().into_owned()),
-        defaults: loaded.defaults.clone(),
-    };
+    let title = args
+        .scene
+        .file_stem()
+        .map(|s| s.to_string_lossy().into_owned());
+    let mut plan = args.output.plan(
+        vec![0.0, 0.5 * t_end, t_end],
+        title.unwrap_or_else(|| "scene".into()),
+    );
+    plan.defaults = loaded.defaults.clone();
     let inputs = serde_json::json!({
         "scene": args.scene.display().to_string(),
         "t_end": t_end,

@@ -1,21 +1,23 @@
 //! `rollstack blocks sweep frequency|slide`: Figures 4.6 and 4.7, one row per parameter
-//! value from `blockstack::studies`, run in parallel and written in input order; and the
+//! value from `blockstack::studies`, run in parallel and written in input order. Every
+//! value is checked before any run: one the model refuses is an error of the command; a
+//! run the solver stops is the error of its row. And the
 //! plumbing every sweep shares ([`sweep_values`], [`finish_sweep`]), which
 //! `sweep scene` ([`super::sweep_scene`]) uses too.
 
 use super::SolverArgs;
 use crate::output::{ensure_dir, print_json, write_csv, write_run_json_with};
 use crate::sweep::{par_map_ordered, Shard};
-use anyhow::Result;
-use blockstack::scenarios::{Shaking, Sliding};
+use anyhow::{Context, Result};
+use blockstack::scenarios::{shaking_column, sliding_column, Shaking, Sliding};
 use blockstack::studies::shaking::{frequency_row, FrequencyRow};
-use blockstack::studies::slide::{slide_row, SlideRegime, SlideRow};
+use blockstack::studies::slide::{slide_row, SlideRow};
 use clap::{Args, Subcommand};
 use figures::blocks::{plot_frequency_sweep, plot_slide_sweep, FrequencySweep, SlideSweep};
 use input::text::parse_finite;
 use input::text::parse_values;
 use serde::Serialize;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use std::time::Instant;
 
 /// The sweeps of §4.4–4.5.
@@ -136,12 +138,22 @@ pub fn sweep_frequency(args: &FrequencyArgs) -> Result<()> {
         steps_per_period: args.steps_per_period,
         mu: args.mu,
     };
+    for &omega in &omegas {
+        shaking_column(&column(omega)).with_context(|| format!("--omega {omega}"))?;
+    }
     let rows = par_map_ordered(&omegas, "omega", |&omega| {
         frequency_row(&column(omega), &options)
     });
     if let Some(dir) = &args.output.out {
         ensure_dir(dir)?;
-        write_frequency_files(dir, &rows, &FrequencySweep::of(&column(1.0)))?;
+        let csv = rows.iter().map(FrequencyRow::csv_cells);
+        write_csv(
+            &dir.join("sweep_frequency.csv"),
+            &FrequencyRow::CSV_HEADER,
+            csv,
+        )?;
+        let sweep = FrequencySweep::of(&column(1.0));
+        plot_frequency_sweep(&dir.join("sweep_frequency.png"), &rows, &sweep)?;
     }
     finish_sweep(
         "frequency",
@@ -156,16 +168,7 @@ pub fn sweep_frequency(args: &FrequencyArgs) -> Result<()> {
         &rows,
         rows.iter().map(|r| r.wall_time_s).sum(),
         start,
-        |r| {
-            format!(
-                "omega = {:.4}: T = {}, steps {}{}",
-                r.omega,
-                r.failure_time
-                    .map_or_else(|| "none".to_owned(), |t| format!("{t:.4}")),
-                r.steps,
-                error_suffix(r.error.as_ref())
-            )
-        },
+        ToString::to_string,
     )
 }
 
@@ -230,30 +233,6 @@ pub fn finish_sweep<R: Serialize>(
     Ok(())
 }
 
-/// `, error: …` after a sweep row's line, or nothing.
-fn error_suffix(error: Option<&String>) -> String {
-    error.map_or_else(String::new, |e| format!(", error: {e}"))
-}
-
-/// Writes `sweep_frequency.csv` and `sweep_frequency.png` (Figure 4.6 with the
-/// parameters of `sweep`, which the title names).
-///
-/// # Errors
-/// An unwritable directory.
-pub fn write_frequency_files(
-    dir: &Path,
-    rows: &[FrequencyRow],
-    sweep: &FrequencySweep,
-) -> Result<()> {
-    write_csv(
-        &dir.join("sweep_frequency.csv"),
-        &FrequencyRow::CSV_HEADER,
-        rows.iter().map(FrequencyRow::csv_cells),
-    )?;
-    plot_frequency_sweep(&dir.join("sweep_frequency.png"), rows, sweep)?;
-    Ok(())
-}
-
 /// Runs `rollstack blocks sweep slide`.
 ///
 /// # Errors
@@ -264,23 +243,26 @@ pub fn sweep_slide(args: &SlideArgs) -> Result<()> {
     anyhow::ensure!(args.mu >= 0.0, "--mu must not be negative");
     let options = args.solver.run_options(Some(args.t_end), false)?;
     let speeds = sweep_values(&args.v0, "v0", args.output.shard)?;
-    let rows = par_map_ordered(&speeds, "v0", |&v0| {
-        let p = Sliding {
-            blocks: args.blocks,
-            v0,
-            t_end: args.t_end,
-            mu: args.mu,
-        };
-        slide_row(&p, &options)
-    });
+    let column = |v0| Sliding {
+        blocks: args.blocks,
+        v0,
+        t_end: args.t_end,
+        mu: args.mu,
+    };
+    for &v0 in &speeds {
+        sliding_column(&column(v0)).with_context(|| format!("--v0 {v0}"))?;
+    }
+    let rows = par_map_ordered(&speeds, "v0", |&v0| slide_row(&column(v0), &options));
     if let Some(dir) = &args.output.out {
         ensure_dir(dir)?;
+        let csv = rows.iter().map(SlideRow::csv_cells);
+        write_csv(&dir.join("sweep_slide.csv"), &SlideRow::CSV_HEADER, csv)?;
         let sweep = SlideSweep {
             blocks: args.blocks,
             t_end: args.t_end,
             mu: args.mu,
         };
-        write_slide_files(dir, &rows, &sweep)?;
+        plot_slide_sweep(&dir.join("sweep_slide.png"), &rows, &sweep)?;
     }
     finish_sweep(
         "slide",
@@ -294,31 +276,6 @@ pub fn sweep_slide(args: &SlideArgs) -> Result<()> {
         &rows,
         rows.iter().map(|r| r.wall_time_s).sum(),
         start,
-        |r| {
-            format!(
-                "v0 = {:.4}: top angle {} at t = {:.3}, {}{}",
-                r.v0,
-                r.top_angle
-                    .map_or_else(|| "-".to_owned(), |a| format!("{a:.4} rad")),
-                r.t_final,
-                r.regime.map_or("-", SlideRegime::name),
-                error_suffix(r.error.as_ref())
-            )
-        },
+        ToString::to_string,
     )
-}
-
-/// Writes `sweep_slide.csv` and `sweep_slide.png` (Figure 4.7 with the parameters of
-/// `sweep`, which the title names).
-///
-/// # Errors
-/// An unwritable directory.
-pub fn write_slide_files(dir: &Path, rows: &[SlideRow], sweep: &SlideSweep) -> Result<()> {
-    write_csv(
-        &dir.join("sweep_slide.csv"),
-        &SlideRow::CSV_HEADER,
-        rows.iter().map(SlideRow::csv_cells),
-    )?;
-    plot_slide_sweep(&dir.join("sweep_slide.png"), rows, sweep)?;
-    Ok(())
 }

@@ -45,7 +45,8 @@ pub struct SceneArgs {
 ///
 /// # Errors
 /// An unreadable scene, an unknown key (before any run), bad options, or an unwritable
-/// output directory. A value the scene refuses is the error of its rows.
+/// output directory, or a value the scene refuses (all before any run). A run the
+/// solver stops is the error of its row.
 pub fn sweep_scene(args: &SceneArgs) -> Result<()> {
     let start = Instant::now();
     let (text, what) = super::scenes::scene_text(&args.scene)?;
@@ -63,6 +64,15 @@ pub fn sweep_scene(args: &SceneArgs) -> Result<()> {
         .into_iter()
         .map(|(_, p)| p)
         .collect();
+    for point in &points {
+        let set: Vec<String> = point
+            .iter()
+            .map(|s| format!("{}={}", s.key, s.value))
+            .collect();
+        sweep
+            .scene(point)
+            .with_context(|| format!("--set {}", set.join(" --set ")))?;
+    }
     let rows = par_map_ordered(&points, "scene", |p| sweep.row(p, &options));
     let mut files = Vec::new();
     let mut notes = Vec::new();

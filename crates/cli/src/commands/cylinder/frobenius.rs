@@ -83,13 +83,7 @@ pub struct FrobeniusArgs {
 
 pub(super) fn run(a: &FrobeniusArgs) -> Result<()> {
     let system = a.system.into();
-    let h = match a.r_over_h {
-        Some(ratio) => {
-            anyhow::ensure!(ratio > 0.0, "--r-over-h must be positive, got {ratio}");
-            a.r / ratio
-        }
-        None => a.h,
-    };
+    let h = super::height(a.r, a.r_over_h.is_none().then_some(a.h), a.r_over_h)?;
     let rep = integrability_report(&FrobeniusCase {
         system,
         configuration: a.config.into(),

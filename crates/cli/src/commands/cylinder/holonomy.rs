@@ -114,7 +114,7 @@ pub(super) fn run_rectangle(a: &RectangleArgs) -> Result<()> {
     let theta = check_point_contact(a.theta.0)?;
     let path = RectanglePath::new(a.phi1.0, a.phi2.0, a.s, a.case.into(), direction(a.cw))?;
     let psi0 = a.psi0.0;
-    let h_over_r = height_over_radius(a.r_over_h, a.h_over_r)?;
+    let h_over_r = super::height(1.0, a.h_over_r, Some(a.r_over_h))?;
     let cylinder = Cylinder::new(1.0, h_over_r)?;
     let (rep, trace) = rectangle_report(&cylinder, theta, &path, psi0, settings(a.max_step))?;
     if let Some(dir) = &a.out {
@@ -137,20 +137,6 @@ pub(super) fn run_rectangle(a: &RectangleArgs) -> Result<()> {
     }
     println!("{}", rep.summary(&path));
     Ok(())
-}
-
-/// h/r from `--r-over-h` or, when given, its old inverse form `--h-over-r`.
-fn height_over_radius(r_over_h: f64, h_over_r: Option<f64>) -> Result<f64> {
-    match h_over_r {
-        Some(h) => Ok(h),
-        None => {
-            anyhow::ensure!(
-                r_over_h > 0.0,
-                "--r-over-h must be positive, got {r_over_h}"
-            );
-            Ok(1.0 / r_over_h)
-        }
-    }
 }
 
 /// Arguments of `rollstack cylinder holonomy circle`.
@@ -191,14 +177,7 @@ pub struct CircleArgs {
 
 pub(super) fn run_circle(a: &CircleArgs) -> Result<()> {
     let start = Instant::now();
-    let h = match (a.h, a.r_over_h) {
-        (Some(h), _) => h,
-        (None, Some(ratio)) => {
-            anyhow::ensure!(ratio > 0.0, "--r-over-h must be positive, got {ratio}");
-            a.r / ratio
-        }
-        (None, None) => anyhow::bail!("give the height as --h or --r-over-h"),
-    };
+    let h = super::height(a.r, a.h, a.r_over_h)?;
     let cylinder = Cylinder::new(a.r, h)?;
     let theta = a.theta.0;
     let path = CirclePath::new(a.ell, a.case.into(), direction(a.cw))?;

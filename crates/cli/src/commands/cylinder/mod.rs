@@ -12,8 +12,8 @@ mod statics;
 mod support;
 
 pub use frobenius::{ConfigArg, FrobeniusArgs, SystemArg};
-pub use holonomy::{write_trace, CaseArg, CircleArgs, HolonomyArgs, HolonomyPath, RectangleArgs};
-pub use statics::{write_statics, StaticsArgs};
+pub use holonomy::{CaseArg, CircleArgs, HolonomyArgs, HolonomyPath, RectangleArgs};
+pub use statics::StaticsArgs;
 pub use support::SupportArgs;
 
 use anyhow::Result;
@@ -53,5 +53,21 @@ pub fn run(args: &CylinderArgs) -> Result<()> {
             HolonomyPath::Circle(c) => holonomy::run_circle(c),
         },
         CylinderCommand::Frobenius(a) => frobenius::run(a),
+    }
+}
+
+/// The height h of a cylinder of radius `r` given as `h` or as the ratio `r_over_h`
+/// (h = r / (r/h)); `h` wins when both are given.
+///
+/// # Errors
+/// When neither is given or the ratio is not positive.
+pub fn height(r: f64, h: Option<f64>, r_over_h: Option<f64>) -> Result<f64> {
+    match (h, r_over_h) {
+        (Some(h), _) => Ok(h),
+        (None, Some(ratio)) => {
+            anyhow::ensure!(ratio > 0.0, "--r-over-h must be positive, got {ratio}");
+            Ok(r / ratio)
+        }
+        (None, None) => anyhow::bail!("give the height as --h or --r-over-h"),
     }
 }

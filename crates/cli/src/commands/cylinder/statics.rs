@@ -5,7 +5,7 @@ use crate::output::{ensure_dir, write_csv, write_run_json};
 use anyhow::Result;
 use clap::Args;
 use cylinders::studies::statics::{
-    statics_figures, MinimumForceRow, NormalForceCurves, NormalForceRow,
+    statics_figures, MinimumForceRow, NormalForceCurves, NormalForceRow, StaticsFigures,
 };
 use figures::cylinders::plot_statics;
 use std::path::{Path, PathBuf};
@@ -31,52 +31,40 @@ pub struct StaticsArgs {
 
 pub(super) fn run(a: &StaticsArgs) -> Result<()> {
     let start = Instant::now();
+    anyhow::ensure!(a.points >= 3, "--points must be at least 3");
+    let fig = statics_figures(a.r_over_h, a.mu, a.points)?;
+    println!(
+        "computed Figures 3.3, 3.4, 3.5, 3.7 and 3.8 at {} inclinations (r/h = {}, μ = {}); \
+         point D at ϑ = {:.4}°",
+        fig.minimum_force.len(),
+        fig.r_over_h,
+        fig.mu,
+        fig.self_balancing_theta.to_degrees()
+    );
     let Some(dir) = &a.out else {
-        anyhow::ensure!(a.points >= 3, "--points must be at least 3");
-        let fig = statics_figures(a.r_over_h, a.mu, a.points)?;
-        println!(
-            "computed Figures 3.3, 3.4, 3.5, 3.7 and 3.8 at {} inclinations (r/h = {}, μ = {}); \
-             point D at ϑ = {:.4}°; give --out DIR to write their CSV and PNG files",
-            fig.minimum_force.len(),
-            fig.r_over_h,
-            fig.mu,
-            fig.self_balancing_theta.to_degrees()
-        );
+        println!("give --out DIR to write their CSV and PNG files");
         return Ok(());
     };
     ensure_dir(dir)?;
-    let files = write_statics(dir, a.r_over_h, a.mu, a.points)?;
+    write_statics(dir, &fig)?;
     write_run_json(
         dir,
         "cylinder statics",
         &serde_json::json!({"r_over_h": a.r_over_h, "mu": a.mu, "points": a.points}),
         &serde_json::json!({"total_s": start.elapsed().as_secs_f64()}),
     )?;
-    println!("wrote {} files into {}", files.len() + 1, dir.display());
+    println!(
+        "wrote fig3_3 … fig3_8 (CSV, PNG) and run.json into {}",
+        dir.display()
+    );
     Ok(())
 }
 
-/// The files [`write_statics`] writes.
-const FILES: [&str; 9] = [
-    "fig3_3.csv",
-    "fig3_3.png",
-    "fig3_4.csv",
-    "fig3_4.png",
-    "fig3_5.csv",
-    "fig3_5.png",
-    "fig3_7_fig3_8.csv",
-    "fig3_7.png",
-    "fig3_8.png",
-];
-
-/// Writes the five statics figures (CSV and PNG) into `dir`; returns the file names
-/// written.
+/// Writes the five statics figures (CSV and PNG) into `dir`.
 ///
 /// # Errors
-/// Bad input or a file that cannot be written.
-pub fn write_statics(dir: &Path, r_over_h: f64, mu: f64, points: usize) -> Result<Vec<String>> {
-    anyhow::ensure!(points >= 3, "--points must be at least 3");
-    let fig = statics_figures(r_over_h, mu, points)?;
+/// A file that cannot be written.
+fn write_statics(dir: &Path, fig: &StaticsFigures) -> Result<()> {
     write_csv(
         &dir.join("fig3_3.csv"),
         &NormalForceRow::CSV_HEADER,
@@ -94,6 +82,5 @@ pub fn write_statics(dir: &Path, r_over_h: f64, mu: f64, points: usize) -> Resul
         &MinimumForceRow::CSV_HEADER,
         fig.minimum_force.iter().map(MinimumForceRow::csv_cells),
     )?;
-    plot_statics(dir, &fig)?;
-    Ok(FILES.map(String::from).to_vec())
+    Ok(plot_statics(dir, fig)?)
 }

@@ -9,10 +9,9 @@ mod plan;
 mod report;
 mod roll;
 
-pub use figures::sphere::{plot_level_sets, plot_rectangle_panels, plot_rectangles, plot_traces};
-pub use plan::{parse_target, write_plan_csv, EulerPlanArgs, PlanArgs};
+pub use plan::{parse_target, EulerPlanArgs, PlanArgs};
 pub use report::{HolonomyArgs, RectangleArgs};
-pub use roll::{write_study, write_trajectory, IntegratorArg, RollArgs};
+pub use roll::{IntegratorArg, RollArgs};
 
 use anyhow::Result;
 use clap::{Args, Subcommand};

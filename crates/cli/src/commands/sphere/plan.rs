@@ -1,7 +1,7 @@
 //! `rollstack sphere plan` and `euler-plan`: the rectangles of the two planners
 //! ([`holonomy::studies::plan`]).
 
-use crate::output::{ensure_dir, print_json, write_csv_finite, write_run_json};
+use crate::output::{ensure_dir, print_json, write_csv, write_run_json};
 use anyhow::{bail, Context, Result};
 use clap::Args;
 use figures::sphere::{plot_rectangle_panels, plot_rectangles};
@@ -10,7 +10,7 @@ use holonomy::studies::plan::{euler_plan_report, plan_report, EulerPlanReport, R
 use input::text::{parse_number_list, parse_rotation_angle_list, RotationAngle};
 use nalgebra::{Rotation3, Vector3};
 use rotations::{AxisAngle, EulerSet};
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use std::time::Instant;
 
 /// Arguments of `rollstack sphere plan`.
@@ -66,18 +66,6 @@ pub fn parse_target(angle: f64, axis: &str) -> Result<Rotation3<f64>> {
         .to_rotation())
 }
 
-/// Writes every planned rectangle (ϑ, φ1, φ2, direction, error, path length) as CSV.
-///
-/// # Errors
-/// When the file cannot be written.
-pub fn write_plan_csv(path: &Path, rects: &[RectangleReport]) -> Result<()> {
-    write_csv_finite(
-        path,
-        &RectangleReport::PLAN_CSV_HEADER,
-        rects.iter().map(RectangleReport::plan_csv_cells),
-    )
-}
-
 pub(super) fn run_plan(a: &PlanArgs) -> Result<()> {
     let target = parse_target(a.angle.0, &a.axis)?;
     let start = Instant::now();
@@ -85,7 +73,12 @@ pub(super) fn run_plan(a: &PlanArgs) -> Result<()> {
     let seconds = start.elapsed().as_secs_f64();
     if let Some(dir) = &a.out {
         ensure_dir(dir)?;
-        write_plan_csv(&dir.join("plan.csv"), &rep.rectangles)?;
+        let csv = rep.rectangles.iter().map(RectangleReport::plan_csv_cells);
+        write_csv(
+            &dir.join("plan.csv"),
+            &RectangleReport::PLAN_CSV_HEADER,
+            csv,
+        )?;
         let title = format!(
             "{} rectangle(s) producing the rotation by ψ = {:.4} rad about ({}){}; dot: start S",
             rep.rectangles.len(),
@@ -125,7 +118,7 @@ pub(super) fn run_euler_plan(a: &EulerPlanArgs) -> Result<()> {
     let rep = euler_plan_report(&euler_plan(set, [v[0], v[1], v[2]])?);
     if let Some(dir) = &a.out {
         ensure_dir(dir)?;
-        write_csv_finite(
+        write_csv(
             &dir.join("euler_plan.csv"),
             &EulerPlanReport::CSV_HEADER,
             rep.csv_rows(),

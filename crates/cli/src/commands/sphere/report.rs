@@ -2,7 +2,7 @@
 //! ([`holonomy::studies::report`]).
 
 use super::direction;
-use crate::output::{ensure_dir, print_json, write_csv_finite, write_run_json};
+use crate::output::{ensure_dir, print_json, write_csv, write_run_json};
 use anyhow::Result;
 use clap::Args;
 use figures::sphere::{plot_level_sets, plot_rectangles};
@@ -68,7 +68,7 @@ pub(super) fn run(a: &HolonomyArgs) -> Result<()> {
 fn write_files(dir: &Path, summary: &HolonomySummary) -> Result<()> {
     ensure_dir(dir)?;
     let r = summary.rectangle;
-    write_csv_finite(
+    write_csv(
         &dir.join("holonomy.csv"),
         &HolonomySummary::CSV_HEADER,
         [summary.csv_cells()],

@@ -2,15 +2,15 @@
 //! integrators' speed-vs-error study ([`holonomy::studies::roll`]).
 
 use super::direction;
-use crate::output::{ensure_dir, print_json, write_csv, write_csv_finite, write_run_json};
+use crate::output::{ensure_dir, print_json, write_csv, write_run_json};
 use anyhow::{bail, Context, Result};
 use clap::{Args, ValueEnum};
 use figures::sphere::{plot_study, plot_traces};
 use holonomy::roll::RollSample;
 use holonomy::studies::roll::{integrator_study, roll_report, ClosedPath, PathShape, StudyRow};
-use holonomy::{Integrator, Rectangle, Trajectory};
+use holonomy::{Integrator, Rectangle};
 use input::text::{parse_number_list, Angle};
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 /// The two integrators of `sphere roll`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
@@ -98,14 +98,17 @@ pub(super) fn run(a: &RollArgs) -> Result<()> {
     let label = &closed.label;
     if let Some(dir) = &a.out {
         ensure_dir(dir)?;
-        write_trajectory(&dir.join("roll.csv"), &traj)?;
+        let csv = traj.samples.iter().map(RollSample::csv_cells);
+        write_csv(&dir.join("roll.csv"), &RollSample::CSV_HEADER, csv)?;
         plot_traces(
             &dir.join("roll_traces.png"),
             &traj,
             &format!("Top view of the traces of C (i) and X (ii): {label}"),
         )?;
         if let Some(rows) = &study {
-            write_study(dir, rows)?;
+            let csv = rows.iter().map(StudyRow::csv_cells);
+            write_csv(&dir.join("roll_study.csv"), &StudyRow::CSV_HEADER, csv)?;
+            plot_study(&dir.join("roll_study.png"), rows)?;
         }
         write_run_json(
             dir,
@@ -118,31 +121,5 @@ pub(super) fn run(a: &RollArgs) -> Result<()> {
         return print_json(&rep);
     }
     println!("{}", rep.summary(label, study.as_deref()));
-    Ok(())
-}
-
-/// Writes a trajectory as CSV: s, centre, marked point X, quaternion.
-///
-/// # Errors
-/// When the file cannot be written.
-pub fn write_trajectory(path: &Path, traj: &Trajectory) -> Result<()> {
-    write_csv_finite(
-        path,
-        &RollSample::CSV_HEADER,
-        traj.samples.iter().map(RollSample::csv_cells),
-    )
-}
-
-/// Writes roll_study.csv and roll_study.png (error against wall time, log–log).
-///
-/// # Errors
-/// When a file cannot be written.
-pub fn write_study(dir: &Path, rows: &[StudyRow]) -> Result<()> {
-    write_csv(
-        &dir.join("roll_study.csv"),
-        &StudyRow::CSV_HEADER,
-        rows.iter().map(StudyRow::csv_cells),
-    )?;
-    plot_study(&dir.join("roll_study.png"), rows)?;
     Ok(())
 }
