@@ -653,9 +653,17 @@ fn data_bounds(data: &[Vec<Option<(f64, f64)>>]) -> (Range<f64>, Range<f64>) {
     (pad(x0, x1), pad(y0, y1))
 }
 
-/// [`lo`, `hi`] widened by 5 % on each side (and made non-empty).
+/// [`lo`, `hi`] widened by 5 % on each side. A range narrower than a millionth of its
+/// values (or than 1e-9 about zero) is drawn as a constant, 5 % of its size (at least 1)
+/// on each side: a quantity constant to round-off is drawn flat with ticks that can be
+/// read, instead of magnifying its last bits.
 fn pad(lo: f64, hi: f64) -> Range<f64> {
-    let span = if hi > lo { hi - lo } else { lo.abs().max(1.0) };
+    if hi - lo < (1e-6 * lo.abs().max(hi.abs())).max(1e-9) {
+        let mid = 0.5 * (lo + hi);
+        let span = mid.abs().max(1.0);
+        return mid - 0.05 * span..mid + 0.05 * span;
+    }
+    let span = hi - lo;
     lo - 0.05 * span..hi + 0.05 * span
 }
 
@@ -1220,6 +1228,25 @@ mod tests {
         assert_eq!(dashes[1], ((15, 0), (24, 0)));
         assert_eq!(dashes[2], ((30, 0), (30, 9)));
         assert_eq!(dashes.len(), 4);
+    }
+
+    #[test]
+    fn a_range_constant_to_round_off_is_drawn_flat() {
+        assert_eq!(pad(0.0, 1.0), -0.05..1.05);
+        // The Lire tower at rest: its top block's height varies in the last bits only.
+        let r = pad(0.8, 0.8 + 4e-16);
+        assert!(
+            (r.start - 0.75).abs() < 1e-12 && (r.end - 0.85).abs() < 1e-12,
+            "{r:?}"
+        );
+        let r = pad(-1e-15, 3e-15);
+        assert!(
+            (r.start + 0.05).abs() < 1e-12 && (r.end - 0.05).abs() < 1e-12,
+            "{r:?}"
+        );
+        // A small but real variation keeps its own range.
+        let r = pad(1.0, 1.001);
+        assert!(r.end - r.start < 0.0012, "{r:?}");
     }
 
     #[test]

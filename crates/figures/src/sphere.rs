@@ -10,7 +10,7 @@ use holonomy::studies::level_sets::{level_set_branches, FIGURE_2_5_LEVELS_DEG};
 use holonomy::studies::plan::RectangleReport;
 use holonomy::studies::roll::{StudyPath, StudyRow};
 use holonomy::{Integrator, Trajectory};
-use std::f64::consts::TAU;
+use std::f64::consts::{PI, TAU};
 use std::ops::Range;
 use std::path::Path;
 
@@ -181,16 +181,19 @@ pub fn plot_level_sets(path: &Path, mark: Option<(f64, f64)>) -> Result<()> {
     if let Some((t, p)) = mark {
         // The rectangle's place in the window [0, 2π]² (ψ has period 2π in both).
         let (t, p) = (t.rem_euclid(TAU), p.rem_euclid(TAU));
-        plot = plot.with(
-            Series::markers(
-                format!(
-                    "this rectangle: ψ = {:.2}°",
-                    holonomy_angle(t, p).to_degrees()
-                ),
-                vec![(t, p)],
+        let psi = holonomy_angle(t, p);
+        // Above 180° the chart's ψ is the rotation by 360° − ψ about the opposite axis,
+        // the angle the reports print.
+        let label = if psi > PI {
+            format!(
+                "this rectangle: ψ = {:.2}° (= {:.2}° about −s)",
+                psi.to_degrees(),
+                (TAU - psi).to_degrees()
             )
-            .styled(Style::color(BASE_COLOR)),
-        );
+        } else {
+            format!("this rectangle: ψ = {:.2}°", psi.to_degrees())
+        };
+        plot = plot.with(Series::markers(label, vec![(t, p)]).styled(Style::color(BASE_COLOR)));
     }
     plot.save(path, (1000, 760))
 }

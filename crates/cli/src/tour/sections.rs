@@ -239,7 +239,10 @@ pub const SECTIONS: &[SectionPlan] = &[
                 out: "shaking",
                 text: "A column of four blocks w = 0.2, h = 0.4 on a base shaken as \
                        x = 0.2 sin(4t) (§4.4): the failure time, and the angle and height of the \
-                       top block (cf. Figure 4.5 (b), (c)).",
+                       top block (cf. Figure 4.5 (b), (c)). After the failure the picture is \
+                       not physical yet: the model has contacts only between neighbours in the \
+                       stack and with the floor, so a fallen block can pass through the base or \
+                       another block.",
             },
             Step {
                 args: "blocks shake --blocks 4 --omega 4 --prox-constant 0.3",
