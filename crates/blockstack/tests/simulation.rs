@@ -329,3 +329,25 @@ fn the_run_report_reads_as_the_summary_of_blocks_run() {
         .collect();
     assert!(!words.contains(&"inf") && !words.contains(&"NaN"), "{text}");
 }
+
+#[test]
+fn the_cost_of_a_run_is_known_before_it_starts() {
+    let scene =
+        blockstack::scenarios::shaking_column(&blockstack::scenarios::Shaking::default()).unwrap();
+    let options = blockstack::simulation::RunOptions {
+        t_end: Some(100.0 * scene.solver.dt),
+        ..Default::default()
+    };
+    let cost = blockstack::simulation::run_cost(&scene, &options);
+    assert!((cost.steps - 100.0).abs() < 1e-9, "{cost:?}");
+    assert_eq!(cost.blocks, scene.blocks().len());
+    let expected = 100.0 * cost.blocks as f64 * blockstack::simulation::SECONDS_PER_BLOCK_STEP;
+    assert!((cost.seconds - expected).abs() < 1e-12);
+    let endless = blockstack::simulation::RunOptions {
+        t_end: Some(f64::INFINITY),
+        ..Default::default()
+    };
+    assert!(blockstack::simulation::run_cost(&scene, &endless)
+        .seconds
+        .is_infinite());
+}

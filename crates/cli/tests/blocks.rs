@@ -740,3 +740,48 @@ fn lire_without_floor_lets_the_falling_blocks_fall() {
         v["final"][3]
     );
 }
+
+#[test]
+fn runs_estimated_over_ten_minutes_are_refused_before_any_step_unless_forced() {
+    let dir = temp_dir("blocks-time-bound");
+    let d = dir.to_str().unwrap();
+    for args in [
+        &["blocks", "shake", "--periods", "1e7", "--out", d][..],
+        &["blocks", "lire", "--t-end", "1e9", "--out", d],
+        &["blocks", "run", "shaking", "--t-end", "1e12", "--out", d],
+        &[
+            "blocks",
+            "sweep",
+            "frequency",
+            "--omega",
+            "1:1000:0.001",
+            "--out",
+            d,
+        ],
+        &[
+            "blocks", "sweep", "slide", "--v0", "1", "--t-end", "1e8", "--out", d,
+        ],
+        &[
+            "blocks",
+            "sweep",
+            "scene",
+            "shaking",
+            "--set",
+            "solver.dt=1e-9",
+            "--out",
+            d,
+        ],
+    ] {
+        let (ok, stdout, stderr) = run(args);
+        assert!(!ok && stdout.is_empty(), "{args:?}");
+        assert!(
+            stderr.contains("more than 600 s") && stderr.contains("--force"),
+            "{stderr}"
+        );
+        assert_eq!(stderr.lines().count(), 1, "{stderr}");
+    }
+    assert!(!dir.exists(), "nothing is written before the estimate");
+    // --force starts it (here a run that is short after all: the bound is on the estimate).
+    let v = json(&["blocks", "shake", "--periods", "0.05", "--force", "--json"]);
+    assert!(v["error"].is_null() && v["steps"] == 5, "{v}");
+}

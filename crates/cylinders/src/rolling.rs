@@ -15,7 +15,7 @@ use crate::holonomy::{CirclePath, Motion, RectanglePath};
 use crate::kinematics::{
     check_point_contact, contact_offset_from_axis, rolling_matrix, three_one_three, Cylinder, Pose,
 };
-use input::{finite, non_negative, positive};
+use input::{finite, non_negative, positive, InputError};
 use nalgebra::{Quaternion, Rotation3, UnitQuaternion, Vector3, Vector6};
 use serde::{Deserialize, Serialize};
 use std::f64::consts::PI;
@@ -160,6 +160,10 @@ fn sample(
     }
 }
 
+/// The most RK4 steps one rolled path may take (about ten seconds on one core; the
+/// recorded samples stay below a few hundred MB).
+pub const MAX_ROLL_STEPS: f64 = 1e7;
+
 /// Rolls the cylinder from `initial` through the `segments`, with steps that turn the
 /// cylinder by at most `max_angle_step` radians (|ψ̇| + |φ̇| times the time step), and
 /// records a sample every `record_every` steps plus the last one.
@@ -176,6 +180,21 @@ pub fn roll(
 ) -> Result<RollingTrace, CylinderError> {
     check_point_contact(initial.angles[1])?;
     positive("max_angle_step", max_angle_step)?;
+    let turned: f64 = segments
+        .iter()
+        .map(|s| s.duration.abs() * (s.psi_rate.abs() + s.phi_rate.abs()))
+        .sum();
+    let needed = turned / max_angle_step;
+    if needed > MAX_ROLL_STEPS {
+        return Err(InputError::TooLarge {
+            name: "max_step".into(),
+            value: max_angle_step,
+            needed,
+            what: "integration steps",
+            limit: MAX_ROLL_STEPS,
+        }
+        .into());
+    }
     let q0 = UnitQuaternion::from_rotation_matrix(&initial.rotation());
     let pi0 = contact_offset_from_axis(cylinder, &(q0 * Vector3::z()));
     let mut state = State {
@@ -296,6 +315,23 @@ mod tests {
     use super::*;
     use crate::holonomy::{figure_3_12, Direction, Figure310, PathCase};
     use rotations::rotation_distance;
+
+    #[test]
+    fn a_step_too_small_for_the_path_is_refused_before_rolling() {
+        let fig = Figure310::new(PathCase::I);
+        let pose = Pose::on_plane(&fig.cylinder, 0.0, 0.0, [0.0, fig.theta, 0.0]);
+        let segments = rectangle_segments(&fig.path);
+        let err = roll(&fig.cylinder, &pose, &segments, 1e-12, 50).unwrap_err();
+        let text = err.to_string();
+        assert!(
+            text.starts_with("max_step = 0.000000000001 needs"),
+            "{text}"
+        );
+        assert!(
+            text.ends_with("integration steps, more than the 1e7 allowed"),
+            "{text}"
+        );
+    }
 
     #[test]
     fn rectangle_rolling_confirms_holonomy() {

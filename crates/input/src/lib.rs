@@ -60,6 +60,20 @@ pub enum InputError {
         /// The value given.
         value: f64,
     },
+    /// A value that would make the computation larger than it can be (steps, samples).
+    #[error("{name} = {value} needs {needed:.1e} {what}, more than the {limit:.0e} allowed")]
+    TooLarge {
+        /// What the value is.
+        name: String,
+        /// The value given.
+        value: f64,
+        /// How many it needs.
+        needed: f64,
+        /// Of what (`"integration steps"`).
+        what: &'static str,
+        /// The most allowed.
+        limit: f64,
+    },
 }
 
 impl InputError {
@@ -81,6 +95,19 @@ impl InputError {
                 name: named(name),
                 range,
                 value,
+            },
+            Self::TooLarge {
+                name,
+                value,
+                needed,
+                what,
+                limit,
+            } => Self::TooLarge {
+                name: named(name),
+                value,
+                needed,
+                what,
+                limit,
             },
         }
     }

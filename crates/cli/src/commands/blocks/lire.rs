@@ -68,6 +68,8 @@ pub fn run_lire(args: &LireArgs) -> Result<()> {
         lire(args.blocks, args.perturb.into())?
     };
     let options = args.solver.run_options(Some(args.t_end), false)?;
+    args.solver
+        .check_cost(&[super::run_cost(&scene, &options)])?;
     let perturb = args
         .perturb
         .to_possible_value()

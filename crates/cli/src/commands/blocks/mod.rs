@@ -21,7 +21,8 @@ pub mod sweep;
 pub mod sweep_scene;
 
 use anyhow::Result;
-use blockstack::simulation::{Prox, RunOptions};
+pub use blockstack::simulation::run_cost;
+use blockstack::simulation::{Prox, RunCost, RunOptions, SECONDS_PER_BLOCK_STEP};
 use clap::{Args, Subcommand};
 use input::text::parse_finite;
 use std::path::PathBuf;
@@ -95,7 +96,13 @@ pub struct SolverArgs {
     /// and the run ends there if those fail too.
     #[arg(long, default_value_t = true, action = clap::ArgAction::Set, value_name = "BOOL")]
     pub explore_branches: bool,
+    /// Run even when the runs are estimated to take longer than ten minutes.
+    #[arg(long)]
+    pub force: bool,
 }
+
+/// The longest estimated wall time a command starts without `--force`, s.
+pub const TIME_BOUND_S: f64 = 600.0;
 
 impl SolverArgs {
     /// The library's run options for an end time override.
@@ -115,6 +122,27 @@ impl SolverArgs {
             explore_branches: self.explore_branches,
             stop_at_failure,
         })
+    }
+
+    /// Refuses, before any step, runs whose estimated wall time ([`run_cost`], shared
+    /// out over the threads) exceeds [`TIME_BOUND_S`], unless `--force`.
+    ///
+    /// # Errors
+    /// When the estimate is over the bound and `--force` was not given.
+    pub fn check_cost(&self, costs: &[RunCost]) -> Result<()> {
+        let steps: f64 = costs.iter().map(|c| c.steps).sum();
+        #[allow(clippy::cast_precision_loss)]
+        let threads = rayon::current_num_threads().min(costs.len()).max(1) as f64;
+        let seconds = costs.iter().map(|c| c.seconds).sum::<f64>() / threads;
+        anyhow::ensure!(
+            self.force || seconds <= TIME_BOUND_S,
+            "{} run(s) of {steps:.1e} steps in all would take about {seconds:.1e} s \
+             (at {:.0} µs per block and step), more than {TIME_BOUND_S} s: shorten \
+             --t-end or --periods, take fewer values, or pass --force",
+            costs.len(),
+            SECONDS_PER_BLOCK_STEP * 1e6
+        );
+        Ok(())
     }
 }
 

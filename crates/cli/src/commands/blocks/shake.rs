@@ -63,6 +63,8 @@ pub fn run_shake(args: &ShakeArgs) -> Result<()> {
     };
     let scene = shaking_column(&p)?;
     let options = args.solver.run_options(args.t_end, false)?;
+    args.solver
+        .check_cost(&[super::run_cost(&scene, &options)])?;
     let t_end = options.t_end.unwrap_or(scene.solver.t_end);
     let plan = args.output.plan(
         vec![0.0, 0.5 * t_end, t_end],

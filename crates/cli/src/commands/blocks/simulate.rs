@@ -249,6 +249,8 @@ pub fn run_scene_file(args: &RunArgs) -> Result<()> {
     let loaded = super::scenes::load_scene(&args.scene)?;
     let scene = &loaded.scene;
     let options = args.solver.run_options(args.t_end, false)?;
+    args.solver
+        .check_cost(&[super::run_cost(scene, &options)])?;
     let t_end = options.t_end.unwrap_or(scene.solver.t_end);
     let title = args
         .scene

@@ -5,7 +5,7 @@
 //! plumbing every sweep shares ([`sweep_values`], [`finish_sweep`]), which
 //! `sweep scene` ([`super::sweep_scene`]) uses too.
 
-use super::SolverArgs;
+use super::{run_cost, SolverArgs};
 use crate::output::{ensure_dir, print_json, write_csv, write_run_json_with};
 use crate::sweep::{par_map_ordered, Shard};
 use anyhow::{Context, Result};
@@ -138,9 +138,12 @@ pub fn sweep_frequency(args: &FrequencyArgs) -> Result<()> {
         steps_per_period: args.steps_per_period,
         mu: args.mu,
     };
+    let mut costs = Vec::new();
     for &omega in &omegas {
-        shaking_column(&column(omega)).with_context(|| format!("--omega {omega}"))?;
+        let scene = shaking_column(&column(omega)).with_context(|| format!("--omega {omega}"))?;
+        costs.push(run_cost(&scene, &options));
     }
+    args.solver.check_cost(&costs)?;
     let rows = par_map_ordered(&omegas, "omega", |&omega| {
         frequency_row(&column(omega), &options)
     });
@@ -249,9 +252,12 @@ pub fn sweep_slide(args: &SlideArgs) -> Result<()> {
         t_end: args.t_end,
         mu: args.mu,
     };
+    let mut costs = Vec::new();
     for &v0 in &speeds {
-        sliding_column(&column(v0)).with_context(|| format!("--v0 {v0}"))?;
+        let scene = sliding_column(&column(v0)).with_context(|| format!("--v0 {v0}"))?;
+        costs.push(run_cost(&scene, &options));
     }
+    args.solver.check_cost(&costs)?;
     let rows = par_map_ordered(&speeds, "v0", |&v0| slide_row(&column(v0), &options));
     if let Some(dir) = &args.output.out {
         ensure_dir(dir)?;

@@ -64,15 +64,18 @@ pub fn sweep_scene(args: &SceneArgs) -> Result<()> {
         .into_iter()
         .map(|(_, p)| p)
         .collect();
+    let mut costs = Vec::new();
     for point in &points {
         let set: Vec<String> = point
             .iter()
             .map(|s| format!("{}={}", s.key, s.value))
             .collect();
-        sweep
+        let loaded = sweep
             .scene(point)
             .with_context(|| format!("--set {}", set.join(" --set ")))?;
+        costs.push(super::run_cost(&loaded.scene, &options));
     }
+    args.solver.check_cost(&costs)?;
     let rows = par_map_ordered(&points, "scene", |p| sweep.row(p, &options));
     let mut files = Vec::new();
     let mut notes = Vec::new();
