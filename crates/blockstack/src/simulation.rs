@@ -109,6 +109,9 @@ pub struct RunOptions {
     pub explore_branches: bool,
     /// Stop as soon as `failure_time` is known (sweeps).
     pub stop_at_failure: bool,
+    /// Leave out the last resort ([`nsga::Options::last_resort`]): a step nothing else
+    /// resolves then ends the run (to see what the generalized-α scheme alone does).
+    pub skip_last_resort: bool,
 }
 
 /// The pose of one block.
@@ -194,6 +197,11 @@ pub struct RunSummary {
     pub branch_points: Vec<BranchRecord>,
     /// Steps that went through only as substeps (halved Δt, [`MAX_HALVINGS`]).
     pub split_steps: usize,
+    /// Steps taken by the last resort after every other attempt failed: a Moreau–Jean
+    /// step whose contact problem Lemke's method solves (docs/method.md §8).
+    pub fallback_steps: usize,
+    /// The largest complementarity residual of those steps (0 when none).
+    pub fallback_residual: f64,
     /// Linear solves of the Newton iterations, in every attempt (failed ones, retries,
     /// fixed-set re-solves and substeps included): the run's work, independent of the
     /// machine ([`nsga::Stepper::linear_solves`]).
@@ -264,6 +272,7 @@ pub fn stepper_options(scene: &Scene, options: &RunOptions) -> Result<Options, B
         rho_inf_retry: RHO_INF_RETRY,
         max_halvings: MAX_HALVINGS,
         boundary_resolves: options.explore_branches,
+        last_resort: !options.skip_last_resort,
         ..Options::default()
     };
     opts.validate()
@@ -399,6 +408,8 @@ pub fn simulate(
         failed_steps: 0,
         branch_points: Vec::new(),
         split_steps: 0,
+        fallback_steps: 0,
+        fallback_residual: 0.0,
         linear_solves: 0,
         max_energy_increase: f64::NEG_INFINITY,
         error: None,
@@ -447,6 +458,10 @@ pub fn simulate(
         summary.branch_points.extend(branch);
         if stepper.last_step().is_some_and(|s| s.substeps > 1) {
             summary.split_steps += 1;
+        }
+        if let Some(last) = stepper.last_step().and_then(|s| s.last_resort.as_ref()) {
+            summary.fallback_steps += 1;
+            summary.fallback_residual = summary.fallback_residual.max(last.residual);
         }
         let r = rec.record(t, stepper.state(), its);
         summary.min_gap = summary.min_gap.min(r.min_gap);
@@ -522,6 +537,10 @@ pub struct RunReport {
     pub branch_points: usize,
     /// Steps that went through only as substeps (halved Δt).
     pub split_steps: usize,
+    /// Steps taken by the last resort (a Moreau–Jean step solved by Lemke's method).
+    pub fallback_steps: usize,
+    /// The largest complementarity residual of those steps (0 when none).
+    pub fallback_residual: f64,
     /// Linear solves of the Newton iterations in every attempt (the run's work).
     pub linear_solves: u64,
     /// Largest energy increase between two steps (≤ ~0 in unforced runs).
@@ -562,6 +581,8 @@ impl RunReport {
             failed_steps: summary.failed_steps,
             branch_points: summary.branch_points.len(),
             split_steps: summary.split_steps,
+            fallback_steps: summary.fallback_steps,
+            fallback_residual: summary.fallback_residual,
             linear_solves: summary.linear_solves,
             max_energy_increase: summary.max_energy_increase,
             error: summary.error.as_ref().map(ToString::to_string),
@@ -600,6 +621,13 @@ impl std::fmt::Display for RunReport {
             "min gap {min_gap}, failed Newton steps {}, branch points {}, split steps {}, linear solves {}, largest energy increase {:.3e}",
             self.failed_steps, self.branch_points, self.split_steps, self.linear_solves, self.max_energy_increase
         )?;
+        if self.fallback_steps > 0 {
+            write!(
+                f,
+                "\nlast-resort steps {} (Moreau–Jean, Lemke), largest residual {:.1e}",
+                self.fallback_steps, self.fallback_residual
+            )?;
+        }
         for (k, p) in self.final_poses.iter().enumerate() {
             write!(
                 f,

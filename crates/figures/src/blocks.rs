@@ -928,6 +928,7 @@ mod scene_sweep_tests {
                 steps: 10,
                 failed_steps: 0,
                 branch_points: 0,
+                fallback_steps: 0,
                 min_gap: None,
                 top_x: Some(0.0),
                 top_y: Some(1.0),

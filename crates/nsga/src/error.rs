@@ -41,6 +41,17 @@ pub enum StepError {
         /// The last good state.
         state: Box<State>,
     },
+    /// The step's contact problem has no solution (the last resort found none), or the
+    /// last resort could not be set up.
+    #[error("no step from t = {t}: {message}")]
+    NoSolution {
+        /// Time at the start of the step.
+        t: f64,
+        /// Why.
+        message: String,
+        /// The last good state.
+        state: Box<State>,
+    },
     /// The Newton matrix could not be factorised.
     #[error("linear solve in the step from t = {t}: {message}")]
     Linear {
@@ -61,7 +72,8 @@ impl StepError {
         match self {
             Self::NotConverged { state, .. }
             | Self::NonFinite { state, .. }
-            | Self::Linear { state, .. } => Some(state),
+            | Self::Linear { state, .. }
+            | Self::NoSolution { state, .. } => Some(state),
             Self::InvalidInput(_) | Self::Start { .. } => None,
         }
     }

@@ -96,6 +96,7 @@
 
 pub mod attempt;
 pub mod error;
+pub mod lcp;
 mod level;
 pub mod linalg;
 pub mod moreau;
@@ -122,7 +123,7 @@ pub use options::{
     DEFAULT_RETRY_MAX_ITER,
 };
 pub use params::GenAlpha;
-pub use report::{BranchPoint, RunStats, StepStats};
+pub use report::{BranchPoint, LastResort, RunStats, StepStats};
 pub use sets::IndexSets;
 pub use state::State;
 pub use stepper::{Stepper, QUICK_CHECK_ITERATIONS, SINGULAR_SETS_KEPT};

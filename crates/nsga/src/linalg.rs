@@ -39,6 +39,18 @@ pub trait LinearSolver: std::fmt::Debug {
     fn name(&self) -> &'static str;
 }
 
+/// The ∞-norm max |xᵢ| of a residual, NaN when an entry is NaN: `f64::max` alone skips a
+/// NaN, which let a residual of NaN entries read as converged.
+pub(crate) fn max_norm(v: &[f64]) -> f64 {
+    v.iter().fold(0.0_f64, |m, x| {
+        if m.is_nan() || x.is_nan() {
+            f64::NAN
+        } else {
+            m.max(x.abs())
+        }
+    })
+}
+
 /// Euclidean norm of a short slice.
 pub(crate) fn norm(v: &[f64]) -> f64 {
     v.iter().map(|x| x * x).sum::<f64>().sqrt()
@@ -426,6 +438,14 @@ mod tests {
         let singular = vec![(0, 0, 1.0), (0, 1, 1.0), (1, 0, 1.0), (1, 1, 1.0)];
         assert!(d.solve(2, &singular, &mut [1.0, 2.0]).is_err());
         assert!(d.solve_again(&mut [1.0, 2.0]).is_err());
+    }
+
+    #[test]
+    fn a_nan_entry_makes_the_max_norm_nan() {
+        assert_eq!(max_norm(&[1.0, -3.0, 2.0]), 3.0);
+        assert!(max_norm(&[1.0, f64::NAN, 2.0]).is_nan());
+        assert!(max_norm(&[f64::NAN, 0.0]).is_nan());
+        assert_eq!(max_norm(&[]), 0.0);
     }
 
     #[test]

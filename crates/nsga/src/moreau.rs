@@ -287,7 +287,7 @@ impl NewtonProblem for MoreauProblem<'_> {
             }
         }
         self.level.rows(z, &self.xi_p, &self.xi_v, &mut self.rows);
-        let r = self.rows.res.iter().fold(0.0_f64, |m, x| m.max(x.abs()));
+        let r = crate::linalg::max_norm(&self.rows.res);
         (self.rows.closed_rows.clone(), r)
     }
 

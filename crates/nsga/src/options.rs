@@ -170,6 +170,16 @@ pub struct Options {
     /// by default.
     #[serde(default)]
     pub boundary_resolves: bool,
+    /// When every attempt above fails, take the step by the last resort: a Moreau–Jean
+    /// step whose contact problem Lemke's method solves (it terminates, with a solution
+    /// wherever one exists; docs/method.md §8). Planar friction without bilateral
+    /// constraints only; other systems keep the error. On by default.
+    #[serde(default = "yes")]
+    pub last_resort: bool,
+}
+
+fn yes() -> bool {
+    true
 }
 
 /// Default [`Options::retry_max_iter`]. Measured with the Lire collapse and the two
@@ -213,6 +223,7 @@ impl Default for Options {
             line_search: 0,
             max_halvings: 0,
             boundary_resolves: false,
+            last_resort: true,
         }
     }
 }

@@ -46,6 +46,22 @@ pub struct StepStats {
     /// ([`Stepper::split_step`]).
     #[serde(default = "one")]
     pub substeps: usize,
+    /// Set when the step was taken by the last resort (docs/method.md §8, step 7).
+    #[serde(default)]
+    pub last_resort: Option<LastResort>,
+}
+
+/// How the last resort took a step: a Moreau–Jean step whose contact problem Lemke's
+/// method solved, and the position projection after it.
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct LastResort {
+    /// Pivots of Lemke's method.
+    pub pivots: usize,
+    /// Complementarity residual of its solution, max |min(z, w)| (impulse and velocity
+    /// units).
+    pub residual: f64,
+    /// Largest coordinate change of the projection onto the gaps (0: none needed).
+    pub projection: f64,
 }
 
 fn one() -> usize {
@@ -69,6 +85,12 @@ pub struct RunStats {
     pub branch_points: u64,
     /// Steps taken as several substeps ([`Stepper::split_step`]).
     pub split_steps: u64,
+    /// Steps taken by the last resort (docs/method.md §8, step 7).
+    #[serde(default)]
+    pub last_resort_steps: u64,
+    /// The largest complementarity residual of those steps.
+    #[serde(default)]
+    pub last_resort_residual: f64,
 }
 
 impl RunStats {

@@ -49,7 +49,7 @@ impl NewtonProblem for StartProblem<'_> {
             self.acc_v[c] += v * y[r];
         }
         self.level.rows(y, &self.acc_p, &self.acc_v, &mut self.rows);
-        let r = self.rows.res.iter().fold(0.0_f64, |m, x| m.max(x.abs()));
+        let r = crate::linalg::max_norm(&self.rows.res);
         (self.rows.closed_rows.clone(), r)
     }
 

@@ -31,6 +31,7 @@ mod assemble;
 mod branch;
 mod fallback;
 mod iterate;
+mod last_resort;
 mod rows;
 mod solve;
 mod unknowns;
@@ -317,6 +318,10 @@ impl<S: System> Stepper<S> {
         if step.branch.as_ref().is_some_and(|b| b.candidates.len() > 1) {
             self.stats.branch_points += 1;
         }
+        if let Some(last) = &step.last_resort {
+            self.stats.last_resort_steps += 1;
+            self.stats.last_resort_residual = self.stats.last_resort_residual.max(last.residual);
+        }
     }
 
     /// The statistics of the step just committed.
@@ -348,15 +353,28 @@ impl<S: System> Stepper<S> {
     /// 5. up to [`Options::max_halvings`] times, the step as two halves, each with this
     ///    whole policy;
     /// 6. with [`Options::boundary_resolves`], fixed-set re-solves that accept friction
-    ///    laws sitting exactly on their stick–slip bound.
+    ///    laws sitting exactly on their stick–slip bound;
+    /// 7. with [`Options::last_resort`], a Moreau–Jean step whose contact problem is
+    ///    solved by Lemke's method, which terminates (`last_resort` in the step's
+    ///    statistics).
     ///
     /// # Errors
-    /// [`StepError::NotConverged`] carrying t and the last good state; the stepper
-    /// stays at that state, so the run can continue from it (for example after
-    /// changing the options). [`StepError::Linear`] when the Newton matrix was singular
-    /// on every attempt (no iterate to report).
+    /// [`StepError::NoSolution`] when the last resort finds that the step's contact
+    /// problem has no solution. Without the last resort (or for a system it does not
+    /// cover): [`StepError::NotConverged`] carrying t and the last good state;
+    /// [`StepError::Linear`] when the Newton matrix was singular on every attempt. The
+    /// stepper stays at the last good state, so the run can continue from it (for
+    /// example after changing the options).
     pub fn step(&mut self) -> Result<&StepStats, StepError> {
-        self.step_halving(self.options.max_halvings)?;
+        if let Err(failed) = self.step_halving(self.options.max_halvings) {
+            if !self.options.last_resort || matches!(failed, StepError::InvalidInput(_)) {
+                return Err(failed);
+            }
+            self.last_resort().map_err(|e| match e {
+                StepError::InvalidInput(_) => failed,
+                e => e,
+            })?;
+        }
         Ok(self.committed())
     }
 

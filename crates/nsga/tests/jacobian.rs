@@ -280,8 +280,9 @@ fn bad_input_is_a_typed_error() {
 
 #[test]
 fn failed_step_carries_state_and_run_can_continue() {
-    // The light ball with the thesis's constant r fails; the error keeps the last good
-    // state, and switching to the scaled prox continues from it.
+    // The light ball with the thesis's constant r fails (without the last resort, which
+    // would take the step); the error keeps the last good state, and switching to the
+    // scaled prox continues from it.
     let ball = Ball {
         mass: 0.1,
         radius: 0.1,
@@ -292,6 +293,7 @@ fn failed_step_carries_state_and_run_can_continue() {
     };
     let opts = Options {
         prox: nsga::Prox::Constant(0.3),
+        last_resort: false,
         ..Options::default()
     };
     let mut s = Stepper::new(ball, 0.0, &[0.0, 1.0, 0.0], &[0.0, 0.0, 50.0], opts.clone()).unwrap();

@@ -161,10 +161,12 @@ fn the_line_search_carries_newton_where_full_updates_diverge() {
         stiffness: 100.0,
         width: 1e-3,
     };
+    // Without the last resort, which would take the failing steps.
     let full = Options {
         dt: 0.1,
         max_iter: 60,
         rho_inf_retries: Vec::new(),
+        last_resort: false,
         ..Options::default()
     };
     let damped = Options {

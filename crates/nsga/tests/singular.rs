@@ -31,7 +31,11 @@ impl System for StuckContact {
 
 #[test]
 fn a_singular_newton_matrix_is_reported_as_such() {
-    let mut s = Stepper::new(StuckContact, 0.0, &[0.0], &[0.0], Options::default()).unwrap();
+    let options = Options {
+        last_resort: false,
+        ..Options::default()
+    };
+    let mut s = Stepper::new(StuckContact, 0.0, &[0.0], &[0.0], options).unwrap();
     let steps = (1.0 / s.options().dt).ceil() as usize;
     let err = (0..steps)
         .find_map(|_| s.step().err())
@@ -39,5 +43,19 @@ fn a_singular_newton_matrix_is_reported_as_such() {
     assert!(matches!(err, StepError::Linear { .. }), "{err:?}");
     assert!(err.to_string().contains("singular"), "{err}");
     // The stepper stays at the last good state, just before the contact closes.
+    assert!(s.state().t <= 0.5 + s.options().dt);
+}
+
+#[test]
+fn the_last_resort_finds_that_no_step_can_keep_the_contact_closed() {
+    // W = 0: no percussion changes the closing rate χ = −1, so the step's contact
+    // problem has no solution, and Lemke's method ends on a ray.
+    let mut s = Stepper::new(StuckContact, 0.0, &[0.0], &[0.0], Options::default()).unwrap();
+    let steps = (1.0 / s.options().dt).ceil() as usize;
+    let err = (0..steps)
+        .find_map(|_| s.step().err())
+        .expect("no step can keep a contact with W = 0 closed");
+    assert!(matches!(err, StepError::NoSolution { .. }), "{err:?}");
+    assert!(err.to_string().contains("has no solution"), "{err}");
     assert!(s.state().t <= 0.5 + s.options().dt);
 }

@@ -194,6 +194,7 @@ fn solves_of_a_failing_step(rho_inf_retry: RhoInfRetry) -> u64 {
         max_iter: 1,
         rho_inf_retry,
         explore_branches: false,
+        last_resort: false,
         ..Options::default()
     };
     let mut s = Stepper::new(block, 0.0, &q0, &u0, opts).unwrap();
@@ -219,6 +220,7 @@ fn rho_inf_retries_follow_the_failures_they_are_asked_for() {
         s.set_options(Options {
             regularization: 0.0,
             rho_inf_retry: choice,
+            last_resort: false,
             ..s.options().clone()
         })
         .unwrap();

@@ -395,6 +395,7 @@ impl SceneSweep {
             steps: 0,
             failed_steps: 0,
             branch_points: 0,
+            fallback_steps: 0,
             min_gap: None,
             top_x: None,
             top_y: None,
@@ -419,6 +420,7 @@ impl SceneSweep {
                 row.steps = s.steps;
                 row.failed_steps = s.failed_steps;
                 row.branch_points = s.branch_points.len();
+                row.fallback_steps = s.fallback_steps;
                 row.min_gap = Some(s.min_gap).filter(|g| g.is_finite());
                 row.error = s.error.map(|e| one_line(&e.to_string()));
                 row.wall_time_s = s.wall_time_s;
@@ -482,6 +484,8 @@ pub struct SceneRow {
     pub failed_steps: usize,
     /// Branch points recorded.
     pub branch_points: usize,
+    /// Steps taken by the last resort (Moreau–Jean solved by Lemke's method).
+    pub fallback_steps: usize,
     /// Smallest gap among the contacts that can close over the run, or null when none
     /// could.
     pub min_gap: Option<f64>,
@@ -499,13 +503,14 @@ pub struct SceneRow {
 
 impl SceneRow {
     /// The measured columns, after the swept keys' columns.
-    pub const MEASURED: [&'static str; 12] = [
+    pub const MEASURED: [&'static str; 13] = [
         "failure_time",
         "opening_time",
         "t_final",
         "steps",
         "failed_steps",
         "branch_points",
+        "fallback_steps",
         "min_gap",
         "top_x",
         "top_y",
@@ -536,6 +541,7 @@ impl SceneRow {
             self.steps.to_string(),
             self.failed_steps.to_string(),
             self.branch_points.to_string(),
+            self.fallback_steps.to_string(),
             optional_text(self.min_gap),
             optional_text(self.top_x),
             optional_text(self.top_y),

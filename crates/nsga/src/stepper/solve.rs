@@ -182,7 +182,7 @@ impl<S: System> Stepper<S> {
             None => self.compute_sets(x),
         };
         self.residual(x, &sets, p);
-        let res = self.work.res.iter().fold(0.0_f64, |m, r| m.max(r.abs()));
+        let res = crate::linalg::max_norm(&self.work.res);
         (sets, res)
     }
 
@@ -449,6 +449,7 @@ impl<S: System> Stepper<S> {
             x,
         };
         let stats = StepStats {
+            last_resort: None,
             t: state.t,
             iterations,
             residual,

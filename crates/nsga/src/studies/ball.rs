@@ -154,10 +154,13 @@ pub fn run_ball(
     let start = Instant::now();
     match scheme {
         Scheme::Nsga => {
+            // The scheme alone, as the comparison with Moreau–Jean needs: a step it
+            // cannot resolve is an error, not a last-resort step.
             let opts = Options {
                 dt,
                 rho_inf,
                 prox,
+                last_resort: false,
                 ..Options::default()
             };
             let mut s = Stepper::new(case.ball, 0.0, &case.q0, &case.u0, opts)?;

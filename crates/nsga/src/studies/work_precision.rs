@@ -101,9 +101,12 @@ fn run_generic<S: crate::system::System>(
                 0.0,
                 q0,
                 u0,
+                // The scheme alone: a step it cannot resolve is an error, not a
+                // Moreau–Jean step in disguise.
                 Options {
                     dt,
                     rho_inf,
+                    last_resort: false,
                     ..Options::default()
                 },
             )?;

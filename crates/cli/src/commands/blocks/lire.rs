@@ -85,6 +85,7 @@ pub fn run_lire(args: &LireArgs) -> Result<()> {
         "t_end": args.t_end,
         "prox_constant": args.solver.prox_constant,
         "explore_branches": args.solver.explore_branches,
+        "last_resort": args.solver.last_resort,
         "snapshots": plan.snapshots,
     });
     print_warnings(&scene);

@@ -96,6 +96,11 @@ pub struct SolverArgs {
     /// and the run ends there if those fail too.
     #[arg(long, default_value_t = true, action = clap::ArgAction::Set, value_name = "BOOL")]
     pub explore_branches: bool,
+    /// Take a step that nothing else resolves by the last resort, a Moreau–Jean step
+    /// whose contact problem Lemke's method solves (docs/method.md §8), and go on; with
+    /// `false` such a step ends the run.
+    #[arg(long, default_value_t = true, action = clap::ArgAction::Set, value_name = "BOOL")]
+    pub last_resort: bool,
     /// Run even when the runs are estimated to take longer than ten minutes.
     #[arg(long)]
     pub force: bool,
@@ -121,6 +126,7 @@ impl SolverArgs {
             prox: self.prox_constant.map(Prox::Constant),
             explore_branches: self.explore_branches,
             stop_at_failure,
+            skip_last_resort: !self.last_resort,
         })
     }
 

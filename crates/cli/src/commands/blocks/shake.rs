@@ -78,7 +78,8 @@ pub fn run_shake(args: &ShakeArgs) -> Result<()> {
         "steps_per_period": p.steps_per_period,
         "periods": args.t_end.is_none().then_some(p.periods), "t_end": t_end,
         "prox_constant": args.solver.prox_constant,
-        "explore_branches": args.solver.explore_branches, "snapshots": plan.snapshots,
+        "explore_branches": args.solver.explore_branches,
+        "last_resort": args.solver.last_resort, "snapshots": plan.snapshots,
     });
     print_warnings(&scene);
     let out = simulate_with_output(&scene, &options, &plan, "blocks shake", &inputs)?;

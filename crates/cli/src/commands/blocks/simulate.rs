@@ -266,6 +266,7 @@ pub fn run_scene_file(args: &RunArgs) -> Result<()> {
         "t_end": t_end,
         "prox_constant": args.solver.prox_constant,
         "explore_branches": args.solver.explore_branches,
+        "last_resort": args.solver.last_resort,
         "snapshots": plan.snapshots,
     });
     print_warnings(scene);

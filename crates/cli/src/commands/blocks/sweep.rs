@@ -197,6 +197,7 @@ pub fn finish_sweep<R: Serialize>(
     inputs["shard"] = format!("{}/{}", output.shard.index, output.shard.count).into();
     inputs["prox_constant"] = serde_json::json!(solver.prox_constant);
     inputs["explore_branches"] = solver.explore_branches.into();
+    inputs["last_resort"] = solver.last_resort.into();
     if let Some(dir) = &output.out {
         write_run_json_with(
             dir,

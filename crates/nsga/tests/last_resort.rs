@@ -1,0 +1,76 @@
+//! The last resort of a step (docs/method.md §8, step 7): when every attempt of the
+//! fallback policy fails, the stepper takes a Moreau–Jean step whose contact problem
+//! Lemke's method solves. Here every generalized-α attempt is made to fail (one Newton
+//! iteration, no retries), so the last resort takes the steps, and what it returns is
+//! checked against the closed-form motion of the paper's bouncing ball.
+
+use nsga::systems::ball::{Ball, BallCase};
+use nsga::{FailurePolicy, Options, StepError, Stepper};
+
+/// Options under which a step with a contact event cannot converge: one Newton
+/// iteration, no ρ∞ retries, no re-solves, no halving.
+fn starved(dt: f64, last_resort: bool) -> Options {
+    Options {
+        dt,
+        max_iter: 1,
+        retry_max_iter: 1,
+        rho_inf_retries: Vec::new(),
+        explore_branches: false,
+        on_failure: FailurePolicy::Error,
+        max_halvings: 0,
+        boundary_resolves: false,
+        last_resort,
+        ..Options::default()
+    }
+}
+
+fn stepper(case: &BallCase, options: Options) -> Stepper<Ball> {
+    Stepper::new(case.ball, 0.0, &case.q0, &case.u0, options).unwrap()
+}
+
+#[test]
+fn the_last_resort_lands_the_ball_slides_it_and_rolls_it_as_the_closed_form_says() {
+    let case = BallCase::new(2).unwrap();
+    let dt = 1e-3;
+    let mut s = stepper(&case, starved(dt, true));
+    let steps = (case.t_end / dt).round() as usize;
+    let mut lowest = f64::INFINITY;
+    for _ in 0..steps {
+        let stats = s.step().unwrap().clone();
+        if let Some(last) = &stats.last_resort {
+            // Lemke's solution satisfies the complementarity conditions to round-off.
+            assert!(last.residual < 1e-12, "{last:?}");
+        }
+        lowest = lowest.min(s.state().q[1] - case.ball.radius);
+    }
+    let taken = s.run_stats().last_resort_steps;
+    assert!(
+        taken > 10,
+        "the starved stepper needed the last resort ({taken} steps)"
+    );
+    // No gap below −1e-8, and the ball rolls at the closed form's speed.
+    assert!(lowest >= -1e-8, "lowest gap {lowest}");
+    let rolling = case.ball.rolling_velocity(case.u0[0], case.u0[2]);
+    assert!((s.state().u[0] - rolling).abs() < 1e-2, "{:?}", s.state().u);
+    let x = case.exact_x(case.t_end).unwrap();
+    assert!(
+        (s.state().q[0] - x).abs() < 1e-2,
+        "x {} vs {x}",
+        s.state().q[0]
+    );
+}
+
+#[test]
+fn without_the_last_resort_the_starved_step_is_an_error() {
+    let case = BallCase::new(2).unwrap();
+    let mut s = stepper(&case, starved(1e-3, false));
+    let failed = (0..1500).find_map(|_| s.step().err());
+    assert!(
+        matches!(
+            failed,
+            Some(StepError::NotConverged { .. } | StepError::Linear { .. })
+        ),
+        "{failed:?}"
+    );
+    assert_eq!(s.run_stats().last_resort_steps, 0);
+}
