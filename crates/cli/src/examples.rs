@@ -20,6 +20,7 @@ pub const EXAMPLES: &[&str] = &[
     "rollstack blocks sweep frequency --omega 2:20:2 --out freq",
     "rollstack blocks sweep slide --v0 0.05:0.5:0.05 --out slide",
     "rollstack blocks sweep scene shaking --set contact.mu=0.1:0.5:0.1 --t-end 5 --out mu",
+    "rollstack blocks work-precision --system column --dts 1e-2,5e-3,2e-3 --out wp",
     "rollstack blocks painleve --aspect 0.5 --mu 0.6 --out painleve",
     "rollstack cylinder support --theta 30deg --r-over-h 0.1 --mu 0.2",
     "rollstack cylinder statics --r-over-h 0.1 --mu 0.2 --out statics",

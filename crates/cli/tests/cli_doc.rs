@@ -613,6 +613,11 @@ fn runs() -> Vec<Run> {
             &["--aspect", "0.5", "--grid", "5", "--json"],
             true,
         ),
+        run(
+            "blocks work-precision",
+            &["--dts", "1e-2,5e-3", "--reference-factor", "2", "--json"],
+            true,
+        ),
         run("tour", &["--only", "rotations,nsga"], true),
     ]
 }

@@ -3,6 +3,7 @@
 
 use crate::plot::{LinePlot, Series};
 use crate::Result;
+use blockstack::studies::work_precision::StackWorkPrecision;
 use nsga::studies::ball::{BallRun, BallSample, Scheme};
 use nsga::studies::work_precision::WorkPrecisionRow;
 use std::path::Path;
@@ -51,6 +52,32 @@ pub fn plot_work_precision(path: &Path, title: &str, rows: &[WorkPrecisionRow]) 
             .iter()
             .filter(|r| r.rho_inf == rho && r.scheme == scheme)
             .map(|r| (r.wall_time_s, r.error.max(1e-16)))
+            .collect();
+        plot = plot.with(Series::line_and_markers(label, pts));
+    }
+    plot.save(path, (1000, 700))
+}
+
+/// The block-stack work-precision diagram: the error at the end time against solver
+/// time, log–log, one line with a marker per run for each scheme (failed runs left out).
+///
+/// # Errors
+/// An unwritable file.
+pub fn plot_stack_work_precision(path: &Path, study: &StackWorkPrecision) -> Result<()> {
+    let title = format!(
+        "Work-precision, {} (error at t = {} against Δt = {:.2e})",
+        study.system.name(),
+        study.system.t_end(),
+        study.reference_dt
+    );
+    let mut plot = LinePlot::new(&title, "wall time [s]", "error [length unit, rad]");
+    plot.log = (true, true);
+    for (scheme, label) in [(Scheme::Nsga, "NSGA"), (Scheme::Moreau, "Moreau-Jean")] {
+        let pts: Vec<(f64, f64)> = study
+            .rows
+            .iter()
+            .filter(|r| r.scheme == scheme)
+            .filter_map(|r| r.error.map(|e| (r.wall_time_s.max(1e-9), e.max(1e-16))))
             .collect();
         plot = plot.with(Series::line_and_markers(label, pts));
     }

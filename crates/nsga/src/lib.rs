@@ -97,6 +97,7 @@
 pub mod attempt;
 pub mod error;
 pub mod lcp;
+mod lcp_step;
 mod level;
 pub mod linalg;
 pub mod moreau;

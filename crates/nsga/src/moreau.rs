@@ -64,6 +64,7 @@ pub struct MoreauStepper<S: System> {
     eval: Evaluation<f64>,
     solver: AutoSolver,
     iterations: u64,
+    lcp_steps: u64,
 }
 
 impl<S: System> MoreauStepper<S> {
@@ -109,6 +110,7 @@ impl<S: System> MoreauStepper<S> {
             eval,
             solver: AutoSolver::default(),
             iterations: 0,
+            lcp_steps: 0,
         })
     }
 
@@ -119,6 +121,11 @@ impl<S: System> MoreauStepper<S> {
     /// Total Newton iterations so far.
     pub fn newton_iterations(&self) -> u64 {
         self.iterations
+    }
+    /// Steps whose Newton iteration did not converge and whose contact problem Lemke's
+    /// method solved instead (the same scheme, another solver).
+    pub fn lcp_steps(&self) -> u64 {
+        self.lcp_steps
     }
 
     /// One step. Returns the Newton iterations it took.
@@ -195,19 +202,50 @@ impl<S: System> MoreauStepper<S> {
                 self.iterations += iterations as u64;
                 Ok(iterations)
             }
-            Outcome::Singular(message) => Err(StepError::Linear {
-                t: self.state.t,
-                message,
-                state: Box::new(self.state.as_state()),
-            }),
+            Outcome::Singular(message) => self.by_lemke(&message),
             Outcome::NotConverged { .. } | Outcome::NonFinite | Outcome::Restart => {
-                Err(StepError::Linear {
-                    t: self.state.t,
-                    message: "Moreau–Jean Newton did not converge".into(),
-                    state: Box::new(self.state.as_state()),
-                })
+                self.by_lemke("Moreau–Jean Newton did not converge")
             }
         }
+    }
+
+    /// The step with its contact problem solved by Lemke's method, which terminates
+    /// (the contacts closed at q_M, as Newton had them; docs/method.md §6). Returns 0
+    /// Newton iterations.
+    fn by_lemke(&mut self, newton: &str) -> Result<usize, StepError> {
+        let st = &self.state;
+        let k = st.k + 1;
+        let t1 = self.t0 + k as f64 * self.options.dt;
+        let step = crate::lcp_step::lcp_step(
+            &self.system,
+            &self.layout,
+            (st.t, t1),
+            (&st.q, &st.u),
+            self.options.dt,
+            crate::lcp_step::Activation::ClosedAtMidpoint,
+            false,
+        )
+        .map_err(|e| {
+            let why = match e {
+                crate::lcp_step::LcpStepError::Unsupported(m)
+                | crate::lcp_step::LcpStepError::NoSolution(m) => m,
+            };
+            StepError::Linear {
+                t: st.t,
+                message: format!("{newton}; by Lemke's method: {why}"),
+                state: Box::new(st.as_state()),
+            }
+        })?;
+        self.state = MoreauState {
+            k,
+            t: t1,
+            q: step.q,
+            u: step.u,
+            p_n: step.p_n,
+            p_f: step.p_f,
+        };
+        self.lcp_steps += 1;
+        Ok(0)
     }
 
     /// q_{n+1} = q_M + ½Δt B(q_M) u_{n+1}, and the new state from the solution z.

@@ -15,3 +15,4 @@ pub mod painleve;
 pub mod scene_sweep;
 pub mod shaking;
 pub mod slide;
+pub mod work_precision;

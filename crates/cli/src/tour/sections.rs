@@ -257,6 +257,14 @@ pub const SECTIONS: &[SectionPlan] = &[
                        large v0 drops almost straight (the tablecloth trick).",
             },
             Step {
+                args: "blocks work-precision --system block",
+                out: "work_precision",
+                text: "Speed against error for a block stack: one block sliding and rocking \
+                       on a shaken base, the error at t = 2 against a run with Δt/16, NSGA \
+                       beside Moreau–Jean, with the observed orders of convergence \
+                       (`--system column` and `--system lire` for the other scenes).",
+            },
+            Step {
                 args: "blocks painleve --aspect 0.5 --mu 0.2",
                 out: "painleve",
                 text: "Painlevé's paradoxes for one block (App. I, Figure I.2, ERRATA 18): the \

@@ -8,7 +8,8 @@
 //! - `sweep frequency` (Figure 4.6) and `sweep slide` (Figure 4.7) ([`sweep`]), and
 //!   `sweep scene` ([`sweep_scene`]: any scene over any of its numeric keys): many runs in
 //!   parallel, one CSV row per parameter value (or combination) in input order;
-//! - `painleve` ([`painleve`]): Painlevé's paradoxes for one block (App. I).
+//! - `painleve` ([`painleve`]): Painlevé's paradoxes for one block (App. I);
+//! - `work-precision` ([`work_precision`]): speed against error, NSGA and Moreau–Jean.
 //!
 //! Every number comes from `blockstack`: its simulation, its recorder and its studies.
 
@@ -19,6 +20,7 @@ pub mod shake;
 pub mod simulate;
 pub mod sweep;
 pub mod sweep_scene;
+pub mod work_precision;
 
 use anyhow::Result;
 pub use blockstack::simulation::run_cost;
@@ -62,6 +64,10 @@ pub enum BlocksCommand {
     /// Painlevé's paradoxes for one block on a rough plane (App. I): least friction
     /// coefficient, admissible angles, sign regions of b, line-contact forces.
     Painleve(painleve::PainleveArgs),
+    /// Speed against error for block stacks: the error at the end time against a run
+    /// with a much smaller step, and the largest penetration, against solver time, NSGA
+    /// beside Moreau–Jean, with the observed orders.
+    WorkPrecision(work_precision::WorkPrecisionArgs),
 }
 
 /// Runs `rollstack blocks`.
@@ -78,6 +84,7 @@ pub fn run(args: &BlocksArgs) -> Result<()> {
         BlocksCommand::Sweep(sweep::SweepCommand::Slide(a)) => sweep::sweep_slide(a),
         BlocksCommand::Sweep(sweep::SweepCommand::Scene(a)) => sweep_scene::sweep_scene(a),
         BlocksCommand::Painleve(a) => painleve::run(a),
+        BlocksCommand::WorkPrecision(a) => work_precision::run(a),
     }
 }
 

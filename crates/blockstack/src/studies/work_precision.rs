@@ -1,0 +1,362 @@
+//! Speed against error for block stacks: the error at the final time against a reference
+//! run with a much smaller step, and the largest penetration, against solver time, for
+//! the nonsmooth generalized-α scheme beside Moreau–Jean, on scenes without forks (no
+//! step where several motions solve the contact problem, so that one reference answer
+//! exists): one block sliding and tipping on a shaken base, a three-block column in
+//! stick–slip, and the Lire collapse before its first fork.
+//!
+//! ```no_run
+//! use blockstack::studies::work_precision::{stack_work_precision, StackBenchmark};
+//!
+//! let study = stack_work_precision(StackBenchmark::Block, &[1e-2, 5e-3, 2e-3], 16.0)?;
+//! for row in &study.rows {
+//!     println!("{row}");
+//! }
+//! println!("observed order, NSGA: {:?}", study.orders.nsga);
+//! # Ok::<(), blockstack::BlockError>(())
+//! ```
+
+use crate::record::{finite_text, optional_text};
+use crate::scenarios::{lire, shaking_column, Perturbation, Shaking};
+use crate::simulation::{stepper_options, RunOptions};
+use crate::system::StackSystem;
+use crate::{BlockError, Scene};
+use nsga::studies::ball::Scheme;
+use nsga::system::{Evaluation, System};
+use nsga::{MoreauOptions, MoreauStepper, Stepper};
+use std::fmt;
+use std::time::Instant;
+
+/// The scenes of the block-stack work-precision diagram: none has a fork before its end.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum StackBenchmark {
+    /// One block w = 0.2, h = 0.4, μ = 0.2 on a base shaken as x = 0.2 sin 4t: it slides
+    /// and rocks on its corners; to t = 2.
+    Block,
+    /// Three such blocks, μ = 0.3, on a base shaken as x = 0.2 sin 2t: stick–slip at the
+    /// interfaces; to t = 2.
+    Column,
+    /// The Lire tower of four blocks with its lowest block pushed out by 1 % of w
+    /// (Figure 4.4), to t = 5: it tilts as one body, before any interface opens.
+    Lire,
+}
+
+impl StackBenchmark {
+    /// Every benchmark.
+    pub const ALL: [Self; 3] = [Self::Block, Self::Column, Self::Lire];
+
+    /// The benchmark's name in files and JSON: `block`, `column` or `lire`.
+    #[must_use]
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Block => "block",
+            Self::Column => "column",
+            Self::Lire => "lire",
+        }
+    }
+
+    /// The end time of its runs.
+    #[must_use]
+    pub fn t_end(self) -> f64 {
+        match self {
+            Self::Block | Self::Column => 2.0,
+            Self::Lire => 5.0,
+        }
+    }
+
+    /// Its scene, with the step `dt`.
+    ///
+    /// # Errors
+    /// A `dt` that is not positive and finite.
+    pub fn scene(self, dt: f64) -> Result<Scene, BlockError> {
+        input::positive("dt", dt)?;
+        let shaken = |blocks, omega, mu| Shaking {
+            blocks,
+            omega,
+            mu,
+            ..Shaking::default()
+        };
+        let mut scene = match self {
+            Self::Block => shaking_column(&shaken(1, 4.0, 0.2))?,
+            Self::Column => shaking_column(&shaken(3, 2.0, 0.3))?,
+            Self::Lire => lire(4, Perturbation::Bottom)?,
+        };
+        scene.solver.dt = dt;
+        scene.solver.t_end = self.t_end();
+        Ok(scene)
+    }
+}
+
+/// One run of the diagram.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct StackWorkPrecisionRow {
+    /// The scheme: `nsga` or `moreau`.
+    pub scheme: Scheme,
+    /// Δt.
+    pub dt: f64,
+    /// Largest difference of any coordinate (block centres in length units, angles in
+    /// rad) from the reference at the end time, or null when the run failed.
+    pub error: Option<f64>,
+    /// Largest penetration over the run, max(0, −g_N), length units.
+    pub penetration: Option<f64>,
+    /// Solver time, s.
+    pub wall_time_s: f64,
+    /// Why the run stopped, or null.
+    pub error_message: Option<String>,
+}
+
+impl StackWorkPrecisionRow {
+    /// The columns of `work_precision.csv`.
+    pub const CSV_HEADER: [&'static str; 6] = [
+        "scheme",
+        "dt",
+        "error",
+        "penetration",
+        "wall_time_s",
+        "error_message",
+    ];
+
+    /// The row's cells under [`Self::CSV_HEADER`].
+    #[must_use]
+    pub fn csv_cells(&self) -> Vec<String> {
+        vec![
+            self.scheme.name().to_owned(),
+            finite_text(self.dt),
+            optional_text(self.error),
+            optional_text(self.penetration),
+            finite_text(self.wall_time_s),
+            self.error_message.clone().unwrap_or_default(),
+        ]
+    }
+}
+
+impl fmt::Display for StackWorkPrecisionRow {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let e = |v: Option<f64>| v.map_or_else(|| "-".to_owned(), |v| format!("{v:.2e}"));
+        write!(
+            f,
+            "{:<6} dt = {:.1e}: error {}, penetration {}, {:.2e} s",
+            self.scheme.name(),
+            self.dt,
+            e(self.error),
+            e(self.penetration),
+            self.wall_time_s
+        )?;
+        if let Some(m) = &self.error_message {
+            write!(f, ", stopped: {m}")?;
+        }
+        Ok(())
+    }
+}
+
+/// Observed orders of convergence: the least-squares slope of log(error) against
+/// log(Δt) over the runs of each scheme (null with fewer than two usable runs).
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+pub struct ObservedOrders {
+    /// Nonsmooth generalized-α.
+    pub nsga: Option<f64>,
+    /// Moreau–Jean.
+    pub moreau: Option<f64>,
+}
+
+/// The whole diagram of one benchmark.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct StackWorkPrecision {
+    /// The benchmark.
+    pub system: StackBenchmark,
+    /// The reference step: the smallest Δt over the reference factor.
+    pub reference_dt: f64,
+    /// Solver time of the reference run, s.
+    pub reference_wall_time_s: f64,
+    /// One row per scheme and Δt, NSGA first, Δt in the order given.
+    pub rows: Vec<StackWorkPrecisionRow>,
+    /// The observed orders.
+    pub orders: ObservedOrders,
+}
+
+/// The end state and largest penetration of one run, and its solver time.
+struct RunEnd {
+    q: Vec<f64>,
+    penetration: f64,
+    wall_time_s: f64,
+}
+
+/// Runs `bench` with each Δt of `dts` by both schemes and measures each against a
+/// generalized-α run with Δt = min(dts)/`reference_factor`.
+///
+/// # Errors
+/// An empty `dts`, a Δt or factor that is not positive, or a reference run that fails
+/// (the rows' own failures are in their `error_message`).
+pub fn stack_work_precision(
+    bench: StackBenchmark,
+    dts: &[f64],
+    reference_factor: f64,
+) -> Result<StackWorkPrecision, BlockError> {
+    input::positive("reference factor", reference_factor)?;
+    let smallest = dts.iter().copied().fold(f64::INFINITY, f64::min);
+    if dts.is_empty() || !dts.iter().all(|&d| d > 0.0 && d.is_finite()) {
+        return Err(BlockError::Scene(
+            "every Δt must be positive and finite".into(),
+        ));
+    }
+    let reference_dt = smallest / reference_factor;
+    let reference = run(bench, Scheme::Nsga, reference_dt)
+        .map_err(|e| BlockError::Scene(format!("the reference run failed: {e}")))?;
+    let mut rows = Vec::new();
+    for scheme in [Scheme::Nsga, Scheme::Moreau] {
+        for &dt in dts {
+            rows.push(match run(bench, scheme, dt) {
+                Ok(end) => StackWorkPrecisionRow {
+                    scheme,
+                    dt,
+                    error: Some(max_difference(&end.q, &reference.q)),
+                    penetration: Some(end.penetration),
+                    wall_time_s: end.wall_time_s,
+                    error_message: None,
+                },
+                Err(e) => StackWorkPrecisionRow {
+                    scheme,
+                    dt,
+                    error: None,
+                    penetration: None,
+                    wall_time_s: 0.0,
+                    error_message: Some(e),
+                },
+            });
+        }
+    }
+    let orders = ObservedOrders {
+        nsga: observed_order(&rows, Scheme::Nsga),
+        moreau: observed_order(&rows, Scheme::Moreau),
+    };
+    Ok(StackWorkPrecision {
+        system: bench,
+        reference_dt,
+        reference_wall_time_s: reference.wall_time_s,
+        rows,
+        orders,
+    })
+}
+
+/// One run to the benchmark's end time by `scheme` with step `dt`.
+fn run(bench: StackBenchmark, scheme: Scheme, dt: f64) -> Result<RunEnd, String> {
+    let scene = bench.scene(dt).map_err(|e| e.to_string())?;
+    let steps = (bench.t_end() / dt).round() as usize;
+    let system = StackSystem::new(scene.clone());
+    let q0 = scene.initial_coordinates();
+    let u0 = vec![0.0; q0.len()];
+    let mut penetration = 0.0_f64;
+    let mut eval = Evaluation::new(&system.layout());
+    let mut observe = |t: f64, q: &[f64], u: &[f64]| {
+        eval.reset();
+        system.evaluate(t, q, u, &mut eval);
+        let lowest = eval.position.iter().copied().fold(0.0, f64::min);
+        penetration = penetration.max(-lowest);
+    };
+    let start = Instant::now();
+    let q = match scheme {
+        Scheme::Nsga => {
+            let options =
+                stepper_options(&scene, &RunOptions::default()).map_err(|e| e.to_string())?;
+            let mut s = Stepper::new(StackSystem::new(scene.clone()), 0.0, &q0, &u0, options)
+                .map_err(|e| e.to_string())?;
+            for _ in 0..steps {
+                s.step().map_err(|e| e.to_string())?;
+                observe(s.state().t, &s.state().q, &s.state().u);
+            }
+            s.state().q.clone()
+        }
+        Scheme::Moreau => {
+            let options = MoreauOptions {
+                dt,
+                tol: scene.solver.tol,
+                ..MoreauOptions::default()
+            };
+            let mut s = MoreauStepper::new(StackSystem::new(scene.clone()), 0.0, &q0, &u0, options)
+                .map_err(|e| e.to_string())?;
+            for _ in 0..steps {
+                s.step().map_err(|e| e.to_string())?;
+                observe(s.state().t, &s.state().q, &s.state().u);
+            }
+            s.state().q.clone()
+        }
+    };
+    Ok(RunEnd {
+        q,
+        penetration,
+        wall_time_s: start.elapsed().as_secs_f64(),
+    })
+}
+
+fn max_difference(a: &[f64], b: &[f64]) -> f64 {
+    a.iter()
+        .zip(b)
+        .map(|(x, y)| (x - y).abs())
+        .fold(0.0, f64::max)
+}
+
+/// The least-squares slope of log(error) over log(Δt) for `scheme`'s usable rows.
+fn observed_order(rows: &[StackWorkPrecisionRow], scheme: Scheme) -> Option<f64> {
+    let pts: Vec<(f64, f64)> = rows
+        .iter()
+        .filter(|r| r.scheme == scheme)
+        .filter_map(|r| r.error.filter(|e| *e > 0.0).map(|e| (r.dt.ln(), e.ln())))
+        .collect();
+    if pts.len() < 2 {
+        return None;
+    }
+    let n = pts.len() as f64;
+    let (mx, my) = (
+        pts.iter().map(|p| p.0).sum::<f64>() / n,
+        pts.iter().map(|p| p.1).sum::<f64>() / n,
+    );
+    let sxx: f64 = pts.iter().map(|p| (p.0 - mx).powi(2)).sum();
+    let sxy: f64 = pts.iter().map(|p| (p.0 - mx) * (p.1 - my)).sum();
+    (sxx > 0.0).then(|| sxy / sxx)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_order_is_the_slope_of_the_errors() {
+        let row = |dt: f64, error: f64| StackWorkPrecisionRow {
+            scheme: Scheme::Nsga,
+            dt,
+            error: Some(error),
+            penetration: Some(0.0),
+            wall_time_s: 0.0,
+            error_message: None,
+        };
+        let rows = [row(1e-2, 3e-4), row(1e-3, 3e-6), row(1e-4, 3e-8)];
+        assert!((observed_order(&rows, Scheme::Nsga).unwrap() - 2.0).abs() < 1e-12);
+        assert_eq!(observed_order(&rows, Scheme::Moreau), None);
+    }
+
+    #[test]
+    fn a_block_on_a_shaken_base_converges_under_both_schemes() {
+        let study =
+            stack_work_precision(StackBenchmark::Block, &[1e-2, 5e-3, 2.5e-3], 8.0).unwrap();
+        assert_eq!(study.rows.len(), 6);
+        for r in &study.rows {
+            assert!(r.error_message.is_none(), "{r}");
+            assert!(
+                r.penetration.unwrap() <= 1e-8 || r.scheme == Scheme::Moreau,
+                "{r}"
+            );
+        }
+        // Both converge: the error shrinks with Δt.
+        for scheme in [Scheme::Nsga, Scheme::Moreau] {
+            let e: Vec<f64> = study
+                .rows
+                .iter()
+                .filter(|r| r.scheme == scheme)
+                .map(|r| r.error.unwrap())
+                .collect();
+            assert!(e[2] < e[0], "{scheme:?}: {e:?}");
+        }
+        assert!(study.orders.nsga.unwrap() > 0.5, "{:?}", study.orders);
+    }
+}
