@@ -1,7 +1,7 @@
 //! `rollstack tour --out DIR`: the main job.
 //!
 //! Runs the headline results of every system as the `rollstack` commands that reproduce
-//! them ([`sections::SECTIONS`]), each writing into its own directory below DIR, and
+//! them ([`sections()`], from `tour.toml`), each writing into its own directory below DIR, and
 //! writes an `index.html` that shows every command, what it printed and every file it
 //! wrote. A command that fails is reported in the page and the summary, the others still
 //! run, and the tour then exits non-zero.
@@ -12,7 +12,7 @@ use crate::output::{ensure_dir, write_atomic};
 use anyhow::{Context, Result};
 use clap::Args;
 pub use figures::page::{render_html, Block, PageHeader, Section};
-pub use sections::SECTIONS;
+pub use sections::{sections, SectionPlan, Step, TOUR_TOML};
 use std::path::{Path, PathBuf};
 use std::time::{Instant, SystemTime};
 
@@ -27,36 +27,14 @@ pub struct TourArgs {
     pub only: Vec<String>,
 }
 
-/// One step of a tour section: a `rollstack` command line, run as a user would run it.
-#[derive(Debug, Clone, Copy)]
-pub struct Step {
-    /// The arguments after `rollstack`, separated by spaces (none contains a space).
-    pub args: &'static str,
-    /// The directory, below the section's, that the command writes into (`--out`); empty
-    /// for a command that only prints.
-    pub out: &'static str,
-    /// What the step shows and the thesis's numbers to compare with (may be empty).
-    pub text: &'static str,
-}
-
-/// One section of the tour: a system and the commands that show it.
-#[derive(Debug, Clone, Copy)]
-pub struct SectionPlan {
-    /// The section's directory and its name for `--only`.
-    pub name: &'static str,
-    /// Its heading.
-    pub title: &'static str,
-    /// Its commands, in page order.
-    pub steps: &'static [Step],
-}
-
 /// Runs the tour.
 ///
 /// # Errors
 /// When this is not the `rollstack` executable, when the output directory cannot be
 /// written, or when any command failed (after all ran and the page was written).
 pub fn run(args: &TourArgs) -> Result<()> {
-    let known: Vec<&str> = SECTIONS.iter().map(|s| s.name).collect();
+    let plans = sections()?;
+    let known: Vec<&str> = plans.iter().map(|s| s.name.as_str()).collect();
     if let Some(bad) = args.only.iter().find(|o| !known.contains(&o.as_str())) {
         anyhow::bail!(
             "unknown tour section '{bad}' (sections: {})",
@@ -67,15 +45,15 @@ pub fn run(args: &TourArgs) -> Result<()> {
     ensure_dir(&args.out)?;
     let mut done = Vec::new();
     let mut failures = Vec::new();
-    let selected = SECTIONS
+    let selected = plans
         .iter()
-        .filter(|s| args.only.is_empty() || args.only.iter().any(|o| o == s.name));
+        .filter(|s| args.only.is_empty() || args.only.contains(&s.name));
     for plan in selected {
-        let dir = args.out.join(plan.name);
+        let dir = args.out.join(&plan.name);
         ensure_dir(&dir)?;
         println!("== {}", plan.title);
         let section = run_section(&exe, plan, &dir, &mut failures)?;
-        done.push((plan.name.to_owned(), section));
+        done.push((plan.name.clone(), section));
     }
     let index = args.out.join("index.html");
     let header = PageHeader {
@@ -121,9 +99,9 @@ fn run_section(
     failures: &mut Vec<String>,
 ) -> Result<Section> {
     let mut blocks = Vec::new();
-    for step in plan.steps {
+    for step in &plan.steps {
         if !step.text.is_empty() {
-            blocks.push(Block::Text(step.text.to_owned()));
+            blocks.push(Block::Text(step.text.clone()));
         }
         let start = Instant::now();
         let (line, output, ok) = run_step(exe, step, dir)?;
@@ -136,11 +114,11 @@ fn run_section(
         }
         blocks.push(Block::Command { line, output });
         if !step.out.is_empty() {
-            link_files(dir, step.out, &mut blocks)?;
+            link_files(dir, &step.out, &mut blocks)?;
         }
     }
     Ok(Section {
-        title: plan.title.to_owned(),
+        title: plan.title.clone(),
         summary: Vec::new(),
         blocks,
     })
@@ -152,7 +130,7 @@ fn run_step(exe: &Path, step: &Step, dir: &Path) -> Result<(String, String, bool
     let mut argv: Vec<String> = step.args.split_whitespace().map(str::to_owned).collect();
     if !step.out.is_empty() {
         argv.push("--out".into());
-        argv.push(dir.join(step.out).to_string_lossy().into_owned());
+        argv.push(dir.join(&step.out).to_string_lossy().into_owned());
     }
     let line = format!("rollstack {}", argv.join(" "));
     let out = std::process::Command::new(exe)
