@@ -5,7 +5,8 @@
 //! 2).
 
 use blockstack::scenarios::{
-    lire, lire_on_floor, nearby_lire_collapses, nearby_lire_landings, resting_column, Perturbation,
+    lire, lire_on_floor, nearby_lire_collapses, nearby_lire_landings, resting_column,
+    shaking_column, Perturbation, Shaking,
 };
 use blockstack::simulation::stepper_options;
 use blockstack::{simulate, RunOptions, Scene, StackSystem};
@@ -102,5 +103,64 @@ fn resting_columns(c: &mut Criterion) {
     g.finish();
 }
 
-criterion_group!(benches, lire_collapse, resting_columns);
+/// The worst runs of the shaken-column matrix (docs/method.md §8, step 7): n = 6 blocks,
+/// Δt = 2π/(200ω), to t = 5, solver time per run.
+fn shaken_matrix_worst(c: &mut Criterion) {
+    let mut g = c.benchmark_group("shaken_matrix_worst");
+    g.sample_size(10);
+    for (omega, mu) in [(32.0, 0.2), (40.0, 0.3)] {
+        let scene = shaking_column(&Shaking {
+            blocks: 6,
+            omega,
+            mu,
+            steps_per_period: 200.0,
+            ..Shaking::default()
+        })
+        .unwrap();
+        let opts = RunOptions {
+            t_end: Some(5.0),
+            explore_branches: true,
+            ..RunOptions::default()
+        };
+        g.bench_function(format!("n=6,omega={omega},mu={mu}"), |b| {
+            b.iter_custom(|iters| solver_time(std::slice::from_ref(&scene), &opts, iters));
+        });
+    }
+    g.finish();
+}
+
+/// Columns on a base that barely moves (x = 0.001 sin 2t, μ = 0.2, Δt = 0.01), 100
+/// steps, solver time per run. Columns of 50 blocks or more do not start yet (the
+/// consistent start's Newton iteration fails), so n stops at 30 here.
+fn tall_column_moving_base(c: &mut Criterion) {
+    let mut g = c.benchmark_group("tall_column_moving_base");
+    g.sample_size(10);
+    for n in [10usize, 20, 30] {
+        let mut scene = shaking_column(&Shaking {
+            blocks: n,
+            amplitude: 0.001,
+            omega: 2.0,
+            ..Shaking::default()
+        })
+        .unwrap();
+        scene.solver.dt = 0.01;
+        let opts = RunOptions {
+            t_end: Some(1.0),
+            explore_branches: true,
+            ..RunOptions::default()
+        };
+        g.bench_function(format!("n={n}"), |b| {
+            b.iter_custom(|iters| solver_time(std::slice::from_ref(&scene), &opts, iters));
+        });
+    }
+    g.finish();
+}
+
+criterion_group!(
+    benches,
+    lire_collapse,
+    resting_columns,
+    shaken_matrix_worst,
+    tall_column_moving_base
+);
 criterion_main!(benches);
