@@ -20,7 +20,7 @@ use crate::newton::NewtonScratch;
 use crate::options::{Options, SolverChoice};
 use crate::report::{RunStats, StepStats};
 use crate::sets::IndexSets;
-use crate::start::consistent_start;
+use crate::start::{consistent_start, Start};
 use crate::state::State;
 use crate::system::{Derivatives, Evaluation, Layout, System, Triplets};
 use iterate::Iterate;
@@ -49,6 +49,38 @@ pub use fallback::QUICK_CHECK_ITERATIONS;
 /// --floor`) that took
 /// 938 linear solves per run, against 810 remembering the normal sets of the last 16.
 pub const SINGULAR_SETS_KEPT: usize = 16;
+
+/// The state at (k, t, q, u) with the accelerations and forces of a consistent start
+/// (docs/method.md §5): ā = a, λ̄ = λ, and the next Newton start x holding them.
+fn started_state(
+    off: &Offsets,
+    (k, t, q, u): (u64, f64, Vec<f64>, Vec<f64>),
+    start: Start,
+    p_n: Vec<f64>,
+    p_f: Vec<f64>,
+) -> State {
+    let mut x = vec![0.0; off.n];
+    x[off.a..off.a + off.nu].copy_from_slice(&start.a);
+    x[off.lg..off.lg + off.ng].copy_from_slice(&start.lambda_g);
+    x[off.lga..off.lga + off.nga].copy_from_slice(&start.lambda_gamma);
+    x[off.ln..off.ln + off.nn].copy_from_slice(&start.lambda_n);
+    x[off.lf..off.lf + off.nf].copy_from_slice(&start.lambda_f);
+    State {
+        k,
+        t,
+        q,
+        u,
+        a: start.a.clone(),
+        a_bar: start.a,
+        lambda_n: start.lambda_n.clone(),
+        lambda_n_bar: start.lambda_n,
+        lambda_f: start.lambda_f.clone(),
+        lambda_f_bar: start.lambda_f,
+        p_n,
+        p_f,
+        x,
+    }
+}
 
 /// The nonsmooth generalized-α stepper for one system.
 #[derive(Debug)]
@@ -152,27 +184,8 @@ impl<S: System> Stepper<S> {
             SolverChoice::Markowitz(t) => Box::new(AutoSolver::markowitz(t)),
         };
         let start = consistent_start(&system, &layout, t0, q0, u0, &options)?;
-        let mut x = vec![0.0; off.n];
-        x[off.a..off.a + off.nu].copy_from_slice(&start.a);
-        x[off.lg..off.lg + off.ng].copy_from_slice(&start.lambda_g);
-        x[off.lga..off.lga + off.nga].copy_from_slice(&start.lambda_gamma);
-        x[off.ln..off.ln + off.nn].copy_from_slice(&start.lambda_n);
-        x[off.lf..off.lf + off.nf].copy_from_slice(&start.lambda_f);
-        let state = State {
-            k: 0,
-            t: t0,
-            q: q0.to_vec(),
-            u: u0.to_vec(),
-            a: start.a.clone(),
-            a_bar: start.a,
-            lambda_n: start.lambda_n.clone(),
-            lambda_n_bar: start.lambda_n,
-            lambda_f: start.lambda_f.clone(),
-            lambda_f_bar: start.lambda_f,
-            p_n: vec![0.0; off.nn],
-            p_f: vec![0.0; off.nf],
-            x,
-        };
+        let at = (0, t0, q0.to_vec(), u0.to_vec());
+        let state = started_state(&off, at, start, vec![0.0; off.nn], vec![0.0; off.nf]);
         let work = Work {
             eval: Evaluation::new(&layout),
             der: Derivatives::default(),

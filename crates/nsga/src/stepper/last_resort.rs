@@ -87,24 +87,6 @@ impl<S: System> Stepper<S> {
                 lambda_n: vec![0.0; o.nn],
                 lambda_f: vec![0.0; o.nf],
             });
-        let mut x = vec![0.0; o.n];
-        x[o.a..o.a + o.nu].copy_from_slice(&start.a);
-        x[o.ln..o.ln + o.nn].copy_from_slice(&start.lambda_n);
-        x[o.lf..o.lf + o.nf].copy_from_slice(&start.lambda_f);
-        State {
-            k,
-            t,
-            q,
-            u,
-            a: start.a.clone(),
-            a_bar: start.a,
-            lambda_n: start.lambda_n.clone(),
-            lambda_n_bar: start.lambda_n,
-            lambda_f: start.lambda_f.clone(),
-            lambda_f_bar: start.lambda_f,
-            p_n,
-            p_f,
-            x,
-        }
+        super::started_state(&o, (k, t, q, u), start, p_n, p_f)
     }
 }
