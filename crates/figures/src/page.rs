@@ -21,24 +21,8 @@ pub struct PageHeader {
 pub struct Section {
     /// Heading in the page.
     pub title: String,
-    /// A few lines for the terminal summary and the page (headline numbers).
-    pub summary: Vec<String>,
-    /// HTML blocks (tables, images), in order. Paths are relative to the tour directory.
+    /// HTML blocks (text, commands, images, links), in order. Paths are relative to the tour directory.
     pub blocks: Vec<Block>,
-}
-
-impl Section {
-    /// The files the section's blocks show or link (relative to its directory).
-    #[must_use]
-    pub fn linked_files(&self) -> Vec<&str> {
-        self.blocks
-            .iter()
-            .filter_map(|b| match b {
-                Block::Image { file, .. } | Block::Data { file, .. } => Some(file.as_str()),
-                Block::Text(_) | Block::Table { .. } | Block::Command { .. } => None,
-            })
-            .collect()
-    }
 }
 
 /// One piece of a section's page.
@@ -52,13 +36,6 @@ pub enum Block {
         file: String,
         /// Caption under the image.
         caption: String,
-    },
-    /// A table with a header row.
-    Table {
-        /// Column names.
-        header: Vec<String>,
-        /// Cells, row by row.
-        rows: Vec<Vec<String>>,
     },
     /// A command line and the text it printed.
     Command {
@@ -77,13 +54,6 @@ pub enum Block {
 }
 
 impl Block {
-    /// A table from its column names and rows of cells.
-    #[must_use]
-    pub fn table(header: &[&str], rows: Vec<Vec<String>>) -> Self {
-        let header = header.iter().map(|s| (*s).to_owned()).collect();
-        Self::Table { header, rows }
-    }
-
     /// An image with its caption.
     #[must_use]
     pub fn image(file: impl Into<String>, caption: impl Into<String>) -> Self {
@@ -153,13 +123,6 @@ pub fn render_html(
             "<p><small>Files in <code>{name}/</code>; this section alone: \
              <code>rollstack tour --only {name}</code></small></p>"
         );
-        if !s.summary.is_empty() {
-            h.push_str("<ul>");
-            for line in &s.summary {
-                let _ = write!(h, "<li>{}</li>", escape(line));
-            }
-            h.push_str("</ul>\n");
-        }
         for b in &s.blocks {
             render_block(&mut h, name, b);
         }
@@ -182,21 +145,6 @@ fn render_block(h: &mut String, dir: &str, block: &Block) {
                 escape(caption),
                 escape(caption)
             );
-        }
-        Block::Table { header, rows } => {
-            h.push_str("<table><tr>");
-            for c in header {
-                let _ = write!(h, "<th>{}</th>", escape(c));
-            }
-            h.push_str("</tr>");
-            for r in rows {
-                h.push_str("<tr>");
-                for c in r {
-                    let _ = write!(h, "<td>{}</td>", escape(c));
-                }
-                h.push_str("</tr>");
-            }
-            h.push_str("</table>\n");
         }
         Block::Command { line, output } => {
             let _ = writeln!(

@@ -119,7 +119,6 @@ fn run_section(
     }
     Ok(Section {
         title: plan.title.clone(),
-        summary: Vec::new(),
         blocks,
     })
 }
