@@ -16,7 +16,8 @@
 //! least M-norm displacement, itself an LCP: 0 ≤ δ ⟂ g + W_Nᵀ M⁻¹ W_N δ ≥ 0.
 
 use crate::lcp::{lemke, LcpFailure};
-use crate::system::{Evaluation, Layout, System, Triplets};
+use crate::moreau::advance;
+use crate::system::{Evaluation, Layout, System};
 use nalgebra::{DMatrix, DVector};
 
 /// Largest penetration left by the position projection.
@@ -86,17 +87,6 @@ impl Dense {
             w_v,
         })
     }
-}
-
-/// q + h B(t, q) u.
-pub(crate) fn advance<S: System>(system: &S, t: f64, q: &[f64], u: &[f64], h: f64) -> Vec<f64> {
-    let mut b = Triplets::default();
-    system.kinematics(t, q, &mut b);
-    let mut out = q.to_vec();
-    for &(j, i, v) in &b.entries {
-        out[j] += h * v * u[i];
-    }
-    out
 }
 
 /// The free acceleration M⁻¹h at (t, q, u), zero if M is singular.

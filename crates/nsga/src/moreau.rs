@@ -138,12 +138,7 @@ impl<S: System> MoreauStepper<S> {
         let (ng, nn) = (l.n_bilateral_position, l.n_normal());
         let dt = self.options.dt;
         let st = &self.state;
-        let mut bt = Triplets::default();
-        self.system.kinematics(st.t, &st.q, &mut bt);
-        let mut q_m = st.q.clone();
-        for &(j, i, b) in &bt.entries {
-            q_m[j] += 0.5 * dt * b * st.u[i];
-        }
+        let q_m = advance(&self.system, st.t, &st.q, &st.u, 0.5 * dt);
         let t_m = st.t + 0.5 * dt;
         self.eval.reset();
         self.system.evaluate(t_m, &q_m, &st.u, &mut self.eval);
@@ -254,12 +249,7 @@ impl<S: System> MoreauStepper<S> {
         let (nu, np) = (l.nu, l.n_position());
         let (ng, nga) = (l.n_bilateral_position, l.n_bilateral_velocity);
         let dt = self.options.dt;
-        let mut bm = Triplets::default();
-        self.system.kinematics(t_m, q_m, &mut bm);
-        let mut q1 = q_m.to_vec();
-        for &(j, i, b) in &bm.entries {
-            q1[j] += 0.5 * dt * b * z[i];
-        }
+        let q1 = advance(&self.system, t_m, q_m, &z[..nu], 0.5 * dt);
         let k = self.state.k + 1;
         self.state = MoreauState {
             k,
@@ -285,6 +275,17 @@ impl MoreauState {
             ..State::default()
         }
     }
+}
+
+/// q + h B(t, q) u: a half step of the midpoint rule.
+pub(crate) fn advance<S: System>(system: &S, t: f64, q: &[f64], u: &[f64], h: f64) -> Vec<f64> {
+    let mut b = Triplets::default();
+    system.kinematics(t, q, &mut b);
+    let mut out = q.to_vec();
+    for &(j, i, v) in &b.entries {
+        out[j] += h * v * u[i];
+    }
+    out
 }
 
 /// The velocity-level problem of one Moreau–Jean step on the Newton engine.
