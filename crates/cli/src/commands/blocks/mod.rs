@@ -143,20 +143,33 @@ impl SolverArgs {
     /// # Errors
     /// When the estimate is over the bound and `--force` was not given.
     pub fn check_cost(&self, costs: &[RunCost]) -> Result<()> {
-        let steps: f64 = costs.iter().map(|c| c.steps).sum();
-        #[allow(clippy::cast_precision_loss)]
-        let threads = rayon::current_num_threads().min(costs.len()).max(1) as f64;
-        let seconds = costs.iter().map(|c| c.seconds).sum::<f64>() / threads;
-        anyhow::ensure!(
-            self.force || seconds <= TIME_BOUND_S,
-            "{} run(s) of {steps:.1e} steps in all would take about {seconds:.1e} s \
-             (at {:.0} µs per block and step), more than {TIME_BOUND_S} s: shorten \
-             --t-end or --periods, take fewer values, or pass --force",
-            costs.len(),
-            SECONDS_PER_BLOCK_STEP * 1e6
-        );
-        Ok(())
+        check_time_bound(
+            costs,
+            self.force,
+            "shorten --t-end or --periods, take fewer values",
+        )
     }
+}
+
+/// Refuses `costs` whose estimated wall time, shared out over the threads, exceeds
+/// [`TIME_BOUND_S`], unless `force`; `advice` says what to change.
+///
+/// # Errors
+/// When the estimate is over the bound and `force` is false.
+pub fn check_time_bound(costs: &[RunCost], force: bool, advice: &str) -> Result<()> {
+    let steps: f64 = costs.iter().map(|c| c.steps).sum();
+    #[allow(clippy::cast_precision_loss)]
+    let threads = rayon::current_num_threads().min(costs.len()).max(1) as f64;
+    let seconds = costs.iter().map(|c| c.seconds).sum::<f64>() / threads;
+    anyhow::ensure!(
+        force || seconds <= TIME_BOUND_S,
+        "{} run(s) of {steps:.1e} steps in all would take about {seconds:.1e} s \
+         (at {:.0} µs per block and step), more than {TIME_BOUND_S} s: {advice}, or pass \
+         --force",
+        costs.len(),
+        SECONDS_PER_BLOCK_STEP * 1e6
+    );
+    Ok(())
 }
 
 /// Output options of `run`, `shake` and `lire`.

@@ -10,8 +10,10 @@ use crate::output::{ensure_dir, print_json, write_csv, write_run_json_with};
 use crate::sweep::{par_map_ordered, Shard};
 use anyhow::{Context, Result};
 use blockstack::scenarios::{shaking_column, sliding_column, Shaking, Sliding};
+use blockstack::simulation::RunOptions;
 use blockstack::studies::shaking::{frequency_row, FrequencyRow};
 use blockstack::studies::slide::{slide_row, SlideRow};
+use blockstack::Scene;
 use clap::{Args, Subcommand};
 use figures::blocks::{plot_frequency_sweep, plot_slide_sweep, FrequencySweep, SlideSweep};
 use input::text::parse_finite;
@@ -115,6 +117,25 @@ pub fn sweep_values(text: &str, name: &str, shard: Shard) -> Result<Vec<f64>> {
     Ok(shard.select(&all).into_iter().map(|(_, v)| v).collect())
 }
 
+/// What every sweep checks before any run: the scene of each of its `points` (a value
+/// the model refuses is the sweep's error, naming it), and the estimated time of them
+/// all ([`SolverArgs::check_cost`]).
+///
+/// # Errors
+/// The first refused point, or a sweep over the time bound.
+pub fn check_before_any_run<P>(
+    points: &[P],
+    solver: &SolverArgs,
+    options: &RunOptions,
+    scene: impl Fn(&P) -> Result<Scene>,
+) -> Result<()> {
+    let costs = points
+        .iter()
+        .map(|p| Ok(run_cost(&scene(p)?, options)))
+        .collect::<Result<Vec<_>>>()?;
+    solver.check_cost(&costs)
+}
+
 /// Runs `rollstack blocks sweep frequency`.
 ///
 /// # Errors
@@ -138,12 +159,9 @@ pub fn sweep_frequency(args: &FrequencyArgs) -> Result<()> {
         steps_per_period: args.steps_per_period,
         mu: args.mu,
     };
-    let mut costs = Vec::new();
-    for &omega in &omegas {
-        let scene = shaking_column(&column(omega)).with_context(|| format!("--omega {omega}"))?;
-        costs.push(run_cost(&scene, &options));
-    }
-    args.solver.check_cost(&costs)?;
+    check_before_any_run(&omegas, &args.solver, &options, |&omega| {
+        shaking_column(&column(omega)).with_context(|| format!("--omega {omega}"))
+    })?;
     let rows = par_map_ordered(&omegas, "omega", |&omega| {
         frequency_row(&column(omega), &options)
     });
@@ -253,12 +271,9 @@ pub fn sweep_slide(args: &SlideArgs) -> Result<()> {
         t_end: args.t_end,
         mu: args.mu,
     };
-    let mut costs = Vec::new();
-    for &v0 in &speeds {
-        let scene = sliding_column(&column(v0)).with_context(|| format!("--v0 {v0}"))?;
-        costs.push(run_cost(&scene, &options));
-    }
-    args.solver.check_cost(&costs)?;
+    check_before_any_run(&speeds, &args.solver, &options, |&v0| {
+        sliding_column(&column(v0)).with_context(|| format!("--v0 {v0}"))
+    })?;
     let rows = par_map_ordered(&speeds, "v0", |&v0| slide_row(&column(v0), &options));
     if let Some(dir) = &args.output.out {
         ensure_dir(dir)?;

@@ -2,7 +2,7 @@
 //! `--set` keys, with the rows of `blockstack::studies::scene_sweep`, run in parallel and
 //! written in input order through the plumbing of the other sweeps ([`super::sweep`]).
 
-use super::sweep::{finish_sweep, SweepOutputArgs};
+use super::sweep::{check_before_any_run, finish_sweep, SweepOutputArgs};
 use super::SolverArgs;
 use crate::output::{ensure_dir, write_csv};
 use crate::sweep::par_map_ordered;
@@ -64,8 +64,7 @@ pub fn sweep_scene(args: &SceneArgs) -> Result<()> {
         .into_iter()
         .map(|(_, p)| p)
         .collect();
-    let mut costs = Vec::new();
-    for point in &points {
+    check_before_any_run(&points, &args.solver, &options, |point| {
         let set: Vec<String> = point
             .iter()
             .map(|s| format!("{}={}", s.key, s.value))
@@ -73,9 +72,8 @@ pub fn sweep_scene(args: &SceneArgs) -> Result<()> {
         let loaded = sweep
             .scene(point)
             .with_context(|| format!("--set {}", set.join(" --set ")))?;
-        costs.push(super::run_cost(&loaded.scene, &options));
-    }
-    args.solver.check_cost(&costs)?;
+        Ok(loaded.scene)
+    })?;
     let rows = par_map_ordered(&points, "scene", |p| sweep.row(p, &options));
     let mut files = Vec::new();
     let mut notes = Vec::new();

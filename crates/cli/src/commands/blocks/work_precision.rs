@@ -1,7 +1,7 @@
 //! `rollstack blocks work-precision`: speed against error for block stacks, NSGA beside
 //! Moreau–Jean ([`blockstack::studies::work_precision`]).
 
-use super::{run_cost, RunOptions, TIME_BOUND_S};
+use super::{check_time_bound, run_cost, RunOptions};
 use crate::output::{ensure_dir, print_json, write_csv, write_run_json};
 use anyhow::{Context, Result};
 use blockstack::studies::work_precision::{
@@ -55,14 +55,11 @@ pub fn run(a: &WorkPrecisionArgs) -> Result<()> {
     );
     let smallest = dts.iter().copied().fold(f64::INFINITY, f64::min);
     let reference = bench.scene(smallest / a.reference_factor)?;
-    let cost = run_cost(&reference, &RunOptions::default());
-    anyhow::ensure!(
-        a.force || cost.seconds <= TIME_BOUND_S,
-        "the reference run of {:.1e} steps would take about {:.1e} s, more than \
-         {TIME_BOUND_S} s: take a smaller --reference-factor or larger --dts, or pass --force",
-        cost.steps,
-        cost.seconds
-    );
+    check_time_bound(
+        &[run_cost(&reference, &RunOptions::default())],
+        a.force,
+        "take a smaller --reference-factor or larger --dts",
+    )?;
     let study = stack_work_precision(bench, &dts, a.reference_factor)?;
     if let Some(dir) = &a.out {
         ensure_dir(dir)?;
