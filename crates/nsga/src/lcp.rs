@@ -181,8 +181,11 @@ impl Tableau {
                     }
                     break;
                 }
-                if k == 0 && self.basis[i] == 2 * n {
-                    best = i;
+                // A tie on the ratio itself goes to z₀ whichever row holds it.
+                if k == 0 && (self.basis[i] == 2 * n || self.basis[best] == 2 * n) {
+                    if self.basis[i] == 2 * n {
+                        best = i;
+                    }
                     break;
                 }
             }
