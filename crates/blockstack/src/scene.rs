@@ -7,7 +7,7 @@ use crate::coordinates::{BodyState, Pose, Scalar, Twist};
 use crate::error::BlockError;
 use crate::floor::Floor;
 use crate::interface::Size;
-use crate::overlap::penetration_depth;
+use crate::overlap::{deepest_among, scene_bodies};
 use input::{finite, positive};
 
 /// Coulomb friction and restitution, the same at every contact (§4.2).
@@ -195,39 +195,15 @@ impl Scene {
     /// round-off tolerance. Touching is allowed.
     fn check_overlaps(&self) -> Result<(), BlockError> {
         let tol = OVERLAP_TOL * self.length_scale();
-        let base_pose = self.base.state(0.0).pose;
-        let mut bodies: Vec<(String, Pose, Size)> = vec![(
-            "the base".into(),
-            base_pose,
-            Size::new(self.base.width(), self.base.height()),
-        )];
-        for (k, b) in self.blocks.iter().enumerate() {
-            bodies.push((
-                format!("block {}", k + 1),
-                b.initial,
-                Size::new(b.width(), b.height()),
-            ));
+        let bodies = scene_bodies(self, 0.0, &self.initial_coordinates());
+        match deepest_among(&bodies) {
+            Some(p) if p.depth > tol => Err(BlockError::Overlap {
+                first: p.first.to_string(),
+                second: p.second.to_string(),
+                depth: p.depth,
+            }),
+            _ => Ok(()),
         }
-        // Bounding circles first: the pairwise test stays cheap for tall columns.
-        let radius = |s: &Size| 0.5 * s.width.hypot(s.height);
-        for i in 0..bodies.len() {
-            for j in i + 1..bodies.len() {
-                let (ni, pi, si) = &bodies[i];
-                let (nj, pj, sj) = &bodies[j];
-                if (pi.r() - pj.r()).norm() >= radius(si) + radius(sj) {
-                    continue;
-                }
-                let depth = penetration_depth((pi, *si), (pj, *sj));
-                if depth > tol {
-                    return Err(BlockError::Overlap {
-                        first: ni.clone(),
-                        second: nj.clone(),
-                        depth,
-                    });
-                }
-            }
-        }
-        Ok(())
     }
 
     /// The base (block 0).

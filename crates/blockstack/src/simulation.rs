@@ -31,6 +31,8 @@
 
 use crate::coordinates::Pose;
 use crate::error::BlockError;
+use crate::events::{EventWatch, FailureEvent};
+use crate::overlap::{deepest_penetration, Penetration};
 use crate::scene::Scene;
 use crate::scene_info::{Defaults, SceneReport, SceneWarning};
 use crate::stack::StackContacts;
@@ -46,6 +48,11 @@ pub type BlockstackError = BlockError;
 /// Relative tolerance (of the block height) above which a gap counts as open when
 /// deciding that an interface has opened completely.
 pub const OPEN_GAP_TOL: f64 = 1e-6;
+
+/// Relative tolerance (of the smallest block height) above which a penetration between
+/// two bodies is reported as a warning: the stack's own contacts close to the Newton
+/// tolerance, many orders below it, so a deeper one is a body passing through another.
+pub const PENETRATION_TOL: f64 = 1e-6;
 
 /// Unknowns up to which the Newton matrix is factorized by [`nsga::MarkowitzLu`] (dense
 /// storage, sparse elimination); above, by faer's sparse LU.
@@ -208,9 +215,34 @@ pub struct RunSummary {
     pub linear_solves: u64,
     /// Largest increase of the energy between two steps (unforced runs: ≤ ~0).
     pub max_energy_increase: f64,
+    /// The deepest penetration between any two bodies over the run (base, blocks,
+    /// floor), with its time: the overlap check of every recorded state.
+    pub deepest: TimedPenetration,
+    /// [`PENETRATION_TOL`] times the smallest block height: deeper is warned about.
+    pub penetration_tol: f64,
+    /// Failure events in the order they happened ([`crate::events`]).
+    pub events: Vec<FailureEvent>,
     /// Why the run stopped before its end time: the step that finally failed (or the
     /// start), with the last good state; the summary covers the run up to it.
     pub error: Option<RunError>,
+}
+
+/// A penetration and when it was measured.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+pub struct TimedPenetration {
+    /// Time of the state.
+    pub t: f64,
+    /// The pair and its depth (its keys inline in JSON).
+    #[serde(flatten)]
+    pub penetration: Penetration,
+}
+
+impl TimedPenetration {
+    /// The depth, 0 when the bodies are apart or only touch.
+    #[must_use]
+    pub fn depth(&self) -> f64 {
+        self.penetration.depth.max(0.0)
+    }
 }
 
 /// Why a run stopped before its end time. It serializes as its message.
@@ -341,6 +373,8 @@ struct Recorder<'a> {
     scene: &'a Scene,
     contacts: StackContacts<f64>,
     open_tol: f64,
+    watch: EventWatch,
+    deepest: Option<TimedPenetration>,
 }
 
 impl Recorder<'_> {
@@ -351,6 +385,11 @@ impl Recorder<'_> {
         let poses = (0..n)
             .map(|k| Pose::from_slice(&st.q[3 * k..3 * k + 3]).into())
             .collect();
+        self.watch.observe(self.scene, t, &st.q, &self.contacts);
+        let p = deepest_penetration(self.scene, t, &st.q);
+        if self.deepest.is_none_or(|d| p.depth > d.penetration.depth) {
+            self.deepest = Some(TimedPenetration { t, penetration: p });
+        }
         let forces = (0..n)
             .map(|k| InterfaceForce {
                 normal: [st.lambda_n[2 * k], st.lambda_n[2 * k + 1]],
@@ -396,6 +435,8 @@ pub fn simulate(
         scene,
         contacts: StackContacts::default(),
         open_tol: OPEN_GAP_TOL * height,
+        watch: EventWatch::new(scene, OPEN_GAP_TOL * height),
+        deepest: None,
     };
     let mut summary = RunSummary {
         steps: 0,
@@ -412,6 +453,12 @@ pub fn simulate(
         fallback_residual: 0.0,
         linear_solves: 0,
         max_energy_increase: f64::NEG_INFINITY,
+        deepest: TimedPenetration {
+            t: 0.0,
+            penetration: deepest_penetration(scene, 0.0, &q0),
+        },
+        penetration_tol: PENETRATION_TOL * height,
+        events: Vec::new(),
         error: None,
     };
     let clock = Instant::now();
@@ -471,6 +518,10 @@ pub fn simulate(
         on_step(&r);
     }
     summary.linear_solves = stepper.linear_solves();
+    if let Some(d) = rec.deepest {
+        summary.deepest = d;
+    }
+    summary.events = rec.watch.into_events();
     let q = &stepper.state().q;
     summary.final_poses = (0..scene.n_blocks())
         .map(|k| Pose::from_slice(&q[3 * k..3 * k + 3]).into())
@@ -483,6 +534,40 @@ pub fn simulate(
     }
     summary.wall_time_s = solver_time;
     Ok(summary)
+}
+
+/// One line per kind of failure event: the blocks in the order they were affected,
+/// each with its time.
+fn write_events(f: &mut std::fmt::Formatter<'_>, events: &[FailureEvent]) -> std::fmt::Result {
+    use crate::events::EventKind;
+    if events.is_empty() {
+        return write!(f, "\nfailure events: none");
+    }
+    for (kind, heading) in [
+        (EventKind::SupportLost, "blocks that lost their support"),
+        (
+            EventKind::Tipped,
+            "blocks that tipped past their tipping angle",
+        ),
+        (
+            EventKind::HeightDropped,
+            "the column's height dropped by a block",
+        ),
+        (EventKind::TouchedFloor, "blocks that touched the floor"),
+    ] {
+        let of_kind: Vec<String> = events
+            .iter()
+            .filter(|e| e.kind == kind)
+            .map(|e| match e.block {
+                Some(k) => format!("block {k} at t = {:.4}", e.t),
+                None => format!("at t = {:.4}", e.t),
+            })
+            .collect();
+        if !of_kind.is_empty() {
+            write!(f, "\n{heading}: {}", of_kind.join(", "))?;
+        }
+    }
+    Ok(())
 }
 
 /// (t, iterations, retries, branch point) of an accepted step.
@@ -545,6 +630,14 @@ pub struct RunReport {
     pub linear_solves: u64,
     /// Largest energy increase between two steps (≤ ~0 in unforced runs).
     pub max_energy_increase: f64,
+    /// The deepest penetration between any two bodies over the run (0 when they only
+    /// touch); above `PENETRATION_TOL` of the smallest block height it is also a warning.
+    pub max_penetration: f64,
+    /// When and where it was measured.
+    pub penetration: TimedPenetration,
+    /// Failure events in the order they happened: a block lost its support, tipped past
+    /// its tipping angle or touched the floor; the column's height dropped by a block.
+    pub events: Vec<FailureEvent>,
     /// Why the run stopped early, or null.
     pub error: Option<String>,
     /// Time reached.
@@ -553,8 +646,9 @@ pub struct RunReport {
     /// `"scaled(alpha=1)"` or `"constant(r=0.3)"` ([`Prox::label`]).
     #[serde(serialize_with = "crate::scene_info::serialize_prox")]
     pub prox: Prox,
-    /// What the scene may do unexpectedly ([`Scene::warnings`]).
-    pub warnings: Vec<SceneWarning>,
+    /// What the scene may do unexpectedly ([`Scene::warnings`]), and a penetration
+    /// beyond the tolerance.
+    pub warnings: Vec<RunWarning>,
     /// The parameters the run used, after defaults and overrides.
     pub scene: SceneReport,
 }
@@ -585,12 +679,66 @@ impl RunReport {
             fallback_residual: summary.fallback_residual,
             linear_solves: summary.linear_solves,
             max_energy_increase: summary.max_energy_increase,
+            max_penetration: summary.deepest.depth(),
+            penetration: summary.deepest,
+            events: summary.events.clone(),
             error: summary.error.as_ref().map(ToString::to_string),
             t_final,
             prox: options.prox.unwrap_or(scene.solver.prox),
-            warnings: scene.warnings(),
+            warnings: RunWarning::of(scene, summary),
             scene: SceneReport::new(scene, options, defaults),
         }
+    }
+}
+
+/// Something the reader of a run should know.
+#[derive(Debug, Clone, PartialEq)]
+pub enum RunWarning {
+    /// What the scene may do unexpectedly.
+    Scene(SceneWarning),
+    /// Two bodies overlapped by more than the tolerance.
+    Penetration {
+        /// The deepest penetration.
+        deepest: TimedPenetration,
+        /// The tolerance it exceeded.
+        tol: f64,
+    },
+}
+
+impl RunWarning {
+    /// The scene's warnings, then the run's.
+    #[must_use]
+    pub fn of(scene: &Scene, summary: &RunSummary) -> Vec<Self> {
+        let mut warnings: Vec<Self> = scene.warnings().into_iter().map(Self::Scene).collect();
+        if summary.deepest.depth() > summary.penetration_tol {
+            warnings.push(Self::Penetration {
+                deepest: summary.deepest,
+                tol: summary.penetration_tol,
+            });
+        }
+        warnings
+    }
+}
+
+impl std::fmt::Display for RunWarning {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Self::Scene(w) => write!(f, "{w}"),
+            Self::Penetration { deepest, tol } => write!(
+                f,
+                "at t = {:.4}, {} (tolerance {tol:.1e}): the model has contacts only \
+                 between neighbours in the stack and with the floor, so a block that has \
+                 left its neighbour can pass through other bodies; the motion after that \
+                 is not physical",
+                deepest.t, deepest.penetration
+            ),
+        }
+    }
+}
+
+impl serde::Serialize for RunWarning {
+    fn serialize<S: serde::Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
+        serializer.collect_str(self)
     }
 }
 
@@ -621,6 +769,20 @@ impl std::fmt::Display for RunReport {
             "min gap {min_gap}, failed Newton steps {}, branch points {}, split steps {}, linear solves {}, largest energy increase {:.3e}",
             self.failed_steps, self.branch_points, self.split_steps, self.linear_solves, self.max_energy_increase
         )?;
+        write!(
+            f,
+            "\nlargest penetration between two bodies {:.3e}",
+            self.max_penetration
+        )?;
+        if self.max_penetration > 0.0 {
+            let p = &self.penetration;
+            write!(
+                f,
+                " ({} and {} at t = {:.4})",
+                p.penetration.first, p.penetration.second, p.t
+            )?;
+        }
+        write_events(f, &self.events)?;
         if self.fallback_steps > 0 {
             write!(
                 f,

@@ -930,6 +930,7 @@ mod scene_sweep_tests {
                 branch_points: 0,
                 fallback_steps: 0,
                 min_gap: None,
+                max_penetration: None,
                 top_x: Some(0.0),
                 top_y: Some(1.0),
                 top_theta: Some(0.1 * k as f64),

@@ -397,6 +397,7 @@ impl SceneSweep {
             branch_points: 0,
             fallback_steps: 0,
             min_gap: None,
+            max_penetration: None,
             top_x: None,
             top_y: None,
             top_theta: None,
@@ -422,6 +423,7 @@ impl SceneSweep {
                 row.branch_points = s.branch_points.len();
                 row.fallback_steps = s.fallback_steps;
                 row.min_gap = Some(s.min_gap).filter(|g| g.is_finite());
+                row.max_penetration = Some(s.deepest.depth());
                 row.error = s.error.map(|e| one_line(&e.to_string()));
                 row.wall_time_s = s.wall_time_s;
                 if let Some((t, top)) = last {
@@ -489,6 +491,9 @@ pub struct SceneRow {
     /// Smallest gap among the contacts that can close over the run, or null when none
     /// could.
     pub min_gap: Option<f64>,
+    /// The deepest overlap between any two bodies over the run (0 when they only
+    /// touch), or null when the run did not start.
+    pub max_penetration: Option<f64>,
     /// The top block's centre x at `t_final`.
     pub top_x: Option<f64>,
     /// The top block's centre y at `t_final`.
@@ -503,7 +508,7 @@ pub struct SceneRow {
 
 impl SceneRow {
     /// The measured columns, after the swept keys' columns.
-    pub const MEASURED: [&'static str; 13] = [
+    pub const MEASURED: [&'static str; 14] = [
         "failure_time",
         "opening_time",
         "t_final",
@@ -512,6 +517,7 @@ impl SceneRow {
         "branch_points",
         "fallback_steps",
         "min_gap",
+        "max_penetration",
         "top_x",
         "top_y",
         "top_theta",
@@ -543,6 +549,7 @@ impl SceneRow {
             self.branch_points.to_string(),
             self.fallback_steps.to_string(),
             optional_text(self.min_gap),
+            optional_text(self.max_penetration),
             optional_text(self.top_x),
             optional_text(self.top_y),
             optional_text(self.top_theta),

@@ -8,7 +8,7 @@ use crate::output::{
 };
 use anyhow::{Context, Result};
 use blockstack::record::{RecordPlan, Recorder, Recording};
-use blockstack::simulation::{simulate, RunOptions, RunReport, RunSummary};
+use blockstack::simulation::{simulate, RunOptions, RunReport, RunSummary, RunWarning};
 use blockstack::{Defaults, Scene};
 use clap::Args;
 use figures::blocks::draw_run;
@@ -205,6 +205,12 @@ pub fn print_warnings(scene: &Scene) {
 /// could not be written into a non-zero exit after the output is out.
 pub fn finish_command(out: &SimulationOutput, json: bool, dir: Option<&Path>) -> Result<()> {
     let r = &out.report;
+    // The scene's own warnings were printed before the run.
+    for w in &r.warnings {
+        if !matches!(w, RunWarning::Scene(_)) {
+            eprintln!("warning: {w}");
+        }
+    }
     if json {
         print_json(&SimulationJson {
             report: r,

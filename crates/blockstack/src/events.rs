@@ -1,0 +1,216 @@
+//! Failure events a user can see in a run: a block loses its support, a block tips past
+//! its tipping angle, the column's height drops by a block, a block reaches the floor.
+//!
+//! `failure_time` (§4.4, Figure 4.6) is only the first of these, the loss of support of
+//! (G.2.4) corrected (ERRATA 23). A column can collapse without any block losing its
+//! support on its neighbour in that sense (the Lire collapse on a floor topples block by
+//! block, each still half on the one below), so each kind of event is reported with its
+//! time, once per block, in the order they happen.
+
+use crate::coordinates::Pose;
+use crate::corners::corners;
+use crate::scene::Scene;
+use crate::stack::StackContacts;
+use std::fmt;
+
+/// What happened.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum EventKind {
+    /// The block lost its support on the body beneath ((G.2.4) corrected, ERRATA 23).
+    SupportLost,
+    /// The block's tilt |θ| passed its tipping angle atan(w/h): resting on a flat
+    /// horizontal face, its centre of mass is then beyond the corner it turns about.
+    Tipped,
+    /// The highest point of the column fell by more than the smallest block height
+    /// below its initial height (not tied to one block).
+    HeightDropped,
+    /// The block touched the floor (its lowest corner within the opening tolerance of
+    /// the floor), having started above it.
+    TouchedFloor,
+}
+
+impl fmt::Display for EventKind {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(match self {
+            Self::SupportLost => "lost its support",
+            Self::Tipped => "tipped past its tipping angle",
+            Self::HeightDropped => "the column's height dropped by a block",
+            Self::TouchedFloor => "touched the floor",
+        })
+    }
+}
+
+/// One failure event.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+pub struct FailureEvent {
+    /// What happened.
+    pub kind: EventKind,
+    /// When: the end of the step at which it was first seen.
+    pub t: f64,
+    /// Which block (1-based, bottom to top); None for [`EventKind::HeightDropped`].
+    pub block: Option<usize>,
+}
+
+impl fmt::Display for FailureEvent {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self.block {
+            Some(k) => write!(f, "t = {:.4}: block {k} {}", self.t, self.kind),
+            None => write!(f, "t = {:.4}: {}", self.t, self.kind),
+        }
+    }
+}
+
+/// Watches the states of a run and records each event the first time it happens.
+#[derive(Debug, Clone)]
+pub struct EventWatch {
+    tipping: Vec<f64>,
+    initial_height: f64,
+    drop: f64,
+    floor_tol: f64,
+    /// Per block: already reported (support, tip, floor).
+    seen: Vec<[bool; 3]>,
+    dropped: bool,
+    events: Vec<FailureEvent>,
+}
+
+impl EventWatch {
+    /// A watch for runs of `scene` from its initial coordinates; `floor_tol` is the gap
+    /// below which a corner touches the floor. Blocks already on the floor at the start
+    /// are not reported as touching it.
+    #[must_use]
+    pub fn new(scene: &Scene, floor_tol: f64) -> Self {
+        let q0 = scene.initial_coordinates();
+        let n = scene.n_blocks();
+        let sizes: Vec<_> = (0..n).map(|k| scene.size(k)).collect();
+        let drop = sizes.iter().map(|s| s.height).fold(f64::INFINITY, f64::min);
+        let mut watch = Self {
+            tipping: sizes.iter().map(|s| s.width.atan2(s.height)).collect(),
+            initial_height: top(scene, &q0),
+            drop,
+            floor_tol,
+            seen: vec![[false; 3]; n],
+            dropped: false,
+            events: Vec::new(),
+        };
+        for k in 0..n {
+            watch.seen[k][2] = floor_gap(scene, &q0, k).is_some_and(|g| g <= floor_tol);
+        }
+        watch
+    }
+
+    /// Records the events of the state at `t` with coordinates `q` and the contacts
+    /// evaluated there.
+    pub fn observe(&mut self, scene: &Scene, t: f64, q: &[f64], contacts: &StackContacts) {
+        for (k, interface) in contacts.interfaces.iter().enumerate() {
+            if !interface.is_supported() {
+                self.record(k, 0, EventKind::SupportLost, t);
+            }
+        }
+        for k in 0..scene.n_blocks() {
+            let theta = Pose::from_slice(&q[3 * k..]).theta;
+            // The tilt from the nearest upright or lying orientation would hide a block
+            // that turned over; the tilt from upright is what tipping means here.
+            let tilt = theta.sin().atan2(theta.cos()).abs();
+            if tilt > self.tipping[k] {
+                self.record(k, 1, EventKind::Tipped, t);
+            }
+            if floor_gap(scene, q, k).is_some_and(|g| g <= self.floor_tol) {
+                self.record(k, 2, EventKind::TouchedFloor, t);
+            }
+        }
+        if !self.dropped && top(scene, q) < self.initial_height - self.drop {
+            self.dropped = true;
+            self.events.push(FailureEvent {
+                kind: EventKind::HeightDropped,
+                t,
+                block: None,
+            });
+        }
+    }
+
+    fn record(&mut self, k: usize, slot: usize, kind: EventKind, t: f64) {
+        if !self.seen[k][slot] {
+            self.seen[k][slot] = true;
+            self.events.push(FailureEvent {
+                kind,
+                t,
+                block: Some(k + 1),
+            });
+        }
+    }
+
+    /// The events so far, in the order they were seen.
+    #[must_use]
+    pub fn events(&self) -> &[FailureEvent] {
+        &self.events
+    }
+
+    /// The events, moved out.
+    #[must_use]
+    pub fn into_events(self) -> Vec<FailureEvent> {
+        self.events
+    }
+}
+
+/// The highest corner of any block.
+fn top(scene: &Scene, q: &[f64]) -> f64 {
+    (0..scene.n_blocks())
+        .flat_map(|k| {
+            let s = scene.size(k);
+            corners(&Pose::from_slice(&q[3 * k..]), s.width, s.height)
+        })
+        .map(|c| c.y)
+        .fold(f64::NEG_INFINITY, f64::max)
+}
+
+/// The height of block k's lowest corner above the floor, None without a floor.
+fn floor_gap(scene: &Scene, q: &[f64], k: usize) -> Option<f64> {
+    let floor = scene.floor()?;
+    let s = scene.size(k);
+    let lowest = corners(&Pose::from_slice(&q[3 * k..]), s.width, s.height)
+        .iter()
+        .map(|c| c.y)
+        .fold(f64::INFINITY, f64::min);
+    Some(lowest - floor.y)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scenarios::{lire, Perturbation};
+
+    #[test]
+    fn a_standing_column_has_no_events() {
+        let scene = lire(4, Perturbation::None).unwrap();
+        let q = scene.initial_coordinates();
+        let mut watch = EventWatch::new(&scene, 1e-9);
+        let contacts = scene.contacts(0.0, &q, &vec![0.0; q.len()]);
+        watch.observe(&scene, 0.0, &q, &contacts);
+        assert!(watch.events().is_empty());
+    }
+
+    #[test]
+    fn a_turned_and_lowered_block_is_reported_once() {
+        let scene = lire(4, Perturbation::None).unwrap();
+        let q0 = scene.initial_coordinates();
+        let mut watch = EventWatch::new(&scene, 1e-9);
+        // The whole tower lowered by five block heights, its top block turned on its side.
+        let mut q = q0.clone();
+        for k in 0..4 {
+            q[3 * k + 1] -= 1.0;
+        }
+        q[9 + 2] = std::f64::consts::FRAC_PI_2;
+        let contacts = scene.contacts(0.5, &q, &vec![0.0; q.len()]);
+        watch.observe(&scene, 0.5, &q, &contacts);
+        watch.observe(&scene, 0.6, &q, &contacts);
+        let kinds: Vec<_> = watch.events().iter().map(|e| (e.kind, e.block)).collect();
+        assert!(kinds.contains(&(EventKind::Tipped, Some(4))));
+        assert!(kinds.contains(&(EventKind::HeightDropped, None)));
+        assert_eq!(
+            kinds.iter().filter(|k| k.0 == EventKind::Tipped).count(),
+            1,
+            "{kinds:?}"
+        );
+    }
+}
