@@ -1,12 +1,15 @@
 //! The linear solves of the Newton iteration behind one small trait.
 //!
-//! Dense LU for small systems, sparse LU for large ones (both faer), and
+//! Dense LU for small systems, sparse LU for large ones (both faer; [`SparseLu`] keeps
+//! what depends only on the sparsity pattern), and
 //! [`MarkowitzLu`] (sparse elimination on dense storage) for small systems that are
 //! mostly zeros; [`AutoSolver`] switches at a size threshold (measured with the `nsga`
 //! bench `linear_solve`, see the crate docs).
 
 mod markowitz;
+mod sparse;
 pub use markowitz::{MarkowitzLu, MAX_UNKNOWNS as MARKOWITZ_MAX_UNKNOWNS, PIVOT_THRESHOLD};
+pub use sparse::{SparseLu, SYMBOLIC_CACHE};
 
 /// A linear solve failed (singular or non-finite matrix).
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -190,83 +193,6 @@ impl LinearSolver for DenseLu {
     }
     fn name(&self) -> &'static str {
         "dense"
-    }
-}
-
-/// Sparse LU (faer, with a fill-reducing ordering). The symbolic analysis is cached
-/// and reused while the sparsity pattern stays the same (it does across Newton
-/// iterations and steps with unchanged index sets).
-#[derive(Debug, Default, Clone)]
-pub struct SparseLu {
-    buf: Vec<faer::sparse::Triplet<usize, usize, f64>>,
-    /// Symbolic analyses of recently seen patterns (most recent last): the index sets
-    /// switch among a few patterns, and the analysis costs more than the factorisation.
-    symbolic: Vec<(
-        Vec<usize>,
-        Vec<usize>,
-        faer::sparse::linalg::solvers::SymbolicLu<usize>,
-    )>,
-    /// The factors of the last matrix solved.
-    last: Option<faer::sparse::linalg::solvers::Lu<usize, f64>>,
-}
-
-/// Number of sparsity patterns whose symbolic analysis is kept.
-const SYMBOLIC_CACHE: usize = 8;
-
-impl LinearSolver for SparseLu {
-    fn solve(
-        &mut self,
-        n: usize,
-        triplets: &[(usize, usize, f64)],
-        rhs: &mut [f64],
-    ) -> Result<(), LinalgError> {
-        self.buf.clear();
-        self.buf.extend(
-            triplets
-                .iter()
-                .map(|&(r, c, v)| faer::sparse::Triplet::new(r, c, v)),
-        );
-        let m = faer::sparse::SparseColMat::<usize, f64>::try_new_from_triplets(n, n, &self.buf)
-            .map_err(|e| LinalgError(format!("sparse matrix: {e:?}")))?;
-        let (col_ptr, row_idx) = (m.symbolic().col_ptr(), m.symbolic().row_idx());
-        let hit = self
-            .symbolic
-            .iter()
-            .position(|(c, r, _)| c.as_slice() == col_ptr && r.as_slice() == row_idx);
-        let sym = if let Some(i) = hit {
-            let entry = self.symbolic.remove(i);
-            let sym = entry.2.clone();
-            self.symbolic.push(entry);
-            sym
-        } else {
-            let sym = faer::sparse::linalg::solvers::SymbolicLu::try_new(m.symbolic())
-                .map_err(|e| LinalgError(format!("sparse LU analysis: {e:?}")))?;
-            if self.symbolic.len() == SYMBOLIC_CACHE {
-                self.symbolic.remove(0);
-            }
-            self.symbolic
-                .push((col_ptr.to_vec(), row_idx.to_vec(), sym.clone()));
-            sym
-        };
-        self.last = None;
-        let lu = faer::sparse::linalg::solvers::Lu::try_new_with_symbolic(sym, m.as_ref())
-            .map_err(|e| LinalgError(format!("sparse LU: {e:?}")))?;
-        self.last = Some(lu);
-        self.solve_again(rhs)
-            .map_err(|_| LinalgError("singular matrix (sparse LU)".into()))
-    }
-    fn solve_again(&mut self, rhs: &mut [f64]) -> Result<(), LinalgError> {
-        use faer::linalg::solvers::Solve;
-        let Some(lu) = &self.last else {
-            return Err(LinalgError("no factorization kept (sparse LU)".into()));
-        };
-        let n = rhs.len();
-        let mut b = faer::MatMut::from_column_major_slice_mut(rhs, n, 1);
-        lu.solve_in_place(b.as_mut());
-        finite(rhs, "sparse LU")
-    }
-    fn name(&self) -> &'static str {
-        "sparse"
     }
 }
 
