@@ -1,5 +1,6 @@
 //! `rollstack.cylinders`: inclined rolling cylinders (Ch. 3, App. D–F) from `cylinders`:
-//! the support statics (3.3.8)–(3.3.20), the Frobenius test (App. D) on the bundled
+//! the support statics (3.3.8)–(3.3.20), the holonomy of §3.4 (rectangles and circles
+//! traced by the contact point), the Frobenius test (App. D) on the bundled
 //! constraint systems (App. F) and on a Pfaffian system the user gives as a Python
 //! callable q ↦ W(q).
 
@@ -8,15 +9,20 @@ use cylinders::frobenius::{
     report_from, skew_matrices_central_difference, PfaffianSystem, INTEGRABILITY_TOLERANCE,
     RANK_TOLERANCE,
 };
-use cylinders::kinematics::Cylinder;
+use cylinders::holonomy::{CirclePath, Direction, PathCase, RectanglePath};
+use cylinders::kinematics::{check_point_contact, Cylinder};
+use cylinders::rolling::RollingTrace;
 use cylinders::studies::frobenius::{
     integrability_report, ConstraintSystem, FrobeniusCase, PairConfiguration,
 };
+use cylinders::studies::holonomy::{circle_report, rectangle_report, RollSettings};
 use cylinders::studies::support::support_report;
 use nalgebra::{DMatrix, RealField};
-use numpy::PyReadonlyArray2;
+use numpy::ndarray::{Array1, Array2};
+use numpy::{IntoPyArray, PyReadonlyArray2};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
+use pyo3::types::PyDict;
 use std::cell::RefCell;
 
 /// The support report (`studies::support::support_report`, with the weight when `mass`
@@ -189,9 +195,129 @@ fn cylinders_frobenius_callable<'py>(
     })
 }
 
+fn path_case(case: &str) -> PyResult<PathCase> {
+    match case {
+        "I" | "i" | "1" => Ok(PathCase::I),
+        "II" | "ii" | "2" => Ok(PathCase::II),
+        other => Err(PyValueError::new_err(format!(
+            "case must be 'I' or 'II', got {other:?}"
+        ))),
+    }
+}
+
+fn path_direction(cw: bool) -> Direction {
+    if cw {
+        Direction::Clockwise
+    } else {
+        Direction::CounterClockwise
+    }
+}
+
+/// The CLI's rolled-check settings: `max_step`, a sample every 20 steps.
+fn roll_settings(max_step: f64) -> RollSettings {
+    RollSettings {
+        max_step,
+        record_every: 20,
+    }
+}
+
+/// `{"report": ..., "t", "center", "contact", "rim_point", "phi"}` of a report and its
+/// rolled trace (arrays (N,) and (N, 3)).
+fn report_and_trace<'py>(
+    py: Python<'py>,
+    report: &impl serde::Serialize,
+    trace: &RollingTrace,
+) -> PyResult<Bound<'py, PyDict>> {
+    let n = trace.samples.len();
+    let vectors = |f: fn(&cylinders::rolling::Sample) -> [f64; 3]| {
+        let flat: Vec<f64> = trace.samples.iter().flat_map(f).collect();
+        Array2::from_shape_vec((n, 3), flat).map_err(value_error)
+    };
+    let out = PyDict::new(py);
+    out.set_item("report", json_to_py(py, report)?)?;
+    let t: Vec<f64> = trace.samples.iter().map(|s| s.t).collect();
+    let phi: Vec<f64> = trace.samples.iter().map(|s| s.phi).collect();
+    out.set_item("t", Array1::from_vec(t).into_pyarray(py))?;
+    out.set_item("center", vectors(|s| s.center.into())?.into_pyarray(py))?;
+    out.set_item("contact", vectors(|s| s.contact.into())?.into_pyarray(py))?;
+    out.set_item(
+        "rim_point",
+        vectors(|s| s.rim_point.into())?.into_pyarray(py),
+    )?;
+    out.set_item("phi", Array1::from_vec(phi).into_pyarray(py))?;
+    Ok(out)
+}
+
+/// Δφ when the contact point P traces a rectangle (the nine-rotation product (3.4.3),
+/// Figure 3.10; `studies::holonomy::rectangle_report`), as the CLI's `cylinder holonomy
+/// rectangle --json`, with the rolled trace.
+#[pyfunction]
+#[pyo3(signature = (theta, phi1, phi2, s = 0.0, case = "I", cw = false, psi0 = 0.0, r_over_h = 0.12, max_step = 1e-3))]
+fn cylinders_holonomy_rectangle<'py>(
+    py: Python<'py>,
+    theta: f64,
+    phi1: f64,
+    phi2: f64,
+    s: f64,
+    case: &str,
+    cw: bool,
+    psi0: f64,
+    r_over_h: f64,
+    max_step: f64,
+) -> PyResult<Bound<'py, PyDict>> {
+    guard(|| {
+        let theta = check_point_contact(theta).map_err(value_error)?;
+        let path = RectanglePath::new(phi1, phi2, s, path_case(case)?, path_direction(cw))
+            .map_err(value_error)?;
+        let ratio = input::positive("r_over_h", r_over_h).map_err(value_error)?;
+        let cylinder = Cylinder::new(1.0, 1.0 / ratio).map_err(value_error)?;
+        let (report, trace) =
+            rectangle_report(&cylinder, theta, &path, psi0, roll_settings(max_step))
+                .map_err(value_error)?;
+        report_and_trace(py, &report, &trace)
+    })
+}
+
+/// Δφ when P traces a circle of radius ℓ ((3.4.10)–(3.4.16), Figure 3.12;
+/// `studies::holonomy::circle_report`), as the CLI's `cylinder holonomy circle --json`,
+/// with the rolled trace. Give the height as `h` or `r_over_h`.
+#[pyfunction]
+#[pyo3(signature = (ell, theta, h = None, r_over_h = None, r = 1.0, case = "I", cw = false, max_step = 1e-3))]
+fn cylinders_holonomy_circle<'py>(
+    py: Python<'py>,
+    ell: f64,
+    theta: f64,
+    h: Option<f64>,
+    r_over_h: Option<f64>,
+    r: f64,
+    case: &str,
+    cw: bool,
+    max_step: f64,
+) -> PyResult<Bound<'py, PyDict>> {
+    guard(|| {
+        let h = match (h, r_over_h) {
+            (Some(h), None) => h,
+            (None, Some(ratio)) => r / input::positive("r_over_h", ratio).map_err(value_error)?,
+            _ => {
+                return Err(PyValueError::new_err(
+                    "give the height as h or as r_over_h (one of them)",
+                ))
+            }
+        };
+        let cylinder = Cylinder::new(r, h).map_err(value_error)?;
+        let path =
+            CirclePath::new(ell, path_case(case)?, path_direction(cw)).map_err(value_error)?;
+        let (report, trace) =
+            circle_report(&cylinder, theta, &path, roll_settings(max_step)).map_err(value_error)?;
+        report_and_trace(py, &report, &trace)
+    })
+}
+
 pub(crate) fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(cylinders_support, m)?)?;
     m.add_function(wrap_pyfunction!(cylinders_frobenius, m)?)?;
     m.add_function(wrap_pyfunction!(cylinders_frobenius_callable, m)?)?;
+    m.add_function(wrap_pyfunction!(cylinders_holonomy_rectangle, m)?)?;
+    m.add_function(wrap_pyfunction!(cylinders_holonomy_circle, m)?)?;
     Ok(())
 }

@@ -5,13 +5,13 @@
 //! Every function here calls a library function of the workspace and converts its input
 //! and output; none computes physics of its own. The conventions:
 //!
-//! - bad input is a `ValueError` carrying the library's message ([`value_error`]);
-//! - a Rust panic never crosses into Python: every entry point runs inside [`guard`],
+//! - bad input is a `ValueError` carrying the library's message (`value_error`);
+//! - a Rust panic never crosses into Python: every entry point runs inside `guard`,
 //!   which turns it into a `RuntimeError`;
 //! - reports are handed over as the JSON the command line prints (`--json`), parsed by
-//!   Python's `json` ([`json_to_py`]), so that a Python result equals the CLI's to the
+//!   Python's `json` (`json_to_py`), so that a Python result equals the CLI's to the
 //!   last printed digit; trajectories are numpy arrays;
-//! - long runs check for Ctrl-C between steps ([`pyo3::Python::check_signals`]) and
+//! - long runs check for Ctrl-C between steps (`Python::check_signals`) and
 //!   sweeps run on rayon with the GIL released.
 
 mod blocks;

@@ -1,6 +1,6 @@
 """Inclined rolling cylinders (Ch. 3, App. D-F), from the ``cylinders`` crate.
 
-Not yet wrapped: the holonomy traces (§3.4) and the pair transport.
+Not yet wrapped: the pair transport.
 """
 
 from __future__ import annotations
@@ -9,7 +9,7 @@ from typing import Any, Callable, Dict, Optional, Sequence
 
 from . import _rollstack
 
-__all__ = ["support", "frobenius", "frobenius_test"]
+__all__ = ["support", "holonomy_rectangle", "holonomy_circle", "frobenius", "frobenius_test"]
 
 
 def support(
@@ -24,6 +24,50 @@ def support(
     --json`` (normal forces at the friction limits, the least force; in newtons when
     ``mass`` is given)."""
     return _rollstack.cylinders_support(float(theta), float(r_over_h), float(mu), mass, float(gravity))
+
+
+def holonomy_rectangle(
+    theta: float,
+    phi1: float,
+    phi2: float,
+    s: float = 0.0,
+    case: str = "I",
+    cw: bool = False,
+    psi0: float = 0.0,
+    r_over_h: float = 0.12,
+    max_step: float = 1e-3,
+) -> Dict[str, Any]:
+    """Δφ when the contact point P of a cylinder inclined at ``theta`` (point contact:
+    0 < θ < π/2) traces a rectangle of sides rφ1/2, rφ2/2: the nine-rotation product
+    (3.4.3) against rolling the cylinder along the path (Figure 3.10).
+
+    Returns a dict: ``report`` (as ``rollstack cylinder holonomy rectangle --json``) and
+    the rolled trace: ``t``, ``phi`` (N,), ``center``, ``contact``, ``rim_point``
+    (N, 3). ``case`` is ``"I"`` (e'2 outward) or ``"II"`` (inward).
+    """
+    return _rollstack.cylinders_holonomy_rectangle(
+        float(theta), float(phi1), float(phi2), float(s), case, bool(cw), float(psi0),
+        float(r_over_h), float(max_step),
+    )
+
+
+def holonomy_circle(
+    ell: float,
+    theta: float,
+    h: Optional[float] = None,
+    r_over_h: Optional[float] = None,
+    r: float = 1.0,
+    case: str = "I",
+    cw: bool = False,
+    max_step: float = 1e-3,
+) -> Dict[str, Any]:
+    """Δφ when P traces a circle of radius ``ell`` (3.4.10)-(3.4.16) (ERRATA 15),
+    against rolling once around it (Figure 3.12); the height is ``h`` or
+    ``r / r_over_h``. Returns ``report`` (as ``rollstack cylinder holonomy circle
+    --json``) and the rolled trace, as :func:`holonomy_rectangle`."""
+    return _rollstack.cylinders_holonomy_circle(
+        float(ell), float(theta), h, r_over_h, float(r), case, bool(cw), float(max_step)
+    )
 
 
 def frobenius(
