@@ -8,6 +8,7 @@ use blockstack::scenarios::{
 };
 use blockstack::scene_file::LoadedScene;
 use blockstack::simulation::{simulate_until, Prox, RunOptions, RunReport, StepRecord};
+use blockstack::studies::scene_sweep::{Override, SceneSweep};
 use blockstack::studies::shaking::frequency_row;
 use blockstack::studies::slide::slide_row;
 use blockstack::{scenes, Defaults};
@@ -508,6 +509,63 @@ fn blocks_sweep_slide<'py>(
     })
 }
 
+/// A scene run once per combination of the values of its swept keys
+/// (`studies::scene_sweep`), in parallel on rayon with the GIL released, in input order;
+/// rows as the CLI's `blocks sweep scene --json`. `overrides` are `KEY=VALUES` texts
+/// (`contact.mu=0.1:0.5:0.1`, `base.omega=2,4,8`); every combination's scene is checked
+/// before any run.
+#[pyfunction]
+#[pyo3(signature = (scene, overrides, t_end = None, stop_at_failure = false, prox_constant = None, explore_branches = true, last_resort = true))]
+fn blocks_sweep_scene<'py>(
+    py: Python<'py>,
+    scene: &PyScene,
+    overrides: Vec<String>,
+    t_end: Option<f64>,
+    stop_at_failure: bool,
+    prox_constant: Option<f64>,
+    explore_branches: bool,
+    last_resort: bool,
+) -> PyResult<Bound<'py, PyAny>> {
+    guard(|| {
+        let text = scene.toml.as_deref().ok_or_else(|| {
+            PyValueError::new_err(
+                "a scene sweep needs a scene built from TOML (a file, a dict, keywords or a built-in name), not a preset",
+            )
+        })?;
+        let overrides = overrides
+            .iter()
+            .map(|o| o.parse::<Override>().map_err(PyValueError::new_err))
+            .collect::<PyResult<Vec<_>>>()?;
+        let sweep = SceneSweep::new(text, overrides).map_err(value_error)?;
+        let options = run_options(
+            t_end,
+            prox_constant,
+            explore_branches,
+            last_resort,
+            stop_at_failure,
+        )?;
+        let points = sweep.points();
+        for point in &points {
+            sweep.scene(point).map_err(|e| {
+                let set: Vec<String> = point
+                    .iter()
+                    .map(|s| format!("{}={}", s.key, s.value))
+                    .collect();
+                value_error(format!("{}: {e}", set.join(", ")))
+            })?;
+        }
+        let rows = py.detach(|| {
+            catch_panics(|| {
+                points
+                    .par_iter()
+                    .map(|p| sweep.row(p, &options))
+                    .collect::<Vec<_>>()
+            })
+        })?;
+        json_to_py(py, &rows)
+    })
+}
+
 /// Runs `f` without the GIL, keeping a panic from unwinding out of `detach`; the
 /// message comes back as a `RuntimeError` once the GIL is held again.
 fn catch_panics<T>(f: impl FnOnce() -> T) -> PyResult<T> {
@@ -526,5 +584,6 @@ pub(crate) fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(blocks_simulate, m)?)?;
     m.add_function(wrap_pyfunction!(blocks_sweep_frequency, m)?)?;
     m.add_function(wrap_pyfunction!(blocks_sweep_slide, m)?)?;
+    m.add_function(wrap_pyfunction!(blocks_sweep_scene, m)?)?;
     Ok(())
 }

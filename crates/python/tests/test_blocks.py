@@ -152,6 +152,27 @@ def test_sweeps_bad_input():
         blocks.sweep_slide([0.1], t_end=0.0)
 
 
+def test_sweep_scene_equals_cli(cli, tmp_path):
+    path = tmp_path / "one.toml"
+    path.write_text(blocks.Scene(**ONE_BLOCK).toml)
+    scene = blocks.Scene.from_toml(str(path))
+    rows = blocks.sweep_scene(scene, {"contact.mu": [0.1, 0.5], "blocks.x": "0.0,0.2"})
+    theirs = cli("blocks", "sweep", "scene", str(path), "--set", "contact.mu=0.1,0.5",
+                 "--set", "blocks.x=0.0,0.2")
+    assert strip_timings(rows) == strip_timings(theirs["rows"])
+    assert len(rows) == 4
+
+
+def test_sweep_scene_bad_input():
+    scene = blocks.Scene(**ONE_BLOCK)
+    with pytest.raises(ValueError, match="colour"):
+        blocks.sweep_scene(scene, {"contact.colour": [1.0]})
+    with pytest.raises(ValueError):
+        blocks.sweep_scene(scene, {"contact.mu": [-1.0]})
+    with pytest.raises(ValueError, match="TOML"):
+        blocks.sweep_scene(blocks.lire(), {"contact.mu": [0.1]})
+
+
 def test_solver_error_carries_the_partial_result():
     # Newton cannot reach a tolerance of 1e-300, and without the last resort the first
     # step that fails ends the run.

@@ -7,7 +7,8 @@ the contact law, the solver settings and an optional floor: the schema of the
 command line's scene files (docs/scenes.md). :func:`simulate` runs one and returns a
 :class:`Result` with numpy arrays. :func:`lire`, :func:`shaking` and :func:`sliding`
 build the scenes of §4.3-4.5; :func:`sweep_frequency` and :func:`sweep_slide` compute
-the rows of Figures 4.6 and 4.7 in parallel.
+the rows of Figures 4.6 and 4.7 in parallel, :func:`sweep_scene` any scene over any of
+its numeric keys.
 
 Coordinates: q = (x, y, θ) of each block's centre of mass, u = (ẋ, ẏ, θ̇); interface k
 lies between block k-1 (the base for k = 0) and block k; its contact forces are the
@@ -35,6 +36,7 @@ __all__ = [
     "scenes",
     "sweep_frequency",
     "sweep_slide",
+    "sweep_scene",
 ]
 
 
@@ -386,6 +388,50 @@ def sweep_slide(
         float(t_end),
         int(blocks),
         float(mu),
+        prox_constant,
+        bool(explore_branches),
+        bool(last_resort),
+    )
+
+
+def sweep_scene(
+    scene: Scene,
+    set: Mapping[str, Union[str, float, Sequence[float]]],
+    *,
+    t_end: Optional[float] = None,
+    stop_at_failure: bool = False,
+    prox_constant: Optional[float] = None,
+    explore_branches: bool = True,
+    last_resort: bool = True,
+) -> List[Dict[str, Any]]:
+    """Runs ``scene`` once per combination of the values of its swept keys (the
+    cartesian product, in order), in parallel (rayon, the GIL released): the rows of
+    ``rollstack blocks sweep scene SCENE --set KEY=VALUES ... --json``.
+
+    ``set`` maps a dotted numeric scene key (``contact.mu``, ``base.amplitude``,
+    ``blocks.width``, ``blocks.0.x``, ``solver.dt``; docs/scenes.md) to its values: a
+    list of numbers, one number, or the CLI's text (``"0.1:0.5:0.1"``, ``"2,4,8"``).
+    The scene must come from TOML (a file, a dict, keywords or a built-in name). Raises
+    ``ValueError`` for an unknown key or a combination the model refuses, before any
+    run; a run the solver stops has its message in its row's ``error``::
+
+        blocks.sweep_scene(blocks.Scene.builtin("shaking"),
+                           {"contact.mu": [0.1, 0.3], "base.amplitude": "0.1,0.2"})
+    """
+    if not isinstance(scene, Scene):
+        raise TypeError(f"sweep_scene needs a rollstack.blocks.Scene, got {type(scene).__name__}")
+    texts = []
+    for key, values in set.items():
+        if isinstance(values, str):
+            texts.append(f"{key}={values}")
+        else:
+            seq = [values] if isinstance(values, (int, float)) else list(values)
+            texts.append(f"{key}=" + ",".join(repr(float(v)) for v in seq))
+    return _rollstack.blocks_sweep_scene(
+        scene._inner,
+        texts,
+        None if t_end is None else float(t_end),
+        bool(stop_at_failure),
         prox_constant,
         bool(explore_branches),
         bool(last_resort),
