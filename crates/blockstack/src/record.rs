@@ -342,10 +342,12 @@ mod tests {
                 y: 0.0,
                 theta: 0.0,
             },
+            velocities: vec![[0.0; 3]],
             forces: vec![InterfaceForce {
                 normal: [0.5, 0.5],
                 friction: 0.0,
             }],
+            gaps: vec![[0.0, 0.0]],
             min_gap: f64::INFINITY,
             iterations: 1,
             energy: 0.25,

@@ -38,6 +38,7 @@ use crate::scene_info::{Defaults, SceneReport, SceneWarning};
 use crate::stack::StackContacts;
 use crate::system::StackSystem;
 use nsga::{Options, RhoInfRetry, SolverChoice, StepError, Stepper};
+use std::ops::ControlFlow;
 use std::time::Instant;
 
 pub use nsga::Prox;
@@ -160,8 +161,13 @@ pub struct StepRecord {
     pub poses: Vec<BlockPose>,
     /// The prescribed base at t.
     pub base: BlockPose,
+    /// Velocities of the free blocks [ẋ, ẏ, θ̇], bottom to top.
+    pub velocities: Vec<[f64; 3]>,
     /// One per interface (n of them), bottom to top.
     pub forces: Vec<InterfaceForce>,
+    /// The left and right gaps of each interface (G.2.2), bottom to top; NaN where the
+    /// upper block has lost its support and the gaps mean nothing (G.2.4, ERRATA 23).
+    pub gaps: Vec<[f64; 2]>,
     /// Smallest gap among the contacts that can close (+∞ if none can).
     pub min_gap: f64,
     /// Newton iterations of the step (0 for the initial state).
@@ -396,11 +402,28 @@ impl Recorder<'_> {
                 friction: st.lambda_f[k],
             })
             .collect();
+        let velocities = (0..n)
+            .map(|k| [st.u[3 * k], st.u[3 * k + 1], st.u[3 * k + 2]])
+            .collect();
+        let gaps = self
+            .contacts
+            .interfaces
+            .iter()
+            .map(|i| {
+                if i.is_supported() {
+                    [i.left.row.value, i.right.row.value]
+                } else {
+                    [f64::NAN; 2]
+                }
+            })
+            .collect();
         StepRecord {
             t,
             poses,
+            velocities,
             base: self.scene.base().state(t).pose.into(),
             forces,
+            gaps,
             min_gap: self.contacts.min_gap().unwrap_or(f64::INFINITY),
             iterations,
             energy: self.scene.energy(&st.q, &st.u),
@@ -418,6 +441,23 @@ pub fn simulate(
     scene: &Scene,
     options: &RunOptions,
     mut on_step: impl FnMut(&StepRecord),
+) -> Result<RunSummary, BlockstackError> {
+    simulate_until(scene, options, |r| {
+        on_step(r);
+        ControlFlow::Continue(())
+    })
+}
+
+/// [`simulate`] with a caller that may stop the run: when `on_step` returns
+/// `ControlFlow::Break`, no further step is taken and the summary covers the run up to
+/// that record (its `error` stays `None`). The Python bindings stop on Ctrl-C this way.
+///
+/// # Errors
+/// Only bad scenes or options, as [`simulate`].
+pub fn simulate_until(
+    scene: &Scene,
+    options: &RunOptions,
+    mut on_step: impl FnMut(&StepRecord) -> ControlFlow<()>,
 ) -> Result<RunSummary, BlockstackError> {
     let t_end = options.t_end.unwrap_or(scene.solver.t_end);
     input::positive("t_end", t_end)?;
@@ -480,10 +520,10 @@ pub fn simulate(
     let mut energy = first.energy;
     summary.min_gap = first.min_gap;
     check_failure(&rec, 0.0, &mut summary);
-    on_step(&first);
+    let mut stop = on_step(&first).is_break();
     let mut iterations = 0usize;
     for _ in 0..steps_wanted {
-        if options.stop_at_failure && summary.failure_time.is_some() {
+        if stop || (options.stop_at_failure && summary.failure_time.is_some()) {
             break;
         }
         let clock = Instant::now();
@@ -515,7 +555,7 @@ pub fn simulate(
         summary.max_energy_increase = summary.max_energy_increase.max(r.energy - energy);
         energy = r.energy;
         check_failure(&rec, t, &mut summary);
-        on_step(&r);
+        stop = on_step(&r).is_break();
     }
     summary.linear_solves = stepper.linear_solves();
     if let Some(d) = rec.deepest {

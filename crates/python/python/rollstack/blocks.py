@@ -1,0 +1,438 @@
+"""Stacks of 2D blocks on a driven base (Ch. 4, App. G-I), from the ``blockstack``
+crate, integrated with impacts and Coulomb friction by the nonsmooth generalized-α
+method (§4.2, App. H).
+
+A :class:`Scene` holds the blocks (bottom to top), the base and its prescribed motion,
+the contact law, the solver settings and an optional floor: the schema of the
+command line's scene files (docs/scenes.md). :func:`simulate` runs one and returns a
+:class:`Result` with numpy arrays. :func:`lire`, :func:`shaking` and :func:`sliding`
+build the scenes of §4.3-4.5; :func:`sweep_frequency` and :func:`sweep_slide` compute
+the rows of Figures 4.6 and 4.7 in parallel, :func:`sweep_scene` any scene over any of
+its numeric keys.
+
+Coordinates: q = (x, y, θ) of each block's centre of mass, u = (ẋ, ẏ, θ̇); interface k
+lies between block k-1 (the base for k = 0) and block k; its contact forces are the
+normal forces of its left and right gaps (G.2.2) and the friction force (G.3.1).
+"""
+
+from __future__ import annotations
+
+import json
+import os
+from typing import Any, Dict, List, Mapping, Optional, Sequence, Union
+
+import numpy as np
+
+from . import _rollstack
+from ._rollstack import SolverError
+
+__all__ = [
+    "Scene",
+    "Result",
+    "simulate",
+    "lire",
+    "shaking",
+    "sliding",
+    "scenes",
+    "sweep_frequency",
+    "sweep_slide",
+    "sweep_scene",
+]
+
+
+def _scene_json(tables: Mapping[str, Any]) -> str:
+    """The JSON of a scene dict; numpy scalars and arrays become numbers and lists."""
+
+    def plain(value: Any) -> Any:
+        if isinstance(value, np.ndarray):
+            return value.tolist()
+        if isinstance(value, np.generic):
+            return value.item()
+        raise TypeError(f"a scene value cannot be {type(value).__name__}")
+
+    try:
+        return json.dumps(dict(tables), default=plain)
+    except (TypeError, ValueError) as e:
+        raise ValueError(f"scene: {e}") from None
+
+
+class Scene:
+    """A validated block-stack scene.
+
+    Build one from keyword arguments or a dict with the tables of a scene file
+    (``base``, ``blocks``, ``contact``, ``solver``, ``floor``; docs/scenes.md), from a
+    TOML file or text, or by the name of a built-in scene::
+
+        Scene(base={"width": 1, "height": 0.2, "motion": "fixed"},
+              blocks=[{"width": 1, "height": 0.2, "mass": 1, "x": 0.125}],
+              contact={"mu": 0.3}, solver={"dt": 0.01, "t_end": 1})
+        Scene.from_dict(d)
+        Scene.from_toml("my.toml")        # a path, or TOML text
+        Scene.builtin("shaking")          # rollstack blocks scenes
+
+    Keys left out take the defaults of the scene files; unknown keys and invalid values
+    (sizes, μ, restitution, overlapping blocks, a floor above the base) raise
+    ``ValueError`` with the library's message.
+    """
+
+    def __init__(self, _inner: Any = None, **tables: Any) -> None:
+        if _inner is not None:
+            if tables:
+                raise TypeError("Scene() takes either a built scene or keyword tables")
+            self._inner = _inner
+        else:
+            self._inner = _rollstack.blocks_scene_from_json(_scene_json(tables), "scene")
+
+    @classmethod
+    def from_dict(cls, tables: Mapping[str, Any], title: str = "scene") -> "Scene":
+        """A scene from a dict with the tables of a scene file."""
+        return cls(_rollstack.blocks_scene_from_json(_scene_json(tables), title))
+
+    @classmethod
+    def from_toml(cls, source: Union[str, "os.PathLike[str]"]) -> "Scene":
+        """A scene from a TOML file (a path that exists) or TOML text."""
+        if isinstance(source, os.PathLike) or (
+            isinstance(source, str) and "\n" not in source and os.path.exists(source)
+        ):
+            path = os.fspath(source)
+            with open(path, encoding="utf-8") as f:
+                text = f.read()
+            title = os.path.splitext(os.path.basename(path))[0]
+            return cls(_rollstack.blocks_scene_from_toml(text, title))
+        return cls(_rollstack.blocks_scene_from_toml(str(source), "scene"))
+
+    @classmethod
+    def builtin(cls, name: str) -> "Scene":
+        """A built-in scene by name (:func:`scenes` lists them)."""
+        return cls(_rollstack.blocks_builtin_scene(name))
+
+    @property
+    def toml(self) -> Optional[str]:
+        """The scene as TOML (None for the presets built in code)."""
+        return self._inner.toml
+
+    @property
+    def title(self) -> str:
+        """A short name."""
+        return self._inner.title
+
+    @property
+    def n_blocks(self) -> int:
+        """Number of free blocks."""
+        return self._inner.n_blocks
+
+    @property
+    def warnings(self) -> List[str]:
+        """What the scene may do unexpectedly (no floor, ...)."""
+        return self._inner.warnings
+
+    def report(self) -> Dict[str, Any]:
+        """The scene as used, after defaults: the ``scene`` object of the CLI's JSON."""
+        return self._inner.report()
+
+    def __repr__(self) -> str:
+        return f"Scene({self.title!r}, {self.n_blocks} block(s))"
+
+
+def scenes() -> Dict[str, str]:
+    """The built-in scenes, name -> description (``rollstack blocks scenes``)."""
+    return dict(_rollstack.blocks_builtin_scenes())
+
+
+class Result:
+    """What one :func:`simulate` run computed, from t = 0 up to the last step taken.
+
+    Arrays (float64 unless noted; N records: the initial state and one per step; n
+    blocks):
+
+    - ``t`` (N,): times;
+    - ``q`` (N, n, 3): x, y, θ of each block's centre of mass, bottom to top;
+    - ``u`` (N, n, 3): ẋ, ẏ, θ̇;
+    - ``forces`` (N, n, 3): per interface (k = 0 between the base and block 1), the
+      normal forces of the left and right gaps and the friction force (λ_N, λ_F);
+    - ``gaps`` (N, n, 2): the left and right gaps of each interface (G.2.2), NaN where
+      the upper block has lost its support (G.2.4, ERRATA 23);
+    - ``base`` (N, 3): the prescribed base pose;
+    - ``min_gap`` (N,): the smallest gap among the contacts that can close (inf if none);
+    - ``energy`` (N,): kinetic plus potential energy of the free blocks;
+    - ``iterations`` (N,) int64: Newton iterations of each step.
+
+    ``events`` is a list of dicts in time order, each with ``kind`` and ``t``:
+    ``"branch_point"`` (with ``candidates`` and ``distinct``: a step resolved by
+    fixed-set re-solves), ``"failure"`` (a block first loses its support, §4.4),
+    ``"opening"`` (an interface first opens completely) and ``"error"`` (with
+    ``message``: the step the solver could not resolve).
+
+    ``report`` is the dict ``rollstack blocks run --json`` prints (without ``files``
+    and ``notes``); ``error`` is its error message or None. :meth:`to_dataframe` gives
+    one row per record. ``steps`` is the number of steps taken, ``failure_time`` the
+    first time any block lost its support on the block beneath (§4.4), or None.
+    """
+
+    t: np.ndarray
+    q: np.ndarray
+    u: np.ndarray
+    forces: np.ndarray
+    gaps: np.ndarray
+    base: np.ndarray
+    min_gap: np.ndarray
+    energy: np.ndarray
+    iterations: np.ndarray
+    events: List[Dict[str, Any]]
+    error: Optional[str]
+    steps: int
+    failure_time: Optional[float]
+
+    _ARRAYS = ("t", "q", "u", "forces", "gaps", "base", "min_gap", "energy", "iterations")
+
+    def __init__(self, raw: Dict[str, Any]) -> None:
+        for name in self._ARRAYS:
+            setattr(self, name, raw[name])
+        self.events = raw["events"]
+        self.error = raw["error"]
+        self.steps = raw["steps"]
+        self.failure_time = raw["failure_time"]
+        self._report_json = raw["report_json"]
+        self._report: Optional[Dict[str, Any]] = None
+
+    @property
+    def report(self) -> Dict[str, Any]:  # type: ignore[override]
+        """The dict ``rollstack blocks run --json`` prints, without ``files`` and
+        ``notes`` (parsed on first use)."""
+        if self._report is None:
+            self._report = json.loads(self._report_json)
+        return self._report
+
+    def to_dataframe(self) -> Any:
+        """The trajectory as a pandas DataFrame, one row per record, with the columns of
+        the CLI's trajectory.csv (t, x1, y1, theta1, ..., n1a, n1b, f1, ..., base_x,
+        min_gap, newton_iterations, energy) plus vx{k}, vy{k}, omega{k}, g{k}a, g{k}b.
+        Needs pandas (``pip install pandas``), which is not a dependency of rollstack.
+        """
+        try:
+            import pandas as pd
+        except ImportError as e:
+            raise ImportError("Result.to_dataframe needs pandas: pip install pandas") from e
+        n = self.q.shape[1]
+        cols: Dict[str, Any] = {"t": self.t}
+        for k in range(n):
+            cols[f"x{k + 1}"] = self.q[:, k, 0]
+            cols[f"y{k + 1}"] = self.q[:, k, 1]
+            cols[f"theta{k + 1}"] = self.q[:, k, 2]
+        for k in range(n):
+            cols[f"n{k + 1}a"] = self.forces[:, k, 0]
+            cols[f"n{k + 1}b"] = self.forces[:, k, 1]
+            cols[f"f{k + 1}"] = self.forces[:, k, 2]
+        cols["base_x"] = self.base[:, 0]
+        cols["min_gap"] = self.min_gap
+        cols["newton_iterations"] = self.iterations
+        cols["energy"] = self.energy
+        for k in range(n):
+            cols[f"vx{k + 1}"] = self.u[:, k, 0]
+            cols[f"vy{k + 1}"] = self.u[:, k, 1]
+            cols[f"omega{k + 1}"] = self.u[:, k, 2]
+        for k in range(n):
+            cols[f"g{k + 1}a"] = self.gaps[:, k, 0]
+            cols[f"g{k + 1}b"] = self.gaps[:, k, 1]
+        return pd.DataFrame(cols)
+
+    def __repr__(self) -> str:
+        end = float(self.t[-1]) if len(self.t) else 0.0
+        return (
+            f"<rollstack.blocks.Result: {self.steps} steps to t = {end:.4g}, "
+            f"{self.q.shape[1]} block(s), failure_time = {self.failure_time}, "
+            f"{len(self.events)} event(s){', error' if self.error else ''}>"
+        )
+
+
+def simulate(
+    scene: Scene,
+    *,
+    t_end: Optional[float] = None,
+    prox_constant: Optional[float] = None,
+    explore_branches: bool = True,
+    last_resort: bool = True,
+    stop_at_failure: bool = False,
+) -> Result:
+    """Simulates ``scene`` from t = 0 to ``t_end`` (default: the scene's
+    ``solver.t_end``) with the nonsmooth generalized-α stepper (§4.2, App. H): nsga's
+    consistent start (a resting column starts with its static contact forces), then one
+    step per Δt with the gaps (G.2.2)-(G.2.3) and slips (G.3.1)-(G.3.2) of App. G.
+
+    Options, as the flags of ``rollstack blocks run``:
+
+    - ``prox_constant``: one constant prox parameter r > 0 for every contact (the
+      thesis: 0.3) instead of the scene's choice (default: scaled per constraint);
+    - ``explore_branches``: resolve and record branch points (re-solves with fixed index
+      sets when Newton cycles);
+    - ``last_resort``: take a step nothing else resolves as a Moreau-Jean step solved by
+      Lemke's method (docs/method.md §8);
+    - ``stop_at_failure``: stop at the first loss of support (as the sweeps do).
+
+    Returns a :class:`Result`. Raises ``ValueError`` for bad options (t_end ≤ 0, r ≤ 0),
+    :class:`rollstack.SolverError` when the run stops early on a step it cannot resolve
+    (its ``result`` attribute holds the :class:`Result` up to that step), and
+    ``KeyboardInterrupt`` on Ctrl-C (checked after every step).
+
+    Example::
+
+        from rollstack import blocks
+        r = blocks.simulate(blocks.lire(perturb="bottom"), t_end=10)
+        r.failure_time, r.q[-1]
+    """
+    if not isinstance(scene, Scene):
+        raise TypeError(f"simulate needs a rollstack.blocks.Scene, got {type(scene).__name__}")
+    raw = _rollstack.blocks_simulate(
+        scene._inner,
+        None if t_end is None else float(t_end),
+        None if prox_constant is None else float(prox_constant),
+        bool(explore_branches),
+        bool(last_resort),
+        bool(stop_at_failure),
+    )
+    result = Result(raw)
+    if raw["interrupted"] is not None:
+        raise raw["interrupted"]
+    if result.error is not None:
+        if result.steps == 0 and len(result.t) == 0:
+            what = "the simulation could not start"
+        else:
+            what = f"the simulation stopped at t = {float(result.t[-1]):.6f} after {result.steps} steps"
+        err = SolverError(f"{what}: {result.error}")
+        err.result = result  # type: ignore[attr-defined]
+        raise err
+    return result
+
+
+_PERTURBATIONS = ("none", "bottom", "top")
+
+
+def lire(blocks: int = 4, perturb: str = "none", floor: bool = False) -> Scene:
+    """The Leaning Tower of Lire (§4.3, Figure 4.4): blocks w = 1, h = 0.2, μ = 0.3 in
+    the harmonic maximum-overhang configuration (ERRATA 16) on a fixed table; perturbed
+    by 0.01 at the ``"bottom"`` block (the whole column collapses) or the ``"top"`` one
+    (it topples), or not (``"none"``: an unstable equilibrium). ``floor=True`` stands the
+    table on a floor where the blocks land. Simulate with ``t_end=10`` as the CLI."""
+    return Scene(_rollstack.blocks_lire(int(blocks), perturb, bool(floor)))
+
+
+def shaking(
+    blocks: int = 4,
+    omega: float = 4.0,
+    amplitude: float = 0.2,
+    mu: float = 0.2,
+    steps_per_period: float = 100.0,
+    periods: float = 10.0,
+) -> Scene:
+    """A column of blocks w = 0.2, h = 0.4 on a base w = 1, h = 0.1 moving as
+    x = A sin(ωt) (§4.4, Figures 4.5-4.6); Δt and t_end count in base periods 2π/ω
+    (ERRATA 21). The scene of ``rollstack blocks shake``."""
+    return Scene(
+        _rollstack.blocks_shaking(
+            int(blocks), float(omega), float(amplitude), float(mu), float(steps_per_period), float(periods)
+        )
+    )
+
+
+def sliding(blocks: int = 4, v0: float = 1.0, t_end: float = 3.0, mu: float = 0.2) -> Scene:
+    """A column on a base pulled at speed ``v0`` (§4.5, Figure 4.7)."""
+    return Scene(_rollstack.blocks_sliding(int(blocks), float(v0), float(t_end), float(mu)))
+
+
+def sweep_frequency(
+    omegas: Sequence[float],
+    *,
+    periods: float = 10.0,
+    amplitude: float = 0.2,
+    blocks: int = 4,
+    steps_per_period: float = 100.0,
+    mu: float = 0.2,
+    prox_constant: Optional[float] = None,
+    explore_branches: bool = True,
+    last_resort: bool = True,
+) -> List[Dict[str, Any]]:
+    """Failure time against the shaking frequency (Figure 4.6): one row per ω, each run
+    until the first loss of support or the end of its periods, in parallel (rayon, the
+    GIL released), in input order. The rows of ``rollstack blocks sweep frequency
+    --json`` (omega, failure_time, inv_failure_time, opening_time, steps, error, ...);
+    a run the solver stops has its message in ``error``. Every ω is checked before any
+    run (``ValueError``)."""
+    return _rollstack.blocks_sweep_frequency(
+        [float(w) for w in omegas],
+        float(periods),
+        float(amplitude),
+        int(blocks),
+        float(steps_per_period),
+        float(mu),
+        prox_constant,
+        bool(explore_branches),
+        bool(last_resort),
+    )
+
+
+def sweep_slide(
+    speeds: Sequence[float],
+    *,
+    t_end: float = 3.0,
+    blocks: int = 4,
+    mu: float = 0.2,
+    prox_constant: Optional[float] = None,
+    explore_branches: bool = True,
+    last_resort: bool = True,
+) -> List[Dict[str, Any]]:
+    """The top block's angle against the speed of the pulled base (Figure 4.7): one row
+    per v0, in parallel, in input order: the rows of ``rollstack blocks sweep slide
+    --json``."""
+    return _rollstack.blocks_sweep_slide(
+        [float(v) for v in speeds],
+        float(t_end),
+        int(blocks),
+        float(mu),
+        prox_constant,
+        bool(explore_branches),
+        bool(last_resort),
+    )
+
+
+def sweep_scene(
+    scene: Scene,
+    set: Mapping[str, Union[str, float, Sequence[float]]],
+    *,
+    t_end: Optional[float] = None,
+    stop_at_failure: bool = False,
+    prox_constant: Optional[float] = None,
+    explore_branches: bool = True,
+    last_resort: bool = True,
+) -> List[Dict[str, Any]]:
+    """Runs ``scene`` once per combination of the values of its swept keys (the
+    cartesian product, in order), in parallel (rayon, the GIL released): the rows of
+    ``rollstack blocks sweep scene SCENE --set KEY=VALUES ... --json``.
+
+    ``set`` maps a dotted numeric scene key (``contact.mu``, ``base.amplitude``,
+    ``blocks.width``, ``blocks.0.x``, ``solver.dt``; docs/scenes.md) to its values: a
+    list of numbers, one number, or the CLI's text (``"0.1:0.5:0.1"``, ``"2,4,8"``).
+    The scene must come from TOML (a file, a dict, keywords or a built-in name). Raises
+    ``ValueError`` for an unknown key or a combination the model refuses, before any
+    run; a run the solver stops has its message in its row's ``error``::
+
+        blocks.sweep_scene(blocks.Scene.builtin("shaking"),
+                           {"contact.mu": [0.1, 0.3], "base.amplitude": "0.1,0.2"})
+    """
+    if not isinstance(scene, Scene):
+        raise TypeError(f"sweep_scene needs a rollstack.blocks.Scene, got {type(scene).__name__}")
+    texts = []
+    for key, values in set.items():
+        if isinstance(values, str):
+            texts.append(f"{key}={values}")
+        else:
+            seq = [values] if isinstance(values, (int, float)) else list(values)
+            texts.append(f"{key}=" + ",".join(repr(float(v)) for v in seq))
+    return _rollstack.blocks_sweep_scene(
+        scene._inner,
+        texts,
+        None if t_end is None else float(t_end),
+        bool(stop_at_failure),
+        prox_constant,
+        bool(explore_branches),
+        bool(last_resort),
+    )

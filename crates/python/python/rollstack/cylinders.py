@@ -1,0 +1,102 @@
+"""Inclined rolling cylinders (Ch. 3, App. D-F), from the ``cylinders`` crate.
+
+Not yet wrapped: the pair transport.
+"""
+
+from __future__ import annotations
+
+from typing import Any, Callable, Dict, Optional, Sequence
+
+from . import _rollstack
+
+__all__ = ["support", "holonomy_rectangle", "holonomy_circle", "frobenius", "frobenius_test"]
+
+
+def support(
+    theta: float,
+    r_over_h: float = 0.1,
+    mu: float = 0.2,
+    mass: Optional[float] = None,
+    gravity: float = 9.81,
+) -> Dict[str, Any]:
+    """Support statics of a cylinder rolled on its rim at inclination ``theta``
+    (3.3.8)-(3.3.20) (μ in (3.3.8), ERRATA): the dict of ``rollstack cylinder support
+    --json`` (normal forces at the friction limits, the least force; in newtons when
+    ``mass`` is given)."""
+    return _rollstack.cylinders_support(float(theta), float(r_over_h), float(mu), mass, float(gravity))
+
+
+def holonomy_rectangle(
+    theta: float,
+    phi1: float,
+    phi2: float,
+    s: float = 0.0,
+    case: str = "I",
+    cw: bool = False,
+    psi0: float = 0.0,
+    r_over_h: float = 0.12,
+    max_step: float = 1e-3,
+) -> Dict[str, Any]:
+    """Δφ when the contact point P of a cylinder inclined at ``theta`` (point contact:
+    0 < θ < π/2) traces a rectangle of sides rφ1/2, rφ2/2: the nine-rotation product
+    (3.4.3) against rolling the cylinder along the path (Figure 3.10).
+
+    Returns a dict: ``report`` (as ``rollstack cylinder holonomy rectangle --json``) and
+    the rolled trace: ``t``, ``phi`` (N,), ``center``, ``contact``, ``rim_point``
+    (N, 3). ``case`` is ``"I"`` (e'2 outward) or ``"II"`` (inward).
+    """
+    return _rollstack.cylinders_holonomy_rectangle(
+        float(theta), float(phi1), float(phi2), float(s), case, bool(cw), float(psi0),
+        float(r_over_h), float(max_step),
+    )
+
+
+def holonomy_circle(
+    ell: float,
+    theta: float,
+    h: Optional[float] = None,
+    r_over_h: Optional[float] = None,
+    r: float = 1.0,
+    case: str = "I",
+    cw: bool = False,
+    max_step: float = 1e-3,
+) -> Dict[str, Any]:
+    """Δφ when P traces a circle of radius ``ell`` (3.4.10)-(3.4.16) (ERRATA 15),
+    against rolling once around it (Figure 3.12); the height is ``h`` or
+    ``r / r_over_h``. Returns ``report`` (as ``rollstack cylinder holonomy circle
+    --json``) and the rolled trace, as :func:`holonomy_rectangle`."""
+    return _rollstack.cylinders_holonomy_circle(
+        float(ell), float(theta), h, r_over_h, float(r), case, bool(cw), float(max_step)
+    )
+
+
+def frobenius(
+    system: str = "single",
+    config: str = "generic",
+    theta: float = 0.4,
+    heading: float = 0.5,
+    contact_at: float = 0.3,
+    r: float = 0.1143,
+    h: float = 1.2954,
+) -> Dict[str, Any]:
+    """The Frobenius test (App. D) of a bundled constraint system: ``"single"`` (one
+    cylinder, v_P = 0), ``"pair7"`` (Π1..Π7 of (3.5.13)) or ``"pair9"`` (App. F, the
+    rank claim corrected, ERRATA), in the ``"generic"`` or ``"touching"`` configuration:
+    the dict of ``rollstack cylinder frobenius --json``."""
+    return _rollstack.cylinders_frobenius(
+        system, config, float(theta), float(heading), float(contact_at), float(r), float(h)
+    )
+
+
+def frobenius_test(
+    constraint_matrix: Callable[[list], Any], q: Sequence[float], step: float = 1e-6
+) -> Dict[str, Any]:
+    """The Frobenius test (App. D, the skew matrices S^Γ of (D.1.5)) of your own Pfaffian
+    system W(q) q̇ = 0 at the configuration ``q``.
+
+    ``constraint_matrix(q)`` returns W(q) as an (m, n) array (n = ``len(q)``); its
+    derivatives are taken by central differences of step ``step``. Returns the report of
+    ``cylinders::frobenius::report_from``: rank, nullity, singular values, the largest
+    |aᵀ S^Γ b| per constraint over the null space, and ``integrable`` per constraint.
+    """
+    return _rollstack.cylinders_frobenius_callable(constraint_matrix, [float(v) for v in q], float(step))

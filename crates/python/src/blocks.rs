@@ -1,0 +1,589 @@
+//! `rollstack.blocks`: scenes (TOML, the schema of docs/scenes.md), one simulation with
+//! its trajectory as numpy arrays, the Lire, shaking and sliding presets, and the sweeps
+//! of Figures 4.6 and 4.7 (Ch. 4, App. G–I), all from `blockstack`.
+
+use crate::{guard, json_to_py, value_error};
+use blockstack::scenarios::{
+    lire, lire_on_floor, shaking_column, sliding_column, Perturbation, Shaking, Sliding,
+};
+use blockstack::scene_file::LoadedScene;
+use blockstack::simulation::{simulate_until, Prox, RunOptions, RunReport, StepRecord};
+use blockstack::studies::scene_sweep::{Override, SceneSweep};
+use blockstack::studies::shaking::frequency_row;
+use blockstack::studies::slide::slide_row;
+use blockstack::{scenes, Defaults};
+use numpy::ndarray::{Array1, Array2, Array3};
+use numpy::IntoPyArray;
+use pyo3::exceptions::PyValueError;
+use pyo3::prelude::*;
+use pyo3::types::{PyDict, PyList};
+use rayon::prelude::*;
+use std::ops::ControlFlow;
+
+/// A validated block-stack scene: blocks, base and its motion, contact, solver, floor.
+#[pyclass(module = "rollstack.blocks", name = "Scene", frozen)]
+#[derive(Debug, Clone)]
+pub struct PyScene {
+    scene: blockstack::Scene,
+    defaults: Defaults,
+    toml: Option<String>,
+    title: String,
+}
+
+#[pymethods]
+impl PyScene {
+    /// The scene as TOML text, when it was built from TOML (a file, a dict, keyword
+    /// arguments or a built-in scene); `None` for the presets built in code.
+    #[getter]
+    fn toml(&self) -> Option<String> {
+        self.toml.clone()
+    }
+
+    /// A short name of the scene.
+    #[getter]
+    fn title(&self) -> String {
+        self.title.clone()
+    }
+
+    /// Number of free blocks.
+    #[getter]
+    fn n_blocks(&self) -> usize {
+        self.scene.n_blocks()
+    }
+
+    /// What the scene may do unexpectedly (`Scene::warnings`), as text.
+    #[getter]
+    fn warnings(&self) -> Vec<String> {
+        self.scene
+            .warnings()
+            .iter()
+            .map(ToString::to_string)
+            .collect()
+    }
+
+    /// The scene as used, after defaults (the `scene` object of the CLI's JSON).
+    fn report<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        let report = blockstack::scene_info::SceneReport::new(
+            &self.scene,
+            &RunOptions::default(),
+            &self.defaults,
+        );
+        json_to_py(py, &report)
+    }
+
+    fn __repr__(&self) -> String {
+        format!(
+            "Scene({:?}, {} block(s))",
+            self.title,
+            self.scene.n_blocks()
+        )
+    }
+}
+
+impl PyScene {
+    fn from_loaded(loaded: LoadedScene, toml: String, title: String) -> Self {
+        Self {
+            scene: loaded.scene,
+            defaults: loaded.defaults,
+            toml: Some(toml),
+            title,
+        }
+    }
+
+    fn from_scene(scene: blockstack::Scene, title: String) -> Self {
+        Self {
+            scene,
+            defaults: Defaults::default(),
+            toml: None,
+            title,
+        }
+    }
+}
+
+/// Parses and validates a TOML scene (`LoadedScene::from_toml`).
+#[pyfunction]
+#[pyo3(signature = (text, title = "scene".to_owned()))]
+fn blocks_scene_from_toml(text: String, title: String) -> PyResult<PyScene> {
+    guard(|| {
+        let loaded = LoadedScene::from_toml(&text).map_err(value_error)?;
+        Ok(PyScene::from_loaded(loaded, text, title))
+    })
+}
+
+/// A scene from the JSON text of a dict with the keys of a scene file (converted to
+/// TOML, then read as a file is).
+#[pyfunction]
+#[pyo3(signature = (text, title = "scene".to_owned()))]
+fn blocks_scene_from_json(text: String, title: String) -> PyResult<PyScene> {
+    guard(|| {
+        let value: serde_json::Value = serde_json::from_str(&text).map_err(value_error)?;
+        if !value.is_object() {
+            return Err(PyValueError::new_err("a scene must be a dict of tables"));
+        }
+        let toml = toml::to_string(&value).map_err(|e| value_error(format!("scene: {e}")))?;
+        let loaded = LoadedScene::from_toml(&toml).map_err(value_error)?;
+        Ok(PyScene::from_loaded(loaded, toml, title))
+    })
+}
+
+/// A built-in scene by name.
+#[pyfunction]
+fn blocks_builtin_scene(name: &str) -> PyResult<PyScene> {
+    guard(|| {
+        let builtin = scenes::find(name).map_err(value_error)?;
+        let loaded = builtin.load().map_err(value_error)?;
+        Ok(PyScene::from_loaded(
+            loaded,
+            builtin.toml.to_owned(),
+            builtin.name.to_owned(),
+        ))
+    })
+}
+
+/// The built-in scenes: (name, description) pairs.
+#[pyfunction]
+fn blocks_builtin_scenes() -> Vec<(String, String)> {
+    scenes::builtin()
+        .iter()
+        .map(|s| (s.name.to_owned(), s.description.to_owned()))
+        .collect()
+}
+
+fn perturbation(name: &str) -> PyResult<Perturbation> {
+    match name {
+        "none" => Ok(Perturbation::None),
+        "bottom" => Ok(Perturbation::Bottom),
+        "top" => Ok(Perturbation::Top),
+        other => Err(PyValueError::new_err(format!(
+            "perturb must be 'none', 'bottom' or 'top', got {other:?}"
+        ))),
+    }
+}
+
+fn at_least_one_block(blocks: usize) -> PyResult<()> {
+    if blocks == 0 {
+        return Err(PyValueError::new_err("blocks must be at least 1"));
+    }
+    Ok(())
+}
+
+/// The Leaning Tower of Lire (§4.3): `scenarios::lire` or `lire_on_floor`.
+#[pyfunction]
+fn blocks_lire(blocks: usize, perturb: &str, floor: bool) -> PyResult<PyScene> {
+    guard(|| {
+        at_least_one_block(blocks)?;
+        let p = perturbation(perturb)?;
+        let scene = if floor {
+            lire_on_floor(blocks, p)
+        } else {
+            lire(blocks, p)
+        }
+        .map_err(value_error)?;
+        Ok(PyScene::from_scene(
+            scene,
+            format!("Lire tower, perturbation {perturb}"),
+        ))
+    })
+}
+
+fn shaking_params(
+    blocks: usize,
+    omega: f64,
+    amplitude: f64,
+    mu: f64,
+    steps_per_period: f64,
+    periods: f64,
+) -> PyResult<Shaking> {
+    at_least_one_block(blocks)?;
+    input::positive("omega", omega).map_err(value_error)?;
+    input::non_negative("mu", mu).map_err(value_error)?;
+    input::positive("periods", periods).map_err(value_error)?;
+    input::positive("steps_per_period", steps_per_period).map_err(value_error)?;
+    Ok(Shaking {
+        blocks,
+        amplitude,
+        omega,
+        periods,
+        steps_per_period,
+        mu,
+    })
+}
+
+/// A column shaken at its base (§4.4): `scenarios::shaking_column`.
+#[pyfunction]
+fn blocks_shaking(
+    blocks: usize,
+    omega: f64,
+    amplitude: f64,
+    mu: f64,
+    steps_per_period: f64,
+    periods: f64,
+) -> PyResult<PyScene> {
+    guard(|| {
+        let p = shaking_params(blocks, omega, amplitude, mu, steps_per_period, periods)?;
+        let scene = shaking_column(&p).map_err(value_error)?;
+        Ok(PyScene::from_scene(
+            scene,
+            format!("shaken column, x = {amplitude} sin({omega} t)"),
+        ))
+    })
+}
+
+fn sliding_params(blocks: usize, v0: f64, t_end: f64, mu: f64) -> PyResult<Sliding> {
+    at_least_one_block(blocks)?;
+    input::non_negative("mu", mu).map_err(value_error)?;
+    input::positive("t_end", t_end).map_err(value_error)?;
+    Ok(Sliding {
+        blocks,
+        v0,
+        t_end,
+        mu,
+    })
+}
+
+/// A column on a base pulled at speed v0 (§4.5): `scenarios::sliding_column`.
+#[pyfunction]
+fn blocks_sliding(blocks: usize, v0: f64, t_end: f64, mu: f64) -> PyResult<PyScene> {
+    guard(|| {
+        let p = sliding_params(blocks, v0, t_end, mu)?;
+        let scene = sliding_column(&p).map_err(value_error)?;
+        Ok(PyScene::from_scene(
+            scene,
+            format!("sliding column, v0 = {v0}"),
+        ))
+    })
+}
+
+/// The library's run options from the Python keywords (the CLI's `SolverArgs`).
+fn run_options(
+    t_end: Option<f64>,
+    prox_constant: Option<f64>,
+    explore_branches: bool,
+    last_resort: bool,
+    stop_at_failure: bool,
+) -> PyResult<RunOptions> {
+    if let Some(t) = t_end {
+        input::positive("t_end", t).map_err(value_error)?;
+    }
+    if let Some(r) = prox_constant {
+        input::positive("prox_constant", r).map_err(value_error)?;
+    }
+    Ok(RunOptions {
+        t_end,
+        prox: prox_constant.map(Prox::Constant),
+        explore_branches,
+        stop_at_failure,
+        skip_last_resort: !last_resort,
+    })
+}
+
+/// The trajectory, kept step by step.
+#[derive(Debug, Default)]
+struct Trajectory {
+    t: Vec<f64>,
+    q: Vec<f64>,
+    u: Vec<f64>,
+    base: Vec<f64>,
+    forces: Vec<f64>,
+    gaps: Vec<f64>,
+    min_gap: Vec<f64>,
+    energy: Vec<f64>,
+    iterations: Vec<i64>,
+}
+
+impl Trajectory {
+    fn push(&mut self, r: &StepRecord) {
+        self.t.push(r.t);
+        self.q
+            .extend(r.poses.iter().flat_map(|p| [p.x, p.y, p.theta]));
+        self.u.extend(r.velocities.iter().flatten());
+        self.base.extend([r.base.x, r.base.y, r.base.theta]);
+        self.forces.extend(
+            r.forces
+                .iter()
+                .flat_map(|f| [f.normal[0], f.normal[1], f.friction]),
+        );
+        self.gaps.extend(r.gaps.iter().flatten());
+        self.min_gap.push(r.min_gap);
+        self.energy.push(r.energy);
+        self.iterations
+            .push(i64::try_from(r.iterations).unwrap_or(i64::MAX));
+    }
+
+    /// The arrays into `out`: t (N,), q, u, forces (N, n, 3), gaps (N, n, 2), base (N, 3),
+    /// min_gap, energy (N,), iterations (N,) int64.
+    fn into_dict(self, py: Python<'_>, n: usize, out: &Bound<'_, PyDict>) -> PyResult<()> {
+        let steps = self.t.len();
+        let shape_err = |e: numpy::ndarray::ShapeError| value_error(e);
+        let cube = |v: Vec<f64>, k: usize| Array3::from_shape_vec((steps, n, k), v);
+        out.set_item("t", Array1::from_vec(self.t).into_pyarray(py))?;
+        out.set_item("q", cube(self.q, 3).map_err(shape_err)?.into_pyarray(py))?;
+        out.set_item("u", cube(self.u, 3).map_err(shape_err)?.into_pyarray(py))?;
+        out.set_item(
+            "forces",
+            cube(self.forces, 3).map_err(shape_err)?.into_pyarray(py),
+        )?;
+        out.set_item(
+            "gaps",
+            cube(self.gaps, 2).map_err(shape_err)?.into_pyarray(py),
+        )?;
+        out.set_item(
+            "base",
+            Array2::from_shape_vec((steps, 3), self.base)
+                .map_err(shape_err)?
+                .into_pyarray(py),
+        )?;
+        out.set_item("min_gap", Array1::from_vec(self.min_gap).into_pyarray(py))?;
+        out.set_item("energy", Array1::from_vec(self.energy).into_pyarray(py))?;
+        out.set_item(
+            "iterations",
+            Array1::from_vec(self.iterations).into_pyarray(py),
+        )?;
+        Ok(())
+    }
+}
+
+/// Runs a scene (`simulation::simulate_until`), checking for Ctrl-C after every step.
+/// Returns a dict: `report_json` (the CLI's JSON of `blocks run`, without files and
+/// notes, as text), `steps`, `failure_time`,
+/// the trajectory arrays, `events` (list of dicts), `error` (message or None) and
+/// `interrupted` (a KeyboardInterrupt to raise, or None: the caller raises it after
+/// keeping the partial result).
+#[pyfunction]
+#[pyo3(signature = (scene, t_end = None, prox_constant = None, explore_branches = true, last_resort = true, stop_at_failure = false))]
+fn blocks_simulate<'py>(
+    py: Python<'py>,
+    scene: &PyScene,
+    t_end: Option<f64>,
+    prox_constant: Option<f64>,
+    explore_branches: bool,
+    last_resort: bool,
+    stop_at_failure: bool,
+) -> PyResult<Bound<'py, PyDict>> {
+    guard(|| {
+        let options = run_options(
+            t_end,
+            prox_constant,
+            explore_branches,
+            last_resort,
+            stop_at_failure,
+        )?;
+        let mut trajectory = Trajectory::default();
+        let mut interrupt: Option<PyErr> = None;
+        let summary = simulate_until(&scene.scene, &options, |r| {
+            trajectory.push(r);
+            match py.check_signals() {
+                Ok(()) => ControlFlow::Continue(()),
+                Err(e) => {
+                    interrupt = Some(e);
+                    ControlFlow::Break(())
+                }
+            }
+        })
+        .map_err(value_error)?;
+        let t_final = trajectory.t.last().copied().unwrap_or(0.0);
+        let report = RunReport::new(&summary, &scene.scene, &options, &scene.defaults, t_final);
+        let out = PyDict::new(py);
+        // The report as JSON text: the Python Result parses it when first asked for.
+        out.set_item(
+            "report_json",
+            serde_json::to_string(&report).map_err(value_error)?,
+        )?;
+        out.set_item("steps", summary.steps)?;
+        out.set_item("failure_time", summary.failure_time)?;
+        let events = PyList::empty(py);
+        let event = |kind: &str, t: f64| -> PyResult<Bound<'py, PyDict>> {
+            let d = PyDict::new(py);
+            d.set_item("kind", kind)?;
+            d.set_item("t", t)?;
+            Ok(d)
+        };
+        let mut timeline: Vec<(f64, Bound<'py, PyDict>)> = Vec::new();
+        for b in &summary.branch_points {
+            let d = event("branch_point", b.t)?;
+            d.set_item("candidates", b.candidates)?;
+            d.set_item("distinct", b.distinct)?;
+            timeline.push((b.t, d));
+        }
+        if let Some(t) = summary.failure_time {
+            timeline.push((t, event("failure", t)?));
+        }
+        if let Some(t) = summary.opening_time {
+            timeline.push((t, event("opening", t)?));
+        }
+        if let Some(e) = &summary.error {
+            let d = event("error", t_final)?;
+            d.set_item("message", e.to_string())?;
+            timeline.push((t_final, d));
+        }
+        // Stable: events at the same time keep the order above.
+        timeline.sort_by(|a, b| a.0.total_cmp(&b.0));
+        for (_, d) in timeline {
+            events.append(d)?;
+        }
+        out.set_item("events", events)?;
+        out.set_item("error", summary.error.as_ref().map(ToString::to_string))?;
+        trajectory.into_dict(py, scene.scene.n_blocks(), &out)?;
+        out.set_item("interrupted", interrupt.map(|e| e.into_value(py)))?;
+        Ok(out)
+    })
+}
+
+/// Rows of Figure 4.6 (`studies::shaking::frequency_row`), one per ω, in parallel on
+/// rayon with the GIL released; each row as the CLI's `blocks sweep frequency --json`.
+#[pyfunction]
+#[pyo3(signature = (omegas, periods, amplitude, blocks, steps_per_period, mu, prox_constant = None, explore_branches = true, last_resort = true))]
+fn blocks_sweep_frequency<'py>(
+    py: Python<'py>,
+    omegas: Vec<f64>,
+    periods: f64,
+    amplitude: f64,
+    blocks: usize,
+    steps_per_period: f64,
+    mu: f64,
+    prox_constant: Option<f64>,
+    explore_branches: bool,
+    last_resort: bool,
+) -> PyResult<Bound<'py, PyAny>> {
+    guard(|| {
+        let options = run_options(None, prox_constant, explore_branches, last_resort, true)?;
+        let columns = omegas
+            .iter()
+            .map(|&omega| {
+                let p = shaking_params(blocks, omega, amplitude, mu, steps_per_period, periods)?;
+                shaking_column(&p).map_err(|e| value_error(format!("omega {omega}: {e}")))?;
+                Ok(p)
+            })
+            .collect::<PyResult<Vec<_>>>()?;
+        let rows = py.detach(|| {
+            catch_panics(|| {
+                columns
+                    .par_iter()
+                    .map(|p| frequency_row(p, &options))
+                    .collect::<Vec<_>>()
+            })
+        })?;
+        json_to_py(py, &rows)
+    })
+}
+
+/// Rows of Figure 4.7 (`studies::slide::slide_row`), one per v0, in parallel on rayon
+/// with the GIL released; each row as the CLI's `blocks sweep slide --json`.
+#[pyfunction]
+#[pyo3(signature = (speeds, t_end, blocks, mu, prox_constant = None, explore_branches = true, last_resort = true))]
+fn blocks_sweep_slide<'py>(
+    py: Python<'py>,
+    speeds: Vec<f64>,
+    t_end: f64,
+    blocks: usize,
+    mu: f64,
+    prox_constant: Option<f64>,
+    explore_branches: bool,
+    last_resort: bool,
+) -> PyResult<Bound<'py, PyAny>> {
+    guard(|| {
+        let options = run_options(
+            Some(t_end),
+            prox_constant,
+            explore_branches,
+            last_resort,
+            false,
+        )?;
+        let columns = speeds
+            .iter()
+            .map(|&v0| {
+                let p = sliding_params(blocks, v0, t_end, mu)?;
+                sliding_column(&p).map_err(|e| value_error(format!("v0 {v0}: {e}")))?;
+                Ok(p)
+            })
+            .collect::<PyResult<Vec<_>>>()?;
+        let rows = py.detach(|| {
+            catch_panics(|| {
+                columns
+                    .par_iter()
+                    .map(|p| slide_row(p, &options))
+                    .collect::<Vec<_>>()
+            })
+        })?;
+        json_to_py(py, &rows)
+    })
+}
+
+/// A scene run once per combination of the values of its swept keys
+/// (`studies::scene_sweep`), in parallel on rayon with the GIL released, in input order;
+/// rows as the CLI's `blocks sweep scene --json`. `overrides` are `KEY=VALUES` texts
+/// (`contact.mu=0.1:0.5:0.1`, `base.omega=2,4,8`); every combination's scene is checked
+/// before any run.
+#[pyfunction]
+#[pyo3(signature = (scene, overrides, t_end = None, stop_at_failure = false, prox_constant = None, explore_branches = true, last_resort = true))]
+fn blocks_sweep_scene<'py>(
+    py: Python<'py>,
+    scene: &PyScene,
+    overrides: Vec<String>,
+    t_end: Option<f64>,
+    stop_at_failure: bool,
+    prox_constant: Option<f64>,
+    explore_branches: bool,
+    last_resort: bool,
+) -> PyResult<Bound<'py, PyAny>> {
+    guard(|| {
+        let text = scene.toml.as_deref().ok_or_else(|| {
+            PyValueError::new_err(
+                "a scene sweep needs a scene built from TOML (a file, a dict, keywords or a built-in name), not a preset",
+            )
+        })?;
+        let overrides = overrides
+            .iter()
+            .map(|o| o.parse::<Override>().map_err(PyValueError::new_err))
+            .collect::<PyResult<Vec<_>>>()?;
+        let sweep = SceneSweep::new(text, overrides).map_err(value_error)?;
+        let options = run_options(
+            t_end,
+            prox_constant,
+            explore_branches,
+            last_resort,
+            stop_at_failure,
+        )?;
+        let points = sweep.points();
+        for point in &points {
+            sweep.scene(point).map_err(|e| {
+                let set: Vec<String> = point
+                    .iter()
+                    .map(|s| format!("{}={}", s.key, s.value))
+                    .collect();
+                value_error(format!("{}: {e}", set.join(", ")))
+            })?;
+        }
+        let rows = py.detach(|| {
+            catch_panics(|| {
+                points
+                    .par_iter()
+                    .map(|p| sweep.row(p, &options))
+                    .collect::<Vec<_>>()
+            })
+        })?;
+        json_to_py(py, &rows)
+    })
+}
+
+/// Runs `f` without the GIL, keeping a panic from unwinding out of `detach`; the
+/// message comes back as a `RuntimeError` once the GIL is held again.
+fn catch_panics<T>(f: impl FnOnce() -> T) -> PyResult<T> {
+    guard(|| Ok(f()))
+}
+
+pub(crate) fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_class::<PyScene>()?;
+    m.add_function(wrap_pyfunction!(blocks_scene_from_toml, m)?)?;
+    m.add_function(wrap_pyfunction!(blocks_scene_from_json, m)?)?;
+    m.add_function(wrap_pyfunction!(blocks_builtin_scene, m)?)?;
+    m.add_function(wrap_pyfunction!(blocks_builtin_scenes, m)?)?;
+    m.add_function(wrap_pyfunction!(blocks_lire, m)?)?;
+    m.add_function(wrap_pyfunction!(blocks_shaking, m)?)?;
+    m.add_function(wrap_pyfunction!(blocks_sliding, m)?)?;
+    m.add_function(wrap_pyfunction!(blocks_simulate, m)?)?;
+    m.add_function(wrap_pyfunction!(blocks_sweep_frequency, m)?)?;
+    m.add_function(wrap_pyfunction!(blocks_sweep_slide, m)?)?;
+    m.add_function(wrap_pyfunction!(blocks_sweep_scene, m)?)?;
+    Ok(())
+}

@@ -1,0 +1,323 @@
+//! `rollstack.cylinders`: inclined rolling cylinders (Ch. 3, App. D–F) from `cylinders`:
+//! the support statics (3.3.8)–(3.3.20), the holonomy of §3.4 (rectangles and circles
+//! traced by the contact point), the Frobenius test (App. D) on the bundled
+//! constraint systems (App. F) and on a Pfaffian system the user gives as a Python
+//! callable q ↦ W(q).
+
+use crate::{guard, json_to_py, value_error};
+use cylinders::frobenius::{
+    report_from, skew_matrices_central_difference, PfaffianSystem, INTEGRABILITY_TOLERANCE,
+    RANK_TOLERANCE,
+};
+use cylinders::holonomy::{CirclePath, Direction, PathCase, RectanglePath};
+use cylinders::kinematics::{check_point_contact, Cylinder};
+use cylinders::rolling::RollingTrace;
+use cylinders::studies::frobenius::{
+    integrability_report, ConstraintSystem, FrobeniusCase, PairConfiguration,
+};
+use cylinders::studies::holonomy::{circle_report, rectangle_report, RollSettings};
+use cylinders::studies::support::support_report;
+use nalgebra::{DMatrix, RealField};
+use numpy::ndarray::{Array1, Array2};
+use numpy::{IntoPyArray, PyReadonlyArray2};
+use pyo3::exceptions::PyValueError;
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+use std::cell::RefCell;
+
+/// The support report (`studies::support::support_report`, with the weight when `mass`
+/// is given), as the CLI's `cylinder support --json`.
+#[pyfunction]
+#[pyo3(signature = (theta, r_over_h = 0.1, mu = 0.2, mass = None, gravity = 9.81))]
+fn cylinders_support<'py>(
+    py: Python<'py>,
+    theta: f64,
+    r_over_h: f64,
+    mu: f64,
+    mass: Option<f64>,
+    gravity: f64,
+) -> PyResult<Bound<'py, PyAny>> {
+    guard(|| {
+        let mut report = support_report(theta, r_over_h, mu).map_err(value_error)?;
+        if let Some(mass) = mass {
+            report = report.with_weight(mass, gravity).map_err(value_error)?;
+        }
+        json_to_py(py, &report)
+    })
+}
+
+/// The Frobenius test of a bundled constraint system
+/// (`studies::frobenius::integrability_report`), as the CLI's `cylinder frobenius --json`.
+#[pyfunction]
+#[pyo3(signature = (system = "single", config = "generic", theta = 0.4, heading = 0.5, contact_at = 0.3, r = 0.1143, h = 1.2954))]
+fn cylinders_frobenius<'py>(
+    py: Python<'py>,
+    system: &str,
+    config: &str,
+    theta: f64,
+    heading: f64,
+    contact_at: f64,
+    r: f64,
+    h: f64,
+) -> PyResult<Bound<'py, PyAny>> {
+    guard(|| {
+        let system = match system {
+            "single" => ConstraintSystem::Single,
+            "pair7" => ConstraintSystem::Pair7,
+            "pair9" => ConstraintSystem::Pair9,
+            other => {
+                return Err(PyValueError::new_err(format!(
+                    "system must be 'single', 'pair7' or 'pair9', got {other:?}"
+                )))
+            }
+        };
+        let configuration = match config {
+            "generic" => PairConfiguration::Generic,
+            "touching" => PairConfiguration::Touching,
+            other => {
+                return Err(PyValueError::new_err(format!(
+                    "config must be 'generic' or 'touching', got {other:?}"
+                )))
+            }
+        };
+        let report = integrability_report(&FrobeniusCase {
+            system,
+            configuration,
+            cylinder: Cylinder::new(r, h).map_err(value_error)?,
+            theta,
+            heading,
+            contact_at,
+        })
+        .map_err(value_error)?;
+        json_to_py(py, &report)
+    })
+}
+
+/// A Pfaffian system whose W(q) a Python callable computes (real scalars only: the
+/// test then differentiates by central differences).
+struct CallableSystem<'py> {
+    py: Python<'py>,
+    function: Bound<'py, PyAny>,
+    n: usize,
+    m: usize,
+    error: RefCell<Option<PyErr>>,
+}
+
+impl CallableSystem<'_> {
+    fn evaluate(&self, q: &[f64]) -> PyResult<DMatrix<f64>> {
+        let result = self.function.call1((q.to_vec(),))?;
+        let numpy = self.py.import("numpy")?;
+        let array = numpy.call_method1("asarray", (result, "float64"))?;
+        let w: PyReadonlyArray2<'_, f64> = array.extract().map_err(|_| {
+            PyValueError::new_err("the Pfaffian system must return a 2-D array W(q)")
+        })?;
+        let w = w.as_array();
+        if w.shape() != [self.m, self.n] {
+            return Err(PyValueError::new_err(format!(
+                "W(q) has the shape {:?}, expected ({}, {})",
+                w.shape(),
+                self.m,
+                self.n
+            )));
+        }
+        Ok(DMatrix::from_fn(self.m, self.n, |i, j| w[[i, j]]))
+    }
+}
+
+impl PfaffianSystem for CallableSystem<'_> {
+    fn coordinate_count(&self) -> usize {
+        self.n
+    }
+
+    fn constraint_count(&self) -> usize {
+        self.m
+    }
+
+    fn constraint_matrix<T: RealField + Copy>(&self, q: &[T]) -> DMatrix<T> {
+        let q: Vec<f64> = q
+            .iter()
+            .map(|v| v.to_subset().unwrap_or(f64::NAN))
+            .collect();
+        let w = match self.evaluate(&q) {
+            Ok(w) => w,
+            Err(e) => {
+                self.error.borrow_mut().get_or_insert(e);
+                DMatrix::from_element(self.m, self.n, f64::NAN)
+            }
+        };
+        w.map(|v| T::from_subset(&v))
+    }
+}
+
+/// The Frobenius test (App. D, (D.1.5)) of the Pfaffian system W(q) q̇ = 0 that
+/// `function` computes, at `q` (`frobenius::report_from` on
+/// `skew_matrices_central_difference` with step `step`).
+#[pyfunction]
+#[pyo3(signature = (function, q, step = 1e-6))]
+fn cylinders_frobenius_callable<'py>(
+    py: Python<'py>,
+    function: Bound<'py, PyAny>,
+    q: Vec<f64>,
+    step: f64,
+) -> PyResult<Bound<'py, PyAny>> {
+    guard(|| {
+        input::positive("step", step).map_err(value_error)?;
+        let probe = CallableSystem {
+            py,
+            function: function.clone(),
+            n: q.len(),
+            m: 0,
+            error: RefCell::new(None),
+        };
+        let first = probe.function.call1((q.clone(),))?;
+        let shape: Vec<usize> = py
+            .import("numpy")?
+            .call_method1("shape", (first,))?
+            .extract()?;
+        if shape.len() != 2 || shape[1] != q.len() {
+            return Err(PyValueError::new_err(format!(
+                "W(q) must have one column per coordinate ({}), got the shape {shape:?}",
+                q.len()
+            )));
+        }
+        let system = CallableSystem {
+            m: shape[0],
+            ..probe
+        };
+        let skew = skew_matrices_central_difference(&system, &q, step).map_err(value_error)?;
+        if let Some(e) = system.error.borrow_mut().take() {
+            return Err(e);
+        }
+        json_to_py(
+            py,
+            &report_from(&skew, RANK_TOLERANCE, INTEGRABILITY_TOLERANCE),
+        )
+    })
+}
+
+fn path_case(case: &str) -> PyResult<PathCase> {
+    match case {
+        "I" | "i" | "1" => Ok(PathCase::I),
+        "II" | "ii" | "2" => Ok(PathCase::II),
+        other => Err(PyValueError::new_err(format!(
+            "case must be 'I' or 'II', got {other:?}"
+        ))),
+    }
+}
+
+fn path_direction(cw: bool) -> Direction {
+    if cw {
+        Direction::Clockwise
+    } else {
+        Direction::CounterClockwise
+    }
+}
+
+/// The CLI's rolled-check settings: `max_step`, a sample every 20 steps.
+fn roll_settings(max_step: f64) -> RollSettings {
+    RollSettings {
+        max_step,
+        record_every: 20,
+    }
+}
+
+/// `{"report": ..., "t", "center", "contact", "rim_point", "phi"}` of a report and its
+/// rolled trace (arrays (N,) and (N, 3)).
+fn report_and_trace<'py>(
+    py: Python<'py>,
+    report: &impl serde::Serialize,
+    trace: &RollingTrace,
+) -> PyResult<Bound<'py, PyDict>> {
+    let n = trace.samples.len();
+    let vectors = |f: fn(&cylinders::rolling::Sample) -> [f64; 3]| {
+        let flat: Vec<f64> = trace.samples.iter().flat_map(f).collect();
+        Array2::from_shape_vec((n, 3), flat).map_err(value_error)
+    };
+    let out = PyDict::new(py);
+    out.set_item("report", json_to_py(py, report)?)?;
+    let t: Vec<f64> = trace.samples.iter().map(|s| s.t).collect();
+    let phi: Vec<f64> = trace.samples.iter().map(|s| s.phi).collect();
+    out.set_item("t", Array1::from_vec(t).into_pyarray(py))?;
+    out.set_item("center", vectors(|s| s.center.into())?.into_pyarray(py))?;
+    out.set_item("contact", vectors(|s| s.contact.into())?.into_pyarray(py))?;
+    out.set_item(
+        "rim_point",
+        vectors(|s| s.rim_point.into())?.into_pyarray(py),
+    )?;
+    out.set_item("phi", Array1::from_vec(phi).into_pyarray(py))?;
+    Ok(out)
+}
+
+/// Δφ when the contact point P traces a rectangle (the nine-rotation product (3.4.3),
+/// Figure 3.10; `studies::holonomy::rectangle_report`), as the CLI's `cylinder holonomy
+/// rectangle --json`, with the rolled trace.
+#[pyfunction]
+#[pyo3(signature = (theta, phi1, phi2, s = 0.0, case = "I", cw = false, psi0 = 0.0, r_over_h = 0.12, max_step = 1e-3))]
+fn cylinders_holonomy_rectangle<'py>(
+    py: Python<'py>,
+    theta: f64,
+    phi1: f64,
+    phi2: f64,
+    s: f64,
+    case: &str,
+    cw: bool,
+    psi0: f64,
+    r_over_h: f64,
+    max_step: f64,
+) -> PyResult<Bound<'py, PyDict>> {
+    guard(|| {
+        let theta = check_point_contact(theta).map_err(value_error)?;
+        let path = RectanglePath::new(phi1, phi2, s, path_case(case)?, path_direction(cw))
+            .map_err(value_error)?;
+        let ratio = input::positive("r_over_h", r_over_h).map_err(value_error)?;
+        let cylinder = Cylinder::new(1.0, 1.0 / ratio).map_err(value_error)?;
+        let (report, trace) =
+            rectangle_report(&cylinder, theta, &path, psi0, roll_settings(max_step))
+                .map_err(value_error)?;
+        report_and_trace(py, &report, &trace)
+    })
+}
+
+/// Δφ when P traces a circle of radius ℓ ((3.4.10)–(3.4.16), Figure 3.12;
+/// `studies::holonomy::circle_report`), as the CLI's `cylinder holonomy circle --json`,
+/// with the rolled trace. Give the height as `h` or `r_over_h`.
+#[pyfunction]
+#[pyo3(signature = (ell, theta, h = None, r_over_h = None, r = 1.0, case = "I", cw = false, max_step = 1e-3))]
+fn cylinders_holonomy_circle<'py>(
+    py: Python<'py>,
+    ell: f64,
+    theta: f64,
+    h: Option<f64>,
+    r_over_h: Option<f64>,
+    r: f64,
+    case: &str,
+    cw: bool,
+    max_step: f64,
+) -> PyResult<Bound<'py, PyDict>> {
+    guard(|| {
+        let h = match (h, r_over_h) {
+            (Some(h), None) => h,
+            (None, Some(ratio)) => r / input::positive("r_over_h", ratio).map_err(value_error)?,
+            _ => {
+                return Err(PyValueError::new_err(
+                    "give the height as h or as r_over_h (one of them)",
+                ))
+            }
+        };
+        let cylinder = Cylinder::new(r, h).map_err(value_error)?;
+        let path =
+            CirclePath::new(ell, path_case(case)?, path_direction(cw)).map_err(value_error)?;
+        let (report, trace) =
+            circle_report(&cylinder, theta, &path, roll_settings(max_step)).map_err(value_error)?;
+        report_and_trace(py, &report, &trace)
+    })
+}
+
+pub(crate) fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_function(wrap_pyfunction!(cylinders_support, m)?)?;
+    m.add_function(wrap_pyfunction!(cylinders_frobenius, m)?)?;
+    m.add_function(wrap_pyfunction!(cylinders_frobenius_callable, m)?)?;
+    m.add_function(wrap_pyfunction!(cylinders_holonomy_rectangle, m)?)?;
+    m.add_function(wrap_pyfunction!(cylinders_holonomy_circle, m)?)?;
+    Ok(())
+}

@@ -1,0 +1,229 @@
+import os
+import signal
+import subprocess
+import sys
+import textwrap
+import time
+
+import numpy as np
+import pytest
+
+import rollstack
+from helpers import strip_timings
+from rollstack import blocks
+
+ONE_BLOCK = dict(
+    base={"width": 1.0, "height": 0.2, "motion": "fixed"},
+    blocks=[{"width": 1.0, "height": 0.2, "mass": 1.0, "x": 0.1}],
+    contact={"mu": 0.3},
+    solver={"dt": 0.01, "t_end": 0.1},
+)
+
+
+def cli_report(json_out):
+    """The CLI's run JSON without what only the CLI has (files, notes) and timings."""
+    out = {k: v for k, v in json_out.items() if k not in ("files", "notes")}
+    return strip_timings(out)
+
+
+def test_scene_from_kwargs_dict_toml_and_builtin(tmp_path):
+    a = blocks.Scene(**ONE_BLOCK)
+    b = blocks.Scene.from_dict(ONE_BLOCK)
+    assert a.n_blocks == b.n_blocks == 1
+    assert a.report() == b.report()
+    path = tmp_path / "one.toml"
+    path.write_text(a.toml)
+    c = blocks.Scene.from_toml(str(path))
+    assert c.title == "one" and c.report() == a.report()
+    assert blocks.Scene.from_toml(a.toml).report() == a.report()
+    names = blocks.scenes()
+    assert {"lire", "shaking", "slide"} <= set(names)
+    assert blocks.Scene.builtin("lire").n_blocks == 4
+    assert "Scene(" in repr(a)
+
+
+@pytest.mark.parametrize(
+    "tables, message",
+    [
+        ({**ONE_BLOCK, "colour": "red"}, "colour"),
+        ({**ONE_BLOCK, "contact": {"mu": -1.0}}, "mu"),
+        ({**ONE_BLOCK, "blocks": [{"width": -1.0, "height": 0.2, "mass": 1.0, "x": 0.0}]}, "width"),
+    ],
+)
+def test_bad_scene_is_a_value_error(tables, message):
+    with pytest.raises(ValueError, match=message):
+        blocks.Scene.from_dict(tables)
+
+
+def test_bad_scene_sources():
+    with pytest.raises(ValueError):
+        blocks.Scene.from_toml("[base\nwidth = 1")
+    with pytest.raises(ValueError, match="built-in"):
+        blocks.Scene.builtin("no-such-scene")
+    with pytest.raises(ValueError):
+        blocks.Scene.from_dict({"x": object()})
+
+
+def test_simulate_arrays_shapes_dtypes():
+    r = blocks.simulate(blocks.Scene(**ONE_BLOCK))
+    assert r.steps == 10
+    n = r.steps + 1
+    assert r.t.shape == (n,) and r.t.dtype == np.float64
+    for name in ("q", "u", "forces"):
+        assert getattr(r, name).shape == (n, 1, 3), name
+        assert getattr(r, name).dtype == np.float64
+    assert r.gaps.shape == (n, 1, 2)
+    assert r.base.shape == (n, 3)
+    assert r.min_gap.shape == r.energy.shape == (n,)
+    assert r.iterations.dtype == np.int64
+    # A block resting on a fixed table: the normal forces carry its weight.
+    np.testing.assert_allclose(r.forces[-1, 0, :2].sum(), 1.0, rtol=1e-6)
+    np.testing.assert_allclose(r.q[-1, 0], [r.report["final"][0][k] for k in ("x", "y", "theta")])
+    assert r.report["t_final"] == r.t[-1]
+    assert r.error is None and isinstance(r.events, list)
+
+
+def test_simulate_bad_options():
+    scene = blocks.Scene(**ONE_BLOCK)
+    with pytest.raises(ValueError, match="t_end"):
+        blocks.simulate(scene, t_end=-1.0)
+    with pytest.raises(ValueError, match="prox_constant"):
+        blocks.simulate(scene, prox_constant=0.0)
+    with pytest.raises(TypeError):
+        blocks.simulate(ONE_BLOCK)
+
+
+def test_lire_equals_cli(cli):
+    r = blocks.simulate(blocks.lire(perturb="bottom"), t_end=2.0)
+    theirs = cli("blocks", "lire", "--perturb", "bottom", "--t-end", "2")
+    assert strip_timings(r.report) == cli_report(theirs)
+    assert r.q.shape == (r.steps + 1, 4, 3)
+    kinds = {e["kind"] for e in r.events}
+    assert kinds <= {"branch_point", "failure", "opening", "error"}
+    assert [e["t"] for e in r.events] == sorted(e["t"] for e in r.events)
+
+
+def test_run_scene_file_equals_cli(cli, tmp_path):
+    path = tmp_path / "one.toml"
+    path.write_text(blocks.Scene(**ONE_BLOCK).toml)
+    r = blocks.simulate(blocks.Scene.from_toml(str(path)))
+    assert strip_timings(r.report) == cli_report(cli("blocks", "run", str(path)))
+
+
+def test_shaking_equals_cli(cli):
+    r = blocks.simulate(blocks.shaking(blocks=3, omega=6.0, amplitude=0.1, periods=1.0))
+    theirs = cli("blocks", "shake", "--blocks", "3", "--omega", "6", "--amplitude", "0.1", "--periods", "1")
+    assert strip_timings(r.report) == cli_report(theirs)
+
+
+def test_presets_bad_input():
+    with pytest.raises(ValueError, match="perturb"):
+        blocks.lire(perturb="middle")
+    with pytest.raises(ValueError, match="blocks"):
+        blocks.lire(blocks=0)
+    with pytest.raises(ValueError, match="omega"):
+        blocks.shaking(omega=0.0)
+    with pytest.raises(ValueError, match="mu"):
+        blocks.sliding(mu=-0.1)
+
+
+def test_sliding_runs():
+    r = blocks.simulate(blocks.sliding(blocks=2, v0=0.5, t_end=0.2))
+    assert r.q.shape[1] == 2 and r.error is None
+
+
+def test_sweep_frequency_equals_cli(cli):
+    rows = blocks.sweep_frequency([3.0, 6.0, 9.0], periods=1.0, blocks=2)
+    theirs = cli("blocks", "sweep", "frequency", "--omega", "3,6,9", "--periods", "1", "--blocks", "2")
+    assert strip_timings(rows) == strip_timings(theirs["rows"])
+    assert [r["omega"] for r in rows] == [3.0, 6.0, 9.0]
+
+
+def test_sweep_slide_equals_cli(cli):
+    rows = blocks.sweep_slide([0.1, 0.3], t_end=0.3, blocks=2)
+    theirs = cli("blocks", "sweep", "slide", "--v0", "0.1,0.3", "--t-end", "0.3", "--blocks", "2")
+    assert strip_timings(rows) == strip_timings(theirs["rows"])
+
+
+def test_sweeps_bad_input():
+    with pytest.raises(ValueError, match="omega"):
+        blocks.sweep_frequency([2.0, -1.0])
+    with pytest.raises(ValueError, match="t_end"):
+        blocks.sweep_slide([0.1], t_end=0.0)
+
+
+def test_sweep_scene_equals_cli(cli, tmp_path):
+    path = tmp_path / "one.toml"
+    path.write_text(blocks.Scene(**ONE_BLOCK).toml)
+    scene = blocks.Scene.from_toml(str(path))
+    rows = blocks.sweep_scene(scene, {"contact.mu": [0.1, 0.5], "blocks.x": "0.0,0.2"})
+    theirs = cli("blocks", "sweep", "scene", str(path), "--set", "contact.mu=0.1,0.5",
+                 "--set", "blocks.x=0.0,0.2")
+    assert strip_timings(rows) == strip_timings(theirs["rows"])
+    assert len(rows) == 4
+
+
+def test_sweep_scene_bad_input():
+    scene = blocks.Scene(**ONE_BLOCK)
+    with pytest.raises(ValueError, match="colour"):
+        blocks.sweep_scene(scene, {"contact.colour": [1.0]})
+    with pytest.raises(ValueError):
+        blocks.sweep_scene(scene, {"contact.mu": [-1.0]})
+    with pytest.raises(ValueError, match="TOML"):
+        blocks.sweep_scene(blocks.lire(), {"contact.mu": [0.1]})
+
+
+def test_solver_error_carries_the_partial_result():
+    # Newton cannot reach a tolerance of 1e-300, and without the last resort the first
+    # step that fails ends the run.
+    tables = {**ONE_BLOCK, "solver": {"dt": 0.01, "t_end": 0.1, "tol": 1e-300}}
+    with pytest.raises(rollstack.SolverError) as info:
+        blocks.simulate(blocks.Scene.from_dict(tables), last_resort=False, explore_branches=False)
+    result = info.value.result
+    assert isinstance(result, blocks.Result)
+    assert result.error and result.error in str(info.value)
+    assert len(result.t) == result.steps + 1
+    assert result.events[-1]["kind"] == "error"
+
+
+def test_to_dataframe():
+    pd = pytest.importorskip("pandas")
+    r = blocks.simulate(blocks.Scene(**ONE_BLOCK))
+    df = r.to_dataframe()
+    assert isinstance(df, pd.DataFrame) and len(df) == len(r.t)
+    assert {"t", "x1", "n1a", "vx1", "g1a", "energy"} <= set(df.columns)
+
+
+def test_ctrl_c_interrupts_a_long_simulation():
+    child = textwrap.dedent(
+        """
+        import sys
+        from rollstack import blocks
+        scene = blocks.shaking(blocks=4, omega=4.0, periods=100000.0)
+        print("started", flush=True)
+        try:
+            blocks.simulate(scene)
+        except KeyboardInterrupt:
+            print("interrupted", flush=True)
+            sys.exit(3)
+        print("finished", flush=True)
+        """
+    )
+    p = subprocess.Popen([sys.executable, "-c", child], stdout=subprocess.PIPE, text=True)
+    assert p.stdout.readline().strip() == "started"
+    time.sleep(0.5)
+    sent = time.monotonic()
+    p.send_signal(signal.SIGINT)
+    try:
+        code = p.wait(timeout=5)
+    finally:
+        if p.poll() is None:
+            p.kill()
+    elapsed = time.monotonic() - sent
+    assert code == 3, p.stdout.read()
+    assert elapsed < 1.0, elapsed
+
+
+def test_help_has_the_docs():
+    doc = blocks.simulate.__doc__
+    assert "§4.2" in doc and "SolverError" in doc

@@ -1,0 +1,81 @@
+import math
+
+import pytest
+
+from helpers import strip_timings
+
+from rollstack import cylinders
+
+
+def test_support_equals_cli(cli):
+    ours = cylinders.support(0.5, r_over_h=0.1, mu=0.2)
+    assert ours == cli("cylinder", "support", "--theta", "0.5", "--r-over-h", "0.1", "--mu", "0.2")
+    weighed = cylinders.support(0.5, mass=2.0)
+    assert weighed == cli("cylinder", "support", "--theta", "0.5", "--mass", "2.0")
+
+
+def test_support_bad_input():
+    with pytest.raises(ValueError):
+        cylinders.support(0.5, r_over_h=-1.0)
+
+
+def test_frobenius_equals_cli(cli):
+    for system in ("single", "pair9"):
+        ours = cylinders.frobenius(system=system)
+        theirs = cli("cylinder", "frobenius", "--system", system)
+        assert strip_timings(ours) == strip_timings(theirs)
+
+
+def test_frobenius_bad_input():
+    with pytest.raises(ValueError, match="system"):
+        cylinders.frobenius(system="triple")
+    with pytest.raises(ValueError):
+        cylinders.frobenius(r=-1.0)
+
+
+def test_frobenius_of_a_callable():
+    # x' = 0: integrable. The knife edge: -sin(th) x' + cos(th) y' = 0 is not.
+    flat = cylinders.frobenius_test(lambda q: [[1.0, 0.0, 0.0]], [0.1, 0.2, 0.3])
+    assert flat["integrable"] == [True]
+    knife = cylinders.frobenius_test(lambda q: [[-math.sin(q[2]), math.cos(q[2]), 0.0]], [0.1, 0.2, 0.3])
+    assert knife["integrable"] == [False]
+    assert knife["rank"] == 1 and knife["nullity"] == 2
+
+
+def test_frobenius_callable_bad_input():
+    with pytest.raises(ValueError, match="column"):
+        cylinders.frobenius_test(lambda q: [[1.0, 0.0]], [0.1, 0.2, 0.3])
+
+    def broken(q):
+        raise ZeroDivisionError("mine")
+
+    with pytest.raises(ZeroDivisionError, match="mine"):
+        cylinders.frobenius_test(broken, [0.1, 0.2])
+
+
+def test_holonomy_rectangle_equals_cli(cli):
+    ours = cylinders.holonomy_rectangle(0.5, 1.0, 2.0, max_step=1e-2)
+    theirs = cli("cylinder", "holonomy", "rectangle", "--theta", "0.5", "--phi1", "1.0",
+                 "--phi2", "2.0", "--max-step", "0.01")
+    assert strip_timings(ours["report"]) == strip_timings(theirs)
+    n = len(ours["t"])
+    assert ours["center"].shape == ours["contact"].shape == ours["rim_point"].shape == (n, 3)
+    assert ours["phi"].shape == (n,)
+
+
+def test_holonomy_circle_equals_cli(cli):
+    ours = cylinders.holonomy_circle(2.0, 0.5, r_over_h=0.1, max_step=1e-2)
+    theirs = cli("cylinder", "holonomy", "circle", "--ell", "2.0", "--theta", "0.5",
+                 "--r-over-h", "0.1", "--max-step", "0.01")
+    assert strip_timings(ours["report"]) == strip_timings(theirs)
+
+
+def test_holonomy_bad_input():
+    with pytest.raises(ValueError):
+        cylinders.holonomy_rectangle(2.0, 1.0, 2.0)  # θ outside (0, π/2)
+    with pytest.raises(ValueError, match="case"):
+        cylinders.holonomy_rectangle(0.5, 1.0, 2.0, case="III")
+    with pytest.raises(ValueError, match="height"):
+        cylinders.holonomy_circle(2.0, 0.5)
+    with pytest.raises(ValueError):
+        cylinders.holonomy_circle(-2.0, 0.5, h=10.0)

@@ -1,0 +1,38 @@
+import numpy as np
+import pytest
+
+from helpers import strip_timings
+from rollstack import nsga
+
+
+def test_ball_equals_cli(cli):
+    ours = nsga.ball(2)
+    theirs = cli("nsga", "ball", "--case", "2")
+    assert strip_timings(ours["report"]) == strip_timings(theirs)
+    n = len(ours["t"])
+    assert ours["q"].shape == (n, 3) and ours["u"].shape == (n, 3)
+    assert ours["p_n"].shape == (n,) and ours["iterations"].dtype == np.int64
+
+
+def test_ball_bad_input():
+    with pytest.raises(ValueError):
+        nsga.ball(7)
+    with pytest.raises(ValueError, match="dt"):
+        nsga.ball(2, dt=0.0)
+    with pytest.raises(ValueError, match="scheme"):
+        nsga.ball(2, scheme="euler")
+
+
+def test_work_precision_equals_cli(cli):
+    ours = nsga.work_precision("oscillator", dts=[0.01, 0.005], rho_inf=[0.5], repeat=1)
+    theirs = cli("nsga", "work-precision", "--system", "oscillator", "--dts", "0.01,0.005",
+                 "--rho-inf", "0.5", "--repeat", "1")
+    rows = theirs["rows"] if isinstance(theirs, dict) else theirs
+    assert strip_timings(ours) == strip_timings(rows)
+
+
+def test_work_precision_bad_input():
+    with pytest.raises(ValueError):
+        nsga.work_precision("pendulum")
+    with pytest.raises(ValueError, match="dt"):
+        nsga.work_precision("ball", dts=[1.0])
