@@ -411,6 +411,12 @@ fn blocks_simulate<'py>(
         if let Some(t) = summary.opening_time {
             timeline.push((t, event("opening", t)?));
         }
+        for e in &summary.events {
+            let kind = serde_json::to_value(e.kind).map_err(value_error)?;
+            let d = event(kind.as_str().unwrap_or("event"), e.t)?;
+            d.set_item("block", e.block)?;
+            timeline.push((e.t, d));
+        }
         if let Some(e) = &summary.error {
             let d = event("error", t_final)?;
             d.set_item("message", e.to_string())?;

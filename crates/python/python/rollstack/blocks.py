@@ -160,8 +160,12 @@ class Result:
     ``events`` is a list of dicts in time order, each with ``kind`` and ``t``:
     ``"branch_point"`` (with ``candidates`` and ``distinct``: a step resolved by
     fixed-set re-solves), ``"failure"`` (a block first loses its support, §4.4),
-    ``"opening"`` (an interface first opens completely) and ``"error"`` (with
-    ``message``: the step the solver could not resolve).
+    ``"opening"`` (an interface first opens completely), the failure events of
+    ``rollstack blocks run`` with the block (1-based) in ``block`` — ``"support_lost"``,
+    ``"tipped"`` (past its tipping angle atan(w/h)), ``"touched_floor"`` (a landing),
+    ``"height_dropped"`` (the column's height fell by a block; ``block`` None) — and
+    ``"error"`` (with ``message``: the step the solver could not resolve). The deepest
+    overlap between two bodies is ``report["max_penetration"]``.
 
     ``report`` is the dict ``rollstack blocks run --json`` prints (without ``files``
     and ``notes``); ``error`` is its error message or None. :meth:`to_dataframe` gives
