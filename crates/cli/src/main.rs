@@ -8,7 +8,10 @@ fn main() -> std::process::ExitCode {
         Err(err) => {
             // One clear line: the error and its causes, joined.
             eprintln!("error: {err:#}");
-            std::process::ExitCode::FAILURE
+            // A sweep whose rows failed has written its files; a distinct status lets a
+            // job array tell it from a sweep that could not run at all.
+            let rows_failed = err.is::<shards::RowsFailed>();
+            std::process::ExitCode::from(if rows_failed { 3 } else { 1 })
         }
     }
 }

@@ -36,7 +36,7 @@
 //!     Manifest::new(&id, vec![], shard, values.len(), rows, "rows.csv", &dir)?.write(&dir)?;
 //!     dirs.push(dir);
 //! }
-//! let joined = merge(&dirs)?;
+//! let joined = merge(&dirs, "1.0.0")?;
 //! assert_eq!(joined.rows.len(), 6);
 //! assert_eq!(joined.rows[&4]["square"], json!(16.0));
 //! # std::fs::remove_dir_all(&root)?;
@@ -52,12 +52,24 @@ pub mod slurm;
 mod temps;
 
 pub use checksum::checksum;
-pub use manifest::{merge, Manifest, Merged, SweepId, MANIFEST_FILE};
-pub use rowlog::{is_failed, RowLog, ROW_LOG_FILE};
+pub use manifest::{merge, Manifest, Merged, Run, SweepId, MANIFEST_FILE};
+pub use rowlog::{is_failed, resume_rows, Record, RowLog, ROW_LOG_FILE};
 pub use shard::{Shard, ShardChoice};
 pub use temps::remove_stale_temps;
 
 use std::path::PathBuf;
+
+/// Some rows of a sweep failed (their `error` is set). A sweep writes its files first
+/// and then ends with this error, which the command line turns into a distinct exit
+/// status, so that a job array can tell a shard with failed rows from a good one.
+#[derive(Debug, thiserror::Error)]
+#[error("{failed} of {rows} rows failed (their error column says why)")]
+pub struct RowsFailed {
+    /// Rows whose `error` is set.
+    pub failed: usize,
+    /// Rows of this run.
+    pub rows: usize,
+}
 
 /// Why a shard, a row log or a merge was refused. Each message names the file or the
 /// rows at fault, so that a user can tell which shard to rerun.

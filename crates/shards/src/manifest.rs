@@ -156,6 +156,46 @@ fn rows_summary(
     Ok((checksum(text.as_bytes()), failed))
 }
 
+/// One run of a sweep: which sweep, which shard of it, and how many rows the whole
+/// sweep has; it selects the shard's points, resumes their rows, and writes the manifest.
+#[derive(Debug, Clone)]
+pub struct Run {
+    /// The sweep.
+    pub id: SweepId,
+    /// The shard this run computes.
+    pub shard: Shard,
+    /// Rows of the whole sweep.
+    pub total: usize,
+}
+
+impl Run {
+    /// The (global index, value) pairs of `all` this run's shard computes.
+    #[must_use]
+    pub fn select<T: Clone>(&self, all: &[T]) -> Vec<(usize, T)> {
+        self.shard.select(all)
+    }
+
+    /// The number of failed `rows` (this shard's, in order); with an output directory,
+    /// writes its manifest there, for the CSV `csv` already written. `argv` is the
+    /// command line, without the program name.
+    ///
+    /// # Errors
+    /// An unreadable CSV or row log, or an unwritable manifest.
+    pub fn finish(
+        &self,
+        out: Option<&Path>,
+        argv: Vec<String>,
+        csv: &str,
+        rows: &[Value],
+    ) -> Result<usize, ShardError> {
+        if let Some(dir) = out {
+            let range = self.shard.range(self.total);
+            Manifest::new(&self.id, argv, self.shard, self.total, range, csv, dir)?.write(dir)?;
+        }
+        Ok(rows.iter().filter(|v| is_failed(v)).count())
+    }
+}
+
 /// Shards joined by [`merge`].
 #[derive(Debug, Clone)]
 pub struct Merged {
@@ -170,13 +210,14 @@ pub struct Merged {
 }
 
 /// Checks the shards in `dirs` (in any order) against each other and joins their rows:
-/// every manifest names the same sweep and version, every row of the sweep is in exactly
-/// one shard, and each shard's CSV and rows match the checksums of its manifest.
+/// every manifest names the same sweep and the version `version` (the merging program's:
+/// it rewrites the outputs with its own code), every row of the sweep is in exactly one
+/// shard, and each shard's CSV and rows match the checksums of its manifest.
 ///
 /// # Errors
-/// A missing or damaged manifest, CSV or row log; shards of different sweeps or
-/// versions; rows in no shard or in two (named by index and directory).
-pub fn merge(dirs: &[PathBuf]) -> Result<Merged, ShardError> {
+/// A missing or damaged manifest, CSV or row log; shards of different sweeps or of
+/// another version; rows in no shard or in two (named by index and directory).
+pub fn merge(dirs: &[PathBuf], version: &str) -> Result<Merged, ShardError> {
     let first_dir = dirs
         .first()
         .ok_or_else(|| ShardError::Merge("no shard directories given".into()))?;
@@ -193,6 +234,13 @@ pub fn merge(dirs: &[PathBuf]) -> Result<Merged, ShardError> {
                 dir.display()
             )));
         }
+    }
+    if first.sweep.version != version {
+        return Err(ShardError::Merge(format!(
+            "{} holds rows of rollstack {}; this is rollstack {version}",
+            first_dir.display(),
+            first.sweep.version
+        )));
     }
     check_coverage(dirs, &manifests)?;
     let mut rows = BTreeMap::new();
@@ -378,7 +426,7 @@ mod tests {
     fn shards_in_any_order_join_and_count_their_failures() {
         let r = root("ok");
         let d = shards(&r, &json!({"x": 1}), &[(3, 3), (1, 3), (2, 3)]);
-        let m = merge(&d).unwrap();
+        let m = merge(&d, "1").unwrap();
         assert_eq!(
             m.rows.keys().copied().collect::<Vec<_>>(),
             (0..6).collect::<Vec<_>>()
@@ -392,9 +440,9 @@ mod tests {
         let r = root("bad");
         let inputs = json!({"x": 1});
         let d = shards(&r, &inputs, &[(1, 3), (2, 3), (3, 3), (2, 2)]);
-        let err = merge(&d[..2]).unwrap_err().to_string();
+        let err = merge(&d[..2], "1").unwrap_err().to_string();
         assert!(err.contains("rows 4-5 in no shard"), "{err}");
-        let err = merge(&[d[0].clone(), d[1].clone(), d[3].clone()])
+        let err = merge(&[d[0].clone(), d[1].clone(), d[3].clone()], "1")
             .unwrap_err()
             .to_string();
         assert!(
@@ -402,12 +450,12 @@ mod tests {
             "{err}"
         );
         let other = shards(&r, &json!({"x": 2}), &[(3, 3)]);
-        let err = merge(&[d[0].clone(), d[1].clone(), other[0].clone()])
+        let err = merge(&[d[0].clone(), d[1].clone(), other[0].clone()], "1")
             .unwrap_err()
             .to_string();
         assert!(err.contains("inputs differ: x = 1 against 2"), "{err}");
         std::fs::write(d[2].join("t.csv"), "3/3 changed\n").unwrap();
-        let err = merge(&d[..3]).unwrap_err().to_string();
+        let err = merge(&d[..3], "1").unwrap_err().to_string();
         assert!(err.contains("t.csv") && err.contains("checksum"), "{err}");
         std::fs::remove_dir_all(&r).unwrap();
     }

@@ -9,6 +9,7 @@
 
 use crate::checksum::fnv1a64;
 use crate::{ShardError, SweepId};
+use serde::{de::DeserializeOwned, Serialize};
 use serde_json::Value;
 use std::collections::BTreeMap;
 use std::fs::{File, OpenOptions};
@@ -155,6 +156,61 @@ impl RowLog {
         std::fs::write(&tmp, text).map_err(|e| ShardError::io(&tmp, e))?;
         std::fs::rename(&tmp, &path).map_err(|e| ShardError::io(&path, e))
     }
+}
+
+/// Records a finished row in the log: given to the computation by [`resume_rows`].
+pub type Record<'a, R> = dyn Fn(usize, &R) -> Result<(), ShardError> + Sync + 'a;
+
+/// The rows of `points` (global index, point) in order, resumed: with an output
+/// directory `out`, the rows its log already holds (from a killed run of the same sweep)
+/// are read back, and `compute` is given only the lacking points and a [`Record`] to
+/// call as each row finishes, so that a run killed later loses only its unfinished rows.
+/// `compute` returns the rows of the points it was given, in their order. `complete`
+/// says every row must be in the log (a merge): a lacking row is then an error, never a
+/// silent recomputation.
+///
+/// # Errors
+/// An unusable log, a row that does not read back, or a lacking row when `complete`.
+pub fn resume_rows<P, R, C>(
+    out: Option<&Path>,
+    id: &SweepId,
+    complete: bool,
+    points: &[(usize, P)],
+    compute: C,
+) -> Result<Vec<R>, ShardError>
+where
+    R: Serialize + DeserializeOwned,
+    C: FnOnce(&[&(usize, P)], &Record<'_, R>) -> Vec<Result<R, ShardError>>,
+{
+    let log = out.map(|dir| RowLog::open(dir, id)).transpose()?;
+    let done = |i: &usize| log.as_ref().and_then(|l| l.rows().get(i));
+    let lacking: Vec<&(usize, P)> = points.iter().filter(|(i, _)| done(i).is_none()).collect();
+    if complete && !lacking.is_empty() {
+        return Err(ShardError::Merge(format!(
+            "the command line of the manifests does not reproduce the merged sweep \
+             ({} rows lacking)",
+            lacking.len()
+        )));
+    }
+    let record = |i: usize, row: &R| match &log {
+        Some(log) => {
+            let value = serde_json::to_value(row)
+                .map_err(|e| ShardError::corrupt(log.path(), e.to_string()))?;
+            log.append(i, &value)
+        }
+        None => Ok(()),
+    };
+    let mut computed = compute(&lacking, &record).into_iter();
+    points
+        .iter()
+        .map(|(i, _)| match (done(i), &log) {
+            (Some(v), Some(log)) => serde_json::from_value(v.clone())
+                .map_err(|e| ShardError::corrupt(log.path(), format!("row {i}: {e}"))),
+            _ => computed
+                .next()
+                .unwrap_or_else(|| Err(ShardError::Merge(format!("row {i} was not computed")))),
+        })
+        .collect()
 }
 
 fn header(id: &SweepId) -> String {

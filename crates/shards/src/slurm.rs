@@ -6,8 +6,10 @@
 //! ([`estimate`]): a request too small gets the task killed, one too large waits longer
 //! in the queue, so the estimate is generous but bounded.
 
+use crate::{Manifest, ShardError};
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
+use std::time::{Duration, Instant};
 
 /// What a calibration run of a few rows measured.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -62,6 +64,74 @@ pub fn peak_memory_of(pid: u32) -> Option<u64> {
     Some(kib * 1024)
 }
 
+/// Runs the last row of the sweep `sweep` alone (`binary SWEEP --shard N/N --out dir`
+/// with N ten million, which leaves one row to the last shard of any sweep this size or
+/// smaller), timing it and watching its memory, and reads the sweep's size from the
+/// manifest it writes. A run whose row failed (status 3) still measured its cost.
+///
+/// # Errors
+/// A run that cannot start or fails otherwise (with its stderr), or no manifest.
+pub fn calibrate(binary: &Path, sweep: &[String], dir: &Path) -> Result<Calibration, ShardError> {
+    let start = Instant::now();
+    let mut child = std::process::Command::new(binary)
+        .args(sweep)
+        .args(["--shard", "10000000/10000000", "--out"])
+        .arg(dir)
+        .stdout(std::process::Stdio::null())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .map_err(|e| ShardError::io(binary, e))?;
+    let mut peak = None;
+    let status = loop {
+        peak = peak_memory_of(child.id()).or(peak);
+        if let Some(status) = child.try_wait().map_err(|e| ShardError::io(binary, e))? {
+            break status;
+        }
+        std::thread::sleep(Duration::from_millis(20));
+    };
+    let seconds = start.elapsed().as_secs_f64();
+    if !(status.success() || status.code() == Some(3)) {
+        let mut err = String::new();
+        if let Some(mut e) = child.stderr.take() {
+            let _ = std::io::Read::read_to_string(&mut e, &mut err);
+        }
+        return Err(ShardError::Shard(format!(
+            "the calibration run failed: {}",
+            err.trim()
+        )));
+    }
+    let m = Manifest::read(dir)?;
+    Ok(Calibration {
+        total_rows: m.total_rows,
+        rows: m.rows.len(),
+        seconds,
+        peak_memory_bytes: peak,
+    })
+}
+
+/// What a user asks `rollstack slurm` for.
+#[derive(Debug, Clone)]
+pub struct Request {
+    /// The sweep's short name (`frequency`), for the job names.
+    pub name: String,
+    /// Tasks of the job array.
+    pub tasks: usize,
+    /// Cores per task.
+    pub cpus_per_task: usize,
+    /// `--time` of each task, minutes, instead of the estimate.
+    pub minutes: Option<u64>,
+    /// `--mem` of each task and of the merge, MiB, instead of the estimate.
+    pub mem_mib: Option<u64>,
+    /// `--partition`, if any.
+    pub partition: Option<String>,
+    /// The sweep's arguments, with its `--out`.
+    pub sweep: Vec<String>,
+    /// The rollstack binary.
+    pub binary: PathBuf,
+    /// The directory the jobs run in.
+    pub workdir: PathBuf,
+}
+
 /// A sweep to run as a job array.
 #[derive(Debug, Clone)]
 pub struct Job {
@@ -89,6 +159,88 @@ pub struct Job {
 }
 
 impl Job {
+    /// The job for `r`: the sweep's `--out` taken out ([`split_out`]) and made absolute,
+    /// and, unless both `--time` and `--mem` are given, a calibration run in
+    /// `OUT/calibration` ([`calibrate`]) for the [`estimate`].
+    ///
+    /// # Errors
+    /// Bad counts, a sweep without `--out` or with `--shard`, or a failed calibration.
+    pub fn plan(r: Request) -> Result<(Self, Option<Calibration>), ShardError> {
+        if r.tasks == 0 || r.cpus_per_task == 0 {
+            return Err(ShardError::Shard(
+                "--tasks and --cpus-per-task must be at least 1".into(),
+            ));
+        }
+        let (sweep, out) = split_out(&r.sweep).map_err(ShardError::Shard)?;
+        let out = r.workdir.join(out);
+        let (calibration, task) = match (r.minutes, r.mem_mib) {
+            (Some(minutes), Some(mem_mib)) => (None, Resources { minutes, mem_mib }),
+            _ => {
+                let c = calibrate(&r.binary, &sweep, &out.join("calibration"))?;
+                let e = estimate(&c, r.tasks, r.cpus_per_task);
+                let minutes = r.minutes.unwrap_or(e.minutes);
+                (
+                    Some(c),
+                    Resources {
+                        minutes,
+                        mem_mib: r.mem_mib.unwrap_or(e.mem_mib),
+                    },
+                )
+            }
+        };
+        let job = Self {
+            name: format!("rollstack-{}", r.name),
+            tasks: r.tasks,
+            cpus_per_task: r.cpus_per_task,
+            task,
+            merge: Resources {
+                minutes: 10,
+                mem_mib: task.mem_mib,
+            },
+            partition: r.partition,
+            binary: r.binary,
+            workdir: r.workdir,
+            sweep,
+            out,
+        };
+        Ok((job, calibration))
+    }
+
+    /// What `rollstack slurm` prints once the scripts are written: the calibration, the
+    /// requests, and how to submit.
+    #[must_use]
+    pub fn summary(&self, calibration: Option<&Calibration>, submit: &Path) -> String {
+        let mut s = String::new();
+        if let Some(c) = calibration {
+            let peak = c
+                .peak_memory_bytes
+                .map_or("unknown".into(), |b| format!("{} MiB", b >> 20));
+            let _ = writeln!(
+                s,
+                "calibration: {} of {} rows in {:.2} s, peak memory {peak}",
+                c.rows, c.total_rows, c.seconds
+            );
+        }
+        let _ = writeln!(
+            s,
+            "each of {} tasks: --time={} --mem={}M, {} rows at most\n\
+             wrote shards.sbatch, merge.sbatch and submit.sh into {}\n\
+             submit with: bash {}\n\
+             the merged sweep will be in {}",
+            self.tasks,
+            self.task.minutes,
+            self.task.mem_mib,
+            calibration.map_or("?".into(), |c| c
+                .total_rows
+                .div_ceil(self.tasks)
+                .to_string()),
+            self.script_dir().display(),
+            quote_path(submit),
+            self.out.display()
+        );
+        s
+    }
+
     /// The output directory of array task `id`.
     #[must_use]
     pub fn task_dir(&self, id: &str) -> PathBuf {
@@ -168,6 +320,28 @@ impl Job {
         s
     }
 
+    /// Writes `shards.sbatch`, `merge.sbatch` and `submit.sh` into [`Self::script_dir`]
+    /// (with a `logs` directory for the jobs' output) and returns the path of
+    /// `submit.sh`.
+    ///
+    /// # Errors
+    /// An unwritable directory.
+    pub fn write(&self) -> Result<PathBuf, ShardError> {
+        let dir = self.script_dir();
+        let logs = dir.join("logs");
+        std::fs::create_dir_all(&logs).map_err(|e| ShardError::io(&logs, e))?;
+        let files = [
+            ("shards.sbatch", self.shard_script()),
+            ("merge.sbatch", self.merge_script()),
+            ("submit.sh", self.submit_script()),
+        ];
+        for (name, text) in files {
+            let path = dir.join(name);
+            std::fs::write(&path, text).map_err(|e| ShardError::io(&path, e))?;
+        }
+        Ok(dir.join("submit.sh"))
+    }
+
     /// `submit.sh`: submits the array, then the merge job with `afterok` on it, and
     /// prints both job ids.
     #[must_use]
@@ -189,6 +363,33 @@ impl Job {
             self.out.display(),
         )
     }
+}
+
+/// A sweep's arguments for a job array: `argv` without its `--out DIR` (or
+/// `--out=DIR`), and DIR. The array gives each task its own `--shard` and `--out`, so a
+/// sweep that names its shard, or prints JSON nobody reads, is refused.
+///
+/// # Errors
+/// No `--out`, or a `--shard` or `--json`.
+pub fn split_out(argv: &[String]) -> Result<(Vec<String>, String), String> {
+    let mut rest = Vec::new();
+    let mut out = None;
+    let mut args = argv.iter();
+    while let Some(a) = args.next() {
+        if a == "--out" {
+            out = args.next().cloned();
+        } else if let Some(dir) = a.strip_prefix("--out=") {
+            out = Some(dir.to_owned());
+        } else if a == "--shard" || a.starts_with("--shard=") || a == "--json" {
+            return Err(format!(
+                "the sweep must not have {a}: each task of the array gets its own shard"
+            ));
+        } else {
+            rest.push(a.clone());
+        }
+    }
+    let out = out.ok_or("the sweep needs --out DIR: the merged sweep is written there")?;
+    Ok((rest, out))
 }
 
 /// `text` quoted for a POSIX shell (single quotes, a quote inside as `'\''`), left bare
@@ -238,6 +439,18 @@ mod tests {
             ..c
         };
         assert_eq!(estimate(&unknown, 100, 1).mem_mib, 1024);
+    }
+
+    #[test]
+    fn the_output_directory_is_taken_out_of_the_sweep() {
+        let argv = |s: &str| s.split(' ').map(str::to_owned).collect::<Vec<_>>();
+        let (rest, out) = split_out(&argv("blocks sweep frequency --out f --omega 2")).unwrap();
+        assert_eq!(
+            (rest.join(" ").as_str(), out.as_str()),
+            ("blocks sweep frequency --omega 2", "f")
+        );
+        assert!(split_out(&argv("blocks sweep slide --v0 1")).is_err());
+        assert!(split_out(&argv("blocks sweep slide --out=x --shard 1/2")).is_err());
     }
 
     #[test]
