@@ -43,7 +43,7 @@ stop_daemons() {
         for _ in $(seq 50); do kill -0 "$pid" 2>/dev/null || break; sleep 0.1; done
     done
 }
-trap stop_daemons EXIT
+trap 'stop_daemons; echo "slurm-test: the daemons are stopped; their state and logs are in $WORK" >&2' EXIT
 
 echo "== starting munged, slurmctld and slurmd (state in $WORK)"
 mkdir -p "$WORK/munge" "$WORK/spool/ctld" "$WORK/spool/d" "$WORK/log" "$WORK/run"
@@ -141,4 +141,6 @@ PY
 cmp "$WORK/single/sweep_frequency.png" "$WORK/freq/sweep_frequency.png"
 echo "slurm-test: OK: 4 array tasks and a merge job, 8 rows; the merged CSV and plot equal a single run's"
 awk -v a="$T0" -v b="$T1" 'BEGIN { printf "slurm-test: round trip (rollstack slurm, calibration, submission, 4 tasks, merge) %.1f s\n", b - a }'
+stop_daemons
+trap - EXIT
 rm -rf "$WORK"

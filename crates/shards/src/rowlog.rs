@@ -1,11 +1,13 @@
 //! The row log: the finished rows of a sweep, appended one line each as they finish, in
 //! `rows.log` of the output directory. A run killed at any moment leaves at most its
-//! last line half-written; that line has no newline (or a checksum that does not match),
-//! is dropped when the log is opened again, and its row is computed again.
+//! last line half-written, without its newline; that line is dropped when the log is
+//! opened again, and its row is computed again. A complete line that does not match its
+//! checksum is damage (a disk, an edit), and an error rather than a row.
 //!
 //! Format: a header line `rollstack-rows 1 CHECKSUM SWEEP-JSON`, then one line per row,
-//! `INDEX CHECKSUM ROW-JSON`, where CHECKSUM is [`fnv1a64`] of the text after it (header)
-//! or of `INDEX ROW-JSON` (row), in 16 hex digits.
+//! `INDEX CHECKSUM ROW-JSON`, where CHECKSUM is FNV-1a over 64 bits
+//! ([`checksum`](crate::checksum)) of the text after it (header) or of `INDEX ROW-JSON`
+//! (row), in 16 hex digits.
 
 use crate::checksum::fnv1a64;
 use crate::{ShardError, SweepId};
