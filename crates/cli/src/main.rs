@@ -8,10 +8,8 @@ fn main() -> std::process::ExitCode {
         Err(err) => {
             // One clear line: the error and its causes, joined.
             eprintln!("error: {err:#}");
-            // A sweep whose rows failed has written its files; a distinct status lets a
-            // job array tell it from a sweep that could not run at all.
-            let rows_failed = err.is::<shards::RowsFailed>();
-            std::process::ExitCode::from(if rows_failed { 3 } else { 1 })
+            // Failed rows (files written): a status a job array tells from a failed run.
+            std::process::ExitCode::from(if err.is::<shards::RowsFailed>() { 3 } else { 1 })
         }
     }
 }

@@ -17,8 +17,7 @@ use std::path::Path;
 pub fn ensure_dir(dir: &Path) -> Result<()> {
     fs::create_dir_all(dir)
         .with_context(|| format!("cannot create directory {}", dir.display()))?;
-    shards::remove_stale_temps(dir)?;
-    Ok(())
+    Ok(shards::remove_stale_temps(dir).map(drop)?)
 }
 
 pub use figures::file::temp_sibling;

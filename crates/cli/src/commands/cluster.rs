@@ -3,7 +3,7 @@
 //! this module parses, runs the sweep's own code over the merged rows, and prints.
 
 use crate::commands::blocks::sweep::{SweepCommand, SweepOutputArgs};
-use crate::commands::blocks::BlocksCommand;
+use crate::commands::blocks::{BlocksArgs, BlocksCommand};
 use crate::{Cli, Command};
 use anyhow::{Context, Result};
 use clap::{Args, Parser};
@@ -51,12 +51,11 @@ pub struct SlurmArgs {
 /// A sweep command line (without the program name), parsed, and the sweep's name.
 fn parse_sweep(argv: &[String]) -> Result<(Cli, &'static str)> {
     let line = argv.join(" ");
-    let mut cli = Cli::try_parse_from(
-        ["rollstack"]
-            .into_iter()
-            .chain(argv.iter().map(String::as_str)),
-    )
-    .map_err(|e| anyhow::anyhow!("`{line}` is not a sweep command line: {}", e.kind()))?;
+    let words = ["rollstack"]
+        .into_iter()
+        .chain(argv.iter().map(String::as_str));
+    let mut cli = Cli::try_parse_from(words)
+        .map_err(|e| anyhow::anyhow!("`{line}` is not a sweep command line: {}", e.kind()))?;
     let name = sweep_output(&mut cli.command).map(|(name, _)| name);
     let name = name.with_context(|| format!("`{line}` is not a blocks sweep"))?;
     Ok((cli, name))
@@ -64,10 +63,10 @@ fn parse_sweep(argv: &[String]) -> Result<(Cli, &'static str)> {
 
 /// The name and output options of a parsed sweep, or `None` for another command.
 fn sweep_output(command: &mut Command) -> Option<(&'static str, &mut SweepOutputArgs)> {
-    let Command::Blocks(b) = command else {
-        return None;
-    };
-    let BlocksCommand::Sweep(sweep) = &mut b.command else {
+    let Command::Blocks(BlocksArgs {
+        command: BlocksCommand::Sweep(sweep),
+    }) = command
+    else {
         return None;
     };
     Some(match sweep {

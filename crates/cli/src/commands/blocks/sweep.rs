@@ -121,6 +121,61 @@ impl<'a> SweepRun<'a> {
         })?;
         Ok(rows)
     }
+
+    /// What every sweep does once its rows are written: `run.json` (inputs, version,
+    /// timings, `failed_rows` and the keys of `extra`) and `manifest.json` when there is
+    /// an output directory, then either `{"rows": [...]}` (with the same keys) on stdout
+    /// or one line per row, the notes and the files written.
+    ///
+    /// # Errors
+    /// An unwritable directory; [`RowsFailed`] when a row failed, after everything.
+    pub fn finish<R: Serialize>(
+        &self,
+        files: &[&str],
+        mut extra: serde_json::Map<String, serde_json::Value>,
+        rows: &[R],
+        solver_seconds: f64,
+        line: impl Fn(&R) -> String,
+    ) -> Result<()> {
+        let values: Vec<_> = rows
+            .iter()
+            .map(serde_json::to_value)
+            .collect::<Result<_, _>>()?;
+        let mut argv = self.output.argv.clone();
+        argv.is_empty()
+            .then(|| argv.extend(std::env::args().skip(1)));
+        let out = self.output.out.as_deref();
+        let csv = files.first().copied().unwrap_or_default();
+        let failed = self.run.finish(out, argv, csv, &values)?;
+        extra.insert("failed_rows".into(), failed.into());
+        let mut inputs = self.run.id.inputs.clone();
+        inputs["shard"] = self.run.shard.to_string().into();
+        if let Some(dir) = out {
+            let timings = serde_json::json!({
+                "total_s": self.start.elapsed().as_secs_f64(),
+                "solver_s": solver_seconds,
+            });
+            write_run_json_with(dir, &self.run.id.command, &inputs, &timings, &extra)?;
+        }
+        if self.output.json {
+            let mut object = serde_json::Map::from_iter([("rows".into(), values.into())]);
+            object.extend(extra);
+            print_json(&object)?;
+        } else {
+            rows.iter().for_each(|r| println!("{}", line(r)));
+            let notes = extra.get("notes").and_then(serde_json::Value::as_array);
+            for n in notes.into_iter().flatten().filter_map(|n| n.as_str()) {
+                println!("note: {n}");
+            }
+            if let Some(dir) = &self.output.out {
+                let (files, dir) = (files.join(", "), dir.display());
+                println!("wrote {files}, run.json and manifest.json into {dir}");
+            }
+        }
+        let rows = rows.len();
+        anyhow::ensure!(failed == 0, RowsFailed { failed, rows });
+        Ok(())
+    }
 }
 
 /// Arguments of `rollstack blocks sweep frequency`.
@@ -246,63 +301,6 @@ pub fn sweep_frequency(args: &FrequencyArgs) -> Result<()> {
         rows.iter().map(|r| r.wall_time_s).sum(),
         ToString::to_string,
     )
-}
-
-impl SweepRun<'_> {
-    /// What every sweep does once its rows are written: `run.json` (inputs, version,
-    /// timings, `failed_rows` and the keys of `extra`) and `manifest.json` when there is
-    /// an output directory, then either `{"rows": [...]}` (with the same keys) on stdout
-    /// or one line per row, the notes and the files written.
-    ///
-    /// # Errors
-    /// An unwritable directory; [`RowsFailed`] when a row failed, after everything.
-    pub fn finish<R: Serialize>(
-        &self,
-        files: &[&str],
-        mut extra: serde_json::Map<String, serde_json::Value>,
-        rows: &[R],
-        solver_seconds: f64,
-        line: impl Fn(&R) -> String,
-    ) -> Result<()> {
-        let values: Vec<_> = rows
-            .iter()
-            .map(serde_json::to_value)
-            .collect::<Result<_, _>>()?;
-        let mut argv = self.output.argv.clone();
-        argv.is_empty()
-            .then(|| argv.extend(std::env::args().skip(1)));
-        let out = self.output.out.as_deref();
-        let csv = files.first().copied().unwrap_or_default();
-        let failed = self.run.finish(out, argv, csv, &values)?;
-        extra.insert("failed_rows".into(), failed.into());
-        let mut inputs = self.run.id.inputs.clone();
-        inputs["shard"] = self.run.shard.to_string().into();
-        if let Some(dir) = out {
-            let timings = serde_json::json!({
-                "total_s": self.start.elapsed().as_secs_f64(),
-                "solver_s": solver_seconds,
-            });
-            write_run_json_with(dir, &self.run.id.command, &inputs, &timings, &extra)?;
-        }
-        if self.output.json {
-            let mut object = serde_json::Map::from_iter([("rows".into(), values.into())]);
-            object.extend(extra);
-            print_json(&object)?;
-        } else {
-            rows.iter().for_each(|r| println!("{}", line(r)));
-            let notes = extra.get("notes").and_then(serde_json::Value::as_array);
-            for n in notes.into_iter().flatten().filter_map(|n| n.as_str()) {
-                println!("note: {n}");
-            }
-            if let Some(dir) = &self.output.out {
-                let (files, dir) = (files.join(", "), dir.display());
-                println!("wrote {files}, run.json and manifest.json into {dir}");
-            }
-        }
-        let rows = rows.len();
-        anyhow::ensure!(failed == 0, RowsFailed { failed, rows });
-        Ok(())
-    }
 }
 
 /// Runs `rollstack blocks sweep slide`.
