@@ -28,6 +28,8 @@ pub const EXAMPLES: &[&str] = &[
     "rollstack cylinder holonomy circle --ell 2 --theta 0.4 --h 1 --r 0.3 --json",
     "rollstack cylinder frobenius --system pair9 --config touching",
     "rollstack tour --out tour --only sphere,cylinder",
+    "rollstack merge freq-1 freq-2 --out freq",
+    "rollstack slurm --tasks 8 blocks sweep frequency --omega 2:20:0.25 --out freq",
 ];
 
 /// The example of the leaf command at `path` (`blocks sweep scene`).

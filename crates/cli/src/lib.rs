@@ -57,6 +57,10 @@ pub enum Command {
     Cylinder(commands::cylinder::CylinderArgs),
     /// The main job: headline results of every system, as CSV, PNG and index.html.
     Tour(tour::TourArgs),
+    /// Join the shards of a sweep (`--shard K/N` runs) into what one run writes.
+    Merge(commands::cluster::MergeArgs),
+    /// Write Slurm batch scripts that run a sweep as a job array and merge it.
+    Slurm(commands::cluster::SlurmArgs),
 }
 
 /// Runs a parsed command line.
@@ -71,5 +75,7 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
         Command::Blocks(args) => commands::blocks::run(&args),
         Command::Cylinder(args) => commands::cylinder::run(&args),
         Command::Tour(args) => tour::run(&args),
+        Command::Merge(args) => commands::cluster::merge(&args),
+        Command::Slurm(args) => commands::cluster::slurm(&args),
     }
 }

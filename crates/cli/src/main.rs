@@ -8,7 +8,8 @@ fn main() -> std::process::ExitCode {
         Err(err) => {
             // One clear line: the error and its causes, joined.
             eprintln!("error: {err:#}");
-            std::process::ExitCode::FAILURE
+            // Failed rows (files written): a status a job array tells from a failed run.
+            std::process::ExitCode::from(if err.is::<shards::RowsFailed>() { 3 } else { 1 })
         }
     }
 }

@@ -9,12 +9,15 @@ use std::fs;
 use std::io::Write;
 use std::path::Path;
 
-/// Creates `dir` (and parents) if needed.
+/// Creates `dir` (and parents) if needed, and removes the temporary files a killed
+/// earlier run left there ([`shards::remove_stale_temps`]: a trajectory can be 500 MB).
 ///
 /// # Errors
-/// When the directory cannot be created.
+/// When the directory cannot be created or cleaned.
 pub fn ensure_dir(dir: &Path) -> Result<()> {
-    fs::create_dir_all(dir).with_context(|| format!("cannot create directory {}", dir.display()))
+    fs::create_dir_all(dir)
+        .with_context(|| format!("cannot create directory {}", dir.display()))?;
+    Ok(shards::remove_stale_temps(dir).map(drop)?)
 }
 
 pub use figures::file::temp_sibling;

@@ -441,7 +441,7 @@ fn runs() -> Vec<Run> {
         env!("CARGO_MANIFEST_DIR"),
         "/../blockstack/scenes/shaking.toml"
     );
-    vec![
+    let mut runs = vec![
         run(
             "rotation",
             &["--from", "axis-angle", "--values", "0,0,1,90deg", "--json"],
@@ -619,7 +619,37 @@ fn runs() -> Vec<Run> {
             true,
         ),
         run("tour", &["--only", "rotations,nsga"], true),
-    ]
+        run(
+            "slurm",
+            &[
+                "--tasks",
+                "2",
+                "--time",
+                "5",
+                "--mem",
+                "100",
+                "blocks",
+                "sweep",
+                "frequency",
+                "--omega",
+                "10",
+                "--periods",
+                "0.2",
+                "--blocks",
+                "1",
+            ],
+            true,
+        ),
+    ];
+    // `merge` joins the output of the frequency sweep's run above (its directory is
+    // named by its place in this list, as in `documented_outputs_match_the_program`).
+    let sweep = runs
+        .iter()
+        .position(|r| r.section == "blocks sweep frequency" && r.out)
+        .expect("a frequency sweep with --out");
+    let shard = common::temp_dir(&format!("cli-doc-{sweep}"));
+    runs.push(run("merge", &[shard.to_str().unwrap(), "--json"], true));
+    runs
 }
 
 /// The keys of a JSON value: an object's, or those of the objects in an array.
@@ -767,7 +797,12 @@ fn documented_outputs_match_the_program() {
                 if f == "run.json" {
                     let v: Value =
                         serde_json::from_str(&std::fs::read_to_string(&path).unwrap()).unwrap();
-                    if v["command"] != r.section {
+                    // `merge` writes what one run of the merged sweep writes.
+                    let command = match r.section {
+                        "merge" => "blocks sweep frequency",
+                        section => section,
+                    };
+                    if v["command"] != command {
                         failures.push(format!(
                             "`rollstack {}`: run.json says command {}",
                             r.section, v["command"]

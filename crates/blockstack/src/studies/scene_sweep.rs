@@ -46,7 +46,7 @@ use crate::record::{finite_text, optional_text};
 use crate::scene_file::{LoadedScene, SceneFile};
 use crate::simulation::{simulate, BlockPose, RunOptions};
 use crate::studies::shaking::one_line;
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 use std::fmt;
 use std::str::FromStr;
 
@@ -115,7 +115,7 @@ impl FromStr for Override {
 }
 
 /// One key set to one value: a coordinate of a sweep's point.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct SetValue {
     /// The dotted scene key.
     pub key: String,
@@ -470,7 +470,7 @@ pub fn cartesian_product(overrides: &[Override]) -> Vec<Vec<SetValue>> {
 }
 
 /// One run of a scene sweep: the values set, then what the run did.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct SceneRow {
     /// The keys set and their values, in the order of the sweep's keys.
     pub set: Vec<SetValue>,

@@ -5,7 +5,7 @@ use crate::scenarios::{shaking_column, Shaking};
 use crate::simulation::{simulate, RunOptions};
 
 /// One run of the frequency sweep (one point of Figure 4.6).
-#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct FrequencyRow {
     /// ω.
     pub omega: f64,

@@ -8,7 +8,7 @@ use crate::simulation::{simulate, RunOptions};
 use crate::studies::shaking::one_line;
 
 /// How the column on a pulled base ends (§4.5).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum SlideRegime {
     /// Small v0: the column rides along, upright, on the base.
@@ -66,7 +66,7 @@ pub fn slide_regime(scene: &Scene, last: &Frame) -> SlideRegime {
 }
 
 /// One run of the slide sweep (one point of Figure 4.7).
-#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct SlideRow {
     /// v0.
     pub v0: f64,

@@ -1,6 +1,7 @@
 //! One module per command family.
 
 pub mod blocks;
+pub mod cluster;
 pub mod cylinder;
 pub mod nsga;
 pub mod rotation;

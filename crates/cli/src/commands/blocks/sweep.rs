@@ -2,12 +2,13 @@
 //! value from `blockstack::studies`, run in parallel and written in input order. Every
 //! value is checked before any run: one the model refuses is an error of the command; a
 //! run the solver stops is the error of its row. And the
-//! plumbing every sweep shares ([`sweep_values`], [`finish_sweep`]), which
+//! plumbing every sweep shares ([`check_before_any_run`], [`SweepRun`]: shard, row log,
+//! manifest, outputs and exit status), which
 //! `sweep scene` ([`super::sweep_scene`]) uses too.
 
 use super::{run_cost, SolverArgs};
 use crate::output::{ensure_dir, print_json, write_csv, write_run_json_with};
-use crate::sweep::{par_map_ordered, Shard};
+use crate::sweep::{par_map_ordered, ShardChoice};
 use anyhow::{Context, Result};
 use blockstack::scenarios::{shaking_column, sliding_column, Shaking, Sliding};
 use blockstack::simulation::RunOptions;
@@ -18,7 +19,8 @@ use clap::{Args, Subcommand};
 use figures::blocks::{plot_frequency_sweep, plot_slide_sweep, FrequencySweep, SlideSweep};
 use input::text::parse_finite;
 use input::text::parse_values;
-use serde::Serialize;
+use serde::{de::DeserializeOwned, Serialize};
+use shards::{resume_rows, RowsFailed, Run, SweepId};
 use std::path::PathBuf;
 use std::time::Instant;
 
@@ -41,16 +43,139 @@ pub enum SweepCommand {
 #[derive(Debug, Clone, Args)]
 pub struct SweepOutputArgs {
     /// Run only part K of N of the values (a contiguous block, so the parts' CSV rows
-    /// concatenate in input order).
+    /// concatenate in input order), or `auto`: the task of a Slurm job array,
+    /// SLURM_ARRAY_TASK_ID of SLURM_ARRAY_TASK_COUNT. A K/N given here wins over the
+    /// job array's variables, which only `auto` reads.
     #[arg(long, default_value = "1/1")]
-    pub shard: Shard,
-    /// Directory for the CSV, the PNG and run.json (created if missing); without it,
-    /// nothing is written.
+    pub shard: ShardChoice,
+    /// Directory for the CSV, the PNG, run.json, manifest.json and the row log rows.log
+    /// (created if missing); the same command with the same `--out` resumes a killed
+    /// sweep, computing only the rows the log lacks. Without it, nothing is written.
     #[arg(long)]
     pub out: Option<PathBuf>,
     /// Also print the rows as one JSON object on stdout.
     #[arg(long)]
     pub json: bool,
+    /// The command line recorded in the manifest (set by `merge`; else this process's).
+    #[arg(skip)]
+    pub argv: Vec<String>,
+    /// Every row must come from the row log (set by `merge`).
+    #[arg(skip)]
+    pub complete: bool,
+}
+
+/// One sweep being run ([`shards::Run`]: the sweep, the shard of `--shard`, the size),
+/// with its output options.
+#[derive(Debug)]
+pub struct SweepRun<'a> {
+    name: &'static str,
+    output: &'a SweepOutputArgs,
+    /// The sweep and this run's shard of it.
+    pub run: Run,
+    start: Instant,
+}
+
+impl<'a> SweepRun<'a> {
+    /// The sweep `blocks sweep {name}` of `total` rows with `inputs` and the solver's.
+    ///
+    /// # Errors
+    /// `--shard auto` outside a job array.
+    pub fn new(
+        name: &'static str,
+        output: &'a SweepOutputArgs,
+        solver: &SolverArgs,
+        mut inputs: serde_json::Value,
+        total: usize,
+    ) -> Result<Self> {
+        inputs["prox_constant"] = serde_json::json!(solver.prox_constant);
+        inputs["explore_branches"] = solver.explore_branches.into();
+        inputs["last_resort"] = solver.last_resort.into();
+        let (command, version) = (format!("blocks sweep {name}"), env!("CARGO_PKG_VERSION"));
+        let id = SweepId::new(command, inputs, version);
+        let shard = output.shard.resolve(|v| std::env::var(v).ok())?;
+        let (run, start) = (Run { id, shard, total }, Instant::now());
+        Ok(Self {
+            name,
+            output,
+            run,
+            start,
+        })
+    }
+
+    /// The rows of `points` in order, in parallel, resumed from the row log of `--out`
+    /// ([`shards::resume_rows`]).
+    ///
+    /// # Errors
+    /// An unusable row log, or a lacking row in a merge.
+    pub fn rows<P: Sync, R: Serialize + DeserializeOwned + Send>(
+        &self,
+        points: &[(usize, P)],
+        f: impl Fn(&P) -> R + Sync + Send,
+    ) -> Result<Vec<R>> {
+        let (out, id) = (self.output.out.as_deref(), &self.run.id);
+        let rows = resume_rows(out, id, self.output.complete, points, |lacking, record| {
+            par_map_ordered(lacking, self.name, |(i, p)| {
+                let row = f(p);
+                record(*i, &row).map(|()| row)
+            })
+        })?;
+        Ok(rows)
+    }
+
+    /// What every sweep does once its rows are written: `run.json` (inputs, version,
+    /// timings, `failed_rows` and the keys of `extra`) and `manifest.json` when there is
+    /// an output directory, then either `{"rows": [...]}` (with the same keys) on stdout
+    /// or one line per row, the notes and the files written.
+    ///
+    /// # Errors
+    /// An unwritable directory; [`RowsFailed`] when a row failed, after everything.
+    pub fn finish<R: Serialize>(
+        &self,
+        files: &[&str],
+        mut extra: serde_json::Map<String, serde_json::Value>,
+        rows: &[R],
+        solver_seconds: f64,
+        line: impl Fn(&R) -> String,
+    ) -> Result<()> {
+        let values: Vec<_> = rows
+            .iter()
+            .map(serde_json::to_value)
+            .collect::<Result<_, _>>()?;
+        let mut argv = self.output.argv.clone();
+        argv.is_empty()
+            .then(|| argv.extend(std::env::args().skip(1)));
+        let out = self.output.out.as_deref();
+        let csv = files.first().copied().unwrap_or_default();
+        let failed = self.run.finish(out, argv, csv, &values)?;
+        extra.insert("failed_rows".into(), failed.into());
+        let mut inputs = self.run.id.inputs.clone();
+        inputs["shard"] = self.run.shard.to_string().into();
+        if let Some(dir) = out {
+            let timings = serde_json::json!({
+                "total_s": self.start.elapsed().as_secs_f64(),
+                "solver_s": solver_seconds,
+            });
+            write_run_json_with(dir, &self.run.id.command, &inputs, &timings, &extra)?;
+        }
+        if self.output.json {
+            let mut object = serde_json::Map::from_iter([("rows".into(), values.into())]);
+            object.extend(extra);
+            print_json(&object)?;
+        } else {
+            rows.iter().for_each(|r| println!("{}", line(r)));
+            let notes = extra.get("notes").and_then(serde_json::Value::as_array);
+            for n in notes.into_iter().flatten().filter_map(|n| n.as_str()) {
+                println!("note: {n}");
+            }
+            if let Some(dir) = &self.output.out {
+                let (files, dir) = (files.join(", "), dir.display());
+                println!("wrote {files}, run.json and manifest.json into {dir}");
+            }
+        }
+        let rows = rows.len();
+        anyhow::ensure!(failed == 0, RowsFailed { failed, rows });
+        Ok(())
+    }
 }
 
 /// Arguments of `rollstack blocks sweep frequency`.
@@ -107,16 +232,6 @@ pub struct SlideArgs {
     pub output: SweepOutputArgs,
 }
 
-/// The values of `--{name}` this shard runs: `A:B:STEP`, numbers and comma lists of them
-/// ([`parse_values`]).
-///
-/// # Errors
-/// Text that is not such a list.
-pub fn sweep_values(text: &str, name: &str, shard: Shard) -> Result<Vec<f64>> {
-    let all = parse_values(text).map_err(|e| anyhow::anyhow!("--{name}: {e}"))?;
-    Ok(shard.select(&all).into_iter().map(|(_, v)| v).collect())
-}
-
 /// What every sweep checks before any run: the scene of each of its `points` (a value
 /// the model refuses is the sweep's error, naming it), and the estimated time of them
 /// all ([`SolverArgs::check_cost`]).
@@ -139,9 +254,8 @@ pub fn check_before_any_run<P>(
 /// Runs `rollstack blocks sweep frequency`.
 ///
 /// # Errors
-/// Bad input or an unwritable output directory.
+/// Bad input or an unwritable output directory; [`RowsFailed`] after the files.
 pub fn sweep_frequency(args: &FrequencyArgs) -> Result<()> {
-    let start = Instant::now();
     anyhow::ensure!(args.blocks >= 1, "--blocks must be at least 1");
     anyhow::ensure!(args.periods > 0.0, "--periods must be positive");
     anyhow::ensure!(
@@ -150,7 +264,13 @@ pub fn sweep_frequency(args: &FrequencyArgs) -> Result<()> {
     );
     anyhow::ensure!(args.mu >= 0.0, "--mu must not be negative");
     let options = args.solver.run_options(None, true)?;
-    let omegas = sweep_values(&args.omega, "omega", args.output.shard)?;
+    let all = parse_values(&args.omega).map_err(|e| anyhow::anyhow!("--omega: {e}"))?;
+    let inputs = serde_json::json!({
+        "omega": args.omega, "periods": args.periods, "amplitude": args.amplitude,
+        "blocks": args.blocks, "steps_per_period": args.steps_per_period, "mu": args.mu,
+    });
+    let sweep = SweepRun::new("frequency", &args.output, &args.solver, inputs, all.len())?;
+    let omegas = sweep.run.select(&all);
     let column = |omega| Shaking {
         blocks: args.blocks,
         amplitude: args.amplitude,
@@ -159,12 +279,10 @@ pub fn sweep_frequency(args: &FrequencyArgs) -> Result<()> {
         steps_per_period: args.steps_per_period,
         mu: args.mu,
     };
-    check_before_any_run(&omegas, &args.solver, &options, |&omega| {
+    check_before_any_run(&omegas, &args.solver, &options, |&(_, omega)| {
         shaking_column(&column(omega)).with_context(|| format!("--omega {omega}"))
     })?;
-    let rows = par_map_ordered(&omegas, "omega", |&omega| {
-        frequency_row(&column(omega), &options)
-    });
+    let rows = sweep.rows(&omegas, |&omega| frequency_row(&column(omega), &options))?;
     if let Some(dir) = &args.output.out {
         ensure_dir(dir)?;
         let csv = rows.iter().map(FrequencyRow::csv_cells);
@@ -173,131 +291,58 @@ pub fn sweep_frequency(args: &FrequencyArgs) -> Result<()> {
             &FrequencyRow::CSV_HEADER,
             csv,
         )?;
-        let sweep = FrequencySweep::of(&column(1.0));
-        plot_frequency_sweep(&dir.join("sweep_frequency.png"), &rows, &sweep)?;
+        let plot = FrequencySweep::of(&column(1.0));
+        plot_frequency_sweep(&dir.join("sweep_frequency.png"), &rows, &plot)?;
     }
-    finish_sweep(
-        "frequency",
-        &args.output,
-        &args.solver,
+    sweep.finish(
         &["sweep_frequency.csv", "sweep_frequency.png"],
-        &serde_json::Map::new(),
-        serde_json::json!({
-            "omega": args.omega, "periods": args.periods, "amplitude": args.amplitude,
-            "blocks": args.blocks, "steps_per_period": args.steps_per_period, "mu": args.mu,
-        }),
+        serde_json::Map::new(),
         &rows,
         rows.iter().map(|r| r.wall_time_s).sum(),
-        start,
         ToString::to_string,
     )
-}
-
-/// What every sweep does once its rows are written: `run.json` (inputs, version,
-/// timings, and the keys of `extra`) when there is an output directory, then either
-/// `{"rows": [...]}` (with the keys of `extra`) on stdout or one line per row, the notes
-/// and the files written.
-///
-/// # Errors
-/// An unwritable directory.
-pub fn finish_sweep<R: Serialize>(
-    name: &str,
-    output: &SweepOutputArgs,
-    solver: &SolverArgs,
-    files: &[&str],
-    extra: &serde_json::Map<String, serde_json::Value>,
-    mut inputs: serde_json::Value,
-    rows: &[R],
-    solver_seconds: f64,
-    start: Instant,
-    line: impl Fn(&R) -> String,
-) -> Result<()> {
-    inputs["shard"] = format!("{}/{}", output.shard.index, output.shard.count).into();
-    inputs["prox_constant"] = serde_json::json!(solver.prox_constant);
-    inputs["explore_branches"] = solver.explore_branches.into();
-    inputs["last_resort"] = solver.last_resort.into();
-    if let Some(dir) = &output.out {
-        write_run_json_with(
-            dir,
-            &format!("blocks sweep {name}"),
-            &inputs,
-            &serde_json::json!({
-                "total_s": start.elapsed().as_secs_f64(),
-                "solver_s": solver_seconds,
-            }),
-            extra,
-        )?;
-    }
-    if output.json {
-        let mut object = serde_json::Map::new();
-        object.insert("rows".into(), serde_json::to_value(rows)?);
-        object.extend(extra.clone());
-        return print_json(&object);
-    }
-    for r in rows {
-        println!("{}", line(r));
-    }
-    let notes = extra.get("notes").and_then(serde_json::Value::as_array);
-    for n in notes
-        .into_iter()
-        .flatten()
-        .filter_map(serde_json::Value::as_str)
-    {
-        println!("note: {n}");
-    }
-    if let Some(dir) = &output.out {
-        println!(
-            "wrote {} and run.json into {}",
-            files.join(", "),
-            dir.display()
-        );
-    }
-    Ok(())
 }
 
 /// Runs `rollstack blocks sweep slide`.
 ///
 /// # Errors
-/// Bad input or an unwritable output directory.
+/// Bad input or an unwritable output directory; [`RowsFailed`] after the files.
 pub fn sweep_slide(args: &SlideArgs) -> Result<()> {
-    let start = Instant::now();
     anyhow::ensure!(args.blocks >= 1, "--blocks must be at least 1");
     anyhow::ensure!(args.mu >= 0.0, "--mu must not be negative");
     let options = args.solver.run_options(Some(args.t_end), false)?;
-    let speeds = sweep_values(&args.v0, "v0", args.output.shard)?;
+    let all = parse_values(&args.v0).map_err(|e| anyhow::anyhow!("--v0: {e}"))?;
+    let inputs = serde_json::json!({
+        "v0": args.v0, "t_end": args.t_end, "blocks": args.blocks, "mu": args.mu,
+    });
+    let sweep = SweepRun::new("slide", &args.output, &args.solver, inputs, all.len())?;
+    let speeds = sweep.run.select(&all);
     let column = |v0| Sliding {
         blocks: args.blocks,
         v0,
         t_end: args.t_end,
         mu: args.mu,
     };
-    check_before_any_run(&speeds, &args.solver, &options, |&v0| {
+    check_before_any_run(&speeds, &args.solver, &options, |&(_, v0)| {
         sliding_column(&column(v0)).with_context(|| format!("--v0 {v0}"))
     })?;
-    let rows = par_map_ordered(&speeds, "v0", |&v0| slide_row(&column(v0), &options));
+    let rows = sweep.rows(&speeds, |&v0| slide_row(&column(v0), &options))?;
     if let Some(dir) = &args.output.out {
         ensure_dir(dir)?;
         let csv = rows.iter().map(SlideRow::csv_cells);
         write_csv(&dir.join("sweep_slide.csv"), &SlideRow::CSV_HEADER, csv)?;
-        let sweep = SlideSweep {
+        let plot = SlideSweep {
             blocks: args.blocks,
             t_end: args.t_end,
             mu: args.mu,
         };
-        plot_slide_sweep(&dir.join("sweep_slide.png"), &rows, &sweep)?;
+        plot_slide_sweep(&dir.join("sweep_slide.png"), &rows, &plot)?;
     }
-    finish_sweep(
-        "slide",
-        &args.output,
-        &args.solver,
+    sweep.finish(
         &["sweep_slide.csv", "sweep_slide.png"],
-        &serde_json::Map::new(),
-        serde_json::json!({
-            "v0": args.v0, "t_end": args.t_end, "blocks": args.blocks, "mu": args.mu,
-        }),
+        serde_json::Map::new(),
         &rows,
         rows.iter().map(|r| r.wall_time_s).sum(),
-        start,
         ToString::to_string,
     )
 }

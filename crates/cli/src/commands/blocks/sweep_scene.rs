@@ -2,17 +2,15 @@
 //! `--set` keys, with the rows of `blockstack::studies::scene_sweep`, run in parallel and
 //! written in input order through the plumbing of the other sweeps ([`super::sweep`]).
 
-use super::sweep::{check_before_any_run, finish_sweep, SweepOutputArgs};
+use super::sweep::{check_before_any_run, SweepOutputArgs, SweepRun};
 use super::SolverArgs;
 use crate::output::{ensure_dir, write_csv};
-use crate::sweep::par_map_ordered;
 use anyhow::{Context, Result};
 use blockstack::studies::scene_sweep::{Override, SceneRow, SceneSweep};
 use clap::Args;
 use figures::blocks::plot_scene_sweep;
 use input::text::parse_finite;
 use std::path::PathBuf;
-use std::time::Instant;
 
 /// Arguments of `rollstack blocks sweep scene`.
 #[derive(Debug, Args)]
@@ -48,7 +46,6 @@ pub struct SceneArgs {
 /// output directory, or a value the scene refuses (all before any run). A run the
 /// solver stops is the error of its row.
 pub fn sweep_scene(args: &SceneArgs) -> Result<()> {
-    let start = Instant::now();
     let (text, what) = super::scenes::scene_text(&args.scene)?;
     let overrides = args
         .set
@@ -57,14 +54,16 @@ pub fn sweep_scene(args: &SceneArgs) -> Result<()> {
         .collect::<Result<Vec<_>>>()?;
     let sweep = SceneSweep::new(&text, overrides).with_context(|| what)?;
     let options = args.solver.run_options(args.t_end, args.stop_at_failure)?;
-    let points: Vec<_> = args
-        .output
-        .shard
-        .select(&sweep.points())
-        .into_iter()
-        .map(|(_, p)| p)
-        .collect();
-    check_before_any_run(&points, &args.solver, &options, |point| {
+    let inputs = serde_json::json!({
+        "scene": args.scene.display().to_string(),
+        "set": args.set,
+        "t_end": args.t_end,
+        "stop_at_failure": args.stop_at_failure,
+    });
+    let all = sweep.points();
+    let run = SweepRun::new("scene", &args.output, &args.solver, inputs, all.len())?;
+    let points = run.run.select(&all);
+    check_before_any_run(&points, &args.solver, &options, |(_, point)| {
         let set: Vec<String> = point
             .iter()
             .map(|s| format!("{}={}", s.key, s.value))
@@ -74,7 +73,7 @@ pub fn sweep_scene(args: &SceneArgs) -> Result<()> {
             .with_context(|| format!("--set {}", set.join(" --set ")))?;
         Ok(loaded.scene)
     })?;
-    let rows = par_map_ordered(&points, "scene", |p| sweep.row(p, &options));
+    let rows = run.rows(&points, |p| sweep.row(p, &options))?;
     let mut files = Vec::new();
     let mut notes = Vec::new();
     if let Some(dir) = &args.output.out {
@@ -93,21 +92,11 @@ pub fn sweep_scene(args: &SceneArgs) -> Result<()> {
     let files: Vec<&str> = files.iter().map(String::as_str).collect();
     let mut extra = serde_json::Map::new();
     extra.insert("notes".into(), serde_json::to_value(&notes)?);
-    finish_sweep(
-        "scene",
-        &args.output,
-        &args.solver,
+    run.finish(
         &files,
-        &extra,
-        serde_json::json!({
-            "scene": args.scene.display().to_string(),
-            "set": args.set,
-            "t_end": args.t_end,
-            "stop_at_failure": args.stop_at_failure,
-        }),
+        extra,
         &rows,
         rows.iter().map(|r| r.wall_time_s).sum(),
-        start,
         ToString::to_string,
     )
 }

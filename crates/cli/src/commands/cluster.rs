@@ -1,0 +1,121 @@
+//! `rollstack merge` and `rollstack slurm`: a sweep run as shards on many machines and
+//! joined again. The checks, the calibration and the scripts are the `shards` crate's;
+//! this module parses, runs the sweep's own code over the merged rows, and prints.
+
+use crate::commands::blocks::sweep::{SweepCommand, SweepOutputArgs};
+use crate::commands::blocks::{BlocksArgs, BlocksCommand};
+use crate::{Cli, Command};
+use anyhow::{Context, Result};
+use clap::{Args, Parser};
+use shards::slurm::{Job, Request};
+use shards::{RowLog, ShardChoice};
+use std::path::PathBuf;
+
+/// Arguments of `rollstack merge`.
+#[derive(Debug, Args)]
+pub struct MergeArgs {
+    /// The output directories of the shards, in any order.
+    #[arg(required = true, value_name = "DIR")]
+    pub dirs: Vec<PathBuf>,
+    /// Directory for the joined sweep: the files a single run of the sweep writes.
+    #[arg(long)]
+    pub out: PathBuf,
+    /// Also print the rows as one JSON object on stdout.
+    #[arg(long)]
+    pub json: bool,
+}
+
+/// Arguments of `rollstack slurm`.
+#[derive(Debug, Args)]
+pub struct SlurmArgs {
+    /// Tasks of the job array: the sweep's shards.
+    #[arg(long)]
+    pub tasks: usize,
+    /// Cores per task; the sweep runs its rows on that many threads.
+    #[arg(long, default_value_t = 1)]
+    pub cpus_per_task: usize,
+    /// Time limit of each task, minutes.
+    #[arg(long)]
+    pub time: Option<u64>,
+    /// Memory of each task and of the merge job, MiB.
+    #[arg(long)]
+    pub mem: Option<u64>,
+    /// Slurm partition of the jobs.
+    #[arg(long)]
+    pub partition: Option<String>,
+    /// The sweep, as it would be run on one machine, with its `--out`.
+    #[arg(required = true, trailing_var_arg = true, allow_hyphen_values = true)]
+    pub sweep: Vec<String>,
+}
+
+/// A sweep command line (without the program name), parsed, and the sweep's name.
+fn parse_sweep(argv: &[String]) -> Result<(Cli, &'static str)> {
+    let line = argv.join(" ");
+    let words = ["rollstack"]
+        .into_iter()
+        .chain(argv.iter().map(String::as_str));
+    let mut cli = Cli::try_parse_from(words)
+        .map_err(|e| anyhow::anyhow!("`{line}` is not a sweep command line: {}", e.kind()))?;
+    let name = sweep_output(&mut cli.command).map(|(name, _)| name);
+    let name = name.with_context(|| format!("`{line}` is not a blocks sweep"))?;
+    Ok((cli, name))
+}
+
+/// The name and output options of a parsed sweep, or `None` for another command.
+fn sweep_output(command: &mut Command) -> Option<(&'static str, &mut SweepOutputArgs)> {
+    let Command::Blocks(BlocksArgs {
+        command: BlocksCommand::Sweep(sweep),
+    }) = command
+    else {
+        return None;
+    };
+    Some(match sweep {
+        SweepCommand::Frequency(a) => ("frequency", &mut a.output),
+        SweepCommand::Slide(a) => ("slide", &mut a.output),
+        SweepCommand::Scene(a) => ("scene", &mut a.output),
+    })
+}
+
+/// Runs `rollstack merge`: checks the shards, writes their rows as the row log of
+/// `--out`, and runs the sweep of their manifests there, which then computes nothing and
+/// writes exactly what one run writes.
+///
+/// # Errors
+/// Shards that do not join ([`shards::merge`]), a version other than this one, an
+/// unwritable `--out`, or the sweep's [`shards::RowsFailed`].
+pub fn merge(args: &MergeArgs) -> Result<()> {
+    let merged = shards::merge(&args.dirs, env!("CARGO_PKG_VERSION"))?;
+    let (mut cli, _) = parse_sweep(&merged.argv)?;
+    let (_, output) = sweep_output(&mut cli.command).context("not a sweep")?;
+    output.out = Some(args.out.clone());
+    output.shard = ShardChoice::default();
+    output.json = args.json;
+    output.argv.clone_from(&merged.argv);
+    output.complete = true;
+    RowLog::write_all(&args.out, &merged.sweep, &merged.rows)?;
+    crate::run(cli)
+}
+
+/// Runs `rollstack slurm`: a calibration run of the sweep's last row (unless `--time`
+/// and `--mem` are both given), then the batch scripts in `OUT/slurm`.
+///
+/// # Errors
+/// A command line that is not a sweep with `--out`, a failed calibration, or an
+/// unwritable directory.
+pub fn slurm(args: &SlurmArgs) -> Result<()> {
+    let (_, name) = parse_sweep(&args.sweep)?;
+    let (job, calibration) = Job::plan(Request {
+        name: name.to_owned(),
+        tasks: args.tasks,
+        cpus_per_task: args.cpus_per_task,
+        minutes: args.time,
+        mem_mib: args.mem,
+        partition: args.partition.clone(),
+        sweep: args.sweep.clone(),
+        binary: std::env::current_exe().context("cannot find the rollstack binary")?,
+        workdir: std::env::current_dir()?,
+    })?;
+    let submit = job.write()?;
+    print!("{}", job.summary(calibration.as_ref(), &submit));
+    Ok(())
+}

@@ -1,0 +1,239 @@
+//! Sweeps split into shards, killed and resumed, and merged: the result is always the
+//! table one uninterrupted run on one machine writes (docs/cluster.md).
+
+mod common;
+
+use common::temp_dir;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+use std::time::{Duration, Instant};
+
+/// A frequency sweep of eight rows, a few tens of milliseconds each.
+const SWEEP: &[&str] = &[
+    "blocks",
+    "sweep",
+    "frequency",
+    "--omega",
+    "2:9:1",
+    "--periods",
+    "2",
+    "--blocks",
+    "2",
+];
+
+fn command(args: &[&str], threads: &str) -> Command {
+    let mut c = Command::new(env!("CARGO_BIN_EXE_rollstack"));
+    c.args(args).env("RAYON_NUM_THREADS", threads);
+    c
+}
+
+fn sweep(extra: &[&str], out: &Path, threads: &str) -> Output {
+    let mut args = SWEEP.to_vec();
+    args.extend(extra);
+    args.extend(["--out", out.to_str().unwrap()]);
+    command(&args, threads).output().unwrap()
+}
+
+fn ok(out: &Output) {
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+}
+
+fn merge(dirs: &[&PathBuf], out: &Path) -> Output {
+    let mut args = vec!["merge".to_owned()];
+    args.extend(dirs.iter().map(|d| d.to_string_lossy().into_owned()));
+    args.extend(["--out".to_owned(), out.to_string_lossy().into_owned()]);
+    let args: Vec<&str> = args.iter().map(String::as_str).collect();
+    command(&args, "2").output().unwrap()
+}
+
+/// The CSV of `dir` without its timing column, which differs from run to run.
+fn table(dir: &Path) -> Vec<Vec<String>> {
+    let mut r = csv::Reader::from_path(dir.join("sweep_frequency.csv")).unwrap();
+    let header: Vec<String> = r.headers().unwrap().iter().map(str::to_owned).collect();
+    let keep: Vec<usize> = (0..header.len())
+        .filter(|&i| header[i] != "wall_time_s")
+        .collect();
+    let mut rows = vec![keep.iter().map(|&i| header[i].clone()).collect()];
+    for rec in r.records() {
+        let rec = rec.unwrap();
+        rows.push(keep.iter().map(|&i| rec[i].to_owned()).collect());
+    }
+    rows
+}
+
+fn stderr(out: &Output) -> String {
+    String::from_utf8_lossy(&out.stderr).into_owned()
+}
+
+#[test]
+fn shards_merged_in_any_order_equal_one_run_with_any_number_of_threads() {
+    let dir = temp_dir("shards-merge");
+    let single = dir.join("single");
+    ok(&sweep(&[], &single, "1"));
+    let two_threads = dir.join("two-threads");
+    ok(&sweep(&[], &two_threads, "2"));
+    assert_eq!(table(&single), table(&two_threads));
+    assert_eq!(table(&single).len(), 9);
+
+    let parts: Vec<PathBuf> = (1..=3).map(|k| dir.join(format!("part{k}"))).collect();
+    for (k, p) in parts.iter().enumerate() {
+        ok(&sweep(&["--shard", &format!("{}/3", k + 1)], p, "2"));
+    }
+    // --shard auto reads the task of a Slurm job array.
+    let auto = dir.join("auto");
+    let mut args = SWEEP.to_vec();
+    args.extend(["--shard", "auto", "--out", auto.to_str().unwrap()]);
+    let out = command(&args, "1")
+        .env("SLURM_ARRAY_TASK_ID", "2")
+        .env("SLURM_ARRAY_TASK_COUNT", "3")
+        .output()
+        .unwrap();
+    ok(&out);
+    assert_eq!(table(&auto), table(&parts[2]));
+
+    let merged = dir.join("merged");
+    ok(&merge(&[&parts[2], &parts[0], &parts[1]], &merged));
+    assert_eq!(table(&merged), table(&single));
+    for f in ["sweep_frequency.png", "manifest.json"] {
+        assert!(merged.join(f).exists(), "{f}");
+    }
+    let run: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(merged.join("run.json")).unwrap()).unwrap();
+    assert_eq!(run["inputs"]["shard"], "1/1");
+    assert_eq!(run["failed_rows"], 0);
+    // The plot is drawn from the same rows: the same picture.
+    assert_eq!(
+        std::fs::read(merged.join("sweep_frequency.png")).unwrap(),
+        std::fs::read(single.join("sweep_frequency.png")).unwrap()
+    );
+
+    // A missing shard and a duplicated row are named.
+    let out = merge(&[&parts[0], &parts[2]], &dir.join("m1"));
+    assert!(!out.status.success());
+    assert!(
+        stderr(&out).contains("rows 2-4 in no shard"),
+        "{}",
+        stderr(&out)
+    );
+    let out = merge(&[&parts[0], &parts[1], &parts[2], &auto], &dir.join("m2"));
+    assert!(
+        stderr(&out).contains("rows 5-7 in both"),
+        "{}",
+        stderr(&out)
+    );
+    // A shard of another sweep, and one of another version.
+    let other = dir.join("other");
+    let mut args = SWEEP.to_vec();
+    args[4] = "3:10:1";
+    args.extend(["--shard", "3/3", "--out", other.to_str().unwrap()]);
+    ok(&command(&args, "2").output().unwrap());
+    let out = merge(&[&parts[0], &parts[1], &other], &dir.join("m3"));
+    assert!(
+        stderr(&out).contains("inputs differ: omega = \"2:9:1\" against \"3:10:1\""),
+        "{}",
+        stderr(&out)
+    );
+    let manifest = parts[1].join("manifest.json");
+    let text = std::fs::read_to_string(&manifest).unwrap();
+    std::fs::write(
+        &manifest,
+        text.replace("\"version\": \"", "\"version\": \"9"),
+    )
+    .unwrap();
+    let out = merge(&[&parts[1], &parts[0], &parts[2]], &dir.join("m4"));
+    assert!(stderr(&out).contains("rollstack 9"), "{}", stderr(&out));
+    std::fs::write(&manifest, text).unwrap();
+    // A damaged CSV.
+    let csv = parts[0].join("sweep_frequency.csv");
+    let text = std::fs::read_to_string(&csv).unwrap();
+    std::fs::write(&csv, text.replacen("200", "201", 1)).unwrap();
+    let out = merge(&[&parts[0], &parts[1], &parts[2]], &dir.join("m5"));
+    assert!(
+        stderr(&out).contains("sweep_frequency.csv: does not match the checksum"),
+        "{}",
+        stderr(&out)
+    );
+    for m in ["m1", "m2", "m3", "m4", "m5"] {
+        assert!(!dir.join(m).join("sweep_frequency.csv").exists(), "{m}");
+    }
+    let _ = std::fs::remove_dir_all(dir);
+}
+
+/// Lines of the row log of `dir` (its header included).
+fn log_lines(dir: &Path) -> usize {
+    std::fs::read(dir.join("rows.log"))
+        .map(|b| b.iter().filter(|&&c| c == b'\n').count())
+        .unwrap_or(0)
+}
+
+#[test]
+fn a_sweep_killed_at_any_point_resumes_to_the_same_table() {
+    let dir = temp_dir("shards-resume");
+    let whole = dir.join("whole");
+    ok(&sweep(&[], &whole, "2"));
+    // Kill points: before any row, after some rows, and at times that fall anywhere,
+    // also inside a write.
+    let points: [(usize, u64); 5] = [(0, 0), (1, 0), (4, 0), (0, 7), (0, 23)];
+    for (n, &(rows, ms)) in points.iter().enumerate() {
+        let out = dir.join(format!("killed{n}"));
+        let mut args = SWEEP.to_vec();
+        args.extend(["--out", out.to_str().unwrap()]);
+        let mut child = command(&args, "1").spawn().unwrap();
+        let start = Instant::now();
+        while log_lines(&out) < rows + 1 && start.elapsed() < Duration::from_secs(60) {
+            std::thread::sleep(Duration::from_millis(1));
+        }
+        std::thread::sleep(Duration::from_millis(ms));
+        child.kill().unwrap(); // SIGKILL
+        child.wait().unwrap();
+        let kept = log_lines(&out).saturating_sub(1);
+        ok(&sweep(&[], &out, "2"));
+        assert_eq!(table(&out), table(&whole), "kill point {n}");
+        // Each row is computed once: the log holds every row once after the resume.
+        assert_eq!(
+            log_lines(&out),
+            9,
+            "kill point {n} (killed after {kept} rows)"
+        );
+    }
+    // A temporary file of a killed run is removed by the next run into the directory.
+    let stale = dir.join("whole").join(".tmp-4999999-trajectory.csv");
+    std::fs::write(&stale, "half").unwrap();
+    ok(&sweep(&[], &whole, "2"));
+    assert!(!stale.exists());
+    let _ = std::fs::remove_dir_all(dir);
+}
+
+#[test]
+fn failed_rows_are_counted_and_end_with_status_3() {
+    let dir = temp_dir("shards-failed");
+    let part = dir.join("part");
+    ok(&sweep(&[], &part, "2"));
+    // A shard whose row 3 did not converge, with consistent checksums.
+    let (id, mut rows) = shards::RowLog::read(&part).unwrap();
+    rows.get_mut(&3).unwrap()["error"] = "did not converge".into();
+    shards::RowLog::write_all(&part, &id, &rows).unwrap();
+    let m = shards::Manifest::read(&part).unwrap();
+    let shard = m.shard.parse().unwrap();
+    shards::Manifest::new(&id, m.argv, shard, 8, m.rows, &m.csv, &part)
+        .unwrap()
+        .write(&part)
+        .unwrap();
+    let merged = dir.join("merged");
+    let out = merge(&[&part], &merged);
+    assert_eq!(out.status.code(), Some(3), "{}", stderr(&out));
+    assert!(
+        stderr(&out).contains("1 of 8 rows failed"),
+        "{}",
+        stderr(&out)
+    );
+    let run: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(merged.join("run.json")).unwrap()).unwrap();
+    assert_eq!(run["failed_rows"], 1);
+    assert_eq!(table(&merged)[4][5], "did not converge");
+    let _ = std::fs::remove_dir_all(dir);
+}
