@@ -461,15 +461,7 @@ fn blocks_sweep_frequency<'py>(
                 Ok(p)
             })
             .collect::<PyResult<Vec<_>>>()?;
-        let rows = py.detach(|| {
-            catch_panics(|| {
-                columns
-                    .par_iter()
-                    .map(|p| frequency_row(p, &options))
-                    .collect::<Vec<_>>()
-            })
-        })?;
-        json_to_py(py, &rows)
+        parallel_rows(py, &columns, |p| frequency_row(p, &options))
     })
 }
 
@@ -503,15 +495,7 @@ fn blocks_sweep_slide<'py>(
                 Ok(p)
             })
             .collect::<PyResult<Vec<_>>>()?;
-        let rows = py.detach(|| {
-            catch_panics(|| {
-                columns
-                    .par_iter()
-                    .map(|p| slide_row(p, &options))
-                    .collect::<Vec<_>>()
-            })
-        })?;
-        json_to_py(py, &rows)
+        parallel_rows(py, &columns, |p| slide_row(p, &options))
     })
 }
 
@@ -560,22 +544,20 @@ fn blocks_sweep_scene<'py>(
                 value_error(format!("{}: {e}", set.join(", ")))
             })?;
         }
-        let rows = py.detach(|| {
-            catch_panics(|| {
-                points
-                    .par_iter()
-                    .map(|p| sweep.row(p, &options))
-                    .collect::<Vec<_>>()
-            })
-        })?;
-        json_to_py(py, &rows)
+        parallel_rows(py, &points, |p| sweep.row(p, &options))
     })
 }
 
-/// Runs `f` without the GIL, keeping a panic from unwinding out of `detach`; the
-/// message comes back as a `RuntimeError` once the GIL is held again.
-fn catch_panics<T>(f: impl FnOnce() -> T) -> PyResult<T> {
-    guard(|| Ok(f()))
+/// Runs `row` over `items` in parallel on rayon without the GIL, in input order, and
+/// returns the rows as `json.loads` makes them of the CLI's JSON. A panic does not
+/// unwind out of `detach`: its message comes back as a `RuntimeError`.
+fn parallel_rows<'py, P: Sync, R: Send + serde::Serialize>(
+    py: Python<'py>,
+    items: &[P],
+    row: impl Fn(&P) -> R + Sync + Send,
+) -> PyResult<Bound<'py, PyAny>> {
+    let rows = py.detach(|| guard(|| Ok(items.par_iter().map(row).collect::<Vec<_>>())))?;
+    json_to_py(py, &rows)
 }
 
 pub(crate) fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
