@@ -120,6 +120,10 @@ pub struct RunOptions {
     /// Leave out the last resort ([`nsga::Options::last_resort`]): a step nothing else
     /// resolves then ends the run (to see what the generalized-α scheme alone does).
     pub skip_last_resort: bool,
+    /// A flag another thread may set to end the run after its current step, as a
+    /// `ControlFlow::Break` of [`simulate_until`] would (a sweep that is interrupted
+    /// stops every run it has started this way).
+    pub cancel: Option<std::sync::Arc<std::sync::atomic::AtomicBool>>,
 }
 
 /// The pose of one block.
@@ -523,7 +527,11 @@ pub fn simulate_until(
     let mut stop = on_step(&first).is_break();
     let mut iterations = 0usize;
     for _ in 0..steps_wanted {
-        if stop || (options.stop_at_failure && summary.failure_time.is_some()) {
+        let cancelled = options
+            .cancel
+            .as_ref()
+            .is_some_and(|c| c.load(std::sync::atomic::Ordering::Relaxed));
+        if stop || cancelled || (options.stop_at_failure && summary.failure_time.is_some()) {
             break;
         }
         let clock = Instant::now();

@@ -351,3 +351,30 @@ fn the_cost_of_a_run_is_known_before_it_starts() {
         .seconds
         .is_infinite());
 }
+
+/// A run whose cancel flag another thread sets ends after its current step, with the
+/// summary of the steps taken and no error.
+#[test]
+fn a_cancelled_run_stops_after_its_current_step() {
+    use std::sync::atomic::{AtomicBool, Ordering};
+    use std::sync::Arc;
+    let scene = lire(4, Perturbation::None).unwrap();
+    let cancel = Arc::new(AtomicBool::new(false));
+    let opts = RunOptions {
+        t_end: Some(10.0),
+        cancel: Some(cancel.clone()),
+        ..RunOptions::default()
+    };
+    let mut records = 0;
+    let s = simulate(&scene, &opts, |_| {
+        records += 1;
+        if records == 6 {
+            cancel.store(true, Ordering::Relaxed);
+        }
+    })
+    .unwrap();
+    // The initial state and five steps, then the flag: no further step.
+    assert_eq!(s.steps, 5);
+    assert_eq!(records, 6);
+    assert!(s.error.is_none());
+}

@@ -274,6 +274,7 @@ fn run_options(
         explore_branches,
         stop_at_failure,
         skip_last_resort: !last_resort,
+        cancel: None,
     })
 }
 
@@ -452,7 +453,7 @@ fn blocks_sweep_frequency<'py>(
     last_resort: bool,
 ) -> PyResult<Bound<'py, PyAny>> {
     guard(|| {
-        let options = run_options(None, prox_constant, explore_branches, last_resort, true)?;
+        let mut options = run_options(None, prox_constant, explore_branches, last_resort, true)?;
         let columns = omegas
             .iter()
             .map(|&omega| {
@@ -461,7 +462,7 @@ fn blocks_sweep_frequency<'py>(
                 Ok(p)
             })
             .collect::<PyResult<Vec<_>>>()?;
-        parallel_rows(py, &columns, |p| frequency_row(p, &options))
+        parallel_rows(py, &columns, &mut options, frequency_row)
     })
 }
 
@@ -480,7 +481,7 @@ fn blocks_sweep_slide<'py>(
     last_resort: bool,
 ) -> PyResult<Bound<'py, PyAny>> {
     guard(|| {
-        let options = run_options(
+        let mut options = run_options(
             Some(t_end),
             prox_constant,
             explore_branches,
@@ -495,7 +496,7 @@ fn blocks_sweep_slide<'py>(
                 Ok(p)
             })
             .collect::<PyResult<Vec<_>>>()?;
-        parallel_rows(py, &columns, |p| slide_row(p, &options))
+        parallel_rows(py, &columns, &mut options, slide_row)
     })
 }
 
@@ -527,7 +528,7 @@ fn blocks_sweep_scene<'py>(
             .map(|o| o.parse::<Override>().map_err(PyValueError::new_err))
             .collect::<PyResult<Vec<_>>>()?;
         let sweep = SceneSweep::new(text, overrides).map_err(value_error)?;
-        let options = run_options(
+        let mut options = run_options(
             t_end,
             prox_constant,
             explore_branches,
@@ -544,19 +545,53 @@ fn blocks_sweep_scene<'py>(
                 value_error(format!("{}: {e}", set.join(", ")))
             })?;
         }
-        parallel_rows(py, &points, |p| sweep.row(p, &options))
+        parallel_rows(py, &points, &mut options, |p, o| sweep.row(p, o))
     })
 }
 
-/// Runs `row` over `items` in parallel on rayon without the GIL, in input order, and
-/// returns the rows as `json.loads` makes them of the CLI's JSON. A panic does not
-/// unwind out of `detach`: its message comes back as a `RuntimeError`.
+/// How often a sweep's caller checks for Ctrl-C while the rows run.
+const SIGNAL_POLL: std::time::Duration = std::time::Duration::from_millis(20);
+
+/// Runs `row` over `items` in parallel on rayon, in input order, and returns the rows as
+/// `json.loads` makes them of the CLI's JSON. `options` are the runs' options: their
+/// `cancel` flag is set here.
+///
+/// The rows run on a scoped thread while this thread, which holds the GIL between
+/// naps without it, checks for Ctrl-C every [`SIGNAL_POLL`]. A `KeyboardInterrupt`
+/// sets the flag, which ends every run after its current step and keeps rows from
+/// starting, and is raised once the worker has stopped. A panic does not cross into
+/// Python: its message comes back as a `RuntimeError`.
 fn parallel_rows<'py, P: Sync, R: Send + serde::Serialize>(
     py: Python<'py>,
     items: &[P],
-    row: impl Fn(&P) -> R + Sync + Send,
+    options: &mut RunOptions,
+    row: impl Fn(&P, &RunOptions) -> R + Sync + Send,
 ) -> PyResult<Bound<'py, PyAny>> {
-    let rows = py.detach(|| guard(|| Ok(items.par_iter().map(row).collect::<Vec<_>>())))?;
+    use std::sync::atomic::{AtomicBool, Ordering};
+    let cancel = std::sync::Arc::new(AtomicBool::new(false));
+    options.cancel = Some(cancel.clone());
+    let options = &*options;
+    let rows = std::thread::scope(|scope| {
+        let worker = scope.spawn(|| {
+            guard(|| {
+                Ok(items
+                    .par_iter()
+                    .map(|p| (!cancel.load(Ordering::Relaxed)).then(|| row(p, options)))
+                    .collect::<Vec<_>>())
+            })
+        });
+        while !worker.is_finished() {
+            if let Err(interrupt) = py.check_signals() {
+                cancel.store(true, Ordering::Relaxed);
+                py.detach(|| worker.join()).ok();
+                return Err(interrupt);
+            }
+            py.detach(|| std::thread::sleep(SIGNAL_POLL));
+        }
+        py.detach(|| worker.join())
+            .unwrap_or_else(|_| Err(value_error("a sweep's worker thread stopped")))
+    })?;
+    let rows: Vec<R> = rows.into_iter().flatten().collect();
     json_to_py(py, &rows)
 }
 

@@ -224,6 +224,37 @@ def test_ctrl_c_interrupts_a_long_simulation():
     assert elapsed < 1.0, elapsed
 
 
+def test_ctrl_c_interrupts_a_long_sweep():
+    # Two rows of 100000 periods each: far longer than the test; the interrupt must end
+    # the runs already started, not only keep new rows from starting.
+    child = textwrap.dedent(
+        """
+        import sys
+        from rollstack import blocks
+        print("started", flush=True)
+        try:
+            blocks.sweep_frequency([0.5, 0.6], periods=100000.0, amplitude=0.001)
+        except KeyboardInterrupt:
+            print("interrupted", flush=True)
+            sys.exit(3)
+        print("finished", flush=True)
+        """
+    )
+    p = subprocess.Popen([sys.executable, "-c", child], stdout=subprocess.PIPE, text=True)
+    assert p.stdout.readline().strip() == "started"
+    time.sleep(1.0)
+    sent = time.monotonic()
+    p.send_signal(signal.SIGINT)
+    try:
+        code = p.wait(timeout=5)
+    finally:
+        if p.poll() is None:
+            p.kill()
+    elapsed = time.monotonic() - sent
+    assert code == 3, p.stdout.read()
+    assert elapsed < 1.0, elapsed
+
+
 def test_help_has_the_docs():
     doc = blocks.simulate.__doc__
     assert "§4.2" in doc and "SolverError" in doc

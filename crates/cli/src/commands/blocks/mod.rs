@@ -134,6 +134,7 @@ impl SolverArgs {
             explore_branches: self.explore_branches,
             stop_at_failure,
             skip_last_resort: !self.last_resort,
+            cancel: None,
         })
     }
 
