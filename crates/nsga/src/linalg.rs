@@ -67,6 +67,13 @@ fn finite(rhs: &[f64], what: &str) -> Result<(), LinalgError> {
     }
 }
 
+/// Grows a faer scratch buffer to at least `bytes` (it is kept between solves).
+fn grow_scratch(scratch: &mut Vec<std::mem::MaybeUninit<u8>>, bytes: usize) {
+    if scratch.len() < bytes {
+        scratch.resize(bytes, std::mem::MaybeUninit::new(0));
+    }
+}
+
 /// Relative pivot size below which dense LU reports the matrix as singular: a solve
 /// through such a pivot returns round-off amplified by 1/pivot, not a Newton step.
 pub const SINGULAR_PIVOT: f64 = 1e-13;
@@ -135,12 +142,7 @@ impl LinearSolver for DenseLu {
             self.matrix[(r, c)] += v;
         }
         let req = factor::lu_in_place_scratch::<usize, f64>(n, n, par, faer::prelude::default());
-        if self.scratch.len() < req.unaligned_bytes_required() {
-            self.scratch.resize(
-                req.unaligned_bytes_required(),
-                std::mem::MaybeUninit::new(0),
-            );
-        }
+        grow_scratch(&mut self.scratch, req.unaligned_bytes_required());
         factor::lu_in_place(
             self.matrix.as_mut(),
             &mut self.perm,

@@ -185,12 +185,6 @@ impl SparseLu {
         self.sizes.push(entry);
         self.sizes.last_mut().expect("just pushed")
     }
-
-    fn grow_scratch(&mut self, bytes: usize) {
-        if self.scratch.len() < bytes {
-            self.scratch.resize(bytes, MaybeUninit::new(0));
-        }
-    }
 }
 
 impl LinearSolver for SparseLu {
@@ -213,7 +207,7 @@ impl LinearSolver for SparseLu {
             sym.factorize_numeric_lu_scratch::<f64>(par, Default::default())
                 .unaligned_bytes_required()
         };
-        self.grow_scratch(bytes);
+        super::grow_scratch(&mut self.scratch, bytes);
         let a = self.sizes.last().expect("the assembly of size n");
         let sym = a.symbolic.as_ref().expect("analysed above");
         let matrix = SparseColMatRef::new(a.pattern_ref(), &a.values);
@@ -241,9 +235,7 @@ impl LinearSolver for SparseLu {
         let bytes = sym
             .solve_in_place_scratch::<f64>(1, par)
             .unaligned_bytes_required();
-        if self.scratch.len() < bytes {
-            self.scratch.resize(bytes, MaybeUninit::new(0));
-        }
+        super::grow_scratch(&mut self.scratch, bytes);
         let lu = LuRef::new_unchecked(sym, numeric);
         let b = faer::MatMut::from_column_major_slice_mut(rhs, n, 1);
         lu.solve_in_place_with_conj(faer::Conj::No, b, par, MemStack::new(&mut self.scratch));
