@@ -384,7 +384,8 @@ struct Recorder<'a> {
     contacts: StackContacts<f64>,
     open_tol: f64,
     watch: EventWatch,
-    deepest: Option<TimedPenetration>,
+    /// The deepest penetration of the states recorded so far (the initial one before).
+    deepest: TimedPenetration,
 }
 
 impl Recorder<'_> {
@@ -397,8 +398,8 @@ impl Recorder<'_> {
             .collect();
         self.watch.observe(self.scene, t, &st.q, &self.contacts);
         let p = deepest_penetration(self.scene, t, &st.q);
-        if self.deepest.is_none_or(|d| p.depth > d.penetration.depth) {
-            self.deepest = Some(TimedPenetration { t, penetration: p });
+        if p.depth > self.deepest.penetration.depth {
+            self.deepest = TimedPenetration { t, penetration: p };
         }
         let forces = (0..n)
             .map(|k| InterfaceForce {
@@ -480,7 +481,10 @@ pub fn simulate_until(
         contacts: StackContacts::default(),
         open_tol: OPEN_GAP_TOL * height,
         watch: EventWatch::new(scene, OPEN_GAP_TOL * height),
-        deepest: None,
+        deepest: TimedPenetration {
+            t: 0.0,
+            penetration: deepest_penetration(scene, 0.0, &q0),
+        },
     };
     let mut summary = RunSummary {
         steps: 0,
@@ -497,10 +501,7 @@ pub fn simulate_until(
         fallback_residual: 0.0,
         linear_solves: 0,
         max_energy_increase: f64::NEG_INFINITY,
-        deepest: TimedPenetration {
-            t: 0.0,
-            penetration: deepest_penetration(scene, 0.0, &q0),
-        },
+        deepest: rec.deepest,
         penetration_tol: PENETRATION_TOL * height,
         events: Vec::new(),
         error: None,
@@ -566,9 +567,7 @@ pub fn simulate_until(
         stop = on_step(&r).is_break();
     }
     summary.linear_solves = stepper.linear_solves();
-    if let Some(d) = rec.deepest {
-        summary.deepest = d;
-    }
+    summary.deepest = rec.deepest;
     summary.events = rec.watch.into_events();
     let q = &stepper.state().q;
     summary.final_poses = (0..scene.n_blocks())

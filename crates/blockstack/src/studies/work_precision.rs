@@ -239,6 +239,24 @@ pub fn stack_work_precision(
     })
 }
 
+/// Takes `steps` steps of `stepper` and calls `observe` after each; returns the time
+/// spent in the steps alone (solver time, without what `observe` measures).
+fn timed_steps<S>(
+    stepper: &mut S,
+    steps: usize,
+    step: impl Fn(&mut S) -> Result<(), nsga::StepError>,
+    mut observe: impl FnMut(&S),
+) -> Result<f64, String> {
+    let mut wall_time_s = 0.0;
+    for _ in 0..steps {
+        let clock = Instant::now();
+        step(stepper).map_err(|e| e.to_string())?;
+        wall_time_s += clock.elapsed().as_secs_f64();
+        observe(stepper);
+    }
+    Ok(wall_time_s)
+}
+
 /// One run to the benchmark's end time by `scheme` with step `dt`.
 fn run(bench: StackBenchmark, scheme: Scheme, dt: f64) -> Result<RunEnd, String> {
     let scene = bench.scene(dt).map_err(|e| e.to_string())?;
@@ -254,20 +272,21 @@ fn run(bench: StackBenchmark, scheme: Scheme, dt: f64) -> Result<RunEnd, String>
         let lowest = eval.position.iter().copied().fold(0.0, f64::min);
         penetration = penetration.max(-lowest);
     };
-    // Solver time: the steps, without the penetration measured after each.
-    let mut wall_time_s = 0.0;
+    let wall_time_s;
     let q = match scheme {
         Scheme::Nsga => {
             let options =
                 stepper_options(&scene, &RunOptions::default()).map_err(|e| e.to_string())?;
             let mut s = Stepper::new(StackSystem::new(scene.clone()), 0.0, &q0, &u0, options)
                 .map_err(|e| e.to_string())?;
-            for _ in 0..steps {
-                let clock = Instant::now();
-                s.step().map_err(|e| e.to_string())?;
-                wall_time_s += clock.elapsed().as_secs_f64();
-                observe(s.state().t, &s.state().q, &s.state().u);
-            }
+            wall_time_s = timed_steps(
+                &mut s,
+                steps,
+                |s| s.step().map(drop),
+                |s| {
+                    observe(s.state().t, &s.state().q, &s.state().u);
+                },
+            )?;
             s.state().q.clone()
         }
         Scheme::Moreau => {
@@ -278,12 +297,14 @@ fn run(bench: StackBenchmark, scheme: Scheme, dt: f64) -> Result<RunEnd, String>
             };
             let mut s = MoreauStepper::new(StackSystem::new(scene.clone()), 0.0, &q0, &u0, options)
                 .map_err(|e| e.to_string())?;
-            for _ in 0..steps {
-                let clock = Instant::now();
-                s.step().map_err(|e| e.to_string())?;
-                wall_time_s += clock.elapsed().as_secs_f64();
-                observe(s.state().t, &s.state().q, &s.state().u);
-            }
+            wall_time_s = timed_steps(
+                &mut s,
+                steps,
+                |s| s.step().map(drop),
+                |s| {
+                    observe(s.state().t, &s.state().q, &s.state().u);
+                },
+            )?;
             s.state().q.clone()
         }
     };
