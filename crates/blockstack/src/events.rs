@@ -8,7 +8,6 @@
 //! time, once per block, in the order they happen.
 
 use crate::coordinates::Pose;
-use crate::corners::corners;
 use crate::scene::Scene;
 use crate::stack::StackContacts;
 use std::fmt;
@@ -68,9 +67,8 @@ pub struct EventWatch {
     initial_height: f64,
     drop: f64,
     floor_tol: f64,
-    /// Per block: already reported (support, tip, floor).
-    seen: Vec<[bool; 3]>,
-    dropped: bool,
+    /// Per block and per kind ([`EventKind`] as index): already reported.
+    seen: Vec<[bool; 4]>,
     events: Vec<FailureEvent>,
 }
 
@@ -82,19 +80,20 @@ impl EventWatch {
     pub fn new(scene: &Scene, floor_tol: f64) -> Self {
         let q0 = scene.initial_coordinates();
         let n = scene.n_blocks();
-        let sizes: Vec<_> = (0..n).map(|k| scene.size(k)).collect();
+        // Body k + 1 is block k (body 0 is the base).
+        let sizes: Vec<_> = (1..=n).map(|k| scene.size(k)).collect();
         let drop = sizes.iter().map(|s| s.height).fold(f64::INFINITY, f64::min);
         let mut watch = Self {
             tipping: sizes.iter().map(|s| s.width.atan2(s.height)).collect(),
             initial_height: top(scene, &q0),
             drop,
             floor_tol,
-            seen: vec![[false; 3]; n],
-            dropped: false,
+            seen: vec![[false; 4]; n],
             events: Vec::new(),
         };
         for k in 0..n {
-            watch.seen[k][2] = floor_gap(scene, &q0, k).is_some_and(|g| g <= floor_tol);
+            watch.seen[k][EventKind::TouchedFloor as usize] =
+                floor_gap(scene, &q0, k).is_some_and(|g| g <= floor_tol);
         }
         watch
     }
@@ -104,7 +103,7 @@ impl EventWatch {
     pub fn observe(&mut self, scene: &Scene, t: f64, q: &[f64], contacts: &StackContacts) {
         for (k, interface) in contacts.interfaces.iter().enumerate() {
             if !interface.is_supported() {
-                self.record(k, 0, EventKind::SupportLost, t);
+                self.record(Some(k), EventKind::SupportLost, t);
             }
         }
         for k in 0..scene.n_blocks() {
@@ -113,29 +112,27 @@ impl EventWatch {
             // that turned over; the tilt from upright is what tipping means here.
             let tilt = theta.sin().atan2(theta.cos()).abs();
             if tilt > self.tipping[k] {
-                self.record(k, 1, EventKind::Tipped, t);
+                self.record(Some(k), EventKind::Tipped, t);
             }
             if floor_gap(scene, q, k).is_some_and(|g| g <= self.floor_tol) {
-                self.record(k, 2, EventKind::TouchedFloor, t);
+                self.record(Some(k), EventKind::TouchedFloor, t);
             }
         }
-        if !self.dropped && top(scene, q) < self.initial_height - self.drop {
-            self.dropped = true;
-            self.events.push(FailureEvent {
-                kind: EventKind::HeightDropped,
-                t,
-                block: None,
-            });
+        if top(scene, q) < self.initial_height - self.drop {
+            self.record(None, EventKind::HeightDropped, t);
         }
     }
 
-    fn record(&mut self, k: usize, slot: usize, kind: EventKind, t: f64) {
-        if !self.seen[k][slot] {
-            self.seen[k][slot] = true;
+    /// Records `kind` for block k (0-based; None: the column), unless already recorded.
+    /// A column event is kept in block 0's row of `seen`.
+    fn record(&mut self, k: Option<usize>, kind: EventKind, t: f64) {
+        let seen = &mut self.seen[k.unwrap_or(0)][kind as usize];
+        if !*seen {
+            *seen = true;
             self.events.push(FailureEvent {
                 kind,
                 t,
-                block: Some(k + 1),
+                block: k.map(|k| k + 1),
             });
         }
     }
@@ -153,25 +150,20 @@ impl EventWatch {
     }
 }
 
-/// The highest corner of any block.
+/// The highest corner of any block: its centre plus its half vertical extent.
 fn top(scene: &Scene, q: &[f64]) -> f64 {
-    (0..scene.n_blocks())
-        .flat_map(|k| {
-            let s = scene.size(k);
-            corners(&Pose::from_slice(&q[3 * k..]), s.width, s.height)
-        })
-        .map(|c| c.y)
+    scene
+        .blocks()
+        .iter()
+        .enumerate()
+        .map(|(k, b)| q[3 * k + 1] + b.half_vertical_extent(q[3 * k + 2]))
         .fold(f64::NEG_INFINITY, f64::max)
 }
 
 /// The height of block k's lowest corner above the floor, None without a floor.
 fn floor_gap(scene: &Scene, q: &[f64], k: usize) -> Option<f64> {
     let floor = scene.floor()?;
-    let s = scene.size(k);
-    let lowest = corners(&Pose::from_slice(&q[3 * k..]), s.width, s.height)
-        .iter()
-        .map(|c| c.y)
-        .fold(f64::INFINITY, f64::min);
+    let lowest = q[3 * k + 1] - scene.blocks()[k].half_vertical_extent(q[3 * k + 2]);
     Some(lowest - floor.y)
 }
 
@@ -179,6 +171,29 @@ fn floor_gap(scene: &Scene, q: &[f64], k: usize) -> Option<f64> {
 mod tests {
     use super::*;
     use crate::scenarios::{lire, Perturbation};
+
+    #[test]
+    fn tipping_angles_and_the_drop_are_the_blocks_not_the_base() {
+        use crate::scenarios::{shaking_column, Shaking};
+        // Base 1 × 0.1, blocks 0.2 × 0.4.
+        let p = Shaking {
+            blocks: 2,
+            amplitude: 0.2,
+            omega: 4.0,
+            periods: 1.0,
+            steps_per_period: 100.0,
+            mu: 0.2,
+        };
+        let watch = EventWatch::new(&shaking_column(&p).unwrap(), 1e-9);
+        for angle in &watch.tipping {
+            assert!(
+                (angle - 0.5_f64.atan()).abs() < 1e-15,
+                "{:?}",
+                watch.tipping
+            );
+        }
+        assert_eq!(watch.drop, 0.4);
+    }
 
     #[test]
     fn a_standing_column_has_no_events() {

@@ -125,7 +125,7 @@ pub fn scene_bodies(scene: &Scene, t: f64, q: &[f64]) -> Vec<(Body, Pose, Size)>
         (
             Body::Block(k + 1),
             Pose::from_slice(&q[3 * k..]),
-            scene.size(k),
+            scene.size(k + 1),
         )
     }));
     bodies
@@ -146,16 +146,13 @@ pub fn deepest_penetration(scene: &Scene, t: f64, q: &[f64]) -> Penetration {
         second: Body::Base,
     });
     if let Some(floor) = scene.floor() {
-        for (body, pose, size) in &bodies[1..] {
-            let lowest = corners(pose, size.width, size.height)
-                .iter()
-                .map(|c| c.y)
-                .fold(f64::INFINITY, f64::min);
+        for (k, block) in scene.blocks().iter().enumerate() {
+            let lowest = q[3 * k + 1] - block.half_vertical_extent(q[3 * k + 2]);
             let depth = floor.y - lowest;
             if depth > deepest.depth {
                 deepest = Penetration {
                     depth,
-                    first: *body,
+                    first: Body::Block(k + 1),
                     second: Body::Floor,
                 };
             }
@@ -214,6 +211,37 @@ mod tests {
             (&Pose::new(0.0, 1.0, 0.0), s),
         );
         assert!((d + 0.8).abs() < 1e-12);
+    }
+
+    #[test]
+    fn scene_bodies_have_their_own_sizes() {
+        use crate::scenarios::{shaking_column, Shaking};
+        let p = Shaking {
+            blocks: 2,
+            amplitude: 0.2,
+            omega: 4.0,
+            periods: 1.0,
+            steps_per_period: 100.0,
+            mu: 0.2,
+        };
+        let scene = shaking_column(&p).unwrap();
+        let sizes: Vec<_> = scene_bodies(&scene, 0.0, &scene.initial_coordinates())
+            .iter()
+            .map(|b| (b.0, b.2.width, b.2.height))
+            .collect();
+        assert_eq!(
+            sizes,
+            [
+                (Body::Base, 1.0, 0.1),
+                (Body::Block(1), 0.2, 0.4),
+                (Body::Block(2), 0.2, 0.4)
+            ]
+        );
+        // A block pushed into the base by a quarter of its height is an overlap.
+        let mut q = scene.initial_coordinates();
+        q[1] -= 0.1;
+        let deepest = deepest_among(&scene_bodies(&scene, 0.0, &q)).unwrap();
+        assert!((deepest.depth - 0.1).abs() < 1e-12, "{deepest:?}");
     }
 
     #[test]
