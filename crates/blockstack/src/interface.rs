@@ -148,6 +148,26 @@ impl Interface {
         Support::Supported
     }
 
+    /// How far the two bodies are from losing the support of [`Interface::support`], as
+    /// a length: the shorter of the common stretch of the faces along e₁ of the lower
+    /// body and the height of the upper centre above the lower top face's line, scaled by how squarely the faces face each other (e₂·e₂); ≤ 0
+    /// when the support is lost already. The broad phase ([`crate::broad_phase`]) adds
+    /// the pair's corner contacts when this falls below its margin.
+    #[must_use]
+    pub fn support_margin<T: Scalar>(&self, lower: &BodyState<T>, upper: &BodyState<T>) -> f64 {
+        if self.support(lower, upper) != Support::Supported {
+            return 0.0;
+        }
+        let (pl, pu) = (&lower.pose, &upper.pose);
+        let along = |c: Corner| re((pu.point(&self.upper.corner(c)) - pl.r()).dot(&pl.e1()));
+        let (sc, sd) = (along(Corner::C), along(Corner::D));
+        let half = 0.5 * self.lower.width;
+        let common = (sc.max(sd).min(half) - sc.min(sd).max(-half)).max(0.0);
+        let above = re((pu.r() - pl.r()).dot(&pl.e2())) - 0.5 * self.lower.height;
+        let square = re(pl.e2().dot(&pu.e2()));
+        common.min(above) * square
+    }
+
     /// Whether a bottom corner of the upper block lies over the top face of the lower one
     /// and below the lower body's centre line, or a top corner of the lower body lies under
     /// the bottom face of the upper one and above the upper block's centre line (see

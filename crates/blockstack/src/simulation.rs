@@ -29,6 +29,7 @@
 //!   it carries the typed error ([`RunError`], with the state it failed at), it is not
 //!   an `Err`.
 
+use crate::broad_phase::corner_contacts;
 use crate::coordinates::Pose;
 use crate::error::BlockError;
 use crate::events::{EventWatch, FailureEvent};
@@ -36,6 +37,7 @@ use crate::overlap::{deepest_penetration, Penetration};
 use crate::scene::Scene;
 use crate::scene_info::{Defaults, SceneReport, SceneWarning};
 use crate::stack::StackContacts;
+use crate::stepping::CornerStepping;
 use crate::system::StackSystem;
 use nsga::{Options, RhoInfRetry, SolverChoice, StepError, Stepper};
 use std::ops::ControlFlow;
@@ -232,6 +234,12 @@ pub struct RunSummary {
     pub penetration_tol: f64,
     /// Failure events in the order they happened ([`crate::events`]).
     pub events: Vec<FailureEvent>,
+    /// The most corner contacts between bodies beyond the stack's neighbours
+    /// ([`crate::pairs`]) the broad phase kept at once (0 while the column stands).
+    pub corner_contacts: usize,
+    /// Steps taken again because a contact was missed by the broad phase
+    /// ([`crate::stepping`]).
+    pub redone_steps: usize,
     /// Why the run stopped before its end time: the step that finally failed (or the
     /// start), with the last good state; the summary covers the run up to it.
     pub error: Option<RunError>,
@@ -504,10 +512,17 @@ pub fn simulate_until(
         deepest: rec.deepest,
         penetration_tol: PENETRATION_TOL * height,
         events: Vec::new(),
+        corner_contacts: 0,
+        redone_steps: 0,
         error: None,
     };
     let clock = Instant::now();
-    let started = Stepper::new(StackSystem::new(scene.clone()), 0.0, &q0, &u0, opts);
+    let mut system = StackSystem::new(scene.clone());
+    let mut corners = CornerStepping::default();
+    let initial_contacts = corner_contacts(scene, 0.0, &q0, &u0, dt);
+    corners.most_contacts = initial_contacts.len();
+    system.assign_corner_contacts(&initial_contacts);
+    let started = Stepper::new(system, 0.0, &q0, &u0, opts);
     let mut solver_time = clock.elapsed().as_secs_f64();
     let mut stepper = match started {
         Ok(s) => s,
@@ -536,7 +551,9 @@ pub fn simulate_until(
             break;
         }
         let clock = Instant::now();
-        let result = stepper.step().map(accepted);
+        let result = corners
+            .step(scene, &mut stepper, summary.penetration_tol)
+            .map(|()| accepted(stepper.last_step().expect("a step was taken")));
         solver_time += clock.elapsed().as_secs_f64();
         let (t, its, retries, branch) = match result {
             Ok(r) => r,
@@ -567,6 +584,8 @@ pub fn simulate_until(
         stop = on_step(&r).is_break();
     }
     summary.linear_solves = stepper.linear_solves();
+    summary.corner_contacts = corners.most_contacts;
+    summary.redone_steps = corners.redone_steps;
     summary.deepest = rec.deepest;
     summary.events = rec.watch.into_events();
     let q = &stepper.state().q;

@@ -28,6 +28,9 @@
 //! pass of vector dual numbers ([`Directions`]): the real parts (and their sines and
 //! cosines) are computed once, and the cost per iteration is linear in n.
 
+use crate::coordinates::{BodyState, Pose, Twist};
+use crate::overlap::Body;
+use crate::pairs::{free_block, CornerContact};
 use crate::scene::Scene;
 use crate::stack::{ContactRow, StackContacts};
 use nsga::{Derivatives, Evaluation, FrictionLaw, Layout, Probes, Scalar, System};
@@ -64,8 +67,22 @@ pub struct StackSystem {
     forces: Vec<f64>,
     laws: Vec<FrictionLaw>,
     e_n: Vec<f64>,
+    /// The corner contacts beyond the stack's own (crate::pairs), one per slot; `None`
+    /// is a free slot. Their normal contacts and friction laws follow the scene's.
+    slots: Vec<Option<CornerContact>>,
     /// Reused buffers of the derivative passes (the system is evaluated from one thread).
     scratch: RefCell<DualScratch>,
+}
+
+/// What [`StackSystem::assign_corner_contacts`] changed.
+#[derive(Debug, Clone, Default, PartialEq, Eq)]
+pub struct SlotChange {
+    /// The number of slots grew: the stepper must re-read the layout
+    /// ([`nsga::Stepper::extend_layout`]).
+    pub grown: bool,
+    /// Slots that now hold another corner contact than before: the stepper must forget
+    /// their forces ([`nsga::Stepper::forget_contacts`]).
+    pub assigned: Vec<usize>,
 }
 
 #[derive(Debug, Default)]
@@ -77,7 +94,9 @@ struct DualScratch {
 
 impl Clone for StackSystem {
     fn clone(&self) -> Self {
-        Self::new(self.scene.clone())
+        let mut copy = Self::new(self.scene.clone());
+        copy.slots.clone_from(&self.slots);
+        copy
     }
 }
 
@@ -101,8 +120,98 @@ impl StackSystem {
             forces: scene.gravity_forces(),
             e_n: vec![scene.contact.e_n; scene.n_normal_contacts()],
             laws,
+            slots: Vec::new(),
             scratch: RefCell::new(DualScratch::default()),
             scene,
+        }
+    }
+
+    /// The corner contacts in the slots (`None`: a free slot).
+    #[must_use]
+    pub fn corner_contacts(&self) -> &[Option<CornerContact>] {
+        &self.slots
+    }
+
+    /// The normal contact and the friction law of slot `s`.
+    #[must_use]
+    pub fn slot_contacts(&self, s: usize) -> (usize, usize) {
+        (self.e_n.len() + s, self.laws.len() + s)
+    }
+
+    /// Puts the `wanted` corner contacts (from the broad phase, [`crate::broad_phase`])
+    /// into the slots: a contact already in a slot stays there, a slot whose contact is
+    /// no longer wanted is freed (the broad phase wants every contact that may close
+    /// within the step, so a freed one is open), and new contacts take the free slots in
+    /// order, the number of slots doubling when they run out. Deterministic.
+    pub fn assign_corner_contacts(&mut self, wanted: &[CornerContact]) -> SlotChange {
+        let mut change = SlotChange::default();
+        let mut new: Vec<CornerContact> = Vec::new();
+        let mut keep = vec![false; self.slots.len()];
+        for w in wanted {
+            match self.slots.iter().position(|s| s.as_ref() == Some(w)) {
+                Some(i) => keep[i] = true,
+                None => new.push(*w),
+            }
+        }
+        for (slot, kept) in self.slots.iter_mut().zip(&keep) {
+            if !kept {
+                *slot = None;
+            }
+        }
+        let free = self.slots.iter().filter(|s| s.is_none()).count();
+        if new.len() > free {
+            let needed = self.slots.len() + new.len() - free;
+            let capacity = needed.max(2 * self.slots.len()).max(4);
+            self.slots.resize(capacity, None);
+            change.grown = true;
+        }
+        let free_slots: Vec<usize> = (0..self.slots.len())
+            .filter(|&i| self.slots[i].is_none())
+            .collect();
+        for (w, i) in new.into_iter().zip(free_slots) {
+            self.slots[i] = Some(w);
+            change.assigned.push(i);
+        }
+        change
+    }
+
+    /// The gap and slip rows of slot `s`'s corner contact at the bodies' `states` (corner
+    /// body first), or `None` when the slot is free or its bodies are neighbours whose
+    /// interface supports the upper one (then the interface's gaps hold the contact).
+    fn slot_rows<T: Scalar>(
+        &self,
+        contact: &CornerContact,
+        t: f64,
+        states: [BodyState<T>; 2],
+        interfaces: &[crate::interface::InterfaceContacts<T>],
+    ) -> Option<(ContactRow<T>, ContactRow<T>)> {
+        if contact
+            .interface()
+            .is_some_and(|k| interfaces[k].is_supported())
+        {
+            return None;
+        }
+        let size = |b| self.scene.size(body_number(b));
+        let base_acc = Twist::lift(&self.scene.base().acceleration(t));
+        Some(contact.rows(
+            &states[0],
+            &states[1],
+            [size(contact.corner_body), size(contact.face_body)],
+            &base_acc,
+        ))
+    }
+
+    /// The state of a body of a corner contact: the base's prescribed one, or a block's
+    /// from q and u (through `lift`, which may seed derivative directions).
+    fn body_state<T: Scalar>(
+        &self,
+        t: f64,
+        body: Body,
+        mut lift: impl FnMut(usize) -> BodyState<T>,
+    ) -> BodyState<T> {
+        match free_block(body) {
+            Some(i) => lift(i),
+            None => BodyState::lift(&self.scene.base().state(t)),
         }
     }
 
@@ -111,6 +220,16 @@ impl StackSystem {
     pub fn scene(&self) -> &Scene {
         &self.scene
     }
+}
+
+/// Writes one slip row (friction component `j`): W and χ, ζ (v = Wᵀu + χ is formed by
+/// the stepper).
+fn put_slip<T: Scalar>(row: &ContactRow<T>, j: usize, out: &mut Evaluation<T>) {
+    for (i, wi) in row.w.iter() {
+        out.velocity_w.push(i, j, wi);
+    }
+    out.velocity_chi[j] = row.chi;
+    out.velocity_zeta[j] = row.zeta;
 }
 
 /// Writes one constraint row into a family (value, W column `col`, χ, ζ); `None` is an
@@ -139,11 +258,22 @@ fn put_row<T: Scalar>(
 impl System for StackSystem {
     fn layout(&self) -> Layout {
         let n = 3 * self.scene.n_blocks();
+        let mut e_n = self.e_n.clone();
+        let mut friction = self.laws.clone();
+        for s in 0..self.slots.len() {
+            e_n.push(self.scene.contact.e_n);
+            friction.push(FrictionLaw {
+                components: 1,
+                mu: self.scene.contact.mu,
+                e_f: self.scene.contact.e_f,
+                normals: vec![self.slot_contacts(s).0],
+            });
+        }
         Layout {
             nq: n,
             nu: n,
-            e_n: self.e_n.clone(),
-            friction: self.laws.clone(),
+            e_n,
+            friction,
             ..Layout::default()
         }
     }
@@ -167,11 +297,34 @@ impl System for StackSystem {
         }
         // Slips: v = Wᵀu + χ is formed by the stepper; only W, χ, ζ are reported.
         for (j, row) in c.slips.iter().enumerate() {
-            for (i, wi) in row.w.iter() {
-                out.velocity_w.push(i, j, wi);
+            put_slip(row, j, out);
+        }
+        let block = |i: usize| {
+            BodyState::new(
+                Pose::from_slice(&q[3 * i..3 * i + 3]),
+                Twist::from_slice(&u[3 * i..3 * i + 3]),
+            )
+        };
+        for (s, contact) in self.slots.iter().enumerate() {
+            let (i, j) = self.slot_contacts(s);
+            let rows = contact.as_ref().and_then(|k| {
+                let states = [k.corner_body, k.face_body].map(|b| self.body_state(t, b, block));
+                self.slot_rows(k, t, states, &c.interfaces)
+            });
+            match rows {
+                Some((gap, slip)) => {
+                    put_row(
+                        Some(&gap),
+                        i,
+                        &mut out.position,
+                        &mut out.position_w,
+                        &mut out.position_chi,
+                        &mut out.position_zeta,
+                    );
+                    put_slip(&slip, j, out);
+                }
+                None => out.position[i] = T::from(UNSUPPORTED_GAP),
             }
-            out.velocity_chi[j] = row.chi;
-            out.velocity_zeta[j] = row.zeta;
         }
     }
 
@@ -269,6 +422,90 @@ impl System for StackSystem {
                 }
             }
         }
+        self.slot_derivatives(t, q, u, probes, &s.contacts.interfaces, out);
+    }
+}
+
+impl StackSystem {
+    /// The derivatives of the corner-contact rows. A corner contact may join any two
+    /// blocks, so the parity seeding does not apply; each row is differentiated on its
+    /// own, with the corner body's (x, y, θ) on directions 0–2 (over q) and 6–8 (over u)
+    /// and the face body's on 3–5 and 9–11: one pass of the same 12-direction dual
+    /// numbers per slot in use.
+    fn slot_derivatives(
+        &self,
+        t: f64,
+        q: &[f64],
+        u: &[f64],
+        probes: &Probes<'_>,
+        interfaces: &[crate::interface::InterfaceContacts<Directions>],
+        out: &mut Derivatives,
+    ) {
+        let seeded = |b: usize, role: usize| {
+            let x = |k: usize, d: usize| Directions::from_re(q[3 * b + k]).derivative(3 * role + d);
+            let v =
+                |k: usize, d: usize| Directions::from_re(u[3 * b + k]).derivative(6 + 3 * role + d);
+            BodyState::new(
+                Pose::new(x(0, 0), x(1, 1), x(2, 2)),
+                Twist::new(v(0, 0), v(1, 1), v(2, 2)),
+            )
+        };
+        for (slot, contact) in self.slots.iter().enumerate() {
+            let Some(contact) = contact else { continue };
+            let (i, law) = self.slot_contacts(slot);
+            let (use_p, use_v) = (probes.uses_position(i), probes.uses_velocity(law));
+            if !use_p && !use_v {
+                continue;
+            }
+            let bodies = [contact.corner_body, contact.face_body];
+            let states = [0, 1].map(|r| self.body_state(t, bodies[r], |b| seeded(b, r)));
+            let Some((gap, slip)) = self.slot_rows(contact, t, states, interfaces) else {
+                continue;
+            };
+            for (role, body) in bodies.into_iter().enumerate() {
+                let Some(b) = free_block(body) else { continue };
+                for coord in 0..3 {
+                    let (dq, du, j) = (3 * role + coord, 6 + 3 * role + coord, 3 * b + coord);
+                    if use_p {
+                        q_row(
+                            &gap,
+                            dq,
+                            i,
+                            j,
+                            u,
+                            probes,
+                            |k| probes.dynamics[k].1,
+                            &mut out.dynamics_q,
+                            &mut PositionRows {
+                                value: &mut out.position_q,
+                                rate: &mut out.position_rate_q,
+                                accel: &mut out.position_accel_q,
+                            },
+                        );
+                        push_nonzero(&mut out.position_accel_u, i, j, part(&gap.zeta, du));
+                    }
+                    if use_v {
+                        let mut unused = nsga::Triplets::default();
+                        q_row(
+                            &slip,
+                            dq,
+                            law,
+                            j,
+                            u,
+                            probes,
+                            |k| probes.dynamics[k].2,
+                            &mut out.dynamics_q,
+                            &mut PositionRows {
+                                value: &mut unused,
+                                rate: &mut out.velocity_q,
+                                accel: &mut out.velocity_accel_q,
+                            },
+                        );
+                        push_nonzero(&mut out.velocity_accel_u, law, j, part(&slip.zeta, du));
+                    }
+                }
+            }
+        }
     }
 }
 
@@ -280,6 +517,14 @@ fn seeded_coordinate(row: &ContactRow<Directions>, parity: usize, coord: usize) 
         .map(|(i, _)| i / 3)
         .find(|b| b % 2 == parity)
         .map(|b| 3 * b + coord)
+}
+
+/// The scene's number of a base or block body (base 0, blocks 1..n).
+fn body_number(b: Body) -> usize {
+    match b {
+        Body::Block(k) => k,
+        Body::Base | Body::Floor => 0,
+    }
 }
 
 fn push_nonzero(t: &mut nsga::Triplets<f64>, r: usize, c: usize, v: f64) {
@@ -372,7 +617,10 @@ mod tests {
     /// multipliers zero, as the stepper guarantees): those rows must be absent, every
     /// other entry exact.
     fn check_with_unused(scene: Scene, t: f64, unused_p: &[bool], unused_v: &[bool]) {
-        let sys = StackSystem::new(scene);
+        check_system(&StackSystem::new(scene), t, unused_p, unused_v);
+    }
+
+    fn check_system(sys: &StackSystem, t: f64, unused_p: &[bool], unused_v: &[bool]) {
         let layout = sys.layout();
         let (nq, np, nv) = (layout.nq, layout.n_position(), layout.n_velocity());
         let mut q = sys.scene().initial_coordinates();
@@ -413,7 +661,7 @@ mod tests {
         let mut sparse = Derivatives::default();
         sys.derivatives(t, &q, &u, &probes, &mut sparse);
         let mut reference = Derivatives::default();
-        forward_derivatives(&sys, t, &q, &u, &probes, &mut reference);
+        forward_derivatives(sys, t, &q, &u, &probes, &mut reference);
         for (k, (x, mut y)) in all(&sparse, nq, np, nv)
             .into_iter()
             .zip(all(&reference, nq, np, nv))
@@ -454,6 +702,56 @@ mod tests {
         let unused_v: Vec<bool> = (0..nl).map(|i| i >= 4).collect();
         assert!(unused_p.iter().any(|&u| u) && unused_v.iter().any(|&u| u));
         check_with_unused(scene, 0.3, &unused_p, &unused_v);
+    }
+
+    #[test]
+    fn corner_contact_derivatives_equal_forward_ad() {
+        use crate::corners::Corner;
+        let mut sys = StackSystem::new(lire_on_floor(4, Perturbation::Bottom).unwrap());
+        let contact = |a, c, b| CornerContact {
+            corner_body: a,
+            corner: c,
+            face_body: b,
+        };
+        // Same-parity blocks, the base on either side, a free slot, and neighbours whose
+        // interface supports (so the slot stays open).
+        let mut wanted = vec![
+            contact(Body::Block(1), Corner::A, Body::Block(3)),
+            contact(Body::Block(4), Corner::C, Body::Block(2)),
+            contact(Body::Base, Corner::B, Body::Block(2)),
+            contact(Body::Block(3), Corner::D, Body::Base),
+            contact(Body::Block(2), Corner::C, Body::Block(1)),
+            contact(Body::Block(2), Corner::D, Body::Block(4)),
+        ];
+        let change = sys.assign_corner_contacts(&wanted);
+        assert!(change.grown && change.assigned == vec![0, 1, 2, 3, 4, 5]);
+        wanted.pop();
+        assert!(sys.assign_corner_contacts(&wanted).assigned.is_empty());
+        assert_eq!(sys.corner_contacts()[5], None, "a free slot");
+        check_system(&sys, 0.3, &[], &[]);
+    }
+
+    #[test]
+    fn slots_keep_their_contacts_and_reuse_freed_ones() {
+        use crate::corners::Corner;
+        let mut sys = StackSystem::new(lire_on_floor(3, Perturbation::Bottom).unwrap());
+        let c = |k| CornerContact {
+            corner_body: Body::Block(k),
+            corner: Corner::A,
+            face_body: Body::Base,
+        };
+        sys.assign_corner_contacts(&[c(1), c(2)]);
+        let change = sys.assign_corner_contacts(&[c(2), c(3)]);
+        assert!(!change.grown);
+        assert_eq!(change.assigned, vec![0], "c(3) takes the slot c(1) left");
+        assert_eq!(
+            sys.corner_contacts()[1],
+            Some(c(2)),
+            "c(2) stays where it was"
+        );
+        let n = sys.layout().n_normal();
+        let change = sys.assign_corner_contacts(&[c(1), c(2), c(3), c(4), c(5)]);
+        assert!(change.grown && sys.layout().n_normal() == n + 4);
     }
 
     #[test]

@@ -1,0 +1,238 @@
+//! The broad phase: which corner contacts ([`crate::pairs`]) a step may need.
+//!
+//! Before each step, every body (base and blocks) gets a bounding box grown by a margin
+//! that covers how far it can move in the step, m = 2 Δt (|v| + |ω| R) + δ, with R the
+//! half diagonal and δ = [`MARGIN`] times the smallest block dimension (what a body can
+//! gain in speed within the step, by gravity or an impact, is covered by the factor 2
+//! and by δ; a contact missed all the same is caught after the step, see
+//! [`crate::simulation`]). Boxes are swept along the axis on which the bodies' centres
+//! spread most (a column: y, so each box meets only its neighbours' boxes: O(n log n)),
+//! and for each pair of boxes that meet, each corner of one body whose gap to the other
+//! body is below the sum of their margins is a candidate.
+//!
+//! Neighbours in the stack are the thesis's interfaces (App. G): while block k firmly
+//! supports block k+1 (its [`Interface::support_margin`] exceeds the margins) their
+//! corner contacts are not needed, so a standing column has no candidates at all and
+//! pays only for the sweep. Near the loss of support they are added; the system then
+//! uses either the interface's gaps (supported) or the corner contacts (not), never both.
+//!
+//! [`Interface::support_margin`]: crate::interface::Interface::support_margin
+
+use crate::coordinates::{BodyState, Pose, Twist};
+use crate::corners::Corner;
+use crate::gaps::Face;
+use crate::interface::Size;
+use crate::overlap::Body;
+use crate::pairs::CornerContact;
+use crate::scene::Scene;
+
+/// The fixed part δ of the margin, as a fraction of the smallest block dimension.
+pub const MARGIN: f64 = 0.05;
+
+/// One body as the broad phase sees it.
+#[derive(Debug, Clone, Copy)]
+struct Boxed {
+    body: Body,
+    state: BodyState,
+    size: Size,
+    lo: [f64; 2],
+    hi: [f64; 2],
+    margin: f64,
+}
+
+fn boxed(body: Body, state: BodyState, size: Size, dt: f64, delta: f64) -> Boxed {
+    let corners = crate::corners::corners(&state.pose, size.width, size.height);
+    let mut lo = [f64::INFINITY; 2];
+    let mut hi = [f64::NEG_INFINITY; 2];
+    for c in corners {
+        lo = [lo[0].min(c.x), lo[1].min(c.y)];
+        hi = [hi[0].max(c.x), hi[1].max(c.y)];
+    }
+    let radius = 0.5 * size.width.hypot(size.height);
+    let speed = state.twist.v().norm() + state.twist.omega.abs() * radius;
+    Boxed {
+        body,
+        state,
+        size,
+        lo,
+        hi,
+        margin: 2.0 * dt * speed + delta,
+    }
+}
+
+/// The gap of corner `c` of `a` against the body `b`: the largest signed distance from
+/// b's faces (see [`crate::pairs`]).
+fn corner_gap(a: &Boxed, c: Corner, b: &Boxed) -> f64 {
+    let p = a
+        .state
+        .pose
+        .point(&c.body_offset(a.size.width, a.size.height));
+    Face::of_rectangle(b.size.width, b.size.height)
+        .iter()
+        .map(|f| f.distance(&b.state.pose, &p))
+        .fold(f64::NEG_INFINITY, f64::max)
+}
+
+/// The corner contacts that the step from (t, q, u) with step size `dt` may need, in a
+/// deterministic order (by corner body, corner, face body).
+///
+/// # Panics
+/// When q or u holds fewer than 3 entries per block.
+#[must_use]
+pub fn corner_contacts(scene: &Scene, t: f64, q: &[f64], u: &[f64], dt: f64) -> Vec<CornerContact> {
+    let n = scene.n_blocks();
+    let delta = MARGIN
+        * (1..=n)
+            .map(|k| scene.size(k))
+            .map(|s| s.width.min(s.height))
+            .fold(f64::INFINITY, f64::min);
+    let base = scene.base();
+    let mut bodies = vec![boxed(Body::Base, base.state(t), scene.size(0), dt, delta)];
+    bodies.extend((0..n).map(|k| {
+        let state = BodyState::new(
+            Pose::from_slice(&q[3 * k..3 * k + 3]),
+            Twist::from_slice(&u[3 * k..3 * k + 3]),
+        );
+        boxed(Body::Block(k + 1), state, scene.size(k + 1), dt, delta)
+    }));
+    let axis = sweep_axis(&bodies);
+    let mut order: Vec<usize> = (0..bodies.len()).collect();
+    order.sort_by(|&i, &j| {
+        let (a, b) = (&bodies[i], &bodies[j]);
+        (a.lo[axis] - a.margin).total_cmp(&(b.lo[axis] - b.margin))
+    });
+    let mut out = Vec::new();
+    for (pos, &i) in order.iter().enumerate() {
+        let a = &bodies[i];
+        for &j in &order[pos + 1..] {
+            let b = &bodies[j];
+            if b.lo[axis] - b.margin > a.hi[axis] + a.margin {
+                break;
+            }
+            let other = 1 - axis;
+            let m = a.margin + b.margin;
+            if b.lo[other] > a.hi[other] + m || a.lo[other] > b.hi[other] + m {
+                continue;
+            }
+            if firmly_supported(scene, a, b, m) {
+                continue;
+            }
+            for (x, y) in [(a, b), (b, a)] {
+                for c in Corner::ALL {
+                    if corner_gap(x, c, y) < m {
+                        out.push(CornerContact {
+                            corner_body: x.body,
+                            corner: c,
+                            face_body: y.body,
+                        });
+                    }
+                }
+            }
+        }
+    }
+    out.sort_by_key(CornerContact::key);
+    out
+}
+
+/// The gap of one corner contact at time t and block coordinates q (positions only).
+///
+/// # Panics
+/// When q holds fewer than 3 entries per block.
+#[must_use]
+pub fn corner_gap_of(scene: &Scene, t: f64, q: &[f64], contact: &CornerContact) -> f64 {
+    let body = |b: Body| {
+        let (state, size) = match b {
+            Body::Block(k) => (
+                BodyState::new(Pose::from_slice(&q[3 * k - 3..3 * k]), Twist::default()),
+                scene.size(k),
+            ),
+            Body::Base | Body::Floor => (scene.base().state(t), scene.size(0)),
+        };
+        boxed(b, state, size, 0.0, 0.0)
+    };
+    corner_gap(
+        &body(contact.corner_body),
+        contact.corner,
+        &body(contact.face_body),
+    )
+}
+
+/// The axis (0: x, 1: y) along which the bodies' centres spread most.
+fn sweep_axis(bodies: &[Boxed]) -> usize {
+    let spread = |k: usize| {
+        let c = |b: &Boxed| 0.5 * (b.lo[k] + b.hi[k]);
+        let lo = bodies.iter().map(c).fold(f64::INFINITY, f64::min);
+        let hi = bodies.iter().map(c).fold(f64::NEG_INFINITY, f64::max);
+        hi - lo
+    };
+    usize::from(spread(1) >= spread(0))
+}
+
+/// Whether `a` and `b` are neighbours in the stack whose interface supports the upper
+/// one by more than `margin` (then the interface's own gaps are all the contact needed).
+fn firmly_supported(scene: &Scene, a: &Boxed, b: &Boxed, margin: f64) -> bool {
+    let probe = CornerContact {
+        corner_body: a.body,
+        corner: Corner::A,
+        face_body: b.body,
+    };
+    let Some(k) = probe.interface() else {
+        return false;
+    };
+    let (lower, upper) = if matches!(a.body, Body::Block(i) if i == k + 1) {
+        (b, a)
+    } else {
+        (a, b)
+    };
+    scene
+        .interface(k)
+        .support_margin(&lower.state, &upper.state)
+        > margin
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scenarios::{shaking_column, Shaking};
+
+    #[test]
+    fn a_standing_column_needs_no_corner_contacts() {
+        let scene = shaking_column(&Shaking {
+            blocks: 6,
+            ..Shaking::default()
+        })
+        .unwrap();
+        let q = scene.initial_coordinates();
+        let u = vec![0.0; q.len()];
+        assert!(corner_contacts(&scene, 0.0, &q, &u, 1e-3).is_empty());
+    }
+
+    #[test]
+    fn a_block_beside_another_is_found_and_a_far_one_is_not() {
+        let scene = shaking_column(&Shaking {
+            blocks: 2,
+            ..Shaking::default()
+        })
+        .unwrap();
+        let mut q = scene.initial_coordinates();
+        let u = vec![0.0; q.len()];
+        // Block 2 moved down beside block 1, its left face 1e-4 from block 1's right face.
+        let (w1, w2) = (scene.size(1).width, scene.size(2).width);
+        q[3] = q[0] + 0.5 * (w1 + w2) + 1e-4;
+        q[4] = q[1];
+        let found = corner_contacts(&scene, 0.0, &q, &u, 1e-3);
+        let corners_of = |body: Body| {
+            found
+                .iter()
+                .filter(|c| c.corner_body == body && c.face_body == Body::Block(1))
+                .map(|c| c.corner)
+                .collect::<Vec<_>>()
+        };
+        assert_eq!(corners_of(Body::Block(2)), vec![Corner::B, Corner::C]);
+        q[3] += 1.0;
+        let found = corner_contacts(&scene, 0.0, &q, &u, 1e-3);
+        assert!(found
+            .iter()
+            .all(|c| c.corner_body != Body::Block(2) && c.face_body != Body::Block(2)));
+    }
+}

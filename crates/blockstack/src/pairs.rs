@@ -1,0 +1,238 @@
+//! Contacts between any two bodies that can touch (beyond the thesis's model).
+//!
+//! The thesis's stack has contacts only between neighbours (App. G) and, here, with the
+//! floor. Once a block leaves its neighbour it would meet nothing else: fallen blocks
+//! would pass through each other and through the base. This module adds the contact of
+//! **any corner of any body against any other body**: base and blocks are rectangles, and
+//! two rectangles that touch without overlapping touch at a corner of one of them (two
+//! parallel faces in contact are two corners on a face), so corner-on-body contacts are
+//! all the contacts there are.
+//!
+//! A [`CornerContact`] is corner P of body A against body B. Its gap is the signed
+//! distance of P from the face of B that P is *least* inside of, or most outside of:
+//!
+//!   g = max_f [(r_P − r_B) · n_f − d_f]   over the four faces f of B,
+//!
+//! which is positive exactly when P is outside B and, inside, measures the way out. Its
+//! value, W, χ and ζ are those of the corner-on-face gap of (G.2.1)/(G.2.3) for that face
+//! (crate::gaps), and its slip the corner-on-face slip of (G.3.1) (crate::slip): the
+//! neighbour interface of App. G is the special case P a bottom corner of block k+1 and
+//! f the top face of block k. The face is chosen on real parts at each evaluation, like
+//! the cases of (G.2.2): where two faces tie, the corner is at B's corner region and
+//! both distances agree.
+//!
+//! Which corner contacts a step needs is the broad phase's business
+//! ([`crate::broad_phase`]); how they enter the stepper, the system's
+//! ([`crate::StackSystem`]).
+
+use crate::coordinates::{re, BodyState, Scalar, Twist};
+use crate::corners::Corner;
+use crate::gaps::{CornerOnFace, Face};
+use crate::interface::Size;
+use crate::overlap::Body;
+use crate::slip::LowerBody;
+use crate::stack::{pair_row, ContactRow};
+
+/// Corner `corner` of body `corner_body` against body `face_body` (base or block; the
+/// floor has its own contacts).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct CornerContact {
+    /// The body that owns the corner.
+    pub corner_body: Body,
+    /// The corner.
+    pub corner: Corner,
+    /// The body whose faces the corner may touch.
+    pub face_body: Body,
+}
+
+/// The index of a base or block body in the scene's numbering (base 0, blocks 1..n).
+fn body_index(b: Body) -> usize {
+    match b {
+        Body::Base => 0,
+        Body::Block(k) => k,
+        Body::Floor => usize::MAX,
+    }
+}
+
+/// The 0-based free block of a body (`None` for the base).
+pub(crate) fn free_block(b: Body) -> Option<usize> {
+    match b {
+        Body::Block(k) => Some(k - 1),
+        Body::Base | Body::Floor => None,
+    }
+}
+
+impl CornerContact {
+    /// A total order key (corner body, corner, face body) for deterministic listings.
+    #[must_use]
+    pub fn key(&self) -> (usize, usize, usize) {
+        let corner = Corner::ALL
+            .iter()
+            .position(|&c| c == self.corner)
+            .unwrap_or(0);
+        (
+            body_index(self.corner_body),
+            corner,
+            body_index(self.face_body),
+        )
+    }
+
+    /// The neighbour interface of App. G that joins the two bodies, if they are
+    /// neighbours in the stack: interface k joins body k and body k+1 (k = 0: the base
+    /// and block 1).
+    #[must_use]
+    pub fn interface(&self) -> Option<usize> {
+        let (a, b) = (body_index(self.corner_body), body_index(self.face_body));
+        (a.abs_diff(b) == 1 && a.max(b) != usize::MAX).then_some(a.min(b))
+    }
+
+    /// The face of B (of size `face_size` at the state `face`) that the corner (of a body of
+    /// size `corner_size` at `corner`) is least inside of: the one its gap measures.
+    fn face<T: Scalar>(
+        &self,
+        corner: &BodyState<T>,
+        corner_size: Size,
+        face: &BodyState<T>,
+        face_size: Size,
+    ) -> Face {
+        let p = corner.pose.point(
+            &self
+                .corner
+                .body_offset(corner_size.width, corner_size.height),
+        );
+        let faces = Face::of_rectangle(face_size.width, face_size.height);
+        let mut best = faces[0];
+        let mut best_d = f64::NEG_INFINITY;
+        for f in faces {
+            let d = re(f.distance(&face.pose, &p));
+            if d > best_d {
+                (best, best_d) = (f, d);
+            }
+        }
+        best
+    }
+
+    /// The gap and the slip speed of the contact, in the coordinates of the free blocks
+    /// (W on at most two blocks; the base's prescribed motion in χ and ζ). `corner` and
+    /// `face` are the states of the two bodies, `sizes` their sizes (corner body first).
+    #[must_use]
+    pub fn rows<T: Scalar>(
+        &self,
+        corner: &BodyState<T>,
+        face: &BodyState<T>,
+        sizes: [Size; 2],
+        base_acc: &Twist<T>,
+    ) -> (ContactRow<T>, ContactRow<T>) {
+        let pair = CornerOnFace {
+            corner_body: *corner,
+            corner: self.corner.body_offset(sizes[0].width, sizes[0].height),
+            face_body: *face,
+            face: self.face(corner, sizes[0], face, sizes[1]),
+        };
+        let blocks = [free_block(self.corner_body), free_block(self.face_body)];
+        let base_vel = match (self.corner_body, self.face_body) {
+            (Body::Base, _) => corner.twist,
+            (_, Body::Base) => face.twist,
+            _ => Twist::new(T::zero(), T::zero(), T::zero()),
+        };
+        let fold = |row| pair_row(&row, blocks, &base_vel, base_acc);
+        (fold(pair.gap()), fold(pair.slip(LowerBody::Face)))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::coordinates::{Pose, Vec2};
+    use crate::gaps::tests::{fd_oracle, state};
+
+    fn contact(corner: Corner) -> CornerContact {
+        CornerContact {
+            corner_body: Body::Block(3),
+            corner,
+            face_body: Body::Block(1),
+        }
+    }
+
+    const SIZES: [Size; 2] = [
+        Size {
+            width: 0.2,
+            height: 0.4,
+        },
+        Size {
+            width: 0.3,
+            height: 0.1,
+        },
+    ];
+
+    /// The gap of corner `c` of A against B, from the positions alone.
+    fn gap_of(c: Corner, a: &BodyState, b: &BodyState) -> f64 {
+        let zero = Twist::new(0.0, 0.0, 0.0);
+        contact(c).rows(a, b, SIZES, &zero).0.value
+    }
+
+    #[test]
+    fn the_gap_is_the_distance_outside_and_the_way_out_inside() {
+        let b = state(0.0, 0.0, 0.0, 0.0, 0.0, 0.0);
+        // Corner c (bottom left, offset (−0.1, −0.2)) of A placed at (0.5, 0.02): right of B
+        // (half width 0.15) by 0.35, within its height: the right face measures it.
+        let a = state(0.6, 0.22, 0.0, 0.0, 0.0, 0.0);
+        assert!((gap_of(Corner::C, &a, &b) - 0.35).abs() < 1e-15);
+        // Moved to (0.1, 0.04): inside B, 0.05 from the right face and 0.01 from the top.
+        let a = state(0.2, 0.24, 0.0, 0.0, 0.0, 0.0);
+        assert!((gap_of(Corner::C, &a, &b) + 0.01).abs() < 1e-15);
+    }
+
+    #[test]
+    fn rows_match_finite_differences_on_every_face() {
+        let b = state(-0.1, 0.05, 0.4, -0.3, 0.5, -0.8);
+        // One corner position beside each face of B.
+        for (x, y) in [(0.0, 0.3), (0.05, -0.3), (0.4, 0.1), (-0.5, 0.0)] {
+            let a = state(x, y, 0.3, 0.7, -0.4, 1.1);
+            let zero = Twist::new(0.0, 0.0, 0.0);
+            let (gap, slip) = contact(Corner::B).rows(&a, &b, SIZES, &zero);
+            let (wa, wb, second) = fd_oracle(&|a, b| gap_of(Corner::B, a, b), &a, &b);
+            let w: Vec<(usize, f64)> = gap.w.iter().collect();
+            for i in 0..3 {
+                assert!((w[i].1 - wa[i]).abs() < 1e-7, "W_A[{i}] at ({x}, {y})");
+                assert!((w[3 + i].1 - wb[i]).abs() < 1e-7, "W_B[{i}] at ({x}, {y})");
+            }
+            assert!((gap.zeta - second).abs() < 1e-4, "ζ at ({x}, {y})");
+            // The slip is the corner's velocity relative to the face along it: zero when
+            // both translate together, the corner's own tangential speed when B rests.
+            let moving =
+                |s: &BodyState, v: Vec2, w: f64| BodyState::new(s.pose, Twist::new(v.x, v.y, w));
+            let v = Vec2::new(0.3, -0.2);
+            let (_, together) =
+                contact(Corner::B).rows(&moving(&a, v, 0.0), &moving(&b, v, 0.0), SIZES, &zero);
+            assert!(together.value.abs() < 1e-15, "{}", together.value);
+            let still = moving(&b, Vec2::new(0.0, 0.0), 0.0);
+            let (_, alone) = contact(Corner::B).rows(&a, &still, SIZES, &zero);
+            let p = a.pose.to_world(&Corner::B.body_offset(0.2, 0.4));
+            let speed = a.twist.point_velocity(&p);
+            // W_F on A is σ (t, ⊥p·t): read the face tangent t from it.
+            let w: Vec<f64> = alone.w.iter().map(|(_, x)| x).collect();
+            let along = speed.x * w[0] + speed.y * w[1];
+            assert!(
+                (alone.value - along).abs() < 1e-14,
+                "{} vs {along}",
+                alone.value
+            );
+            assert!(slip.value.is_finite());
+        }
+    }
+
+    #[test]
+    fn neighbours_are_joined_by_their_interface() {
+        let c = |a, b| CornerContact {
+            corner_body: a,
+            corner: Corner::A,
+            face_body: b,
+        };
+        assert_eq!(c(Body::Base, Body::Block(1)).interface(), Some(0));
+        assert_eq!(c(Body::Block(4), Body::Block(3)).interface(), Some(3));
+        assert_eq!(c(Body::Block(4), Body::Block(2)).interface(), None);
+        assert_eq!(c(Body::Base, Body::Block(2)).interface(), None);
+        let _ = Pose::new(0.0, 0.0, 0.0);
+    }
+}
