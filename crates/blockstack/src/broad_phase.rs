@@ -23,11 +23,15 @@ use crate::corners::Corner;
 use crate::gaps::Face;
 use crate::interface::Size;
 use crate::overlap::Body;
-use crate::pairs::CornerContact;
+use crate::pairs::{interface_between, CornerContact, Side};
 use crate::scene::Scene;
 
 /// The fixed part δ of the margin, as a fraction of the smallest block dimension.
 pub const MARGIN: f64 = 0.05;
+
+/// Two faces whose distances from a corner differ by less than this fraction of the
+/// smallest block dimension are a tie ([`Side::facing`]).
+pub const TIE: f64 = 1e-6;
 
 /// One body as the broad phase sees it.
 #[derive(Debug, Clone, Copy)]
@@ -60,8 +64,18 @@ fn boxed(body: Body, state: BodyState, size: Size, dt: f64, delta: f64) -> Boxed
     }
 }
 
+/// The face of `b` that corner `c` of `a` meets and its signed distance from it
+/// ([`Side::facing`], ties within `tie`).
+fn corner_face(a: &Boxed, c: Corner, b: &Boxed, tie: f64) -> (Side, f64) {
+    let p = a
+        .state
+        .pose
+        .point(&c.body_offset(a.size.width, a.size.height));
+    Side::facing(&p, &a.state.pose.r(), &b.state.pose, b.size, tie)
+}
+
 /// The gap of corner `c` of `a` against the body `b`: the largest signed distance from
-/// b's faces (see [`crate::pairs`]).
+/// b's faces, positive exactly when the corner is outside b.
 fn corner_gap(a: &Boxed, c: Corner, b: &Boxed) -> f64 {
     let p = a
         .state
@@ -81,11 +95,7 @@ fn corner_gap(a: &Boxed, c: Corner, b: &Boxed) -> f64 {
 #[must_use]
 pub fn corner_contacts(scene: &Scene, t: f64, q: &[f64], u: &[f64], dt: f64) -> Vec<CornerContact> {
     let n = scene.n_blocks();
-    let delta = MARGIN
-        * (1..=n)
-            .map(|k| scene.size(k))
-            .map(|s| s.width.min(s.height))
-            .fold(f64::INFINITY, f64::min);
+    let delta = MARGIN * smallest_dimension(scene);
     let base = scene.base();
     let mut bodies = vec![boxed(Body::Base, base.state(t), scene.size(0), dt, delta)];
     bodies.extend((0..n).map(|k| {
@@ -119,11 +129,13 @@ pub fn corner_contacts(scene: &Scene, t: f64, q: &[f64], u: &[f64], dt: f64) -> 
             }
             for (x, y) in [(a, b), (b, a)] {
                 for c in Corner::ALL {
-                    if corner_gap(x, c, y) < m {
+                    let (face, gap) = corner_face(x, c, y, TIE * delta / MARGIN);
+                    if gap < m {
                         out.push(CornerContact {
                             corner_body: x.body,
                             corner: c,
                             face_body: y.body,
+                            face,
                         });
                     }
                 }
@@ -134,12 +146,21 @@ pub fn corner_contacts(scene: &Scene, t: f64, q: &[f64], u: &[f64], dt: f64) -> 
     out
 }
 
-/// The gap of one corner contact at time t and block coordinates q (positions only).
+/// The gap of corner `corner` of `corner_body` against `face_body` at time t and block
+/// coordinates q: the largest signed distance from the faces, positive exactly when the
+/// corner is outside (what the missed-contact check and the tests measure).
 ///
 /// # Panics
 /// When q holds fewer than 3 entries per block.
 #[must_use]
-pub fn corner_gap_of(scene: &Scene, t: f64, q: &[f64], contact: &CornerContact) -> f64 {
+pub fn corner_gap_of(
+    scene: &Scene,
+    t: f64,
+    q: &[f64],
+    corner_body: Body,
+    corner: Corner,
+    face_body: Body,
+) -> f64 {
     let body = |b: Body| {
         let (state, size) = match b {
             Body::Block(k) => (
@@ -150,11 +171,58 @@ pub fn corner_gap_of(scene: &Scene, t: f64, q: &[f64], contact: &CornerContact) 
         };
         boxed(b, state, size, 0.0, 0.0)
     };
-    corner_gap(
-        &body(contact.corner_body),
-        contact.corner,
-        &body(contact.face_body),
-    )
+    corner_gap(&body(corner_body), corner, &body(face_body))
+}
+
+/// Every corner contact between bodies `a` and `b` (base or blocks, corners of each
+/// against the other), with the faces chosen at (t, q, u) whatever the distance: what
+/// a step that missed the pair's contact is taken again with ([`crate::stepping`]).
+///
+/// # Panics
+/// When q or u holds fewer than 3 entries per block.
+#[must_use]
+pub fn pair_corner_contacts(
+    scene: &Scene,
+    t: f64,
+    q: &[f64],
+    u: &[f64],
+    pair: [Body; 2],
+) -> Vec<CornerContact> {
+    let delta = smallest_dimension(scene);
+    let body = |b: Body| match b {
+        Body::Block(k) => {
+            let state = BodyState::new(
+                Pose::from_slice(&q[3 * k - 3..3 * k]),
+                Twist::from_slice(&u[3 * k - 3..3 * k]),
+            );
+            boxed(b, state, scene.size(k), 0.0, 0.0)
+        }
+        Body::Base | Body::Floor => {
+            boxed(Body::Base, scene.base().state(t), scene.size(0), 0.0, 0.0)
+        }
+    };
+    let (a, b) = (body(pair[0]), body(pair[1]));
+    let mut out = Vec::new();
+    for (x, y) in [(&a, &b), (&b, &a)] {
+        for c in Corner::ALL {
+            let (face, _) = corner_face(x, c, y, TIE * delta);
+            out.push(CornerContact {
+                corner_body: x.body,
+                corner: c,
+                face_body: y.body,
+                face,
+            });
+        }
+    }
+    out
+}
+
+/// The smallest block dimension of the scene.
+fn smallest_dimension(scene: &Scene) -> f64 {
+    (1..=scene.n_blocks())
+        .map(|k| scene.size(k))
+        .map(|s| s.width.min(s.height))
+        .fold(f64::INFINITY, f64::min)
 }
 
 /// The axis (0: x, 1: y) along which the bodies' centres spread most.
@@ -171,12 +239,7 @@ fn sweep_axis(bodies: &[Boxed]) -> usize {
 /// Whether `a` and `b` are neighbours in the stack whose interface supports the upper
 /// one by more than `margin` (then the interface's own gaps are all the contact needed).
 fn firmly_supported(scene: &Scene, a: &Boxed, b: &Boxed, margin: f64) -> bool {
-    let probe = CornerContact {
-        corner_body: a.body,
-        corner: Corner::A,
-        face_body: b.body,
-    };
-    let Some(k) = probe.interface() else {
+    let Some(k) = interface_between(a.body, b.body) else {
         return false;
     };
     let (lower, upper) = if matches!(a.body, Body::Block(i) if i == k + 1) {

@@ -8,24 +8,25 @@
 //! parallel faces in contact are two corners on a face), so corner-on-body contacts are
 //! all the contacts there are.
 //!
-//! A [`CornerContact`] is corner P of body A against body B. Its gap is the signed
-//! distance of P from the face of B that P is *least* inside of, or most outside of:
+//! A [`CornerContact`] is corner P of body A against face f of body B. Its gap is the
+//! signed distance of P from the line of f, g = (r_P − r_B) · n_f − d_f, with the value,
+//! W, χ and ζ of the corner-on-face gap of (G.2.1)/(G.2.3) (crate::gaps) and the slip of
+//! (G.3.1) (crate::slip): the neighbour interface of App. G is the special case P a
+//! bottom corner of block k+1 and f the top face of block k.
 //!
-//!   g = max_f [(r_P − r_B) · n_f − d_f]   over the four faces f of B,
-//!
-//! which is positive exactly when P is outside B and, inside, measures the way out. Its
-//! value, W, χ and ζ are those of the corner-on-face gap of (G.2.1)/(G.2.3) for that face
-//! (crate::gaps), and its slip the corner-on-face slip of (G.3.1) (crate::slip): the
-//! neighbour interface of App. G is the special case P a bottom corner of block k+1 and
-//! f the top face of block k. The face is chosen on real parts at each evaluation, like
-//! the cases of (G.2.2): where two faces tie, the corner is at B's corner region and
-//! both distances agree.
+//! The face is the one P meets, chosen at the start of each step ([`Side::facing`]): of
+//! the four faces, the one P is farthest outside of (the separating face: P outside B
+//! exactly when that distance is positive; P inside, the least deep way out). It stays
+//! fixed within the step, so the gap is smooth for Newton; the next step chooses again.
+//! Fixing it matters: a corner that slides level with B's top into B's side (two equal
+//! blocks pushed together) is at distance zero from the top face all the way, and only
+//! the side face, chosen before it entered, can stop it.
 //!
 //! Which corner contacts a step needs is the broad phase's business
 //! ([`crate::broad_phase`]); how they enter the stepper, the system's
 //! ([`crate::StackSystem`]).
 
-use crate::coordinates::{re, BodyState, Scalar, Twist};
+use crate::coordinates::{BodyState, Scalar, Twist};
 use crate::corners::Corner;
 use crate::gaps::{CornerOnFace, Face};
 use crate::interface::Size;
@@ -33,16 +34,74 @@ use crate::overlap::Body;
 use crate::slip::LowerBody;
 use crate::stack::{pair_row, ContactRow};
 
-/// Corner `corner` of body `corner_body` against body `face_body` (base or block; the
-/// floor has its own contacts).
+/// Corner `corner` of body `corner_body` against face `face` of body `face_body` (base or
+/// block; the floor has its own contacts).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct CornerContact {
     /// The body that owns the corner.
     pub corner_body: Body,
     /// The corner.
     pub corner: Corner,
-    /// The body whose faces the corner may touch.
+    /// The body whose face the corner may touch.
     pub face_body: Body,
+    /// The face, chosen by the broad phase at the start of the step ([`Side::facing`]).
+    pub face: Side,
+}
+
+/// One of the four faces of a rectangular body.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Side {
+    /// The face along +e₂.
+    Top,
+    /// The face along −e₂.
+    Bottom,
+    /// The face along +e₁.
+    Right,
+    /// The face along −e₁.
+    Left,
+}
+
+impl Side {
+    /// The four sides, in the order of [`Face::of_rectangle`].
+    pub const ALL: [Side; 4] = [Side::Top, Side::Bottom, Side::Right, Side::Left];
+
+    /// This face of a body of the given size.
+    #[must_use]
+    pub fn face(self, size: Size) -> Face {
+        let i = Self::ALL.iter().position(|&s| s == self).unwrap_or(0);
+        Face::of_rectangle(size.width, size.height)[i]
+    }
+
+    /// The face of body B (at `face`, of size `face_size`) that a corner at the world
+    /// point `p` of a body centred at `centre` meets: among the faces whose signed
+    /// distance from `p` is largest (within `tie` of the largest: P outside B is beyond
+    /// them, P inside B is least deep behind them), the one facing the corner's body
+    /// most squarely (largest n_f · (r_A − r_B)). The tie matters: a corner level with a
+    /// face's line (two equal blocks side by side, or a corner on a corner) is at
+    /// distance zero from two faces, and only the second face is the one it can strike.
+    /// Returns the side and its signed distance.
+    #[must_use]
+    pub fn facing(
+        p: &crate::coordinates::Vec2,
+        centre: &crate::coordinates::Vec2,
+        face: &crate::coordinates::Pose,
+        face_size: Size,
+        tie: f64,
+    ) -> (Side, f64) {
+        let faces = Face::of_rectangle(face_size.width, face_size.height);
+        let d = faces.map(|f| f.distance(face, p));
+        let best = d.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+        let towards = |f: &Face| face.to_world(&f.normal).dot(&(*centre - face.r()));
+        let mut chosen = 0;
+        for i in 1..4 {
+            let better = d[i] >= best - tie
+                && (d[chosen] < best - tie || towards(&faces[i]) > towards(&faces[chosen]));
+            if better {
+                chosen = i;
+            }
+        }
+        (Self::ALL[chosen], d[chosen])
+    }
 }
 
 /// The index of a base or block body in the scene's numbering (base 0, blocks 1..n).
@@ -62,18 +121,28 @@ pub(crate) fn free_block(b: Body) -> Option<usize> {
     }
 }
 
+/// The neighbour interface of App. G between two bodies, if they are neighbours in the
+/// stack: interface k joins body k and body k+1 (k = 0: the base and block 1).
+#[must_use]
+pub fn interface_between(a: Body, b: Body) -> Option<usize> {
+    let (a, b) = (body_index(a), body_index(b));
+    (a.abs_diff(b) == 1 && a.max(b) != usize::MAX).then_some(a.min(b))
+}
+
 impl CornerContact {
-    /// A total order key (corner body, corner, face body) for deterministic listings.
+    /// A total order key (corner body, corner, face body, face) for deterministic listings.
     #[must_use]
-    pub fn key(&self) -> (usize, usize, usize) {
+    pub fn key(&self) -> (usize, usize, usize, usize) {
         let corner = Corner::ALL
             .iter()
             .position(|&c| c == self.corner)
             .unwrap_or(0);
+        let side = Side::ALL.iter().position(|&s| s == self.face).unwrap_or(0);
         (
             body_index(self.corner_body),
             corner,
             body_index(self.face_body),
+            side,
         )
     }
 
@@ -82,34 +151,7 @@ impl CornerContact {
     /// and block 1).
     #[must_use]
     pub fn interface(&self) -> Option<usize> {
-        let (a, b) = (body_index(self.corner_body), body_index(self.face_body));
-        (a.abs_diff(b) == 1 && a.max(b) != usize::MAX).then_some(a.min(b))
-    }
-
-    /// The face of B (of size `face_size` at the state `face`) that the corner (of a body of
-    /// size `corner_size` at `corner`) is least inside of: the one its gap measures.
-    fn face<T: Scalar>(
-        &self,
-        corner: &BodyState<T>,
-        corner_size: Size,
-        face: &BodyState<T>,
-        face_size: Size,
-    ) -> Face {
-        let p = corner.pose.point(
-            &self
-                .corner
-                .body_offset(corner_size.width, corner_size.height),
-        );
-        let faces = Face::of_rectangle(face_size.width, face_size.height);
-        let mut best = faces[0];
-        let mut best_d = f64::NEG_INFINITY;
-        for f in faces {
-            let d = re(f.distance(&face.pose, &p));
-            if d > best_d {
-                (best, best_d) = (f, d);
-            }
-        }
-        best
+        interface_between(self.corner_body, self.face_body)
     }
 
     /// The gap and the slip speed of the contact, in the coordinates of the free blocks
@@ -127,7 +169,7 @@ impl CornerContact {
             corner_body: *corner,
             corner: self.corner.body_offset(sizes[0].width, sizes[0].height),
             face_body: *face,
-            face: self.face(corner, sizes[0], face, sizes[1]),
+            face: self.face.face(sizes[1]),
         };
         let blocks = [free_block(self.corner_body), free_block(self.face_body)];
         let base_vel = match (self.corner_body, self.face_body) {
@@ -146,11 +188,12 @@ mod tests {
     use crate::coordinates::{Pose, Vec2};
     use crate::gaps::tests::{fd_oracle, state};
 
-    fn contact(corner: Corner) -> CornerContact {
+    fn contact(corner: Corner, face: Side) -> CornerContact {
         CornerContact {
             corner_body: Body::Block(3),
             corner,
             face_body: Body::Block(1),
+            face,
         }
     }
 
@@ -165,33 +208,51 @@ mod tests {
         },
     ];
 
-    /// The gap of corner `c` of A against B, from the positions alone.
-    fn gap_of(c: Corner, a: &BodyState, b: &BodyState) -> f64 {
+    /// The gap of corner `c` of A against face `side` of B.
+    fn gap_of(c: Corner, side: Side, a: &BodyState, b: &BodyState) -> f64 {
         let zero = Twist::new(0.0, 0.0, 0.0);
-        contact(c).rows(a, b, SIZES, &zero).0.value
+        contact(c, side).rows(a, b, SIZES, &zero).0.value
+    }
+
+    /// The side that corner `c` of A meets, and its distance.
+    fn facing(c: Corner, a: &BodyState, b: &BodyState) -> (Side, f64) {
+        let p = a
+            .pose
+            .point(&c.body_offset(SIZES[0].width, SIZES[0].height));
+        Side::facing(&p, &a.pose.r(), &b.pose, SIZES[1], 1e-9)
     }
 
     #[test]
-    fn the_gap_is_the_distance_outside_and_the_way_out_inside() {
+    fn the_face_met_is_the_separating_one_and_level_corners_meet_the_side() {
         let b = state(0.0, 0.0, 0.0, 0.0, 0.0, 0.0);
-        // Corner c (bottom left, offset (−0.1, −0.2)) of A placed at (0.5, 0.02): right of B
-        // (half width 0.15) by 0.35, within its height: the right face measures it.
+        // Corner c (bottom left, offset (−0.1, −0.2)) of A at (0.5, 0.02): right of B
+        // (half width 0.15) by 0.35, within its height: the right face.
         let a = state(0.6, 0.22, 0.0, 0.0, 0.0, 0.0);
-        assert!((gap_of(Corner::C, &a, &b) - 0.35).abs() < 1e-15);
-        // Moved to (0.1, 0.04): inside B, 0.05 from the right face and 0.01 from the top.
+        assert_eq!(facing(Corner::C, &a, &b), (Side::Right, 0.35));
+        assert!((gap_of(Corner::C, Side::Right, &a, &b) - 0.35).abs() < 1e-15);
+        // At (0.1, 0.04): inside B, 0.05 from the right face and 0.01 from the top.
         let a = state(0.2, 0.24, 0.0, 0.0, 0.0, 0.0);
-        assert!((gap_of(Corner::C, &a, &b) + 0.01).abs() < 1e-15);
+        let (side, d) = facing(Corner::C, &a, &b);
+        assert!(side == Side::Top && (d + 0.01).abs() < 1e-15);
+        // Corner a (top right) exactly on B's top-left corner, A to the left: level with
+        // the top face and touching the left one; A can only strike the left face.
+        let a = state(-0.25, -0.15, 0.0, 0.0, 0.0, 0.0);
+        let (side, d) = facing(Corner::A, &a, &b);
+        assert!(side == Side::Left && d.abs() < 1e-15, "{side:?} {d}");
     }
 
     #[test]
     fn rows_match_finite_differences_on_every_face() {
         let b = state(-0.1, 0.05, 0.4, -0.3, 0.5, -0.8);
         // One corner position beside each face of B.
+        let mut seen = Vec::new();
         for (x, y) in [(0.0, 0.3), (0.05, -0.3), (0.4, 0.1), (-0.5, 0.0)] {
             let a = state(x, y, 0.3, 0.7, -0.4, 1.1);
             let zero = Twist::new(0.0, 0.0, 0.0);
-            let (gap, slip) = contact(Corner::B).rows(&a, &b, SIZES, &zero);
-            let (wa, wb, second) = fd_oracle(&|a, b| gap_of(Corner::B, a, b), &a, &b);
+            let (side, _) = facing(Corner::B, &a, &b);
+            seen.push(side);
+            let (gap, slip) = contact(Corner::B, side).rows(&a, &b, SIZES, &zero);
+            let (wa, wb, second) = fd_oracle(&|a, b| gap_of(Corner::B, side, a, b), &a, &b);
             let w: Vec<(usize, f64)> = gap.w.iter().collect();
             for i in 0..3 {
                 assert!((w[i].1 - wa[i]).abs() < 1e-7, "W_A[{i}] at ({x}, {y})");
@@ -203,11 +264,15 @@ mod tests {
             let moving =
                 |s: &BodyState, v: Vec2, w: f64| BodyState::new(s.pose, Twist::new(v.x, v.y, w));
             let v = Vec2::new(0.3, -0.2);
-            let (_, together) =
-                contact(Corner::B).rows(&moving(&a, v, 0.0), &moving(&b, v, 0.0), SIZES, &zero);
+            let (_, together) = contact(Corner::B, side).rows(
+                &moving(&a, v, 0.0),
+                &moving(&b, v, 0.0),
+                SIZES,
+                &zero,
+            );
             assert!(together.value.abs() < 1e-15, "{}", together.value);
             let still = moving(&b, Vec2::new(0.0, 0.0), 0.0);
-            let (_, alone) = contact(Corner::B).rows(&a, &still, SIZES, &zero);
+            let (_, alone) = contact(Corner::B, side).rows(&a, &still, SIZES, &zero);
             let p = a.pose.to_world(&Corner::B.body_offset(0.2, 0.4));
             let speed = a.twist.point_velocity(&p);
             // W_F on A is σ (t, ⊥p·t): read the face tangent t from it.
@@ -220,6 +285,9 @@ mod tests {
             );
             assert!(slip.value.is_finite());
         }
+        seen.sort_by_key(|s| Side::ALL.iter().position(|x| x == s));
+        seen.dedup();
+        assert_eq!(seen.len(), 4, "every face is tried: {seen:?}");
     }
 
     #[test]
@@ -228,6 +296,7 @@ mod tests {
             corner_body: a,
             corner: Corner::A,
             face_body: b,
+            face: Side::Top,
         };
         assert_eq!(c(Body::Base, Body::Block(1)).interface(), Some(0));
         assert_eq!(c(Body::Block(4), Body::Block(3)).interface(), Some(3));

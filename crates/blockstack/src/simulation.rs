@@ -478,7 +478,7 @@ pub fn simulate_until(
     let dt = opts.dt;
     let steps_wanted = step_count(t_end, dt);
     let q0 = scene.initial_coordinates();
-    let u0 = vec![0.0; q0.len()];
+    let u0 = scene.initial_velocities();
     let height = scene
         .blocks()
         .iter()

@@ -712,6 +712,7 @@ mod tests {
             corner_body: a,
             corner: c,
             face_body: b,
+            face: crate::pairs::Side::Right,
         };
         // Same-parity blocks, the base on either side, a free slot, and neighbours whose
         // interface supports (so the slot stays open).
@@ -739,6 +740,7 @@ mod tests {
             corner_body: Body::Block(k),
             corner: Corner::A,
             face_body: Body::Base,
+            face: crate::pairs::Side::Top,
         };
         sys.assign_corner_contacts(&[c(1), c(2)]);
         let change = sys.assign_corner_contacts(&[c(2), c(3)]);
