@@ -23,11 +23,14 @@ use crate::corners::Corner;
 use crate::gaps::Face;
 use crate::interface::Size;
 use crate::overlap::Body;
-use crate::pairs::{interface_between, CornerContact, Side};
+use crate::pairs::{interface_between, ContactLine, CornerContact, LineContacts, LineKind, Side};
 use crate::scene::Scene;
 
 /// The fixed part δ of the margin, as a fraction of the smallest block dimension.
 pub const MARGIN: f64 = 0.05;
+
+/// Two faces face each other (flush) when their normals' dot product is below −FLUSH.
+const FLUSH: f64 = 0.999;
 
 /// Two faces whose distances from a corner differ by less than this fraction of the
 /// smallest block dimension are a tie ([`Side::facing`]).
@@ -87,13 +90,13 @@ fn corner_gap(a: &Boxed, c: Corner, b: &Boxed) -> f64 {
         .fold(f64::NEG_INFINITY, f64::max)
 }
 
-/// The corner contacts that the step from (t, q, u) with step size `dt` may need, in a
-/// deterministic order (by corner body, corner, face body).
+/// The corner contacts that the step from (t, q, u) with step size `dt` may need, grouped
+/// into the lines they lie on ([`LineContacts`]), in a deterministic order.
 ///
 /// # Panics
 /// When q or u holds fewer than 3 entries per block.
 #[must_use]
-pub fn corner_contacts(scene: &Scene, t: f64, q: &[f64], u: &[f64], dt: f64) -> Vec<CornerContact> {
+pub fn corner_contacts(scene: &Scene, t: f64, q: &[f64], u: &[f64], dt: f64) -> Vec<LineContacts> {
     let n = scene.n_blocks();
     let delta = MARGIN * smallest_dimension(scene);
     let base = scene.base();
@@ -127,23 +130,114 @@ pub fn corner_contacts(scene: &Scene, t: f64, q: &[f64], u: &[f64], dt: f64) -> 
             if firmly_supported(scene, a, b, m) {
                 continue;
             }
-            for (x, y) in [(a, b), (b, a)] {
-                for c in Corner::ALL {
-                    let (face, gap) = corner_face(x, c, y, TIE * delta / MARGIN);
-                    if gap < m {
-                        out.push(CornerContact {
-                            corner_body: x.body,
-                            corner: c,
-                            face_body: y.body,
-                            face,
-                        });
-                    }
-                }
-            }
+            out.extend(lines_of(
+                a,
+                b,
+                &pair_candidates(a, b, m, TIE * delta / MARGIN),
+            ));
         }
     }
-    out.sort_by_key(CornerContact::key);
+    out.sort_by_key(|l| l.line.key());
     out
+}
+
+/// The corner contacts of one pair (with their gaps) grouped into the lines they lie on
+/// ([`ContactLine`]), at most two per line (the two smallest gaps), each line's in key
+/// order.
+fn lines_of(a: &Boxed, b: &Boxed, found: &[(CornerContact, f64)]) -> Vec<LineContacts> {
+    let (lo, hi) = if body_number(a.body) < body_number(b.body) {
+        (a, b)
+    } else {
+        (b, a)
+    };
+    let normal = |body: &Boxed, side: Side| body.state.pose.to_world(&side.face(body.size).normal);
+    let line_of = |c: &CornerContact| {
+        let kind = if c.face_body == lo.body {
+            LineKind::Face(c.face)
+        } else {
+            let n = normal(hi, c.face);
+            let flush = Side::ALL
+                .into_iter()
+                .find(|&s| normal(lo, s).dot(&n) < -FLUSH);
+            flush.map_or(LineKind::Corner(c.corner, c.face), LineKind::Face)
+        };
+        ContactLine {
+            lo: lo.body,
+            hi: hi.body,
+            kind,
+        }
+    };
+    let mut lines: Vec<(ContactLine, Vec<(CornerContact, f64)>)> = Vec::new();
+    for &(c, gap) in found {
+        let line = line_of(&c);
+        match lines.iter_mut().find(|(l, _)| *l == line) {
+            Some((_, list)) => list.push((c, gap)),
+            None => lines.push((line, vec![(c, gap)])),
+        }
+    }
+    lines
+        .into_iter()
+        .map(|(line, mut list)| {
+            list.sort_by(|x, y| x.1.total_cmp(&y.1));
+            list.truncate(2);
+            list.sort_by_key(|(c, _)| c.key());
+            let mut contacts = [None; 2];
+            for (slot, (c, _)) in contacts.iter_mut().zip(list) {
+                *slot = Some(c);
+            }
+            LineContacts { line, contacts }
+        })
+        .collect()
+}
+
+/// The scene's number of a base or block body (base 0, blocks 1..n).
+fn body_number(b: Body) -> usize {
+    match b {
+        Body::Block(k) => k,
+        Body::Base | Body::Floor => 0,
+    }
+}
+
+/// The corner contacts of one pair of bodies whose gap is below `m`, each contact point
+/// once. A corner counts against the face it meets only within that face's extent (a
+/// corner beyond the end of a face does not touch it; the other body's corner at that
+/// end does), and where corners of the two bodies lie within the margin of each other on
+/// faces that face each other (two equal blocks flush, corner on corner) only the first
+/// is kept. Without these rules a face lying flush on a face
+/// would give four contacts for the two that a line contact in the plane has, and their
+/// redundant rows would make Newton's matrix singular.
+fn pair_candidates(a: &Boxed, b: &Boxed, m: f64, tie: f64) -> Vec<(CornerContact, f64)> {
+    let mut found: Vec<(CornerContact, crate::coordinates::Vec2, f64)> = Vec::new();
+    for (x, y) in [(a, b), (b, a)] {
+        for c in Corner::ALL {
+            let p = x
+                .state
+                .pose
+                .point(&c.body_offset(x.size.width, x.size.height));
+            let (face, gap) = corner_face(x, c, y, tie);
+            if gap >= m || face.beyond_end(&y.state.pose, y.size, &p) > tie {
+                continue;
+            }
+            let normal =
+                |body: &Boxed, side: Side| body.state.pose.to_world(&side.face(body.size).normal);
+            let flush_twin = |(f, q, _): &(CornerContact, crate::coordinates::Vec2, f64)| {
+                f.corner_body == y.body
+                    && (p - *q).norm() < m
+                    && normal(x, f.face).dot(&normal(y, face)) < -FLUSH
+            };
+            if found.iter().any(flush_twin) {
+                continue;
+            }
+            let contact = CornerContact {
+                corner_body: x.body,
+                corner: c,
+                face_body: y.body,
+                face,
+            };
+            found.push((contact, p, gap));
+        }
+    }
+    found.into_iter().map(|(c, _, gap)| (c, gap)).collect()
 }
 
 /// The gap of corner `corner` of `corner_body` against `face_body` at time t and block
@@ -175,8 +269,9 @@ pub fn corner_gap_of(
 }
 
 /// Every corner contact between bodies `a` and `b` (base or blocks, corners of each
-/// against the other), with the faces chosen at (t, q, u) whatever the distance: what
-/// a step that missed the pair's contact is taken again with ([`crate::stepping`]).
+/// against the other, within the faces' extents), with the faces chosen at (t, q, u)
+/// whatever the distance, grouped into lines: what a step that missed the pair's contact
+/// is taken again with ([`crate::stepping`]).
 ///
 /// # Panics
 /// When q or u holds fewer than 3 entries per block.
@@ -187,7 +282,7 @@ pub fn pair_corner_contacts(
     q: &[f64],
     u: &[f64],
     pair: [Body; 2],
-) -> Vec<CornerContact> {
+) -> Vec<LineContacts> {
     let delta = smallest_dimension(scene);
     let body = |b: Body| match b {
         Body::Block(k) => {
@@ -202,19 +297,7 @@ pub fn pair_corner_contacts(
         }
     };
     let (a, b) = (body(pair[0]), body(pair[1]));
-    let mut out = Vec::new();
-    for (x, y) in [(&a, &b), (&b, &a)] {
-        for c in Corner::ALL {
-            let (face, _) = corner_face(x, c, y, TIE * delta);
-            out.push(CornerContact {
-                corner_body: x.body,
-                corner: c,
-                face_body: y.body,
-                face,
-            });
-        }
-    }
-    out
+    lines_of(&a, &b, &pair_candidates(&a, &b, f64::INFINITY, TIE * delta))
 }
 
 /// The smallest block dimension of the scene.
@@ -284,18 +367,19 @@ mod tests {
         q[3] = q[0] + 0.5 * (w1 + w2) + 1e-4;
         q[4] = q[1];
         let found = corner_contacts(&scene, 0.0, &q, &u, 1e-3);
-        let corners_of = |body: Body| {
-            found
-                .iter()
-                .filter(|c| c.corner_body == body && c.face_body == Body::Block(1))
-                .map(|c| c.corner)
-                .collect::<Vec<_>>()
-        };
-        assert_eq!(corners_of(Body::Block(2)), vec![Corner::B, Corner::C]);
+        // One line along block 1's right face, with one contact at each end (the flush
+        // faces' four corners are two contact points).
+        let beside: Vec<_> = found
+            .iter()
+            .filter(|l| l.line.lo == Body::Block(1) && l.line.hi == Body::Block(2))
+            .collect();
+        assert_eq!(beside.len(), 1, "{found:?}");
+        assert_eq!(beside[0].line.kind, LineKind::Face(Side::Right));
+        assert!(beside[0].contacts.iter().all(Option::is_some));
         q[3] += 1.0;
         let found = corner_contacts(&scene, 0.0, &q, &u, 1e-3);
         assert!(found
             .iter()
-            .all(|c| c.corner_body != Body::Block(2) && c.face_body != Body::Block(2)));
+            .all(|l| l.line.lo != Body::Block(2) && l.line.hi != Body::Block(2)));
     }
 }

@@ -26,7 +26,7 @@
 //! ([`crate::broad_phase`]); how they enter the stepper, the system's
 //! ([`crate::StackSystem`]).
 
-use crate::coordinates::{BodyState, Scalar, Twist};
+use crate::coordinates::{re, BodyState, Scalar, Twist};
 use crate::corners::Corner;
 use crate::gaps::{CornerOnFace, Face};
 use crate::interface::Size;
@@ -102,6 +102,24 @@ impl Side {
         }
         (Self::ALL[chosen], d[chosen])
     }
+
+    /// How far beyond the nearer end of this face of a body (at `pose`, of `size`) the
+    /// world point `p` lies along the face (negative: within the face's extent). A corner
+    /// beyond the end of a face does not touch it: the other body's corner there does.
+    #[must_use]
+    pub fn beyond_end(
+        self,
+        pose: &crate::coordinates::Pose,
+        size: Size,
+        p: &crate::coordinates::Vec2,
+    ) -> f64 {
+        let d = *p - pose.r();
+        let (along, half) = match self {
+            Side::Top | Side::Bottom => (d.dot(&pose.e1()), 0.5 * size.width),
+            Side::Right | Side::Left => (d.dot(&pose.e2()), 0.5 * size.height),
+        };
+        along.abs() - half
+    }
 }
 
 /// The index of a base or block body in the scene's numbering (base 0, blocks 1..n).
@@ -157,6 +175,10 @@ impl CornerContact {
     /// The gap and the slip speed of the contact, in the coordinates of the free blocks
     /// (W on at most two blocks; the base's prescribed motion in χ and ζ). `corner` and
     /// `face` are the states of the two bodies, `sizes` their sizes (corner body first).
+    /// The slip is the velocity of the body first in the scene's order (base, then blocks
+    /// bottom to top) relative to the other, along the face's tangent, or along `along`
+    /// when given (the tangent of the contact's line: the two contacts of a line, one on
+    /// each body's face, then measure the same slip).
     #[must_use]
     pub fn rows<T: Scalar>(
         &self,
@@ -164,12 +186,14 @@ impl CornerContact {
         face: &BodyState<T>,
         sizes: [Size; 2],
         base_acc: &Twist<T>,
+        along: Option<&crate::coordinates::Vec2<T>>,
     ) -> (ContactRow<T>, ContactRow<T>) {
+        let face_geometry = self.face.face(sizes[1]);
         let pair = CornerOnFace {
             corner_body: *corner,
             corner: self.corner.body_offset(sizes[0].width, sizes[0].height),
             face_body: *face,
-            face: self.face.face(sizes[1]),
+            face: face_geometry,
         };
         let blocks = [free_block(self.corner_body), free_block(self.face_body)];
         let base_vel = match (self.corner_body, self.face_body) {
@@ -177,9 +201,83 @@ impl CornerContact {
             (_, Body::Base) => face.twist,
             _ => Twist::new(T::zero(), T::zero(), T::zero()),
         };
+        let lower = if body_index(self.corner_body) < body_index(self.face_body) {
+            LowerBody::Corner
+        } else {
+            LowerBody::Face
+        };
+        let mut slip = pair.slip(lower);
+        if let Some(t) = along {
+            let tangent = face.pose.to_world(&face_geometry.tangent);
+            if re(tangent.dot(t)) < 0.0 {
+                slip = slip.negated();
+            }
+        }
         let fold = |row| pair_row(&row, blocks, &base_vel, base_acc);
-        (fold(pair.gap()), fold(pair.slip(LowerBody::Face)))
+        (fold(pair.gap()), fold(slip))
     }
+}
+
+/// The line on which two bodies touch: one slot of the system, with up to two corner
+/// contacts and one friction law bounded by both (as an interface of App. H).
+///
+/// Two corner contacts of the same pair whose faces lie flush (a block lying on another,
+/// two blocks side by side) slip at the same speed while the faces stay flush; with a
+/// friction law each, their two friction rows would be equal and Newton's matrix singular
+/// in stick. So they share one law, whose slip is that of the contact with the smaller
+/// gap, like the interface's (G.3.1), measured along the tangent of the lower body's face
+/// so that it does not change sign when the smaller gap passes from one body's corner to
+/// the other's.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct ContactLine {
+    /// The body first in the scene's order (base, then blocks bottom to top).
+    pub lo: Body,
+    /// The other body.
+    pub hi: Body,
+    /// Where on the pair the line is.
+    pub kind: LineKind,
+}
+
+/// Where a [`ContactLine`] lies.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum LineKind {
+    /// Along this face of the lower body: contacts of the upper body's corners on it,
+    /// and of the lower body's corners on an upper face flush with it.
+    Face(Side),
+    /// A single contact not on a face of the lower body nor flush with one: a corner of
+    /// the lower body against a face of the upper at an angle.
+    Corner(Corner, Side),
+}
+
+impl ContactLine {
+    /// A total order key, for deterministic listings.
+    #[must_use]
+    pub fn key(&self) -> (usize, usize, usize, usize) {
+        let side = |s: Side| Side::ALL.iter().position(|&x| x == s).unwrap_or(0);
+        let (a, b) = match self.kind {
+            LineKind::Face(s) => (0, side(s)),
+            LineKind::Corner(c, s) => (
+                1 + Corner::ALL.iter().position(|&x| x == c).unwrap_or(0),
+                side(s),
+            ),
+        };
+        (body_index(self.lo), body_index(self.hi), a, b)
+    }
+
+    /// The neighbour interface of App. G joining the two bodies, if any.
+    #[must_use]
+    pub fn interface(&self) -> Option<usize> {
+        interface_between(self.lo, self.hi)
+    }
+}
+
+/// Up to two corner contacts on one [`ContactLine`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct LineContacts {
+    /// The line.
+    pub line: ContactLine,
+    /// Its contacts (a line has at most two in the plane).
+    pub contacts: [Option<CornerContact>; 2],
 }
 
 #[cfg(test)]
@@ -211,7 +309,7 @@ mod tests {
     /// The gap of corner `c` of A against face `side` of B.
     fn gap_of(c: Corner, side: Side, a: &BodyState, b: &BodyState) -> f64 {
         let zero = Twist::new(0.0, 0.0, 0.0);
-        contact(c, side).rows(a, b, SIZES, &zero).0.value
+        contact(c, side).rows(a, b, SIZES, &zero, None).0.value
     }
 
     /// The side that corner `c` of A meets, and its distance.
@@ -251,7 +349,7 @@ mod tests {
             let zero = Twist::new(0.0, 0.0, 0.0);
             let (side, _) = facing(Corner::B, &a, &b);
             seen.push(side);
-            let (gap, slip) = contact(Corner::B, side).rows(&a, &b, SIZES, &zero);
+            let (gap, slip) = contact(Corner::B, side).rows(&a, &b, SIZES, &zero, None);
             let (wa, wb, second) = fd_oracle(&|a, b| gap_of(Corner::B, side, a, b), &a, &b);
             let w: Vec<(usize, f64)> = gap.w.iter().collect();
             for i in 0..3 {
@@ -269,10 +367,11 @@ mod tests {
                 &moving(&b, v, 0.0),
                 SIZES,
                 &zero,
+                None,
             );
             assert!(together.value.abs() < 1e-15, "{}", together.value);
             let still = moving(&b, Vec2::new(0.0, 0.0), 0.0);
-            let (_, alone) = contact(Corner::B, side).rows(&a, &still, SIZES, &zero);
+            let (_, alone) = contact(Corner::B, side).rows(&a, &still, SIZES, &zero, None);
             let p = a.pose.to_world(&Corner::B.body_offset(0.2, 0.4));
             let speed = a.twist.point_velocity(&p);
             // W_F on A is σ (t, ⊥p·t): read the face tangent t from it.

@@ -701,6 +701,12 @@ pub struct RunReport {
     pub max_penetration: f64,
     /// When and where it was measured.
     pub penetration: TimedPenetration,
+    /// The most corner contacts beyond the stack's neighbours in use at once
+    /// ([`crate::pairs`]; 0 while the column stands).
+    pub corner_contacts: usize,
+    /// Steps taken again because the broad phase had missed a contact
+    /// ([`crate::stepping`]).
+    pub redone_steps: usize,
     /// Failure events in the order they happened: a block lost its support, tipped past
     /// its tipping angle or touched the floor; the column's height dropped by a block.
     pub events: Vec<FailureEvent>,
@@ -747,6 +753,8 @@ impl RunReport {
             max_energy_increase: summary.max_energy_increase,
             max_penetration: summary.deepest.depth(),
             penetration: summary.deepest,
+            corner_contacts: summary.corner_contacts,
+            redone_steps: summary.redone_steps,
             events: summary.events.clone(),
             error: summary.error.as_ref().map(ToString::to_string),
             t_final,
@@ -846,6 +854,13 @@ impl std::fmt::Display for RunReport {
                 f,
                 " ({} and {} at t = {:.4})",
                 p.penetration.first, p.penetration.second, p.t
+            )?;
+        }
+        if self.corner_contacts > 0 {
+            write!(
+                f,
+                "\ncorner contacts between bodies beyond the stack's neighbours: up to {} at once, steps redone for a missed contact {}",
+                self.corner_contacts, self.redone_steps
             )?;
         }
         write_events(f, &self.events)?;

@@ -18,7 +18,7 @@
 use crate::broad_phase::{corner_contacts, pair_corner_contacts};
 use crate::coordinates::Pose;
 use crate::overlap::{penetration_depth, Body};
-use crate::pairs::CornerContact;
+use crate::pairs::LineContacts;
 use crate::scene::Scene;
 use crate::system::StackSystem;
 use nsga::{StepError, Stepper};
@@ -27,7 +27,7 @@ use nsga::{StepError, Stepper};
 #[derive(Debug, Clone, Default)]
 pub struct CornerStepping {
     /// The broad phase's list at the current state (step number, list).
-    wanted: Option<(u64, Vec<CornerContact>)>,
+    wanted: Option<(u64, Vec<LineContacts>)>,
     /// Steps taken again because a contact was missed.
     pub redone_steps: usize,
     /// The most corner contacts in the slots at once.
@@ -42,26 +42,25 @@ impl CornerStepping {
     pub fn assign(
         &mut self,
         stepper: &mut Stepper<StackSystem>,
-        wanted: &[CornerContact],
+        wanted: &[LineContacts],
     ) -> Result<(), StepError> {
         let change = stepper.system_mut().assign_corner_contacts(wanted);
         if change.grown {
             stepper.extend_layout()?;
         }
-        if !change.assigned.is_empty() {
-            let (normals, laws): (Vec<usize>, Vec<usize>) = change
-                .assigned
-                .iter()
-                .map(|&s| stepper.system().slot_contacts(s))
-                .unzip();
-            stepper.forget_contacts(&normals, &laws)?;
+        if !change.normals.is_empty() || !change.laws.is_empty() {
+            stepper.forget_contacts(&change.normals, &change.laws)?;
         }
-        self.most_contacts = self.most_contacts.max(wanted.len());
+        let contacts = wanted
+            .iter()
+            .map(|l| l.contacts.iter().flatten().count())
+            .sum();
+        self.most_contacts = self.most_contacts.max(contacts);
         Ok(())
     }
 
     /// The broad phase's list at the stepper's current state (computed once per state).
-    fn wanted(&mut self, scene: &Scene, stepper: &Stepper<StackSystem>) -> Vec<CornerContact> {
+    fn wanted(&mut self, scene: &Scene, stepper: &Stepper<StackSystem>) -> Vec<LineContacts> {
         let st = stepper.state();
         match &self.wanted {
             Some((k, list)) if *k == st.k => list.clone(),
@@ -93,11 +92,12 @@ impl CornerStepping {
         let st = stepper.state();
         // The pairs' overlap, not the corners' gaps: a corner exactly level with a side
         // of the other body is at distance zero from it however deep the faces overlap.
-        let missed: Vec<CornerContact> = after
+        let missed: Vec<[Body; 2]> = after
             .into_iter()
-            .filter(|c| {
-                !wanted.contains(c)
-                    && pair_depth(scene, st.t, &st.q, c.corner_body, c.face_body) > tol
+            .map(|l| [l.line.lo, l.line.hi])
+            .filter(|&[a, b]| {
+                !wanted.iter().any(|w| w.line.lo == a && w.line.hi == b)
+                    && pair_depth(scene, st.t, &st.q, a, b) > tol
             })
             .collect();
         if missed.is_empty() {
@@ -107,21 +107,15 @@ impl CornerStepping {
         // The missed pairs' contacts with the faces they meet *before* the step (after
         // it, a corner may already be past the face it should have struck).
         let mut union = wanted;
-        for c in &missed {
-            for extra in pair_corner_contacts(
-                scene,
-                before.t,
-                &before.q,
-                &before.u,
-                [c.corner_body, c.face_body],
-            ) {
-                if !union.contains(&extra) {
+        for pair in missed {
+            for extra in pair_corner_contacts(scene, before.t, &before.q, &before.u, pair) {
+                if !union.iter().any(|w| w.line == extra.line) {
                     union.push(extra);
                 }
             }
         }
         stepper.set_state(before);
-        union.sort_by_key(CornerContact::key);
+        union.sort_by_key(|l| l.line.key());
         self.assign(stepper, &union)?;
         self.wanted = None;
         stepper.step()?;

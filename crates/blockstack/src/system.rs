@@ -28,9 +28,10 @@
 //! pass of vector dual numbers ([`Directions`]): the real parts (and their sines and
 //! cosines) are computed once, and the cost per iteration is linear in n.
 
+use crate::coordinates::re;
 use crate::coordinates::{BodyState, Pose, Twist};
 use crate::overlap::Body;
-use crate::pairs::{free_block, CornerContact};
+use crate::pairs::{free_block, LineContacts, LineKind};
 use crate::scene::Scene;
 use crate::stack::{ContactRow, StackContacts};
 use nsga::{Derivatives, Evaluation, FrictionLaw, Layout, Probes, Scalar, System};
@@ -67,9 +68,10 @@ pub struct StackSystem {
     forces: Vec<f64>,
     laws: Vec<FrictionLaw>,
     e_n: Vec<f64>,
-    /// The corner contacts beyond the stack's own (crate::pairs), one per slot; `None`
-    /// is a free slot. Their normal contacts and friction laws follow the scene's.
-    slots: Vec<Option<CornerContact>>,
+    /// The contact lines beyond the stack's own (crate::pairs), one per slot; `None` is
+    /// a free slot. Each slot has two normal contacts and one friction law, after the
+    /// scene's.
+    slots: Vec<Option<LineContacts>>,
     /// Reused buffers of the derivative passes (the system is evaluated from one thread).
     scratch: RefCell<DualScratch>,
 }
@@ -80,9 +82,12 @@ pub struct SlotChange {
     /// The number of slots grew: the stepper must re-read the layout
     /// ([`nsga::Stepper::extend_layout`]).
     pub grown: bool,
-    /// Slots that now hold another corner contact than before: the stepper must forget
-    /// their forces ([`nsga::Stepper::forget_contacts`]).
-    pub assigned: Vec<usize>,
+    /// Normal contacts that now hold another corner contact than before, and friction
+    /// laws of slots given to another line: the stepper must forget their forces
+    /// ([`nsga::Stepper::forget_contacts`]).
+    pub normals: Vec<usize>,
+    /// See `normals`.
+    pub laws: Vec<usize>,
 }
 
 #[derive(Debug, Default)]
@@ -126,32 +131,65 @@ impl StackSystem {
         }
     }
 
-    /// The corner contacts in the slots (`None`: a free slot).
+    /// The contact lines in the slots (`None`: a free slot).
     #[must_use]
-    pub fn corner_contacts(&self) -> &[Option<CornerContact>] {
+    pub fn corner_contacts(&self) -> &[Option<LineContacts>] {
         &self.slots
     }
 
-    /// The normal contact and the friction law of slot `s`.
+    /// The two normal contacts and the friction law of slot `s`.
     #[must_use]
-    pub fn slot_contacts(&self, s: usize) -> (usize, usize) {
-        (self.e_n.len() + s, self.laws.len() + s)
+    pub fn slot_contacts(&self, s: usize) -> ([usize; 2], usize) {
+        let first = self.e_n.len() + 2 * s;
+        ([first, first + 1], self.laws.len() + s)
     }
 
-    /// Puts the `wanted` corner contacts (from the broad phase, [`crate::broad_phase`])
-    /// into the slots: a contact already in a slot stays there, a slot whose contact is
-    /// no longer wanted is freed (the broad phase wants every contact that may close
-    /// within the step, so a freed one is open), and new contacts take the free slots in
-    /// order, the number of slots doubling when they run out. Deterministic.
-    pub fn assign_corner_contacts(&mut self, wanted: &[CornerContact]) -> SlotChange {
+    /// Puts the `wanted` contact lines (from the broad phase, [`crate::broad_phase`])
+    /// into the slots: a line already in a slot stays there, and so do its contacts that
+    /// are still wanted; a slot whose line is no longer wanted is freed (the broad phase
+    /// wants every contact that may close within the step, so a freed one is open); new
+    /// lines take the free slots in order, the number of slots doubling when they run
+    /// out. Deterministic.
+    pub fn assign_corner_contacts(&mut self, wanted: &[LineContacts]) -> SlotChange {
         let mut change = SlotChange::default();
-        let mut new: Vec<CornerContact> = Vec::new();
         let mut keep = vec![false; self.slots.len()];
+        let mut new: Vec<LineContacts> = Vec::new();
         for w in wanted {
-            match self.slots.iter().position(|s| s.as_ref() == Some(w)) {
-                Some(i) => keep[i] = true,
-                None => new.push(*w),
+            let Some(i) = self
+                .slots
+                .iter()
+                .position(|s| s.as_ref().is_some_and(|s| s.line == w.line))
+            else {
+                new.push(*w);
+                continue;
+            };
+            keep[i] = true;
+            let old = self.slots[i].expect("a slot with this line").contacts;
+            let mut contacts = [None; 2];
+            for (p, c) in old.iter().enumerate() {
+                if c.is_some() && w.contacts.contains(c) {
+                    contacts[p] = *c;
+                }
             }
+            for c in w.contacts.iter().filter(|c| c.is_some()) {
+                if !contacts.contains(c) {
+                    let p = contacts
+                        .iter()
+                        .position(Option::is_none)
+                        .expect("two places");
+                    contacts[p] = *c;
+                }
+            }
+            let (normals, _) = self.slot_contacts(i);
+            for p in 0..2 {
+                if contacts[p] != old[p] {
+                    change.normals.push(normals[p]);
+                }
+            }
+            self.slots[i] = Some(LineContacts {
+                line: w.line,
+                contacts,
+            });
         }
         for (slot, kept) in self.slots.iter_mut().zip(&keep) {
             if !kept {
@@ -170,22 +208,25 @@ impl StackSystem {
             .collect();
         for (w, i) in new.into_iter().zip(free_slots) {
             self.slots[i] = Some(w);
-            change.assigned.push(i);
+            let (normals, law) = self.slot_contacts(i);
+            change.normals.extend(normals);
+            change.laws.push(law);
         }
         change
     }
 
-    /// The gap and slip rows of slot `s`'s corner contact at the bodies' `states` (corner
-    /// body first), or `None` when the slot is free or its bodies are neighbours whose
+    /// The gap rows of a slot's contacts and the slip of its friction law, with the
+    /// bodies' states from `state`; `None` when the line's bodies are neighbours whose
     /// interface supports the upper one (then the interface's gaps hold the contact).
     fn slot_rows<T: Scalar>(
         &self,
-        contact: &CornerContact,
+        line: &LineContacts,
         t: f64,
-        states: [BodyState<T>; 2],
+        state: impl Fn(Body) -> BodyState<T>,
         interfaces: &[crate::interface::InterfaceContacts<T>],
-    ) -> Option<(ContactRow<T>, ContactRow<T>)> {
-        if contact
+    ) -> Option<SlotRows<T>> {
+        if line
+            .line
             .interface()
             .is_some_and(|k| interfaces[k].is_supported())
         {
@@ -193,12 +234,35 @@ impl StackSystem {
         }
         let size = |b| self.scene.size(body_number(b));
         let base_acc = Twist::lift(&self.scene.base().acceleration(t));
-        Some(contact.rows(
-            &states[0],
-            &states[1],
-            [size(contact.corner_body), size(contact.face_body)],
-            &base_acc,
-        ))
+        let along = match line.line.kind {
+            LineKind::Face(side) => {
+                let lo = state(line.line.lo);
+                Some(lo.pose.to_world(&side.face(size(line.line.lo)).tangent))
+            }
+            LineKind::Corner(..) => None,
+        };
+        let rows = line.contacts.map(|c| {
+            c.map(|c| {
+                c.rows(
+                    &state(c.corner_body),
+                    &state(c.face_body),
+                    [size(c.corner_body), size(c.face_body)],
+                    &base_acc,
+                    along.as_ref(),
+                )
+            })
+        });
+        // The law's slip: the contact with the smaller gap, as (G.3.1).
+        let slip = match (&rows[0], &rows[1]) {
+            (Some(a), Some(b)) if re(b.0.value) < re(a.0.value) => b.1,
+            (Some(a), _) => a.1,
+            (None, Some(b)) => b.1,
+            (None, None) => return None,
+        };
+        Some(SlotRows {
+            gaps: rows.map(|r| r.map(|r| r.0)),
+            slip,
+        })
     }
 
     /// The state of a body of a corner contact: the base's prescribed one, or a block's
@@ -220,6 +284,12 @@ impl StackSystem {
     pub fn scene(&self) -> &Scene {
         &self.scene
     }
+}
+
+/// The rows of one slot: its two gaps (`None`: no contact in that place) and its slip.
+struct SlotRows<T> {
+    gaps: [Option<ContactRow<T>>; 2],
+    slip: ContactRow<T>,
 }
 
 /// Writes one slip row (friction component `j`): W and χ, ζ (v = Wᵀu + χ is formed by
@@ -261,12 +331,13 @@ impl System for StackSystem {
         let mut e_n = self.e_n.clone();
         let mut friction = self.laws.clone();
         for s in 0..self.slots.len() {
-            e_n.push(self.scene.contact.e_n);
+            let (normals, _) = self.slot_contacts(s);
+            e_n.extend([self.scene.contact.e_n; 2]);
             friction.push(FrictionLaw {
                 components: 1,
                 mu: self.scene.contact.mu,
                 e_f: self.scene.contact.e_f,
-                normals: vec![self.slot_contacts(s).0],
+                normals: normals.to_vec(),
             });
         }
         Layout {
@@ -305,26 +376,29 @@ impl System for StackSystem {
                 Twist::from_slice(&u[3 * i..3 * i + 3]),
             )
         };
-        for (s, contact) in self.slots.iter().enumerate() {
-            let (i, j) = self.slot_contacts(s);
-            let rows = contact.as_ref().and_then(|k| {
-                let states = [k.corner_body, k.face_body].map(|b| self.body_state(t, b, block));
-                self.slot_rows(k, t, states, &c.interfaces)
-            });
-            match rows {
-                Some((gap, slip)) => {
-                    put_row(
-                        Some(&gap),
-                        i,
-                        &mut out.position,
-                        &mut out.position_w,
-                        &mut out.position_chi,
-                        &mut out.position_zeta,
-                    );
-                    put_slip(&slip, j, out);
+        for (s, line) in self.slots.iter().enumerate() {
+            let (normals, law) = self.slot_contacts(s);
+            let state = |b| self.body_state(t, b, block);
+            let rows = line
+                .as_ref()
+                .and_then(|l| self.slot_rows(l, t, state, &c.interfaces));
+            let Some(rows) = rows else {
+                for i in normals {
+                    out.position[i] = T::from(UNSUPPORTED_GAP);
                 }
-                None => out.position[i] = T::from(UNSUPPORTED_GAP),
+                continue;
+            };
+            for (gap, i) in rows.gaps.iter().zip(normals) {
+                put_row(
+                    gap.as_ref(),
+                    i,
+                    &mut out.position,
+                    &mut out.position_w,
+                    &mut out.position_chi,
+                    &mut out.position_zeta,
+                );
             }
+            put_slip(&rows.slip, law, out);
         }
     }
 
@@ -427,11 +501,11 @@ impl System for StackSystem {
 }
 
 impl StackSystem {
-    /// The derivatives of the corner-contact rows. A corner contact may join any two
-    /// blocks, so the parity seeding does not apply; each row is differentiated on its
-    /// own, with the corner body's (x, y, θ) on directions 0–2 (over q) and 6–8 (over u)
-    /// and the face body's on 3–5 and 9–11: one pass of the same 12-direction dual
-    /// numbers per slot in use.
+    /// The derivatives of the contact-line rows. A line may join any two blocks, so the
+    /// parity seeding does not apply; each slot is differentiated on its own, with its
+    /// lower body's (x, y, θ) on directions 0–2 (over q) and 6–8 (over u) and its upper
+    /// body's on 3–5 and 9–11: one pass of the same 12-direction dual numbers per slot
+    /// in use.
     fn slot_derivatives(
         &self,
         t: f64,
@@ -450,25 +524,32 @@ impl StackSystem {
                 Twist::new(v(0, 0), v(1, 1), v(2, 2)),
             )
         };
-        for (slot, contact) in self.slots.iter().enumerate() {
-            let Some(contact) = contact else { continue };
-            let (i, law) = self.slot_contacts(slot);
-            let (use_p, use_v) = (probes.uses_position(i), probes.uses_velocity(law));
-            if !use_p && !use_v {
+        for (slot, line) in self.slots.iter().enumerate() {
+            let Some(line) = line else { continue };
+            let (normals, law) = self.slot_contacts(slot);
+            let used = normals.map(|i| probes.uses_position(i));
+            let use_v = probes.uses_velocity(law);
+            if !used.contains(&true) && !use_v {
                 continue;
             }
-            let bodies = [contact.corner_body, contact.face_body];
-            let states = [0, 1].map(|r| self.body_state(t, bodies[r], |b| seeded(b, r)));
-            let Some((gap, slip)) = self.slot_rows(contact, t, states, interfaces) else {
+            let bodies = [line.line.lo, line.line.hi];
+            let state = |b: Body| {
+                let role = usize::from(b == bodies[1]);
+                self.body_state(t, b, |k| seeded(k, role))
+            };
+            let Some(rows) = self.slot_rows(line, t, state, interfaces) else {
                 continue;
             };
             for (role, body) in bodies.into_iter().enumerate() {
                 let Some(b) = free_block(body) else { continue };
                 for coord in 0..3 {
                     let (dq, du, j) = (3 * role + coord, 6 + 3 * role + coord, 3 * b + coord);
-                    if use_p {
+                    for ((gap, i), used) in rows.gaps.iter().zip(normals).zip(used) {
+                        let Some(gap) = gap.as_ref().filter(|_| used) else {
+                            continue;
+                        };
                         q_row(
-                            &gap,
+                            gap,
                             dq,
                             i,
                             j,
@@ -487,7 +568,7 @@ impl StackSystem {
                     if use_v {
                         let mut unused = nsga::Triplets::default();
                         q_row(
-                            &slip,
+                            &rows.slip,
                             dq,
                             law,
                             j,
@@ -501,7 +582,7 @@ impl StackSystem {
                                 accel: &mut out.velocity_accel_q,
                             },
                         );
-                        push_nonzero(&mut out.velocity_accel_u, law, j, part(&slip.zeta, du));
+                        push_nonzero(&mut out.velocity_accel_u, law, j, part(&rows.slip.zeta, du));
                     }
                 }
             }
@@ -704,56 +785,121 @@ mod tests {
         check_with_unused(scene, 0.3, &unused_p, &unused_v);
     }
 
-    #[test]
-    fn corner_contact_derivatives_equal_forward_ad() {
-        use crate::corners::Corner;
-        let mut sys = StackSystem::new(lire_on_floor(4, Perturbation::Bottom).unwrap());
-        let contact = |a, c, b| CornerContact {
+    use crate::corners::Corner;
+    use crate::pairs::{ContactLine, CornerContact, LineKind, Side};
+
+    fn contact(a: Body, c: Corner, b: Body, face: Side) -> Option<CornerContact> {
+        Some(CornerContact {
             corner_body: a,
             corner: c,
             face_body: b,
-            face: crate::pairs::Side::Right,
-        };
-        // Same-parity blocks, the base on either side, a free slot, and neighbours whose
-        // interface supports (so the slot stays open).
+            face,
+        })
+    }
+
+    fn line(
+        lo: Body,
+        hi: Body,
+        kind: LineKind,
+        contacts: [Option<CornerContact>; 2],
+    ) -> LineContacts {
+        LineContacts {
+            line: ContactLine { lo, hi, kind },
+            contacts,
+        }
+    }
+
+    #[test]
+    fn corner_contact_derivatives_equal_forward_ad() {
+        let mut sys = StackSystem::new(lire_on_floor(4, Perturbation::Bottom).unwrap());
+        let (b1, b2, b3, b4) = (
+            Body::Block(1),
+            Body::Block(2),
+            Body::Block(3),
+            Body::Block(4),
+        );
+        // Same-parity blocks with a contact on each body, the base on either side, a
+        // corner line, neighbours whose interface supports (so the slot stays open), and
+        // a free slot.
         let mut wanted = vec![
-            contact(Body::Block(1), Corner::A, Body::Block(3)),
-            contact(Body::Block(4), Corner::C, Body::Block(2)),
-            contact(Body::Base, Corner::B, Body::Block(2)),
-            contact(Body::Block(3), Corner::D, Body::Base),
-            contact(Body::Block(2), Corner::C, Body::Block(1)),
-            contact(Body::Block(2), Corner::D, Body::Block(4)),
+            line(
+                b1,
+                b3,
+                LineKind::Face(Side::Top),
+                [
+                    contact(b3, Corner::C, b1, Side::Top),
+                    contact(b1, Corner::A, b3, Side::Bottom),
+                ],
+            ),
+            line(
+                Body::Base,
+                b2,
+                LineKind::Corner(Corner::B, Side::Left),
+                [contact(Body::Base, Corner::B, b2, Side::Left), None],
+            ),
+            line(
+                Body::Base,
+                b3,
+                LineKind::Face(Side::Top),
+                [None, contact(b3, Corner::D, Body::Base, Side::Top)],
+            ),
+            line(
+                b1,
+                b2,
+                LineKind::Face(Side::Top),
+                [contact(b2, Corner::C, b1, Side::Top), None],
+            ),
+            line(
+                b2,
+                b4,
+                LineKind::Face(Side::Right),
+                [contact(b4, Corner::C, b2, Side::Right), None],
+            ),
         ];
         let change = sys.assign_corner_contacts(&wanted);
-        assert!(change.grown && change.assigned == vec![0, 1, 2, 3, 4, 5]);
+        let laws: Vec<usize> = (0..5).map(|s| sys.slot_contacts(s).1).collect();
+        assert!(change.grown && change.laws == laws);
         wanted.pop();
-        assert!(sys.assign_corner_contacts(&wanted).assigned.is_empty());
-        assert_eq!(sys.corner_contacts()[5], None, "a free slot");
+        let change = sys.assign_corner_contacts(&wanted);
+        assert!(change.laws.is_empty() && change.normals.is_empty());
+        assert_eq!(sys.corner_contacts()[4], None, "a free slot");
         check_system(&sys, 0.3, &[], &[]);
     }
 
     #[test]
-    fn slots_keep_their_contacts_and_reuse_freed_ones() {
-        use crate::corners::Corner;
+    fn slots_keep_their_lines_and_reuse_freed_ones() {
         let mut sys = StackSystem::new(lire_on_floor(3, Perturbation::Bottom).unwrap());
-        let c = |k| CornerContact {
-            corner_body: Body::Block(k),
-            corner: Corner::A,
-            face_body: Body::Base,
-            face: crate::pairs::Side::Top,
+        let c = |k| {
+            line(
+                Body::Base,
+                Body::Block(k),
+                LineKind::Face(Side::Top),
+                [
+                    contact(Body::Block(k), Corner::D, Body::Base, Side::Top),
+                    None,
+                ],
+            )
         };
         sys.assign_corner_contacts(&[c(1), c(2)]);
         let change = sys.assign_corner_contacts(&[c(2), c(3)]);
         assert!(!change.grown);
-        assert_eq!(change.assigned, vec![0], "c(3) takes the slot c(1) left");
+        let ([n0, n1], law) = sys.slot_contacts(0);
+        assert_eq!(change.laws, vec![law], "c(3) takes the slot c(1) left");
+        assert_eq!(change.normals, vec![n0, n1]);
         assert_eq!(
             sys.corner_contacts()[1],
             Some(c(2)),
             "c(2) stays where it was"
         );
+        // A second contact on a kept line: only its normal is new.
+        let mut two = c(2);
+        two.contacts[1] = contact(Body::Block(2), Corner::C, Body::Base, Side::Top);
+        let change = sys.assign_corner_contacts(&[two, c(3)]);
+        assert_eq!(change.normals, vec![sys.slot_contacts(1).0[1]]);
+        assert!(change.laws.is_empty());
         let n = sys.layout().n_normal();
         let change = sys.assign_corner_contacts(&[c(1), c(2), c(3), c(4), c(5)]);
-        assert!(change.grown && sys.layout().n_normal() == n + 4);
+        assert!(change.grown && sys.layout().n_normal() == n + 2 * 4);
     }
 
     #[test]

@@ -1,4 +1,4 @@
-//! Contacts that come and go between steps (docs/method.md §9).
+//! Contacts that come and go between steps (docs/method.md §10).
 //!
 //! A system whose set of contacts changes during a run (a broad phase that adds the
 //! contacts of two bodies when they come close) keeps its layout fixed *within* a step
