@@ -133,7 +133,7 @@ pub fn corner_contacts(scene: &Scene, t: f64, q: &[f64], u: &[f64], dt: f64) -> 
             out.extend(lines_of(
                 a,
                 b,
-                &pair_candidates(a, b, m, TIE * delta / MARGIN),
+                &pair_candidates(a, b, m, m - 2.0 * delta, TIE * delta / MARGIN),
             ));
         }
     }
@@ -141,24 +141,32 @@ pub fn corner_contacts(scene: &Scene, t: f64, q: &[f64], u: &[f64], dt: f64) -> 
     out
 }
 
-/// The corner contacts of one pair (with their gaps) grouped into the lines they lie on
-/// ([`ContactLine`]), at most two per line (the two smallest gaps), each line's in key
-/// order.
-fn lines_of(a: &Boxed, b: &Boxed, found: &[(CornerContact, f64)]) -> Vec<LineContacts> {
+/// The corner contacts of one pair grouped into the lines they lie on ([`ContactLine`]).
+/// A line holds at most two contacts: where more were found (two faces lying flush, each
+/// body's corners on the other's face), the two at the ends of the line are kept, since
+/// a line contact in the plane has two independent contact forces and more would make
+/// Newton's matrix singular.
+fn lines_of(a: &Boxed, b: &Boxed, found: &[Candidate]) -> Vec<LineContacts> {
     let (lo, hi) = if body_number(a.body) < body_number(b.body) {
         (a, b)
     } else {
         (b, a)
     };
-    let normal = |body: &Boxed, side: Side| body.state.pose.to_world(&side.face(body.size).normal);
+    let world = |body: &Boxed, side: Side| {
+        let f = side.face(body.size);
+        (
+            body.state.pose.to_world(&f.normal),
+            body.state.pose.to_world(&f.tangent),
+        )
+    };
     let line_of = |c: &CornerContact| {
         let kind = if c.face_body == lo.body {
             LineKind::Face(c.face)
         } else {
-            let n = normal(hi, c.face);
+            let (n, _) = world(hi, c.face);
             let flush = Side::ALL
                 .into_iter()
-                .find(|&s| normal(lo, s).dot(&n) < -FLUSH);
+                .find(|&s| world(lo, s).0.dot(&n) < -FLUSH);
             flush.map_or(LineKind::Corner(c.corner, c.face), LineKind::Face)
         };
         ContactLine {
@@ -167,23 +175,32 @@ fn lines_of(a: &Boxed, b: &Boxed, found: &[(CornerContact, f64)]) -> Vec<LineCon
             kind,
         }
     };
-    let mut lines: Vec<(ContactLine, Vec<(CornerContact, f64)>)> = Vec::new();
-    for &(c, gap) in found {
-        let line = line_of(&c);
+    let mut lines: Vec<(ContactLine, Vec<Candidate>)> = Vec::new();
+    for found in found {
+        let line = line_of(&found.contact);
         match lines.iter_mut().find(|(l, _)| *l == line) {
-            Some((_, list)) => list.push((c, gap)),
-            None => lines.push((line, vec![(c, gap)])),
+            Some((_, list)) => list.push(*found),
+            None => lines.push((line, vec![*found])),
         }
     }
     lines
         .into_iter()
         .map(|(line, mut list)| {
-            list.sort_by(|x, y| x.1.total_cmp(&y.1));
-            list.truncate(2);
-            list.sort_by_key(|(c, _)| c.key());
+            if list.len() > 2 {
+                let along = match line.kind {
+                    LineKind::Face(side) => world(lo, side).1,
+                    LineKind::Corner(..) => world(hi, list[0].contact.face).1,
+                };
+                let s = |c: &Candidate| c.point.dot(&along);
+                list.sort_by(|x, y| s(x).total_cmp(&s(y)));
+                let last = list[list.len() - 1];
+                list.truncate(1);
+                list.push(last);
+            }
+            list.sort_by_key(|c| c.contact.key());
             let mut contacts = [None; 2];
-            for (slot, (c, _)) in contacts.iter_mut().zip(list) {
-                *slot = Some(c);
+            for (slot, c) in contacts.iter_mut().zip(list) {
+                *slot = Some(c.contact);
             }
             LineContacts { line, contacts }
         })
@@ -198,34 +215,20 @@ fn body_number(b: Body) -> usize {
     }
 }
 
-/// The corner contacts of one pair of bodies whose gap is below `m`, each contact point
-/// once. A corner counts against the face it meets only within that face's extent (a
-/// corner beyond the end of a face does not touch it; the other body's corner at that
-/// end does), and where corners of the two bodies lie within the margin of each other on
-/// faces that face each other (two equal blocks flush, corner on corner) only the first
-/// is kept. Without these rules a face lying flush on a face
-/// would give four contacts for the two that a line contact in the plane has, and their
-/// redundant rows would make Newton's matrix singular.
-fn pair_candidates(a: &Boxed, b: &Boxed, m: f64, tie: f64) -> Vec<(CornerContact, f64)> {
-    let mut found: Vec<(CornerContact, crate::coordinates::Vec2, f64)> = Vec::new();
+/// The corner contacts of one pair of bodies whose gap is below `m`, with their points. A corner counts against the face it meets only within that face's extent, or
+/// beyond its end by no more than `reach` (how far the bodies move within the step): a
+/// corner beyond the end of a face does not touch it, the other body's corner at that
+/// end does, unless the two meet head-on.
+fn pair_candidates(a: &Boxed, b: &Boxed, m: f64, reach: f64, tie: f64) -> Vec<Candidate> {
+    let mut found = Vec::new();
     for (x, y) in [(a, b), (b, a)] {
         for c in Corner::ALL {
-            let p = x
+            let point = x
                 .state
                 .pose
                 .point(&c.body_offset(x.size.width, x.size.height));
             let (face, gap) = corner_face(x, c, y, tie);
-            if gap >= m || face.beyond_end(&y.state.pose, y.size, &p) > tie {
-                continue;
-            }
-            let normal =
-                |body: &Boxed, side: Side| body.state.pose.to_world(&side.face(body.size).normal);
-            let flush_twin = |(f, q, _): &(CornerContact, crate::coordinates::Vec2, f64)| {
-                f.corner_body == y.body
-                    && (p - *q).norm() < m
-                    && normal(x, f.face).dot(&normal(y, face)) < -FLUSH
-            };
-            if found.iter().any(flush_twin) {
+            if gap >= m || face.beyond_end(&y.state.pose, y.size, &point) > reach + tie {
                 continue;
             }
             let contact = CornerContact {
@@ -234,10 +237,17 @@ fn pair_candidates(a: &Boxed, b: &Boxed, m: f64, tie: f64) -> Vec<(CornerContact
                 face_body: y.body,
                 face,
             };
-            found.push((contact, p, gap));
+            found.push(Candidate { contact, point });
         }
     }
-    found.into_iter().map(|(c, _, gap)| (c, gap)).collect()
+    found
+}
+
+/// A corner contact found by the broad phase, with where its corner is.
+#[derive(Debug, Clone, Copy)]
+struct Candidate {
+    contact: CornerContact,
+    point: crate::coordinates::Vec2,
 }
 
 /// The gap of corner `corner` of `corner_body` against `face_body` at time t and block
@@ -297,7 +307,11 @@ pub fn pair_corner_contacts(
         }
     };
     let (a, b) = (body(pair[0]), body(pair[1]));
-    lines_of(&a, &b, &pair_candidates(&a, &b, f64::INFINITY, TIE * delta))
+    lines_of(
+        &a,
+        &b,
+        &pair_candidates(&a, &b, f64::INFINITY, f64::INFINITY, TIE * delta),
+    )
 }
 
 /// The smallest block dimension of the scene.

@@ -18,7 +18,7 @@
 use crate::broad_phase::{corner_contacts, pair_corner_contacts};
 use crate::coordinates::Pose;
 use crate::overlap::{penetration_depth, Body};
-use crate::pairs::LineContacts;
+use crate::pairs::{interface_between, LineContacts};
 use crate::scene::Scene;
 use crate::system::StackSystem;
 use nsga::{StepError, Stepper};
@@ -92,27 +92,31 @@ impl CornerStepping {
         let st = stepper.state();
         // The pairs' overlap, not the corners' gaps: a corner exactly level with a side
         // of the other body is at distance zero from it however deep the faces overlap.
-        let missed: Vec<[Body; 2]> = after
+        let mut missed: Vec<[Body; 2]> = after
             .into_iter()
             .map(|l| [l.line.lo, l.line.hi])
             .filter(|&[a, b]| {
-                !wanted.iter().any(|w| w.line.lo == a && w.line.hi == b)
-                    && pair_depth(scene, st.t, &st.q, a, b) > tol
+                let depth = pair_depth(scene, st.t, &st.q, a, b);
+                depth > tol
+                    && depth > pair_depth(scene, before.t, &before.q, a, b) + tol
+                    && interface_between(a, b).is_none_or(|k| !supported(scene, st, k))
             })
             .collect();
+        missed.dedup();
         if missed.is_empty() {
             return Ok(());
         }
         self.redone_steps += 1;
         // The missed pairs' contacts with the faces they meet *before* the step (after
         // it, a corner may already be past the face it should have struck).
-        let mut union = wanted;
+        let mut union: Vec<LineContacts> = wanted
+            .into_iter()
+            .filter(|w| !missed.contains(&[w.line.lo, w.line.hi]))
+            .collect();
         for pair in missed {
-            for extra in pair_corner_contacts(scene, before.t, &before.q, &before.u, pair) {
-                if !union.iter().any(|w| w.line == extra.line) {
-                    union.push(extra);
-                }
-            }
+            union.extend(pair_corner_contacts(
+                scene, before.t, &before.q, &before.u, pair,
+            ));
         }
         stepper.set_state(before);
         union.sort_by_key(|l| l.line.key());
@@ -121,6 +125,22 @@ impl CornerStepping {
         stepper.step()?;
         Ok(())
     }
+}
+
+/// Whether interface k supports its upper block at the state `st`.
+fn supported(scene: &Scene, st: &nsga::State, k: usize) -> bool {
+    let state = |i: usize| {
+        crate::coordinates::BodyState::new(
+            Pose::from_slice(&st.q[3 * i..]),
+            crate::coordinates::Twist::from_slice(&st.u[3 * i..]),
+        )
+    };
+    let lower = if k == 0 {
+        scene.base().state(st.t)
+    } else {
+        state(k - 1)
+    };
+    scene.interface(k).support(&lower, &state(k)) == crate::interface::Support::Supported
 }
 
 /// How deep two bodies (base or blocks) overlap at time t and block coordinates q.
