@@ -800,10 +800,9 @@ impl std::fmt::Display for RunWarning {
             Self::Scene(w) => write!(f, "{w}"),
             Self::Penetration { deepest, tol } => write!(
                 f,
-                "at t = {:.4}, {} (tolerance {tol:.1e}): the model has contacts only \
-                 between neighbours in the stack and with the floor, so a block that has \
-                 left its neighbour can pass through other bodies; the motion after that \
-                 is not physical",
+                "at t = {:.4}, {} (tolerance {tol:.1e}): two bodies entered each other \
+                 further than the contacts allow; the motion after that is not to be \
+                 trusted (a smaller time step usually helps)",
                 deepest.t, deepest.penetration
             ),
         }
