@@ -164,6 +164,37 @@ impl CornerContact {
         )
     }
 
+    /// How far beyond the nearer end of its face the corner lies (real parts; negative:
+    /// within the face's extent), at the bodies' states (corner body first).
+    #[must_use]
+    pub fn beyond_end<T: Scalar>(
+        &self,
+        corner: &BodyState<T>,
+        face: &BodyState<T>,
+        sizes: [Size; 2],
+    ) -> f64 {
+        let offset = self.corner.body_offset(sizes[0].width, sizes[0].height);
+        let p = corner.pose.point(&offset).re();
+        let pose =
+            crate::coordinates::Pose::new(re(face.pose.x), re(face.pose.y), re(face.pose.theta));
+        self.face.beyond_end(&pose, sizes[1], &p)
+    }
+
+    /// Whether this is a contact that a neighbour interface measures while it supports
+    /// (G.2.3): a top corner (a, b) of the lower body on the bottom face of the upper,
+    /// or a bottom corner (c, d) of the upper on the top face of the lower.
+    #[must_use]
+    pub fn is_interface_case(&self) -> bool {
+        let Some(k) = self.interface() else {
+            return false;
+        };
+        let lower_is_corner = body_index(self.corner_body) == k;
+        matches!(
+            (lower_is_corner, self.corner, self.face),
+            (true, Corner::A | Corner::B, Side::Bottom) | (false, Corner::C | Corner::D, Side::Top)
+        )
+    }
+
     /// The neighbour interface of App. G that joins the two bodies, if they are
     /// neighbours in the stack: interface k joins body k and body k+1 (k = 0: the base
     /// and block 1).

@@ -273,9 +273,9 @@ impl Scene {
             let c = self.interface(k).contacts(&lower, &block(k));
             let fold =
                 |row: &PairRow<T>| fold_pair(row, lower_body, &lower, &base_acc, Body::Block(k));
-            let supported = c.is_supported();
-            out.normals.push(supported.then(|| fold(&c.left.row)));
-            out.normals.push(supported.then(|| fold(&c.right.row)));
+            let holds = c.holds();
+            out.normals.push(holds.then(|| fold(&c.left.row)));
+            out.normals.push(holds.then(|| fold(&c.right.row)));
             out.slips.push(fold(&c.slip));
             out.interfaces.push(c);
         }

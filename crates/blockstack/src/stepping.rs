@@ -18,7 +18,7 @@
 use crate::broad_phase::{corner_contacts, pair_corner_contacts};
 use crate::coordinates::Pose;
 use crate::overlap::{penetration_depth, Body};
-use crate::pairs::{interface_between, LineContacts};
+use crate::pairs::LineContacts;
 use crate::scene::Scene;
 use crate::system::StackSystem;
 use nsga::{StepError, Stepper};
@@ -97,9 +97,7 @@ impl CornerStepping {
             .map(|l| [l.line.lo, l.line.hi])
             .filter(|&[a, b]| {
                 let depth = pair_depth(scene, st.t, &st.q, a, b);
-                depth > tol
-                    && depth > pair_depth(scene, before.t, &before.q, a, b) + tol
-                    && interface_between(a, b).is_none_or(|k| !supported(scene, st, k))
+                depth > tol && depth > pair_depth(scene, before.t, &before.q, a, b) + tol
             })
             .collect();
         missed.dedup();
@@ -125,22 +123,6 @@ impl CornerStepping {
         stepper.step()?;
         Ok(())
     }
-}
-
-/// Whether interface k supports its upper block at the state `st`.
-fn supported(scene: &Scene, st: &nsga::State, k: usize) -> bool {
-    let state = |i: usize| {
-        crate::coordinates::BodyState::new(
-            Pose::from_slice(&st.q[3 * i..]),
-            crate::coordinates::Twist::from_slice(&st.u[3 * i..]),
-        )
-    };
-    let lower = if k == 0 {
-        scene.base().state(st.t)
-    } else {
-        state(k - 1)
-    };
-    scene.interface(k).support(&lower, &state(k)) == crate::interface::Support::Supported
 }
 
 /// How deep two bodies (base or blocks) overlap at time t and block coordinates q.

@@ -31,7 +31,7 @@
 use crate::coordinates::re;
 use crate::coordinates::{BodyState, Pose, Twist};
 use crate::overlap::Body;
-use crate::pairs::{free_block, LineContacts, LineKind};
+use crate::pairs::{free_block, CornerContact, LineContacts, LineKind};
 use crate::scene::Scene;
 use crate::stack::{ContactRow, StackContacts};
 use nsga::{Derivatives, Evaluation, FrictionLaw, Layout, Probes, Scalar, System};
@@ -60,6 +60,10 @@ fn part(x: &Directions, d: usize) -> f64 {
 /// any positive number makes the contact open with zero force.
 pub const UNSUPPORTED_GAP: f64 = 1.0;
 
+/// How far past the end of its face (times the smallest block dimension) a corner contact
+/// still touches it: round-off and the solver's tolerance, not a real overhang.
+pub const END_TOL: f64 = 1e-3;
+
 /// A [`Scene`] seen by the nsga stepper.
 #[derive(Debug)]
 pub struct StackSystem {
@@ -72,6 +76,9 @@ pub struct StackSystem {
     /// a free slot. Each slot has two normal contacts and one friction law, after the
     /// scene's.
     slots: Vec<Option<LineContacts>>,
+    /// How far past the end of its face a corner contact's corner may be and still touch
+    /// it: [`END_TOL`] times the smallest block dimension.
+    end_tol: f64,
     /// Reused buffers of the derivative passes (the system is evaluated from one thread).
     scratch: RefCell<DualScratch>,
 }
@@ -126,6 +133,11 @@ impl StackSystem {
             e_n: vec![scene.contact.e_n; scene.n_normal_contacts()],
             laws,
             slots: Vec::new(),
+            end_tol: END_TOL
+                * (1..=scene.n_blocks())
+                    .map(|k| scene.size(k))
+                    .map(|s| s.width.min(s.height))
+                    .fold(f64::INFINITY, f64::min),
             scratch: RefCell::new(DualScratch::default()),
             scene,
         }
@@ -217,7 +229,7 @@ impl StackSystem {
 
     /// The gap rows of a slot's contacts and the slip of its friction law, with the
     /// bodies' states from `state`; `None` when the line's bodies are neighbours whose
-    /// interface supports the upper one (then the interface's gaps hold the contact).
+    /// interface supports the upper one and the interface's gaps hold all its contacts.
     fn slot_rows<T: Scalar>(
         &self,
         line: &LineContacts,
@@ -225,14 +237,23 @@ impl StackSystem {
         state: impl Fn(Body) -> BodyState<T>,
         interfaces: &[crate::interface::InterfaceContacts<T>],
     ) -> Option<SlotRows<T>> {
-        if line
-            .line
-            .interface()
-            .is_some_and(|k| interfaces[k].is_supported())
-        {
+        // While the interface supports, it holds the corners it measures (ℓ_a…ℓ_d of
+        // (G.2.3)); the line keeps only its other contacts (a corner against a side).
+        let supported = line.line.interface().is_some_and(|k| interfaces[k].holds());
+        let size = |b| self.scene.size(body_number(b));
+        // A corner that has slid past the end of its face no longer touches it (its face
+        // was chosen at the start of the step): the contact opens rather than hold the
+        // corner on the face's line beyond the body.
+        let on_face = |c: &CornerContact| {
+            let sizes = [size(c.corner_body), size(c.face_body)];
+            c.beyond_end(&state(c.corner_body), &state(c.face_body), sizes) <= self.end_tol
+        };
+        let contacts = line
+            .contacts
+            .map(|c| c.filter(|c| !(supported && c.is_interface_case()) && on_face(c)));
+        if contacts.iter().all(Option::is_none) {
             return None;
         }
-        let size = |b| self.scene.size(body_number(b));
         let base_acc = Twist::lift(&self.scene.base().acceleration(t));
         let along = match line.line.kind {
             LineKind::Face(side) => {
@@ -241,7 +262,7 @@ impl StackSystem {
             }
             LineKind::Corner(..) => None,
         };
-        let rows = line.contacts.map(|c| {
+        let rows = contacts.map(|c| {
             c.map(|c| {
                 c.rows(
                     &state(c.corner_body),
