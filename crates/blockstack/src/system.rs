@@ -61,8 +61,11 @@ fn part(x: &Directions, d: usize) -> f64 {
 pub const UNSUPPORTED_GAP: f64 = 1.0;
 
 /// How far past the end of its face (times the smallest block dimension) a corner contact
-/// still touches it: round-off and the solver's tolerance, not a real overhang.
-pub const END_TOL: f64 = 1e-3;
+/// still holds: equal blocks flush have their corners exactly at the ends of each other's
+/// faces, and a slight tilt must not open them; a corner farther out has left the face
+/// (held on its line, the position projection of the last resort would throw the body
+/// back across).
+pub const END_TOL: f64 = 0.05;
 
 /// A [`Scene`] seen by the nsga stepper.
 #[derive(Debug)]

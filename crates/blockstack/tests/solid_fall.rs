@@ -114,6 +114,17 @@ fn two_blocks_thrown_at_each_other_meet_and_land_together() {
 }
 
 #[test]
+fn blocks_meeting_head_on_at_seven_tenths_of_a_width_per_step_do_not_tunnel() {
+    // Closing at 28: 0.14 per step of 0.005, for blocks 0.2 wide, corner on corner.
+    let s = scene(
+        "[[blocks]]\nwidth = 0.2\nheight = 0.4\nx = -1.0\ny = 0.6\nvelocity = [14.0, 0.0, 0.0]\n\
+         [[blocks]]\nwidth = 0.2\nheight = 0.4\nx = 1.0\ny = 0.6\nvelocity = [-14.0, 0.0, 0.0]\n",
+    );
+    let (summary, last) = run(&s, 6.0);
+    assert_solid_and_at_rest(&s, &summary, &last);
+}
+
+#[test]
 fn a_block_dropped_on_a_lying_block_comes_to_rest_on_it() {
     let s = scene(
         "[[blocks]]\nwidth = 0.2\nheight = 0.4\nx = 1.5\ny = 0.05\ntheta = 1.5707963267948966\n\
