@@ -550,7 +550,7 @@ fn blocks_sweep_scene<'py>(
 }
 
 /// How often a sweep's caller checks for Ctrl-C while the rows run.
-const SIGNAL_POLL: std::time::Duration = std::time::Duration::from_millis(20);
+pub(crate) const SIGNAL_POLL: std::time::Duration = std::time::Duration::from_millis(20);
 
 /// Runs `row` over `items` in parallel on rayon, in input order, and returns the rows as
 /// `json.loads` makes them of the CLI's JSON. `options` are the runs' options: their

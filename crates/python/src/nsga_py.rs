@@ -4,13 +4,14 @@
 
 use crate::{guard, json_to_py, value_error};
 use nsga::studies::ball::{ball_report, Scheme};
-use nsga::studies::work_precision::{work_precision, WorkPrecisionSystem};
+use nsga::studies::work_precision::{work_precision_until, WorkPrecisionSystem};
 use nsga::Prox;
 use numpy::ndarray::{Array1, Array2};
 use numpy::IntoPyArray;
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
+use std::sync::atomic::{AtomicBool, Ordering};
 
 fn check_dt(dt: f64) -> PyResult<()> {
     if !(dt.is_finite() && dt > 0.0 && dt <= 0.1) {
@@ -129,12 +130,32 @@ fn nsga_work_precision<'py>(
                 "repeat must be in 1..=1000, got {repeat}"
             )));
         }
-        let rows = py
-            .detach(|| guard(|| Ok(work_precision(system, &dts, &rho_inf, repeat))))?
-            .map_err(|e| match e {
-                nsga::StepError::InvalidInput(m) => PyValueError::new_err(m),
-                e => crate::solver_error(e.to_string()),
-            })?;
+        // On a worker thread, so that Ctrl-C is seen while it runs: the study stops
+        // between two of its runs (each a fraction of a second).
+        let cancel = AtomicBool::new(false);
+        let rows = std::thread::scope(|scope| {
+            let worker = scope.spawn(|| {
+                guard(|| {
+                    Ok(work_precision_until(
+                        system, &dts, &rho_inf, repeat, &cancel,
+                    ))
+                })
+            });
+            while !worker.is_finished() {
+                if let Err(interrupt) = py.check_signals() {
+                    cancel.store(true, Ordering::Relaxed);
+                    py.detach(|| worker.join()).ok();
+                    return Err(interrupt);
+                }
+                py.detach(|| std::thread::sleep(crate::blocks::SIGNAL_POLL));
+            }
+            py.detach(|| worker.join())
+                .unwrap_or_else(|_| Err(PyValueError::new_err("the worker thread stopped")))
+        })?
+        .map_err(|e| match e {
+            nsga::StepError::InvalidInput(m) => PyValueError::new_err(m),
+            e => crate::solver_error(e.to_string()),
+        })?;
         json_to_py(py, &rows)
     })
 }

@@ -1,5 +1,11 @@
 """Comparison helpers for the tests."""
 
+import signal
+import subprocess
+import sys
+import textwrap
+import time
+
 TIMING_KEYS = {"wall_time_s", "solver_s", "total_s", "cpu_time_s", "time_s", "seconds"}
 
 
@@ -14,3 +20,35 @@ def strip_timings(value):
     if isinstance(value, list):
         return [strip_timings(v) for v in value]
     return value
+
+
+def exits_on_sigint(body: str) -> None:
+    """Runs `body` (which has `blocks` and `nsga` imported and must take far longer than the test)
+    in a child process, sends it SIGINT and checks that it raised KeyboardInterrupt
+    within a second."""
+    child = textwrap.dedent(
+        """
+        import sys
+        from rollstack import blocks, nsga
+        print("started", flush=True)
+        try:
+            {body}
+        except KeyboardInterrupt:
+            print("interrupted", flush=True)
+            sys.exit(3)
+        print("finished", flush=True)
+        """
+    ).format(body=body)
+    p = subprocess.Popen([sys.executable, "-c", child], stdout=subprocess.PIPE, text=True)
+    assert p.stdout.readline().strip() == "started"
+    time.sleep(1.0)
+    sent = time.monotonic()
+    p.send_signal(signal.SIGINT)
+    try:
+        code = p.wait(timeout=5)
+    finally:
+        if p.poll() is None:
+            p.kill()
+    elapsed = time.monotonic() - sent
+    assert code == 3, p.stdout.read()
+    assert elapsed < 1.0, elapsed

@@ -1,15 +1,8 @@
-import os
-import signal
-import subprocess
-import sys
-import textwrap
-import time
-
 import numpy as np
 import pytest
 
 import rollstack
-from helpers import strip_timings
+from helpers import exits_on_sigint, strip_timings
 from rollstack import blocks
 
 ONE_BLOCK = dict(
@@ -194,46 +187,14 @@ def test_to_dataframe():
     assert {"t", "x1", "n1a", "vx1", "g1a", "energy"} <= set(df.columns)
 
 
-def _exits_on_sigint(body: str) -> None:
-    """Runs `body` (which has `blocks` imported and must take far longer than the test)
-    in a child process, sends it SIGINT and checks that it raised KeyboardInterrupt
-    within a second."""
-    child = textwrap.dedent(
-        """
-        import sys
-        from rollstack import blocks
-        print("started", flush=True)
-        try:
-            {body}
-        except KeyboardInterrupt:
-            print("interrupted", flush=True)
-            sys.exit(3)
-        print("finished", flush=True)
-        """
-    ).format(body=body)
-    p = subprocess.Popen([sys.executable, "-c", child], stdout=subprocess.PIPE, text=True)
-    assert p.stdout.readline().strip() == "started"
-    time.sleep(1.0)
-    sent = time.monotonic()
-    p.send_signal(signal.SIGINT)
-    try:
-        code = p.wait(timeout=5)
-    finally:
-        if p.poll() is None:
-            p.kill()
-    elapsed = time.monotonic() - sent
-    assert code == 3, p.stdout.read()
-    assert elapsed < 1.0, elapsed
-
-
 def test_ctrl_c_interrupts_a_long_simulation():
-    _exits_on_sigint("blocks.simulate(blocks.shaking(blocks=4, omega=4.0, periods=100000.0))")
+    exits_on_sigint("blocks.simulate(blocks.shaking(blocks=4, omega=4.0, periods=100000.0))")
 
 
 def test_ctrl_c_interrupts_a_long_sweep():
     # Two rows of 100000 periods each: the interrupt must end the runs already started,
     # not only keep new rows from starting.
-    _exits_on_sigint("blocks.sweep_frequency([0.5, 0.6], periods=100000.0, amplitude=0.001)")
+    exits_on_sigint("blocks.sweep_frequency([0.5, 0.6], periods=100000.0, amplitude=0.001)")
 
 
 def test_help_has_the_docs():

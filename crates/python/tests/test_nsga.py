@@ -1,7 +1,7 @@
 import numpy as np
 import pytest
 
-from helpers import strip_timings
+from helpers import exits_on_sigint, strip_timings
 from rollstack import nsga
 
 
@@ -36,3 +36,7 @@ def test_work_precision_bad_input():
         nsga.work_precision("pendulum")
     with pytest.raises(ValueError, match="dt"):
         nsga.work_precision("ball", dts=[1.0])
+
+
+def test_ctrl_c_interrupts_a_long_work_precision_study():
+    exits_on_sigint('nsga.work_precision("ball", dts=[1e-5], rho_inf=[0.5], repeat=1000)')

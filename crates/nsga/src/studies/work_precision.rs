@@ -9,6 +9,7 @@ use crate::options::{Options, Prox};
 use crate::stepper::Stepper;
 use crate::systems::ball::BallCase;
 use std::fmt;
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Instant;
 
 /// The systems of the work-precision diagram.
@@ -206,6 +207,21 @@ pub fn work_precision(
     rho_infs: &[f64],
     repeat: usize,
 ) -> Result<Vec<WorkPrecisionRow>, StepError> {
+    work_precision_until(system, dts, rho_infs, repeat, &AtomicBool::new(false))
+}
+
+/// [`work_precision`] that stops between two runs once `cancel` is set, returning the
+/// rows done so far (the Python module sets it on Ctrl-C).
+///
+/// # Errors
+/// As [`work_precision`].
+pub fn work_precision_until(
+    system: WorkPrecisionSystem,
+    dts: &[f64],
+    rho_infs: &[f64],
+    repeat: usize,
+    cancel: &AtomicBool,
+) -> Result<Vec<WorkPrecisionRow>, StepError> {
     if dts.iter().any(|&d| !(d > 0.0 && d <= 0.1)) {
         return Err(StepError::InvalidInput(
             "every dt must be in (0, 0.1] s".into(),
@@ -225,6 +241,9 @@ pub fn work_precision(
             let mut best = f64::INFINITY;
             let mut error = f64::NAN;
             for _ in 0..repeat.max(1) {
+                if cancel.load(Ordering::Relaxed) {
+                    return Ok(rows);
+                }
                 let (e, w) = work_precision_point(system, scheme, rho.unwrap_or(0.5), dt)?;
                 error = e;
                 best = best.min(w);

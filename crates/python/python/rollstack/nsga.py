@@ -37,7 +37,9 @@ def work_precision(
 ) -> List[Dict[str, Any]]:
     """Error against CPU time for ``"ball"``, ``"oscillator"`` or ``"incline"``, NSGA
     for each ρ∞ beside Moreau-Jean, each time the best of ``repeat`` runs: the rows of
-    ``rollstack nsga work-precision --json``. Runs with the GIL released."""
+    ``rollstack nsga work-precision --json``. Runs with the GIL released; raises
+    ``KeyboardInterrupt`` on Ctrl-C (checked every 20 ms, the study stopping between two
+    of its runs)."""
     return _rollstack.nsga_work_precision(
         system, [float(d) for d in dts], [float(r) for r in rho_inf], int(repeat)
     )
