@@ -473,23 +473,7 @@ impl System for StackSystem {
                     let Some(j) = seeded_coordinate(row, parity, coord) else {
                         continue;
                     };
-                    q_row(
-                        row,
-                        dq,
-                        i,
-                        j,
-                        u,
-                        probes,
-                        |k| probes.dynamics[k].1,
-                        &mut out.dynamics_q,
-                        &mut PositionRows {
-                            value: &mut out.position_q,
-                            rate: &mut out.position_rate_q,
-                            accel: &mut out.position_accel_q,
-                        },
-                    );
-                    // Only ζ depends on u.
-                    push_nonzero(&mut out.position_accel_u, i, j, part(&row.zeta, du));
+                    gap_derivatives(row, (dq, du), i, j, u, probes, out);
                 }
                 for (i, row) in s.contacts.slips.iter().enumerate() {
                     if !probes.uses_velocity(i) {
@@ -498,25 +482,7 @@ impl System for StackSystem {
                     let Some(j) = seeded_coordinate(row, parity, coord) else {
                         continue;
                     };
-                    // v = Wᵀu + χ is the velocity-level "value": its q-derivatives go into
-                    // velocity_q, like ṗ's into position_rate_q.
-                    let mut unused = nsga::Triplets::default();
-                    q_row(
-                        row,
-                        dq,
-                        i,
-                        j,
-                        u,
-                        probes,
-                        |k| probes.dynamics[k].2,
-                        &mut out.dynamics_q,
-                        &mut PositionRows {
-                            value: &mut unused,
-                            rate: &mut out.velocity_q,
-                            accel: &mut out.velocity_accel_q,
-                        },
-                    );
-                    push_nonzero(&mut out.velocity_accel_u, i, j, part(&row.zeta, du));
+                    slip_derivatives(row, (dq, du), i, j, u, probes, out);
                 }
             }
         }
@@ -572,41 +538,10 @@ impl StackSystem {
                         let Some(gap) = gap.as_ref().filter(|_| used) else {
                             continue;
                         };
-                        q_row(
-                            gap,
-                            dq,
-                            i,
-                            j,
-                            u,
-                            probes,
-                            |k| probes.dynamics[k].1,
-                            &mut out.dynamics_q,
-                            &mut PositionRows {
-                                value: &mut out.position_q,
-                                rate: &mut out.position_rate_q,
-                                accel: &mut out.position_accel_q,
-                            },
-                        );
-                        push_nonzero(&mut out.position_accel_u, i, j, part(&gap.zeta, du));
+                        gap_derivatives(gap, (dq, du), i, j, u, probes, out);
                     }
                     if use_v {
-                        let mut unused = nsga::Triplets::default();
-                        q_row(
-                            &rows.slip,
-                            dq,
-                            law,
-                            j,
-                            u,
-                            probes,
-                            |k| probes.dynamics[k].2,
-                            &mut out.dynamics_q,
-                            &mut PositionRows {
-                                value: &mut unused,
-                                rate: &mut out.velocity_q,
-                                accel: &mut out.velocity_accel_q,
-                            },
-                        );
-                        push_nonzero(&mut out.velocity_accel_u, law, j, part(&rows.slip.zeta, du));
+                        slip_derivatives(&rows.slip, (dq, du), law, j, u, probes, out);
                     }
                 }
             }
@@ -636,6 +571,67 @@ fn push_nonzero(t: &mut nsga::Triplets<f64>, r: usize, c: usize, v: f64) {
     if v != 0.0 {
         t.push(r, c, v);
     }
+}
+
+/// The derivatives of gap row `i` with respect to coordinate `j`, seeded on directions
+/// `(dq, du)` (over q and over u): into the position-level matrices of `out`.
+fn gap_derivatives(
+    row: &ContactRow<Directions>,
+    (dq, du): (usize, usize),
+    i: usize,
+    j: usize,
+    u: &[f64],
+    probes: &Probes<'_>,
+    out: &mut Derivatives,
+) {
+    q_row(
+        row,
+        dq,
+        i,
+        j,
+        u,
+        probes,
+        |k| probes.dynamics[k].1,
+        &mut out.dynamics_q,
+        &mut PositionRows {
+            value: &mut out.position_q,
+            rate: &mut out.position_rate_q,
+            accel: &mut out.position_accel_q,
+        },
+    );
+    // Only ζ depends on u.
+    push_nonzero(&mut out.position_accel_u, i, j, part(&row.zeta, du));
+}
+
+/// The derivatives of slip row `i` (a friction component) with respect to coordinate
+/// `j`: v = Wᵀu + χ is the velocity-level "value", so its q-derivatives go into
+/// velocity_q, like ṗ's into position_rate_q.
+fn slip_derivatives(
+    row: &ContactRow<Directions>,
+    (dq, du): (usize, usize),
+    i: usize,
+    j: usize,
+    u: &[f64],
+    probes: &Probes<'_>,
+    out: &mut Derivatives,
+) {
+    let mut unused = nsga::Triplets::default();
+    q_row(
+        row,
+        dq,
+        i,
+        j,
+        u,
+        probes,
+        |k| probes.dynamics[k].2,
+        &mut out.dynamics_q,
+        &mut PositionRows {
+            value: &mut unused,
+            rate: &mut out.velocity_q,
+            accel: &mut out.velocity_accel_q,
+        },
+    );
+    push_nonzero(&mut out.velocity_accel_u, i, j, part(&row.zeta, du));
 }
 
 /// Where the q-derivatives of one constraint family go.
