@@ -56,3 +56,30 @@ fn shaken_columns_that_used_to_stop_run_to_their_end() {
         assert!(s.fallback_residual < 1e-9, "{}", s.fallback_residual);
     }
 }
+
+/// Columns shaken slowly enough that their blocks fall onto the base, onto each other
+/// and onto the floor and pile up there, lying on their sides beside and on top of each
+/// other: the cases that, while the corner contacts were being built, left bodies inside
+/// each other (a block lying on its side on the base sits exactly where the interface's
+/// support test flips; equal blocks lying flush have their corners at the very ends of
+/// each other's faces). Each must stay solid to its end.
+#[test]
+fn shaken_columns_that_fall_and_pile_up_stay_solid() {
+    for (blocks, omega, mu) in [(2, 2.0, 0.3), (6, 4.0, 0.2), (3, 2.0, 0.3)] {
+        let s = shaken(blocks, omega, mu, 20.0);
+        assert!(
+            s.error.is_none(),
+            "n = {blocks}, ω = {omega}: {:?}",
+            s.error
+        );
+        assert!(
+            s.corner_contacts > 0,
+            "n = {blocks}, ω = {omega}: the blocks fell"
+        );
+        assert!(
+            s.deepest.depth() < s.penetration_tol,
+            "n = {blocks}, ω = {omega}, μ = {mu}: {:?}",
+            s.deepest
+        );
+    }
+}
