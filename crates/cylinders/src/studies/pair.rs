@@ -1,0 +1,289 @@
+//! The transport of two touching cylinders (§3.6, Figure 3.14), stepped by nsga: what
+//! `rollstack cylinder pair` and `rollstack cylinder sweep pair` report.
+//!
+//! Without a push, steady transport needs no floor friction and the support forces are
+//! the smooth-floor formula (3.3.10), with zero force between the cylinders
+//! (docs/errata.md, item 14); [`PairReport::static_error`] measures that.
+
+use crate::error::CylinderError;
+use crate::kinematics::Cylinder;
+use crate::statics::{FrictionLimit, SupportProblem};
+use crate::transport::{check_inclination, top_height, PairTransport, SpinProfile};
+use nsga::{Options, Stepper, System};
+use serde::{Deserialize, Serialize};
+use std::f64::consts::PI;
+use std::time::Instant;
+
+/// What to simulate: the thesis's transport with its defaults (§3.6).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct PairSettings {
+    /// Inclination ϑ of both cylinders (rad), in (arctan(2r/h), π/2).
+    pub theta: f64,
+    /// The cylinders (default: the gas cylinders, h = 1.2954 m, r = 0.1143 m).
+    pub cylinder: Cylinder,
+    /// Time step Δt (s), default 2 ms.
+    pub dt: f64,
+    /// Number of steps, default 2000.
+    pub steps: usize,
+    /// ρ∞ of the generalized-α scheme, default 0.5.
+    pub rho_inf: f64,
+    /// The prescribed spin of cylinder I (default: −6π rad/s from t = 0).
+    pub spin: SpinProfile,
+    /// Floor friction μ_s (default 1; idle without a push).
+    pub mu_floor: f64,
+    /// Friction between the cylinders μ_k (default 0.4).
+    pub mu_mutual: f64,
+    /// Horizontal push P/mg at each top along e′2 (default 0).
+    pub push_over_mg: f64,
+}
+
+impl PairSettings {
+    /// The thesis's settings at inclination ϑ.
+    #[must_use]
+    pub fn thesis(theta: f64) -> Self {
+        Self {
+            theta,
+            cylinder: Cylinder::gas_cylinder(),
+            dt: 2e-3,
+            steps: 2000,
+            rho_inf: 0.5,
+            spin: SpinProfile::constant(-6.0 * PI),
+            mu_floor: 1.0,
+            mu_mutual: 0.4,
+            push_over_mg: 0.0,
+        }
+    }
+
+    /// The system these settings describe.
+    ///
+    /// # Errors
+    /// A one-line message for the first bad setting: ϑ outside (arctan(2r/h), π/2),
+    /// r ≥ h/2, Δt not positive, no steps, ρ∞ outside [0, 1], negative friction.
+    pub fn system(&self) -> Result<PairTransport, CylinderError> {
+        input::positive("time step Δt", self.dt)?;
+        if self.steps == 0 {
+            return Err(input::InputError::OutOfRange {
+                name: "steps".into(),
+                range: "at least 1",
+                value: 0.0,
+            }
+            .into());
+        }
+        input::in_range("ρ∞", self.rho_inf, 0.0..=1.0, "[0, 1]")?;
+        let mut sys = PairTransport::thesis(0.5);
+        sys.cylinder = self.cylinder;
+        sys.validate_geometry()?;
+        check_inclination(&self.cylinder, self.theta)?;
+        sys.top_height = [top_height(&self.cylinder, self.theta); 2];
+        sys.mu_floor = self.mu_floor;
+        sys.mu_mutual = self.mu_mutual;
+        sys.spin = self.spin;
+        sys.push_over_mg = self.push_over_mg;
+        sys.validate()?;
+        Ok(sys)
+    }
+}
+
+/// One recorded step of the transport. Forces are divided by mg.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct PairSample {
+    /// Time t (s).
+    pub t: f64,
+    /// The 12 coordinates (x̄_I, ψ1, ϑ1, φ1, x̄_II, ψ2, ϑ2, φ2).
+    pub q: Vec<f64>,
+    /// Spin rates φ̇1, φ̇2 (rad/s).
+    pub spin_rates: [f64; 2],
+    /// Floor normal forces N1, N2 over mg.
+    pub n_over_mg: [f64; 2],
+    /// Top forces F3 of I and II over mg (multipliers of Π8, Π11).
+    pub f3_over_mg: [f64; 2],
+    /// Normal force between the cylinders over mg.
+    pub contact_normal_force: f64,
+    /// Floor friction forces (E1, E2 components) of I and II over mg.
+    pub floor_friction: [f64; 4],
+    /// Friction between the cylinders (t1, t2 components) over mg.
+    pub contact_friction: [f64; 2],
+    /// Gaps: floor I, floor II, mutual.
+    pub gaps: [f64; 3],
+}
+
+impl PairSample {
+    /// The CSV header of [`PairSample::csv_cells`].
+    pub const CSV_HEADER: &'static str = "t,x_I1,x_I2,x_I3,psi1,theta1,phi1,x_II1,x_II2,x_II3,psi2,theta2,phi2,phidot1,phidot2,n1_over_mg,n2_over_mg,f3_1_over_mg,f3_2_over_mg,contact_normal_over_mg,floor1_f1,floor1_f2,floor2_f1,floor2_f2,contact_f1,contact_f2,gap_floor1,gap_floor2,gap_mutual";
+
+    /// The row's cells, in the order of [`PairSample::CSV_HEADER`].
+    #[must_use]
+    pub fn csv_cells(&self) -> Vec<String> {
+        std::iter::once(self.t)
+            .chain(self.q.iter().copied())
+            .chain(self.spin_rates)
+            .chain(self.n_over_mg)
+            .chain(self.f3_over_mg)
+            .chain([self.contact_normal_force])
+            .chain(self.floor_friction)
+            .chain(self.contact_friction)
+            .chain(self.gaps)
+            .map(|x| x.to_string())
+            .collect()
+    }
+}
+
+/// The result of one transport run. The field names are the keys of
+/// `rollstack cylinder pair --json` (docs/cli.md); forces are divided by mg.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct PairReport {
+    /// Inclination ϑ (rad).
+    pub theta: f64,
+    /// Floor normal forces N/mg of I and II at the last step.
+    pub n_over_mg: [f64; 2],
+    /// Top forces F3/mg of I and II at the last step.
+    pub f3_over_mg: [f64; 2],
+    /// Normal force between the cylinders over mg at the last step.
+    pub contact_normal_force: f64,
+    /// Steps taken.
+    pub steps: usize,
+    /// Wall-clock time of the stepping (s).
+    pub wall_time_s: f64,
+    /// N/mg of the smooth-floor formula (3.3.10) (F3/mg = 1 − N/mg).
+    pub n_over_mg_static: f64,
+    /// The largest |N/mg − (3.3.10)| and |F3/mg − (1 − (3.3.10))| of both cylinders at
+    /// the last step.
+    pub static_error: f64,
+    /// The largest normal force between the cylinders over mg in the last half of the run.
+    pub max_contact_normal_force: f64,
+    /// The largest |g| of the bilateral constraints (top heights, headings) over all
+    /// steps.
+    pub drift: f64,
+    /// The largest |φ̇1 − φ̇10(t)| (Π10) over all steps (rad/s).
+    pub spin_error: f64,
+    /// The smallest gap (floor I, floor II, mutual) over all steps.
+    pub min_gap: f64,
+    /// The mutual gap at the last step (positive: the cylinders have parted).
+    pub final_mutual_gap: f64,
+    /// The largest floor slip speed ‖v_P‖ over all steps (m/s).
+    pub max_floor_slip: f64,
+    /// Newton iterations over the run.
+    pub newton_iterations: u64,
+    /// Every step, when asked for ([`run_pair`]'s `record`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub trajectory: Option<Vec<PairSample>>,
+}
+
+/// Runs the transport of [`PairSettings`]; with `record`, keeps every step.
+///
+/// # Errors
+/// Bad settings (see [`PairSettings::system`]) or a step of the solver that fails
+/// ([`CylinderError::Solver`]).
+pub fn run_pair(settings: &PairSettings, record: bool) -> Result<PairReport, CylinderError> {
+    let sys = settings.system()?;
+    let (q0, u0) = sys.initial_state(settings.theta)?;
+    let options = Options {
+        dt: settings.dt,
+        rho_inf: settings.rho_inf,
+        ..Options::default()
+    };
+    let mg = sys.mass * sys.gravity;
+    let layout = sys.layout();
+    let mut stepper = Stepper::new(sys, 0.0, &q0, &u0, options)
+        .map_err(|e| CylinderError::Solver(e.to_string()))?;
+    let mut eval = nsga::Evaluation::<f64>::new(&layout);
+    let mut trajectory = record.then(Vec::new);
+    let (mut drift, mut spin_error, mut min_gap, mut max_slip) =
+        (0.0_f64, 0.0_f64, f64::MAX, 0.0_f64);
+    let mut max_contact = 0.0_f64;
+    let mut last = None;
+    let clock = Instant::now();
+    let mut observe = |stepper: &Stepper<PairTransport>, k: usize| {
+        let st = stepper.state();
+        eval.reset();
+        stepper.system().evaluate(st.t, &st.q, &st.u, &mut eval);
+        let (lg, _) = stepper.bilateral_forces();
+        drift = drift.max(eval.position[..4].iter().fold(0.0, |m, g| m.max(g.abs())));
+        let mut v = eval.velocity_chi.clone();
+        for &(r, c, w) in &eval.velocity_w.entries {
+            v[c] += w * st.u[r];
+        }
+        spin_error = spin_error.max(v[0].abs());
+        max_slip = max_slip.max(v[1].hypot(v[2])).max(v[3].hypot(v[4]));
+        let gaps = [eval.position[4], eval.position[5], eval.position[6]];
+        min_gap = gaps.iter().fold(min_gap, |m, &g| m.min(g));
+        let sample = PairSample {
+            t: st.t,
+            q: st.q.clone(),
+            spin_rates: [st.u[5], st.u[11]],
+            n_over_mg: [st.lambda_n[0] / mg, st.lambda_n[1] / mg],
+            f3_over_mg: [lg[0] / mg, lg[2] / mg],
+            contact_normal_force: st.lambda_n[2] / mg,
+            floor_friction: std::array::from_fn(|i| st.lambda_f[i] / mg),
+            contact_friction: [st.lambda_f[4] / mg, st.lambda_f[5] / mg],
+            gaps,
+        };
+        if 2 * k >= settings.steps {
+            max_contact = max_contact.max(sample.contact_normal_force.abs());
+        }
+        if let Some(t) = trajectory.as_mut() {
+            t.push(sample.clone());
+        }
+        last = Some(sample);
+    };
+    observe(&stepper, 0);
+    for k in 1..=settings.steps {
+        stepper
+            .step()
+            .map_err(|e| CylinderError::Solver(e.to_string()))?;
+        observe(&stepper, k);
+    }
+    let wall_time_s = clock.elapsed().as_secs_f64();
+    let last = last.expect("observed at least the start");
+    let statics =
+        SupportProblem::new(settings.cylinder.radius() / settings.cylinder.height(), 0.0)?;
+    let n_static = statics
+        .normal_force(settings.theta, FrictionLimit::Smooth)?
+        .unwrap_or(f64::NAN);
+    let static_error = (0..2)
+        .map(|b| {
+            (last.n_over_mg[b] - n_static)
+                .abs()
+                .max((last.f3_over_mg[b] - (1.0 - n_static)).abs())
+        })
+        .fold(0.0, f64::max);
+    Ok(PairReport {
+        theta: settings.theta,
+        n_over_mg: last.n_over_mg,
+        f3_over_mg: last.f3_over_mg,
+        contact_normal_force: last.contact_normal_force,
+        steps: settings.steps,
+        wall_time_s,
+        n_over_mg_static: n_static,
+        static_error,
+        max_contact_normal_force: max_contact,
+        drift,
+        spin_error,
+        min_gap,
+        final_mutual_gap: last.gaps[2],
+        max_floor_slip: max_slip,
+        newton_iterations: stepper.run_stats().newton_iterations,
+        trajectory,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn short(theta: f64) -> PairSettings {
+        PairSettings {
+            steps: 200,
+            ..PairSettings::thesis(theta)
+        }
+    }
+
+    #[test]
+    fn steady_transport_is_the_smooth_floor_statics() {
+        let r = run_pair(&short(0.5), false).unwrap();
+        assert!(r.static_error < 1e-8, "{r:?}");
+        assert!(r.max_contact_normal_force < 1e-8, "{r:?}");
+        assert!(r.drift < 1e-10, "{r:?}");
+        assert!(r.min_gap > -1e-10, "{r:?}");
+    }
+}
