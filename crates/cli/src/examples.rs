@@ -27,6 +27,8 @@ pub const EXAMPLES: &[&str] = &[
     "rollstack cylinder holonomy rectangle --theta 0.3 --phi1 13pi/3 --phi2 29pi/4 --out rect",
     "rollstack cylinder holonomy circle --ell 2 --theta 0.4 --h 1 --r 0.3 --json",
     "rollstack cylinder frobenius --system pair9 --config touching",
+    "rollstack cylinder pair --theta 30deg --out pair --json",
+    "rollstack cylinder sweep pair --theta 0.18:0.78:0.075 --out fig3_14",
     "rollstack tour --out tour --only sphere,cylinder",
     "rollstack merge freq-1 freq-2 --out freq",
     "rollstack slurm --tasks 8 blocks sweep frequency --omega 2:20:0.25 --out freq",

@@ -267,6 +267,171 @@ pub fn run_pair(settings: &PairSettings, record: bool) -> Result<PairReport, Cyl
     })
 }
 
+/// One row of the sweep of Figure 3.14: the transport at one inclination, with the
+/// smooth-floor statics (3.3.10) beside it. Forces are divided by mg. The field names
+/// are the keys of `rollstack cylinder sweep pair --json` and the CSV columns.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct PairSweepRow {
+    /// Inclination ϑ (rad).
+    pub theta: f64,
+    /// Floor normal forces N/mg of I and II at the last step (NaN when the run failed).
+    pub n_over_mg: [f64; 2],
+    /// Top forces F3/mg of I and II at the last step.
+    pub f3_over_mg: [f64; 2],
+    /// Normal force between the cylinders over mg at the last step.
+    pub contact_normal_force: f64,
+    /// N/mg of (3.3.10); F3/mg = 1 − N/mg.
+    pub n_over_mg_static: f64,
+    /// [`PairReport::static_error`].
+    pub static_error: f64,
+    /// [`PairReport::drift`].
+    pub drift: f64,
+    /// [`PairReport::min_gap`].
+    pub min_gap: f64,
+    /// Steps taken.
+    pub steps: usize,
+    /// Wall-clock time of the run (s).
+    pub wall_time_s: f64,
+    /// Why the run failed, if it did.
+    pub error: Option<String>,
+}
+
+impl PairSweepRow {
+    /// The CSV header of [`PairSweepRow::csv_cells`].
+    pub const CSV_HEADER: [&'static str; 13] = [
+        "theta",
+        "n1_over_mg",
+        "n2_over_mg",
+        "f3_1_over_mg",
+        "f3_2_over_mg",
+        "contact_normal_force",
+        "n_over_mg_static",
+        "static_error",
+        "drift",
+        "min_gap",
+        "steps",
+        "wall_time_s",
+        "error",
+    ];
+
+    /// The row's cells, in the order of [`PairSweepRow::CSV_HEADER`] (a number a failed
+    /// run lacks is an empty cell).
+    #[must_use]
+    pub fn csv_cells(&self) -> Vec<String> {
+        let mut cells: Vec<String> = [self.theta]
+            .into_iter()
+            .chain(self.n_over_mg)
+            .chain(self.f3_over_mg)
+            .chain([
+                self.contact_normal_force,
+                self.n_over_mg_static,
+                self.static_error,
+                self.drift,
+                self.min_gap,
+            ])
+            .map(|x| {
+                if x.is_finite() {
+                    x.to_string()
+                } else {
+                    String::new()
+                }
+            })
+            .collect();
+        cells.push(self.steps.to_string());
+        cells.push(self.wall_time_s.to_string());
+        cells.push(self.error.clone().unwrap_or_default());
+        cells
+    }
+}
+
+impl std::fmt::Display for PairSweepRow {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match &self.error {
+            Some(e) => write!(f, "ϑ = {:.4} rad: failed: {e}", self.theta),
+            None => write!(
+                f,
+                "ϑ = {:.4} rad: N/mg = {:.6}, F3/mg = {:.6} ((3.3.10): {:.6}, off by {:.1e}), \
+                 contact {:.1e} mg",
+                self.theta,
+                self.n_over_mg[0],
+                self.f3_over_mg[0],
+                self.n_over_mg_static,
+                self.static_error,
+                self.contact_normal_force
+            ),
+        }
+    }
+}
+
+/// The row of the sweep at `settings.theta`: a failed run is a row with its error.
+#[must_use]
+pub fn pair_sweep_row(settings: &PairSettings) -> PairSweepRow {
+    match run_pair(settings, false) {
+        Ok(r) => PairSweepRow {
+            theta: r.theta,
+            n_over_mg: r.n_over_mg,
+            f3_over_mg: r.f3_over_mg,
+            contact_normal_force: r.contact_normal_force,
+            n_over_mg_static: r.n_over_mg_static,
+            static_error: r.static_error,
+            drift: r.drift,
+            min_gap: r.min_gap,
+            steps: r.steps,
+            wall_time_s: r.wall_time_s,
+            error: None,
+        },
+        Err(e) => PairSweepRow {
+            theta: settings.theta,
+            n_over_mg: [f64::NAN; 2],
+            f3_over_mg: [f64::NAN; 2],
+            contact_normal_force: f64::NAN,
+            n_over_mg_static: f64::NAN,
+            static_error: f64::NAN,
+            drift: f64::NAN,
+            min_gap: f64::NAN,
+            steps: 0,
+            wall_time_s: 0.0,
+            error: Some(e.to_string()),
+        },
+    }
+}
+
+/// The outline of both cylinders at configuration q for drawing: for each, its body
+/// index (0 for I, 1 for II) and polylines in space: the bottom and top rims, four
+/// generators, the first of them a material line (at body angle 0, e1 = cos φ e′1 +
+/// sin φ e″2) that shows the spin, and the axis.
+#[must_use]
+pub fn pair_outline(cylinder: &Cylinder, q: &[f64]) -> Vec<(usize, Vec<[f64; 3]>)> {
+    let (r, half) = (cylinder.radius(), 0.5 * cylinder.height());
+    let mut lines = Vec::new();
+    for b in 0..2 {
+        let o = 6 * b;
+        let f = crate::kinematics::EulerFrame::new(q[o + 3], q[o + 4]);
+        let c = nalgebra::Vector3::new(q[o], q[o + 1], q[o + 2]);
+        let phi = q[o + 5];
+        let radial = |a: f64| (f.e1p * a.cos() + f.e2pp * a.sin()) * r;
+        let point = |v: nalgebra::Vector3<f64>| [v.x, v.y, v.z];
+        for end in [-half, half] {
+            let rim = (0..=48)
+                .map(|k| point(c + f.e3 * end + radial(f64::from(k) * PI / 24.0)))
+                .collect();
+            lines.push((b, rim));
+        }
+        for k in 0..4 {
+            let a = phi + f64::from(k) * PI / 2.0;
+            lines.push((
+                b,
+                vec![
+                    point(c - f.e3 * half + radial(a)),
+                    point(c + f.e3 * half + radial(a)),
+                ],
+            ));
+        }
+        lines.push((b, vec![point(c - f.e3 * half), point(c + f.e3 * half)]));
+    }
+    lines
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
