@@ -529,6 +529,13 @@ fn runs() -> Vec<Run> {
             true,
         ),
         run(
+            "cylinder sweep push",
+            &[
+                "--theta", "0.5", "--push", "0.2,0.25", "--steps", "40", "--json",
+            ],
+            true,
+        ),
+        run(
             "nsga ball",
             &["--case", "2", "--dt", "0.01", "--json"],
             true,

@@ -153,7 +153,7 @@ pub struct PairTransport {
     /// The prescribed spin of cylinder I.
     pub spin: SpinProfile,
     /// Horizontal force P/mg at each top centre along that cylinder's e′2 (the applied
-    /// force F e′2 of §3.3); 0 in the thesis.
+    /// force F e′2 of §3.3), reached after [`PUSH_RAMP_S`]; 0 in the thesis.
     pub push_over_mg: f64,
     /// Heights of the top centres held by Π8, Π11.
     pub top_height: [f64; 2],
@@ -414,6 +414,19 @@ impl PairTransport {
     }
 }
 
+/// How long the push takes to reach its value, s: it rises smoothly (3τ² − 2τ³) from
+/// zero, so that the run starts from the steady transport (a push at its full value at
+/// t = 0 would start at a friction limit, where the consistent start's Newton matrix
+/// is singular).
+pub const PUSH_RAMP_S: f64 = 0.05;
+
+/// The fraction of the push applied at time t ([`PUSH_RAMP_S`]).
+#[must_use]
+pub fn push_ramp(t: f64) -> f64 {
+    let tau = (t / PUSH_RAMP_S).clamp(0.0, 1.0);
+    tau * tau * (3.0 - 2.0 * tau)
+}
+
 /// The height of the top centre of a cylinder standing on its rim at inclination ϑ:
 /// f2(ϑ) + (h/2) cos ϑ = r sin ϑ + h cos ϑ, (3.2.6).
 #[must_use]
@@ -477,7 +490,7 @@ impl System for PairTransport {
         let (i1, i3) = self.inertias();
         let m = self.mass;
         let half = 0.5 * self.cylinder.height();
-        let push = self.push_over_mg * m * self.gravity;
+        let push = self.push_over_mg * m * self.gravity * push_ramp(t);
         for b in 0..2 {
             let o = 6 * b;
             for k in 0..3 {

@@ -8,7 +8,7 @@ use crate::{file, FigureError, Result};
 use cylinders::kinematics::Cylinder;
 use cylinders::statics::FrictionLimit;
 use cylinders::studies::holonomy::PlanView;
-use cylinders::studies::pair::{pair_outline, PairSample, PairSweepRow};
+use cylinders::studies::pair::{pair_outline, PairSample, PairSweepRow, PushRow};
 use cylinders::studies::statics::StaticsFigures;
 use plotters::prelude::{BitMapBackend, IntoDrawingArea, WHITE};
 use std::ops::Range;
@@ -366,6 +366,59 @@ pub fn plot_pair_sweep(path: &Path, rows: &[PairSweepRow], r_over_h: f64) -> Res
     .with(
         Series::markers("contact normal / mg", pts(&|r| r.contact_normal_force))
             .styled(Style::color(PALETTE[2]).marker(Marker::Square)),
+    )
+    .save(path, (1100, 600))
+}
+
+/// The push at which a rim starts to slip against ϑ (markers, from the simulations;
+/// the last push that did not slip beside it) with the static bound μ_s N₋ of (3.3.8)₋
+/// (corrected per errata item 9) for r/h = `r_over_h`.
+///
+/// # Errors
+/// When the file cannot be written.
+pub fn plot_push_sweep(path: &Path, rows: &[PushRow], r_over_h: f64, mu: f64) -> Result<()> {
+    let lo = rows.iter().map(|r| r.theta).fold(f64::INFINITY, f64::min);
+    let hi = rows
+        .iter()
+        .map(|r| r.theta)
+        .fold(f64::NEG_INFINITY, f64::max);
+    let (lo, hi) = if lo < hi {
+        (lo, hi)
+    } else {
+        (lo - 0.05, lo + 0.05)
+    };
+    let curve: Vec<(f64, f64)> = (0..=200)
+        .map(|k| lo + (hi - lo) * f64::from(k) / 200.0)
+        .filter_map(|t| {
+            let (s, c) = t.sin_cos();
+            let d = s - r_over_h * c - mu * (r_over_h * s + c);
+            (d > 0.0).then(|| (t.to_degrees(), mu * 0.5 * s / d))
+        })
+        .collect();
+    let onset = rows
+        .iter()
+        .filter_map(|r| r.onset_over_mg.map(|p| (r.theta.to_degrees(), p)))
+        .collect();
+    let stick = rows
+        .iter()
+        .filter_map(|r| r.last_stick_over_mg.map(|p| (r.theta.to_degrees(), p)))
+        .collect();
+    LinePlot {
+        legend: Legend::Right,
+        ..LinePlot::new(
+            format!("Slip onset under a push along e′2 (r/h = {r_over_h:.4}, μ_s = {mu})"),
+            THETA_DEG,
+            "P/mg [dimensionless]",
+        )
+    }
+    .with(Series::line("μ_s N₋/mg, (3.3.8)−", curve).styled(Style::color(PALETTE[0])))
+    .with(
+        Series::markers("last push that sticks (nsga)", stick)
+            .styled(Style::color(PALETTE[2]).marker(Marker::Circle)),
+    )
+    .with(
+        Series::markers("first push that slips (nsga)", onset)
+            .styled(Style::color(PALETTE[1]).marker(Marker::Triangle)),
     )
     .save(path, (1100, 600))
 }

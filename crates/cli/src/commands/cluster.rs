@@ -66,10 +66,13 @@ fn parse_sweep(argv: &[String]) -> Result<(Cli, &'static str)> {
 /// The name and output options of a parsed sweep, or `None` for another command.
 fn sweep_output(command: &mut Command) -> Option<(&'static str, &mut SweepOutputArgs)> {
     if let Command::Cylinder(CylinderArgs {
-        command: CylinderCommand::Sweep(CylinderSweepCommand::Pair(a)),
+        command: CylinderCommand::Sweep(sweep),
     }) = command
     {
-        return Some(("pair", &mut a.output));
+        return Some(match sweep {
+            CylinderSweepCommand::Pair(a) => ("pair", &mut a.output),
+            CylinderSweepCommand::Push(a) => ("push", &mut a.output),
+        });
     }
     let Command::Blocks(BlocksArgs {
         command: BlocksCommand::Sweep(sweep),

@@ -180,6 +180,8 @@ pub fn run_pair(settings: &PairSettings, record: bool) -> Result<PairReport, Cyl
     let options = Options {
         dt: settings.dt,
         rho_inf: settings.rho_inf,
+        max_halvings: 2,
+        boundary_resolves: true,
         ..Options::default()
     };
     let mg = sys.mass * sys.gravity;
@@ -396,6 +398,201 @@ pub fn pair_sweep_row(settings: &PairSettings) -> PairSweepRow {
     }
 }
 
+/// One row of the push sweep: at inclination ϑ and floor friction μ_s, the pushes P/mg
+/// of a grid applied at each top along e′2 (the applied force F e′2 of §3.3) in
+/// increasing order until a rim slips, against the statics of §3.3: with F = P the
+/// moment balance gives the line (3.3.12), F3/mg = (F/mg − α2)/α1, N = mg − F3, and the
+/// rim slips when F reaches μ_s N, i.e. at P*/mg = μ_s N₋/mg with N₋ of (3.3.8)₋
+/// (corrected per errata item 9; F_f = −μN e′2). Without a positive N₋ no push
+/// along +e′2 makes the rim slip. The field names are the keys of
+/// `rollstack cylinder sweep push --json` and the CSV columns.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct PushRow {
+    /// Inclination ϑ (rad).
+    pub theta: f64,
+    /// Floor friction μ_s.
+    pub mu_floor: f64,
+    /// The first push of the grid at which a rim slipped (over mg), or null.
+    pub onset_over_mg: Option<f64>,
+    /// The static slip onset μ_s N₋/mg of (3.3.8)₋, or null when N₋ is not positive.
+    pub static_onset_over_mg: Option<f64>,
+    /// The grid step ΔP/mg.
+    pub push_step: f64,
+    /// Whether the measured onset is within one grid step above the static one (both
+    /// null counts as agreement).
+    pub agrees: bool,
+    /// The last push that did not slip (over mg), or null when the first did.
+    pub last_stick_over_mg: Option<f64>,
+    /// N/mg measured at that push.
+    pub n_over_mg: Option<f64>,
+    /// N/mg of the statics (3.3.12) at that push.
+    pub n_over_mg_static: Option<f64>,
+    /// F3/mg measured at that push.
+    pub f3_over_mg: Option<f64>,
+    /// The largest |N/mg − statics| and |F3/mg − statics| over the sticking pushes.
+    pub static_error: f64,
+    /// Runs made.
+    pub runs: usize,
+    /// Wall-clock time of the runs (s).
+    pub wall_time_s: f64,
+    /// Why a run failed, if one did.
+    pub error: Option<String>,
+}
+
+impl PushRow {
+    /// An empty row at ϑ, μ_s (to carry an error).
+    #[must_use]
+    pub fn failed(theta: f64, mu_floor: f64) -> Self {
+        Self {
+            theta,
+            mu_floor,
+            onset_over_mg: None,
+            static_onset_over_mg: None,
+            push_step: 0.0,
+            agrees: false,
+            last_stick_over_mg: None,
+            n_over_mg: None,
+            n_over_mg_static: None,
+            f3_over_mg: None,
+            static_error: 0.0,
+            runs: 0,
+            wall_time_s: 0.0,
+            error: None,
+        }
+    }
+}
+
+/// The slip speed above which a rim counts as slipping, m/s.
+pub const SLIP_THRESHOLD: f64 = 1e-6;
+
+impl PushRow {
+    /// The CSV header of [`PushRow::csv_cells`].
+    pub const CSV_HEADER: [&'static str; 14] = [
+        "theta",
+        "mu_floor",
+        "onset_over_mg",
+        "static_onset_over_mg",
+        "push_step",
+        "agrees",
+        "last_stick_over_mg",
+        "n_over_mg",
+        "n_over_mg_static",
+        "f3_over_mg",
+        "static_error",
+        "runs",
+        "wall_time_s",
+        "error",
+    ];
+
+    /// The row's cells, in the order of [`PushRow::CSV_HEADER`] (null: an empty cell).
+    #[must_use]
+    pub fn csv_cells(&self) -> Vec<String> {
+        let opt = |x: Option<f64>| x.map_or(String::new(), |v| v.to_string());
+        vec![
+            self.theta.to_string(),
+            self.mu_floor.to_string(),
+            opt(self.onset_over_mg),
+            opt(self.static_onset_over_mg),
+            self.push_step.to_string(),
+            u8::from(self.agrees).to_string(),
+            opt(self.last_stick_over_mg),
+            opt(self.n_over_mg),
+            opt(self.n_over_mg_static),
+            opt(self.f3_over_mg),
+            self.static_error.to_string(),
+            self.runs.to_string(),
+            self.wall_time_s.to_string(),
+            self.error.clone().unwrap_or_default(),
+        ]
+    }
+}
+
+impl std::fmt::Display for PushRow {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let opt = |x: Option<f64>| x.map_or("none".to_owned(), |v| format!("{v:.4}"));
+        write!(
+            f,
+            "ϑ = {:.4} rad, μ_s = {}: slip from P/mg = {} (statics (3.3.8)−: {}), {}",
+            self.theta,
+            self.mu_floor,
+            opt(self.onset_over_mg),
+            opt(self.static_onset_over_mg),
+            if self.agrees {
+                "within one step"
+            } else {
+                "NOT within one step"
+            }
+        )?;
+        if let Some(e) = &self.error {
+            write!(f, "; failed: {e}")?;
+        }
+        Ok(())
+    }
+}
+
+/// The push-sweep row at `base.theta` with floor friction `base.mu_floor`: runs
+/// `base` (its steps, Δt, spin) with each push of `pushes` (over mg, increasing) until a
+/// rim slips faster than [`SLIP_THRESHOLD`].
+///
+/// # Errors
+/// Bad settings (before any run); a run that fails is the row's `error`.
+pub fn push_row(base: &PairSettings, pushes: &[f64]) -> Result<PushRow, CylinderError> {
+    base.system()?;
+    let rho = base.cylinder.radius() / base.cylinder.height();
+    let statics = SupportProblem::new(rho, base.mu_floor)?;
+    let static_onset = statics
+        .normal_force(base.theta, FrictionLimit::Minus)?
+        .map(|n| base.mu_floor * n);
+    let (a1, a2) = statics.line(base.theta);
+    let push_step = pushes.windows(2).map(|w| w[1] - w[0]).fold(0.0, f64::max);
+    let mut row = PushRow {
+        static_onset_over_mg: static_onset,
+        push_step,
+        ..PushRow::failed(base.theta, base.mu_floor)
+    };
+    for &p in pushes {
+        let settings = PairSettings {
+            push_over_mg: p,
+            ..*base
+        };
+        row.runs += 1;
+        let r = match run_pair(&settings, false) {
+            Ok(r) => r,
+            Err(e) => {
+                row.error = Some(format!("P/mg = {p}: {e}"));
+                break;
+            }
+        };
+        row.wall_time_s += r.wall_time_s;
+        if r.max_floor_slip > SLIP_THRESHOLD {
+            row.onset_over_mg = Some(p);
+            break;
+        }
+        let f3 = (p - a2) / a1;
+        let err = (0..2)
+            .map(|b| {
+                (r.f3_over_mg[b] - f3)
+                    .abs()
+                    .max((r.n_over_mg[b] - (1.0 - f3)).abs())
+            })
+            .fold(0.0, f64::max);
+        row.static_error = row.static_error.max(err);
+        row.last_stick_over_mg = Some(p);
+        row.n_over_mg = Some(r.n_over_mg[0]);
+        row.n_over_mg_static = Some(1.0 - f3);
+        row.f3_over_mg = Some(r.f3_over_mg[0]);
+    }
+    let last = pushes.last().copied().unwrap_or(0.0);
+    row.agrees = row.error.is_none()
+        && match (row.onset_over_mg, static_onset) {
+            (Some(m), Some(s)) => m >= s - 1e-12 && m - s <= push_step + 1e-12,
+            (None, Some(s)) => s > last,
+            (None, None) => true,
+            (Some(_), None) => false,
+        };
+    Ok(row)
+}
+
 /// The outline of both cylinders at configuration q for drawing: for each, its body
 /// index (0 for I, 1 for II) and polylines in space: the bottom and top rims, four
 /// generators, the first of them a material line (at body angle 0, e1 = cos φ e′1 +
@@ -441,6 +638,22 @@ mod tests {
             steps: 200,
             ..PairSettings::thesis(theta)
         }
+    }
+
+    /// A push along e′2 makes a rim slip within one grid step above μ_s N₋ of
+    /// (3.3.8)₋, and below it the forces follow the line (3.3.12).
+    #[test]
+    fn push_slips_at_the_static_bound() {
+        let base = PairSettings {
+            steps: 50,
+            mu_floor: 0.2,
+            ..PairSettings::thesis(0.5)
+        };
+        let pushes: Vec<f64> = (0..=30).map(|k| 0.01 * f64::from(k)).collect();
+        let row = push_row(&base, &pushes).unwrap();
+        assert!(row.agrees, "{row:?}");
+        assert!(row.static_error < 1e-8, "{row:?}");
+        assert!(row.onset_over_mg.is_some(), "{row:?}");
     }
 
     #[test]
