@@ -644,6 +644,53 @@ mod tests {
         }
     }
 
+    /// The gyroscopic forces are Lagrange's: h = ∂T/∂q − Ṁ u (gravity aside), with
+    /// T = ½ uᵀ M(q) u, checked by central differences of M.
+    #[test]
+    fn gyroscopic_forces_are_lagranges() {
+        let sys = PairTransport::thesis(0.4);
+        let q = [0.0, 0.0, 0.6, 0.3, 0.5, 0.2, 0.0, 0.0, 0.6, 2.0, 0.7, 1.0];
+        let u = [0.1, 0.2, 0.3, 0.4, -0.5, 0.6, 0.0, 0.0, 0.0, -0.3, 0.2, 1.1];
+        let layout = sys.layout();
+        let mass = |q: &[f64]| {
+            let mut e = Evaluation::<f64>::new(&layout);
+            sys.evaluate(0.0, q, &u, &mut e);
+            let mut m = [[0.0; 12]; 12];
+            for &(r, c, v) in &e.mass.entries {
+                m[r][c] += v;
+            }
+            (m, e.forces)
+        };
+        let (_, h) = mass(&q);
+        let d = 1e-6;
+        let mut expect = [0.0; 12];
+        for k in 0..12 {
+            let (mut qp, mut qm) = (q, q);
+            qp[k] += d;
+            qm[k] -= d;
+            let (mp, _) = mass(&qp);
+            let (mm, _) = mass(&qm);
+            for i in 0..12 {
+                for j in 0..12 {
+                    let dm = (mp[i][j] - mm[i][j]) / (2.0 * d);
+                    // ∂T/∂q_k and −(∂M_ij/∂q_k u_k) u_j.
+                    expect[k] += 0.5 * u[i] * dm * u[j];
+                    expect[i] -= dm * u[k] * u[j];
+                }
+            }
+        }
+        let g = sys.mass * sys.gravity;
+        for i in 0..12 {
+            let gravity = if i % 6 == 2 { -g } else { 0.0 };
+            assert!(
+                (h[i] - gravity - expect[i]).abs() < 1e-7,
+                "h[{i}] = {} vs {}",
+                h[i] - gravity,
+                expect[i]
+            );
+        }
+    }
+
     /// ½ u̇ᵀ M u̇ is the kinetic energy of ω = ψ̇ E3 + ϑ̇ e′1 + φ̇ e3 with the inertia
     /// I1 (1 − e3 e3ᵀ) + I3 e3 e3ᵀ.
     #[test]
