@@ -31,11 +31,15 @@
 //!   the contact normal n: t1 = e3_I − (e3_I·n) n normalised (= e3_I at a point contact,
 //!   where n ⟂ e3_I), t2 = n × t1. The prox onto a disk then bounds ‖λ_F‖ ≤ μ_k λ_N.
 //!
-//! The contact normal is n = (x_II* − x_I*)/d from the closest points of the axes
-//! (E.2.8): at a point contact it is ±(3.5.8), and unlike the normalised cross product it
-//! stays defined for parallel axes. The gradient of every gap equals the velocity
-//! Jacobian of the material points at its closest points (the envelope theorem: the
-//! closest points are a minimum), so W_p = ∂p/∂q exactly.
+//! The contact normal is n = s e3_I × e3_II/‖·‖ of (3.5.8) with a fixed orientation s
+//! ([`PairTransport::normal_sign`]), and the mutual gap is the signed distance
+//! (x_II* − x_I*)·n − 2r of the closest points (E.2.6): it stays negative however deep
+//! the cylinders would overlap. The unsigned ‖x_II* − x_I*‖ − 2r is zero on both sides of
+//! cylinder II, and a step's position correction once found the root on the far side (I
+//! jumped through II). For (nearly) parallel axes, where the cross product vanishes, n is
+//! the unit vector from x_I* to x_II* (E.2.8). The gradient of every gap equals the
+//! velocity Jacobian of the material points at its closest points (the closest points
+//! are a minimum, so their motion drops out), so W_p = ∂p/∂q exactly.
 //!
 //! # Exact derivatives
 //!
@@ -54,6 +58,10 @@ use nsga::{Evaluation, FrictionLaw, Layout, Scalar, System};
 use num_dual::Dual;
 use serde::{Deserialize, Serialize};
 use std::f64::consts::{FRAC_PI_2, PI};
+
+/// Below this ‖e3_I × e3_II‖ the axes count as parallel and the contact normal is taken
+/// along the line between the closest points instead.
+const PARALLEL_SINE: f64 = 1e-6;
 
 /// Number of coordinates (and velocities) of the pair.
 pub const N_COORDINATES: usize = 12;
@@ -159,6 +167,10 @@ pub struct PairTransport {
     pub top_height: [f64; 2],
     /// Headings ψ held by Π9, Π12.
     pub headings: [f64; 2],
+    /// The orientation s of the mutual contact normal n = s e3_I × e3_II/‖·‖ (3.5.8):
+    /// the side of I on which II lies (−1 for the transport of §3.6, where II is at +E1
+    /// and e3_I × e3_II points along −E1).
+    pub normal_sign: f64,
 }
 
 /// A small generic 3-vector algebra over any [`Scalar`].
@@ -261,6 +273,7 @@ impl PairTransport {
             push_over_mg: 0.0,
             top_height: [top_height(&cylinder, theta); 2],
             headings: [0.0, PI],
+            normal_sign: -1.0,
         }
     }
 
@@ -306,9 +319,14 @@ impl PairTransport {
         let xi = add(centres[0], scale(frames[0].e3, m));
         let xii = add(centres[1], scale(frames[1].e3, n));
         let diff = sub(xii, xi);
-        let d = dot(diff, diff).sqrt();
-        let normal = scale(diff, d.recip());
-        geo.position[6] = d - S::from(2.0 * r);
+        let across = cross(frames[0].e3, frames[1].e3);
+        let sine = dot(across, across).sqrt();
+        let normal = if sine.re() > PARALLEL_SINE {
+            scale(across, S::from(self.normal_sign) / sine)
+        } else {
+            scale(diff, dot(diff, diff).sqrt().recip())
+        };
+        geo.position[6] = dot(diff, normal) - S::from(2.0 * r);
         let axis_i = scale(frames[0].e3, m);
         let axis_ii = scale(frames[1].e3, n);
         geo.point(6, 1, &frames[1], axis_ii, normal, 1.0);

@@ -102,3 +102,56 @@ fn bad_inputs_are_rejected_with_one_line() {
         "steps",
     );
 }
+
+/// The mutual contact opens and closes again: I slows down to a third of its spin (the
+/// contact opens, II rolls on), then spins up to five thirds and catches II (an
+/// inelastic impact closes it).
+/// Nothing penetrates, and the bilateral constraints hold through the impact.
+#[test]
+fn the_contact_opens_and_closes_again() {
+    use cylinders::transport::PairTransport;
+    use nsga::{Options, Stepper, System};
+    let theta = 0.5;
+    let mut sys = PairTransport::thesis(theta);
+    sys.spin = SpinProfile {
+        initial: -6.0 * PI,
+        target: -2.0 * PI,
+        ramp_start: 0.2,
+        ramp_duration: 0.5,
+    };
+    let (q0, u0) = sys.initial_state(theta).unwrap();
+    let options = Options {
+        max_halvings: 2,
+        boundary_resolves: true,
+        ..Options::default()
+    };
+    let layout = sys.layout();
+    let mut stepper = Stepper::new(sys, 0.0, &q0, &u0, options).unwrap();
+    let mut eval = nsga::Evaluation::<f64>::new(&layout);
+    let (mut opened, mut closed_again, mut min_gap, mut drift) = (false, false, 0.0_f64, 0.0_f64);
+    for k in 0..2500 {
+        if k == 600 {
+            stepper.system_mut().spin = SpinProfile {
+                initial: -2.0 * PI,
+                target: -10.0 * PI,
+                ramp_start: 1.2,
+                ramp_duration: 0.5,
+            };
+        }
+        stepper.step().unwrap();
+        let st = stepper.state();
+        eval.reset();
+        stepper.system().evaluate(st.t, &st.q, &st.u, &mut eval);
+        let gap = eval.position[6];
+        min_gap = min_gap.min(gap).min(eval.position[4]).min(eval.position[5]);
+        drift = eval.position[..4].iter().fold(drift, |m, g| m.max(g.abs()));
+        opened |= gap > 0.1;
+        closed_again |= opened && gap < 1e-9 && st.lambda_n[2] > 0.0;
+    }
+    assert!(
+        opened && closed_again,
+        "opened {opened}, closed again {closed_again}"
+    );
+    assert!(min_gap > -1e-10, "gap {min_gap}");
+    assert!(drift < 1e-10, "drift {drift}");
+}
