@@ -371,12 +371,20 @@ pub fn plot_pair_sweep(path: &Path, rows: &[PairSweepRow], r_over_h: f64) -> Res
 }
 
 /// The push at which a rim starts to slip against ϑ (markers, from the simulations;
-/// the last push that did not slip beside it) with the static bound μ_s N₋ of (3.3.8)₋
-/// (corrected per errata item 9) for r/h = `r_over_h`.
+/// the last push that did not slip beside it) with the static bound for r/h =
+/// `r_over_h`: μ_s N₋ of (3.3.8)₋ (corrected per errata item 9) for pushes along +e′2
+/// (`direction` 1), −μ_s N₊ of (3.3.8)₊ for pushes along −e′2 (`direction` −1).
 ///
 /// # Errors
 /// When the file cannot be written.
-pub fn plot_push_sweep(path: &Path, rows: &[PushRow], r_over_h: f64, mu: f64) -> Result<()> {
+pub fn plot_push_sweep(
+    path: &Path,
+    rows: &[PushRow],
+    r_over_h: f64,
+    mu: f64,
+    direction: f64,
+) -> Result<()> {
+    let sign = if direction < 0.0 { -1.0 } else { 1.0 };
     let lo = rows.iter().map(|r| r.theta).fold(f64::INFINITY, f64::min);
     let hi = rows
         .iter()
@@ -391,8 +399,8 @@ pub fn plot_push_sweep(path: &Path, rows: &[PushRow], r_over_h: f64, mu: f64) ->
         .map(|k| lo + (hi - lo) * f64::from(k) / 200.0)
         .filter_map(|t| {
             let (s, c) = t.sin_cos();
-            let d = s - r_over_h * c - mu * (r_over_h * s + c);
-            (d > 0.0).then(|| (t.to_degrees(), mu * 0.5 * s / d))
+            let d = s - r_over_h * c - sign * mu * (r_over_h * s + c);
+            (d > 0.0).then(|| (t.to_degrees(), sign * mu * 0.5 * s / d))
         })
         .collect();
     let onset = rows
@@ -411,7 +419,17 @@ pub fn plot_push_sweep(path: &Path, rows: &[PushRow], r_over_h: f64, mu: f64) ->
             "P/mg [dimensionless]",
         )
     }
-    .with(Series::line("μ_s N₋/mg, (3.3.8)−", curve).styled(Style::color(PALETTE[0])))
+    .with(
+        Series::line(
+            if sign > 0.0 {
+                "μ_s N₋/mg, (3.3.8)−"
+            } else {
+                "−μ_s N₊/mg, (3.3.8)+"
+            },
+            curve,
+        )
+        .styled(Style::color(PALETTE[0])),
+    )
     .with(
         Series::markers("last push that sticks (nsga)", stick)
             .styled(Style::color(PALETTE[2]).marker(Marker::Circle)),

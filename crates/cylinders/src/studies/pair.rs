@@ -180,7 +180,7 @@ pub fn run_pair(settings: &PairSettings, record: bool) -> Result<PairReport, Cyl
     let options = Options {
         dt: settings.dt,
         rho_inf: settings.rho_inf,
-        max_halvings: 2,
+        max_halvings: 4,
         boundary_resolves: true,
         ..Options::default()
     };
@@ -404,7 +404,7 @@ pub fn pair_sweep_row(settings: &PairSettings) -> PairSweepRow {
 /// moment balance gives the line (3.3.12), F3/mg = (F/mg − α2)/α1, N = mg − F3, and the
 /// rim slips when F reaches μ_s N, i.e. at P*/mg = μ_s N₋/mg with N₋ of (3.3.8)₋
 /// (corrected per errata item 9; F_f = −μN e′2). Without a positive N₋ no push
-/// along +e′2 makes the rim slip. The field names are the keys of
+/// along +e′2 makes the rim slip. Pushes along −e′2 slip at −μ_s N₊ of (3.3.8)₊. The field names are the keys of
 /// `rollstack cylinder sweep push --json` and the CSV columns.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct PushRow {
@@ -414,11 +414,12 @@ pub struct PushRow {
     pub mu_floor: f64,
     /// The first push of the grid at which a rim slipped (over mg), or null.
     pub onset_over_mg: Option<f64>,
-    /// The static slip onset μ_s N₋/mg of (3.3.8)₋, or null when N₋ is not positive.
+    /// The static slip onset μ_s N₋/mg of (3.3.8)₋ (−μ_s N₊/mg of (3.3.8)₊ for pushes
+    /// along −e′2), or null when that N is not positive.
     pub static_onset_over_mg: Option<f64>,
-    /// The grid step ΔP/mg.
+    /// The largest grid step |ΔP|/mg.
     pub push_step: f64,
-    /// Whether the measured onset is within one grid step above the static one (both
+    /// Whether the measured onset is within one grid step beyond the static one (both
     /// null counts as agreement).
     pub agrees: bool,
     /// The last push that did not slip (over mg), or null when the first did.
@@ -512,10 +513,15 @@ impl std::fmt::Display for PushRow {
         let opt = |x: Option<f64>| x.map_or("none".to_owned(), |v| format!("{v:.4}"));
         write!(
             f,
-            "ϑ = {:.4} rad, μ_s = {}: slip from P/mg = {} (statics (3.3.8)−: {}), {}",
+            "ϑ = {:.4} rad, μ_s = {}: slip from P/mg = {} (statics (3.3.8){}: {}), {}",
             self.theta,
             self.mu_floor,
             opt(self.onset_over_mg),
+            if self.static_onset_over_mg.is_some_and(|p| p < 0.0) {
+                "+"
+            } else {
+                "−"
+            },
             opt(self.static_onset_over_mg),
             if self.agrees {
                 "within one step"
@@ -531,8 +537,10 @@ impl std::fmt::Display for PushRow {
 }
 
 /// The push-sweep row at `base.theta` with floor friction `base.mu_floor`: runs
-/// `base` (its steps, Δt, spin) with each push of `pushes` (over mg, increasing) until a
-/// rim slips faster than [`SLIP_THRESHOLD`].
+/// `base` (its steps, Δt, spin) with each push of `pushes` (over mg, moving away from
+/// zero) until a rim slips faster than [`SLIP_THRESHOLD`]. Pushes along +e′2 (a grid
+/// ending above 0) are compared with μ_s N₋ of (3.3.8)₋, pushes along −e′2 (a grid
+/// ending below 0) with −μ_s N₊ of (3.3.8)₊.
 ///
 /// # Errors
 /// Bad settings (before any run); a run that fails is the row's `error`.
@@ -540,11 +548,26 @@ pub fn push_row(base: &PairSettings, pushes: &[f64]) -> Result<PushRow, Cylinder
     base.system()?;
     let rho = base.cylinder.radius() / base.cylinder.height();
     let statics = SupportProblem::new(rho, base.mu_floor)?;
+    // Pushes along +e′2 slip at F = +μN (F_f = −μN e′2, N₋); along −e′2 at F = −μN
+    // (F_f = +μN e′2, N₊).
+    let sign = if pushes.last().copied().unwrap_or(0.0) < 0.0 {
+        -1.0
+    } else {
+        1.0
+    };
+    let limit = if sign < 0.0 {
+        FrictionLimit::Plus
+    } else {
+        FrictionLimit::Minus
+    };
     let static_onset = statics
-        .normal_force(base.theta, FrictionLimit::Minus)?
-        .map(|n| base.mu_floor * n);
+        .normal_force(base.theta, limit)?
+        .map(|n| sign * base.mu_floor * n);
     let (a1, a2) = statics.line(base.theta);
-    let push_step = pushes.windows(2).map(|w| w[1] - w[0]).fold(0.0, f64::max);
+    let push_step = pushes
+        .windows(2)
+        .map(|w| (w[1] - w[0]).abs())
+        .fold(0.0, f64::max);
     let mut row = PushRow {
         static_onset_over_mg: static_onset,
         push_step,
@@ -585,8 +608,11 @@ pub fn push_row(base: &PairSettings, pushes: &[f64]) -> Result<PushRow, Cylinder
     let last = pushes.last().copied().unwrap_or(0.0);
     row.agrees = row.error.is_none()
         && match (row.onset_over_mg, static_onset) {
-            (Some(m), Some(s)) => m >= s - 1e-12 && m - s <= push_step + 1e-12,
-            (None, Some(s)) => s > last,
+            (Some(m), Some(s)) => {
+                let beyond = sign * (m - s);
+                beyond >= -1e-12 && beyond <= push_step + 1e-12
+            }
+            (None, Some(s)) => sign * (s - last) > 0.0,
             (None, None) => true,
             (Some(_), None) => false,
         };
@@ -654,6 +680,21 @@ mod tests {
         assert!(row.agrees, "{row:?}");
         assert!(row.static_error < 1e-8, "{row:?}");
         assert!(row.onset_over_mg.is_some(), "{row:?}");
+    }
+
+    /// A push along −e′2 slips within one step beyond −μ_s N₊ of (3.3.8)₊.
+    #[test]
+    fn pull_slips_at_the_other_static_bound() {
+        let base = PairSettings {
+            steps: 50,
+            mu_floor: 0.2,
+            ..PairSettings::thesis(0.5)
+        };
+        let pushes: Vec<f64> = (0..=30).map(|k| -0.005 * f64::from(k)).collect();
+        let row = push_row(&base, &pushes).unwrap();
+        assert!(row.agrees, "{row:?}");
+        assert!(row.onset_over_mg.is_some_and(|p| p < 0.0), "{row:?}");
+        assert!(row.static_error < 1e-8, "{row:?}");
     }
 
     #[test]

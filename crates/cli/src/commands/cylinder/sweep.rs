@@ -19,7 +19,8 @@ pub enum CylinderSweepCommand {
     /// smooth-floor statics (3.3.10).
     Pair(PairSweepArgs),
     /// The push at which a rim starts to slip against ϑ: pushes P along e′2 at each top
-    /// with floor friction μ_s, against the static bound μ_s N₋ of (3.3.8)₋.
+    /// with floor friction μ_s, against the static bounds μ_s N₋ of (3.3.8)₋ (P > 0) and
+    /// −μ_s N₊ of (3.3.8)₊ (P < 0).
     Push(PushSweepArgs),
 }
 
@@ -30,8 +31,9 @@ pub struct PushSweepArgs {
     /// (arctan(2r/h), π/2).
     #[arg(long, allow_hyphen_values = true)]
     pub theta: String,
-    /// Pushes P/mg tried at each ϑ, increasing, as A:B:STEP or a list (the first that
-    /// makes a rim slip is the onset).
+    /// Pushes P/mg tried at each ϑ, moving away from 0 (increasing for pushes along
+    /// +e′2, decreasing for −e′2), as A:B:STEP or a list (the first that makes a rim slip
+    /// is the onset).
     #[arg(long, default_value = "0:0.5:0.01", allow_hyphen_values = true)]
     pub push: String,
     /// Floor friction coefficient μ_s.
@@ -129,9 +131,10 @@ fn sweep_pair(a: &PairSweepArgs) -> Result<()> {
 fn sweep_push(a: &PushSweepArgs) -> Result<()> {
     let all = parse_values(&a.theta).map_err(|e| anyhow::anyhow!("--theta: {e}"))?;
     let pushes = parse_values(&a.push).map_err(|e| anyhow::anyhow!("--push: {e}"))?;
+    let away = |w: &[f64]| (w[0] >= 0.0 && w[1] > w[0]) || (w[0] <= 0.0 && w[1] < w[0]);
     anyhow::ensure!(
-        pushes.windows(2).all(|w| w[1] > w[0]),
-        "--push must increase"
+        pushes.windows(2).all(away),
+        "--push must move away from 0: increasing from 0 or more, or decreasing from 0 or less"
     );
     let settings = |theta| PairSettings {
         dt: a.dt,
@@ -171,6 +174,9 @@ fn sweep_push(a: &PushSweepArgs) -> Result<()> {
             &rows,
             c.radius() / c.height(),
             a.mu_floor,
+            pushes
+                .last()
+                .map_or(1.0, |p| if *p < 0.0 { -1.0 } else { 1.0 }),
         )?;
     }
     let agreeing = rows.iter().filter(|r| r.agrees).count();
