@@ -1,6 +1,6 @@
 //! One rigid block of the stack: its size, mass, moment of inertia and initial pose.
 
-use crate::coordinates::Pose;
+use crate::coordinates::{Pose, Twist};
 use crate::error::BlockError;
 use input::{finite, positive};
 
@@ -16,6 +16,8 @@ pub struct Block {
     mass: f64,
     /// Initial pose of the centre of mass.
     pub initial: Pose,
+    /// Initial velocity (v_x, v_y, ω) of the centre (default: at rest).
+    pub velocity: Twist,
 }
 
 impl Block {
@@ -29,6 +31,7 @@ impl Block {
             height: positive("height", height)?,
             mass: positive("mass", mass)?,
             initial: Pose::default(),
+            velocity: Twist::default(),
         })
     }
 
@@ -38,6 +41,19 @@ impl Block {
     /// When a coordinate is not finite.
     pub fn at(mut self, x: f64, y: f64, theta: f64) -> Result<Self, BlockError> {
         self.initial = Pose::new(finite("x", x)?, finite("y", y)?, finite("theta", theta)?);
+        Ok(self)
+    }
+
+    /// The block set moving with centre velocity (vx, vy) and angular velocity ω.
+    ///
+    /// # Errors
+    /// A NaN or infinite component.
+    pub fn moving(mut self, vx: f64, vy: f64, omega: f64) -> Result<Self, BlockError> {
+        self.velocity = Twist::new(
+            finite("vx", vx)?,
+            finite("vy", vy)?,
+            finite("omega", omega)?,
+        );
         Ok(self)
     }
 

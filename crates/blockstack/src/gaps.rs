@@ -50,6 +50,30 @@ impl Face {
         }
     }
 
+    /// The four faces of a w × h rectangle: top, bottom, right, left. The sides' tangent
+    /// is e₂ (slip measured upwards along them).
+    #[must_use]
+    pub fn of_rectangle(width: f64, height: f64) -> [Self; 4] {
+        let side = |sign: f64| Self {
+            normal: Vec2::new(sign, 0.0),
+            tangent: Vec2::new(0.0, 1.0),
+            offset: 0.5 * width,
+        };
+        [
+            Self::top(height),
+            Self::bottom(height),
+            side(1.0),
+            side(-1.0),
+        ]
+    }
+
+    /// The signed distance of the world point `p` from this face's line when the face
+    /// belongs to a body at `pose` (positive outside).
+    #[must_use]
+    pub fn distance<T: Scalar>(&self, pose: &crate::coordinates::Pose<T>, p: &Vec2<T>) -> T {
+        (*p - pose.r()).dot(&pose.to_world(&self.normal)) - T::from(self.offset)
+    }
+
     /// The floor seen from its own reference point (0, y_floor): normal E₂, tangent E₁.
     #[must_use]
     pub fn floor() -> Self {

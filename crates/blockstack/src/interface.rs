@@ -28,6 +28,10 @@ use crate::corners::Corner;
 use crate::gaps::{CornerOnFace, Face, PairRow};
 use crate::slip::LowerBody;
 
+/// e₂·e₂ above which a supported interface's gaps hold the contact (cos 60°); see
+/// [`InterfaceContacts::holds`].
+pub const HOLDS: f64 = 0.5;
+
 /// The size of a body taking part in a contact.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Size {
@@ -98,6 +102,8 @@ pub struct InterfaceContacts<T = f64> {
     pub right: InterfaceGap<T>,
     /// The slip speed γ_F^k, (G.3.1); `w_first` is on the lower block.
     pub slip: PairRow<T>,
+    /// e₂ᵏ · e₂ᵏ⁺¹ (real part): how squarely the faces face each other.
+    pub facing: f64,
 }
 
 impl<T> InterfaceContacts<T> {
@@ -105,6 +111,17 @@ impl<T> InterfaceContacts<T> {
     #[must_use]
     pub fn is_supported(&self) -> bool {
         self.support == Support::Supported
+    }
+
+    /// Whether the interface's two gaps hold the contact of the two bodies: supported,
+    /// with the faces turned from each other by less than 60° (e₂·e₂ > [`HOLDS`]). A
+    /// block turned further rests on a corner or lies on its side against the lower
+    /// body; the gaps of (G.2.3), measured along faces that no longer face each other,
+    /// would then flicker with the support test at e₂·e₂ = 0, and the corner contacts
+    /// between any two bodies ([`crate::pairs`]) hold the contact instead.
+    #[must_use]
+    pub fn holds(&self) -> bool {
+        self.is_supported() && self.facing > HOLDS
     }
 }
 
@@ -146,6 +163,30 @@ impl Interface {
             return Support::Sunk;
         }
         Support::Supported
+    }
+
+    /// How far the two bodies are from the interface's gaps no longer holding their
+    /// contact ([`InterfaceContacts::holds`]), as a length: the shorter of the common
+    /// stretch of the faces along e₁ of the lower body and the height of the upper centre
+    /// above the lower top face's line, scaled by how far e₂·e₂ is above [`HOLDS`]; 0
+    /// when the support is lost already. The broad phase ([`crate::broad_phase`]) adds
+    /// the pair's corner contacts when this falls below its margin.
+    #[must_use]
+    pub fn support_margin<T: Scalar>(&self, lower: &BodyState<T>, upper: &BodyState<T>) -> f64 {
+        if self.support(lower, upper) != Support::Supported {
+            return 0.0;
+        }
+        let (pl, pu) = (&lower.pose, &upper.pose);
+        let along = |c: Corner| re((pu.point(&self.upper.corner(c)) - pl.r()).dot(&pl.e1()));
+        let (sc, sd) = (along(Corner::C), along(Corner::D));
+        let half = 0.5 * self.lower.width;
+        let common = (sc.max(sd).min(half) - sc.min(sd).max(-half)).max(0.0);
+        let above = re((pu.r() - pl.r()).dot(&pl.e2())) - 0.5 * self.lower.height;
+        // Falls to 0 as the faces turn towards 60° from each other, where the gaps stop
+        // holding the contact ([`InterfaceContacts::holds`]): the corner contacts are
+        // then in place before they are needed.
+        let square = re(pl.e2().dot(&pu.e2()));
+        common.min(above) * ((square - HOLDS) / (1.0 - HOLDS)).max(0.0)
     }
 
     /// Whether a bottom corner of the upper block lies over the top face of the lower one
@@ -301,6 +342,7 @@ impl Interface {
             left,
             right,
             slip: self.slip_at(closer, lower, upper),
+            facing: re(lower.pose.e2().dot(&upper.pose.e2())),
         }
     }
 }

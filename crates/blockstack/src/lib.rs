@@ -50,6 +50,7 @@
 
 pub mod base;
 pub mod block;
+pub mod broad_phase;
 pub mod coordinates;
 pub mod corners;
 mod error;
@@ -59,6 +60,7 @@ pub mod gaps;
 pub mod interface;
 pub mod overlap;
 pub mod painleve;
+pub mod pairs;
 pub mod record;
 pub mod scenarios;
 pub mod scene;
@@ -68,6 +70,7 @@ pub mod scenes;
 pub mod simulation;
 pub mod slip;
 pub mod stack;
+pub mod stepping;
 pub mod studies;
 pub mod system;
 
@@ -80,6 +83,7 @@ pub use events::{EventKind, FailureEvent};
 pub use floor::{Floor, FloorContacts};
 pub use gaps::{CornerOnFace, Face, PairRow};
 pub use interface::{GapCase, Interface, InterfaceContacts, InterfaceGap, Size, Support};
+pub use pairs::CornerContact;
 pub use scene::{ContactParams, Prox, Scene, SolverParams};
 pub use scene_file::{LoadedScene, SceneFile};
 pub use scene_info::{Defaults, SceneReport, SceneWarning};
@@ -90,4 +94,4 @@ pub use simulation::{
 };
 pub use slip::{slip_direction, LowerBody};
 pub use stack::{ContactRow, FrictionLaw, SparseColumn, StackContacts};
-pub use system::StackSystem;
+pub use system::{SlotChange, StackSystem};

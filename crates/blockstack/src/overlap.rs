@@ -2,9 +2,8 @@
 //! at the start are rejected, and every run measures the deepest penetration between any
 //! two bodies after each step ([`deepest_penetration`]).
 //!
-//! The contact model has contacts only between neighbours in the stack and with the
-//! floor; a block that leaves its neighbour meets nothing else. The measurement sees
-//! what the model cannot: a falling block passing through another body.
+//! Every corner of every body meets every other body (crate::pairs), so what this
+//! measures is how well the contacts are held: the solver's tolerance, or a defect.
 
 use crate::coordinates::{Pose, Vec2};
 use crate::corners::corners;

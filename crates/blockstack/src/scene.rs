@@ -250,6 +250,15 @@ impl Scene {
             .collect()
     }
 
+    /// Initial velocities u₀ = (ẋ¹, ẏ¹, θ̇¹, …) (zero unless a block was set moving).
+    #[must_use]
+    pub fn initial_velocities(&self) -> Vec<f64> {
+        self.blocks
+            .iter()
+            .flat_map(|b| b.velocity.as_array())
+            .collect()
+    }
+
     /// Diagonal of the mass matrix, (m, m, I) per block.
     #[must_use]
     pub fn mass_diagonal(&self) -> Vec<f64> {

@@ -21,6 +21,7 @@
 //! # x = 0.0                  # initial x of the centre (default 0)
 //! # y = 0.25                 # initial y (default: resting on the block below)
 //! # theta = 0.0              # initial angle, radians (default 0)
+//! # velocity = [0.0, 0.0, 0.0]   # initial [vx, vy, omega] (default: at rest)
 //!
 //! [contact]
 //! mu = 0.2
@@ -105,6 +106,13 @@ pub struct BlockFile {
     /// Number of identical blocks (default 1).
     #[serde(default = "one_count")]
     pub count: usize,
+    /// Initial velocity [v_x, v_y, ω] of the centre (default: at rest).
+    #[serde(default, skip_serializing_if = "is_at_rest")]
+    pub velocity: [f64; 3],
+}
+
+fn is_at_rest(v: &[f64; 3]) -> bool {
+    *v == [0.0; 3]
 }
 
 fn one() -> f64 {
@@ -292,7 +300,9 @@ impl SceneFile {
             }
             for _ in 0..entry.count {
                 k += 1;
+                let [vx, vy, omega] = entry.velocity;
                 let block = Block::new(entry.width, entry.height, entry.mass)
+                    .and_then(|b| b.moving(vx, vy, omega))
                     .map_err(|e| name_block(e, k))?;
                 column.push((block, entry.x, entry.y, entry.theta));
             }

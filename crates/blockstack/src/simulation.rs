@@ -29,6 +29,7 @@
 //!   it carries the typed error ([`RunError`], with the state it failed at), it is not
 //!   an `Err`.
 
+use crate::broad_phase::corner_contacts;
 use crate::coordinates::Pose;
 use crate::error::BlockError;
 use crate::events::{EventWatch, FailureEvent};
@@ -36,6 +37,7 @@ use crate::overlap::{deepest_penetration, Penetration};
 use crate::scene::Scene;
 use crate::scene_info::{Defaults, SceneReport, SceneWarning};
 use crate::stack::StackContacts;
+use crate::stepping::CornerStepping;
 use crate::system::StackSystem;
 use nsga::{Options, RhoInfRetry, SolverChoice, StepError, Stepper};
 use std::ops::ControlFlow;
@@ -232,6 +234,12 @@ pub struct RunSummary {
     pub penetration_tol: f64,
     /// Failure events in the order they happened ([`crate::events`]).
     pub events: Vec<FailureEvent>,
+    /// The most corner contacts between bodies beyond the stack's neighbours
+    /// ([`crate::pairs`]) the broad phase kept at once (0 while the column stands).
+    pub corner_contacts: usize,
+    /// Steps taken again because a contact was missed by the broad phase
+    /// ([`crate::stepping`]).
+    pub redone_steps: usize,
     /// Why the run stopped before its end time: the step that finally failed (or the
     /// start), with the last good state; the summary covers the run up to it.
     pub error: Option<RunError>,
@@ -470,7 +478,7 @@ pub fn simulate_until(
     let dt = opts.dt;
     let steps_wanted = step_count(t_end, dt);
     let q0 = scene.initial_coordinates();
-    let u0 = vec![0.0; q0.len()];
+    let u0 = scene.initial_velocities();
     let height = scene
         .blocks()
         .iter()
@@ -504,10 +512,17 @@ pub fn simulate_until(
         deepest: rec.deepest,
         penetration_tol: PENETRATION_TOL * height,
         events: Vec::new(),
+        corner_contacts: 0,
+        redone_steps: 0,
         error: None,
     };
     let clock = Instant::now();
-    let started = Stepper::new(StackSystem::new(scene.clone()), 0.0, &q0, &u0, opts);
+    let mut system = StackSystem::new(scene.clone());
+    let mut corners = CornerStepping::default();
+    let initial_contacts = corner_contacts(scene, 0.0, &q0, &u0, dt);
+    corners.most_contacts = initial_contacts.len();
+    system.assign_corner_contacts(&initial_contacts);
+    let started = Stepper::new(system, 0.0, &q0, &u0, opts);
     let mut solver_time = clock.elapsed().as_secs_f64();
     let mut stepper = match started {
         Ok(s) => s,
@@ -536,7 +551,9 @@ pub fn simulate_until(
             break;
         }
         let clock = Instant::now();
-        let result = stepper.step().map(accepted);
+        let result = corners
+            .step(scene, &mut stepper, summary.penetration_tol)
+            .map(|()| accepted(stepper.last_step().expect("a step was taken")));
         solver_time += clock.elapsed().as_secs_f64();
         let (t, its, retries, branch) = match result {
             Ok(r) => r,
@@ -567,6 +584,8 @@ pub fn simulate_until(
         stop = on_step(&r).is_break();
     }
     summary.linear_solves = stepper.linear_solves();
+    summary.corner_contacts = corners.most_contacts;
+    summary.redone_steps = corners.redone_steps;
     summary.deepest = rec.deepest;
     summary.events = rec.watch.into_events();
     let q = &stepper.state().q;
@@ -682,6 +701,12 @@ pub struct RunReport {
     pub max_penetration: f64,
     /// When and where it was measured.
     pub penetration: TimedPenetration,
+    /// The most corner contacts beyond the stack's neighbours in use at once
+    /// ([`crate::pairs`]; 0 while the column stands).
+    pub corner_contacts: usize,
+    /// Steps taken again because the broad phase had missed a contact
+    /// ([`crate::stepping`]).
+    pub redone_steps: usize,
     /// Failure events in the order they happened: a block lost its support, tipped past
     /// its tipping angle or touched the floor; the column's height dropped by a block.
     pub events: Vec<FailureEvent>,
@@ -728,6 +753,8 @@ impl RunReport {
             max_energy_increase: summary.max_energy_increase,
             max_penetration: summary.deepest.depth(),
             penetration: summary.deepest,
+            corner_contacts: summary.corner_contacts,
+            redone_steps: summary.redone_steps,
             events: summary.events.clone(),
             error: summary.error.as_ref().map(ToString::to_string),
             t_final,
@@ -773,10 +800,9 @@ impl std::fmt::Display for RunWarning {
             Self::Scene(w) => write!(f, "{w}"),
             Self::Penetration { deepest, tol } => write!(
                 f,
-                "at t = {:.4}, {} (tolerance {tol:.1e}): the model has contacts only \
-                 between neighbours in the stack and with the floor, so a block that has \
-                 left its neighbour can pass through other bodies; the motion after that \
-                 is not physical",
+                "at t = {:.4}, {} (tolerance {tol:.1e}): two bodies entered each other \
+                 further than the contacts allow; the motion after that is not to be \
+                 trusted (a smaller time step usually helps)",
                 deepest.t, deepest.penetration
             ),
         }
@@ -827,6 +853,13 @@ impl std::fmt::Display for RunReport {
                 f,
                 " ({} and {} at t = {:.4})",
                 p.penetration.first, p.penetration.second, p.t
+            )?;
+        }
+        if self.corner_contacts > 0 {
+            write!(
+                f,
+                "\ncorner contacts between bodies beyond the stack's neighbours: up to {} at once, steps redone for a missed contact {}",
+                self.corner_contacts, self.redone_steps
             )?;
         }
         write_events(f, &self.events)?;

@@ -207,7 +207,7 @@ impl Scene {
         laws
     }
 
-    fn interface(&self, k: usize) -> Interface {
+    pub(crate) fn interface(&self, k: usize) -> Interface {
         Interface::new(self.size(k), self.size(k + 1))
     }
 
@@ -273,9 +273,9 @@ impl Scene {
             let c = self.interface(k).contacts(&lower, &block(k));
             let fold =
                 |row: &PairRow<T>| fold_pair(row, lower_body, &lower, &base_acc, Body::Block(k));
-            let supported = c.is_supported();
-            out.normals.push(supported.then(|| fold(&c.left.row)));
-            out.normals.push(supported.then(|| fold(&c.right.row)));
+            let holds = c.holds();
+            out.normals.push(holds.then(|| fold(&c.left.row)));
+            out.normals.push(holds.then(|| fold(&c.right.row)));
             out.slips.push(fold(&c.slip));
             out.interfaces.push(c);
         }
@@ -310,21 +310,38 @@ fn fold_pair<T: Scalar>(
     base_acc: &Twist<T>,
     upper: Body,
 ) -> ContactRow<T> {
+    let zero = Twist::new(T::zero(), T::zero(), T::zero());
+    let (first, base_vel) = match lower {
+        Body::Base => (None, lower_state.twist),
+        Body::Block(i) => (Some(i), zero),
+    };
+    let second = match upper {
+        Body::Base => None,
+        Body::Block(j) => Some(j),
+    };
+    pair_row(row, [first, second], &base_vel, base_acc)
+}
+
+/// A row on two bodies in the coordinates of the free blocks: `blocks` holds the 0-based
+/// block of the first and the second body of `row`, `None` for the base, whose prescribed
+/// velocity and acceleration (`base_vel`, `base_acc`) go into χ and ζ.
+pub(crate) fn pair_row<T: Scalar>(
+    row: &PairRow<T>,
+    blocks: [Option<usize>; 2],
+    base_vel: &Twist<T>,
+    base_acc: &Twist<T>,
+) -> ContactRow<T> {
     let mut w = SparseColumn::empty();
     let mut chi = T::zero();
     let mut zeta = row.zeta;
-    match lower {
-        Body::Base => {
-            let v = &lower_state.twist;
-            chi = row.w_first[0] * v.vx + row.w_first[1] * v.vy + row.w_first[2] * v.omega;
-            zeta += row.w_first[0] * base_acc.vx
-                + row.w_first[1] * base_acc.vy
-                + row.w_first[2] * base_acc.omega;
+    for (body, wb) in blocks.into_iter().zip([&row.w_first, &row.w_second]) {
+        match body {
+            Some(i) => w.push3(i, wb),
+            None => {
+                chi += wb[0] * base_vel.vx + wb[1] * base_vel.vy + wb[2] * base_vel.omega;
+                zeta += wb[0] * base_acc.vx + wb[1] * base_acc.vy + wb[2] * base_acc.omega;
+            }
         }
-        Body::Block(i) => w.push3(i, &row.w_first),
-    }
-    if let Body::Block(j) = upper {
-        w.push3(j, &row.w_second);
     }
     ContactRow {
         value: row.value,

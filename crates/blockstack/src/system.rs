@@ -28,6 +28,10 @@
 //! pass of vector dual numbers ([`Directions`]): the real parts (and their sines and
 //! cosines) are computed once, and the cost per iteration is linear in n.
 
+use crate::coordinates::re;
+use crate::coordinates::{BodyState, Pose, Twist};
+use crate::overlap::Body;
+use crate::pairs::{free_block, CornerContact, LineContacts, LineKind};
 use crate::scene::Scene;
 use crate::stack::{ContactRow, StackContacts};
 use nsga::{Derivatives, Evaluation, FrictionLaw, Layout, Probes, Scalar, System};
@@ -56,6 +60,10 @@ fn part(x: &Directions, d: usize) -> f64 {
 /// any positive number makes the contact open with zero force.
 pub const UNSUPPORTED_GAP: f64 = 1.0;
 
+/// How far past the end of its face (times the smallest block dimension) a corner contact
+/// still touches it: round-off and the solver's tolerance, not a real overhang.
+pub const END_TOL: f64 = 1e-3;
+
 /// A [`Scene`] seen by the nsga stepper.
 #[derive(Debug)]
 pub struct StackSystem {
@@ -64,8 +72,29 @@ pub struct StackSystem {
     forces: Vec<f64>,
     laws: Vec<FrictionLaw>,
     e_n: Vec<f64>,
+    /// The contact lines beyond the stack's own (crate::pairs), one per slot; `None` is
+    /// a free slot. Each slot has two normal contacts and one friction law, after the
+    /// scene's.
+    slots: Vec<Option<LineContacts>>,
+    /// How far past the end of its face a corner contact's corner may be and still touch
+    /// it: [`END_TOL`] times the smallest block dimension.
+    end_tol: f64,
     /// Reused buffers of the derivative passes (the system is evaluated from one thread).
     scratch: RefCell<DualScratch>,
+}
+
+/// What [`StackSystem::assign_corner_contacts`] changed.
+#[derive(Debug, Clone, Default, PartialEq, Eq)]
+pub struct SlotChange {
+    /// The number of slots grew: the stepper must re-read the layout
+    /// ([`nsga::Stepper::extend_layout`]).
+    pub grown: bool,
+    /// Normal contacts that now hold another corner contact than before, and friction
+    /// laws of slots given to another line: the stepper must forget their forces
+    /// ([`nsga::Stepper::forget_contacts`]).
+    pub normals: Vec<usize>,
+    /// See `normals`.
+    pub laws: Vec<usize>,
 }
 
 #[derive(Debug, Default)]
@@ -77,7 +106,9 @@ struct DualScratch {
 
 impl Clone for StackSystem {
     fn clone(&self) -> Self {
-        Self::new(self.scene.clone())
+        let mut copy = Self::new(self.scene.clone());
+        copy.slots.clone_from(&self.slots);
+        copy
     }
 }
 
@@ -101,8 +132,171 @@ impl StackSystem {
             forces: scene.gravity_forces(),
             e_n: vec![scene.contact.e_n; scene.n_normal_contacts()],
             laws,
+            slots: Vec::new(),
+            end_tol: END_TOL
+                * (1..=scene.n_blocks())
+                    .map(|k| scene.size(k))
+                    .map(|s| s.width.min(s.height))
+                    .fold(f64::INFINITY, f64::min),
             scratch: RefCell::new(DualScratch::default()),
             scene,
+        }
+    }
+
+    /// The contact lines in the slots (`None`: a free slot).
+    #[must_use]
+    pub fn corner_contacts(&self) -> &[Option<LineContacts>] {
+        &self.slots
+    }
+
+    /// The two normal contacts and the friction law of slot `s`.
+    #[must_use]
+    pub fn slot_contacts(&self, s: usize) -> ([usize; 2], usize) {
+        let first = self.e_n.len() + 2 * s;
+        ([first, first + 1], self.laws.len() + s)
+    }
+
+    /// Puts the `wanted` contact lines (from the broad phase, [`crate::broad_phase`])
+    /// into the slots: a line already in a slot stays there, and so do its contacts that
+    /// are still wanted; a slot whose line is no longer wanted is freed (the broad phase
+    /// wants every contact that may close within the step, so a freed one is open); new
+    /// lines take the free slots in order, the number of slots doubling when they run
+    /// out. Deterministic.
+    pub fn assign_corner_contacts(&mut self, wanted: &[LineContacts]) -> SlotChange {
+        let mut change = SlotChange::default();
+        let mut keep = vec![false; self.slots.len()];
+        let mut new: Vec<LineContacts> = Vec::new();
+        for w in wanted {
+            let Some(i) = self
+                .slots
+                .iter()
+                .position(|s| s.as_ref().is_some_and(|s| s.line == w.line))
+            else {
+                new.push(*w);
+                continue;
+            };
+            keep[i] = true;
+            let old = self.slots[i].expect("a slot with this line").contacts;
+            let mut contacts = [None; 2];
+            for (p, c) in old.iter().enumerate() {
+                if c.is_some() && w.contacts.contains(c) {
+                    contacts[p] = *c;
+                }
+            }
+            for c in w.contacts.iter().filter(|c| c.is_some()) {
+                if !contacts.contains(c) {
+                    let p = contacts
+                        .iter()
+                        .position(Option::is_none)
+                        .expect("two places");
+                    contacts[p] = *c;
+                }
+            }
+            let (normals, _) = self.slot_contacts(i);
+            for p in 0..2 {
+                if contacts[p] != old[p] {
+                    change.normals.push(normals[p]);
+                }
+            }
+            self.slots[i] = Some(LineContacts {
+                line: w.line,
+                contacts,
+            });
+        }
+        for (slot, kept) in self.slots.iter_mut().zip(&keep) {
+            if !kept {
+                *slot = None;
+            }
+        }
+        let free = self.slots.iter().filter(|s| s.is_none()).count();
+        if new.len() > free {
+            let needed = self.slots.len() + new.len() - free;
+            let capacity = needed.max(2 * self.slots.len()).max(4);
+            self.slots.resize(capacity, None);
+            change.grown = true;
+        }
+        let free_slots: Vec<usize> = (0..self.slots.len())
+            .filter(|&i| self.slots[i].is_none())
+            .collect();
+        for (w, i) in new.into_iter().zip(free_slots) {
+            self.slots[i] = Some(w);
+            let (normals, law) = self.slot_contacts(i);
+            change.normals.extend(normals);
+            change.laws.push(law);
+        }
+        change
+    }
+
+    /// The gap rows of a slot's contacts and the slip of its friction law, with the
+    /// bodies' states from `state`; `None` when the line's bodies are neighbours whose
+    /// interface supports the upper one and the interface's gaps hold all its contacts.
+    fn slot_rows<T: Scalar>(
+        &self,
+        line: &LineContacts,
+        t: f64,
+        state: impl Fn(Body) -> BodyState<T>,
+        interfaces: &[crate::interface::InterfaceContacts<T>],
+    ) -> Option<SlotRows<T>> {
+        // While the interface supports, it holds the corners it measures (ℓ_a…ℓ_d of
+        // (G.2.3)); the line keeps only its other contacts (a corner against a side).
+        let supported = line.line.interface().is_some_and(|k| interfaces[k].holds());
+        let size = |b| self.scene.size(body_number(b));
+        // A corner that has slid past the end of its face no longer touches it (its face
+        // was chosen at the start of the step): the contact opens rather than hold the
+        // corner on the face's line beyond the body.
+        let on_face = |c: &CornerContact| {
+            let sizes = [size(c.corner_body), size(c.face_body)];
+            c.beyond_end(&state(c.corner_body), &state(c.face_body), sizes) <= self.end_tol
+        };
+        let contacts = line
+            .contacts
+            .map(|c| c.filter(|c| !(supported && c.is_interface_case()) && on_face(c)));
+        if contacts.iter().all(Option::is_none) {
+            return None;
+        }
+        let base_acc = Twist::lift(&self.scene.base().acceleration(t));
+        let along = match line.line.kind {
+            LineKind::Face(side) => {
+                let lo = state(line.line.lo);
+                Some(lo.pose.to_world(&side.face(size(line.line.lo)).tangent))
+            }
+            LineKind::Corner(..) => None,
+        };
+        let rows = contacts.map(|c| {
+            c.map(|c| {
+                c.rows(
+                    &state(c.corner_body),
+                    &state(c.face_body),
+                    [size(c.corner_body), size(c.face_body)],
+                    &base_acc,
+                    along.as_ref(),
+                )
+            })
+        });
+        // The law's slip: the contact with the smaller gap, as (G.3.1).
+        let slip = match (&rows[0], &rows[1]) {
+            (Some(a), Some(b)) if re(b.0.value) < re(a.0.value) => b.1,
+            (Some(a), _) => a.1,
+            (None, Some(b)) => b.1,
+            (None, None) => return None,
+        };
+        Some(SlotRows {
+            gaps: rows.map(|r| r.map(|r| r.0)),
+            slip,
+        })
+    }
+
+    /// The state of a body of a corner contact: the base's prescribed one, or a block's
+    /// from q and u (through `lift`, which may seed derivative directions).
+    fn body_state<T: Scalar>(
+        &self,
+        t: f64,
+        body: Body,
+        mut lift: impl FnMut(usize) -> BodyState<T>,
+    ) -> BodyState<T> {
+        match free_block(body) {
+            Some(i) => lift(i),
+            None => BodyState::lift(&self.scene.base().state(t)),
         }
     }
 
@@ -111,6 +305,22 @@ impl StackSystem {
     pub fn scene(&self) -> &Scene {
         &self.scene
     }
+}
+
+/// The rows of one slot: its two gaps (`None`: no contact in that place) and its slip.
+struct SlotRows<T> {
+    gaps: [Option<ContactRow<T>>; 2],
+    slip: ContactRow<T>,
+}
+
+/// Writes one slip row (friction component `j`): W and χ, ζ (v = Wᵀu + χ is formed by
+/// the stepper).
+fn put_slip<T: Scalar>(row: &ContactRow<T>, j: usize, out: &mut Evaluation<T>) {
+    for (i, wi) in row.w.iter() {
+        out.velocity_w.push(i, j, wi);
+    }
+    out.velocity_chi[j] = row.chi;
+    out.velocity_zeta[j] = row.zeta;
 }
 
 /// Writes one constraint row into a family (value, W column `col`, χ, ζ); `None` is an
@@ -139,11 +349,23 @@ fn put_row<T: Scalar>(
 impl System for StackSystem {
     fn layout(&self) -> Layout {
         let n = 3 * self.scene.n_blocks();
+        let mut e_n = self.e_n.clone();
+        let mut friction = self.laws.clone();
+        for s in 0..self.slots.len() {
+            let (normals, _) = self.slot_contacts(s);
+            e_n.extend([self.scene.contact.e_n; 2]);
+            friction.push(FrictionLaw {
+                components: 1,
+                mu: self.scene.contact.mu,
+                e_f: self.scene.contact.e_f,
+                normals: normals.to_vec(),
+            });
+        }
         Layout {
             nq: n,
             nu: n,
-            e_n: self.e_n.clone(),
-            friction: self.laws.clone(),
+            e_n,
+            friction,
             ..Layout::default()
         }
     }
@@ -167,11 +389,37 @@ impl System for StackSystem {
         }
         // Slips: v = Wᵀu + χ is formed by the stepper; only W, χ, ζ are reported.
         for (j, row) in c.slips.iter().enumerate() {
-            for (i, wi) in row.w.iter() {
-                out.velocity_w.push(i, j, wi);
+            put_slip(row, j, out);
+        }
+        let block = |i: usize| {
+            BodyState::new(
+                Pose::from_slice(&q[3 * i..3 * i + 3]),
+                Twist::from_slice(&u[3 * i..3 * i + 3]),
+            )
+        };
+        for (s, line) in self.slots.iter().enumerate() {
+            let (normals, law) = self.slot_contacts(s);
+            let state = |b| self.body_state(t, b, block);
+            let rows = line
+                .as_ref()
+                .and_then(|l| self.slot_rows(l, t, state, &c.interfaces));
+            let Some(rows) = rows else {
+                for i in normals {
+                    out.position[i] = T::from(UNSUPPORTED_GAP);
+                }
+                continue;
+            };
+            for (gap, i) in rows.gaps.iter().zip(normals) {
+                put_row(
+                    gap.as_ref(),
+                    i,
+                    &mut out.position,
+                    &mut out.position_w,
+                    &mut out.position_chi,
+                    &mut out.position_zeta,
+                );
             }
-            out.velocity_chi[j] = row.chi;
-            out.velocity_zeta[j] = row.zeta;
+            put_slip(&rows.slip, law, out);
         }
     }
 
@@ -269,6 +517,97 @@ impl System for StackSystem {
                 }
             }
         }
+        self.slot_derivatives(t, q, u, probes, &s.contacts.interfaces, out);
+    }
+}
+
+impl StackSystem {
+    /// The derivatives of the contact-line rows. A line may join any two blocks, so the
+    /// parity seeding does not apply; each slot is differentiated on its own, with its
+    /// lower body's (x, y, θ) on directions 0–2 (over q) and 6–8 (over u) and its upper
+    /// body's on 3–5 and 9–11: one pass of the same 12-direction dual numbers per slot
+    /// in use.
+    fn slot_derivatives(
+        &self,
+        t: f64,
+        q: &[f64],
+        u: &[f64],
+        probes: &Probes<'_>,
+        interfaces: &[crate::interface::InterfaceContacts<Directions>],
+        out: &mut Derivatives,
+    ) {
+        let seeded = |b: usize, role: usize| {
+            let x = |k: usize, d: usize| Directions::from_re(q[3 * b + k]).derivative(3 * role + d);
+            let v =
+                |k: usize, d: usize| Directions::from_re(u[3 * b + k]).derivative(6 + 3 * role + d);
+            BodyState::new(
+                Pose::new(x(0, 0), x(1, 1), x(2, 2)),
+                Twist::new(v(0, 0), v(1, 1), v(2, 2)),
+            )
+        };
+        for (slot, line) in self.slots.iter().enumerate() {
+            let Some(line) = line else { continue };
+            let (normals, law) = self.slot_contacts(slot);
+            let used = normals.map(|i| probes.uses_position(i));
+            let use_v = probes.uses_velocity(law);
+            if !used.contains(&true) && !use_v {
+                continue;
+            }
+            let bodies = [line.line.lo, line.line.hi];
+            let state = |b: Body| {
+                let role = usize::from(b == bodies[1]);
+                self.body_state(t, b, |k| seeded(k, role))
+            };
+            let Some(rows) = self.slot_rows(line, t, state, interfaces) else {
+                continue;
+            };
+            for (role, body) in bodies.into_iter().enumerate() {
+                let Some(b) = free_block(body) else { continue };
+                for coord in 0..3 {
+                    let (dq, du, j) = (3 * role + coord, 6 + 3 * role + coord, 3 * b + coord);
+                    for ((gap, i), used) in rows.gaps.iter().zip(normals).zip(used) {
+                        let Some(gap) = gap.as_ref().filter(|_| used) else {
+                            continue;
+                        };
+                        q_row(
+                            gap,
+                            dq,
+                            i,
+                            j,
+                            u,
+                            probes,
+                            |k| probes.dynamics[k].1,
+                            &mut out.dynamics_q,
+                            &mut PositionRows {
+                                value: &mut out.position_q,
+                                rate: &mut out.position_rate_q,
+                                accel: &mut out.position_accel_q,
+                            },
+                        );
+                        push_nonzero(&mut out.position_accel_u, i, j, part(&gap.zeta, du));
+                    }
+                    if use_v {
+                        let mut unused = nsga::Triplets::default();
+                        q_row(
+                            &rows.slip,
+                            dq,
+                            law,
+                            j,
+                            u,
+                            probes,
+                            |k| probes.dynamics[k].2,
+                            &mut out.dynamics_q,
+                            &mut PositionRows {
+                                value: &mut unused,
+                                rate: &mut out.velocity_q,
+                                accel: &mut out.velocity_accel_q,
+                            },
+                        );
+                        push_nonzero(&mut out.velocity_accel_u, law, j, part(&rows.slip.zeta, du));
+                    }
+                }
+            }
+        }
     }
 }
 
@@ -280,6 +619,14 @@ fn seeded_coordinate(row: &ContactRow<Directions>, parity: usize, coord: usize) 
         .map(|(i, _)| i / 3)
         .find(|b| b % 2 == parity)
         .map(|b| 3 * b + coord)
+}
+
+/// The scene's number of a base or block body (base 0, blocks 1..n).
+fn body_number(b: Body) -> usize {
+    match b {
+        Body::Block(k) => k,
+        Body::Base | Body::Floor => 0,
+    }
 }
 
 fn push_nonzero(t: &mut nsga::Triplets<f64>, r: usize, c: usize, v: f64) {
@@ -372,7 +719,10 @@ mod tests {
     /// multipliers zero, as the stepper guarantees): those rows must be absent, every
     /// other entry exact.
     fn check_with_unused(scene: Scene, t: f64, unused_p: &[bool], unused_v: &[bool]) {
-        let sys = StackSystem::new(scene);
+        check_system(&StackSystem::new(scene), t, unused_p, unused_v);
+    }
+
+    fn check_system(sys: &StackSystem, t: f64, unused_p: &[bool], unused_v: &[bool]) {
         let layout = sys.layout();
         let (nq, np, nv) = (layout.nq, layout.n_position(), layout.n_velocity());
         let mut q = sys.scene().initial_coordinates();
@@ -413,7 +763,7 @@ mod tests {
         let mut sparse = Derivatives::default();
         sys.derivatives(t, &q, &u, &probes, &mut sparse);
         let mut reference = Derivatives::default();
-        forward_derivatives(&sys, t, &q, &u, &probes, &mut reference);
+        forward_derivatives(sys, t, &q, &u, &probes, &mut reference);
         for (k, (x, mut y)) in all(&sparse, nq, np, nv)
             .into_iter()
             .zip(all(&reference, nq, np, nv))
@@ -454,6 +804,123 @@ mod tests {
         let unused_v: Vec<bool> = (0..nl).map(|i| i >= 4).collect();
         assert!(unused_p.iter().any(|&u| u) && unused_v.iter().any(|&u| u));
         check_with_unused(scene, 0.3, &unused_p, &unused_v);
+    }
+
+    use crate::corners::Corner;
+    use crate::pairs::{ContactLine, CornerContact, LineKind, Side};
+
+    fn contact(a: Body, c: Corner, b: Body, face: Side) -> Option<CornerContact> {
+        Some(CornerContact {
+            corner_body: a,
+            corner: c,
+            face_body: b,
+            face,
+        })
+    }
+
+    fn line(
+        lo: Body,
+        hi: Body,
+        kind: LineKind,
+        contacts: [Option<CornerContact>; 2],
+    ) -> LineContacts {
+        LineContacts {
+            line: ContactLine { lo, hi, kind },
+            contacts,
+        }
+    }
+
+    #[test]
+    fn corner_contact_derivatives_equal_forward_ad() {
+        let mut sys = StackSystem::new(lire_on_floor(4, Perturbation::Bottom).unwrap());
+        let (b1, b2, b3, b4) = (
+            Body::Block(1),
+            Body::Block(2),
+            Body::Block(3),
+            Body::Block(4),
+        );
+        // Same-parity blocks with a contact on each body, the base on either side, a
+        // corner line, neighbours whose interface supports (so the slot stays open), and
+        // a free slot.
+        let mut wanted = vec![
+            line(
+                b1,
+                b3,
+                LineKind::Face(Side::Top),
+                [
+                    contact(b3, Corner::C, b1, Side::Top),
+                    contact(b1, Corner::A, b3, Side::Bottom),
+                ],
+            ),
+            line(
+                Body::Base,
+                b2,
+                LineKind::Corner(Corner::B, Side::Left),
+                [contact(Body::Base, Corner::B, b2, Side::Left), None],
+            ),
+            line(
+                Body::Base,
+                b3,
+                LineKind::Face(Side::Top),
+                [None, contact(b3, Corner::D, Body::Base, Side::Top)],
+            ),
+            line(
+                b1,
+                b2,
+                LineKind::Face(Side::Top),
+                [contact(b2, Corner::C, b1, Side::Top), None],
+            ),
+            line(
+                b2,
+                b4,
+                LineKind::Face(Side::Right),
+                [contact(b4, Corner::C, b2, Side::Right), None],
+            ),
+        ];
+        let change = sys.assign_corner_contacts(&wanted);
+        let laws: Vec<usize> = (0..5).map(|s| sys.slot_contacts(s).1).collect();
+        assert!(change.grown && change.laws == laws);
+        wanted.pop();
+        let change = sys.assign_corner_contacts(&wanted);
+        assert!(change.laws.is_empty() && change.normals.is_empty());
+        assert_eq!(sys.corner_contacts()[4], None, "a free slot");
+        check_system(&sys, 0.3, &[], &[]);
+    }
+
+    #[test]
+    fn slots_keep_their_lines_and_reuse_freed_ones() {
+        let mut sys = StackSystem::new(lire_on_floor(3, Perturbation::Bottom).unwrap());
+        let c = |k| {
+            line(
+                Body::Base,
+                Body::Block(k),
+                LineKind::Face(Side::Top),
+                [
+                    contact(Body::Block(k), Corner::D, Body::Base, Side::Top),
+                    None,
+                ],
+            )
+        };
+        sys.assign_corner_contacts(&[c(1), c(2)]);
+        let change = sys.assign_corner_contacts(&[c(2), c(3)]);
+        assert!(!change.grown);
+        let ([n0, n1], law) = sys.slot_contacts(0);
+        assert_eq!(change.laws, vec![law], "c(3) takes the slot c(1) left");
+        assert_eq!(change.normals, vec![n0, n1]);
+        assert_eq!(
+            sys.corner_contacts()[1],
+            Some(c(2)),
+            "c(2) stays where it was"
+        );
+        // A second contact on a kept line: only its normal is new.
+        let mut two = c(2);
+        two.contacts[1] = contact(Body::Block(2), Corner::C, Body::Base, Side::Top);
+        let change = sys.assign_corner_contacts(&[two, c(3)]);
+        assert_eq!(change.normals, vec![sys.slot_contacts(1).0[1]]);
+        assert!(change.laws.is_empty());
+        let n = sys.layout().n_normal();
+        let change = sys.assign_corner_contacts(&[c(1), c(2), c(3), c(4), c(5)]);
+        assert!(change.grown && sys.layout().n_normal() == n + 2 * 4);
     }
 
     #[test]

@@ -33,6 +33,7 @@ mod fallback;
 mod iterate;
 mod last_resort;
 mod multipliers;
+mod resize;
 mod rows;
 mod solve;
 mod unknowns;
@@ -136,6 +137,45 @@ struct Work {
     factored: Option<FactoredFor>,
 }
 
+impl Work {
+    /// Buffers for a system of this layout, with the linear solver the options choose.
+    fn new(layout: &Layout, options: &Options) -> Self {
+        let solver: Box<dyn LinearSolver> = match options.solver {
+            SolverChoice::Auto(t) => Box::new(AutoSolver::new(t)),
+            SolverChoice::Dense => Box::new(DenseLu::default()),
+            SolverChoice::Sparse => Box::new(SparseLu::default()),
+            SolverChoice::Markowitz(t) => Box::new(AutoSolver::markowitz(t)),
+        };
+        Self {
+            eval: Evaluation::new(layout),
+            der: Derivatives::default(),
+            bt: Triplets::default(),
+            b: RowMat::default(),
+            bdot_u: vec![0.0; layout.nq],
+            jac: Vec::new(),
+            rhs_red: Vec::new(),
+            res: vec![0.0; Offsets::new(layout).n],
+            newton: NewtonScratch::default(),
+            dg: RowMat::default(),
+            dxp: RowMat::default(),
+            dap: RowMat::default(),
+            dxv: RowMat::default(),
+            dgv: RowMat::default(),
+            dav: RowMat::default(),
+            r_pos: Vec::new(),
+            r_vel: Vec::new(),
+            r_law: Vec::new(),
+            it: Iterate::default(),
+            solver,
+            linear_solves: 0,
+            singular_sets: Vec::new(),
+            factored: None,
+            unused_position: Vec::new(),
+            unused_velocity: Vec::new(),
+        }
+    }
+}
+
 /// The index sets, prune map, Δt and ρ∞ of a factorized Newton matrix: its factors
 /// serve a simplified Newton update only while all four are unchanged.
 #[derive(Debug, Clone, PartialEq)]
@@ -178,42 +218,10 @@ impl<S: System> Stepper<S> {
             ));
         }
         let off = Offsets::new(&layout);
-        let solver: Box<dyn LinearSolver> = match options.solver {
-            SolverChoice::Auto(t) => Box::new(AutoSolver::new(t)),
-            SolverChoice::Dense => Box::new(DenseLu::default()),
-            SolverChoice::Sparse => Box::new(SparseLu::default()),
-            SolverChoice::Markowitz(t) => Box::new(AutoSolver::markowitz(t)),
-        };
         let start = consistent_start(&system, &layout, t0, q0, u0, &options)?;
         let at = (0, t0, q0.to_vec(), u0.to_vec());
         let state = started_state(&off, at, start, vec![0.0; off.nn], vec![0.0; off.nf]);
-        let work = Work {
-            eval: Evaluation::new(&layout),
-            der: Derivatives::default(),
-            bt: Triplets::default(),
-            b: RowMat::default(),
-            bdot_u: vec![0.0; layout.nq],
-            jac: Vec::new(),
-            rhs_red: Vec::new(),
-            res: vec![0.0; off.n],
-            newton: NewtonScratch::default(),
-            dg: RowMat::default(),
-            dxp: RowMat::default(),
-            dap: RowMat::default(),
-            dxv: RowMat::default(),
-            dgv: RowMat::default(),
-            dav: RowMat::default(),
-            r_pos: Vec::new(),
-            r_vel: Vec::new(),
-            r_law: Vec::new(),
-            it: Iterate::default(),
-            solver,
-            linear_solves: 0,
-            singular_sets: Vec::new(),
-            factored: None,
-            unused_position: Vec::new(),
-            unused_velocity: Vec::new(),
-        };
+        let work = Work::new(&layout, &options);
         let law_off = layout.friction_offsets();
         let comp_ef = layout.friction_restitution();
         Ok(Self {

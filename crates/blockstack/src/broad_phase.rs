@@ -1,0 +1,399 @@
+//! The broad phase: which corner contacts ([`crate::pairs`]) a step may need.
+//!
+//! Before each step, every body (base and blocks) gets a bounding box grown by a margin
+//! that covers how far it can move in the step, m = 2 Δt (|v| + |ω| R) + δ, with R the
+//! half diagonal and δ = [`MARGIN`] times the smallest block dimension (what a body can
+//! gain in speed within the step, by gravity or an impact, is covered by the factor 2
+//! and by δ; a contact missed all the same is caught after the step, see
+//! [`crate::simulation`]). Boxes are swept along the axis on which the bodies' centres
+//! spread most (a column: y, so each box meets only its neighbours' boxes: O(n log n)),
+//! and for each pair of boxes that meet, each corner of one body whose gap to the other
+//! body is below the sum of their margins is a candidate.
+//!
+//! Neighbours in the stack are the thesis's interfaces (App. G): while block k firmly
+//! supports block k+1 (its [`Interface::support_margin`] exceeds the margins) their
+//! corner contacts are not needed, so a standing column has no candidates at all and
+//! pays only for the sweep. Near the loss of support they are added; the system then
+//! uses either the interface's gaps (supported) or the corner contacts (not), never both.
+//!
+//! [`Interface::support_margin`]: crate::interface::Interface::support_margin
+
+use crate::coordinates::{BodyState, Pose, Twist};
+use crate::corners::Corner;
+use crate::gaps::Face;
+use crate::interface::Size;
+use crate::overlap::Body;
+use crate::pairs::{interface_between, ContactLine, CornerContact, LineContacts, LineKind, Side};
+use crate::scene::Scene;
+
+/// The fixed part δ of the margin, as a fraction of the smallest block dimension.
+pub const MARGIN: f64 = 0.05;
+
+/// Two faces face each other (flush) when their normals' dot product is below −FLUSH.
+const FLUSH: f64 = 0.999;
+
+/// Two faces whose distances from a corner differ by less than this fraction of the
+/// smallest block dimension are a tie ([`Side::facing`]).
+pub const TIE: f64 = 1e-6;
+
+/// One body as the broad phase sees it.
+#[derive(Debug, Clone, Copy)]
+struct Boxed {
+    body: Body,
+    state: BodyState,
+    size: Size,
+    lo: [f64; 2],
+    hi: [f64; 2],
+    margin: f64,
+}
+
+fn boxed(body: Body, state: BodyState, size: Size, dt: f64, delta: f64) -> Boxed {
+    let corners = crate::corners::corners(&state.pose, size.width, size.height);
+    let mut lo = [f64::INFINITY; 2];
+    let mut hi = [f64::NEG_INFINITY; 2];
+    for c in corners {
+        lo = [lo[0].min(c.x), lo[1].min(c.y)];
+        hi = [hi[0].max(c.x), hi[1].max(c.y)];
+    }
+    let radius = 0.5 * size.width.hypot(size.height);
+    let speed = state.twist.v().norm() + state.twist.omega.abs() * radius;
+    Boxed {
+        body,
+        state,
+        size,
+        lo,
+        hi,
+        margin: 2.0 * dt * speed + delta,
+    }
+}
+
+/// The face of `b` that corner `c` of `a` meets and its signed distance from it
+/// ([`Side::facing`], ties within `tie`).
+fn corner_face(a: &Boxed, c: Corner, b: &Boxed, tie: f64) -> (Side, f64) {
+    let p = a
+        .state
+        .pose
+        .point(&c.body_offset(a.size.width, a.size.height));
+    Side::facing(&p, &a.state.pose.r(), &b.state.pose, b.size, tie)
+}
+
+/// The gap of corner `c` of `a` against the body `b`: the largest signed distance from
+/// b's faces, positive exactly when the corner is outside b.
+fn corner_gap(a: &Boxed, c: Corner, b: &Boxed) -> f64 {
+    let p = a
+        .state
+        .pose
+        .point(&c.body_offset(a.size.width, a.size.height));
+    Face::of_rectangle(b.size.width, b.size.height)
+        .iter()
+        .map(|f| f.distance(&b.state.pose, &p))
+        .fold(f64::NEG_INFINITY, f64::max)
+}
+
+/// The corner contacts that the step from (t, q, u) with step size `dt` may need, grouped
+/// into the lines they lie on ([`LineContacts`]), in a deterministic order.
+///
+/// # Panics
+/// When q or u holds fewer than 3 entries per block.
+#[must_use]
+pub fn corner_contacts(scene: &Scene, t: f64, q: &[f64], u: &[f64], dt: f64) -> Vec<LineContacts> {
+    let n = scene.n_blocks();
+    let delta = MARGIN * smallest_dimension(scene);
+    let base = scene.base();
+    let mut bodies = vec![boxed(Body::Base, base.state(t), scene.size(0), dt, delta)];
+    bodies.extend((0..n).map(|k| {
+        let state = BodyState::new(
+            Pose::from_slice(&q[3 * k..3 * k + 3]),
+            Twist::from_slice(&u[3 * k..3 * k + 3]),
+        );
+        boxed(Body::Block(k + 1), state, scene.size(k + 1), dt, delta)
+    }));
+    let axis = sweep_axis(&bodies);
+    let mut order: Vec<usize> = (0..bodies.len()).collect();
+    order.sort_by(|&i, &j| {
+        let (a, b) = (&bodies[i], &bodies[j]);
+        (a.lo[axis] - a.margin).total_cmp(&(b.lo[axis] - b.margin))
+    });
+    let mut out = Vec::new();
+    for (pos, &i) in order.iter().enumerate() {
+        let a = &bodies[i];
+        for &j in &order[pos + 1..] {
+            let b = &bodies[j];
+            if b.lo[axis] - b.margin > a.hi[axis] + a.margin {
+                break;
+            }
+            let other = 1 - axis;
+            let m = a.margin + b.margin;
+            if b.lo[other] > a.hi[other] + m || a.lo[other] > b.hi[other] + m {
+                continue;
+            }
+            if firmly_supported(scene, a, b, m) {
+                continue;
+            }
+            out.extend(lines_of(
+                a,
+                b,
+                &pair_candidates(a, b, m, m - 2.0 * delta, TIE * delta / MARGIN),
+            ));
+        }
+    }
+    out.sort_by_key(|l| l.line.key());
+    out
+}
+
+/// The corner contacts of one pair grouped into the lines they lie on ([`ContactLine`]).
+/// A line holds at most two contacts: where more were found (two faces lying flush, each
+/// body's corners on the other's face), the two at the ends of the line are kept, since
+/// a line contact in the plane has two independent contact forces and more would make
+/// Newton's matrix singular.
+fn lines_of(a: &Boxed, b: &Boxed, found: &[Candidate]) -> Vec<LineContacts> {
+    let (lo, hi) = if body_number(a.body) < body_number(b.body) {
+        (a, b)
+    } else {
+        (b, a)
+    };
+    let world = |body: &Boxed, side: Side| {
+        let f = side.face(body.size);
+        (
+            body.state.pose.to_world(&f.normal),
+            body.state.pose.to_world(&f.tangent),
+        )
+    };
+    let line_of = |c: &CornerContact| {
+        let kind = if c.face_body == lo.body {
+            LineKind::Face(c.face)
+        } else {
+            let (n, _) = world(hi, c.face);
+            let flush = Side::ALL
+                .into_iter()
+                .find(|&s| world(lo, s).0.dot(&n) < -FLUSH);
+            flush.map_or(LineKind::Corner(c.corner, c.face), LineKind::Face)
+        };
+        ContactLine {
+            lo: lo.body,
+            hi: hi.body,
+            kind,
+        }
+    };
+    let mut lines: Vec<(ContactLine, Vec<Candidate>)> = Vec::new();
+    for found in found {
+        let line = line_of(&found.contact);
+        match lines.iter_mut().find(|(l, _)| *l == line) {
+            Some((_, list)) => list.push(*found),
+            None => lines.push((line, vec![*found])),
+        }
+    }
+    lines
+        .into_iter()
+        .map(|(line, mut list)| {
+            if list.len() > 2 {
+                let along = match line.kind {
+                    LineKind::Face(side) => world(lo, side).1,
+                    LineKind::Corner(..) => world(hi, list[0].contact.face).1,
+                };
+                let s = |c: &Candidate| c.point.dot(&along);
+                list.sort_by(|x, y| s(x).total_cmp(&s(y)));
+                let last = list[list.len() - 1];
+                list.truncate(1);
+                list.push(last);
+            }
+            list.sort_by_key(|c| c.contact.key());
+            let mut contacts = [None; 2];
+            for (slot, c) in contacts.iter_mut().zip(list) {
+                *slot = Some(c.contact);
+            }
+            LineContacts { line, contacts }
+        })
+        .collect()
+}
+
+/// The scene's number of a base or block body (base 0, blocks 1..n).
+fn body_number(b: Body) -> usize {
+    match b {
+        Body::Block(k) => k,
+        Body::Base | Body::Floor => 0,
+    }
+}
+
+/// The corner contacts of one pair of bodies whose gap is below `m`, with their points. A corner counts against the face it meets only within that face's extent, or
+/// beyond its end by no more than `reach` (how far the bodies move within the step): a
+/// corner beyond the end of a face does not touch it, the other body's corner at that
+/// end does, unless the two meet head-on.
+fn pair_candidates(a: &Boxed, b: &Boxed, m: f64, reach: f64, tie: f64) -> Vec<Candidate> {
+    let mut found = Vec::new();
+    for (x, y) in [(a, b), (b, a)] {
+        for c in Corner::ALL {
+            let point = x
+                .state
+                .pose
+                .point(&c.body_offset(x.size.width, x.size.height));
+            let (face, gap) = corner_face(x, c, y, tie);
+            if gap >= m || face.beyond_end(&y.state.pose, y.size, &point) > reach + tie {
+                continue;
+            }
+            let contact = CornerContact {
+                corner_body: x.body,
+                corner: c,
+                face_body: y.body,
+                face,
+            };
+            found.push(Candidate { contact, point });
+        }
+    }
+    found
+}
+
+/// A corner contact found by the broad phase, with where its corner is.
+#[derive(Debug, Clone, Copy)]
+struct Candidate {
+    contact: CornerContact,
+    point: crate::coordinates::Vec2,
+}
+
+/// The gap of corner `corner` of `corner_body` against `face_body` at time t and block
+/// coordinates q: the largest signed distance from the faces, positive exactly when the
+/// corner is outside (what the missed-contact check and the tests measure).
+///
+/// # Panics
+/// When q holds fewer than 3 entries per block.
+#[must_use]
+pub fn corner_gap_of(
+    scene: &Scene,
+    t: f64,
+    q: &[f64],
+    corner_body: Body,
+    corner: Corner,
+    face_body: Body,
+) -> f64 {
+    let body = |b: Body| {
+        let (state, size) = match b {
+            Body::Block(k) => (
+                BodyState::new(Pose::from_slice(&q[3 * k - 3..3 * k]), Twist::default()),
+                scene.size(k),
+            ),
+            Body::Base | Body::Floor => (scene.base().state(t), scene.size(0)),
+        };
+        boxed(b, state, size, 0.0, 0.0)
+    };
+    corner_gap(&body(corner_body), corner, &body(face_body))
+}
+
+/// Every corner contact between bodies `a` and `b` (base or blocks, corners of each
+/// against the other, within the faces' extents), with the faces chosen at (t, q, u)
+/// whatever the distance, grouped into lines: what a step that missed the pair's contact
+/// is taken again with ([`crate::stepping`]).
+///
+/// # Panics
+/// When q or u holds fewer than 3 entries per block.
+#[must_use]
+pub fn pair_corner_contacts(
+    scene: &Scene,
+    t: f64,
+    q: &[f64],
+    u: &[f64],
+    pair: [Body; 2],
+) -> Vec<LineContacts> {
+    let delta = smallest_dimension(scene);
+    let body = |b: Body| match b {
+        Body::Block(k) => {
+            let state = BodyState::new(
+                Pose::from_slice(&q[3 * k - 3..3 * k]),
+                Twist::from_slice(&u[3 * k - 3..3 * k]),
+            );
+            boxed(b, state, scene.size(k), 0.0, 0.0)
+        }
+        Body::Base | Body::Floor => {
+            boxed(Body::Base, scene.base().state(t), scene.size(0), 0.0, 0.0)
+        }
+    };
+    let (a, b) = (body(pair[0]), body(pair[1]));
+    lines_of(
+        &a,
+        &b,
+        &pair_candidates(&a, &b, f64::INFINITY, f64::INFINITY, TIE * delta),
+    )
+}
+
+/// The smallest block dimension of the scene.
+fn smallest_dimension(scene: &Scene) -> f64 {
+    (1..=scene.n_blocks())
+        .map(|k| scene.size(k))
+        .map(|s| s.width.min(s.height))
+        .fold(f64::INFINITY, f64::min)
+}
+
+/// The axis (0: x, 1: y) along which the bodies' centres spread most.
+fn sweep_axis(bodies: &[Boxed]) -> usize {
+    let spread = |k: usize| {
+        let c = |b: &Boxed| 0.5 * (b.lo[k] + b.hi[k]);
+        let lo = bodies.iter().map(c).fold(f64::INFINITY, f64::min);
+        let hi = bodies.iter().map(c).fold(f64::NEG_INFINITY, f64::max);
+        hi - lo
+    };
+    usize::from(spread(1) >= spread(0))
+}
+
+/// Whether `a` and `b` are neighbours in the stack whose interface supports the upper
+/// one by more than `margin` (then the interface's own gaps are all the contact needed).
+fn firmly_supported(scene: &Scene, a: &Boxed, b: &Boxed, margin: f64) -> bool {
+    let Some(k) = interface_between(a.body, b.body) else {
+        return false;
+    };
+    let (lower, upper) = if matches!(a.body, Body::Block(i) if i == k + 1) {
+        (b, a)
+    } else {
+        (a, b)
+    };
+    scene
+        .interface(k)
+        .support_margin(&lower.state, &upper.state)
+        > margin
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scenarios::{shaking_column, Shaking};
+
+    #[test]
+    fn a_standing_column_needs_no_corner_contacts() {
+        let scene = shaking_column(&Shaking {
+            blocks: 6,
+            ..Shaking::default()
+        })
+        .unwrap();
+        let q = scene.initial_coordinates();
+        let u = vec![0.0; q.len()];
+        assert!(corner_contacts(&scene, 0.0, &q, &u, 1e-3).is_empty());
+    }
+
+    #[test]
+    fn a_block_beside_another_is_found_and_a_far_one_is_not() {
+        let scene = shaking_column(&Shaking {
+            blocks: 2,
+            ..Shaking::default()
+        })
+        .unwrap();
+        let mut q = scene.initial_coordinates();
+        let u = vec![0.0; q.len()];
+        // Block 2 moved down beside block 1, its left face 1e-4 from block 1's right face.
+        let (w1, w2) = (scene.size(1).width, scene.size(2).width);
+        q[3] = q[0] + 0.5 * (w1 + w2) + 1e-4;
+        q[4] = q[1];
+        let found = corner_contacts(&scene, 0.0, &q, &u, 1e-3);
+        // One line along block 1's right face, with one contact at each end (the flush
+        // faces' four corners are two contact points).
+        let beside: Vec<_> = found
+            .iter()
+            .filter(|l| l.line.lo == Body::Block(1) && l.line.hi == Body::Block(2))
+            .collect();
+        assert_eq!(beside.len(), 1, "{found:?}");
+        assert_eq!(beside[0].line.kind, LineKind::Face(Side::Right));
+        assert!(beside[0].contacts.iter().all(Option::is_some));
+        q[3] += 1.0;
+        let found = corner_contacts(&scene, 0.0, &q, &u, 1e-3);
+        assert!(found
+            .iter()
+            .all(|l| l.line.lo != Body::Block(2) && l.line.hi != Body::Block(2)));
+    }
+}

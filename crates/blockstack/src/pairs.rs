@@ -1,0 +1,437 @@
+//! Contacts between any two bodies that can touch (beyond the thesis's model).
+//!
+//! The thesis's stack has contacts only between neighbours (App. G) and, here, with the
+//! floor. Once a block leaves its neighbour it would meet nothing else: fallen blocks
+//! would pass through each other and through the base. This module adds the contact of
+//! **any corner of any body against any other body**: base and blocks are rectangles, and
+//! two rectangles that touch without overlapping touch at a corner of one of them (two
+//! parallel faces in contact are two corners on a face), so corner-on-body contacts are
+//! all the contacts there are.
+//!
+//! A [`CornerContact`] is corner P of body A against face f of body B. Its gap is the
+//! signed distance of P from the line of f, g = (r_P − r_B) · n_f − d_f, with the value,
+//! W, χ and ζ of the corner-on-face gap of (G.2.1)/(G.2.3) (crate::gaps) and the slip of
+//! (G.3.1) (crate::slip): the neighbour interface of App. G is the special case P a
+//! bottom corner of block k+1 and f the top face of block k.
+//!
+//! The face is the one P meets, chosen at the start of each step ([`Side::facing`]): of
+//! the four faces, the one P is farthest outside of (the separating face: P outside B
+//! exactly when that distance is positive; P inside, the least deep way out). It stays
+//! fixed within the step, so the gap is smooth for Newton; the next step chooses again.
+//! Fixing it matters: a corner that slides level with B's top into B's side (two equal
+//! blocks pushed together) is at distance zero from the top face all the way, and only
+//! the side face, chosen before it entered, can stop it.
+//!
+//! Which corner contacts a step needs is the broad phase's business
+//! ([`crate::broad_phase`]); how they enter the stepper, the system's
+//! ([`crate::StackSystem`]).
+
+use crate::coordinates::{re, BodyState, Scalar, Twist};
+use crate::corners::Corner;
+use crate::gaps::{CornerOnFace, Face};
+use crate::interface::Size;
+use crate::overlap::Body;
+use crate::slip::LowerBody;
+use crate::stack::{pair_row, ContactRow};
+
+/// Corner `corner` of body `corner_body` against face `face` of body `face_body` (base or
+/// block; the floor has its own contacts).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct CornerContact {
+    /// The body that owns the corner.
+    pub corner_body: Body,
+    /// The corner.
+    pub corner: Corner,
+    /// The body whose face the corner may touch.
+    pub face_body: Body,
+    /// The face, chosen by the broad phase at the start of the step ([`Side::facing`]).
+    pub face: Side,
+}
+
+/// One of the four faces of a rectangular body.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Side {
+    /// The face along +e₂.
+    Top,
+    /// The face along −e₂.
+    Bottom,
+    /// The face along +e₁.
+    Right,
+    /// The face along −e₁.
+    Left,
+}
+
+impl Side {
+    /// The four sides, in the order of [`Face::of_rectangle`].
+    pub const ALL: [Side; 4] = [Side::Top, Side::Bottom, Side::Right, Side::Left];
+
+    /// This face of a body of the given size.
+    #[must_use]
+    pub fn face(self, size: Size) -> Face {
+        let i = Self::ALL.iter().position(|&s| s == self).unwrap_or(0);
+        Face::of_rectangle(size.width, size.height)[i]
+    }
+
+    /// The face of body B (at `face`, of size `face_size`) that a corner at the world
+    /// point `p` of a body centred at `centre` meets: among the faces whose signed
+    /// distance from `p` is largest (within `tie` of the largest: P outside B is beyond
+    /// them, P inside B is least deep behind them), the one facing the corner's body
+    /// most squarely (largest n_f · (r_A − r_B)). The tie matters: a corner level with a
+    /// face's line (two equal blocks side by side, or a corner on a corner) is at
+    /// distance zero from two faces, and only the second face is the one it can strike.
+    /// Returns the side and its signed distance.
+    #[must_use]
+    pub fn facing(
+        p: &crate::coordinates::Vec2,
+        centre: &crate::coordinates::Vec2,
+        face: &crate::coordinates::Pose,
+        face_size: Size,
+        tie: f64,
+    ) -> (Side, f64) {
+        let faces = Face::of_rectangle(face_size.width, face_size.height);
+        let d = faces.map(|f| f.distance(face, p));
+        let best = d.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+        let towards = |f: &Face| face.to_world(&f.normal).dot(&(*centre - face.r()));
+        let mut chosen = 0;
+        for i in 1..4 {
+            let better = d[i] >= best - tie
+                && (d[chosen] < best - tie || towards(&faces[i]) > towards(&faces[chosen]));
+            if better {
+                chosen = i;
+            }
+        }
+        (Self::ALL[chosen], d[chosen])
+    }
+
+    /// How far beyond the nearer end of this face of a body (at `pose`, of `size`) the
+    /// world point `p` lies along the face (negative: within the face's extent). A corner
+    /// beyond the end of a face does not touch it: the other body's corner there does.
+    #[must_use]
+    pub fn beyond_end(
+        self,
+        pose: &crate::coordinates::Pose,
+        size: Size,
+        p: &crate::coordinates::Vec2,
+    ) -> f64 {
+        let d = *p - pose.r();
+        let (along, half) = match self {
+            Side::Top | Side::Bottom => (d.dot(&pose.e1()), 0.5 * size.width),
+            Side::Right | Side::Left => (d.dot(&pose.e2()), 0.5 * size.height),
+        };
+        along.abs() - half
+    }
+}
+
+/// The index of a base or block body in the scene's numbering (base 0, blocks 1..n).
+fn body_index(b: Body) -> usize {
+    match b {
+        Body::Base => 0,
+        Body::Block(k) => k,
+        Body::Floor => usize::MAX,
+    }
+}
+
+/// The 0-based free block of a body (`None` for the base).
+pub(crate) fn free_block(b: Body) -> Option<usize> {
+    match b {
+        Body::Block(k) => Some(k - 1),
+        Body::Base | Body::Floor => None,
+    }
+}
+
+/// The neighbour interface of App. G between two bodies, if they are neighbours in the
+/// stack: interface k joins body k and body k+1 (k = 0: the base and block 1).
+#[must_use]
+pub fn interface_between(a: Body, b: Body) -> Option<usize> {
+    let (a, b) = (body_index(a), body_index(b));
+    (a.abs_diff(b) == 1 && a.max(b) != usize::MAX).then_some(a.min(b))
+}
+
+impl CornerContact {
+    /// A total order key (corner body, corner, face body, face) for deterministic listings.
+    #[must_use]
+    pub fn key(&self) -> (usize, usize, usize, usize) {
+        let corner = Corner::ALL
+            .iter()
+            .position(|&c| c == self.corner)
+            .unwrap_or(0);
+        let side = Side::ALL.iter().position(|&s| s == self.face).unwrap_or(0);
+        (
+            body_index(self.corner_body),
+            corner,
+            body_index(self.face_body),
+            side,
+        )
+    }
+
+    /// How far beyond the nearer end of its face the corner lies (real parts; negative:
+    /// within the face's extent), at the bodies' states (corner body first).
+    #[must_use]
+    pub fn beyond_end<T: Scalar>(
+        &self,
+        corner: &BodyState<T>,
+        face: &BodyState<T>,
+        sizes: [Size; 2],
+    ) -> f64 {
+        let offset = self.corner.body_offset(sizes[0].width, sizes[0].height);
+        let p = corner.pose.point(&offset).re();
+        let pose =
+            crate::coordinates::Pose::new(re(face.pose.x), re(face.pose.y), re(face.pose.theta));
+        self.face.beyond_end(&pose, sizes[1], &p)
+    }
+
+    /// Whether this is a contact that a neighbour interface measures while it supports
+    /// (G.2.3): a top corner (a, b) of the lower body on the bottom face of the upper,
+    /// or a bottom corner (c, d) of the upper on the top face of the lower.
+    #[must_use]
+    pub fn is_interface_case(&self) -> bool {
+        let Some(k) = self.interface() else {
+            return false;
+        };
+        let lower_is_corner = body_index(self.corner_body) == k;
+        matches!(
+            (lower_is_corner, self.corner, self.face),
+            (true, Corner::A | Corner::B, Side::Bottom) | (false, Corner::C | Corner::D, Side::Top)
+        )
+    }
+
+    /// The neighbour interface of App. G that joins the two bodies, if they are
+    /// neighbours in the stack: interface k joins body k and body k+1 (k = 0: the base
+    /// and block 1).
+    #[must_use]
+    pub fn interface(&self) -> Option<usize> {
+        interface_between(self.corner_body, self.face_body)
+    }
+
+    /// The gap and the slip speed of the contact, in the coordinates of the free blocks
+    /// (W on at most two blocks; the base's prescribed motion in χ and ζ). `corner` and
+    /// `face` are the states of the two bodies, `sizes` their sizes (corner body first).
+    /// The slip is the velocity of the body first in the scene's order (base, then blocks
+    /// bottom to top) relative to the other, along the face's tangent, or along `along`
+    /// when given (the tangent of the contact's line: the two contacts of a line, one on
+    /// each body's face, then measure the same slip).
+    #[must_use]
+    pub fn rows<T: Scalar>(
+        &self,
+        corner: &BodyState<T>,
+        face: &BodyState<T>,
+        sizes: [Size; 2],
+        base_acc: &Twist<T>,
+        along: Option<&crate::coordinates::Vec2<T>>,
+    ) -> (ContactRow<T>, ContactRow<T>) {
+        let face_geometry = self.face.face(sizes[1]);
+        let pair = CornerOnFace {
+            corner_body: *corner,
+            corner: self.corner.body_offset(sizes[0].width, sizes[0].height),
+            face_body: *face,
+            face: face_geometry,
+        };
+        let blocks = [free_block(self.corner_body), free_block(self.face_body)];
+        let base_vel = match (self.corner_body, self.face_body) {
+            (Body::Base, _) => corner.twist,
+            (_, Body::Base) => face.twist,
+            _ => Twist::new(T::zero(), T::zero(), T::zero()),
+        };
+        let lower = if body_index(self.corner_body) < body_index(self.face_body) {
+            LowerBody::Corner
+        } else {
+            LowerBody::Face
+        };
+        let mut slip = pair.slip(lower);
+        if let Some(t) = along {
+            let tangent = face.pose.to_world(&face_geometry.tangent);
+            if re(tangent.dot(t)) < 0.0 {
+                slip = slip.negated();
+            }
+        }
+        let fold = |row| pair_row(&row, blocks, &base_vel, base_acc);
+        (fold(pair.gap()), fold(slip))
+    }
+}
+
+/// The line on which two bodies touch: one slot of the system, with up to two corner
+/// contacts and one friction law bounded by both (as an interface of App. H).
+///
+/// Two corner contacts of the same pair whose faces lie flush (a block lying on another,
+/// two blocks side by side) slip at the same speed while the faces stay flush; with a
+/// friction law each, their two friction rows would be equal and Newton's matrix singular
+/// in stick. So they share one law, whose slip is that of the contact with the smaller
+/// gap, like the interface's (G.3.1), measured along the tangent of the lower body's face
+/// so that it does not change sign when the smaller gap passes from one body's corner to
+/// the other's.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct ContactLine {
+    /// The body first in the scene's order (base, then blocks bottom to top).
+    pub lo: Body,
+    /// The other body.
+    pub hi: Body,
+    /// Where on the pair the line is.
+    pub kind: LineKind,
+}
+
+/// Where a [`ContactLine`] lies.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum LineKind {
+    /// Along this face of the lower body: contacts of the upper body's corners on it,
+    /// and of the lower body's corners on an upper face flush with it.
+    Face(Side),
+    /// A single contact not on a face of the lower body nor flush with one: a corner of
+    /// the lower body against a face of the upper at an angle.
+    Corner(Corner, Side),
+}
+
+impl ContactLine {
+    /// A total order key, for deterministic listings.
+    #[must_use]
+    pub fn key(&self) -> (usize, usize, usize, usize) {
+        let side = |s: Side| Side::ALL.iter().position(|&x| x == s).unwrap_or(0);
+        let (a, b) = match self.kind {
+            LineKind::Face(s) => (0, side(s)),
+            LineKind::Corner(c, s) => (
+                1 + Corner::ALL.iter().position(|&x| x == c).unwrap_or(0),
+                side(s),
+            ),
+        };
+        (body_index(self.lo), body_index(self.hi), a, b)
+    }
+
+    /// The neighbour interface of App. G joining the two bodies, if any.
+    #[must_use]
+    pub fn interface(&self) -> Option<usize> {
+        interface_between(self.lo, self.hi)
+    }
+}
+
+/// Up to two corner contacts on one [`ContactLine`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct LineContacts {
+    /// The line.
+    pub line: ContactLine,
+    /// Its contacts (a line has at most two in the plane).
+    pub contacts: [Option<CornerContact>; 2],
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::coordinates::{Pose, Vec2};
+    use crate::gaps::tests::{fd_oracle, state};
+
+    fn contact(corner: Corner, face: Side) -> CornerContact {
+        CornerContact {
+            corner_body: Body::Block(3),
+            corner,
+            face_body: Body::Block(1),
+            face,
+        }
+    }
+
+    const SIZES: [Size; 2] = [
+        Size {
+            width: 0.2,
+            height: 0.4,
+        },
+        Size {
+            width: 0.3,
+            height: 0.1,
+        },
+    ];
+
+    /// The gap of corner `c` of A against face `side` of B.
+    fn gap_of(c: Corner, side: Side, a: &BodyState, b: &BodyState) -> f64 {
+        let zero = Twist::new(0.0, 0.0, 0.0);
+        contact(c, side).rows(a, b, SIZES, &zero, None).0.value
+    }
+
+    /// The side that corner `c` of A meets, and its distance.
+    fn facing(c: Corner, a: &BodyState, b: &BodyState) -> (Side, f64) {
+        let p = a
+            .pose
+            .point(&c.body_offset(SIZES[0].width, SIZES[0].height));
+        Side::facing(&p, &a.pose.r(), &b.pose, SIZES[1], 1e-9)
+    }
+
+    #[test]
+    fn the_face_met_is_the_separating_one_and_level_corners_meet_the_side() {
+        let b = state(0.0, 0.0, 0.0, 0.0, 0.0, 0.0);
+        // Corner c (bottom left, offset (−0.1, −0.2)) of A at (0.5, 0.02): right of B
+        // (half width 0.15) by 0.35, within its height: the right face.
+        let a = state(0.6, 0.22, 0.0, 0.0, 0.0, 0.0);
+        assert_eq!(facing(Corner::C, &a, &b), (Side::Right, 0.35));
+        assert!((gap_of(Corner::C, Side::Right, &a, &b) - 0.35).abs() < 1e-15);
+        // At (0.1, 0.04): inside B, 0.05 from the right face and 0.01 from the top.
+        let a = state(0.2, 0.24, 0.0, 0.0, 0.0, 0.0);
+        let (side, d) = facing(Corner::C, &a, &b);
+        assert!(side == Side::Top && (d + 0.01).abs() < 1e-15);
+        // Corner a (top right) exactly on B's top-left corner, A to the left: level with
+        // the top face and touching the left one; A can only strike the left face.
+        let a = state(-0.25, -0.15, 0.0, 0.0, 0.0, 0.0);
+        let (side, d) = facing(Corner::A, &a, &b);
+        assert!(side == Side::Left && d.abs() < 1e-15, "{side:?} {d}");
+    }
+
+    #[test]
+    fn rows_match_finite_differences_on_every_face() {
+        let b = state(-0.1, 0.05, 0.4, -0.3, 0.5, -0.8);
+        // One corner position beside each face of B.
+        let mut seen = Vec::new();
+        for (x, y) in [(0.0, 0.3), (0.05, -0.3), (0.4, 0.1), (-0.5, 0.0)] {
+            let a = state(x, y, 0.3, 0.7, -0.4, 1.1);
+            let zero = Twist::new(0.0, 0.0, 0.0);
+            let (side, _) = facing(Corner::B, &a, &b);
+            seen.push(side);
+            let (gap, slip) = contact(Corner::B, side).rows(&a, &b, SIZES, &zero, None);
+            let (wa, wb, second) = fd_oracle(&|a, b| gap_of(Corner::B, side, a, b), &a, &b);
+            let w: Vec<(usize, f64)> = gap.w.iter().collect();
+            for i in 0..3 {
+                assert!((w[i].1 - wa[i]).abs() < 1e-7, "W_A[{i}] at ({x}, {y})");
+                assert!((w[3 + i].1 - wb[i]).abs() < 1e-7, "W_B[{i}] at ({x}, {y})");
+            }
+            assert!((gap.zeta - second).abs() < 1e-4, "ζ at ({x}, {y})");
+            // The slip is the corner's velocity relative to the face along it: zero when
+            // both translate together, the corner's own tangential speed when B rests.
+            let moving =
+                |s: &BodyState, v: Vec2, w: f64| BodyState::new(s.pose, Twist::new(v.x, v.y, w));
+            let v = Vec2::new(0.3, -0.2);
+            let (_, together) = contact(Corner::B, side).rows(
+                &moving(&a, v, 0.0),
+                &moving(&b, v, 0.0),
+                SIZES,
+                &zero,
+                None,
+            );
+            assert!(together.value.abs() < 1e-15, "{}", together.value);
+            let still = moving(&b, Vec2::new(0.0, 0.0), 0.0);
+            let (_, alone) = contact(Corner::B, side).rows(&a, &still, SIZES, &zero, None);
+            let p = a.pose.to_world(&Corner::B.body_offset(0.2, 0.4));
+            let speed = a.twist.point_velocity(&p);
+            // W_F on A is σ (t, ⊥p·t): read the face tangent t from it.
+            let w: Vec<f64> = alone.w.iter().map(|(_, x)| x).collect();
+            let along = speed.x * w[0] + speed.y * w[1];
+            assert!(
+                (alone.value - along).abs() < 1e-14,
+                "{} vs {along}",
+                alone.value
+            );
+            assert!(slip.value.is_finite());
+        }
+        seen.sort_by_key(|s| Side::ALL.iter().position(|x| x == s));
+        seen.dedup();
+        assert_eq!(seen.len(), 4, "every face is tried: {seen:?}");
+    }
+
+    #[test]
+    fn neighbours_are_joined_by_their_interface() {
+        let c = |a, b| CornerContact {
+            corner_body: a,
+            corner: Corner::A,
+            face_body: b,
+            face: Side::Top,
+        };
+        assert_eq!(c(Body::Base, Body::Block(1)).interface(), Some(0));
+        assert_eq!(c(Body::Block(4), Body::Block(3)).interface(), Some(3));
+        assert_eq!(c(Body::Block(4), Body::Block(2)).interface(), None);
+        assert_eq!(c(Body::Base, Body::Block(2)).interface(), None);
+        let _ = Pose::new(0.0, 0.0, 0.0);
+    }
+}
