@@ -519,6 +519,23 @@ fn runs() -> Vec<Run> {
             false,
         ),
         run(
+            "cylinder pair",
+            &["--theta", "0.5", "--steps", "20", "--ramp", "0.1", "--json"],
+            true,
+        ),
+        run(
+            "cylinder sweep pair",
+            &["--theta", "0.3,0.5", "--steps", "20", "--json"],
+            true,
+        ),
+        run(
+            "cylinder sweep push",
+            &[
+                "--theta", "0.5", "--push", "0.2,0.25", "--steps", "40", "--json",
+            ],
+            true,
+        ),
+        run(
             "nsga ball",
             &["--case", "2", "--dt", "0.01", "--json"],
             true,

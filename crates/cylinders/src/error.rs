@@ -44,6 +44,9 @@ pub enum CylinderError {
     /// (E.2.5) do not exist (line contact, H singular).
     #[error("the cylinder axes are parallel (|e3_I · e3_II| = {0}): H in (E.2.4) is singular")]
     ParallelAxes(f64),
+    /// The time stepper (nsga) failed on a step or at the start.
+    #[error("the time stepper failed: {0}")]
+    Solver(String),
     /// A dimension mismatch between a system and the coordinates given to it.
     #[error("expected {expected} coordinates, got {got}")]
     Dimension {

@@ -56,5 +56,6 @@ pub mod pair;
 pub mod rolling;
 pub mod statics;
 pub mod studies;
+pub mod transport;
 
 pub use error::CylinderError;

@@ -1,12 +1,17 @@
-//! The PNG figures of `rollstack cylinder`: the support-force curves of §3.3 and the
-//! plan view of a rolled trace (Figures 3.10, 3.12), drawn from the typed results of
-//! [`cylinders::studies`].
+//! The PNG figures of `rollstack cylinder`: the support-force curves of §3.3, the
+//! plan view of a rolled trace (Figures 3.10, 3.12), and the transport of a touching
+//! pair (§3.6: its forces, views, animation and Figure 3.14), drawn from the typed
+//! results of [`cylinders::studies`].
 
-use crate::plot::{Dash, Legend, LinePlot, Series, Style, PALETTE};
-use crate::Result;
+use crate::plot::{with_png, Dash, Legend, LinePlot, Marker, Series, Style, PALETTE};
+use crate::{file, FigureError, Result};
+use cylinders::kinematics::Cylinder;
 use cylinders::statics::FrictionLimit;
 use cylinders::studies::holonomy::PlanView;
+use cylinders::studies::pair::{pair_outline, PairSample, PairSweepRow, PushRow};
 use cylinders::studies::statics::StaticsFigures;
+use plotters::prelude::{BitMapBackend, IntoDrawingArea, WHITE};
+use std::ops::Range;
 use std::path::Path;
 
 /// The y axis of the support-force figures.
@@ -156,4 +161,282 @@ pub fn plot_trace(path: &Path, view: PlanView, title: &str) -> Result<()> {
         vec![view.start, view.rim_start, view.rim_end],
     ))
     .save(path, (900, 800))
+}
+
+/// The two panels of the pair at one configuration: a top view (E1, E2) and a side view
+/// along the direction of travel (E2, E3), each with fixed `bounds` (a moving window in
+/// an animation) and the floor line in the side view.
+fn pair_views(
+    cylinder: &Cylinder,
+    q: &[f64],
+    title: &str,
+    top_bounds: Window,
+    side_bounds: Window,
+) -> [LinePlot; 2] {
+    let floor = vec![(side_bounds.0.start, 0.0), (side_bounds.0.end, 0.0)];
+    let outline = pair_outline(cylinder, q);
+    let mut top = LinePlot {
+        equal_aspect: true,
+        bounds: Some(top_bounds),
+        ..LinePlot::new(format!("{title}: top view"), "E1 [m]", "E2 [m]")
+    };
+    let mut side = LinePlot {
+        equal_aspect: true,
+        bounds: Some(side_bounds),
+        ..LinePlot::new("side view, along the travel", "E2 [m]", "E3 [m]")
+    };
+    side = side.with(Series::line("", floor).styled(Style::color(BLACK_ISH)));
+    let mut labelled = [false; 2];
+    for (body, line) in outline {
+        let label = if labelled[body] {
+            String::new()
+        } else {
+            labelled[body] = true;
+            ["cylinder I (spun)", "cylinder II"][body].to_owned()
+        };
+        let style = Style::color(PALETTE[body]);
+        top = top.with(
+            Series::line(label.clone(), line.iter().map(|p| (p[0], p[1])).collect()).styled(style),
+        );
+        side = side
+            .with(Series::line(label, line.iter().map(|p| (p[1], p[2])).collect()).styled(style));
+    }
+    [top, side]
+}
+
+/// The ranges (horizontal, vertical) of one view, in metres.
+type Window = (Range<f64>, Range<f64>);
+
+/// The colour of the floor line.
+const BLACK_ISH: plotters::style::RGBColor = plotters::style::RGBColor(60, 60, 60);
+
+/// Windows of the two views around the pair at q: 2.4 m wide in E1 centred on the
+/// pair, the lean's width in E2, floor to top in E3.
+fn pair_bounds(cylinder: &Cylinder, q: &[f64]) -> (Window, Window) {
+    let h = cylinder.height();
+    let mid = 0.5 * (q[0] + q[6]);
+    let y = 0.5 * (q[1] + q[7]);
+    (
+        (mid - 1.2..mid + 1.2, y - 0.9 * h..y + 0.9 * h),
+        (y - 0.9 * h..y + 0.9 * h, -0.1..1.1 * h),
+    )
+}
+
+/// Draws the pair at configuration q (time t) at `path`: top and side views.
+///
+/// # Errors
+/// When the file cannot be written.
+pub fn plot_pair_view(path: &Path, cylinder: &Cylinder, q: &[f64], title: &str) -> Result<()> {
+    let (tb, sb) = pair_bounds(cylinder, q);
+    let [top, side] = pair_views(cylinder, q, title, tb, sb);
+    with_png(path, (1200, 560), |root| {
+        let (left, right) = root.split_horizontally(600);
+        top.draw(&left)?;
+        side.draw(&right)
+    })
+}
+
+/// Writes an animated GIF of the pair (top and side views) through `frames` of
+/// (t, q), atomically.
+///
+/// # Errors
+/// No frame, or an unwritable file.
+pub fn write_pair_animation(
+    path: &Path,
+    cylinder: &Cylinder,
+    frames: &[(f64, Vec<f64>)],
+    title: &str,
+) -> Result<()> {
+    if frames.is_empty() {
+        return Err(FigureError::Data("no frame to animate"));
+    }
+    crate::plot::register_font();
+    let tmp = file::temp_sibling(path);
+    {
+        let root = BitMapBackend::gif(&tmp, (900, 420), 80)
+            .map_err(|e| FigureError::Write {
+                path: path.to_owned(),
+                message: e.to_string(),
+            })?
+            .into_drawing_area();
+        for (t, q) in frames {
+            root.fill(&WHITE).map_err(crate::err)?;
+            let (tb, sb) = pair_bounds(cylinder, q);
+            let [top, side] = pair_views(cylinder, q, &format!("{title}, t = {t:.2} s"), tb, sb);
+            let (left, right) = root.split_horizontally(450);
+            top.draw(&left)?;
+            side.draw(&right)?;
+            root.present().map_err(crate::err)?;
+        }
+    }
+    file::commit_temp(path).map_err(|e| FigureError::Write {
+        path: path.to_owned(),
+        message: e.to_string(),
+    })
+}
+
+/// The forces of one transport run against time: N/mg and F3/mg of both cylinders, the
+/// normal force between them, and the smooth-floor values (3.3.10) as dotted lines.
+///
+/// # Errors
+/// When the file cannot be written.
+pub fn plot_pair_forces(
+    path: &Path,
+    samples: &[PairSample],
+    n_static: f64,
+    title: &str,
+) -> Result<()> {
+    let series = |f: &dyn Fn(&PairSample) -> f64| -> Vec<(f64, f64)> {
+        samples.iter().map(|s| (s.t, f(s))).collect()
+    };
+    let (t0, t1) = (
+        samples.first().map_or(0.0, |s| s.t),
+        samples.last().map_or(1.0, |s| s.t),
+    );
+    LinePlot {
+        legend: Legend::Right,
+        ..LinePlot::new(title, "t [s]", "force / mg [dimensionless]")
+    }
+    .with(Series::line("N/mg, I", series(&|s| s.n_over_mg[0])).styled(Style::color(PALETTE[0])))
+    .with(
+        Series::line("N/mg, II", series(&|s| s.n_over_mg[1]))
+            .styled(Style::color(PALETTE[0]).dash(Dash::Dashed)),
+    )
+    .with(Series::line("F3/mg, I", series(&|s| s.f3_over_mg[0])).styled(Style::color(PALETTE[1])))
+    .with(
+        Series::line("F3/mg, II", series(&|s| s.f3_over_mg[1]))
+            .styled(Style::color(PALETTE[1]).dash(Dash::Dashed)),
+    )
+    .with(
+        Series::line("contact normal / mg", series(&|s| s.contact_normal_force))
+            .styled(Style::color(PALETTE[2])),
+    )
+    .with(
+        Series::line("N/mg (3.3.10)", vec![(t0, n_static), (t1, n_static)])
+            .styled(Style::color(PALETTE[3]).dash(Dash::Dotted)),
+    )
+    .with(
+        Series::line(
+            "F3/mg (3.3.10)",
+            vec![(t0, 1.0 - n_static), (t1, 1.0 - n_static)],
+        )
+        .styled(Style::color(PALETTE[4]).dash(Dash::Dotted)),
+    )
+    .save(path, (1100, 600))
+}
+
+/// Figure 3.14: N/mg and F3/mg of both cylinders and the normal force between them
+/// against ϑ, markers from the simulations, with the smooth-floor curve (3.3.10) for
+/// r/h = `r_over_h` over the same range.
+///
+/// # Errors
+/// When the file cannot be written.
+pub fn plot_pair_sweep(path: &Path, rows: &[PairSweepRow], r_over_h: f64) -> Result<()> {
+    let good: Vec<&PairSweepRow> = rows.iter().filter(|r| r.error.is_none()).collect();
+    let deg = |r: &PairSweepRow| r.theta.to_degrees();
+    let pts = |f: &dyn Fn(&PairSweepRow) -> f64| -> Vec<(f64, f64)> {
+        good.iter().map(|r| (deg(r), f(r))).collect()
+    };
+    let lo = (2.0 * r_over_h).atan();
+    let hi = rows.iter().map(|r| r.theta).fold(lo, f64::max);
+    let curve: Vec<(f64, f64)> = (0..=200)
+        .map(|k| lo + (hi - lo) * f64::from(k) / 200.0)
+        .map(|t| (t, 0.5 * t.sin() / (t.sin() - r_over_h * t.cos())))
+        .map(|(t, n)| (t.to_degrees(), n))
+        .collect();
+    let f3: Vec<(f64, f64)> = curve.iter().map(|&(t, n)| (t, 1.0 - n)).collect();
+    LinePlot {
+        legend: Legend::Right,
+        ..LinePlot::new(
+            format!("Fig. 3.14: forces sustaining the transport (r/h = {r_over_h:.4})"),
+            THETA_DEG,
+            "force / mg [dimensionless]",
+        )
+    }
+    .with(Series::line("N/mg (3.3.10)", curve).styled(Style::color(PALETTE[0])))
+    .with(Series::line("F3/mg (3.3.10)", f3).styled(Style::color(PALETTE[1])))
+    .with(
+        Series::markers("N/mg, I and II (nsga)", pts(&|r| r.n_over_mg[0]))
+            .styled(Style::color(PALETTE[0]).marker(Marker::Circle)),
+    )
+    .with(
+        Series::markers("F3/mg, I and II (nsga)", pts(&|r| r.f3_over_mg[0]))
+            .styled(Style::color(PALETTE[1]).marker(Marker::Circle)),
+    )
+    .with(
+        Series::markers("contact normal / mg", pts(&|r| r.contact_normal_force))
+            .styled(Style::color(PALETTE[2]).marker(Marker::Square)),
+    )
+    .save(path, (1100, 600))
+}
+
+/// The push at which a rim starts to slip against ϑ (markers, from the simulations;
+/// the last push that did not slip beside it) with the static bound for r/h =
+/// `r_over_h`: μ_s N₋ of (3.3.8)₋ (corrected per errata item 9) for pushes along +e′2
+/// (`direction` 1), −μ_s N₊ of (3.3.8)₊ for pushes along −e′2 (`direction` −1).
+///
+/// # Errors
+/// When the file cannot be written.
+pub fn plot_push_sweep(
+    path: &Path,
+    rows: &[PushRow],
+    r_over_h: f64,
+    mu: f64,
+    direction: f64,
+) -> Result<()> {
+    let sign = if direction < 0.0 { -1.0 } else { 1.0 };
+    let lo = rows.iter().map(|r| r.theta).fold(f64::INFINITY, f64::min);
+    let hi = rows
+        .iter()
+        .map(|r| r.theta)
+        .fold(f64::NEG_INFINITY, f64::max);
+    let (lo, hi) = if lo < hi {
+        (lo, hi)
+    } else {
+        (lo - 0.05, lo + 0.05)
+    };
+    let curve: Vec<(f64, f64)> = (0..=200)
+        .map(|k| lo + (hi - lo) * f64::from(k) / 200.0)
+        .filter_map(|t| {
+            let (s, c) = t.sin_cos();
+            let d = s - r_over_h * c - sign * mu * (r_over_h * s + c);
+            (d > 0.0).then(|| (t.to_degrees(), sign * mu * 0.5 * s / d))
+        })
+        .collect();
+    let onset = rows
+        .iter()
+        .filter_map(|r| r.onset_over_mg.map(|p| (r.theta.to_degrees(), p)))
+        .collect();
+    let stick = rows
+        .iter()
+        .filter_map(|r| r.last_stick_over_mg.map(|p| (r.theta.to_degrees(), p)))
+        .collect();
+    LinePlot {
+        legend: Legend::Right,
+        ..LinePlot::new(
+            format!("Slip onset under a push along e′2 (r/h = {r_over_h:.4}, μ_s = {mu})"),
+            THETA_DEG,
+            "P/mg [dimensionless]",
+        )
+    }
+    .with(
+        Series::line(
+            if sign > 0.0 {
+                "μ_s N₋/mg, (3.3.8)−"
+            } else {
+                "−μ_s N₊/mg, (3.3.8)+"
+            },
+            curve,
+        )
+        .styled(Style::color(PALETTE[0])),
+    )
+    .with(
+        Series::markers("last push that sticks (nsga)", stick)
+            .styled(Style::color(PALETTE[2]).marker(Marker::Circle)),
+    )
+    .with(
+        Series::markers("first push that slips (nsga)", onset)
+            .styled(Style::color(PALETTE[1]).marker(Marker::Triangle)),
+    )
+    .save(path, (1100, 600))
 }

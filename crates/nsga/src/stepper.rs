@@ -32,6 +32,7 @@ mod branch;
 mod fallback;
 mod iterate;
 mod last_resort;
+mod multipliers;
 mod resize;
 mod rows;
 mod solve;

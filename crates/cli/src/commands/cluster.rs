@@ -4,6 +4,8 @@
 
 use crate::commands::blocks::sweep::{SweepCommand, SweepOutputArgs};
 use crate::commands::blocks::{BlocksArgs, BlocksCommand};
+use crate::commands::cylinder::sweep::CylinderSweepCommand;
+use crate::commands::cylinder::{CylinderArgs, CylinderCommand};
 use crate::{Cli, Command};
 use anyhow::{Context, Result};
 use clap::{Args, Parser};
@@ -57,12 +59,21 @@ fn parse_sweep(argv: &[String]) -> Result<(Cli, &'static str)> {
     let mut cli = Cli::try_parse_from(words)
         .map_err(|e| anyhow::anyhow!("`{line}` is not a sweep command line: {}", e.kind()))?;
     let name = sweep_output(&mut cli.command).map(|(name, _)| name);
-    let name = name.with_context(|| format!("`{line}` is not a blocks sweep"))?;
+    let name = name.with_context(|| format!("`{line}` is not a sweep"))?;
     Ok((cli, name))
 }
 
 /// The name and output options of a parsed sweep, or `None` for another command.
 fn sweep_output(command: &mut Command) -> Option<(&'static str, &mut SweepOutputArgs)> {
+    if let Command::Cylinder(CylinderArgs {
+        command: CylinderCommand::Sweep(sweep),
+    }) = command
+    {
+        return Some(match sweep {
+            CylinderSweepCommand::Pair(a) => ("pair", &mut a.output),
+            CylinderSweepCommand::Push(a) => ("push", &mut a.output),
+        });
+    }
     let Command::Blocks(BlocksArgs {
         command: BlocksCommand::Sweep(sweep),
     }) = command

@@ -19,5 +19,6 @@
 
 pub mod frobenius;
 pub mod holonomy;
+pub mod pair;
 pub mod statics;
 pub mod support;

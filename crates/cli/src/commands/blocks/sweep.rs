@@ -90,7 +90,22 @@ impl<'a> SweepRun<'a> {
         inputs["prox_constant"] = serde_json::json!(solver.prox_constant);
         inputs["explore_branches"] = solver.explore_branches.into();
         inputs["last_resort"] = solver.last_resort.into();
-        let (command, version) = (format!("blocks sweep {name}"), env!("CARGO_PKG_VERSION"));
+        Self::of_command(format!("blocks sweep {name}"), name, output, inputs, total)
+    }
+
+    /// The sweep `command` (`cylinder sweep pair`) of `total` rows with `inputs`, for a
+    /// sweep of another family that shares this plumbing.
+    ///
+    /// # Errors
+    /// `--shard auto` outside a job array.
+    pub fn of_command(
+        command: String,
+        name: &'static str,
+        output: &'a SweepOutputArgs,
+        inputs: serde_json::Value,
+        total: usize,
+    ) -> Result<Self> {
+        let version = env!("CARGO_PKG_VERSION");
         let id = SweepId::new(command, inputs, version);
         let shard = output.shard.resolve(|v| std::env::var(v).ok())?;
         let (run, start) = (Run { id, shard, total }, Instant::now());

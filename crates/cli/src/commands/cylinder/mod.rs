@@ -1,5 +1,6 @@
-//! `rollstack cylinder support|statics|holonomy|frobenius`: the inclined rolling cylinder
-//! of Ch. 3 (App. D, E, F), corrected per ERRATA 8–15.
+//! `rollstack cylinder support|statics|holonomy|frobenius|pair`: the inclined rolling
+//! cylinder of Ch. 3 (App. D, E, F), corrected per ERRATA 8–15, and the transport of a
+//! touching pair (§3.6).
 //!
 //! Forces are divided by mg, angles are radians (`30deg`, `pi/10` accepted), lengths are
 //! in any one unit (the cylinder's radius r for the holonomy examples). Every number
@@ -8,11 +9,14 @@
 
 mod frobenius;
 mod holonomy;
+mod pair;
 mod statics;
 mod support;
+pub mod sweep;
 
 pub use frobenius::{ConfigArg, FrobeniusArgs, SystemArg};
 pub use holonomy::{CaseArg, CircleArgs, HolonomyArgs, HolonomyPath, RectangleArgs};
+pub use pair::PairArgs;
 pub use statics::StaticsArgs;
 pub use support::SupportArgs;
 
@@ -38,6 +42,12 @@ pub enum CylinderCommand {
     Holonomy(HolonomyArgs),
     /// Frobenius integrability test of the rolling constraints, numerically (App. D, F).
     Frobenius(FrobeniusArgs),
+    /// The transport of two touching cylinders held at their tops, stepped by nsga
+    /// (§3.6): forces, trajectory, views.
+    Pair(PairArgs),
+    /// Sweeps of the pair's transport (Figure 3.14), in parallel and shardable.
+    #[command(subcommand)]
+    Sweep(sweep::CylinderSweepCommand),
 }
 
 /// Runs `rollstack cylinder ...`.
@@ -53,6 +63,8 @@ pub fn run(args: &CylinderArgs) -> Result<()> {
             HolonomyPath::Circle(c) => holonomy::run_circle(c),
         },
         CylinderCommand::Frobenius(a) => frobenius::run(a),
+        CylinderCommand::Pair(a) => pair::run(a),
+        CylinderCommand::Sweep(c) => sweep::run(c),
     }
 }
 
