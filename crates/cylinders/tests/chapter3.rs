@@ -33,8 +33,13 @@ proptest! {
         for limit in [FrictionLimit::Plus, FrictionLimit::Minus, FrictionLimit::Smooth] {
             if let Some(n) = problem.normal_force(theta, limit).unwrap() {
                 if n < 1e3 {
+                    // N grows without bound towards the edge of the admissible angles, and
+                    // the numerical solve of the balance laws loses digits as it does: its
+                    // error grows like N² ε (1.2e-9 measured at N = 910), on top of the
+                    // 1e-12 relative agreement where N is moderate.
                     let numeric = balance.limiting_normal_force(limit);
-                    prop_assert!((numeric - n).abs() < 1e-12 * (1.0 + n), "{limit:?}: {numeric} vs {n}");
+                    let tol = 1e-12 * (1.0 + n) + 1e-14 * n * n;
+                    prop_assert!((numeric - n).abs() < tol, "{limit:?}: {numeric} vs {n}");
                 }
             }
         }
