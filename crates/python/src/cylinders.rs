@@ -313,7 +313,92 @@ fn cylinders_holonomy_circle<'py>(
     })
 }
 
+/// The two-cylinder transport of §3.5–3.6 (`studies::pair::run_pair`, recording every
+/// step), with the GIL released: the report as `cylinder pair --json` and the trajectory
+/// as numpy arrays. A failing step raises `SolverError`.
+#[pyfunction]
+#[pyo3(signature = (theta, dt = 2e-3, steps = 2000, spin = -6.0 * std::f64::consts::PI, ramp = None, mu_floor = 1.0, mu_mutual = 0.4, push_over_mg = 0.0, rho_inf = 0.5))]
+#[allow(clippy::too_many_arguments)]
+fn cylinders_pair<'py>(
+    py: Python<'py>,
+    theta: f64,
+    dt: f64,
+    steps: usize,
+    spin: f64,
+    ramp: Option<f64>,
+    mu_floor: f64,
+    mu_mutual: f64,
+    push_over_mg: f64,
+    rho_inf: f64,
+) -> PyResult<Bound<'py, PyDict>> {
+    use cylinders::studies::pair::{run_pair, PairSettings};
+    use cylinders::transport::SpinProfile;
+    use cylinders::CylinderError;
+    guard(|| {
+        if !spin.is_finite() {
+            return Err(PyValueError::new_err(format!(
+                "spin must be finite, got {spin}"
+            )));
+        }
+        if let Some(d) = ramp {
+            if !(d > 0.0 && d.is_finite()) {
+                return Err(PyValueError::new_err(format!(
+                    "ramp must be a positive duration in s, got {d}"
+                )));
+            }
+        }
+        let settings = PairSettings {
+            dt,
+            steps,
+            rho_inf,
+            spin: ramp.map_or(SpinProfile::constant(spin), |d| SpinProfile::ramp(spin, d)),
+            mu_floor,
+            mu_mutual,
+            push_over_mg,
+            ..PairSettings::thesis(theta)
+        };
+        let mut report = py
+            .detach(|| guard(|| Ok(run_pair(&settings, true))))?
+            .map_err(|e| match e {
+                CylinderError::Solver(m) => crate::solver_error(m),
+                e => value_error(e),
+            })?;
+        let samples = report.trajectory.take().unwrap_or_default();
+        let n = samples.len();
+        let column = |f: &dyn Fn(&cylinders::studies::pair::PairSample) -> Vec<f64>,
+                      width: usize| {
+            let flat: Vec<f64> = samples.iter().flat_map(f).collect();
+            Array2::from_shape_vec((n, width), flat).map_err(value_error)
+        };
+        let out = PyDict::new(py);
+        out.set_item("report", json_to_py(py, &report)?)?;
+        let t: Vec<f64> = samples.iter().map(|x| x.t).collect();
+        out.set_item("t", Array1::from_vec(t).into_pyarray(py))?;
+        out.set_item("q", column(&|x| x.q.clone(), 12)?.into_pyarray(py))?;
+        out.set_item(
+            "spin_rates",
+            column(&|x| x.spin_rates.to_vec(), 2)?.into_pyarray(py),
+        )?;
+        out.set_item(
+            "n_over_mg",
+            column(&|x| x.n_over_mg.to_vec(), 2)?.into_pyarray(py),
+        )?;
+        out.set_item(
+            "f3_over_mg",
+            column(&|x| x.f3_over_mg.to_vec(), 2)?.into_pyarray(py),
+        )?;
+        let normal: Vec<f64> = samples.iter().map(|x| x.contact_normal_force).collect();
+        out.set_item(
+            "contact_normal_force",
+            Array1::from_vec(normal).into_pyarray(py),
+        )?;
+        out.set_item("gaps", column(&|x| x.gaps.to_vec(), 3)?.into_pyarray(py))?;
+        Ok(out)
+    })
+}
+
 pub(crate) fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_function(wrap_pyfunction!(cylinders_pair, m)?)?;
     m.add_function(wrap_pyfunction!(cylinders_support, m)?)?;
     m.add_function(wrap_pyfunction!(cylinders_frobenius, m)?)?;
     m.add_function(wrap_pyfunction!(cylinders_frobenius_callable, m)?)?;

@@ -1,5 +1,6 @@
 import math
 
+import numpy as np
 import pytest
 
 from helpers import strip_timings
@@ -79,3 +80,25 @@ def test_holonomy_bad_input():
         cylinders.holonomy_circle(2.0, 0.5)
     with pytest.raises(ValueError):
         cylinders.holonomy_circle(-2.0, 0.5, h=10.0)
+
+
+def test_pair_equals_cli(cli, tmp_path):
+    ours = cylinders.pair(0.5, steps=200)
+    theirs = cli("cylinder", "pair", "--theta", "0.5", "--steps", "200", "--out", str(tmp_path))
+    assert strip_timings(ours["report"]) == strip_timings(theirs)
+    n = len(ours["t"])
+    assert n == 201 and ours["t"].dtype == np.float64
+    assert ours["q"].shape == (n, 12) and ours["gaps"].shape == (n, 3)
+    assert ours["n_over_mg"].shape == (n, 2) and ours["contact_normal_force"].shape == (n,)
+    # (3.3.10): N/mg of the smooth floor, and no force between the tanks.
+    assert abs(ours["n_over_mg"][-1, 0] - ours["report"]["n_over_mg_static"]) < 1e-8
+    assert abs(ours["contact_normal_force"][-1]) < 1e-8
+
+
+def test_pair_bad_input():
+    with pytest.raises(ValueError):
+        cylinders.pair(0.01)  # below arctan(2r/h): the rim cannot touch
+    with pytest.raises(ValueError):
+        cylinders.pair(0.5, dt=-1e-3)
+    with pytest.raises(ValueError):
+        cylinders.pair(0.5, ramp=0.0)

@@ -1,15 +1,16 @@
 """Inclined rolling cylinders (Ch. 3, App. D-F), from the ``cylinders`` crate.
 
-Not yet wrapped: the pair transport.
+With the two-cylinder transport of §3.5–3.6 (`pair`).
 """
 
 from __future__ import annotations
 
+import math
 from typing import Any, Callable, Dict, Optional, Sequence
 
 from . import _rollstack
 
-__all__ = ["support", "holonomy_rectangle", "holonomy_circle", "frobenius", "frobenius_test"]
+__all__ = ["support", "holonomy_rectangle", "holonomy_circle", "frobenius", "frobenius_test", "pair"]
 
 
 def support(
@@ -100,3 +101,40 @@ def frobenius_test(
     |aᵀ S^Γ b| per constraint over the null space, and ``integrable`` per constraint.
     """
     return _rollstack.cylinders_frobenius_callable(constraint_matrix, [float(v) for v in q], float(step))
+
+
+def pair(
+    theta: float,
+    dt: float = 2e-3,
+    steps: int = 2000,
+    spin: float = -6.0 * math.pi,
+    ramp: Optional[float] = None,
+    mu_floor: float = 1.0,
+    mu_mutual: float = 0.4,
+    push_over_mg: float = 0.0,
+    rho_inf: float = 0.5,
+) -> Dict[str, Any]:
+    """Two touching gas cylinders rolled together (§3.5-3.6, (3.5.1)-(3.5.13)), both
+    inclined at ``theta`` with opposite headings, tops held at their height, cylinder I
+    spun at ``spin`` rad/s (from t = 0, or over ``ramp`` seconds), on the nonsmooth
+    generalized-α stepper with real index sets for the rims on the floor (friction
+    ``mu_floor``) and the contact between the cylinders (``mu_mutual``); an optional
+    horizontal push ``push_over_mg`` at each top. Returns ``report`` (the dict of
+    ``rollstack cylinder pair --json``: ``n_over_mg``, ``f3_over_mg``,
+    ``contact_normal_force``, ``static_error`` against (3.3.10), ``drift``,
+    ``min_gap``, ...) and the trajectory as numpy arrays: ``t`` (n,), ``q`` (n, 12),
+    ``spin_rates`` (n, 2), ``n_over_mg`` (n, 2), ``f3_over_mg`` (n, 2),
+    ``contact_normal_force`` (n,), ``gaps`` (n, 3) (floor I, floor II, mutual). Bad
+    input raises ``ValueError``; a step the solver cannot take, ``SolverError``. Runs
+    with the GIL released (about 8 µs per step)."""
+    return _rollstack.cylinders_pair(
+        float(theta),
+        float(dt),
+        int(steps),
+        float(spin),
+        None if ramp is None else float(ramp),
+        float(mu_floor),
+        float(mu_mutual),
+        float(push_over_mg),
+        float(rho_inf),
+    )
