@@ -143,10 +143,12 @@ pub fn corner_contacts(scene: &Scene, t: f64, q: &[f64], u: &[f64], dt: f64) -> 
 
 /// The corner contacts of one pair grouped into the lines they lie on ([`ContactLine`]).
 /// A line holds at most two contacts: where more were found (two faces lying flush, each
-/// body's corners on the other's face), the two at the ends of the line are kept, since
+/// body's corners on the other's face), the two at the ends of the line among those
+/// within the pair's margin of the closest are kept, since
 /// a line contact in the plane has two independent contact forces and more would make
 /// Newton's matrix singular.
 fn lines_of(a: &Boxed, b: &Boxed, found: &[Candidate]) -> Vec<LineContacts> {
+    let near = a.margin + b.margin;
     let (lo, hi) = if body_number(a.body) < body_number(b.body) {
         (a, b)
     } else {
@@ -186,6 +188,12 @@ fn lines_of(a: &Boxed, b: &Boxed, found: &[Candidate]) -> Vec<LineContacts> {
     lines
         .into_iter()
         .map(|(line, mut list)| {
+            if list.len() > 2 {
+                // The ends of the contact region: among the corners within `near` of the
+                // closest (far corners of a long body lie on the line's ends too).
+                let closest = list.iter().map(|c| c.gap).fold(f64::INFINITY, f64::min);
+                list.retain(|c| c.gap <= closest + near);
+            }
             if list.len() > 2 {
                 let along = match line.kind {
                     LineKind::Face(side) => world(lo, side).1,
@@ -237,7 +245,11 @@ fn pair_candidates(a: &Boxed, b: &Boxed, m: f64, reach: f64, tie: f64) -> Vec<Ca
                 face_body: y.body,
                 face,
             };
-            found.push(Candidate { contact, point });
+            found.push(Candidate {
+                contact,
+                point,
+                gap,
+            });
         }
     }
     found
@@ -248,6 +260,7 @@ fn pair_candidates(a: &Boxed, b: &Boxed, m: f64, reach: f64, tie: f64) -> Vec<Ca
 struct Candidate {
     contact: CornerContact,
     point: crate::coordinates::Vec2,
+    gap: f64,
 }
 
 /// The gap of corner `corner` of `corner_body` against `face_body` at time t and block
@@ -279,38 +292,41 @@ pub fn corner_gap_of(
 }
 
 /// Every corner contact between bodies `a` and `b` (base or blocks, corners of each
-/// against the other, within the faces' extents), with the faces chosen at (t, q, u)
-/// whatever the distance, grouped into lines: what a step that missed the pair's contact
-/// is taken again with ([`crate::stepping`]).
+/// against the other, within the faces' extents up to how far the bodies move in a step
+/// of `dt`), with the faces chosen at (t, q, u) whatever the distance, grouped into
+/// lines: what a step that missed the pair's contact is taken again with
+/// ([`crate::stepping`]).
 ///
 /// # Panics
 /// When q or u holds fewer than 3 entries per block.
 #[must_use]
 pub fn pair_corner_contacts(
     scene: &Scene,
-    t: f64,
+    (t, dt): (f64, f64),
     q: &[f64],
     u: &[f64],
     pair: [Body; 2],
 ) -> Vec<LineContacts> {
-    let delta = smallest_dimension(scene);
+    let dimension = smallest_dimension(scene);
+    let delta = MARGIN * dimension;
     let body = |b: Body| match b {
         Body::Block(k) => {
             let state = BodyState::new(
                 Pose::from_slice(&q[3 * k - 3..3 * k]),
                 Twist::from_slice(&u[3 * k - 3..3 * k]),
             );
-            boxed(b, state, scene.size(k), 0.0, 0.0)
+            boxed(b, state, scene.size(k), dt, delta)
         }
         Body::Base | Body::Floor => {
-            boxed(Body::Base, scene.base().state(t), scene.size(0), 0.0, 0.0)
+            boxed(Body::Base, scene.base().state(t), scene.size(0), dt, delta)
         }
     };
     let (a, b) = (body(pair[0]), body(pair[1]));
+    let reach = a.margin + b.margin - 2.0 * delta;
     lines_of(
         &a,
         &b,
-        &pair_candidates(&a, &b, f64::INFINITY, f64::INFINITY, TIE * delta),
+        &pair_candidates(&a, &b, f64::INFINITY, reach, TIE * dimension),
     )
 }
 

@@ -113,7 +113,11 @@ impl CornerStepping {
             .collect();
         for pair in missed {
             union.extend(pair_corner_contacts(
-                scene, before.t, &before.q, &before.u, pair,
+                scene,
+                (before.t, stepper.options().dt),
+                &before.q,
+                &before.u,
+                pair,
             ));
         }
         stepper.set_state(before);
