@@ -23,7 +23,9 @@ use crate::corners::Corner;
 use crate::gaps::Face;
 use crate::interface::Size;
 use crate::overlap::Body;
-use crate::pairs::{interface_between, ContactLine, CornerContact, LineContacts, LineKind, Side};
+use crate::pairs::{
+    body_index, interface_between, ContactLine, CornerContact, LineContacts, LineKind, Side,
+};
 use crate::scene::Scene;
 
 /// The fixed part δ of the margin, as a fraction of the smallest block dimension.
@@ -77,6 +79,27 @@ fn corner_face(a: &Boxed, c: Corner, b: &Boxed, tie: f64) -> (Side, f64) {
     Side::facing(&p, &a.state.pose.r(), &b.state.pose, b.size, tie)
 }
 
+/// Body `b` of the scene at time t (a block's pose from q, its velocity from u, or at
+/// rest without u), boxed for a step of `dt` with the fixed margin `delta`.
+fn scene_box(
+    scene: &Scene,
+    (t, q, u): (f64, &[f64], Option<&[f64]>),
+    b: Body,
+    dt: f64,
+    delta: f64,
+) -> Boxed {
+    match b {
+        Body::Block(k) => {
+            let twist = u.map_or_else(Twist::default, |u| Twist::from_slice(&u[3 * k - 3..3 * k]));
+            let state = BodyState::new(Pose::from_slice(&q[3 * k - 3..3 * k]), twist);
+            boxed(b, state, scene.size(k), dt, delta)
+        }
+        Body::Base | Body::Floor => {
+            boxed(Body::Base, scene.base().state(t), scene.size(0), dt, delta)
+        }
+    }
+}
+
 /// The gap of corner `c` of `a` against the body `b`: the largest signed distance from
 /// b's faces, positive exactly when the corner is outside b.
 fn corner_gap(a: &Boxed, c: Corner, b: &Boxed) -> f64 {
@@ -97,17 +120,11 @@ fn corner_gap(a: &Boxed, c: Corner, b: &Boxed) -> f64 {
 /// When q or u holds fewer than 3 entries per block.
 #[must_use]
 pub fn corner_contacts(scene: &Scene, t: f64, q: &[f64], u: &[f64], dt: f64) -> Vec<LineContacts> {
-    let n = scene.n_blocks();
-    let delta = MARGIN * smallest_dimension(scene);
-    let base = scene.base();
-    let mut bodies = vec![boxed(Body::Base, base.state(t), scene.size(0), dt, delta)];
-    bodies.extend((0..n).map(|k| {
-        let state = BodyState::new(
-            Pose::from_slice(&q[3 * k..3 * k + 3]),
-            Twist::from_slice(&u[3 * k..3 * k + 3]),
-        );
-        boxed(Body::Block(k + 1), state, scene.size(k + 1), dt, delta)
-    }));
+    let delta = MARGIN * scene.smallest_block_dimension();
+    let bodies: Vec<Boxed> = std::iter::once(Body::Base)
+        .chain((1..=scene.n_blocks()).map(Body::Block))
+        .map(|b| scene_box(scene, (t, q, Some(u)), b, dt, delta))
+        .collect();
     let axis = sweep_axis(&bodies);
     let mut order: Vec<usize> = (0..bodies.len()).collect();
     order.sort_by(|&i, &j| {
@@ -149,7 +166,7 @@ pub fn corner_contacts(scene: &Scene, t: f64, q: &[f64], u: &[f64], dt: f64) -> 
 /// Newton's matrix singular.
 fn lines_of(a: &Boxed, b: &Boxed, found: &[Candidate]) -> Vec<LineContacts> {
     let near = a.margin + b.margin;
-    let (lo, hi) = if body_number(a.body) < body_number(b.body) {
+    let (lo, hi) = if body_index(a.body) < body_index(b.body) {
         (a, b)
     } else {
         (b, a)
@@ -215,14 +232,6 @@ fn lines_of(a: &Boxed, b: &Boxed, found: &[Candidate]) -> Vec<LineContacts> {
         .collect()
 }
 
-/// The scene's number of a base or block body (base 0, blocks 1..n).
-fn body_number(b: Body) -> usize {
-    match b {
-        Body::Block(k) => k,
-        Body::Base | Body::Floor => 0,
-    }
-}
-
 /// The corner contacts of one pair of bodies whose gap is below `m`, with their points. A corner counts against the face it meets only within that face's extent, or
 /// beyond its end by no more than `reach` (how far the bodies move within the step): a
 /// corner beyond the end of a face does not touch it, the other body's corner at that
@@ -278,16 +287,7 @@ pub fn corner_gap_of(
     corner: Corner,
     face_body: Body,
 ) -> f64 {
-    let body = |b: Body| {
-        let (state, size) = match b {
-            Body::Block(k) => (
-                BodyState::new(Pose::from_slice(&q[3 * k - 3..3 * k]), Twist::default()),
-                scene.size(k),
-            ),
-            Body::Base | Body::Floor => (scene.base().state(t), scene.size(0)),
-        };
-        boxed(b, state, size, 0.0, 0.0)
-    };
+    let body = |b| scene_box(scene, (t, q, None), b, 0.0, 0.0);
     corner_gap(&body(corner_body), corner, &body(face_body))
 }
 
@@ -307,20 +307,9 @@ pub fn pair_corner_contacts(
     u: &[f64],
     pair: [Body; 2],
 ) -> Vec<LineContacts> {
-    let dimension = smallest_dimension(scene);
+    let dimension = scene.smallest_block_dimension();
     let delta = MARGIN * dimension;
-    let body = |b: Body| match b {
-        Body::Block(k) => {
-            let state = BodyState::new(
-                Pose::from_slice(&q[3 * k - 3..3 * k]),
-                Twist::from_slice(&u[3 * k - 3..3 * k]),
-            );
-            boxed(b, state, scene.size(k), dt, delta)
-        }
-        Body::Base | Body::Floor => {
-            boxed(Body::Base, scene.base().state(t), scene.size(0), dt, delta)
-        }
-    };
+    let body = |b| scene_box(scene, (t, q, Some(u)), b, dt, delta);
     let (a, b) = (body(pair[0]), body(pair[1]));
     let reach = a.margin + b.margin - 2.0 * delta;
     lines_of(
@@ -328,14 +317,6 @@ pub fn pair_corner_contacts(
         &b,
         &pair_candidates(&a, &b, f64::INFINITY, reach, TIE * dimension),
     )
-}
-
-/// The smallest block dimension of the scene.
-fn smallest_dimension(scene: &Scene) -> f64 {
-    (1..=scene.n_blocks())
-        .map(|k| scene.size(k))
-        .map(|s| s.width.min(s.height))
-        .fold(f64::INFINITY, f64::min)
 }
 
 /// The axis (0: x, 1: y) along which the bodies' centres spread most.

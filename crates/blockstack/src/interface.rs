@@ -153,8 +153,7 @@ impl Interface {
         if re(rel.dot(&pl.e2())) <= 0.5 * self.lower.height {
             return Support::Below;
         }
-        let along = |c: Corner| re((pu.point(&self.upper.corner(c)) - pl.r()).dot(&pl.e1()));
-        let (sc, sd) = (along(Corner::C), along(Corner::D));
+        let (sc, sd) = self.bottom_corners_along(lower, upper);
         let half = 0.5 * self.lower.width;
         if sc.max(sd) <= -half || sc.min(sd) >= half {
             return Support::Beside;
@@ -177,8 +176,7 @@ impl Interface {
             return 0.0;
         }
         let (pl, pu) = (&lower.pose, &upper.pose);
-        let along = |c: Corner| re((pu.point(&self.upper.corner(c)) - pl.r()).dot(&pl.e1()));
-        let (sc, sd) = (along(Corner::C), along(Corner::D));
+        let (sc, sd) = self.bottom_corners_along(lower, upper);
         let half = 0.5 * self.lower.width;
         let common = (sc.max(sd).min(half) - sc.min(sd).max(-half)).max(0.0);
         let above = re((pu.r() - pl.r()).dot(&pl.e2())) - 0.5 * self.lower.height;
@@ -187,6 +185,19 @@ impl Interface {
         // then in place before they are needed.
         let square = re(pl.e2().dot(&pu.e2()));
         common.min(above) * ((square - HOLDS) / (1.0 - HOLDS)).max(0.0)
+    }
+
+    /// Where the upper block's bottom corners c and d lie along e₁ of the lower body,
+    /// from its centre (real parts): the extent of the upper bottom face over the lower
+    /// top face.
+    fn bottom_corners_along<T: Scalar>(
+        &self,
+        lower: &BodyState<T>,
+        upper: &BodyState<T>,
+    ) -> (f64, f64) {
+        let (pl, pu) = (&lower.pose, &upper.pose);
+        let along = |c: Corner| re((pu.point(&self.upper.corner(c)) - pl.r()).dot(&pl.e1()));
+        (along(Corner::C), along(Corner::D))
     }
 
     /// Whether a bottom corner of the upper block lies over the top face of the lower one

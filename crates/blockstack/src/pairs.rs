@@ -122,8 +122,9 @@ impl Side {
     }
 }
 
-/// The index of a base or block body in the scene's numbering (base 0, blocks 1..n).
-fn body_index(b: Body) -> usize {
+/// The index of a base or block body in the scene's numbering (base 0, blocks 1..n; the
+/// floor, which has no corner contacts, after all of them).
+pub(crate) fn body_index(b: Body) -> usize {
     match b {
         Body::Base => 0,
         Body::Block(k) => k,

@@ -241,6 +241,15 @@ impl Scene {
         }
     }
 
+    /// The smallest width or height of any block (the scale of the contact tolerances).
+    #[must_use]
+    pub fn smallest_block_dimension(&self) -> f64 {
+        self.blocks
+            .iter()
+            .map(|b| b.width().min(b.height()))
+            .fold(f64::INFINITY, f64::min)
+    }
+
     /// Initial coordinates q₀ = (x¹, y¹, θ¹, …, xⁿ, yⁿ, θⁿ), (4.2.1)–(4.2.2).
     #[must_use]
     pub fn initial_coordinates(&self) -> Vec<f64> {

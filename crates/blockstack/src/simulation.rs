@@ -29,7 +29,6 @@
 //!   it carries the typed error ([`RunError`], with the state it failed at), it is not
 //!   an `Err`.
 
-use crate::broad_phase::corner_contacts;
 use crate::coordinates::Pose;
 use crate::error::BlockError;
 use crate::events::{EventWatch, FailureEvent};
@@ -519,9 +518,7 @@ pub fn simulate_until(
     let clock = Instant::now();
     let mut system = StackSystem::new(scene.clone());
     let mut corners = CornerStepping::default();
-    let initial_contacts = corner_contacts(scene, 0.0, &q0, &u0, dt);
-    corners.most_contacts = initial_contacts.len();
-    system.assign_corner_contacts(&initial_contacts);
+    corners.start(&mut system, &q0, &u0, dt);
     let started = Stepper::new(system, 0.0, &q0, &u0, opts);
     let mut solver_time = clock.elapsed().as_secs_f64();
     let mut stepper = match started {

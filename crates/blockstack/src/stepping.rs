@@ -35,6 +35,15 @@ pub struct CornerStepping {
 }
 
 impl CornerStepping {
+    /// The corner contacts of the initial state (t = 0, q0, u0) put into a system before
+    /// its stepper is built; the list also serves the first step.
+    pub fn start(&mut self, system: &mut StackSystem, q0: &[f64], u0: &[f64], dt: f64) {
+        let list = corner_contacts(system.scene(), 0.0, q0, u0, dt);
+        system.assign_corner_contacts(&list);
+        self.most_contacts = self.most_contacts.max(count(&list));
+        self.wanted = Some((0, list));
+    }
+
     /// Puts `wanted` into the system's slots and tells the stepper what changed.
     ///
     /// # Errors
@@ -51,11 +60,7 @@ impl CornerStepping {
         if !change.normals.is_empty() || !change.laws.is_empty() {
             stepper.forget_contacts(&change.normals, &change.laws)?;
         }
-        let contacts = wanted
-            .iter()
-            .map(|l| l.contacts.iter().flatten().count())
-            .sum();
-        self.most_contacts = self.most_contacts.max(contacts);
+        self.most_contacts = self.most_contacts.max(count(wanted));
         Ok(())
     }
 
@@ -127,6 +132,14 @@ impl CornerStepping {
         stepper.step()?;
         Ok(())
     }
+}
+
+/// The corner contacts in a list of lines.
+fn count(lines: &[LineContacts]) -> usize {
+    lines
+        .iter()
+        .map(|l| l.contacts.iter().flatten().count())
+        .sum()
 }
 
 /// How deep two bodies (base or blocks) overlap at time t and block coordinates q.

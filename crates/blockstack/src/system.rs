@@ -31,7 +31,7 @@
 use crate::coordinates::re;
 use crate::coordinates::{BodyState, Pose, Twist};
 use crate::overlap::Body;
-use crate::pairs::{free_block, CornerContact, LineContacts, LineKind};
+use crate::pairs::{body_index, free_block, CornerContact, LineContacts, LineKind};
 use crate::scene::Scene;
 use crate::stack::{ContactRow, StackContacts};
 use nsga::{Derivatives, Evaluation, FrictionLaw, Layout, Probes, Scalar, System};
@@ -136,11 +136,7 @@ impl StackSystem {
             e_n: vec![scene.contact.e_n; scene.n_normal_contacts()],
             laws,
             slots: Vec::new(),
-            end_tol: END_TOL
-                * (1..=scene.n_blocks())
-                    .map(|k| scene.size(k))
-                    .map(|s| s.width.min(s.height))
-                    .fold(f64::INFINITY, f64::min),
+            end_tol: END_TOL * scene.smallest_block_dimension(),
             scratch: RefCell::new(DualScratch::default()),
             scene,
         }
@@ -243,7 +239,7 @@ impl StackSystem {
         // While the interface supports, it holds the corners it measures (ℓ_a…ℓ_d of
         // (G.2.3)); the line keeps only its other contacts (a corner against a side).
         let supported = line.line.interface().is_some_and(|k| interfaces[k].holds());
-        let size = |b| self.scene.size(body_number(b));
+        let size = |b| self.scene.size(body_index(b));
         // A corner that has slid past the end of its face no longer touches it (its face
         // was chosen at the start of the step): the contact opens rather than hold the
         // corner on the face's line beyond the body.
@@ -557,14 +553,6 @@ fn seeded_coordinate(row: &ContactRow<Directions>, parity: usize, coord: usize) 
         .map(|(i, _)| i / 3)
         .find(|b| b % 2 == parity)
         .map(|b| 3 * b + coord)
-}
-
-/// The scene's number of a base or block body (base 0, blocks 1..n).
-fn body_number(b: Body) -> usize {
-    match b {
-        Body::Block(k) => k,
-        Body::Base | Body::Floor => 0,
-    }
 }
 
 fn push_nonzero(t: &mut nsga::Triplets<f64>, r: usize, c: usize, v: f64) {
