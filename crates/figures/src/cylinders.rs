@@ -440,3 +440,50 @@ pub fn plot_push_sweep(
     )
     .save(path, (1100, 600))
 }
+
+/// The minimum applied force against ϑ at floor friction `mu` ((3.3.15)–(3.3.19) as
+/// corrected in errata items 9–11), drawn as the static curve, with ‖(P*, F3)‖/mg measured
+/// by the transport at the push P* of each row of `rows` beside it: filled where the
+/// transport confirms the minimum, crossed where it does not.
+///
+/// # Errors
+/// When the file cannot be written.
+pub fn plot_minimum_force(path: &Path, rows: &[PushRow], mu: f64) -> Result<()> {
+    let cylinder = Cylinder::gas_cylinder();
+    let rho = cylinder.radius() / cylinder.height();
+    let statics = cylinders::statics::SupportProblem::new(rho, mu).map_err(crate::err)?;
+    let (lo, hi) = cylinders::transport::inclination_range(&cylinder);
+    let curve: Vec<(f64, f64)> = (1..200)
+        .map(|k| lo + (hi - lo) * f64::from(k) / 200.0)
+        .filter_map(|t| {
+            let m = statics.minimum_force(t).ok()?;
+            Some((t.to_degrees(), m.norm_over_mg))
+        })
+        .collect();
+    let measured = |agrees: bool| -> Vec<(f64, f64)> {
+        rows.iter()
+            .filter_map(|r| {
+                let m = r.minimum_force.as_ref()?;
+                (m.agrees == agrees).then(|| (r.theta.to_degrees(), m.norm_over_mg))
+            })
+            .collect()
+    };
+    LinePlot {
+        legend: Legend::Right,
+        ..LinePlot::new(
+            format!("Minimum applied force at the top (r/h = {rho:.4}, μ_s = {mu})"),
+            THETA_DEG,
+            "‖F_a‖/mg [dimensionless]",
+        )
+    }
+    .with(Series::line("statics, (3.3.15)–(3.3.19)", curve).styled(Style::color(PALETTE[0])))
+    .with(
+        Series::markers("transport at P*, confirmed (nsga)", measured(true))
+            .styled(Style::color(PALETTE[2]).marker(Marker::Circle)),
+    )
+    .with(
+        Series::markers("transport at P*, not confirmed", measured(false))
+            .styled(Style::color(PALETTE[1]).marker(Marker::Diamond)),
+    )
+    .save(path, (1100, 600))
+}

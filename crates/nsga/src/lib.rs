@@ -127,5 +127,5 @@ pub use params::GenAlpha;
 pub use report::{BranchPoint, LastResort, RunStats, StepStats};
 pub use sets::IndexSets;
 pub use state::State;
-pub use stepper::{Stepper, QUICK_CHECK_ITERATIONS, SINGULAR_SETS_KEPT};
+pub use stepper::{Stepper, NEGLIGIBLE_SLIP, QUICK_CHECK_ITERATIONS, SINGULAR_SETS_KEPT};
 pub use system::{Derivatives, Evaluation, FrictionLaw, Layout, Probes, Scalar, System, Triplets};

@@ -38,6 +38,7 @@ mod rows;
 mod solve;
 mod unknowns;
 
+pub use assemble::NEGLIGIBLE_SLIP;
 pub use fallback::QUICK_CHECK_ITERATIONS;
 
 /// How many index sets found to have a singular plain Newton matrix are remembered

@@ -7,7 +7,7 @@
 
 use crate::error::CylinderError;
 use crate::kinematics::Cylinder;
-use crate::statics::{FrictionLimit, SupportProblem};
+use crate::statics::{FrictionLimit, MinForceCase, SupportProblem};
 use crate::transport::{check_inclination, top_height, PairTransport, SpinProfile};
 use nsga::{Options, Stepper, System};
 use serde::{Deserialize, Serialize};
@@ -432,9 +432,12 @@ pub struct PushRow {
     pub f3_over_mg: Option<f64>,
     /// The largest |N/mg − statics| and |F3/mg − statics| over the sticking pushes.
     pub static_error: f64,
-    /// Runs made.
+    /// The minimum applied force (3.3.15)–(3.3.19) at this ϑ and μ_s, checked by the
+    /// transport at its push and at that push ± the grid step (null when a run failed).
+    pub minimum_force: Option<MinimumForceCheck>,
+    /// Runs made: the onset search's and the three of the minimum force.
     pub runs: usize,
-    /// Wall-clock time of the runs (s).
+    /// Wall-clock time of the onset search's runs (s).
     pub wall_time_s: f64,
     /// Why a run failed, if one did.
     pub error: Option<String>,
@@ -456,6 +459,7 @@ impl PushRow {
             n_over_mg_static: None,
             f3_over_mg: None,
             static_error: 0.0,
+            minimum_force: None,
             runs: 0,
             wall_time_s: 0.0,
             error: None,
@@ -468,7 +472,7 @@ pub const SLIP_THRESHOLD: f64 = 1e-6;
 
 impl PushRow {
     /// The CSV header of [`PushRow::csv_cells`].
-    pub const CSV_HEADER: [&'static str; 14] = [
+    pub const CSV_HEADER: [&'static str; 19] = [
         "theta",
         "mu_floor",
         "onset_over_mg",
@@ -480,6 +484,11 @@ impl PushRow {
         "n_over_mg_static",
         "f3_over_mg",
         "static_error",
+        "min_force_case",
+        "min_force_push_over_mg",
+        "min_force_over_mg_static",
+        "min_force_over_mg",
+        "min_force_agrees",
         "runs",
         "wall_time_s",
         "error",
@@ -501,6 +510,15 @@ impl PushRow {
             opt(self.n_over_mg_static),
             opt(self.f3_over_mg),
             self.static_error.to_string(),
+            self.minimum_force
+                .as_ref()
+                .map_or(String::new(), |m| m.case.name().to_owned()),
+            opt(self.minimum_force.as_ref().map(|m| m.push_over_mg)),
+            opt(self.minimum_force.as_ref().map(|m| m.norm_over_mg_static)),
+            opt(self.minimum_force.as_ref().map(|m| m.norm_over_mg)),
+            self.minimum_force
+                .as_ref()
+                .map_or(String::new(), |m| u8::from(m.agrees).to_string()),
             self.runs.to_string(),
             self.wall_time_s.to_string(),
             self.error.clone().unwrap_or_default(),
@@ -529,6 +547,21 @@ impl std::fmt::Display for PushRow {
                 "NOT within one step"
             }
         )?;
+        if let Some(m) = &self.minimum_force {
+            write!(
+                f,
+                "; minimum force {:.6} mg at P/mg = {:.4} ({}: {:.6}), {}",
+                m.norm_over_mg,
+                m.push_over_mg,
+                m.case.equation(),
+                m.norm_over_mg_static,
+                if m.agrees {
+                    "confirmed"
+                } else {
+                    "NOT confirmed"
+                }
+            )?;
+        }
         if let Some(e) = &self.error {
             write!(f, "; failed: {e}")?;
         }
@@ -540,7 +573,8 @@ impl std::fmt::Display for PushRow {
 /// `base` (its steps, Δt, spin) with each push of `pushes` (over mg, moving away from
 /// zero) until a rim slips faster than [`SLIP_THRESHOLD`]. Pushes along +e′2 (a grid
 /// ending above 0) are compared with μ_s N₋ of (3.3.8)₋, pushes along −e′2 (a grid
-/// ending below 0) with −μ_s N₊ of (3.3.8)₊.
+/// ending below 0) with −μ_s N₊ of (3.3.8)₊. Then checks the minimum applied force at
+/// ϑ with [`minimum_force_check`], its neighbours one grid step away.
 ///
 /// # Errors
 /// Bad settings (before any run); a run that fails is the row's `error`.
@@ -605,6 +639,16 @@ pub fn push_row(base: &PairSettings, pushes: &[f64]) -> Result<PushRow, Cylinder
         row.n_over_mg_static = Some(1.0 - f3);
         row.f3_over_mg = Some(r.f3_over_mg[0]);
     }
+    if row.error.is_none() {
+        let delta = if push_step > 0.0 { push_step } else { 0.005 };
+        match minimum_force_check(base, delta) {
+            Ok(m) => {
+                row.runs += 3;
+                row.minimum_force = Some(m);
+            }
+            Err(e) => row.error = Some(format!("minimum force: {e}")),
+        }
+    }
     let last = pushes.last().copied().unwrap_or(0.0);
     row.agrees = row.error.is_none()
         && match (row.onset_over_mg, static_onset) {
@@ -617,6 +661,103 @@ pub fn push_row(base: &PairSettings, pushes: &[f64]) -> Result<PushRow, Cylinder
             (Some(_), None) => false,
         };
     Ok(row)
+}
+
+/// The minimum applied force of §3.3, (3.3.15)–(3.3.19) as corrected in docs/errata.md
+/// (items 9–11), checked by the transport: the push P* = F of the static minimum is
+/// applied, the measured F3 gives the measured ‖(F, F3)‖/mg, and the pushes P* ± δ on
+/// either side show that no admissible neighbour (rims sticking, F3 ≥ 0) needs less.
+/// Each neighbour must be admissible exactly when the statics say so: beyond a bound
+/// ((3.3.18)± or (3.3.19)) the rims slip, or the top would have to be pulled down.
+/// The field names are the keys of the `minimum_force` object of
+/// `rollstack cylinder sweep push --json`.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct MinimumForceCheck {
+    /// Which case of §3.3 holds the static minimum.
+    pub case: MinForceCase,
+    /// The push P*/mg = F/mg of the static minimum, applied in the run.
+    pub push_over_mg: f64,
+    /// F3/mg of the static minimum.
+    pub f3_over_mg_static: f64,
+    /// F3/mg measured at P* (cylinder I).
+    pub f3_over_mg: f64,
+    /// ‖F_a‖/mg of the static minimum.
+    pub norm_over_mg_static: f64,
+    /// ‖(P*, F3)‖/mg measured.
+    pub norm_over_mg: f64,
+    /// The largest floor slip speed at P* (m/s).
+    pub slip_speed: f64,
+    /// The push step δ/mg to the neighbours.
+    pub delta: f64,
+    /// ‖(P, F3)‖/mg measured at P* − δ and P* + δ, or null where that push is not
+    /// admissible (a rim slips, or F3 < 0).
+    pub neighbour_norms_over_mg: [Option<f64>; 2],
+    /// The run at P* sticks, its norm equals the static one to 1e-8, every admissible
+    /// neighbour needs at least as much, and each neighbour is admissible exactly when
+    /// the statics say so (F3 ≥ 0 and |F| ≤ μ_s N on the line (3.3.12)).
+    pub agrees: bool,
+}
+
+/// Tolerance of [`MinimumForceCheck::agrees`] on the norm at P*.
+pub const MINIMUM_FORCE_TOLERANCE: f64 = 1e-8;
+
+/// Runs `base` at the push of the static minimum force and at that push ± `delta`
+/// ([`MinimumForceCheck`]).
+///
+/// # Errors
+/// Bad settings, an inclination the floor friction cannot hold, or a failed run.
+pub fn minimum_force_check(
+    base: &PairSettings,
+    delta: f64,
+) -> Result<MinimumForceCheck, CylinderError> {
+    input::positive("push step δ", delta)?;
+    let rho = base.cylinder.radius() / base.cylinder.height();
+    let problem = SupportProblem::new(rho, base.mu_floor)?;
+    let statics = problem.minimum_force(base.theta)?;
+    let (a1, a2) = problem.line(base.theta);
+    // The statics' verdict on push p: on the line (3.3.12), F3 ≥ 0 and |F| ≤ μ_s N.
+    let admissible_static = |p: f64| {
+        let f3 = (p - a2) / a1;
+        f3 >= 0.0 && p.abs() <= base.mu_floor * (1.0 - f3)
+    };
+    // (admissible, ‖(P, F3)‖/mg, F3/mg, slip speed) measured at push p.
+    let measure = |p: f64| -> Result<(bool, f64, f64, f64), CylinderError> {
+        let r = run_pair(
+            &PairSettings {
+                push_over_mg: p,
+                ..*base
+            },
+            false,
+        )?;
+        let f3 = r.f3_over_mg[0];
+        let admissible = r.max_floor_slip <= SLIP_THRESHOLD && f3 >= -MINIMUM_FORCE_TOLERANCE;
+        Ok((admissible, p.hypot(f3), f3, r.max_floor_slip))
+    };
+    let p = statics.f_over_mg;
+    let (sticks, norm, f3, slip_speed) = measure(p)?;
+    let mut neighbours = [None; 2];
+    let mut verdicts_agree = true;
+    for (slot, q) in neighbours.iter_mut().zip([p - delta, p + delta]) {
+        let (ok, n, _, _) = measure(q)?;
+        verdicts_agree &= ok == admissible_static(q);
+        *slot = ok.then_some(n);
+    }
+    let agrees = sticks
+        && (norm - statics.norm_over_mg).abs() <= MINIMUM_FORCE_TOLERANCE
+        && neighbours.iter().flatten().all(|&n| n >= norm - 1e-12)
+        && verdicts_agree;
+    Ok(MinimumForceCheck {
+        case: statics.case,
+        push_over_mg: p,
+        f3_over_mg_static: statics.f3_over_mg,
+        f3_over_mg: f3,
+        norm_over_mg_static: statics.norm_over_mg,
+        norm_over_mg: norm,
+        slip_speed,
+        delta,
+        neighbour_norms_over_mg: neighbours,
+        agrees,
+    })
 }
 
 /// The outline of both cylinders at configuration q for drawing: for each, its body
@@ -695,6 +836,47 @@ mod tests {
         assert!(row.agrees, "{row:?}");
         assert!(row.onset_over_mg.is_some_and(|p| p < 0.0), "{row:?}");
         assert!(row.static_error < 1e-8, "{row:?}");
+    }
+
+    /// The coarse push sweep's row at ϑ = 0.68 along −e′2: the rim that starts to slide
+    /// at P/mg = −0.09 rolled a step before, so its slip velocity was round-off when the
+    /// sliding row was first linearized; that step failed as singular before the slip
+    /// direction was guarded (docs/method.md §3).
+    #[test]
+    fn pull_row_at_the_stick_slip_transition_completes() {
+        let base = PairSettings {
+            steps: 100,
+            mu_floor: 0.2,
+            ..PairSettings::thesis(0.68)
+        };
+        let pushes: Vec<f64> = (0..=24).map(|k| -0.005 * f64::from(k)).collect();
+        let row = push_row(&base, &pushes).unwrap();
+        assert!(row.error.is_none(), "{row:?}");
+        assert!(row.agrees, "{row:?}");
+        assert!(row.static_error < 1e-8, "{row:?}");
+    }
+
+    /// The transport confirms the minimum force of §3.3 in both cases that occur over
+    /// the range: the foot of the perpendicular (3.3.15) at μ_s = 1, and the friction
+    /// bound (3.3.18)₁ at μ_s = 0.05 and at the steep angles of μ_s = 0.2.
+    #[test]
+    fn minimum_force_is_confirmed_by_the_transport() {
+        for (mu, theta, case) in [
+            (1.0, 0.5, MinForceCase::Unconstrained),
+            (0.2, 0.25, MinForceCase::Unconstrained),
+            (0.2, 0.7, MinForceCase::FrictionPositive),
+            (0.05, 0.4, MinForceCase::FrictionPositive),
+        ] {
+            let base = PairSettings {
+                steps: 60,
+                mu_floor: mu,
+                ..PairSettings::thesis(theta)
+            };
+            let c = minimum_force_check(&base, 0.005).unwrap();
+            assert_eq!(c.case, case, "{c:?}");
+            assert!(c.agrees, "μ_s = {mu}, ϑ = {theta}: {c:?}");
+            assert!((c.f3_over_mg - c.f3_over_mg_static).abs() < 1e-8, "{c:?}");
+        }
     }
 
     #[test]

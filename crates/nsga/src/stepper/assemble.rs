@@ -85,6 +85,8 @@ impl<S: System> Stepper<S> {
                     .map(|&k| x[o.ln + k])
                     .sum::<f64>()
                     .max(0.0);
+            let xi = &it.xi_v[vs..vs + nc];
+            let slip = SlipDirections::new(rl, xi, &it.v[vs..vs + nc], &it.p_f[f0..f0 + nc]);
             for m in 0..nc {
                 let c = f0 + m;
                 let (vel_row, acc_row) = if !active {
@@ -98,8 +100,8 @@ impl<S: System> Stepper<S> {
                     (rl * it.xi_v[vs + m], acc)
                 } else {
                     (
-                        it.p_f[c] + p_hat * direction(&it.xi_v[vs..vs + nc], m),
-                        x[o.lf + c] + l_hat * direction(&it.v[vs..vs + nc], m),
+                        it.p_f[c] + p_hat * direction(slip.velocity_level(), m),
+                        x[o.lf + c] + l_hat * direction(slip.acceleration_level(), m),
                     )
                 };
                 r[o.cf + c] = vel_row;
@@ -280,6 +282,19 @@ impl<S: System> Stepper<S> {
             let rl = w.r_law[j];
             let p_sum: f64 = law.normals.iter().map(|&k| it.p_n[k]).sum();
             let l_sum: f64 = law.normals.iter().map(|&k| x[o.ln + k]).sum();
+            let slip = SlipDirections::new(
+                rl,
+                &it.xi_v[vs..vs + nc],
+                &it.v[vs..vs + nc],
+                &it.p_f[f0..f0 + nc],
+            );
+            // ∂(r ξ − P_F)/∂x, for the directions of a slip law that ξ cannot give.
+            let argument = SlipArgument::Projected {
+                dxv: &w.dxv,
+                vs,
+                r: rl,
+                p_f: (o.cf + f0, o.lf + f0, c_pl),
+            };
             for m in 0..nc {
                 let c = f0 + m;
                 let (rv, ra) = (o.cf + c, o.lf + c);
@@ -301,6 +316,11 @@ impl<S: System> Stepper<S> {
                         .iter()
                         .flat_map(|&k| [(o.cn + k, 1.0), (o.ln + k, c_pl)])
                         .collect();
+                    let arg = if slip.projected_velocity {
+                        argument
+                    } else {
+                        SlipArgument::Rows(&w.dxv, vs)
+                    };
                     slip_row(
                         jac,
                         rv,
@@ -308,10 +328,9 @@ impl<S: System> Stepper<S> {
                         law.mu,
                         p_sum,
                         &radius_cols,
-                        &it.xi_v[vs..vs + nc],
+                        slip.velocity_level(),
                         m,
-                        &w.dxv,
-                        vs,
+                        arg,
                     );
                 }
                 if sets.d[j] && sets.e[j] {
@@ -321,34 +340,111 @@ impl<S: System> Stepper<S> {
                     jac.push((ra, o.lf + c, dt));
                     let radius_cols: Vec<(usize, f64)> =
                         law.normals.iter().map(|&k| (o.ln + k, 1.0)).collect();
-                    if sets.d[j] {
-                        slip_row(
-                            jac,
-                            ra,
-                            dt,
-                            law.mu,
-                            l_sum,
-                            &radius_cols,
-                            &it.acc_v[vs..vs + nc],
-                            m,
-                            &w.dav,
-                            vs,
-                        );
+                    let (v, arg) = if sets.d[j] {
+                        (&it.acc_v[vs..vs + nc], SlipArgument::Rows(&w.dav, vs))
+                    } else if slip.projected_acceleration {
+                        (slip.acceleration_level(), argument)
                     } else {
-                        slip_row(
-                            jac,
-                            ra,
-                            dt,
-                            law.mu,
-                            l_sum,
-                            &radius_cols,
-                            &it.v[vs..vs + nc],
-                            m,
-                            &w.dgv,
-                            vs,
-                        );
-                    }
+                        (slip.acceleration_level(), SlipArgument::Rows(&w.dgv, vs))
+                    };
+                    slip_row(jac, ra, dt, law.mu, l_sum, &radius_cols, v, m, arg);
                 }
+            }
+        }
+    }
+}
+
+/// Below this ratio r‖ξ‖ / ‖r ξ − P_F‖ the slip velocity ξ of a law outside D carries no
+/// direction (it is round-off around a rolling contact): the law's sliding rows then
+/// take the direction of the prox argument r ξ − P_F instead (docs/method.md §4).
+pub const NEGLIGIBLE_SLIP: f64 = 1e-9;
+
+/// The vectors whose directions the sliding rows of one friction law take: ξ and v as
+/// in eqs. 139–142 while they have one; the prox argument a = r ξ − P_F when they are
+/// negligible against it.
+///
+/// Outside D, ‖a‖ > μP̂ ≥ 0, so a always has a direction; and at a solution outside D,
+/// P_F = −μP̂ a/‖a‖ gives r ξ = a (1 − μP̂/‖a‖), so ξ ∥ a and both forms agree. A sliding
+/// row written with ξ/‖ξ‖ when ‖ξ‖ is round-off has derivatives of order P̂/‖ξ‖
+/// (measured 1e31 at the start of a cylinder's spin-up, whose floor contact rolls) and
+/// makes the Newton matrix numerically singular; with a/‖a‖ they stay of order 1.
+struct SlipDirections {
+    n: usize,
+    xi: [f64; 2],
+    v: [f64; 2],
+    a: [f64; 2],
+    projected_velocity: bool,
+    projected_acceleration: bool,
+}
+
+impl SlipDirections {
+    /// For a law of one or two components (eq. 141's interval or disk).
+    fn new(r: f64, xi: &[f64], v: &[f64], p_f: &[f64]) -> Self {
+        let n = xi.len().min(2);
+        let (mut xs, mut vs, mut a) = ([0.0; 2], [0.0; 2], [0.0; 2]);
+        for m in 0..n {
+            xs[m] = xi[m];
+            vs[m] = v[m];
+            a[m] = r * xi[m] - p_f[m];
+        }
+        let tiny = NEGLIGIBLE_SLIP * norm(&a[..n]);
+        Self {
+            n,
+            projected_velocity: tiny > 0.0 && r * norm(&xs[..n]) <= tiny,
+            projected_acceleration: tiny > 0.0 && r * norm(&vs[..n]) <= tiny,
+            xi: xs,
+            v: vs,
+            a,
+        }
+    }
+
+    /// The vector whose direction the velocity-level sliding row takes.
+    fn velocity_level(&self) -> &[f64] {
+        if self.projected_velocity {
+            &self.a[..self.n]
+        } else {
+            &self.xi[..self.n]
+        }
+    }
+
+    /// The vector whose direction the acceleration-level sliding row takes outside D.
+    fn acceleration_level(&self) -> &[f64] {
+        if self.projected_acceleration {
+            &self.a[..self.n]
+        } else {
+            &self.v[..self.n]
+        }
+    }
+}
+
+/// The derivative rows ∂v_m'/∂x of the vector a sliding row takes its direction from.
+#[derive(Clone, Copy)]
+pub(crate) enum SlipArgument<'a> {
+    /// Rows `vs + m'` of a kept derivative matrix.
+    Rows(&'a RowMat, usize),
+    /// The prox argument r ξ − P_F: r times rows `vs + m'` of ∂ξ/∂x, minus ∂P_F/∂x with
+    /// P_F = Λ_F + c λ_F (columns of Λ_F and λ_F of component 0, and c).
+    Projected {
+        dxv: &'a RowMat,
+        vs: usize,
+        r: f64,
+        p_f: (usize, usize, f64),
+    },
+}
+
+impl SlipArgument<'_> {
+    fn for_each(self, mp: usize, mut f: impl FnMut(usize, f64)) {
+        match self {
+            Self::Rows(dv, vs) => dv.row(vs + mp).for_each(|(c, v)| f(c, v)),
+            Self::Projected {
+                dxv,
+                vs,
+                r,
+                p_f: (cap, small, c),
+            } => {
+                dxv.row(vs + mp).for_each(|(col, v)| f(col, r * v));
+                f(cap + mp, -1.0);
+                f(small + mp, -c);
             }
         }
     }
@@ -376,8 +472,7 @@ pub(crate) fn slip_row(
     radius_cols: &[(usize, f64)],
     v: &[f64],
     m: usize,
-    dv: &RowMat,
-    vs: usize,
+    dv: SlipArgument<'_>,
 ) {
     let n = norm(v);
     if n <= 0.0 || sum <= 0.0 {
@@ -393,8 +488,8 @@ pub(crate) fn slip_row(
         if proj == 0.0 {
             continue;
         }
-        for (c, val) in dv.row(vs + mp) {
+        dv.for_each(mp, |c, val| {
             jac.push((row, c, scale * radius * proj / n * val));
-        }
+        });
     }
 }

@@ -9,7 +9,7 @@ use anyhow::{Context, Result};
 use clap::{Args, Subcommand};
 use cylinders::studies::pair::{pair_sweep_row, push_row, PairSettings, PairSweepRow, PushRow};
 use cylinders::transport::SpinProfile;
-use figures::cylinders::{plot_pair_sweep, plot_push_sweep};
+use figures::cylinders::{plot_minimum_force, plot_pair_sweep, plot_push_sweep};
 use input::text::{parse_finite, parse_values};
 
 /// The sweeps of `rollstack cylinder sweep`.
@@ -178,11 +178,19 @@ fn sweep_push(a: &PushSweepArgs) -> Result<()> {
                 .last()
                 .map_or(1.0, |p| if *p < 0.0 { -1.0 } else { 1.0 }),
         )?;
+        plot_minimum_force(&dir.join("sweep_push_minimum.png"), &rows, a.mu_floor)?;
     }
     let agreeing = rows.iter().filter(|r| r.agrees).count();
-    let extra = serde_json::Map::from_iter([("agreeing_rows".into(), agreeing.into())]);
+    let minimum = rows
+        .iter()
+        .filter(|r| r.minimum_force.as_ref().is_some_and(|m| m.agrees))
+        .count();
+    let extra = serde_json::Map::from_iter([
+        ("agreeing_rows".into(), agreeing.into()),
+        ("minimum_force_agreeing_rows".into(), minimum.into()),
+    ]);
     sweep.finish(
-        &["sweep_push.csv", "sweep_push.png"],
+        &["sweep_push.csv", "sweep_push.png", "sweep_push_minimum.png"],
         extra,
         &rows,
         rows.iter().map(|r| r.wall_time_s).sum(),
