@@ -87,9 +87,9 @@ fn shaken_columns_that_fall_and_pile_up_stay_solid() {
 /// Tall columns on a base that barely moves (x = 0.001 sin 2t, μ = 0.2, Δt = 0.01): the
 /// bottom block slides at t0 and the friction force μ n mg rocks the slender column at
 /// every interface. The consistent start of 50 and 100 blocks used to fail ("semismooth
-/// Newton did not converge"); with the slope 1 at the kink of max(0, Σλ_N) and updates
-/// allowed in proportion to the contacts it converges (docs/method.md §5). Only the
-/// start is run here: the steps of such columns are still slow.
+/// Newton did not converge"); with updates allowed in proportion to the contacts it
+/// converges (docs/method.md §5). Only the start is run here: the steps of such columns
+/// are still slow.
 #[test]
 fn tall_columns_on_a_moving_base_start() {
     for blocks in [50, 100] {

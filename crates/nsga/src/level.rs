@@ -138,14 +138,8 @@ impl LevelProblem<'_> {
                 }
                 res[row] = y[row];
                 jac.push((row, row, 1.0));
-                // ERRATA 24: no direction, no slip term. At Σλ_N = 0 exactly the kink of
-                // max(0, Σλ_N) takes the slope 1, a valid element of its generalized
-                // derivative: an iteration that starts from zero forces (every start)
-                // then couples a contact sliding at t0 to its normal forces in the first
-                // update. With the slope 0 the first update left the sliding force out,
-                // and a 50-block column on a moving base, whose bottom block slides at t0,
-                // wandered between index sets and did not start (docs/method.md §5).
-                if !active || dn == 0.0 || sum < 0.0 {
+                // ERRATA 24: no direction, no slip term.
+                if !active || dn == 0.0 || sum <= 0.0 {
                     continue;
                 }
                 let dm = dir[m] / dn;

@@ -354,9 +354,10 @@ impl<S: System> Stepper<S> {
     }
 }
 
-/// Below this ratio r‖ξ‖ / ‖r ξ − P_F‖ the slip velocity ξ of a law outside D carries no
-/// direction (it is round-off around a rolling contact): the law's sliding rows then
-/// take the direction of the prox argument r ξ − P_F instead (docs/method.md §4).
+/// Below this ratio r‖ξ‖ / ‖r ξ − P_F‖ the slip velocity ξ of a two-component law outside
+/// D carries no direction (it is round-off around a rolling contact): the law's sliding
+/// rows then take the direction of the prox argument r ξ − P_F instead (docs/method.md
+/// §3).
 pub const NEGLIGIBLE_SLIP: f64 = 1e-9;
 
 /// The vectors whose directions the sliding rows of one friction law take: ξ and v as
@@ -387,7 +388,13 @@ impl SlipDirections {
             vs[m] = v[m];
             a[m] = r * xi[m] - p_f[m];
         }
-        let tiny = NEGLIGIBLE_SLIP * norm(&a[..n]);
+        // Only a disk law (two components) blows up: an interval law's projector
+        // 1 − d d is zero, and its rows keep the paper's form.
+        let tiny = if n == 2 {
+            NEGLIGIBLE_SLIP * norm(&a[..n])
+        } else {
+            0.0
+        };
         Self {
             n,
             projected_velocity: tiny > 0.0 && r * norm(&xs[..n]) <= tiny,
