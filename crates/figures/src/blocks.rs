@@ -617,10 +617,12 @@ pub struct FrequencySweep {
     pub amplitude: f64,
     /// Friction coefficient μ.
     pub mu: f64,
-    /// Base periods simulated per run.
+    /// Base periods simulated per run (when there is no `t_max`).
     pub periods: f64,
     /// Steps per base period N (Δt = 2π/(Nω)).
     pub steps_per_period: f64,
+    /// The horizon in time units, the same at every ω, when the sweep has one.
+    pub t_max: Option<f64>,
 }
 
 impl FrequencySweep {
@@ -633,6 +635,20 @@ impl FrequencySweep {
             mu: s.mu,
             periods: s.periods,
             steps_per_period: s.steps_per_period,
+            t_max: None,
+        }
+    }
+
+    /// How a run that does not fail is described: "no failure by t = 40", or "no failure
+    /// within 10 periods (t = 20π/ω)" whose horizon shrinks as ω grows.
+    #[must_use]
+    pub fn survival(&self) -> String {
+        match self.t_max {
+            Some(t) => format!("no failure by t = {t}"),
+            None => format!(
+                "no failure within {} periods (t = {}·2π/ω)",
+                self.periods, self.periods
+            ),
         }
     }
 
@@ -649,15 +665,20 @@ impl FrequencySweep {
     }
 
     /// The figure's title, from the parameters: e.g. "Failure time of a shaken column,
-    /// 4 blocks, A = 0.2, μ = 0.2, 10 periods (cf. Figure 4.6)"; the steps per period
+    /// 4 blocks, A = 0.2, μ = 0.2, 10 periods (cf. Figure 4.6)", or "…, t ≤ 40 (…)" with a
+    /// horizon in time units; the steps per period
     /// are named when they are not the thesis's 100, and "cf. Figure 4.6" only when
     /// [`Self::is_figure_4_6`].
     #[must_use]
     pub fn title(&self) -> String {
         let blocks = plural(self.blocks, "block");
+        let horizon = self.t_max.map_or_else(
+            || format!("{} periods", self.periods),
+            |t| format!("t ≤ {t}"),
+        );
         let mut t = format!(
-            "Failure time of a shaken column, {blocks}, A = {}, μ = {}, {} periods",
-            self.amplitude, self.mu, self.periods
+            "Failure time of a shaken column, {blocks}, A = {}, μ = {}, {horizon}",
+            self.amplitude, self.mu
         );
         if self.steps_per_period != Shaking::default().steps_per_period {
             t.push_str(&format!(", {} steps per period", self.steps_per_period));
@@ -696,7 +717,7 @@ pub fn plot_frequency_sweep(
         .filter_map(|r| r.inv_failure_time.map(|v| (r.omega, v)))
         .collect();
     let mut plot = LinePlot::new(sweep.title(), "ω [rad / time unit]", "1/T [1 / time unit]");
-    let survived = format!("survived {} periods", sweep.periods);
+    let survived = sweep.survival();
     let dense = Series::computed("", points.clone());
     if dense.line {
         let mut sorted = points;
@@ -712,7 +733,10 @@ pub fn plot_frequency_sweep(
             plot = plot.with(Series::markers("1/T, T: first loss of support", failed));
         }
         if !kept.is_empty() {
-            plot = plot.with(Series::markers(format!("{survived} (1/T = 0)"), kept));
+            plot = plot.with(Series::markers(
+                format!("{survived}, drawn at 1/T = 0"),
+                kept,
+            ));
         }
     }
     plot.save(path, (1000, 620))
@@ -1142,6 +1166,19 @@ mod tests {
             "Failure time of a shaken column, 1 block, A = 0.2, μ = 0.5, 10 periods, 50 steps per period"
         );
         assert!(!mine.is_figure_4_6());
+        let horizon = FrequencySweep {
+            t_max: Some(40.0),
+            ..thesis
+        };
+        assert_eq!(
+            horizon.title(),
+            "Failure time of a shaken column, 4 blocks, A = 0.2, μ = 0.2, t ≤ 40 (cf. Figure 4.6)"
+        );
+        assert_eq!(horizon.survival(), "no failure by t = 40");
+        assert_eq!(
+            thesis.survival(),
+            "no failure within 10 periods (t = 10·2π/ω)"
+        );
         let slide = SlideSweep {
             blocks: 4,
             t_end: 3.0,

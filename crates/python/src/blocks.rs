@@ -9,7 +9,7 @@ use blockstack::scenarios::{
 use blockstack::scene_file::LoadedScene;
 use blockstack::simulation::{simulate_until, Prox, RunOptions, RunReport, StepRecord};
 use blockstack::studies::scene_sweep::{Override, SceneSweep};
-use blockstack::studies::shaking::frequency_row;
+use blockstack::studies::shaking::{frequency_row, periods_for_horizon};
 use blockstack::studies::slide::slide_row;
 use blockstack::{scenes, Defaults};
 use numpy::ndarray::{Array1, Array2, Array3};
@@ -439,7 +439,8 @@ fn blocks_simulate<'py>(
 /// Rows of Figure 4.6 (`studies::shaking::frequency_row`), one per ω, in parallel on
 /// rayon with the GIL released; each row as the CLI's `blocks sweep frequency --json`.
 #[pyfunction]
-#[pyo3(signature = (omegas, periods, amplitude, blocks, steps_per_period, mu, prox_constant = None, explore_branches = true, last_resort = true))]
+#[pyo3(signature = (omegas, periods, amplitude, blocks, steps_per_period, mu, prox_constant = None, explore_branches = true, last_resort = true, t_max = None))]
+#[allow(clippy::too_many_arguments)]
 fn blocks_sweep_frequency<'py>(
     py: Python<'py>,
     omegas: Vec<f64>,
@@ -451,12 +452,18 @@ fn blocks_sweep_frequency<'py>(
     prox_constant: Option<f64>,
     explore_branches: bool,
     last_resort: bool,
+    t_max: Option<f64>,
 ) -> PyResult<Bound<'py, PyAny>> {
     guard(|| {
+        if let Some(t) = t_max {
+            input::positive("t_max", t).map_err(value_error)?;
+        }
         let mut options = run_options(None, prox_constant, explore_branches, last_resort, true)?;
         let columns = omegas
             .iter()
             .map(|&omega| {
+                // A horizon in time units, the same at every ω (as `--t-max`).
+                let periods = t_max.map_or(periods, |t| periods_for_horizon(t, omega));
                 let p = shaking_params(blocks, omega, amplitude, mu, steps_per_period, periods)?;
                 shaking_column(&p).map_err(|e| value_error(format!("omega {omega}: {e}")))?;
                 Ok(p)

@@ -132,6 +132,14 @@ def test_sweep_frequency_equals_cli(cli):
     assert [r["omega"] for r in rows] == [3.0, 6.0, 9.0]
 
 
+def test_sweep_frequency_with_a_horizon_equals_cli(cli):
+    rows = blocks.sweep_frequency([3.0, 6.0], t_max=1.0, blocks=2)
+    theirs = cli("blocks", "sweep", "frequency", "--omega", "3,6", "--t-max", "1", "--blocks", "2")
+    assert strip_timings(rows) == strip_timings(theirs["rows"])
+    assert [r["horizon"] for r in rows] == pytest.approx([1.0, 1.0], abs=1e-12)
+    assert all(r["outcome"] in ("failed", "no_failure_by_horizon") for r in rows)
+
+
 def test_sweep_slide_equals_cli(cli):
     rows = blocks.sweep_slide([0.1, 0.3], t_end=0.3, blocks=2)
     theirs = cli("blocks", "sweep", "slide", "--v0", "0.1,0.3", "--t-end", "0.3", "--blocks", "2")

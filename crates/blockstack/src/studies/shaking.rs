@@ -4,14 +4,44 @@ use crate::record::{finite_text, optional_text};
 use crate::scenarios::{shaking_column, Shaking};
 use crate::simulation::{simulate, RunOptions};
 
+/// How one run of the frequency sweep ended.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum FrequencyOutcome {
+    /// The column lost support at the failure time T.
+    Failed,
+    /// No loss of support up to the horizon: T is only known to exceed it.
+    NoFailureByHorizon,
+    /// The run stopped early, or could not start (see the row's error).
+    Stopped,
+}
+
+impl FrequencyOutcome {
+    /// The name in the CSV and JSON.
+    #[must_use]
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Failed => "failed",
+            Self::NoFailureByHorizon => "no_failure_by_horizon",
+            Self::Stopped => "stopped",
+        }
+    }
+}
+
 /// One run of the frequency sweep (one point of Figure 4.6).
 #[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct FrequencyRow {
     /// ω.
     pub omega: f64,
+    /// The time simulated unless the column fails first, time units: the periods times
+    /// 2π/ω, or the sweep's `t_max`.
+    pub horizon: f64,
+    /// How the run ended.
+    pub outcome: FrequencyOutcome,
     /// Failure time T (loss of support), or null when the column survived.
     pub failure_time: Option<f64>,
-    /// 1/T, 0 when the column survived the simulated periods.
+    /// 1/T, 0 when the column survived to the horizon (outcome
+    /// `no_failure_by_horizon`: T > horizon, not T = ∞).
     pub inv_failure_time: Option<f64>,
     /// First full opening of an interface, or null.
     pub opening_time: Option<f64>,
@@ -29,8 +59,10 @@ pub struct FrequencyRow {
 
 impl FrequencyRow {
     /// The columns of `sweep_frequency.csv`, one per field, in order.
-    pub const CSV_HEADER: [&'static str; 9] = [
+    pub const CSV_HEADER: [&'static str; 11] = [
         "omega",
+        "horizon",
+        "outcome",
         "failure_time",
         "inv_failure_time",
         "opening_time",
@@ -47,6 +79,8 @@ impl FrequencyRow {
     pub fn csv_cells(&self) -> Vec<String> {
         vec![
             finite_text(self.omega),
+            finite_text(self.horizon),
+            self.outcome.name().to_owned(),
             optional_text(self.failure_time),
             optional_text(self.inv_failure_time),
             optional_text(self.opening_time),
@@ -62,9 +96,10 @@ impl FrequencyRow {
 /// One line: ω, the failure time (or "never") and the steps, with the error if any.
 impl std::fmt::Display for FrequencyRow {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        let failure = self
-            .failure_time
-            .map_or_else(|| "never".to_owned(), |t| format!("at t = {t:.4}"));
+        let failure = self.failure_time.map_or_else(
+            || format!("none by t = {:.4}", self.horizon),
+            |t| format!("at t = {t:.4}"),
+        );
         write!(
             f,
             "omega = {:.4}: failure {failure}, {} steps",
@@ -84,6 +119,8 @@ impl std::fmt::Display for FrequencyRow {
 pub fn frequency_row(shaking: &Shaking, options: &RunOptions) -> FrequencyRow {
     let mut row = FrequencyRow {
         omega: shaking.omega,
+        horizon: shaking.periods * 2.0 * std::f64::consts::PI / shaking.omega,
+        outcome: FrequencyOutcome::Stopped,
         failure_time: None,
         inv_failure_time: None,
         opening_time: None,
@@ -107,6 +144,11 @@ pub fn frequency_row(shaking: &Shaking, options: &RunOptions) -> FrequencyRow {
                 (None, None) => Some(0.0),
                 _ => None,
             };
+            row.outcome = match (s.failure_time, &s.error) {
+                (Some(_), _) => FrequencyOutcome::Failed,
+                (None, None) => FrequencyOutcome::NoFailureByHorizon,
+                (None, Some(_)) => FrequencyOutcome::Stopped,
+            };
             row.opening_time = s.opening_time;
             row.steps = s.steps;
             row.error = s.error.map(|e| one_line(&e.to_string()));
@@ -117,6 +159,15 @@ pub fn frequency_row(shaking: &Shaking, options: &RunOptions) -> FrequencyRow {
         Err(e) => row.error = Some(one_line(&e.to_string())),
     }
     row
+}
+
+/// The periods that make a run at `omega` last `t_max` time units: the sweep's horizon
+/// in time units, the same for every ω. (A fixed number of periods simulates a fast base
+/// for a shorter time than a slow one: ten periods are 1.6 time units at ω = 40, while
+/// shaken columns fail between t ≈ 3 and t ≈ 40.)
+#[must_use]
+pub fn periods_for_horizon(t_max: f64, omega: f64) -> f64 {
+    t_max * omega / (2.0 * std::f64::consts::PI)
 }
 
 /// A message on one line (a CSV cell, a sweep's line of output).
@@ -141,8 +192,9 @@ mod tests {
         );
         let cells = row.csv_cells();
         assert_eq!(cells.len(), FrequencyRow::CSV_HEADER.len());
-        assert_eq!((cells[0].as_str(), cells[1].as_str()), ("0.5", ""));
-        assert_eq!(cells[2], "0.0");
+        assert_eq!(cells[0], "0.5");
+        assert_eq!(cells[2], "no_failure_by_horizon");
+        assert_eq!((cells[3].as_str(), cells[4].as_str()), ("", "0.0"));
     }
 
     #[test]
@@ -154,6 +206,8 @@ mod tests {
         };
         let row = frequency_row(&slow, &RunOptions::default());
         assert_eq!(row.failure_time, None);
+        assert_eq!(row.outcome, FrequencyOutcome::NoFailureByHorizon);
+        assert!((row.horizon - 0.2 * 2.0 * std::f64::consts::PI / 0.5).abs() < 1e-12);
         assert_eq!(row.inv_failure_time, Some(0.0));
         assert!(row.steps > 0 && row.error.is_none());
         let bad = Shaking {
@@ -166,6 +220,37 @@ mod tests {
             "{row:?}"
         );
         assert_eq!(row.steps, 0);
+        assert_eq!(row.outcome, FrequencyOutcome::Stopped);
+    }
+
+    /// Ten periods at ω = 8 are 7.9 time units, within which the tour's column survives;
+    /// a horizon of 20 time units gives ω = 8 the time a slow base gets, and the column
+    /// fails (at t ≈ 15: `rollstack blocks sweep frequency --omega 8 --t-max 20`).
+    #[test]
+    fn a_horizon_in_time_units_gives_a_fast_base_the_time_a_slow_one_gets() {
+        let ten_periods = Shaking {
+            omega: 8.0,
+            ..Shaking::default()
+        };
+        let short = frequency_row(&ten_periods, &RunOptions::default());
+        assert!((short.horizon - 2.5 * std::f64::consts::PI).abs() < 1e-12);
+        assert_eq!(
+            short.outcome,
+            FrequencyOutcome::NoFailureByHorizon,
+            "{short}"
+        );
+        let long = frequency_row(
+            &Shaking {
+                periods: periods_for_horizon(20.0, 8.0),
+                ..ten_periods
+            },
+            &RunOptions::default(),
+        );
+        assert!((long.horizon - 20.0).abs() < 1e-12);
+        assert_eq!(long.outcome, FrequencyOutcome::Failed, "{long}");
+        assert!(long
+            .failure_time
+            .is_some_and(|t| t > short.horizon && t < 20.0));
     }
 
     #[test]

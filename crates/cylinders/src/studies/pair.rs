@@ -865,6 +865,9 @@ mod tests {
             (1.0, 0.5, MinForceCase::Unconstrained),
             (0.2, 0.25, MinForceCase::Unconstrained),
             (0.2, 0.7, MinForceCase::FrictionPositive),
+            // At its bound the floor law sticks with γ̇_F of round-off: once a singular
+            // Newton matrix (docs/method.md §3).
+            (0.2, 0.75, MinForceCase::FrictionPositive),
             (0.05, 0.4, MinForceCase::FrictionPositive),
         ] {
             let base = PairSettings {

@@ -95,7 +95,12 @@ impl<S: System> Stepper<S> {
                     let acc = if sets.e[j] {
                         rl * it.acc_v[vs + m]
                     } else {
-                        x[o.lf + c] + l_hat * direction(&it.acc_v[vs..vs + nc], m)
+                        let stick = StickAcceleration::new(
+                            rl,
+                            &it.acc_v[vs..vs + nc],
+                            &x[o.lf + f0..o.lf + f0 + nc],
+                        );
+                        x[o.lf + c] + l_hat * direction(stick.direction(), m)
                     };
                     (rl * it.xi_v[vs + m], acc)
                 } else {
@@ -340,7 +345,21 @@ impl<S: System> Stepper<S> {
                     jac.push((ra, o.lf + c, dt));
                     let radius_cols: Vec<(usize, f64)> =
                         law.normals.iter().map(|&k| (o.ln + k, 1.0)).collect();
-                    let (v, arg) = if sets.d[j] {
+                    let stick = StickAcceleration::new(
+                        rl,
+                        &it.acc_v[vs..vs + nc],
+                        &x[o.lf + f0..o.lf + f0 + nc],
+                    );
+                    let (v, arg) = if sets.d[j] && stick.projected {
+                        // ∂(r γ̇ − λ_F)/∂x.
+                        let projected = SlipArgument::Projected {
+                            dxv: &w.dav,
+                            vs,
+                            r: rl,
+                            p_f: (o.lf + f0, o.lf + f0, 0.0),
+                        };
+                        (stick.direction(), projected)
+                    } else if sets.d[j] {
                         (&it.acc_v[vs..vs + nc], SlipArgument::Rows(&w.dav, vs))
                     } else if slip.projected_acceleration {
                         (slip.acceleration_level(), argument)
@@ -420,6 +439,49 @@ impl SlipDirections {
             &self.a[..self.n]
         } else {
             &self.v[..self.n]
+        }
+    }
+}
+
+/// The vector whose direction the acceleration-level sliding row of a law in D ∖ E takes:
+/// γ̇_F as in eq. 142, or the prox argument b = r γ̇_F − λ_F where a two-component law's
+/// γ̇_F is negligible against it (outside E, ‖b‖ > μλ̂ ≥ 0; at a solution they agree, as
+/// for [`SlipDirections`]). A contact held at its stick–slip bound has γ̇_F of round-off:
+/// measured on the pushed cylinders at their minimum force, where the matrix was
+/// singular.
+struct StickAcceleration {
+    n: usize,
+    acc: [f64; 2],
+    b: [f64; 2],
+    projected: bool,
+}
+
+impl StickAcceleration {
+    fn new(r: f64, acc: &[f64], lambda_f: &[f64]) -> Self {
+        let n = acc.len().min(2);
+        let (mut a, mut b) = ([0.0; 2], [0.0; 2]);
+        for m in 0..n {
+            a[m] = acc[m];
+            b[m] = r * acc[m] - lambda_f[m];
+        }
+        let tiny = if n == 2 {
+            NEGLIGIBLE_SLIP * norm(&b[..n])
+        } else {
+            0.0
+        };
+        Self {
+            n,
+            acc: a,
+            b,
+            projected: tiny > 0.0 && r * norm(&a[..n]) <= tiny,
+        }
+    }
+
+    fn direction(&self) -> &[f64] {
+        if self.projected {
+            &self.b[..self.n]
+        } else {
+            &self.acc[..self.n]
         }
     }
 }

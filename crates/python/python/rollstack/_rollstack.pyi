@@ -47,6 +47,7 @@ def blocks_sweep_frequency(
     prox_constant: Optional[float] = ...,
     explore_branches: bool = ...,
     last_resort: bool = ...,
+    t_max: Optional[float] = ...,
 ) -> List[Dict[str, Any]]: ...
 def blocks_sweep_slide(
     speeds: Sequence[float],

@@ -354,13 +354,17 @@ def sweep_frequency(
     prox_constant: Optional[float] = None,
     explore_branches: bool = True,
     last_resort: bool = True,
+    t_max: Optional[float] = None,
 ) -> List[Dict[str, Any]]:
     """Failure time against the shaking frequency (Figure 4.6): one row per ω, each run
     until the first loss of support or the end of its periods, in parallel (rayon, the
-    GIL released), in input order. The rows of ``rollstack blocks sweep frequency
-    --json`` (omega, failure_time, inv_failure_time, opening_time, steps, error, ...);
-    a run the solver stops has its message in ``error``. Every ω is checked before any
-    run (``ValueError``)."""
+    GIL released), in input order. With ``t_max`` every ω gets that horizon in time
+    units instead of ``periods`` (``--t-max``): a fixed number of periods watches a fast
+    base for less time than a slow one. The rows of ``rollstack blocks sweep frequency
+    --json`` (omega, horizon, outcome, failure_time, inv_failure_time, opening_time,
+    steps, error, ...); ``outcome`` is ``failed``, ``no_failure_by_horizon`` or
+    ``stopped``, and a run the solver stops has its message in ``error``. Every ω is
+    checked before any run (``ValueError``)."""
     return _rollstack.blocks_sweep_frequency(
         [float(w) for w in omegas],
         float(periods),
@@ -371,6 +375,7 @@ def sweep_frequency(
         prox_constant,
         bool(explore_branches),
         bool(last_resort),
+        None if t_max is None else float(t_max),
     )
 
 

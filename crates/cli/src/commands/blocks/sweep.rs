@@ -12,7 +12,7 @@ use crate::sweep::{par_map_ordered, ShardChoice};
 use anyhow::{Context, Result};
 use blockstack::scenarios::{shaking_column, sliding_column, Shaking, Sliding};
 use blockstack::simulation::RunOptions;
-use blockstack::studies::shaking::{frequency_row, FrequencyRow};
+use blockstack::studies::shaking::{frequency_row, periods_for_horizon, FrequencyRow};
 use blockstack::studies::slide::{slide_row, SlideRow};
 use blockstack::Scene;
 use clap::{Args, Subcommand};
@@ -200,9 +200,14 @@ pub struct FrequencyArgs {
     /// list of them.
     #[arg(long, allow_hyphen_values = true)]
     pub omega: String,
-    /// Number of base periods simulated per run (the run stops at the failure).
+    /// Number of base periods simulated per run (the run stops at the failure). A fast
+    /// base then gets less time than a slow one: prefer --t-max.
     #[arg(long, default_value_t = 10.0, value_parser = parse_finite, allow_hyphen_values = true)]
     pub periods: f64,
+    /// Horizon in time units, the same at every ω, instead of --periods: each run lasts
+    /// t_max unless the column fails first ("no failure by t_max" is its own outcome).
+    #[arg(long, value_parser = parse_finite, allow_hyphen_values = true, conflicts_with = "periods")]
+    pub t_max: Option<f64>,
     /// Base amplitude A (length units; the thesis's "A = w²" is ambiguous).
     #[arg(long, default_value_t = 0.2, value_parser = parse_finite, allow_hyphen_values = true)]
     pub amplitude: f64,
@@ -274,6 +279,10 @@ pub fn sweep_frequency(args: &FrequencyArgs) -> Result<()> {
     anyhow::ensure!(args.blocks >= 1, "--blocks must be at least 1");
     anyhow::ensure!(args.periods > 0.0, "--periods must be positive");
     anyhow::ensure!(
+        args.t_max.is_none_or(|t| t > 0.0),
+        "--t-max must be positive"
+    );
+    anyhow::ensure!(
         args.steps_per_period > 0.0,
         "--steps-per-period must be positive"
     );
@@ -281,7 +290,8 @@ pub fn sweep_frequency(args: &FrequencyArgs) -> Result<()> {
     let options = args.solver.run_options(None, true)?;
     let all = parse_values(&args.omega).map_err(|e| anyhow::anyhow!("--omega: {e}"))?;
     let inputs = serde_json::json!({
-        "omega": args.omega, "periods": args.periods, "amplitude": args.amplitude,
+        "omega": args.omega, "periods": args.t_max.is_none().then_some(args.periods),
+        "t_max": args.t_max, "amplitude": args.amplitude,
         "blocks": args.blocks, "steps_per_period": args.steps_per_period, "mu": args.mu,
     });
     let sweep = SweepRun::new("frequency", &args.output, &args.solver, inputs, all.len())?;
@@ -290,7 +300,9 @@ pub fn sweep_frequency(args: &FrequencyArgs) -> Result<()> {
         blocks: args.blocks,
         amplitude: args.amplitude,
         omega,
-        periods: args.periods,
+        periods: args
+            .t_max
+            .map_or(args.periods, |t| periods_for_horizon(t, omega)),
         steps_per_period: args.steps_per_period,
         mu: args.mu,
     };
@@ -306,7 +318,10 @@ pub fn sweep_frequency(args: &FrequencyArgs) -> Result<()> {
             &FrequencyRow::CSV_HEADER,
             csv,
         )?;
-        let plot = FrequencySweep::of(&column(1.0));
+        let plot = FrequencySweep {
+            t_max: args.t_max,
+            ..FrequencySweep::of(&column(1.0))
+        };
         plot_frequency_sweep(&dir.join("sweep_frequency.png"), &rows, &plot)?;
     }
     sweep.finish(
