@@ -473,15 +473,26 @@ fn frequency_sweep_keeps_order_and_refuses_bad_values_before_any_run() {
         // Δt = 2π/(100ω): a tenth of a period is 10 steps (or fewer after a failure).
         assert!(r["steps"].as_u64().unwrap() <= 10);
         match r["failure_time"].as_f64() {
-            Some(t) => assert!((f(&r["inv_failure_time"]) - 1.0 / t).abs() < 1e-12),
-            None => assert_eq!(f(&r["inv_failure_time"]), 0.0),
+            Some(t) => {
+                assert!((f(&r["inv_failure_time"]) - 1.0 / t).abs() < 1e-12);
+                assert_eq!(r["outcome"], "failed");
+            }
+            None => {
+                assert_eq!(f(&r["inv_failure_time"]), 0.0);
+                assert_eq!(r["outcome"], "no_failure_by_horizon");
+            }
         }
+        // A tenth of a period: 0.2π/ω time units.
+        let horizon = 0.2 * std::f64::consts::PI / f(&r["omega"]);
+        assert!((f(&r["horizon"]) - horizon).abs() < 1e-12, "{r}");
     }
     let (header, csv_rows) = read_csv(&dir.join("sweep_frequency.csv"));
     assert_eq!(
-        &header[..6],
+        &header[..8],
         [
             "omega",
+            "horizon",
+            "outcome",
             "failure_time",
             "inv_failure_time",
             "opening_time",

@@ -234,6 +234,7 @@ fn failed_rows_are_counted_and_end_with_status_3() {
     let run: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(merged.join("run.json")).unwrap()).unwrap();
     assert_eq!(run["failed_rows"], 1);
-    assert_eq!(table(&merged)[4][5], "did not converge");
+    // Column 7 of sweep_frequency.csv is `error`.
+    assert_eq!(table(&merged)[4][7], "did not converge");
     let _ = std::fs::remove_dir_all(dir);
 }
