@@ -201,6 +201,20 @@ pub struct Shaking {
     pub mu: f64,
 }
 
+impl Shaking {
+    /// The base period 2π/ω.
+    #[must_use]
+    pub fn period(&self) -> f64 {
+        2.0 * PI / self.omega
+    }
+
+    /// The time simulated: the periods times 2π/ω.
+    #[must_use]
+    pub fn duration(&self) -> f64 {
+        self.periods * self.period()
+    }
+}
+
 impl Default for Shaking {
     fn default() -> Self {
         Self {
@@ -227,10 +241,9 @@ pub fn shaking_column(p: &Shaking) -> Result<Scene, BlockError> {
     let block = Block::new(0.2, 0.4, 1.0)?;
     let blocks = stack_on(&base, &vec![(block, 0.0, 0.0); p.blocks])?;
     let floor = Some(Floor::new(base.bottom()));
-    let period = 2.0 * PI / p.omega;
     let solver = SolverParams {
-        dt: period / p.steps_per_period,
-        t_end: p.periods * period,
+        dt: p.period() / p.steps_per_period,
+        t_end: p.duration(),
         ..SolverParams::default()
     };
     Scene::new(

@@ -441,18 +441,22 @@ pub fn plot_push_sweep(
     .save(path, (1100, 600))
 }
 
-/// The minimum applied force against ϑ at floor friction `mu` ((3.3.15)–(3.3.19) as
-/// corrected in errata items 9–11), drawn as the static curve, with ‖(P*, F3)‖/mg measured
-/// by the transport at the push P* of each row of `rows` beside it: filled where the
-/// transport confirms the minimum, crossed where it does not.
+/// The minimum applied force against ϑ for `cylinder` at floor friction `mu`
+/// ((3.3.15)–(3.3.19) as corrected in errata items 9–11), drawn as the static curve, with
+/// ‖(P*, F3)‖/mg measured by the transport at the push P* of each row of `rows` beside
+/// it: discs where the transport confirms the minimum, diamonds where it does not.
 ///
 /// # Errors
 /// When the file cannot be written.
-pub fn plot_minimum_force(path: &Path, rows: &[PushRow], mu: f64) -> Result<()> {
-    let cylinder = Cylinder::gas_cylinder();
+pub fn plot_minimum_force(
+    path: &Path,
+    rows: &[PushRow],
+    cylinder: &Cylinder,
+    mu: f64,
+) -> Result<()> {
     let rho = cylinder.radius() / cylinder.height();
     let statics = cylinders::statics::SupportProblem::new(rho, mu).map_err(crate::err)?;
-    let (lo, hi) = cylinders::transport::inclination_range(&cylinder);
+    let (lo, hi) = cylinders::transport::inclination_range(cylinder);
     let curve: Vec<(f64, f64)> = (1..200)
         .map(|k| lo + (hi - lo) * f64::from(k) / 200.0)
         .filter_map(|t| {

@@ -119,7 +119,7 @@ impl std::fmt::Display for FrequencyRow {
 pub fn frequency_row(shaking: &Shaking, options: &RunOptions) -> FrequencyRow {
     let mut row = FrequencyRow {
         omega: shaking.omega,
-        horizon: shaking.periods * 2.0 * std::f64::consts::PI / shaking.omega,
+        horizon: shaking.duration(),
         outcome: FrequencyOutcome::Stopped,
         failure_time: None,
         inv_failure_time: None,

@@ -85,29 +85,31 @@ impl<S: System> Stepper<S> {
                     .map(|&k| x[o.ln + k])
                     .sum::<f64>()
                     .max(0.0);
-            let xi = &it.xi_v[vs..vs + nc];
-            let slip = SlipDirections::new(rl, xi, &it.v[vs..vs + nc], &it.p_f[f0..f0 + nc]);
+            let dirs = active.then(|| {
+                SlidingDirections::new(
+                    rl,
+                    (sets.d[j], sets.e[j]),
+                    &it.xi_v[vs..vs + nc],
+                    &it.p_f[f0..f0 + nc],
+                    (&it.v[vs..vs + nc], &it.acc_v[vs..vs + nc]),
+                    &x[o.lf + f0..o.lf + f0 + nc],
+                )
+            });
             for m in 0..nc {
                 let c = f0 + m;
-                let (vel_row, acc_row) = if !active {
-                    (it.p_f[c], x[o.lf + c])
-                } else if sets.d[j] {
-                    let acc = if sets.e[j] {
-                        rl * it.acc_v[vs + m]
-                    } else {
-                        let stick = StickAcceleration::new(
-                            rl,
-                            &it.acc_v[vs..vs + nc],
-                            &x[o.lf + f0..o.lf + f0 + nc],
-                        );
-                        x[o.lf + c] + l_hat * direction(stick.direction(), m)
-                    };
-                    (rl * it.xi_v[vs + m], acc)
-                } else {
-                    (
-                        it.p_f[c] + p_hat * direction(slip.velocity_level(), m),
-                        x[o.lf + c] + l_hat * direction(slip.acceleration_level(), m),
-                    )
+                let (vel_row, acc_row) = match &dirs {
+                    None => (it.p_f[c], x[o.lf + c]),
+                    Some(dirs) => {
+                        let vel = match &dirs.velocity {
+                            None => rl * it.xi_v[vs + m],
+                            Some(d) => it.p_f[c] + p_hat * direction(d.vector(), m),
+                        };
+                        let acc = match &dirs.acceleration {
+                            None => rl * it.acc_v[vs + m],
+                            Some(d) => x[o.lf + c] + l_hat * direction(d.vector(), m),
+                        };
+                        (vel, acc)
+                    }
                 };
                 r[o.cf + c] = vel_row;
                 r[o.lf + c] = acc_row * dt;
@@ -287,86 +289,78 @@ impl<S: System> Stepper<S> {
             let rl = w.r_law[j];
             let p_sum: f64 = law.normals.iter().map(|&k| it.p_n[k]).sum();
             let l_sum: f64 = law.normals.iter().map(|&k| x[o.ln + k]).sum();
-            let slip = SlipDirections::new(
+            if !active {
+                for c in f0..f0 + nc {
+                    jac.push((o.cf + c, o.cf + c, 1.0));
+                    jac.push((o.cf + c, o.lf + c, c_pl));
+                    jac.push((o.lf + c, o.lf + c, dt));
+                }
+                continue;
+            }
+            let dirs = SlidingDirections::new(
                 rl,
+                (sets.d[j], sets.e[j]),
                 &it.xi_v[vs..vs + nc],
-                &it.v[vs..vs + nc],
                 &it.p_f[f0..f0 + nc],
+                (&it.v[vs..vs + nc], &it.acc_v[vs..vs + nc]),
+                &x[o.lf + f0..o.lf + f0 + nc],
             );
-            // ∂(r ξ − P_F)/∂x, for the directions of a slip law that ξ cannot give.
-            let argument = SlipArgument::Projected {
-                dxv: &w.dxv,
-                vs,
-                r: rl,
-                p_f: (o.cf + f0, o.lf + f0, c_pl),
-            };
+            // P_F = Λ_F + c λ_F and λ_F, as the force columns of the prox arguments
+            // r ξ − P_F and r γ̇ − λ_F.
+            let p_f_cols = [(o.cf + f0, 1.0), (o.lf + f0, c_pl)];
+            let lambda_f_cols = [(o.lf + f0, 1.0)];
             for m in 0..nc {
                 let c = f0 + m;
                 let (rv, ra) = (o.cf + c, o.lf + c);
-                if !active {
-                    jac.push((rv, o.cf + c, 1.0));
-                    jac.push((rv, o.lf + c, c_pl));
-                    jac.push((ra, o.lf + c, dt));
-                    continue;
-                }
-                if sets.d[j] {
-                    copy_row(jac, &w.dxv, vs + m, rv, rl);
-                    jac.push((rv, o.cf + c, eps));
-                } else {
-                    // P_F + μ P̂ ξ/‖ξ‖
-                    jac.push((rv, o.cf + c, 1.0));
-                    jac.push((rv, o.lf + c, c_pl));
-                    let radius_cols: Vec<(usize, f64)> = law
-                        .normals
-                        .iter()
-                        .flat_map(|&k| [(o.cn + k, 1.0), (o.ln + k, c_pl)])
-                        .collect();
-                    let arg = if slip.projected_velocity {
-                        argument
-                    } else {
-                        SlipArgument::Rows(&w.dxv, vs)
-                    };
-                    slip_row(
-                        jac,
-                        rv,
-                        1.0,
-                        law.mu,
-                        p_sum,
-                        &radius_cols,
-                        slip.velocity_level(),
-                        m,
-                        arg,
-                    );
-                }
-                if sets.d[j] && sets.e[j] {
-                    copy_row(jac, &w.dav, vs + m, ra, rl * dt);
-                    jac.push((ra, o.lf + c, eps * dt));
-                } else {
-                    jac.push((ra, o.lf + c, dt));
-                    let radius_cols: Vec<(usize, f64)> =
-                        law.normals.iter().map(|&k| (o.ln + k, 1.0)).collect();
-                    let stick = StickAcceleration::new(
-                        rl,
-                        &it.acc_v[vs..vs + nc],
-                        &x[o.lf + f0..o.lf + f0 + nc],
-                    );
-                    let (v, arg) = if sets.d[j] && stick.projected {
-                        // ∂(r γ̇ − λ_F)/∂x.
-                        let projected = SlipArgument::Projected {
-                            dxv: &w.dav,
-                            vs,
-                            r: rl,
-                            p_f: (o.lf + f0, o.lf + f0, 0.0),
+                match &dirs.velocity {
+                    None => {
+                        copy_row(jac, &w.dxv, vs + m, rv, rl);
+                        jac.push((rv, o.cf + c, eps));
+                    }
+                    Some(d) => {
+                        // P_F + μ P̂ ξ/‖ξ‖
+                        jac.push((rv, o.cf + c, 1.0));
+                        jac.push((rv, o.lf + c, c_pl));
+                        let radius_cols: Vec<(usize, f64)> = law
+                            .normals
+                            .iter()
+                            .flat_map(|&k| [(o.cn + k, 1.0), (o.ln + k, c_pl)])
+                            .collect();
+                        let arg = if d.projected {
+                            SlipArgument::Projected(&w.dxv, vs, rl, &p_f_cols)
+                        } else {
+                            SlipArgument::Rows(&w.dxv, vs)
                         };
-                        (stick.direction(), projected)
-                    } else if sets.d[j] {
-                        (&it.acc_v[vs..vs + nc], SlipArgument::Rows(&w.dav, vs))
-                    } else if slip.projected_acceleration {
-                        (slip.acceleration_level(), argument)
-                    } else {
-                        (slip.acceleration_level(), SlipArgument::Rows(&w.dgv, vs))
-                    };
-                    slip_row(jac, ra, dt, law.mu, l_sum, &radius_cols, v, m, arg);
+                        slip_row(
+                            jac,
+                            rv,
+                            1.0,
+                            law.mu,
+                            p_sum,
+                            &radius_cols,
+                            d.vector(),
+                            m,
+                            arg,
+                        );
+                    }
+                }
+                match &dirs.acceleration {
+                    None => {
+                        copy_row(jac, &w.dav, vs + m, ra, rl * dt);
+                        jac.push((ra, o.lf + c, eps * dt));
+                    }
+                    Some(d) => {
+                        jac.push((ra, o.lf + c, dt));
+                        let radius_cols: Vec<(usize, f64)> =
+                            law.normals.iter().map(|&k| (o.ln + k, 1.0)).collect();
+                        let arg = match (sets.d[j], d.projected) {
+                            (true, false) => SlipArgument::Rows(&w.dav, vs),
+                            (true, true) => SlipArgument::Projected(&w.dav, vs, rl, &lambda_f_cols),
+                            (false, false) => SlipArgument::Rows(&w.dgv, vs),
+                            (false, true) => SlipArgument::Projected(&w.dxv, vs, rl, &p_f_cols),
+                        };
+                        slip_row(jac, ra, dt, law.mu, l_sum, &radius_cols, d.vector(), m, arg);
+                    }
                 }
             }
         }
@@ -379,109 +373,89 @@ impl<S: System> Stepper<S> {
 /// §3).
 pub const NEGLIGIBLE_SLIP: f64 = 1e-9;
 
-/// The vectors whose directions the sliding rows of one friction law take: ξ and v as
-/// in eqs. 139–142 while they have one; the prox argument a = r ξ − P_F when they are
-/// negligible against it.
+/// The vector whose direction one sliding row of a friction law takes: its own vector
+/// (ξ_F, γ_F or γ̇_F as in eqs. 139–142) while that has a direction, the prox argument of
+/// the law's level when a disk law's own vector is negligible against it
+/// (r‖own‖ ≤ [`NEGLIGIBLE_SLIP`] ‖argument‖).
 ///
-/// Outside D, ‖a‖ > μP̂ ≥ 0, so a always has a direction; and at a solution outside D,
-/// P_F = −μP̂ a/‖a‖ gives r ξ = a (1 − μP̂/‖a‖), so ξ ∥ a and both forms agree. A sliding
-/// row written with ξ/‖ξ‖ when ‖ξ‖ is round-off has derivatives of order P̂/‖ξ‖
-/// (measured 1e31 at the start of a cylinder's spin-up, whose floor contact rolls) and
-/// makes the Newton matrix numerically singular; with a/‖a‖ they stay of order 1.
-struct SlipDirections {
+/// Outside D, a = r ξ − P_F has ‖a‖ > μP̂ ≥ 0, so it always has a direction; and at a
+/// solution outside D, P_F = −μP̂ a/‖a‖ gives r ξ = a (1 − μP̂/‖a‖), so ξ ∥ a and both
+/// forms agree (likewise b = r γ̇ − λ_F outside E). A sliding row written with ξ/‖ξ‖
+/// when ‖ξ‖ is round-off has derivatives of order P̂/‖ξ‖ (measured 1e31 at the start of
+/// a cylinder's spin-up, whose floor contact rolls; and with γ̇ at a contact held on its
+/// stick–slip bound) and makes the Newton matrix numerically singular; with a/‖a‖ they
+/// stay of order 1. An interval law (one component) has no such blow-up, its projector
+/// 1 − d d being zero, and keeps the paper's rows.
+struct GuardedDirection {
     n: usize,
-    xi: [f64; 2],
-    v: [f64; 2],
-    a: [f64; 2],
-    projected_velocity: bool,
-    projected_acceleration: bool,
-}
-
-impl SlipDirections {
-    /// For a law of one or two components (eq. 141's interval or disk).
-    fn new(r: f64, xi: &[f64], v: &[f64], p_f: &[f64]) -> Self {
-        let n = xi.len().min(2);
-        let (mut xs, mut vs, mut a) = ([0.0; 2], [0.0; 2], [0.0; 2]);
-        for m in 0..n {
-            xs[m] = xi[m];
-            vs[m] = v[m];
-            a[m] = r * xi[m] - p_f[m];
-        }
-        // Only a disk law (two components) blows up: an interval law's projector
-        // 1 − d d is zero, and its rows keep the paper's form.
-        let tiny = if n == 2 {
-            NEGLIGIBLE_SLIP * norm(&a[..n])
-        } else {
-            0.0
-        };
-        Self {
-            n,
-            projected_velocity: tiny > 0.0 && r * norm(&xs[..n]) <= tiny,
-            projected_acceleration: tiny > 0.0 && r * norm(&vs[..n]) <= tiny,
-            xi: xs,
-            v: vs,
-            a,
-        }
-    }
-
-    /// The vector whose direction the velocity-level sliding row takes.
-    fn velocity_level(&self) -> &[f64] {
-        if self.projected_velocity {
-            &self.a[..self.n]
-        } else {
-            &self.xi[..self.n]
-        }
-    }
-
-    /// The vector whose direction the acceleration-level sliding row takes outside D.
-    fn acceleration_level(&self) -> &[f64] {
-        if self.projected_acceleration {
-            &self.a[..self.n]
-        } else {
-            &self.v[..self.n]
-        }
-    }
-}
-
-/// The vector whose direction the acceleration-level sliding row of a law in D ∖ E takes:
-/// γ̇_F as in eq. 142, or the prox argument b = r γ̇_F − λ_F where a two-component law's
-/// γ̇_F is negligible against it (outside E, ‖b‖ > μλ̂ ≥ 0; at a solution they agree, as
-/// for [`SlipDirections`]). A contact held at its stick–slip bound has γ̇_F of round-off:
-/// measured on the pushed cylinders at their minimum force, where the matrix was
-/// singular.
-struct StickAcceleration {
-    n: usize,
-    acc: [f64; 2],
-    b: [f64; 2],
+    vector: [f64; 2],
+    /// Whether `vector` is the prox argument.
     projected: bool,
 }
 
-impl StickAcceleration {
-    fn new(r: f64, acc: &[f64], lambda_f: &[f64]) -> Self {
-        let n = acc.len().min(2);
-        let (mut a, mut b) = ([0.0; 2], [0.0; 2]);
-        for m in 0..n {
-            a[m] = acc[m];
-            b[m] = r * acc[m] - lambda_f[m];
-        }
+impl GuardedDirection {
+    fn new(r: f64, own: &[f64], argument: &[f64; 2]) -> Self {
+        let n = own.len().min(2);
         let tiny = if n == 2 {
-            NEGLIGIBLE_SLIP * norm(&b[..n])
+            NEGLIGIBLE_SLIP * norm(&argument[..n])
         } else {
             0.0
         };
+        let projected = tiny > 0.0 && r * norm(own) <= tiny;
+        let mut vector = *argument;
+        if !projected {
+            vector[..n].copy_from_slice(&own[..n]);
+        }
         Self {
             n,
-            acc: a,
-            b,
-            projected: tiny > 0.0 && r * norm(&a[..n]) <= tiny,
+            vector,
+            projected,
         }
     }
 
-    fn direction(&self) -> &[f64] {
-        if self.projected {
-            &self.b[..self.n]
-        } else {
-            &self.acc[..self.n]
+    fn vector(&self) -> &[f64] {
+        &self.vector[..self.n]
+    }
+}
+
+/// r s − f over a law's one or two components.
+fn prox_argument(r: f64, s: &[f64], f: &[f64]) -> [f64; 2] {
+    let mut a = [0.0; 2];
+    for (m, am) in a.iter_mut().enumerate().take(s.len()) {
+        *am = r * s[m] - f[m];
+    }
+    a
+}
+
+/// The sliding directions of one active friction law under its sets: None for a row
+/// that sticks (velocity level in D, acceleration level in E).
+struct SlidingDirections {
+    velocity: Option<GuardedDirection>,
+    acceleration: Option<GuardedDirection>,
+}
+
+impl SlidingDirections {
+    /// For sets (in D, in E), with ξ_F and P_F, (γ_F, γ̇_F) and λ_F of the law.
+    fn new(
+        r: f64,
+        (d, e): (bool, bool),
+        xi: &[f64],
+        p_f: &[f64],
+        (v, acc): (&[f64], &[f64]),
+        lambda_f: &[f64],
+    ) -> Self {
+        let a = (!d).then(|| prox_argument(r, xi, p_f));
+        Self {
+            velocity: a.map(|a| GuardedDirection::new(r, xi, &a)),
+            acceleration: match a {
+                Some(a) => Some(GuardedDirection::new(r, v, &a)),
+                None if !e => Some(GuardedDirection::new(
+                    r,
+                    acc,
+                    &prox_argument(r, acc, lambda_f),
+                )),
+                None => None,
+            },
         }
     }
 }
@@ -491,29 +465,20 @@ impl StickAcceleration {
 pub(crate) enum SlipArgument<'a> {
     /// Rows `vs + m'` of a kept derivative matrix.
     Rows(&'a RowMat, usize),
-    /// The prox argument r ξ − P_F: r times rows `vs + m'` of ∂ξ/∂x, minus ∂P_F/∂x with
-    /// P_F = Λ_F + c λ_F (columns of Λ_F and λ_F of component 0, and c).
-    Projected {
-        dxv: &'a RowMat,
-        vs: usize,
-        r: f64,
-        p_f: (usize, usize, f64),
-    },
+    /// A prox argument r s − f: r times rows `vs + m'` of ∂s/∂x, minus ∂f/∂x, f_m' being
+    /// the sum of coefficient times unknown over `(column of component 0, coefficient)`.
+    Projected(&'a RowMat, usize, f64, &'a [(usize, f64)]),
 }
 
 impl SlipArgument<'_> {
     fn for_each(self, mp: usize, mut f: impl FnMut(usize, f64)) {
         match self {
             Self::Rows(dv, vs) => dv.row(vs + mp).for_each(|(c, v)| f(c, v)),
-            Self::Projected {
-                dxv,
-                vs,
-                r,
-                p_f: (cap, small, c),
-            } => {
-                dxv.row(vs + mp).for_each(|(col, v)| f(col, r * v));
-                f(cap + mp, -1.0);
-                f(small + mp, -c);
+            Self::Projected(ds, vs, r, force) => {
+                ds.row(vs + mp).for_each(|(col, v)| f(col, r * v));
+                for &(col, coef) in force {
+                    f(col + mp, -coef);
+                }
             }
         }
     }

@@ -178,7 +178,7 @@ fn sweep_push(a: &PushSweepArgs) -> Result<()> {
                 .last()
                 .map_or(1.0, |p| if *p < 0.0 { -1.0 } else { 1.0 }),
         )?;
-        plot_minimum_force(&dir.join("sweep_push_minimum.png"), &rows, a.mu_floor)?;
+        plot_minimum_force(&dir.join("sweep_push_minimum.png"), &rows, &c, a.mu_floor)?;
     }
     let agreeing = rows.iter().filter(|r| r.agrees).count();
     let minimum = rows
