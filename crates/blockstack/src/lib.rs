@@ -51,11 +51,14 @@
 pub mod base;
 pub mod block;
 pub mod broad_phase;
+pub mod contact_states;
 pub mod coordinates;
 pub mod corners;
 mod error;
 pub mod events;
+pub mod exploration;
 pub mod floor;
+pub mod fork_check;
 pub mod gaps;
 pub mod interface;
 pub mod overlap;

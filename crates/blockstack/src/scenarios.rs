@@ -434,3 +434,110 @@ mod tests {
         assert_eq!(s.n_normal_contacts(), 8 + 16);
     }
 }
+
+/// A block sliding on one corner over a fixed table (App. I, point contact), set up so
+/// that the corner's normal acceleration is ÿ_P = A + B n (n the normal force per mg).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PainleveCorner {
+    /// Block angle θ (rad); the lowest corner touches the table.
+    pub theta: f64,
+    /// Friction coefficient μ.
+    pub mu: f64,
+    /// Slip speed ẋ_P of the corner (its sign is sgn ẋ_P of (I.1.8)).
+    pub slip: f64,
+    /// A: the corner's normal acceleration without contact force, in units of g (> −1:
+    /// it sets the spin, A = −1 − θ̇² r_y / g).
+    pub free_acceleration: f64,
+    /// Sign of the spin θ̇.
+    pub spin_sign: f64,
+}
+
+impl Default for PainleveCorner {
+    /// A case of Painlevé's indeterminacy for w/h = 0.5: θ = 0.9, μ = 2, sliding right,
+    /// A = 0.5 g and B = −0.76 < 0, so that both n = 0 (lift-off) and n = −A/B (contact)
+    /// solve the contact problem.
+    fn default() -> Self {
+        Self {
+            theta: 0.9,
+            mu: 2.0,
+            slip: 0.5,
+            free_acceleration: 0.5,
+            spin_sign: 1.0,
+        }
+    }
+}
+
+impl PainleveCorner {
+    /// Block size (w, h) and table height of the scene.
+    const SIZE: (f64, f64) = (0.2, 0.4);
+
+    /// The lowest corner relative to the centre, r = P − c.
+    #[must_use]
+    pub fn corner(&self) -> (f64, f64) {
+        let (w, h) = Self::SIZE;
+        let (s, c) = self.theta.sin_cos();
+        [(-0.5 * w, -0.5 * h), (0.5 * w, -0.5 * h)]
+            .iter()
+            .map(|&(a, b)| (c * a - s * b, s * a + c * b))
+            .fold((0.0, f64::INFINITY), |m, p| if p.1 < m.1 { p } else { m })
+    }
+
+    /// B of ÿ_P = A + B n for unit mass and g = 1: 1 + r_x (r_x + μ sgn(ẋ_P) r_y)/I.
+    /// The paradoxes need B < 0 (App. I: b ≤ 0); with A > 0 the contact problem has two
+    /// solutions.
+    #[must_use]
+    pub fn response(&self) -> f64 {
+        let (w, h) = Self::SIZE;
+        let inertia = (w * w + h * h) / 12.0;
+        let (rx, ry) = self.corner();
+        1.0 + rx * (rx + self.mu * self.slip.signum() * ry) / inertia
+    }
+
+    /// The scene: the block (m = 1) with its lowest corner on a fixed table (w = 10,
+    /// h = 0.1, top at y = 0.05), the corner moving along the table at `slip`, g = 1,
+    /// Δt = 10⁻³, t_end = 0.01.
+    ///
+    /// # Errors
+    /// A free acceleration of −1 or less (no spin gives it) or non-finite input.
+    pub fn scene(&self) -> Result<Scene, BlockError> {
+        input::finite("theta", self.theta)?;
+        input::finite("slip", self.slip)?;
+        if self.free_acceleration <= -1.0 || !self.free_acceleration.is_finite() {
+            return Err(BlockError::Scene(format!(
+                "the corner's free acceleration must be above -1 (g units), got {}",
+                self.free_acceleration
+            )));
+        }
+        let (w, h) = Self::SIZE;
+        let (rx, ry) = self.corner();
+        let omega = self.spin_sign.signum() * ((1.0 + self.free_acceleration) / -ry).sqrt();
+        let base = Base::new(10.0, 0.1, BaseMotion::Fixed)?;
+        let mut block = Block::new(w, h, 1.0)?;
+        block.initial = crate::Pose {
+            x: 0.0,
+            y: base.top() - ry,
+            theta: self.theta,
+        };
+        block.velocity = crate::Twist {
+            vx: self.slip + omega * ry,
+            vy: -omega * rx,
+            omega,
+        };
+        let solver = SolverParams {
+            dt: 1e-3,
+            t_end: 0.01,
+            ..SolverParams::default()
+        };
+        Scene::new(
+            base,
+            vec![block],
+            None,
+            ContactParams {
+                mu: self.mu,
+                e_n: 0.0,
+                e_f: 0.0,
+            },
+            solver,
+        )
+    }
+}

@@ -250,6 +250,15 @@ impl Scene {
             .fold(f64::INFINITY, f64::min)
     }
 
+    /// The smallest block height (the scale of the opening and penetration tolerances).
+    #[must_use]
+    pub fn smallest_block_height(&self) -> f64 {
+        self.blocks
+            .iter()
+            .map(Block::height)
+            .fold(f64::INFINITY, f64::min)
+    }
+
     /// Initial coordinates q₀ = (x¹, y¹, θ¹, …, xⁿ, yⁿ, θⁿ), (4.2.1)–(4.2.2).
     #[must_use]
     pub fn initial_coordinates(&self) -> Vec<f64> {

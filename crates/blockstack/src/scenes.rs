@@ -41,7 +41,17 @@ impl BuiltinScene {
     }
 }
 
-const BUILTIN: [BuiltinScene; 3] = [
+const BUILTIN: [BuiltinScene; 5] = [
+    BuiltinScene {
+        name: "abundance",
+        description: "Figure 4.5 as the thesis states it: five blocks, mu = 0.3, base x = sin(3πt/2), 60 steps per period, 3 periods, floor (for `blocks explore`)",
+        toml: include_str!("../scenes/abundance.toml"),
+    },
+    BuiltinScene {
+        name: "abundance-author",
+        description: "Figure 4.5 with the author's scripts' settings: base x = 0.2 sin(3πt/2), 200 steps per period, 4 periods, floor (for `blocks explore`)",
+        toml: include_str!("../scenes/abundance-author.toml"),
+    },
     BuiltinScene {
         name: "lire",
         description: "the Leaning Tower of Lire (§4.3): four blocks at maximum overhang on a fixed table, no floor",

@@ -116,6 +116,12 @@ pub struct RunOptions {
     pub prox: Option<Prox>,
     /// Record branch points (re-solve with fixed sets when Newton cycles).
     pub explore_branches: bool,
+    /// Which fixed-set solutions count as a branch point's candidates (default: the
+    /// self-consistent ones; [`nsga::BranchRule::Converged`] is the thesis's count).
+    pub branch_rule: nsga::BranchRule,
+    /// Probe every converged step for other solutions by flipping one touching contact
+    /// ([`nsga::Options::probe_flips`]; costly, for exploring).
+    pub probe_flips: bool,
     /// Stop as soon as `failure_time` is known (sweeps).
     pub stop_at_failure: bool,
     /// Leave out the last resort ([`nsga::Options::last_resort`]): a step nothing else
@@ -312,6 +318,8 @@ pub fn stepper_options(scene: &Scene, options: &RunOptions) -> Result<Options, B
         tol: s.tol,
         max_iter: MAX_NEWTON_ITERATIONS,
         explore_branches: options.explore_branches,
+        branch_rule: options.branch_rule,
+        probe_flips: options.probe_flips,
         // Markowitz LU for the small scenes of the thesis, faer's sparse LU for tall
         // columns (the Newton matrix of a chain is banded).
         solver: SolverChoice::Markowitz(SMALL_LU_UP_TO),
@@ -386,17 +394,33 @@ pub(crate) fn step_count(t_end: f64, dt: f64) -> usize {
 }
 
 /// What is recorded of one state.
-struct Recorder<'a> {
+#[derive(Debug, Clone)]
+pub(crate) struct Recorder<'a> {
     scene: &'a Scene,
-    contacts: StackContacts<f64>,
-    open_tol: f64,
-    watch: EventWatch,
+    pub(crate) contacts: StackContacts<f64>,
+    pub(crate) open_tol: f64,
+    pub(crate) watch: EventWatch,
     /// The deepest penetration of the states recorded so far (the initial one before).
-    deepest: TimedPenetration,
+    pub(crate) deepest: TimedPenetration,
 }
 
-impl Recorder<'_> {
-    fn record(&mut self, t: f64, st: &nsga::State, iterations: usize) -> StepRecord {
+impl<'a> Recorder<'a> {
+    /// A recorder for a run of `scene` from coordinates `q0` at t = 0.
+    pub(crate) fn new(scene: &'a Scene, q0: &[f64]) -> Self {
+        let height = scene.smallest_block_height();
+        Self {
+            scene,
+            contacts: StackContacts::default(),
+            open_tol: OPEN_GAP_TOL * height,
+            watch: EventWatch::new(scene, OPEN_GAP_TOL * height),
+            deepest: TimedPenetration {
+                t: 0.0,
+                penetration: deepest_penetration(scene, 0.0, q0),
+            },
+        }
+    }
+
+    pub(crate) fn record(&mut self, t: f64, st: &nsga::State, iterations: usize) -> StepRecord {
         let n = self.scene.n_blocks();
         self.scene
             .contacts_into(t, &st.q, &st.u, &mut self.contacts);
@@ -478,21 +502,8 @@ pub fn simulate_until(
     let steps_wanted = step_count(t_end, dt);
     let q0 = scene.initial_coordinates();
     let u0 = scene.initial_velocities();
-    let height = scene
-        .blocks()
-        .iter()
-        .map(crate::Block::height)
-        .fold(f64::INFINITY, f64::min);
-    let mut rec = Recorder {
-        scene,
-        contacts: StackContacts::default(),
-        open_tol: OPEN_GAP_TOL * height,
-        watch: EventWatch::new(scene, OPEN_GAP_TOL * height),
-        deepest: TimedPenetration {
-            t: 0.0,
-            penetration: deepest_penetration(scene, 0.0, &q0),
-        },
-    };
+    let height = scene.smallest_block_height();
+    let mut rec = Recorder::new(scene, &q0);
     let mut summary = RunSummary {
         steps: 0,
         failure_time: None,
@@ -650,7 +661,7 @@ fn accepted(s: &nsga::StepStats) -> Accepted {
 }
 
 /// Updates the failure and opening times from the contacts last recorded at t.
-fn check_failure(rec: &Recorder<'_>, t: f64, summary: &mut RunSummary) {
+pub(crate) fn check_failure(rec: &Recorder<'_>, t: f64, summary: &mut RunSummary) {
     if summary.failure_time.is_none() && rec.contacts.first_unsupported().is_some() {
         summary.failure_time = Some(t);
     }

@@ -44,6 +44,17 @@ impl CornerStepping {
         self.wanted = Some((0, list));
     }
 
+    /// The bookkeeping for a branch that continues from another state of this run (an
+    /// exploration's fork): the counters carry over, the broad phase's list (which
+    /// belongs to this run's state) does not.
+    #[must_use]
+    pub fn for_branch(&self) -> Self {
+        Self {
+            wanted: None,
+            ..self.clone()
+        }
+    }
+
     /// Puts `wanted` into the system's slots and tells the stepper what changed.
     ///
     /// # Errors

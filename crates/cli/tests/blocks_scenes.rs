@@ -92,7 +92,7 @@ fn run_takes_a_builtin_name_and_a_file_wins_over_it() {
     assert!(!ok && stdout.is_empty());
     assert_eq!(stderr.trim().lines().count(), 1, "{stderr}");
     assert!(
-        stderr.contains("built-in scenes: lire, shaking, slide"),
+        stderr.contains("built-in scenes: abundance, abundance-author, lire, shaking, slide"),
         "{stderr}"
     );
     std::fs::remove_dir_all(dir).unwrap();

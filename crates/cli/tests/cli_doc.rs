@@ -631,6 +631,17 @@ fn runs() -> Vec<Run> {
             true,
         ),
         run(
+            "blocks explore",
+            &[
+                "abundance-author",
+                "--t-end",
+                "0.05",
+                "--classify",
+                "--json",
+            ],
+            true,
+        ),
+        run(
             "blocks work-precision",
             &["--dts", "1e-2,5e-3", "--reference-factor", "2", "--json"],
             true,

@@ -218,7 +218,7 @@ pub fn frame_views(scene: &Scene, frames: &[&Frame]) -> Vec<View> {
 
 /// Height of a picture of the stack `width` pixels wide: as high as the views'
 /// proportions ask (the tallest of them), between half and 1.25 times the width.
-fn picture_height(width: u32, views: &[View]) -> u32 {
+pub(crate) fn picture_height(width: u32, views: &[View]) -> u32 {
     let ratio = views
         .iter()
         .map(|v| (v.y.end - v.y.start) / (v.x.end - v.x.start))
@@ -266,7 +266,7 @@ fn clip(poly: &[(f64, f64)], view: &View) -> Vec<(f64, f64)> {
 /// The layout shared by every frame of one figure: title room, label areas, so that
 /// the plotting area, and with it the scale, is the same in every frame.
 #[derive(Debug, Clone, Copy)]
-struct StackLayout {
+pub(crate) struct StackLayout {
     title_px: u32,
     title_lines: usize,
     x_area: u32,
@@ -278,7 +278,7 @@ const STACK_MARGIN: u32 = 12;
 
 impl StackLayout {
     /// The layout for frames with these titles and views on `area`.
-    fn new(area: &Canvas<'_>, titles: &[String], views: &[View]) -> Self {
+    pub(crate) fn new(area: &Canvas<'_>, titles: &[String], views: &[View]) -> Self {
         let measure = |s: &str, px: u32| {
             area.estimate_text_size(s, &TextStyle::from((FONT, px).into_font()))
                 .map_or(0, |d| d.0)
@@ -325,7 +325,7 @@ impl StackLayout {
 /// Draws one frame of the stack onto a canvas: the floor as a line, the base in
 /// [`BASE_COLOR`], the blocks as rotated rectangles in colour, clipped to the view; the
 /// bodies out of view are named in the corner.
-fn draw_stack(
+pub(crate) fn draw_stack(
     root: &Canvas<'_>,
     scene: &Scene,
     frame: &Frame,

@@ -39,6 +39,7 @@
 pub mod axis;
 pub mod blocks;
 pub mod cylinders;
+pub mod exploration;
 pub mod file;
 pub mod nsga;
 pub mod page;

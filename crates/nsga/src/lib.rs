@@ -96,6 +96,7 @@
 
 pub mod attempt;
 pub mod error;
+pub mod explore;
 pub mod lcp;
 mod lcp_step;
 mod level;
@@ -116,11 +117,14 @@ pub mod systems;
 
 pub use attempt::{AttemptFailure, Trial};
 pub use error::StepError;
+pub use explore::{
+    explore, Branch, BranchEnd, Exploration, ExploreOptions, Fork, Strategy, Walker,
+};
 pub use linalg::{AutoSolver, DenseLu, LinalgError, LinearSolver, MarkowitzLu, SparseLu};
 pub use moreau::{MoreauOptions, MoreauState, MoreauStepper};
 pub use newton::{MAX_REUSES, REUSE_CONTRACTION};
 pub use options::{
-    FailurePolicy, Options, Prox, RhoInfRetry, SolverChoice, DEFAULT_REGULARIZATION,
+    BranchRule, FailurePolicy, Options, Prox, RhoInfRetry, SolverChoice, DEFAULT_REGULARIZATION,
     DEFAULT_RETRY_MAX_ITER,
 };
 pub use params::GenAlpha;

@@ -17,7 +17,7 @@ pub use sparse::{SparseLu, SYMBOLIC_CACHE};
 pub struct LinalgError(pub String);
 
 /// Solves J x = b for a square J given as (row, col, value) triplets (duplicates summed).
-pub trait LinearSolver: std::fmt::Debug {
+pub trait LinearSolver: std::fmt::Debug + Send {
     /// Overwrites `rhs` with the solution of J x = rhs, J of size n × n.
     ///
     /// # Errors

@@ -117,6 +117,17 @@ pub struct Options {
     pub retry_max_iter: usize,
     /// Re-solve with fixed index sets when the sets cycle (branch exploration).
     pub explore_branches: bool,
+    /// Which fixed-set solutions count as continuations of a cycling step.
+    #[serde(default)]
+    pub branch_rule: BranchRule,
+    /// After a step converges, re-solve it with the state of one normal contact flipped
+    /// (a closed contact opened, a touching open one closed with each friction state) and
+    /// report the self-consistent solutions that differ as a branch point: the
+    /// non-uniqueness that Newton's iterates need not reveal by cycling (Painlevé's
+    /// indeterminacy, docs/method.md §8). Costs up to four fixed-set solves per touching
+    /// contact and step; off by default.
+    #[serde(default)]
+    pub probe_flips: bool,
     /// Linear solver.
     pub solver: SolverChoice,
     /// What to do when every retry fails.
@@ -178,6 +189,34 @@ pub struct Options {
     pub last_resort: bool,
 }
 
+/// Which fixed-set solutions of a cycling step count as its continuations (branch
+/// candidates, docs/method.md §8).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum BranchRule {
+    /// A converged solution whose own index sets, recomputed from it, are the sets it
+    /// was solved with: a solution of the step's equations, contact laws included.
+    #[default]
+    SelfConsistent,
+    /// Every converged fixed-set solve, as the thesis counts branches (§4.4: each contact
+    /// state for which the scheme converges becomes a branch). A solve with fixed sets can
+    /// converge to a state that breaks the contact laws it did not impose (a gap held
+    /// closed by a pulling force, a contact held in stick beyond its friction cone); this
+    /// rule keeps those too, to reproduce the thesis's count and compare with it.
+    Converged,
+}
+
+impl BranchRule {
+    /// `self_consistent` or `converged`.
+    #[must_use]
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::SelfConsistent => "self_consistent",
+            Self::Converged => "converged",
+        }
+    }
+}
+
 fn yes() -> bool {
     true
 }
@@ -214,6 +253,8 @@ impl Default for Options {
             rho_inf_retry: RhoInfRetry::AnyFailure,
             retry_max_iter: DEFAULT_RETRY_MAX_ITER,
             explore_branches: true,
+            branch_rule: BranchRule::SelfConsistent,
+            probe_flips: false,
             solver: SolverChoice::Markowitz(MARKOWITZ_SPARSE_THRESHOLD),
             on_failure: FailurePolicy::Error,
             start_tol: 1e-9,

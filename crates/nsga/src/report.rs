@@ -14,6 +14,15 @@ pub struct BranchPoint {
     /// Distinct converged continuations (deduplicated by state), each with the sets it
     /// was solved with.
     pub candidates: Vec<(IndexSets, State)>,
+    /// Per candidate: whether it is self-consistent (its sets, recomputed from it, are
+    /// the ones it was solved with). All true under [`BranchRule::SelfConsistent`]; under
+    /// [`BranchRule::Converged`] the others are solutions of the fixed-set equations that
+    /// break a contact law the fixed sets did not impose.
+    ///
+    /// [`BranchRule::SelfConsistent`]: crate::BranchRule::SelfConsistent
+    /// [`BranchRule::Converged`]: crate::BranchRule::Converged
+    #[serde(default)]
+    pub consistent: Vec<bool>,
     /// How many fixed-set re-solves were tried.
     pub tried: usize,
     /// Index of the candidate the stepper continued with (the first, in the order the

@@ -262,6 +262,31 @@ impl<S: System> Stepper<S> {
         self.time_base = (state.t, state.k);
         self.state = state;
     }
+    /// A stepper for the same system and options that continues from `state`, one of
+    /// this stepper's states or a candidate of its last branch point (how an exploration
+    /// follows each continuation of a fork, [`crate::explore`]). Its time grid is this
+    /// stepper's, so t_k of a branch agrees bitwise with the run it forked from; its
+    /// statistics start at zero and its buffers (kept factors, remembered singular sets)
+    /// are fresh.
+    #[must_use]
+    pub fn branch_from(&self, state: State) -> Self
+    where
+        S: Clone,
+    {
+        Self {
+            system: self.system.clone(),
+            layout: self.layout.clone(),
+            off: self.off,
+            options: self.options.clone(),
+            state,
+            stats: RunStats::default(),
+            last: None,
+            work: Work::new(&self.layout, &self.options),
+            law_off: self.law_off.clone(),
+            comp_ef: self.comp_ef.clone(),
+            time_base: self.time_base,
+        }
+    }
     /// The options.
     pub fn options(&self) -> &Options {
         &self.options

@@ -274,7 +274,7 @@ fn run_options(
         explore_branches,
         stop_at_failure,
         skip_last_resort: !last_resort,
-        cancel: None,
+        ..RunOptions::default()
     })
 }
 

@@ -18,6 +18,7 @@ use super::Stepper;
 use crate::attempt::Trial;
 use crate::error::StepError;
 use crate::linalg::norm;
+use crate::options::BranchRule;
 use crate::report::BranchPoint;
 use crate::sets::IndexSets;
 use crate::state::State;
@@ -27,15 +28,25 @@ use crate::system::{FrictionLaw, System};
 #[derive(Debug, Default)]
 struct Candidates {
     found: Vec<(IndexSets, State)>,
+    consistent: Vec<bool>,
     trials: Vec<Trial>,
 }
 
 impl Candidates {
-    /// Keeps `trial` (solved with `sets`) unless its state repeats one already kept.
-    fn offer(&mut self, sets: &IndexSets, trial: Trial) {
-        if !self.found.iter().any(|(_, s)| s.same_motion(&trial.state)) {
-            self.found.push((sets.clone(), trial.state.clone()));
-            self.trials.push(trial);
+    /// Keeps `trial` (solved with `sets`, self-consistent or not) unless its state repeats
+    /// one already kept; a repeat that is self-consistent marks the kept one so.
+    fn offer(&mut self, sets: &IndexSets, trial: Trial, consistent: bool) {
+        match self
+            .found
+            .iter()
+            .position(|(_, s)| s.same_motion(&trial.state))
+        {
+            Some(i) => self.consistent[i] |= consistent,
+            None => {
+                self.found.push((sets.clone(), trial.state.clone()));
+                self.consistent.push(consistent);
+                self.trials.push(trial);
+            }
         }
     }
 }
@@ -55,9 +66,11 @@ impl<S: System> Stepper<S> {
             let Ok(t) = self.solve_retry(Some(sets), rho0) else {
                 continue;
             };
-            // Self-consistency: the sets recomputed from the converged x.
-            if &self.sets_of(&t.state.x, rho0) == sets {
-                candidates.offer(sets, t);
+            // Self-consistency: the sets recomputed from the converged x (the thesis's
+            // rule keeps every converged solve).
+            let consistent = &self.sets_of(&t.state.x, rho0) == sets;
+            if consistent || self.options.branch_rule == BranchRule::Converged {
+                candidates.offer(sets, t, consistent);
             }
         }
         let mut t = self.chosen(candidates, visited.len())?;
@@ -67,7 +80,11 @@ impl<S: System> Stepper<S> {
 
     /// The candidate [`System::choose_branch`] picks, carrying the branch point.
     fn chosen(&self, candidates: Candidates, tried: usize) -> Option<Trial> {
-        let Candidates { found, mut trials } = candidates;
+        let Candidates {
+            found,
+            consistent,
+            mut trials,
+        } = candidates;
         if trials.is_empty() {
             return None;
         }
@@ -79,10 +96,59 @@ impl<S: System> Stepper<S> {
         t.stats.branch = Some(BranchPoint {
             t: self.state.t,
             candidates: found,
+            consistent,
             tried,
             chosen,
         });
         Some(t)
+    }
+
+    /// The flip probe of a converged step ([`Options::probe_flips`]): the step re-solved
+    /// with one touching normal contact's state flipped ([`flipped_sets`]); the
+    /// self-consistent solutions that differ from `converged` make a branch point whose
+    /// first candidate is `converged` (the one continued).
+    ///
+    /// [`Options::probe_flips`]: crate::Options::probe_flips
+    pub(super) fn probe_flips(&mut self, converged: Trial, rho0: f64) -> Trial {
+        let touching = self.touching_contacts(&converged.stats.sets);
+        let flips = flipped_sets(&converged.stats.sets, &touching, &self.layout.friction);
+        let mut candidates = Candidates::default();
+        let sets = converged.stats.sets.clone();
+        candidates.offer(&sets, converged, true);
+        for s in &flips {
+            let Ok(t) = self.solve_retry(Some(s), rho0) else {
+                continue;
+            };
+            if &self.sets_of(&t.state.x, rho0) == s {
+                candidates.offer(s, t, true);
+            }
+        }
+        let more = candidates.trials.len() > 1;
+        let mut first = candidates.trials.swap_remove(0);
+        if more {
+            first.stats.branch = Some(BranchPoint {
+                t: self.state.t,
+                candidates: candidates.found,
+                consistent: candidates.consistent,
+                tried: flips.len() + 1,
+                chosen: 0,
+            });
+        }
+        first
+    }
+
+    /// The normal contacts whose state a flip probe changes: those closed in `sets` and
+    /// those whose gap at the step's start is within [`Options::start_tol`] of zero.
+    ///
+    /// [`Options::start_tol`]: crate::Options::start_tol
+    fn touching_contacts(&self, sets: &IndexSets) -> Vec<usize> {
+        let mut eval = crate::system::Evaluation::new(&self.layout);
+        let st = &self.state;
+        self.system.evaluate(st.t, &st.q, &st.u, &mut eval);
+        let ng = self.layout.n_bilateral_position;
+        (0..self.off.nn)
+            .filter(|&k| sets.a[k] || eval.position[ng + k].abs() <= self.options.start_tol)
+            .collect()
     }
 
     /// Fixed-set re-solves for a step whose Newton iterates cycle because a friction law
@@ -140,7 +206,7 @@ impl<S: System> Stepper<S> {
                 free
             };
             let sets = candidate.stats.sets.clone();
-            candidates.offer(&sets, candidate);
+            candidates.offer(&sets, candidate, true);
         }
         let Some(mut trial) = self.chosen(candidates, tried) else {
             return Err(StepError::NotConverged {
@@ -206,6 +272,43 @@ fn magnitude(v: &[f64]) -> f64 {
         [x] => x.abs(),
         _ => norm(v),
     }
+}
+
+/// The sets of a flip probe: for each of the `touching` normal contacts, `sets` with it
+/// opened (when it is closed on acceleration level, C) or else closed on every level with
+/// each state of the friction laws it bounds (slip, stick on velocity level only, stick).
+fn flipped_sets(sets: &IndexSets, touching: &[usize], laws: &[FrictionLaw]) -> Vec<IndexSets> {
+    let mut out: Vec<IndexSets> = Vec::new();
+    let mut push = |s: IndexSets| {
+        if &s != sets && !out.contains(&s) {
+            out.push(s);
+        }
+    };
+    for &k in touching {
+        let mut s = sets.clone();
+        if sets.c[k] {
+            s.a[k] = false;
+            s.b[k] = false;
+            s.c[k] = false;
+            push(s);
+            continue;
+        }
+        s.a[k] = true;
+        s.b[k] = true;
+        s.c[k] = true;
+        let bound: Vec<usize> = (0..laws.len())
+            .filter(|&j| laws[j].normals.contains(&k))
+            .collect();
+        for (d, e) in [(false, false), (true, false), (true, true)] {
+            let mut f = s.clone();
+            for &j in &bound {
+                f.d[j] = d;
+                f.e[j] = e;
+            }
+            push(f);
+        }
+    }
+    out
 }
 
 /// The sets to try with the sets fixed: those the Newton iterates visited, in order, then

@@ -47,6 +47,11 @@ impl<S: System> Stepper<S> {
         let rho0 = self.options.rho_inf;
         let first = match self.solve(None, rho0, self.state.x.clone()) {
             Ok(t) => {
+                let t = if self.options.probe_flips {
+                    self.probe_flips(t, rho0)
+                } else {
+                    t
+                };
                 self.commit(t);
                 return Ok(());
             }

@@ -9,10 +9,13 @@
 //!   `sweep scene` ([`sweep_scene`]: any scene over any of its numeric keys): many runs in
 //!   parallel, one CSV row per parameter value (or combination) in input order;
 //! - `painleve` ([`painleve`]): Painlevé's paradoxes for one block (App. I);
-//! - `work-precision` ([`work_precision`]): speed against error, NSGA and Moreau–Jean.
+//! - `work-precision` ([`work_precision`]): speed against error, NSGA and Moreau–Jean;
+//! - `explore` ([`explore`]): every continuation of a run, its forks labelled real or
+//!   artefact, and Figure 4.5.
 //!
 //! Every number comes from `blockstack`: its simulation, its recorder and its studies.
 
+pub mod explore;
 pub mod lire;
 pub mod painleve;
 pub mod scenes;
@@ -64,6 +67,11 @@ pub enum BlocksCommand {
     /// Painlevé's paradoxes for one block on a rough plane (App. I): least friction
     /// coefficient, admissible angles, sign regions of b, line-contact forces.
     Painleve(painleve::PainleveArgs),
+    /// Every continuation of a scene's run (§4.4, Figure 4.5): at each fork (a step with
+    /// several solutions) every candidate is followed as a branch; the tree, the forks
+    /// (optionally checked against refinement: real or artefact), the outcomes and
+    /// Figure 4.5.
+    Explore(explore::ExploreArgs),
     /// Speed against error for block stacks: the error at the end time against a run
     /// with a much smaller step, and the largest penetration, against solver time, NSGA
     /// beside Moreau–Jean, with the observed orders.
@@ -85,6 +93,7 @@ pub fn run(args: &BlocksArgs) -> Result<()> {
         BlocksCommand::Sweep(sweep::SweepCommand::Scene(a)) => sweep_scene::sweep_scene(a),
         BlocksCommand::Painleve(a) => painleve::run(a),
         BlocksCommand::WorkPrecision(a) => work_precision::run(a),
+        BlocksCommand::Explore(a) => explore::run(a),
     }
 }
 
@@ -134,7 +143,7 @@ impl SolverArgs {
             explore_branches: self.explore_branches,
             stop_at_failure,
             skip_last_resort: !self.last_resort,
-            cancel: None,
+            ..RunOptions::default()
         })
     }
 

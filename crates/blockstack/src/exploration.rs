@@ -1,0 +1,776 @@
+//! Every continuation of a block stack's run (§4.4, Figure 4.5): nsga's exploration
+//! ([`nsga::explore`]) driven over a scene, with the stack's contact states at each fork,
+//! the outcomes a user reads (which blocks fell, in what order, which reached the floor),
+//! and the test of each fork against refinement ([`crate::fork_check`]).
+//!
+//! A branch is stepped as [`crate::simulate`] steps a run (corner contacts kept current,
+//! the same fallback policy with branch re-solves on), and records the same events. Its
+//! trajectory can be streamed to `branch_<id>.csv` in a directory, so no trajectory is
+//! held in memory; what each branch keeps is its [`BranchSummary`]: final poses, events,
+//! and the top block's (t, y, θ) sampled for the figure.
+
+use crate::contact_states::{differing_interfaces, interface_states, InterfaceState};
+use crate::coordinates::Pose;
+use crate::events::{EventKind, FailureEvent};
+use crate::fork_check::{check_fork, ForkEvidence, ForkLabel};
+use crate::record::{number_text, optional_text, trajectory_header, write_trajectory_row};
+use crate::scene::Scene;
+use crate::simulation::{
+    step_count, stepper_options, BlockPose, Recorder, RunOptions, TimedPenetration, PENETRATION_TOL,
+};
+use crate::stepping::CornerStepping;
+use crate::system::StackSystem;
+use crate::BlockError;
+use nsga::explore::{explore, forkable, BranchEnd, Exploration, ExploreOptions, Walker};
+use nsga::{BranchPoint, State, StepError, Stepper};
+use std::fs::File;
+use std::io::{BufWriter, Write};
+use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicUsize, Ordering};
+
+/// One sample of the top block for the figure: (t, y, θ).
+pub type TopSample = [f64; 3];
+
+/// What a branch leaves: its end state and what happened on the way (ancestors'
+/// events included, since a child starts with its parent's record).
+#[derive(Debug, Clone, serde::Serialize)]
+pub struct BranchSummary {
+    /// Poses at the branch's last state, bottom to top.
+    pub final_poses: Vec<BlockPose>,
+    /// First time a block lost its support (§4.4), on this branch or before it.
+    pub failure_time: Option<f64>,
+    /// Failure events from t = 0 to the branch's end, in time order.
+    pub events: Vec<FailureEvent>,
+    /// Steps taken by the last resort on this branch.
+    pub fallback_steps: usize,
+    /// The deepest penetration from t = 0 to the branch's end.
+    pub deepest: TimedPenetration,
+    /// The top block's (t, y, θ), every `sample_every` steps and at both ends.
+    #[serde(skip)]
+    pub top: Vec<TopSample>,
+    /// Why the trajectory file stopped, if it did.
+    pub trajectory_error: Option<String>,
+    /// The forks this branch met that were checked ([`WalkSettings::classify`]).
+    pub fork_checks: Vec<CheckedFork>,
+    /// The branch's last state, kept only for [`StackWalker::restarted`] walkers.
+    #[serde(skip)]
+    pub end_state: Option<State>,
+}
+
+/// A fork's evidence with the step number at its start.
+#[derive(Debug, Clone, serde::Serialize)]
+pub struct CheckedFork {
+    /// Step number k at the start of the forking step.
+    pub k: u64,
+    /// The evidence and label ([`crate::fork_check`]).
+    pub evidence: ForkEvidence,
+}
+
+/// How a branch is walked beyond stepping.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct WalkSettings<'a> {
+    /// Sample the top block every this many steps (at least 1).
+    pub sample_every: u64,
+    /// Write each branch's trajectory into `branch_<id>.csv` in this directory.
+    pub trajectories: Option<&'a Path>,
+    /// Check every fork against refinement ([`crate::fork_check`]).
+    pub classify: bool,
+    /// Counts the branches that ended (a progress display reads it from another thread).
+    pub finished: Option<&'a AtomicUsize>,
+}
+
+/// Walks one branch of a scene (see the module docs).
+#[derive(Debug)]
+pub struct StackWalker<'a> {
+    scene: &'a Scene,
+    stepper: Stepper<StackSystem>,
+    corners: CornerStepping,
+    rec: Recorder<'a>,
+    horizon: u64,
+    penetration_tol: f64,
+    failure_time: Option<f64>,
+    fallback_steps: usize,
+    sample_every: u64,
+    top: Vec<TopSample>,
+    trajectories: Option<&'a Path>,
+    csv: Option<BufWriter<File>>,
+    trajectory_error: Option<String>,
+    iterations: usize,
+    classify: bool,
+    keep_end_state: bool,
+    checks: Vec<CheckedFork>,
+    finished: Option<&'a AtomicUsize>,
+}
+
+impl<'a> StackWalker<'a> {
+    /// A walker at the scene's initial state, to `steps` steps of its Δt.
+    ///
+    /// # Errors
+    /// Bad run options; [`BlockError::Scene`] when the consistent start fails.
+    pub fn new(
+        scene: &'a Scene,
+        options: &RunOptions,
+        steps: u64,
+        settings: WalkSettings<'a>,
+    ) -> Result<Self, BlockError> {
+        let opts = stepper_options(scene, options)?;
+        let (q0, u0) = (scene.initial_coordinates(), scene.initial_velocities());
+        let mut system = StackSystem::new(scene.clone());
+        let mut corners = CornerStepping::default();
+        corners.start(&mut system, &q0, &u0, opts.dt);
+        let stepper = Stepper::new(system, 0.0, &q0, &u0, opts)
+            .map_err(|e| BlockError::Scene(format!("consistent start failed: {e}")))?;
+        Ok(Self {
+            scene,
+            stepper,
+            corners,
+            rec: Recorder::new(scene, &q0),
+            horizon: steps,
+            penetration_tol: PENETRATION_TOL * scene.smallest_block_height(),
+            failure_time: None,
+            fallback_steps: 0,
+            sample_every: settings.sample_every.max(1),
+            top: Vec::new(),
+            trajectories: settings.trajectories,
+            csv: None,
+            trajectory_error: None,
+            iterations: 0,
+            classify: settings.classify,
+            keep_end_state: false,
+            checks: Vec::new(),
+            finished: settings.finished,
+        })
+    }
+
+    /// The stepper's options.
+    #[must_use]
+    pub fn options(&self) -> &nsga::Options {
+        self.stepper.options()
+    }
+
+    /// A walker that takes this branch again from `before` (a state of it, at the start
+    /// of a step) with other `options`, to step number `horizon`: it records nothing,
+    /// checks no fork, and keeps its end state. None when `before` does not fit the
+    /// contacts the stepper now has (a contact was added within the step).
+    #[must_use]
+    pub fn restarted(&self, before: &State, options: nsga::Options, horizon: u64) -> Option<Self> {
+        let layout = self.stepper.layout();
+        if before.p_n.len() != layout.n_normal() || before.p_f.len() != layout.n_friction() {
+            return None;
+        }
+        let mut stepper = self.stepper.branch_from(before.clone());
+        stepper.set_options(options).ok()?;
+        Some(Self {
+            scene: self.scene,
+            stepper,
+            corners: self.corners.for_branch(),
+            rec: self.rec.clone(),
+            horizon,
+            penetration_tol: self.penetration_tol,
+            failure_time: self.failure_time,
+            fallback_steps: 0,
+            sample_every: u64::MAX,
+            top: Vec::new(),
+            trajectories: None,
+            csv: None,
+            trajectory_error: None,
+            iterations: 0,
+            classify: false,
+            keep_end_state: true,
+            checks: Vec::new(),
+            finished: None,
+        })
+    }
+
+    fn sample(&mut self) {
+        let st = self.stepper.state();
+        let n = self.scene.n_blocks();
+        if n > 0 {
+            let p = Pose::from_slice(&st.q[3 * (n - 1)..3 * n]);
+            self.top.push([st.t, p.y, p.theta]);
+        }
+    }
+
+    fn write_row(&mut self, rec: &crate::simulation::StepRecord) {
+        if let Some(csv) = self.csv.as_mut() {
+            if let Err(e) = write_trajectory_row(csv, rec) {
+                self.trajectory_error = Some(e.to_string());
+                self.csv = None;
+            }
+        }
+    }
+}
+
+impl Walker for StackWalker<'_> {
+    type Outcome = BranchSummary;
+
+    fn begin(&mut self, id: usize) {
+        self.top.clear();
+        self.csv = None;
+        let Some(dir) = self.trajectories else {
+            return;
+        };
+        let path = trajectory_path(dir, id);
+        let opened = File::create(&path).and_then(|f| {
+            let mut w = BufWriter::new(f);
+            writeln!(w, "{}", trajectory_header(self.scene.n_blocks()).join(","))?;
+            Ok(w)
+        });
+        match opened {
+            Ok(w) => self.csv = Some(w),
+            Err(e) => self.trajectory_error = Some(format!("{}: {e}", path.display())),
+        }
+    }
+
+    fn step(&mut self) -> Result<Option<BranchPoint>, StepError> {
+        let before = self.classify.then(|| self.stepper.state().clone());
+        self.corners
+            .step(self.scene, &mut self.stepper, self.penetration_tol)?;
+        let stats = self.stepper.last_step().expect("a step was taken");
+        self.iterations = stats.iterations;
+        if stats.last_resort.is_some() {
+            self.fallback_steps += 1;
+        }
+        let point = forkable(stats);
+        if let (Some(p), Some(before)) = (&point, before) {
+            let evidence = check_fork(self, &before, p);
+            self.checks.push(CheckedFork {
+                k: before.k,
+                evidence,
+            });
+        }
+        Ok(point)
+    }
+
+    fn observe(&mut self) {
+        let st = self.stepper.state().clone();
+        let rec = self.rec.record(st.t, &st, self.iterations);
+        if self.failure_time.is_none() && self.rec.contacts.first_unsupported().is_some() {
+            self.failure_time = Some(st.t);
+        }
+        self.write_row(&rec);
+        if self.top.is_empty() || st.k.is_multiple_of(self.sample_every) {
+            self.sample();
+        }
+    }
+
+    fn state(&self) -> &State {
+        self.stepper.state()
+    }
+
+    fn done(&self) -> bool {
+        self.stepper.state().k >= self.horizon
+    }
+
+    fn fork(&self, candidate: &State) -> Self {
+        Self {
+            scene: self.scene,
+            stepper: self.stepper.branch_from(candidate.clone()),
+            corners: self.corners.for_branch(),
+            rec: self.rec.clone(),
+            horizon: self.horizon,
+            penetration_tol: self.penetration_tol,
+            failure_time: self.failure_time,
+            fallback_steps: 0,
+            sample_every: self.sample_every,
+            top: Vec::new(),
+            trajectories: self.trajectories,
+            csv: None,
+            trajectory_error: None,
+            iterations: self.iterations,
+            classify: self.classify,
+            keep_end_state: self.keep_end_state,
+            checks: Vec::new(),
+            finished: self.finished,
+        }
+    }
+
+    fn finish(&mut self, end: &BranchEnd) -> BranchSummary {
+        // A forked branch's last state is the fork's start, already sampled or not.
+        if *end != BranchEnd::Forked
+            && self.top.last().map(|s| s[0]) != Some(self.stepper.state().t)
+        {
+            self.sample();
+        }
+        if let Some(n) = self.finished {
+            n.fetch_add(1, Ordering::Relaxed);
+        }
+        if let Some(mut csv) = self.csv.take() {
+            if let Err(e) = csv.flush() {
+                self.trajectory_error = Some(e.to_string());
+            }
+        }
+        let q = &self.stepper.state().q;
+        BranchSummary {
+            final_poses: (0..self.scene.n_blocks())
+                .map(|k| Pose::from_slice(&q[3 * k..3 * k + 3]).into())
+                .collect(),
+            failure_time: self.failure_time,
+            events: self.rec.watch.events().to_vec(),
+            fallback_steps: self.fallback_steps,
+            deepest: self.rec.deepest,
+            top: std::mem::take(&mut self.top),
+            trajectory_error: self.trajectory_error.take(),
+            fork_checks: std::mem::take(&mut self.checks),
+            end_state: self.keep_end_state.then(|| self.stepper.state().clone()),
+        }
+    }
+}
+
+/// The trajectory file of branch `id` in `dir`.
+#[must_use]
+pub fn trajectory_path(dir: &Path, id: usize) -> PathBuf {
+    dir.join(format!("branch_{id:05}.csv"))
+}
+
+/// What a user reads from a motion's end: which blocks fell, in the order they fell, and
+/// which reached the floor. A block *fell* when it lost its support or tipped past its
+/// tipping angle ([`crate::events`]).
+#[derive(Debug, Clone, PartialEq, Eq, Hash, PartialOrd, Ord, serde::Serialize)]
+pub struct Outcome {
+    /// The blocks that fell (1-based), in the order of their first such event.
+    pub fell: Vec<usize>,
+    /// The blocks that touched the floor (1-based, ascending).
+    pub on_floor: Vec<usize>,
+}
+
+impl Outcome {
+    /// The outcome of a motion with these events.
+    #[must_use]
+    pub fn of(events: &[FailureEvent]) -> Self {
+        let mut fell = Vec::new();
+        let mut on_floor = Vec::new();
+        for e in events {
+            let Some(k) = e.block else { continue };
+            match e.kind {
+                EventKind::SupportLost | EventKind::Tipped if !fell.contains(&k) => fell.push(k),
+                EventKind::TouchedFloor if !on_floor.contains(&k) => on_floor.push(k),
+                _ => {}
+            }
+        }
+        on_floor.sort_unstable();
+        Self { fell, on_floor }
+    }
+
+    /// "column standing", or e.g. "blocks 5, 4 fell in that order; 5 on the floor".
+    #[must_use]
+    pub fn label(&self) -> String {
+        let list = |v: &[usize]| {
+            v.iter()
+                .map(ToString::to_string)
+                .collect::<Vec<_>>()
+                .join(", ")
+        };
+        if self.fell.is_empty() {
+            return "column standing".into();
+        }
+        let mut s = match self.fell.len() {
+            1 => format!("block {} fell", self.fell[0]),
+            _ => format!("blocks {} fell in that order", list(&self.fell)),
+        };
+        if !self.on_floor.is_empty() {
+            s.push_str(&format!("; {} on the floor", list(&self.on_floor)));
+        }
+        s
+    }
+}
+
+/// A fork as the stack sees it.
+#[derive(Debug, Clone, serde::Serialize)]
+pub struct ForkRecord {
+    /// The branch that met it.
+    pub branch: usize,
+    /// Time and step number at the start of the forking step.
+    pub t: f64,
+    /// Step number k at its start.
+    pub k: u64,
+    /// Fixed-set re-solves tried.
+    pub tried: usize,
+    /// Distinct candidates.
+    pub distinct: usize,
+    /// Self-consistent ones among them.
+    pub consistent: usize,
+    /// Whether its candidates were followed.
+    pub followed: bool,
+    /// Child branches (empty when not followed).
+    pub children: Vec<usize>,
+    /// Interfaces (1-based) whose contact states differ between the candidates.
+    pub differing_interfaces: Vec<usize>,
+    /// Each candidate's interface states (App. H), bottom to top.
+    pub states: Vec<Vec<InterfaceState>>,
+    /// Whether the corner contacts beyond the stack's interfaces (blocks that fell onto
+    /// others or the floor) differ between the candidates.
+    pub corner_contacts_differ: bool,
+    /// The largest distance between two candidates' (q, u), relative to 1 + ‖q‖ + ‖u‖.
+    pub spread: f64,
+    /// The check against refinement, when it was made.
+    pub evidence: Option<ForkEvidence>,
+}
+
+impl ForkRecord {
+    /// `real`, `artefact`, `undecided`, or `unchecked`.
+    #[must_use]
+    pub fn label(&self) -> &'static str {
+        self.evidence
+            .as_ref()
+            .map_or("unchecked", |e| e.label.name())
+    }
+}
+
+/// The forks of an exploration, in branch order then time.
+#[must_use]
+pub fn fork_records(tree: &Exploration<BranchSummary>, n_blocks: usize) -> Vec<ForkRecord> {
+    tree.forks()
+        .map(|(b, f)| {
+            let sets = f.candidate_sets();
+            ForkRecord {
+                branch: b.id,
+                t: f.point.t,
+                k: f.before.k,
+                tried: f.point.tried,
+                distinct: f.point.candidates.len(),
+                consistent: f.point.consistent.iter().filter(|&&c| c).count(),
+                followed: f.followed,
+                children: f.children.clone(),
+                differing_interfaces: differing_interfaces(&sets, n_blocks),
+                states: sets.iter().map(|s| interface_states(s, n_blocks)).collect(),
+                corner_contacts_differ: sets.iter().any(|s| {
+                    let (a, b) = (sets[0], *s);
+                    a.a[2 * n_blocks..] != b.a[2 * n_blocks..]
+                        || a.c[2 * n_blocks..] != b.c[2 * n_blocks..]
+                        || a.d[n_blocks..] != b.d[n_blocks..]
+                }),
+                spread: spread(&f.point),
+                evidence: b
+                    .outcome
+                    .fork_checks
+                    .iter()
+                    .find(|c| c.k == f.before.k)
+                    .map(|c| c.evidence.clone()),
+            }
+        })
+        .collect()
+}
+
+/// The largest relative distance between two candidates of a branch point.
+#[must_use]
+pub fn spread(point: &BranchPoint) -> f64 {
+    let c = &point.candidates;
+    let mut worst: f64 = 0.0;
+    for (i, (_, a)) in c.iter().enumerate() {
+        for (_, b) in &c[i + 1..] {
+            worst = worst.max(relative_distance(a, b));
+        }
+    }
+    worst
+}
+
+/// ‖(q, u)_a − (q, u)_b‖ / (1 + ‖q_b‖ + ‖u_b‖), the measure of [`State::same_motion`].
+#[must_use]
+pub fn relative_distance(a: &State, b: &State) -> f64 {
+    let sq = |x: &[f64], y: &[f64]| -> f64 { x.iter().zip(y).map(|(p, q)| (p - q).powi(2)).sum() };
+    let norm = |x: &[f64]| x.iter().map(|v| v * v).sum::<f64>().sqrt();
+    (sq(&a.q, &b.q) + sq(&a.u, &b.u)).sqrt() / (1.0 + norm(&b.q) + norm(&b.u))
+}
+
+/// The motions found, grouped by [`Outcome`].
+#[derive(Debug, Clone, serde::Serialize)]
+pub struct OutcomeGroup {
+    /// The outcome.
+    pub outcome: Outcome,
+    /// Its label.
+    pub label: String,
+    /// The leaves (branch ids) that end in it.
+    pub branches: Vec<usize>,
+    /// Smallest, median and largest failure time over them (None when none failed).
+    pub failure_time: Option<[f64; 3]>,
+}
+
+/// The leaves of `tree` grouped by outcome, most frequent first (ties: outcome order).
+#[must_use]
+pub fn outcome_groups(tree: &Exploration<BranchSummary>) -> Vec<OutcomeGroup> {
+    let mut groups: Vec<OutcomeGroup> = Vec::new();
+    for leaf in tree.leaves() {
+        let outcome = Outcome::of(&leaf.outcome.events);
+        match groups.iter_mut().find(|g| g.outcome == outcome) {
+            Some(g) => g.branches.push(leaf.id),
+            None => groups.push(OutcomeGroup {
+                label: outcome.label(),
+                outcome,
+                branches: vec![leaf.id],
+                failure_time: None,
+            }),
+        }
+    }
+    for g in &mut groups {
+        let times: Vec<f64> = g
+            .branches
+            .iter()
+            .filter_map(|&id| tree.branches[id].outcome.failure_time)
+            .collect();
+        g.failure_time = spread_of(times);
+    }
+    groups.sort_by(|a, b| {
+        b.branches
+            .len()
+            .cmp(&a.branches.len())
+            .then_with(|| a.outcome.cmp(&b.outcome))
+    });
+    groups
+}
+
+/// Smallest, median and largest of `v` (None when empty).
+#[must_use]
+pub fn spread_of(mut v: Vec<f64>) -> Option<[f64; 3]> {
+    if v.is_empty() {
+        return None;
+    }
+    v.sort_by(f64::total_cmp);
+    let n = v.len();
+    let median = if n % 2 == 1 {
+        v[n / 2]
+    } else {
+        0.5 * (v[n / 2 - 1] + v[n / 2])
+    };
+    Some([v[0], median, v[n - 1]])
+}
+
+/// Explores every continuation of `scene` to its end time (or `options.t_end`): the
+/// stepper runs with branch re-solves on, and each branch is a [`StackWalker`].
+///
+/// # Errors
+/// Bad run options; a failed consistent start.
+pub fn explore_scene(
+    scene: &Scene,
+    options: &RunOptions,
+    explore_options: &ExploreOptions,
+    settings: WalkSettings<'_>,
+) -> Result<Exploration<BranchSummary>, BlockError> {
+    let t_end = options.t_end.unwrap_or(scene.solver.t_end);
+    input::positive("t_end", t_end)?;
+    let run = RunOptions {
+        explore_branches: true,
+        ..options.clone()
+    };
+    let steps = step_count(t_end, scene.solver.dt) as u64;
+    let root = StackWalker::new(scene, &run, steps, settings)?;
+    Ok(explore(root, explore_options))
+}
+
+/// How many forks got each label.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, serde::Serialize)]
+pub struct LabelCounts {
+    /// Real bifurcations.
+    pub real: usize,
+    /// Solver artefacts.
+    pub artefact: usize,
+    /// Undecided.
+    pub undecided: usize,
+    /// Not checked (`classify` off).
+    pub unchecked: usize,
+}
+
+/// The headline numbers of an exploration (`rollstack blocks explore --json`).
+#[derive(Debug, Clone, serde::Serialize)]
+pub struct ExplorationReport {
+    /// Branches (the root included).
+    pub branches: usize,
+    /// Branches that did not fork: the motions found.
+    pub leaves: usize,
+    /// Forks met, followed or not.
+    pub forks: usize,
+    /// Forks whose candidates were followed.
+    pub forks_followed: usize,
+    /// Distinct outcomes among the leaves.
+    pub distinct_outcomes: usize,
+    /// Labels of the forks.
+    pub labels: LabelCounts,
+    /// Whether the branch cap kept a fork from being followed.
+    pub branch_cap_reached: bool,
+    /// Whether the depth cap kept a fork from being followed.
+    pub depth_cap_reached: bool,
+    /// Whether the wall-time cap stopped running branches.
+    pub wall_cap_reached: bool,
+    /// Leaves that ended on a failed step.
+    pub failed_leaves: usize,
+    /// Steps simulated over all branches (the shared past counted once).
+    pub steps: u64,
+    /// Steps taken by the last resort over all branches.
+    pub fallback_steps: usize,
+    /// The deepest penetration between two bodies over all branches.
+    pub max_penetration: f64,
+    /// Wall time of the exploration, s.
+    pub wall_time_s: f64,
+    /// The outcomes, most frequent first.
+    pub outcomes: Vec<OutcomeGroup>,
+}
+
+impl ExplorationReport {
+    /// The report of `tree` (with its `forks` and outcome `groups`).
+    #[must_use]
+    pub fn new(
+        tree: &Exploration<BranchSummary>,
+        forks: &[ForkRecord],
+        groups: Vec<OutcomeGroup>,
+    ) -> Self {
+        let mut labels = LabelCounts::default();
+        for f in forks {
+            match f.evidence.as_ref().map(|e| e.label) {
+                Some(ForkLabel::Real) => labels.real += 1,
+                Some(ForkLabel::Artefact) => labels.artefact += 1,
+                Some(ForkLabel::Undecided) => labels.undecided += 1,
+                None => labels.unchecked += 1,
+            }
+        }
+        Self {
+            branches: tree.branches.len(),
+            leaves: tree.leaves().count(),
+            forks: forks.len(),
+            forks_followed: forks.iter().filter(|f| f.followed).count(),
+            distinct_outcomes: groups.len(),
+            labels,
+            branch_cap_reached: tree.branch_cap_reached,
+            depth_cap_reached: tree.depth_cap_reached,
+            wall_cap_reached: tree.wall_cap_reached,
+            failed_leaves: tree
+                .leaves()
+                .filter(|b| matches!(b.end, BranchEnd::Failed(_)))
+                .count(),
+            steps: tree.branches.iter().map(nsga::explore::Branch::steps).sum(),
+            fallback_steps: tree.branches.iter().map(|b| b.outcome.fallback_steps).sum(),
+            max_penetration: tree
+                .branches
+                .iter()
+                .map(|b| b.outcome.deepest.depth())
+                .fold(0.0, f64::max),
+            wall_time_s: tree.wall_time.as_secs_f64(),
+            outcomes: groups,
+        }
+    }
+}
+
+/// Columns of `branches.csv`.
+pub const BRANCH_COLUMNS: [&str; 12] = [
+    "id",
+    "parent",
+    "candidate",
+    "depth",
+    "t_start",
+    "t_end",
+    "steps",
+    "end",
+    "forks_passed",
+    "failure_time",
+    "fallback_steps",
+    "outcome",
+];
+
+/// One row of `branches.csv` ([`BRANCH_COLUMNS`]); the outcome only for leaves.
+#[must_use]
+pub fn branch_cells(b: &nsga::explore::Branch<BranchSummary>) -> Vec<String> {
+    let passed = b.forks.iter().filter(|f| !f.followed).count();
+    let outcome = if b.end == BranchEnd::Forked {
+        String::new()
+    } else {
+        Outcome::of(&b.outcome.events).label()
+    };
+    vec![
+        b.id.to_string(),
+        b.parent.map_or(String::new(), |p| p.0.to_string()),
+        b.parent.map_or(String::new(), |p| p.1.to_string()),
+        b.depth.to_string(),
+        number_text(b.start.0),
+        number_text(b.end_at.0),
+        b.steps().to_string(),
+        b.end.name().to_owned(),
+        passed.to_string(),
+        optional_text(b.outcome.failure_time),
+        b.outcome.fallback_steps.to_string(),
+        outcome,
+    ]
+}
+
+/// Columns of `forks.csv`.
+pub const FORK_COLUMNS: [&str; 15] = [
+    "branch",
+    "t",
+    "k",
+    "tried",
+    "distinct",
+    "consistent",
+    "followed",
+    "children",
+    "differing_interfaces",
+    "corner_contacts_differ",
+    "spread",
+    "label",
+    "refined_dt2",
+    "refined_dt4",
+    "other_prox",
+];
+
+impl ForkRecord {
+    /// One row of `forks.csv` ([`FORK_COLUMNS`]); lists are separated by spaces.
+    #[must_use]
+    pub fn csv_cells(&self) -> Vec<String> {
+        let list = |v: &[usize]| {
+            v.iter()
+                .map(ToString::to_string)
+                .collect::<Vec<_>>()
+                .join(" ")
+        };
+        let count = |c: Option<usize>| c.map_or(String::new(), |c| c.to_string());
+        let e = self.evidence.as_ref();
+        vec![
+            self.branch.to_string(),
+            number_text(self.t),
+            self.k.to_string(),
+            self.tried.to_string(),
+            self.distinct.to_string(),
+            self.consistent.to_string(),
+            self.followed.to_string(),
+            list(&self.children),
+            list(&self.differing_interfaces),
+            self.corner_contacts_differ.to_string(),
+            number_text(self.spread),
+            self.label().to_owned(),
+            count(e.and_then(|e| e.refined[0])),
+            count(e.and_then(|e| e.refined[1])),
+            count(e.and_then(|e| e.other_prox)),
+        ]
+    }
+}
+
+/// Columns of `outcomes.csv`.
+pub const OUTCOME_COLUMNS: [&str; 7] = [
+    "outcome",
+    "leaves",
+    "fell",
+    "on_floor",
+    "failure_time_min",
+    "failure_time_median",
+    "failure_time_max",
+];
+
+impl OutcomeGroup {
+    /// One row of `outcomes.csv` ([`OUTCOME_COLUMNS`]).
+    #[must_use]
+    pub fn csv_cells(&self) -> Vec<String> {
+        let list = |v: &[usize]| {
+            v.iter()
+                .map(ToString::to_string)
+                .collect::<Vec<_>>()
+                .join(" ")
+        };
+        let t = |i: usize| optional_text(self.failure_time.map(|f| f[i]));
+        vec![
+            self.label.clone(),
+            self.branches.len().to_string(),
+            list(&self.outcome.fell),
+            list(&self.outcome.on_floor),
+            t(0),
+            t(1),
+            t(2),
+        ]
+    }
+}

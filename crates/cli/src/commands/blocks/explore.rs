@@ -1,0 +1,288 @@
+//! `rollstack blocks explore`: every continuation of a scene's run (§4.4, Figure 4.5):
+//! the tree of `blockstack::exploration`, its forks checked against refinement, the
+//! outcomes, and Figure 4.5.
+
+use super::scenes::load_scene;
+use crate::output::{ensure_dir, print_json, write_csv, write_run_json};
+use anyhow::{Context, Result};
+use blockstack::exploration::{
+    branch_cells, explore_scene, fork_records, outcome_groups, ExplorationReport, ForkRecord,
+    OutcomeGroup, WalkSettings, BRANCH_COLUMNS, FORK_COLUMNS, OUTCOME_COLUMNS,
+};
+use blockstack::simulation::{Prox, RunOptions};
+use clap::{Args, ValueEnum};
+use figures::exploration::plot_exploration;
+use input::text::parse_finite;
+use nsga::explore::{ExploreOptions, Strategy};
+use nsga::BranchRule;
+use serde::Serialize;
+use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
+use std::time::Duration;
+
+/// How the tree grows.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum StrategyArg {
+    /// One generation at a time, its branches in parallel.
+    Breadth,
+    /// Depth first, one branch at a time.
+    Depth,
+}
+
+/// Which fixed-set solutions of a cycling step are its continuations.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum RuleArg {
+    /// Solutions whose own contact states are the ones they were solved with.
+    SelfConsistent,
+    /// Every converged fixed-set solve, as the thesis counts branches.
+    Converged,
+}
+
+/// Arguments of `rollstack blocks explore`.
+#[derive(Debug, Args)]
+pub struct ExploreArgs {
+    /// The scene: a TOML file (keys: docs/scenes.md) or a built-in scene's name
+    /// (`abundance`: Figure 4.5 as the thesis states it; `abundance-author`: with the
+    /// author's scripts' settings).
+    pub scene: PathBuf,
+    /// Directory for branches.csv, forks.csv, outcomes.csv, trajectories/, abundance.png
+    /// and run.json (created if missing).
+    #[arg(long)]
+    pub out: Option<PathBuf>,
+    /// End time (model time units; overrides the scene's solver.t_end).
+    #[arg(long, value_parser = parse_finite, allow_hyphen_values = true)]
+    pub t_end: Option<f64>,
+    /// Breadth first (a generation at a time, in parallel) or depth first.
+    #[arg(long, value_enum, default_value = "breadth")]
+    pub strategy: StrategyArg,
+    /// Most branches, the root included; a fork whose candidates do not all fit is
+    /// passed (its branch goes on with the chosen candidate).
+    #[arg(long, default_value_t = 1000)]
+    pub max_branches: usize,
+    /// Most followed forks from the root to a branch (default: no limit).
+    #[arg(long)]
+    pub max_depth: Option<usize>,
+    /// Wall time (s) after which running branches stop where they are.
+    #[arg(long, value_parser = parse_finite)]
+    pub max_wall: Option<f64>,
+    /// Which fixed-set solutions are a fork's candidates: `self-consistent` (solutions
+    /// of the step's equations) or `converged` (the thesis's count).
+    #[arg(long, value_enum, default_value = "self-consistent")]
+    pub branch_rule: RuleArg,
+    /// Also probe every converged step by flipping one touching contact (finds
+    /// non-uniqueness that Newton does not reveal by cycling, such as Painlevé's; costs
+    /// several solves per contact and step).
+    #[arg(long)]
+    pub probe_flips: bool,
+    /// Check each fork: the forking step again with Δt/2, Δt/4 and the other prox
+    /// choice; label it real, artefact or undecided (docs/method.md §8).
+    #[arg(long)]
+    pub classify: bool,
+    /// Use one constant prox parameter r > 0 (the thesis: 0.3) instead of the scene's.
+    #[arg(long, value_parser = parse_finite, allow_hyphen_values = true)]
+    pub prox_constant: Option<f64>,
+    /// Write each branch's trajectory to trajectories/branch_<id>.csv (with --out).
+    #[arg(long, default_value_t = true, action = clap::ArgAction::Set, value_name = "BOOL")]
+    pub trajectories: bool,
+    /// Print one JSON object on stdout (otherwise a readable summary).
+    #[arg(long)]
+    pub json: bool,
+}
+
+/// The JSON of `rollstack blocks explore`.
+#[derive(Debug, Serialize)]
+struct ExploreJson<'a> {
+    #[serde(flatten)]
+    report: &'a ExplorationReport,
+    strategy: &'static str,
+    branch_rule: &'static str,
+    files: Vec<String>,
+}
+
+/// Samples of the top block per branch for the figure: about this many over the run.
+const TOP_SAMPLES: f64 = 400.0;
+
+/// Runs `rollstack blocks explore`.
+///
+/// # Errors
+/// Bad input, a failed start, or an unwritable output directory.
+pub fn run(args: &ExploreArgs) -> Result<()> {
+    let loaded = load_scene(&args.scene)?;
+    let scene = &loaded.scene;
+    anyhow::ensure!(args.max_branches >= 1, "--max-branches must be at least 1");
+    if let Some(t) = args.t_end {
+        anyhow::ensure!(t > 0.0, "--t-end must be positive, got {t}");
+    }
+    if let Some(r) = args.prox_constant {
+        anyhow::ensure!(r > 0.0, "--prox-constant must be positive, got {r}");
+    }
+    if let Some(w) = args.max_wall {
+        anyhow::ensure!(w >= 0.0, "--max-wall must not be negative, got {w}");
+    }
+    let rule = match args.branch_rule {
+        RuleArg::SelfConsistent => BranchRule::SelfConsistent,
+        RuleArg::Converged => BranchRule::Converged,
+    };
+    let strategy = match args.strategy {
+        StrategyArg::Breadth => Strategy::Breadth,
+        StrategyArg::Depth => Strategy::Depth,
+    };
+    let options = RunOptions {
+        t_end: args.t_end,
+        prox: args.prox_constant.map(Prox::Constant),
+        branch_rule: rule,
+        probe_flips: args.probe_flips,
+        ..RunOptions::default()
+    };
+    let explore_options = ExploreOptions {
+        strategy,
+        max_branches: args.max_branches,
+        max_depth: args.max_depth.unwrap_or(usize::MAX),
+        max_wall: args.max_wall.map(Duration::from_secs_f64),
+    };
+    let traj_dir = match (&args.out, args.trajectories) {
+        (Some(dir), true) => {
+            let d = dir.join("trajectories");
+            ensure_dir(&d)?;
+            Some(d)
+        }
+        _ => None,
+    };
+    let t_end = args.t_end.unwrap_or(scene.solver.t_end);
+    #[allow(clippy::cast_possible_truncation, clippy::cast_sign_loss)]
+    let sample_every = (t_end / scene.solver.dt / TOP_SAMPLES).ceil().max(1.0) as u64;
+    let finished = AtomicUsize::new(0);
+    let settings = WalkSettings {
+        sample_every,
+        trajectories: traj_dir.as_deref(),
+        classify: args.classify,
+        finished: Some(&finished),
+    };
+    let bar = crate::progress::bar(args.max_branches as u64, "branches");
+    let done = AtomicBool::new(false);
+    let tree = std::thread::scope(|s| {
+        s.spawn(|| {
+            while !done.load(Ordering::Relaxed) {
+                bar.set_position(finished.load(Ordering::Relaxed) as u64);
+                std::thread::sleep(Duration::from_millis(200));
+            }
+        });
+        let tree = explore_scene(scene, &options, &explore_options, settings);
+        done.store(true, Ordering::Relaxed);
+        tree
+    })?;
+    bar.finish_and_clear();
+    let forks = fork_records(&tree, scene.n_blocks());
+    let groups = outcome_groups(&tree);
+    let report = ExplorationReport::new(&tree, &forks, groups.clone());
+    let mut files = Vec::new();
+    if let Some(dir) = &args.out {
+        files = write_files(dir, args, &tree, &forks, &report)?;
+        let title = args
+            .scene
+            .file_stem()
+            .map_or_else(|| "scene".into(), |s| s.to_string_lossy().into_owned());
+        let png = dir.join("abundance.png");
+        plot_exploration(&png, scene, &tree, &groups, &title)
+            .with_context(|| format!("cannot draw {}", png.display()))?;
+        files.push("abundance.png".into());
+        if traj_dir.is_some() {
+            files.push("trajectories/".into());
+        }
+    }
+    if args.json {
+        print_json(&ExploreJson {
+            report: &report,
+            strategy: strategy.name(),
+            branch_rule: rule.name(),
+            files,
+        })
+    } else {
+        print_summary(&report, strategy, rule);
+        Ok(())
+    }
+}
+
+/// Writes branches.csv, forks.csv, outcomes.csv and run.json into `dir`.
+fn write_files(
+    dir: &Path,
+    args: &ExploreArgs,
+    tree: &nsga::explore::Exploration<blockstack::exploration::BranchSummary>,
+    forks: &[ForkRecord],
+    report: &ExplorationReport,
+) -> Result<Vec<String>> {
+    ensure_dir(dir)?;
+    write_csv(
+        &dir.join("branches.csv"),
+        &BRANCH_COLUMNS,
+        tree.branches.iter().map(branch_cells),
+    )?;
+    write_csv(
+        &dir.join("forks.csv"),
+        &FORK_COLUMNS,
+        forks.iter().map(ForkRecord::csv_cells),
+    )?;
+    write_csv(
+        &dir.join("outcomes.csv"),
+        &OUTCOME_COLUMNS,
+        report.outcomes.iter().map(OutcomeGroup::csv_cells),
+    )?;
+    write_run_json(
+        dir,
+        "blocks explore",
+        &serde_json::json!({
+            "scene": args.scene.display().to_string(),
+            "t_end": args.t_end,
+            "strategy": format!("{:?}", args.strategy).to_lowercase(),
+            "max_branches": args.max_branches,
+            "max_depth": args.max_depth,
+            "max_wall": args.max_wall,
+            "branch_rule": format!("{:?}", args.branch_rule),
+            "probe_flips": args.probe_flips,
+            "classify": args.classify,
+            "prox_constant": args.prox_constant,
+        }),
+        &serde_json::json!({"wall_time_s": report.wall_time_s}),
+    )?;
+    Ok(vec![
+        "branches.csv".into(),
+        "forks.csv".into(),
+        "outcomes.csv".into(),
+        "run.json".into(),
+    ])
+}
+
+fn print_summary(r: &ExplorationReport, strategy: Strategy, rule: BranchRule) {
+    println!(
+        "{} branches ({} leaves) from {} forks met, {} followed ({} first, {} rule), {} steps in {:.2} s",
+        r.branches,
+        r.leaves,
+        r.forks,
+        r.forks_followed,
+        strategy.name(),
+        rule.name(),
+        r.steps,
+        r.wall_time_s
+    );
+    let caps: Vec<&str> = [
+        (r.branch_cap_reached, "--max-branches"),
+        (r.depth_cap_reached, "--max-depth"),
+        (r.wall_cap_reached, "--max-wall"),
+    ]
+    .iter()
+    .filter(|c| c.0)
+    .map(|c| c.1)
+    .collect();
+    if !caps.is_empty() {
+        println!("caps reached: {}", caps.join(", "));
+    }
+    let l = r.labels;
+    println!(
+        "forks: {} real, {} artefact, {} undecided, {} unchecked",
+        l.real, l.artefact, l.undecided, l.unchecked
+    );
+    println!("{} distinct outcomes:", r.distinct_outcomes);
+    for g in &r.outcomes {
+        println!("  {:>5} × {}", g.branches.len(), g.label);
+    }
+}
