@@ -77,6 +77,8 @@ pub struct WalkSettings<'a> {
     pub classify: bool,
     /// Counts the branches that ended (a progress display reads it from another thread).
     pub finished: Option<&'a AtomicUsize>,
+    /// End each branch at the first loss of support (§4.4), as a sweep of failure times.
+    pub stop_at_failure: bool,
 }
 
 /// Walks one branch of a scene (see the module docs).
@@ -100,6 +102,7 @@ pub struct StackWalker<'a> {
     keep_end_state: bool,
     checks: Vec<CheckedFork>,
     finished: Option<&'a AtomicUsize>,
+    stop_at_failure: bool,
 }
 
 impl<'a> StackWalker<'a> {
@@ -139,6 +142,7 @@ impl<'a> StackWalker<'a> {
             keep_end_state: false,
             checks: Vec::new(),
             finished: settings.finished,
+            stop_at_failure: settings.stop_at_failure,
         })
     }
 
@@ -179,6 +183,7 @@ impl<'a> StackWalker<'a> {
             keep_end_state: true,
             checks: Vec::new(),
             finished: None,
+            stop_at_failure: false,
         })
     }
 
@@ -260,6 +265,7 @@ impl Walker for StackWalker<'_> {
 
     fn done(&self) -> bool {
         self.stepper.state().k >= self.horizon
+            || (self.stop_at_failure && self.failure_time.is_some())
     }
 
     fn fork(&self, candidate: &State) -> Self {
@@ -282,6 +288,7 @@ impl Walker for StackWalker<'_> {
             keep_end_state: self.keep_end_state,
             checks: Vec::new(),
             finished: self.finished,
+            stop_at_failure: self.stop_at_failure,
         }
     }
 
@@ -773,4 +780,47 @@ impl OutcomeGroup {
             t(2),
         ]
     }
+}
+
+/// A row value over the motions of an exploration: how many leaves, and the smallest,
+/// median and largest value over those that have one (Figures 4.6–4.7 as bands).
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct LeafSpread {
+    /// Leaves explored (1 for a plain run).
+    pub branches: usize,
+    /// Leaves that have a value.
+    pub valued: usize,
+    /// Smallest, median and largest value, None when no leaf has one.
+    pub spread: Option<[f64; 3]>,
+}
+
+/// Explores `scene` to at most `max_branches` branches (breadth first, the run options'
+/// branch rule) and spreads `value` of each leaf over them; `stop_at_failure` ends each
+/// branch at its first loss of support.
+///
+/// # Errors
+/// Bad run options; a failed consistent start.
+pub fn leaf_spread(
+    scene: &Scene,
+    options: &RunOptions,
+    max_branches: usize,
+    stop_at_failure: bool,
+    value: impl Fn(&nsga::explore::Branch<BranchSummary>) -> Option<f64>,
+) -> Result<LeafSpread, BlockError> {
+    let explore_options = ExploreOptions {
+        max_branches: max_branches.max(1),
+        ..ExploreOptions::default()
+    };
+    let settings = WalkSettings {
+        sample_every: u64::MAX,
+        stop_at_failure,
+        ..WalkSettings::default()
+    };
+    let tree = explore_scene(scene, options, &explore_options, settings)?;
+    let values: Vec<f64> = tree.leaves().filter_map(&value).collect();
+    Ok(LeafSpread {
+        branches: tree.leaves().count(),
+        valued: values.len(),
+        spread: spread_of(values),
+    })
 }

@@ -16,9 +16,10 @@
 //!
 //! The distinct end states of each re-run (deduplicated by [`nsga::State::same_motion`])
 //! are counted. Label: **real** when the fork has at least two self-consistent candidates
-//! and both refinements keep at least two distinct continuations; **artefact** when it
-//! has at most one self-consistent candidate and both refinements find one continuation;
-//! **undecided** otherwise (the evidence is in the output either way).
+//! and both refinements keep at least two distinct continuations; **artefact** when both
+//! refinements find one continuation (the candidates merge into one motion, or were not
+//! solutions to begin with); **undecided** otherwise (the evidence is in the output
+//! either way).
 
 use crate::exploration::StackWalker;
 use nsga::explore::{explore, ExploreOptions, Strategy};
@@ -39,7 +40,7 @@ pub const THESIS_PROX: f64 = 0.3;
 pub enum ForkLabel {
     /// Distinct self-consistent continuations that survive refinement.
     Real,
-    /// One motion under refinement, and at most one self-consistent candidate.
+    /// One motion under refinement.
     Artefact,
     /// The evidence disagrees.
     Undecided,
@@ -78,7 +79,7 @@ impl ForkEvidence {
     pub fn judge(consistent: usize, refined: [Option<usize>; 2]) -> ForkLabel {
         match refined {
             [Some(a), Some(b)] if consistent >= 2 && a >= 2 && b >= 2 => ForkLabel::Real,
-            [Some(1), Some(1)] if consistent <= 1 => ForkLabel::Artefact,
+            [Some(1), Some(1)] => ForkLabel::Artefact,
             _ => ForkLabel::Undecided,
         }
     }

@@ -122,6 +122,10 @@ pub struct RunOptions {
     /// Probe every converged step for other solutions by flipping one touching contact
     /// ([`nsga::Options::probe_flips`]; costly, for exploring).
     pub probe_flips: bool,
+    /// For the sweeps' rows: explore up to this many branches of each run
+    /// ([`crate::exploration`]) and report the spread of the row's value over them
+    /// (0 or 1: the plain run only).
+    pub spread_branches: usize,
     /// Stop as soon as `failure_time` is known (sweeps).
     pub stop_at_failure: bool,
     /// Leave out the last resort ([`nsga::Options::last_resort`]): a step nothing else

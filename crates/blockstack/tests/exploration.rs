@@ -183,3 +183,31 @@ fn the_tree_and_its_files_do_not_depend_on_the_thread_count() {
     assert_eq!(files1.len(), rows1.len());
     assert_eq!(files1, files2);
 }
+
+#[test]
+fn a_frequency_row_spreads_its_failure_time_over_the_motions() {
+    use blockstack::studies::shaking::{frequency_row, periods_for_horizon};
+    let shaking = Shaking {
+        omega: 4.0,
+        periods: periods_for_horizon(5.0, 4.0),
+        ..Shaking::default()
+    };
+    let plain = frequency_row(&shaking, &RunOptions::default());
+    assert_eq!(plain.branches, 1);
+    let t = plain.failure_time.expect("fails near t = 4");
+    assert_eq!(plain.failure_time_min, Some(t));
+    assert_eq!(plain.failure_time_max, Some(t));
+    let explored = RunOptions {
+        spread_branches: 20,
+        ..thesis_rule()
+    };
+    let row = frequency_row(&shaking, &explored);
+    assert!(row.branches > 1, "{row:?}");
+    assert!(row.failed_branches >= 1 && row.failed_branches <= row.branches);
+    let (lo, mid, hi) = (
+        row.failure_time_min.unwrap(),
+        row.failure_time_median.unwrap(),
+        row.failure_time_max.unwrap(),
+    );
+    assert!(lo <= mid && mid <= hi && lo < hi, "{row:?}");
+}

@@ -739,7 +739,32 @@ pub fn plot_frequency_sweep(
             ));
         }
     }
+    // Motions that survive the horizon count as 1/T = 0, the band reaches down to it.
+    let bands = rows.iter().filter(|r| r.branches > 1).filter_map(|r| {
+        let (lo, hi) = (r.failure_time_min?, r.failure_time_max?);
+        let bottom = if r.failed_branches < r.branches {
+            0.0
+        } else {
+            1.0 / hi
+        };
+        Some((r.omega, bottom, 1.0 / lo))
+    });
+    plot = with_bands(plot, bands, "1/T over the explored motions");
     plot.save(path, (1000, 620))
+}
+
+/// `plot` with a vertical bar from `lo` to `hi` at each `x` of `bands`, labelled once.
+fn with_bands(
+    mut plot: LinePlot,
+    bands: impl Iterator<Item = (f64, f64, f64)>,
+    label: &str,
+) -> LinePlot {
+    let style = Style::color(GUIDE_COLOR).width(4);
+    for (i, (x, lo, hi)) in bands.enumerate() {
+        let name = if i == 0 { label } else { "" };
+        plot = plot.with(Series::line(name, vec![(x, lo), (x, hi)]).styled(style));
+    }
+    plot
 }
 
 /// What a slide sweep holds fixed (v₀ is the swept parameter).
@@ -829,6 +854,15 @@ pub fn plot_slide_sweep(path: &Path, rows: &[SlideRow], sweep: &SlideSweep) -> R
             stopped,
         ));
     }
+    let bands = rows
+        .iter()
+        .filter(|r| r.branches > 1)
+        .filter_map(|r| Some((r.v0, r.top_angle_min?, r.top_angle_max?)));
+    plot = with_bands(
+        plot,
+        bands,
+        "θ over the explored motions (smallest to largest)",
+    );
     plot.save(path, (1000, 620))
 }
 

@@ -1,5 +1,6 @@
 //! The shaken column at one base frequency: its time to failure (§4.4, Figure 4.6).
 
+use crate::exploration::{leaf_spread, LeafSpread};
 use crate::record::{finite_text, optional_text};
 use crate::scenarios::{shaking_column, Shaking};
 use crate::simulation::{simulate, RunOptions};
@@ -55,11 +56,21 @@ pub struct FrequencyRow {
     pub branch_points: usize,
     /// Solver time (s).
     pub wall_time_s: f64,
+    /// Motions explored ([`RunOptions::spread_branches`]; 1: the plain run).
+    pub branches: usize,
+    /// How many of them failed by the horizon.
+    pub failed_branches: usize,
+    /// Smallest failure time over the explored motions that failed, or null.
+    pub failure_time_min: Option<f64>,
+    /// Their median failure time, or null.
+    pub failure_time_median: Option<f64>,
+    /// Their largest failure time, or null.
+    pub failure_time_max: Option<f64>,
 }
 
 impl FrequencyRow {
     /// The columns of `sweep_frequency.csv`, one per field, in order.
-    pub const CSV_HEADER: [&'static str; 11] = [
+    pub const CSV_HEADER: [&'static str; 16] = [
         "omega",
         "horizon",
         "outcome",
@@ -71,6 +82,11 @@ impl FrequencyRow {
         "failed_steps",
         "branch_points",
         "wall_time_s",
+        "branches",
+        "failed_branches",
+        "failure_time_min",
+        "failure_time_median",
+        "failure_time_max",
     ];
 
     /// The row's cells under [`Self::CSV_HEADER`]: numbers in shortest round-trip form,
@@ -89,6 +105,11 @@ impl FrequencyRow {
             self.failed_steps.to_string(),
             self.branch_points.to_string(),
             finite_text(self.wall_time_s),
+            self.branches.to_string(),
+            self.failed_branches.to_string(),
+            optional_text(self.failure_time_min),
+            optional_text(self.failure_time_median),
+            optional_text(self.failure_time_max),
         ]
     }
 }
@@ -129,6 +150,11 @@ pub fn frequency_row(shaking: &Shaking, options: &RunOptions) -> FrequencyRow {
         failed_steps: 0,
         branch_points: 0,
         wall_time_s: 0.0,
+        branches: 0,
+        failed_branches: 0,
+        failure_time_min: None,
+        failure_time_median: None,
+        failure_time_max: None,
     };
     let options = RunOptions {
         stop_at_failure: true,
@@ -155,6 +181,33 @@ pub fn frequency_row(shaking: &Shaking, options: &RunOptions) -> FrequencyRow {
             row.failed_steps = s.failed_steps;
             row.branch_points = s.branch_points.len();
             row.wall_time_s = s.wall_time_s;
+            let spread = if options.spread_branches > 1 {
+                shaking_column(shaking).and_then(|scene| {
+                    leaf_spread(&scene, &options, options.spread_branches, true, |b| {
+                        b.outcome.failure_time
+                    })
+                })
+            } else {
+                Ok(LeafSpread {
+                    branches: 1,
+                    valued: usize::from(s.failure_time.is_some()),
+                    spread: s.failure_time.map(|t| [t; 3]),
+                })
+            };
+            match spread {
+                Ok(LeafSpread {
+                    branches,
+                    valued,
+                    spread,
+                }) => {
+                    row.branches = branches;
+                    row.failed_branches = valued;
+                    row.failure_time_min = spread.map(|v| v[0]);
+                    row.failure_time_median = spread.map(|v| v[1]);
+                    row.failure_time_max = spread.map(|v| v[2]);
+                }
+                Err(e) => row.error = Some(one_line(&e.to_string())),
+            }
         }
         Err(e) => row.error = Some(one_line(&e.to_string())),
     }

@@ -1,6 +1,7 @@
 //! The column on a pulled base at one speed: the top block's angle at the end and how
 //! the column ends (§4.5, Figure 4.7).
 
+use crate::exploration::{leaf_spread, LeafSpread};
 use crate::record::{finite_text, optional_text, Frame};
 use crate::scenarios::{sliding_column, Sliding};
 use crate::scene::Scene;
@@ -86,11 +87,19 @@ pub struct SlideRow {
     pub failed_steps: usize,
     /// Solver time (s).
     pub wall_time_s: f64,
+    /// Motions explored ([`RunOptions::spread_branches`]; 1: the plain run).
+    pub branches: usize,
+    /// Smallest top block angle at the end over the explored motions, or null.
+    pub top_angle_min: Option<f64>,
+    /// Their median top block angle, or null.
+    pub top_angle_median: Option<f64>,
+    /// Their largest top block angle, or null.
+    pub top_angle_max: Option<f64>,
 }
 
 impl SlideRow {
     /// The columns of `sweep_slide.csv`, one per field, in order.
-    pub const CSV_HEADER: [&'static str; 9] = [
+    pub const CSV_HEADER: [&'static str; 13] = [
         "v0",
         "top_angle",
         "regime",
@@ -100,6 +109,10 @@ impl SlideRow {
         "failure_time",
         "failed_steps",
         "wall_time_s",
+        "branches",
+        "top_angle_min",
+        "top_angle_median",
+        "top_angle_max",
     ];
 
     /// The row's cells under [`Self::CSV_HEADER`]: numbers in shortest round-trip form,
@@ -116,6 +129,10 @@ impl SlideRow {
             optional_text(self.failure_time),
             self.failed_steps.to_string(),
             finite_text(self.wall_time_s),
+            self.branches.to_string(),
+            optional_text(self.top_angle_min),
+            optional_text(self.top_angle_median),
+            optional_text(self.top_angle_max),
         ]
     }
 }
@@ -154,6 +171,10 @@ pub fn slide_row(p: &Sliding, options: &RunOptions) -> SlideRow {
         failure_time: None,
         failed_steps: 0,
         wall_time_s: 0.0,
+        branches: 0,
+        top_angle_min: None,
+        top_angle_median: None,
+        top_angle_max: None,
     };
     let scene = match sliding_column(p) {
         Ok(s) => s,
@@ -176,6 +197,28 @@ pub fn slide_row(p: &Sliding, options: &RunOptions) -> SlideRow {
                 if row.error.is_none() {
                     row.regime = Some(slide_regime(&scene, &f));
                 }
+            }
+            let spread = if options.spread_branches > 1 {
+                leaf_spread(&scene, options, options.spread_branches, false, |b| {
+                    b.outcome.final_poses.last().map(|p| p.theta)
+                })
+            } else {
+                Ok(LeafSpread {
+                    branches: 1,
+                    valued: usize::from(row.top_angle.is_some()),
+                    spread: row.top_angle.map(|a| [a; 3]),
+                })
+            };
+            match spread {
+                Ok(LeafSpread {
+                    branches, spread, ..
+                }) => {
+                    row.branches = branches;
+                    row.top_angle_min = spread.map(|v| v[0]);
+                    row.top_angle_median = spread.map(|v| v[1]);
+                    row.top_angle_max = spread.map(|v| v[2]);
+                }
+                Err(e) => row.error = Some(one_line(&e.to_string())),
             }
         }
         Err(e) => row.error = Some(one_line(&e.to_string())),
@@ -200,6 +243,10 @@ mod tests {
             failure_time: None,
             failed_steps: 0,
             wall_time_s: f64::NAN,
+            branches: 1,
+            top_angle_min: Some(0.25),
+            top_angle_median: Some(0.25),
+            top_angle_max: Some(0.25),
         };
         let cells = row.csv_cells();
         assert_eq!(cells.len(), SlideRow::CSV_HEADER.len());

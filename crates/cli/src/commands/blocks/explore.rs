@@ -38,6 +38,17 @@ pub enum RuleArg {
     Converged,
 }
 
+impl RuleArg {
+    /// nsga's rule.
+    #[must_use]
+    pub fn rule(self) -> BranchRule {
+        match self {
+            Self::SelfConsistent => BranchRule::SelfConsistent,
+            Self::Converged => BranchRule::Converged,
+        }
+    }
+}
+
 /// Arguments of `rollstack blocks explore`.
 #[derive(Debug, Args)]
 pub struct ExploreArgs {
@@ -119,10 +130,7 @@ pub fn run(args: &ExploreArgs) -> Result<()> {
     if let Some(w) = args.max_wall {
         anyhow::ensure!(w >= 0.0, "--max-wall must not be negative, got {w}");
     }
-    let rule = match args.branch_rule {
-        RuleArg::SelfConsistent => BranchRule::SelfConsistent,
-        RuleArg::Converged => BranchRule::Converged,
-    };
+    let rule = args.branch_rule.rule();
     let strategy = match args.strategy {
         StrategyArg::Breadth => Strategy::Breadth,
         StrategyArg::Depth => Strategy::Depth,
@@ -157,6 +165,7 @@ pub fn run(args: &ExploreArgs) -> Result<()> {
         trajectories: traj_dir.as_deref(),
         classify: args.classify,
         finished: Some(&finished),
+        stop_at_failure: false,
     };
     let bar = crate::progress::bar(args.max_branches as u64, "branches");
     let done = AtomicBool::new(false);

@@ -193,6 +193,33 @@ impl<'a> SweepRun<'a> {
     }
 }
 
+/// The spread of a sweep's value over the motions of each run (Figures 4.6–4.7 as
+/// bands).
+#[derive(Debug, Clone, Args)]
+pub struct SpreadArgs {
+    /// Explore up to this many branches of each run (`blocks explore`) and report the
+    /// smallest, median and largest value over the motions found, drawn as a band; 1:
+    /// the plain run only.
+    #[arg(long, default_value_t = 1)]
+    pub branches: usize,
+    /// Which solutions of a cycling step are a fork's candidates when exploring:
+    /// `self-consistent` or `converged` (the thesis's count).
+    #[arg(long, value_enum, default_value = "self-consistent")]
+    pub branch_rule: super::explore::RuleArg,
+}
+
+impl SpreadArgs {
+    /// `options` with this spread.
+    fn apply(&self, options: RunOptions) -> Result<RunOptions> {
+        anyhow::ensure!(self.branches >= 1, "--branches must be at least 1");
+        Ok(RunOptions {
+            spread_branches: self.branches,
+            branch_rule: self.branch_rule.rule(),
+            ..options
+        })
+    }
+}
+
 /// Arguments of `rollstack blocks sweep frequency`.
 #[derive(Debug, Args)]
 pub struct FrequencyArgs {
@@ -225,6 +252,9 @@ pub struct FrequencyArgs {
     pub solver: SolverArgs,
     #[command(flatten)]
     #[allow(missing_docs)]
+    pub spread: SpreadArgs,
+    #[command(flatten)]
+    #[allow(missing_docs)]
     pub output: SweepOutputArgs,
 }
 
@@ -247,6 +277,9 @@ pub struct SlideArgs {
     #[command(flatten)]
     #[allow(missing_docs)]
     pub solver: SolverArgs,
+    #[command(flatten)]
+    #[allow(missing_docs)]
+    pub spread: SpreadArgs,
     #[command(flatten)]
     #[allow(missing_docs)]
     pub output: SweepOutputArgs,
@@ -287,12 +320,14 @@ pub fn sweep_frequency(args: &FrequencyArgs) -> Result<()> {
         "--steps-per-period must be positive"
     );
     anyhow::ensure!(args.mu >= 0.0, "--mu must not be negative");
-    let options = args.solver.run_options(None, true)?;
+    let options = args.spread.apply(args.solver.run_options(None, true)?)?;
     let all = parse_values(&args.omega).map_err(|e| anyhow::anyhow!("--omega: {e}"))?;
     let inputs = serde_json::json!({
         "omega": args.omega, "periods": args.t_max.is_none().then_some(args.periods),
         "t_max": args.t_max, "amplitude": args.amplitude,
         "blocks": args.blocks, "steps_per_period": args.steps_per_period, "mu": args.mu,
+        "branches": args.spread.branches,
+        "branch_rule": args.spread.branch_rule.rule().name(),
     });
     let sweep = SweepRun::new("frequency", &args.output, &args.solver, inputs, all.len())?;
     let omegas = sweep.run.select(&all);
@@ -340,10 +375,14 @@ pub fn sweep_frequency(args: &FrequencyArgs) -> Result<()> {
 pub fn sweep_slide(args: &SlideArgs) -> Result<()> {
     anyhow::ensure!(args.blocks >= 1, "--blocks must be at least 1");
     anyhow::ensure!(args.mu >= 0.0, "--mu must not be negative");
-    let options = args.solver.run_options(Some(args.t_end), false)?;
+    let options = args
+        .spread
+        .apply(args.solver.run_options(Some(args.t_end), false)?)?;
     let all = parse_values(&args.v0).map_err(|e| anyhow::anyhow!("--v0: {e}"))?;
     let inputs = serde_json::json!({
         "v0": args.v0, "t_end": args.t_end, "blocks": args.blocks, "mu": args.mu,
+        "branches": args.spread.branches,
+        "branch_rule": args.spread.branch_rule.rule().name(),
     });
     let sweep = SweepRun::new("slide", &args.output, &args.solver, inputs, all.len())?;
     let speeds = sweep.run.select(&all);
