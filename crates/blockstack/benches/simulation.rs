@@ -156,11 +156,66 @@ fn tall_column_moving_base(c: &mut Criterion) {
     g.finish();
 }
 
+/// Exploring every continuation (§4.4): the Lire collapse under the thesis's branch rule
+/// to 200 branches (about 35 followed forks, 8·10⁴ steps), breadth first on the threads
+/// rayon has (`RAYON_NUM_THREADS`); and Figure 4.5's settings (`abundance`,
+/// `abundance-author`) with each rule, to 1000 branches over their whole runs (three and
+/// four base periods).
+fn explore(c: &mut Criterion) {
+    use blockstack::exploration::{explore_scene, WalkSettings};
+    use nsga::explore::ExploreOptions;
+    let mut g = c.benchmark_group("explore");
+    g.sample_size(10);
+    let converged = RunOptions {
+        branch_rule: nsga::BranchRule::Converged,
+        ..RunOptions::default()
+    };
+    let capped = |n| ExploreOptions {
+        max_branches: n,
+        ..ExploreOptions::default()
+    };
+    let collapse = blockstack::scenes::find("lire-collapse")
+        .unwrap()
+        .load()
+        .unwrap()
+        .scene;
+    g.bench_function("lire_collapse_thesis_rule_200_branches", |b| {
+        b.iter(|| {
+            black_box(
+                explore_scene(&collapse, &converged, &capped(200), WalkSettings::default())
+                    .unwrap(),
+            )
+        });
+    });
+    for name in ["abundance", "abundance-author"] {
+        let scene = blockstack::scenes::find(name)
+            .unwrap()
+            .load()
+            .unwrap()
+            .scene;
+        for (rule, options) in [
+            ("self_consistent", RunOptions::default()),
+            ("thesis_rule", converged.clone()),
+        ] {
+            g.bench_function(format!("{name}_{rule}_1000_branches"), |b| {
+                b.iter(|| {
+                    black_box(
+                        explore_scene(&scene, &options, &capped(1000), WalkSettings::default())
+                            .unwrap(),
+                    )
+                });
+            });
+        }
+    }
+    g.finish();
+}
+
 criterion_group!(
     benches,
     lire_collapse,
     resting_columns,
     shaken_matrix_worst,
-    tall_column_moving_base
+    tall_column_moving_base,
+    explore
 );
 criterion_main!(benches);

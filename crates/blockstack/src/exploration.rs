@@ -268,10 +268,10 @@ impl Walker for StackWalker<'_> {
             || (self.stop_at_failure && self.failure_time.is_some())
     }
 
-    fn fork(&self, candidate: &State) -> Self {
+    fn fork(&self, candidate: State) -> Self {
         Self {
             scene: self.scene,
-            stepper: self.stepper.branch_from(candidate.clone()),
+            stepper: self.stepper.branch_from(candidate),
             corners: self.corners.for_branch(),
             rec: self.rec.clone(),
             horizon: self.horizon,
@@ -290,6 +290,10 @@ impl Walker for StackWalker<'_> {
             finished: self.finished,
             stop_at_failure: self.stop_at_failure,
         }
+    }
+
+    fn park(&mut self) {
+        self.stepper.release_buffers();
     }
 
     fn finish(&mut self, end: &BranchEnd) -> BranchSummary {
@@ -432,11 +436,11 @@ pub fn fork_records(tree: &Exploration<BranchSummary>, n_blocks: usize) -> Vec<F
             let sets = f.candidate_sets();
             ForkRecord {
                 branch: b.id,
-                t: f.point.t,
-                k: f.before.k,
-                tried: f.point.tried,
-                distinct: f.point.candidates.len(),
-                consistent: f.point.consistent.iter().filter(|&&c| c).count(),
+                t: f.t,
+                k: f.k,
+                tried: f.tried,
+                distinct: f.sets.len(),
+                consistent: f.consistent.iter().filter(|&&c| c).count(),
                 followed: f.followed,
                 children: f.children.clone(),
                 differing_interfaces: differing_interfaces(&sets, n_blocks),
@@ -447,37 +451,16 @@ pub fn fork_records(tree: &Exploration<BranchSummary>, n_blocks: usize) -> Vec<F
                         || a.c[2 * n_blocks..] != b.c[2 * n_blocks..]
                         || a.d[n_blocks..] != b.d[n_blocks..]
                 }),
-                spread: spread(&f.point),
+                spread: f.spread,
                 evidence: b
                     .outcome
                     .fork_checks
                     .iter()
-                    .find(|c| c.k == f.before.k)
+                    .find(|c| c.k == f.k)
                     .map(|c| c.evidence.clone()),
             }
         })
         .collect()
-}
-
-/// The largest relative distance between two candidates of a branch point.
-#[must_use]
-pub fn spread(point: &BranchPoint) -> f64 {
-    let c = &point.candidates;
-    let mut worst: f64 = 0.0;
-    for (i, (_, a)) in c.iter().enumerate() {
-        for (_, b) in &c[i + 1..] {
-            worst = worst.max(relative_distance(a, b));
-        }
-    }
-    worst
-}
-
-/// ‖(q, u)_a − (q, u)_b‖ / (1 + ‖q_b‖ + ‖u_b‖), the measure of [`State::same_motion`].
-#[must_use]
-pub fn relative_distance(a: &State, b: &State) -> f64 {
-    let sq = |x: &[f64], y: &[f64]| -> f64 { x.iter().zip(y).map(|(p, q)| (p - q).powi(2)).sum() };
-    let norm = |x: &[f64]| x.iter().map(|v| v * v).sum::<f64>().sqrt();
-    (sq(&a.q, &b.q) + sq(&a.u, &b.u)).sqrt() / (1.0 + norm(&b.q) + norm(&b.u))
 }
 
 /// The motions found, grouped by [`Outcome`].

@@ -11,7 +11,7 @@
 //! let loaded = shaking.load()?;
 //! assert_eq!(loaded.scene.n_blocks(), 4);
 //! let unknown = scenes::find("tower").unwrap_err().to_string();
-//! assert!(unknown.contains("lire, shaking, slide"), "{unknown}");
+//! assert!(unknown.contains("lire, lire-collapse, shaking, slide"), "{unknown}");
 //! # Ok::<(), blockstack::BlockError>(())
 //! ```
 
@@ -41,7 +41,7 @@ impl BuiltinScene {
     }
 }
 
-const BUILTIN: [BuiltinScene; 5] = [
+const BUILTIN: [BuiltinScene; 6] = [
     BuiltinScene {
         name: "abundance",
         description: "Figure 4.5 as the thesis states it: five blocks, mu = 0.3, base x = sin(3πt/2), 60 steps per period, 3 periods, floor (for `blocks explore`)",
@@ -56,6 +56,11 @@ const BUILTIN: [BuiltinScene; 5] = [
         name: "lire",
         description: "the Leaning Tower of Lire (§4.3): four blocks at maximum overhang on a fixed table, no floor",
         toml: include_str!("../scenes/lire.toml"),
+    },
+    BuiltinScene {
+        name: "lire-collapse",
+        description: "the Lire tower with its lowest block pushed out by 1 % of its width: the whole column collapses (§4.3, Figure 4.4), no floor",
+        toml: include_str!("../scenes/lire-collapse.toml"),
     },
     BuiltinScene {
         name: "shaking",
@@ -114,7 +119,7 @@ mod tests {
         }
         let e = find("nope").unwrap_err().to_string();
         assert!(
-            !e.contains('\n') && e.contains("lire, shaking, slide"),
+            !e.contains('\n') && e.contains("lire, lire-collapse, shaking, slide"),
             "{e}"
         );
     }

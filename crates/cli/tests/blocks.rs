@@ -796,3 +796,56 @@ fn runs_estimated_over_ten_minutes_are_refused_before_any_step_unless_forced() {
     let v = json(&["blocks", "shake", "--periods", "0.05", "--force", "--json"]);
     assert!(v["error"].is_null() && v["steps"] == 5, "{v}");
 }
+
+/// `blocks explore` on two blocks of Figure 4.5's setting under the thesis's rule, with
+/// `threads` rayon threads: every file it writes but the figure, by name.
+fn explore_files(threads: &str) -> Vec<(String, Vec<u8>)> {
+    let dir = temp_dir(&format!("blocks-explore-threads-{threads}"));
+    std::fs::create_dir_all(&dir).unwrap();
+    let scene = dir.join("two.toml");
+    let toml = String::from_utf8(rollstack(&["blocks", "scenes", "abundance"]).stdout).unwrap();
+    std::fs::write(&scene, toml.replace("count = 5", "count = 2")).unwrap();
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_rollstack"))
+        .args([
+            "blocks",
+            "explore",
+            scene.to_str().unwrap(),
+            "--branch-rule",
+            "converged",
+            "--classify",
+            "--out",
+            dir.join("out").to_str().unwrap(),
+        ])
+        .env("RAYON_NUM_THREADS", threads)
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let mut files = Vec::new();
+    for sub in ["out", "out/trajectories"] {
+        for e in std::fs::read_dir(dir.join(sub)).unwrap() {
+            let p = e.unwrap().path();
+            let name = p.file_name().unwrap().to_string_lossy().into_owned();
+            if p.is_file() && name.ends_with(".csv") {
+                files.push((format!("{sub}/{name}"), std::fs::read(&p).unwrap()));
+            }
+        }
+    }
+    files.sort();
+    files
+}
+
+#[test]
+fn explore_writes_the_same_files_with_one_or_two_threads() {
+    let one = explore_files("1");
+    let two = explore_files("2");
+    let names: Vec<&str> = one.iter().map(|(n, _)| n.as_str()).collect();
+    for f in ["out/branches.csv", "out/forks.csv", "out/outcomes.csv"] {
+        assert!(names.contains(&f), "{names:?}");
+    }
+    assert!(names.len() > 5, "a tree of several branches: {names:?}");
+    assert_eq!(one, two);
+}

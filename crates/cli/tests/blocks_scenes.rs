@@ -46,7 +46,8 @@ fn scenes_lists_the_builtin_scenes_and_prints_one_as_its_file() {
     assert!(!ok && stdout.is_empty());
     assert_eq!(stderr.trim().lines().count(), 1, "{stderr}");
     assert!(
-        stderr.contains("no built-in scene 'tower'") && stderr.contains("lire, shaking, slide"),
+        stderr.contains("no built-in scene 'tower'")
+            && stderr.contains("lire, lire-collapse, shaking, slide"),
         "{stderr}"
     );
 }
@@ -92,7 +93,9 @@ fn run_takes_a_builtin_name_and_a_file_wins_over_it() {
     assert!(!ok && stdout.is_empty());
     assert_eq!(stderr.trim().lines().count(), 1, "{stderr}");
     assert!(
-        stderr.contains("built-in scenes: abundance, abundance-author, lire, shaking, slide"),
+        stderr.contains(
+            "built-in scenes: abundance, abundance-author, lire, lire-collapse, shaking, slide"
+        ),
         "{stderr}"
     );
     std::fs::remove_dir_all(dir).unwrap();

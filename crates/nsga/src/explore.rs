@@ -63,9 +63,12 @@ pub trait Walker: Send + Sized {
     fn done(&self) -> bool;
     /// A walker that continues from `candidate`, a state of the branch point the last
     /// step returned.
-    fn fork(&self, candidate: &State) -> Self;
+    fn fork(&self, candidate: State) -> Self;
     /// Ends the current branch.
     fn finish(&mut self, end: &BranchEnd) -> Self::Outcome;
+    /// Frees what the walker can rebuild (solver buffers) while it waits for the rest of
+    /// its generation: a breadth-first tree holds one walker per live branch.
+    fn park(&mut self) {}
 }
 
 /// How the tree is grown.
@@ -141,13 +144,24 @@ impl BranchEnd {
     }
 }
 
-/// A branch point met by a branch.
+/// A branch point met by a branch: what is kept of it once it is decided (the candidate
+/// states themselves live on in the child branches).
 #[derive(Debug, Clone, PartialEq)]
 pub struct Fork {
-    /// The state at the start of the forking step.
-    pub before: State,
-    /// The step's branch point (candidates with their index sets).
-    pub point: BranchPoint,
+    /// Time t_n at the start of the forking step.
+    pub t: f64,
+    /// Step number at the start of the forking step.
+    pub k: u64,
+    /// The index sets each candidate was solved with.
+    pub sets: Vec<IndexSets>,
+    /// Whether each candidate is self-consistent ([`BranchPoint::consistent`]).
+    pub consistent: Vec<bool>,
+    /// Fixed-set re-solves tried.
+    pub tried: usize,
+    /// The candidate a plain run continues with.
+    pub chosen: usize,
+    /// The largest distance between two candidates ([`State::relative_distance`]).
+    pub spread: f64,
     /// Whether its candidates were followed as child branches.
     pub followed: bool,
     /// The child branch of each candidate (empty when not followed).
@@ -155,10 +169,32 @@ pub struct Fork {
 }
 
 impl Fork {
+    /// The fork of `point`, met on the step that starts at (t, k).
+    fn of((t, k): (f64, u64), point: &BranchPoint) -> Self {
+        let c = &point.candidates;
+        let mut spread: f64 = 0.0;
+        for (i, (_, a)) in c.iter().enumerate() {
+            for (_, b) in &c[i + 1..] {
+                spread = spread.max(a.relative_distance(b));
+            }
+        }
+        Self {
+            t,
+            k,
+            sets: c.iter().map(|(s, _)| s.clone()).collect(),
+            consistent: point.consistent.clone(),
+            tried: point.tried,
+            chosen: point.chosen,
+            spread,
+            followed: false,
+            children: Vec::new(),
+        }
+    }
+
     /// The index sets of the candidates.
     #[must_use]
     pub fn candidate_sets(&self) -> Vec<&IndexSets> {
-        self.point.candidates.iter().map(|(s, _)| s).collect()
+        self.sets.iter().collect()
     }
 }
 
@@ -238,8 +274,8 @@ struct Live<W> {
 enum Stop {
     /// Horizon, failure or wall time: the branch is over.
     Over(BranchEnd),
-    /// A fork that the scheduler may follow.
-    Fork(Box<Fork>),
+    /// A fork that the scheduler may follow, with its candidates' states.
+    Fork(Fork, Vec<State>),
 }
 
 /// Runs `live` until it ends or meets a fork it may follow (`may_fork`); forks it may
@@ -252,18 +288,14 @@ fn advance<W: Walker>(live: &mut Live<W>, may_fork: bool, deadline: Option<Insta
         if deadline.is_some_and(|d| Instant::now() >= d) {
             return Stop::Over(BranchEnd::WallTime);
         }
-        let before = live.walker.state().clone();
+        let at = (live.walker.state().t, live.walker.state().k);
         match live.walker.step() {
             Err(e) => return Stop::Over(BranchEnd::Failed(e.to_string())),
             Ok(Some(point)) => {
-                let fork = Fork {
-                    before,
-                    point,
-                    followed: false,
-                    children: Vec::new(),
-                };
+                let fork = Fork::of(at, &point);
                 if may_fork {
-                    return Stop::Fork(Box::new(fork));
+                    let states = point.candidates.into_iter().map(|(_, s)| s).collect();
+                    return Stop::Fork(fork, states);
                 }
                 live.forks.push(fork);
                 live.walker.observe();
@@ -311,11 +343,10 @@ impl<O> Tree<O> {
         }
         let outcome = live.walker.finish(&end);
         // A forked branch ends where its fork's step starts: the step is its children's.
-        let last = match (&end, live.forks.last()) {
-            (BranchEnd::Forked, Some(f)) => &f.before,
-            _ => live.walker.state(),
+        let end_at = match (&end, live.forks.last()) {
+            (BranchEnd::Forked, Some(f)) => (f.t, f.k),
+            _ => (live.walker.state().t, live.walker.state().k),
         };
-        let end_at = (last.t, last.k);
         self.done[live.id] = Some(Branch {
             id: live.id,
             parent: live.parent,
@@ -334,8 +365,9 @@ impl<O> Tree<O> {
         &mut self,
         mut live: Live<W>,
         mut fork: Fork,
+        states: Vec<State>,
     ) -> Vec<Live<W>> {
-        let n = fork.point.candidates.len();
+        let n = states.len();
         let fits = self.done.len() + n <= self.options.max_branches;
         if live.depth >= self.options.max_depth || !fits {
             self.passed_fork(live.depth);
@@ -344,9 +376,10 @@ impl<O> Tree<O> {
             return vec![live];
         }
         let mut children = Vec::with_capacity(n);
-        for (i, (_, state)) in fork.point.candidates.iter().enumerate() {
+        for (i, state) in states.into_iter().enumerate() {
             let id = self.done.len();
             self.done.push(None);
+            let start = (state.t, state.k);
             let mut walker = live.walker.fork(state);
             walker.begin(id);
             walker.observe();
@@ -356,7 +389,7 @@ impl<O> Tree<O> {
                 id,
                 parent: Some((live.id, i)),
                 depth: live.depth + 1,
-                start: (state.t, state.k),
+                start,
                 forks: Vec::new(),
             });
         }
@@ -422,6 +455,7 @@ fn breadth<W: Walker>(tree: &mut Tree<W::Outcome>, root: Live<W>, deadline: Opti
             .map(|(mut live, may_fork)| {
                 let known = live.forks.len();
                 let stop = advance(&mut live, may_fork, deadline);
+                live.walker.park();
                 (live, known, stop)
             })
             .collect();
@@ -430,7 +464,7 @@ fn breadth<W: Walker>(tree: &mut Tree<W::Outcome>, root: Live<W>, deadline: Opti
             tree.note_passed(&live, known);
             match stop {
                 Stop::Over(end) => tree.close(live, end),
-                Stop::Fork(fork) => next.extend(tree.decide(live, *fork)),
+                Stop::Fork(fork, states) => next.extend(tree.decide(live, fork, states)),
             }
         }
         next.sort_by_key(|l| l.id);
@@ -447,8 +481,8 @@ fn depth_first<W: Walker>(tree: &mut Tree<W::Outcome>, root: Live<W>, deadline: 
         tree.note_passed(&live, known);
         match stop {
             Stop::Over(end) => tree.close(live, end),
-            Stop::Fork(fork) => {
-                let mut next = tree.decide(live, *fork);
+            Stop::Fork(fork, states) => {
+                let mut next = tree.decide(live, fork, states);
                 next.reverse();
                 stack.extend(next);
             }
@@ -481,14 +515,17 @@ impl<S: System + Clone + Send> Walker for StepperWalker<S> {
     fn done(&self) -> bool {
         self.stepper.state().k >= self.horizon
     }
-    fn fork(&self, candidate: &State) -> Self {
+    fn fork(&self, candidate: State) -> Self {
         Self {
-            stepper: self.stepper.branch_from(candidate.clone()),
+            stepper: self.stepper.branch_from(candidate),
             horizon: self.horizon,
         }
     }
     fn finish(&mut self, _end: &BranchEnd) -> State {
         self.stepper.state().clone()
+    }
+    fn park(&mut self) {
+        self.stepper.release_buffers();
     }
 }
 

@@ -2,6 +2,10 @@
 
 use crate::linalg::norm;
 
+/// Two states closer than this ([`State::relative_distance`]) are the same continuation
+/// (how branch candidates are deduplicated, docs/method.md §8.4).
+pub const SAME_MOTION: f64 = 1e-8;
+
 /// The state carried from step to step (docs/method.md §3 "Carried over").
 #[derive(Debug, Clone, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct State {
@@ -38,9 +42,16 @@ impl State {
     /// 1 + ‖q‖ + ‖u‖ (how branch candidates are deduplicated, docs/method.md §4).
     #[must_use]
     pub fn same_motion(&self, other: &State) -> bool {
+        self.relative_distance(other) <= SAME_MOTION
+    }
+
+    /// ‖(q, u) − (q, u)_other‖ / (1 + ‖q_other‖ + ‖u_other‖): the distance between two
+    /// continuations, relative to the motion's size.
+    #[must_use]
+    pub fn relative_distance(&self, other: &State) -> f64 {
         let squared =
             |a: &[f64], b: &[f64]| -> f64 { a.iter().zip(b).map(|(x, y)| (x - y).powi(2)).sum() };
         let distance = (squared(&self.q, &other.q) + squared(&self.u, &other.u)).sqrt();
-        distance <= 1e-8 * (1.0 + norm(&other.q) + norm(&other.u))
+        distance / (1.0 + norm(&other.q) + norm(&other.u))
     }
 }

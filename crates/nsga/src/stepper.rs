@@ -287,6 +287,14 @@ impl<S: System> Stepper<S> {
             time_base: self.time_base,
         }
     }
+    /// Drops the solver's buffers and kept factors (rebuilt at the next step), to hold a
+    /// stepper that waits cheaply (an exploration's parked branches).
+    pub fn release_buffers(&mut self) {
+        let solves = self.work.linear_solves;
+        self.work = Work::new(&self.layout, &self.options);
+        self.work.linear_solves = solves;
+    }
+
     /// The options.
     pub fn options(&self) -> &Options {
         &self.options

@@ -65,9 +65,9 @@ impl Walker for Doubling {
     fn done(&self) -> bool {
         self.state.k >= self.horizon
     }
-    fn fork(&self, candidate: &State) -> Self {
+    fn fork(&self, candidate: State) -> Self {
         Self {
-            state: candidate.clone(),
+            state: candidate,
             ..self.clone()
         }
     }
