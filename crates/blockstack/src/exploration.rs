@@ -703,12 +703,6 @@ impl ForkRecord {
     /// One row of `forks.csv` ([`FORK_COLUMNS`]); lists are separated by spaces.
     #[must_use]
     pub fn csv_cells(&self) -> Vec<String> {
-        let list = |v: &[usize]| {
-            v.iter()
-                .map(ToString::to_string)
-                .collect::<Vec<_>>()
-                .join(" ")
-        };
         let count = |c: Option<usize>| c.map_or(String::new(), |c| c.to_string());
         let e = self.evidence.as_ref();
         vec![
@@ -719,8 +713,8 @@ impl ForkRecord {
             self.distinct.to_string(),
             self.consistent.to_string(),
             self.followed.to_string(),
-            list(&self.children),
-            list(&self.differing_interfaces),
+            space_list(&self.children),
+            space_list(&self.differing_interfaces),
             self.corner_contacts_differ.to_string(),
             number_text(self.spread),
             self.label().to_owned(),
@@ -746,18 +740,12 @@ impl OutcomeGroup {
     /// One row of `outcomes.csv` ([`OUTCOME_COLUMNS`]).
     #[must_use]
     pub fn csv_cells(&self) -> Vec<String> {
-        let list = |v: &[usize]| {
-            v.iter()
-                .map(ToString::to_string)
-                .collect::<Vec<_>>()
-                .join(" ")
-        };
         let t = |i: usize| optional_text(self.failure_time.map(|f| f[i]));
         vec![
             self.label.clone(),
             self.branches.len().to_string(),
-            list(&self.outcome.fell),
-            list(&self.outcome.on_floor),
+            space_list(&self.outcome.fell),
+            space_list(&self.outcome.on_floor),
             t(0),
             t(1),
             t(2),
@@ -806,4 +794,12 @@ pub fn leaf_spread(
         valued: values.len(),
         spread: spread_of(values),
     })
+}
+
+/// Numbers separated by spaces: a list in one CSV cell.
+fn space_list(v: &[usize]) -> String {
+    v.iter()
+        .map(ToString::to_string)
+        .collect::<Vec<_>>()
+        .join(" ")
 }
