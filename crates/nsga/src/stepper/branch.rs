@@ -335,3 +335,57 @@ fn neighbour_sets(visited: &[IndexSets], laws: &[FrictionLaw]) -> Vec<IndexSets>
     }
     out
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::report::StepStats;
+
+    fn trial(x: f64) -> Trial {
+        let state = State {
+            q: vec![1.0, x],
+            u: vec![0.5, 0.0],
+            ..State::default()
+        };
+        Trial {
+            state,
+            stats: StepStats {
+                t: 0.0,
+                iterations: 1,
+                residual: 0.0,
+                rho_inf: 0.5,
+                sets: IndexSets::default(),
+                retries: 0,
+                converged: true,
+                branch: None,
+                solver: "dense".into(),
+                substeps: 1,
+                last_resort: None,
+            },
+            visited: Vec::new(),
+            cycling: false,
+        }
+    }
+
+    #[test]
+    fn candidates_closer_than_the_tolerance_are_one_continuation() {
+        // |(q, u)| ≈ 1.6: the tolerance is 1e-8 × (1 + ‖q‖ + ‖u‖) ≈ 2.6e-8.
+        let sets = IndexSets::empty(1, 0);
+        let mut c = Candidates::default();
+        c.offer(&sets, trial(0.0), false);
+        c.offer(&sets, trial(1e-9), true);
+        assert_eq!(c.found.len(), 1, "a repeat within round-off is merged");
+        assert_eq!(
+            c.consistent,
+            [true],
+            "a self-consistent repeat marks the kept one"
+        );
+        c.offer(&sets, trial(1e-6), true);
+        assert_eq!(
+            c.found.len(),
+            2,
+            "a candidate 1e-6 away is another continuation"
+        );
+        assert!(c.found[0].1.relative_distance(&c.found[1].1) > crate::state::SAME_MOTION);
+    }
+}
