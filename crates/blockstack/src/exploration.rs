@@ -1,5 +1,5 @@
 //! Every continuation of a block stack's run (§4.4, Figure 4.5): nsga's exploration
-//! ([`nsga::explore`]) driven over a scene, with the stack's contact states at each fork,
+//! ([`mod@nsga::explore`]) driven over a scene, with the stack's contact states at each fork,
 //! the outcomes a user reads (which blocks fell, in what order, which reached the floor),
 //! and the test of each fork against refinement ([`crate::fork_check`]).
 //!

@@ -264,7 +264,7 @@ impl<S: System> Stepper<S> {
     }
     /// A stepper for the same system and options that continues from `state`, one of
     /// this stepper's states or a candidate of its last branch point (how an exploration
-    /// follows each continuation of a fork, [`crate::explore`]). Its time grid is this
+    /// follows each continuation of a fork, [`mod@crate::explore`]). Its time grid is this
     /// stepper's, so t_k of a branch agrees bitwise with the run it forked from; its
     /// statistics start at zero and its buffers (kept factors, remembered singular sets)
     /// are fresh.

@@ -92,7 +92,7 @@ pub struct ExploreArgs {
     /// Use one constant prox parameter r > 0 (the thesis: 0.3) instead of the scene's.
     #[arg(long, value_parser = parse_finite, allow_hyphen_values = true)]
     pub prox_constant: Option<f64>,
-    /// Write each branch's trajectory to trajectories/branch_<id>.csv (with --out).
+    /// Write each branch's trajectory to trajectories/branch_NNNNN.csv (NNNNN: the branch id) (with --out).
     #[arg(long, default_value_t = true, action = clap::ArgAction::Set, value_name = "BOOL")]
     pub trajectories: bool,
     /// Print one JSON object on stdout (otherwise a readable summary).
