@@ -602,6 +602,98 @@ fn parallel_rows<'py, P: Sync, R: Send + serde::Serialize>(
     json_to_py(py, &rows)
 }
 
+/// Every continuation of a scene's run (`blockstack::exploration`): the JSON of
+/// `rollstack blocks explore --json`, with `branch_rows` (the rows of `branches.csv`, as
+/// objects) and `fork_rows` (one object per fork: its contact states and evidence). The
+/// exploration runs with the GIL released.
+#[pyfunction]
+#[pyo3(signature = (scene, t_end = None, strategy = "breadth", max_branches = 1000, max_depth = None, max_wall = None, branch_rule = "self_consistent", probe_flips = false, classify = false, prox_constant = None))]
+#[allow(clippy::too_many_arguments)]
+fn blocks_explore<'py>(
+    py: Python<'py>,
+    scene: &PyScene,
+    t_end: Option<f64>,
+    strategy: &str,
+    max_branches: usize,
+    max_depth: Option<usize>,
+    max_wall: Option<f64>,
+    branch_rule: &str,
+    probe_flips: bool,
+    classify: bool,
+    prox_constant: Option<f64>,
+) -> PyResult<Bound<'py, PyAny>> {
+    use blockstack::exploration::{
+        branch_cells, explore_scene, fork_records, outcome_groups, ExplorationReport, WalkSettings,
+        BRANCH_COLUMNS,
+    };
+    use nsga::explore::{ExploreOptions, Strategy};
+    guard(|| {
+        let strategy = match strategy {
+            "breadth" => Strategy::Breadth,
+            "depth" => Strategy::Depth,
+            s => {
+                return Err(value_error(format!(
+                    "strategy must be 'breadth' or 'depth', got {s:?}"
+                )))
+            }
+        };
+        let rule = match branch_rule {
+            "self_consistent" => nsga::BranchRule::SelfConsistent,
+            "converged" => nsga::BranchRule::Converged,
+            s => {
+                return Err(value_error(format!(
+                    "branch_rule must be 'self_consistent' or 'converged', got {s:?}"
+                )))
+            }
+        };
+        if max_branches == 0 {
+            return Err(value_error("max_branches must be at least 1"));
+        }
+        if let Some(w) = max_wall {
+            input::non_negative("max_wall", w).map_err(value_error)?;
+        }
+        let options = RunOptions {
+            branch_rule: rule,
+            probe_flips,
+            ..run_options(t_end, prox_constant, true, true, false)?
+        };
+        let explore_options = ExploreOptions {
+            strategy,
+            max_branches,
+            max_depth: max_depth.unwrap_or(usize::MAX),
+            max_wall: max_wall.map(std::time::Duration::from_secs_f64),
+        };
+        let settings = WalkSettings {
+            sample_every: u64::MAX,
+            classify,
+            ..WalkSettings::default()
+        };
+        let scene = &scene.scene;
+        let tree = py
+            .detach(|| explore_scene(scene, &options, &explore_options, settings))
+            .map_err(value_error)?;
+        let forks = fork_records(&tree, scene.n_blocks());
+        let report = ExplorationReport::new(&tree, &forks, outcome_groups(&tree));
+        let mut value = serde_json::to_value(&report).map_err(value_error)?;
+        value["strategy"] = strategy.name().into();
+        value["branch_rule"] = rule.name().into();
+        value["branch_rows"] = tree
+            .branches
+            .iter()
+            .map(|b| {
+                let row: serde_json::Map<String, serde_json::Value> = BRANCH_COLUMNS
+                    .iter()
+                    .zip(branch_cells(b))
+                    .map(|(k, v)| ((*k).to_owned(), v.into()))
+                    .collect();
+                serde_json::Value::Object(row)
+            })
+            .collect();
+        value["fork_rows"] = serde_json::to_value(&forks).map_err(value_error)?;
+        json_to_py(py, &value)
+    })
+}
+
 pub(crate) fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<PyScene>()?;
     m.add_function(wrap_pyfunction!(blocks_scene_from_toml, m)?)?;
@@ -613,6 +705,7 @@ pub(crate) fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(blocks_sliding, m)?)?;
     m.add_function(wrap_pyfunction!(blocks_simulate, m)?)?;
     m.add_function(wrap_pyfunction!(blocks_sweep_frequency, m)?)?;
+    m.add_function(wrap_pyfunction!(blocks_explore, m)?)?;
     m.add_function(wrap_pyfunction!(blocks_sweep_slide, m)?)?;
     m.add_function(wrap_pyfunction!(blocks_sweep_scene, m)?)?;
     Ok(())

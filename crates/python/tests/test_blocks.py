@@ -208,3 +208,34 @@ def test_ctrl_c_interrupts_a_long_sweep():
 def test_help_has_the_docs():
     doc = blocks.simulate.__doc__
     assert "§4.2" in doc and "SolverError" in doc
+
+
+def test_explore_reports_the_tree():
+    scene = blocks.Scene.builtin("lire-collapse")
+    tree = blocks.explore(scene, branch_rule="converged", max_branches=12, classify=True)
+    # A fork is followed only when all its candidates fit under the cap.
+    assert 2 <= tree["branches"] == len(tree["branch_rows"]) <= 12
+    assert tree["branch_cap_reached"]
+    assert tree["labels"]["real"] == 0
+    assert len(tree["fork_rows"]) == tree["forks"]
+    assert tree["branch_rows"][0]["id"] == "0" and tree["branch_rows"][0]["parent"] == ""
+
+
+def test_explore_matches_the_command_line(cli):
+    scene = blocks.Scene.builtin("lire-collapse")
+    ours = blocks.explore(scene, branch_rule="converged", max_branches=8)
+    theirs = cli("blocks", "explore", "lire-collapse", "--branch-rule", "converged", "--max-branches", "8")
+    for key in ("branches", "leaves", "forks", "forks_followed", "labels", "outcomes", "steps"):
+        assert ours[key] == theirs[key], key
+
+
+def test_explore_bad_input():
+    scene = blocks.Scene.builtin("lire")
+    with pytest.raises(ValueError, match="strategy"):
+        blocks.explore(scene, strategy="sideways")
+    with pytest.raises(ValueError, match="branch_rule"):
+        blocks.explore(scene, branch_rule="any")
+    with pytest.raises(ValueError, match="max_branches"):
+        blocks.explore(scene, max_branches=0)
+    with pytest.raises(TypeError):
+        blocks.explore("lire")

@@ -49,6 +49,18 @@ def blocks_sweep_frequency(
     last_resort: bool = ...,
     t_max: Optional[float] = ...,
 ) -> List[Dict[str, Any]]: ...
+def blocks_explore(
+    scene: Any,
+    t_end: Optional[float] = ...,
+    strategy: str = ...,
+    max_branches: int = ...,
+    max_depth: Optional[int] = ...,
+    max_wall: Optional[float] = ...,
+    branch_rule: str = ...,
+    probe_flips: bool = ...,
+    classify: bool = ...,
+    prox_constant: Optional[float] = ...,
+) -> Dict[str, Any]: ...
 def blocks_sweep_slide(
     speeds: Sequence[float],
     t_end: float,

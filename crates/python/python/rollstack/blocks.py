@@ -37,6 +37,7 @@ __all__ = [
     "sweep_frequency",
     "sweep_slide",
     "sweep_scene",
+    "explore",
 ]
 
 
@@ -444,4 +445,46 @@ def sweep_scene(
         prox_constant,
         bool(explore_branches),
         bool(last_resort),
+    )
+
+
+def explore(
+    scene: Scene,
+    *,
+    t_end: Optional[float] = None,
+    strategy: str = "breadth",
+    max_branches: int = 1000,
+    max_depth: Optional[int] = None,
+    max_wall: Optional[float] = None,
+    branch_rule: str = "self_consistent",
+    probe_flips: bool = False,
+    classify: bool = False,
+    prox_constant: Optional[float] = None,
+) -> Dict[str, Any]:
+    """Every continuation of ``scene``'s run (thesis §4.4, Figure 4.5): at a step with
+    several solutions each becomes a branch, followed from the fork on (``rollstack
+    blocks explore``). ``strategy`` is ``"breadth"`` (a generation at a time, in
+    parallel) or ``"depth"``; ``max_branches``, ``max_depth`` and ``max_wall`` (seconds)
+    cap the tree; ``branch_rule`` is ``"self_consistent"`` (solutions of the step's
+    equations) or ``"converged"`` (the thesis's count); ``probe_flips`` also looks for
+    solutions Newton does not reveal (Painlevé's); ``classify`` labels each fork real,
+    artefact or undecided against Δt/2, Δt/4 and the other prox.
+
+    Returns the JSON of ``rollstack blocks explore --json`` (branches, leaves, forks,
+    labels, outcomes, ...) with ``branch_rows`` (the rows of branches.csv) and
+    ``fork_rows`` (one dict per fork: contact states of each candidate, evidence). The
+    tree does not depend on the number of threads."""
+    if not isinstance(scene, Scene):
+        raise TypeError(f"explore needs a rollstack.blocks.Scene, got {type(scene).__name__}")
+    return _rollstack.blocks_explore(
+        scene._inner,
+        None if t_end is None else float(t_end),
+        str(strategy),
+        int(max_branches),
+        None if max_depth is None else int(max_depth),
+        None if max_wall is None else float(max_wall),
+        str(branch_rule),
+        bool(probe_flips),
+        bool(classify),
+        prox_constant,
     )
