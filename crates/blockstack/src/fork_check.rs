@@ -156,8 +156,13 @@ mod tests {
             ForkEvidence::judge(0, [Some(1), Some(1)]),
             ForkLabel::Artefact
         );
+        // Merging under refinement makes an artefact even of self-consistent candidates.
         assert_eq!(
             ForkEvidence::judge(2, [Some(1), Some(1)]),
+            ForkLabel::Artefact
+        );
+        assert_eq!(
+            ForkEvidence::judge(2, [Some(2), Some(1)]),
             ForkLabel::Undecided
         );
         assert_eq!(
