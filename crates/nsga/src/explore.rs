@@ -1,9 +1,10 @@
 //! Exploring every continuation of a run: the tree of branches that grows from its
-//! branch points (docs/method.md §8, "Exploring the branches").
+//! branch points (docs/method.md §8.4, "Exploring the branches").
 //!
 //! A step whose Newton iterates cycle is re-solved with each visited index-set row fixed;
-//! its self-consistent, distinct solutions ([`BranchPoint::candidates`], deduplicated by
-//! [`State::same_motion`]) are the step's continuations. A plain run keeps one of them.
+//! its distinct solutions that the [`BranchRule`](crate::BranchRule) keeps
+//! ([`BranchPoint::candidates`], deduplicated by [`State::same_motion`]) are the step's
+//! continuations. A plain run keeps one of them.
 //! [`explore`] keeps them all: a **branch** runs from its first state until it forks,
 //! fails or reaches its horizon; at a followed fork it ends, and every candidate starts a
 //! child branch from the fork's end state (the common past is never simulated again).
