@@ -248,13 +248,14 @@ impl Walker for StackWalker<'_> {
     }
 
     fn observe(&mut self) {
-        let st = self.stepper.state().clone();
-        let rec = self.rec.record(st.t, &st, self.iterations);
+        let st = self.stepper.state();
+        let (t, k) = (st.t, st.k);
+        let rec = self.rec.record(t, st, self.iterations);
         if self.failure_time.is_none() && self.rec.contacts.first_unsupported().is_some() {
-            self.failure_time = Some(st.t);
+            self.failure_time = Some(t);
         }
         self.write_row(&rec);
-        if self.top.is_empty() || st.k.is_multiple_of(self.sample_every) {
+        if self.top.is_empty() || k.is_multiple_of(self.sample_every) {
             self.sample();
         }
     }
@@ -765,21 +766,29 @@ pub struct LeafSpread {
     pub spread: Option<[f64; 3]>,
 }
 
-/// Explores `scene` to at most `max_branches` branches (breadth first, the run options'
-/// branch rule) and spreads `value` of each leaf over them; `stop_at_failure` ends each
-/// branch at its first loss of support.
+/// The spread of a sweep row's value over the motions of its run: with
+/// [`RunOptions::spread_branches`] > 1, `scene` explored to that many branches (breadth
+/// first, the run options' branch rule), `value` of each leaf; otherwise the plain run's
+/// value `plain` alone. `stop_at_failure` ends each branch at its first loss of support.
 ///
 /// # Errors
 /// Bad run options; a failed consistent start.
 pub fn leaf_spread(
     scene: &Scene,
     options: &RunOptions,
-    max_branches: usize,
     stop_at_failure: bool,
+    plain: Option<f64>,
     value: impl Fn(&nsga::explore::Branch<BranchSummary>) -> Option<f64>,
 ) -> Result<LeafSpread, BlockError> {
+    if options.spread_branches <= 1 {
+        return Ok(LeafSpread {
+            branches: 1,
+            valued: usize::from(plain.is_some()),
+            spread: plain.map(|v| [v; 3]),
+        });
+    }
     let explore_options = ExploreOptions {
-        max_branches: max_branches.max(1),
+        max_branches: options.spread_branches,
         ..ExploreOptions::default()
     };
     let settings = WalkSettings {

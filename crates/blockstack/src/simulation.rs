@@ -665,7 +665,7 @@ fn accepted(s: &nsga::StepStats) -> Accepted {
 }
 
 /// Updates the failure and opening times from the contacts last recorded at t.
-pub(crate) fn check_failure(rec: &Recorder<'_>, t: f64, summary: &mut RunSummary) {
+fn check_failure(rec: &Recorder<'_>, t: f64, summary: &mut RunSummary) {
     if summary.failure_time.is_none() && rec.contacts.first_unsupported().is_some() {
         summary.failure_time = Some(t);
     }

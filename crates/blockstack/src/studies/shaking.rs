@@ -160,7 +160,14 @@ pub fn frequency_row(shaking: &Shaking, options: &RunOptions) -> FrequencyRow {
         stop_at_failure: true,
         ..options.clone()
     };
-    match shaking_column(shaking).and_then(|s| simulate(&s, &options, |_| {})) {
+    let scene = match shaking_column(shaking) {
+        Ok(s) => s,
+        Err(e) => {
+            row.error = Some(one_line(&e.to_string()));
+            return row;
+        }
+    };
+    match simulate(&scene, &options, |_| {}) {
         Ok(s) => {
             row.failure_time = s.failure_time;
             // Survival over the whole run: 1/T = 0 (Figure 4.6's baseline), unless the run
@@ -181,19 +188,9 @@ pub fn frequency_row(shaking: &Shaking, options: &RunOptions) -> FrequencyRow {
             row.failed_steps = s.failed_steps;
             row.branch_points = s.branch_points.len();
             row.wall_time_s = s.wall_time_s;
-            let spread = if options.spread_branches > 1 {
-                shaking_column(shaking).and_then(|scene| {
-                    leaf_spread(&scene, &options, options.spread_branches, true, |b| {
-                        b.outcome.failure_time
-                    })
-                })
-            } else {
-                Ok(LeafSpread {
-                    branches: 1,
-                    valued: usize::from(s.failure_time.is_some()),
-                    spread: s.failure_time.map(|t| [t; 3]),
-                })
-            };
+            let spread = leaf_spread(&scene, &options, true, s.failure_time, |b| {
+                b.outcome.failure_time
+            });
             match spread {
                 Ok(LeafSpread {
                     branches,

@@ -198,17 +198,9 @@ pub fn slide_row(p: &Sliding, options: &RunOptions) -> SlideRow {
                     row.regime = Some(slide_regime(&scene, &f));
                 }
             }
-            let spread = if options.spread_branches > 1 {
-                leaf_spread(&scene, options, options.spread_branches, false, |b| {
-                    b.outcome.final_poses.last().map(|p| p.theta)
-                })
-            } else {
-                Ok(LeafSpread {
-                    branches: 1,
-                    valued: usize::from(row.top_angle.is_some()),
-                    spread: row.top_angle.map(|a| [a; 3]),
-                })
-            };
+            let spread = leaf_spread(&scene, options, false, row.top_angle, |b| {
+                b.outcome.final_poses.last().map(|p| p.theta)
+            });
             match spread {
                 Ok(LeafSpread {
                     branches, spread, ..
