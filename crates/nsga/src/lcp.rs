@@ -79,6 +79,72 @@ pub fn lemke(m: &[f64], q: &[f64], max_pivots: usize) -> Result<LcpSolution, Lcp
     } else {
         Tableau::new(m, q).pivot_to_solution(max_pivots)?
     };
+    Ok(on_problem(m, q, z, pivots))
+}
+
+/// The regularizations ε that [`lemke_regularized`] adds to the diagonal of M, in turn,
+/// relative to the largest diagonal entry.
+pub const REGULARIZATIONS: [f64; 3] = [1e-10, 1e-8, 1e-6];
+
+/// Lemke's method that survives round-off on rank-deficient M: solves LCP(M, q) and, if
+/// that ends on a ray or at the pivot limit, LCP(M + εI, q) for ε from
+/// [`REGULARIZATIONS`] in turn, accepting the first solution whose residual on the
+/// original problem (max |min(zᵢ, wᵢ)| with w = M z + q) is at most `accept`. Returns
+/// the solution (w and residual those of the original problem) and the ε it needed
+/// (0 when none).
+///
+/// Why: the Moreau–Jean contact problem of a block column has far more contacts than
+/// degrees of freedom (a 50-block column: 300 normal contacts, a normal Delassus block
+/// of rank 149). Such an LCP has solutions (Anitescu and Potra 1997), but the
+/// Gauss–Jordan tableau of a rank-deficient M loses them to round-off and ends on a
+/// false secondary ray. With M copositive, M + εI is strictly copositive: every q is
+/// feasible and Lemke's method ends on a solution (the theorem cited in the module
+/// docs), whose residual on the original problem is at most ε‖z‖∞. Where the original
+/// problem has no solution, ‖z‖ grows like 1/ε and the test on that residual rejects it.
+///
+/// # Errors
+/// The first attempt's [`LcpFailure`] when no regularized solution passes.
+///
+/// # Examples
+/// ```
+/// // w = −z − 1 ≥ 0 has no solution, regularized or not.
+/// assert!(nsga::lcp::lemke_regularized(&[-1.0], &[-1.0], 10, 1e-6).is_err());
+/// let (sol, eps) = nsga::lcp::lemke_regularized(&[2.0], &[-1.0], 10, 1e-6)?;
+/// assert_eq!((sol.z, eps), (vec![0.5], 0.0));
+/// # Ok::<(), nsga::lcp::LcpFailure>(())
+/// ```
+pub fn lemke_regularized(
+    m: &[f64],
+    q: &[f64],
+    max_pivots: usize,
+    accept: f64,
+) -> Result<(LcpSolution, f64), LcpFailure> {
+    let first = match lemke(m, q, max_pivots) {
+        Ok(sol) => return Ok((sol, 0.0)),
+        Err(e @ LcpFailure::BadData(_)) => return Err(e),
+        Err(e) => e,
+    };
+    let n = q.len();
+    let diag = (0..n).map(|i| m[i * n + i].abs()).fold(0.0, f64::max);
+    for rel in REGULARIZATIONS {
+        let eps = rel * diag.max(f64::MIN_POSITIVE);
+        let mut shifted = m.to_vec();
+        for i in 0..n {
+            shifted[i * n + i] += eps;
+        }
+        if let Ok(sol) = lemke(&shifted, q, max_pivots) {
+            let sol = on_problem(m, q, sol.z, sol.pivots);
+            if sol.residual <= accept {
+                return Ok((sol, eps));
+            }
+        }
+    }
+    Err(first)
+}
+
+/// z with w = M z + q and the residual of LCP(M, q) at z.
+fn on_problem(m: &[f64], q: &[f64], z: Vec<f64>, pivots: usize) -> LcpSolution {
+    let n = q.len();
     let w: Vec<f64> = (0..n)
         .map(|i| q[i] + (0..n).map(|j| m[i * n + j] * z[j]).sum::<f64>())
         .collect();
@@ -87,12 +153,12 @@ pub fn lemke(m: &[f64], q: &[f64], max_pivots: usize) -> Result<LcpSolution, Lcp
         .zip(&w)
         .map(|(a, b)| a.min(*b).abs())
         .fold(0.0, f64::max);
-    Ok(LcpSolution {
+    LcpSolution {
         z,
         w,
         pivots,
         residual,
-    })
+    }
 }
 
 /// The tableau B⁻¹ [I, −M, −e, q] over the variables w₁…wₙ, z₁…zₙ, z₀ (columns 0..2n+1)
@@ -285,6 +351,22 @@ mod tests {
         assert!(matches!(
             lemke(&[f64::NAN], &[1.0], 10),
             Err(LcpFailure::BadData(_))
+        ));
+    }
+
+    #[test]
+    fn regularized_solutions_are_accepted_only_on_the_original_residual() {
+        // Solvable: the first attempt answers, with no regularization.
+        let m = [1.0, 1.0, 1.0, 1.0];
+        let (sol, eps) = lemke_regularized(&m, &[-1.0, -1.0], 20, 1e-9).unwrap();
+        assert_eq!(eps, 0.0);
+        assert!(sol.residual < 1e-12);
+        // No solution (w₂ = −1 whatever z): the regularized problems have one, with
+        // z ~ 1/ε, but it is not a solution of this one, so the ray stands.
+        let m = [1.0, 0.0, 0.0, 0.0];
+        assert!(matches!(
+            lemke_regularized(&m, &[0.0, -1.0], 20, 1e-9),
+            Err(LcpFailure::Ray { .. })
         ));
     }
 

@@ -15,10 +15,16 @@
 //! q_{n+1} = q_M + ½Δt B u⁺, and, if asked, gaps that end below zero are closed by the
 //! least M-norm displacement, itself an LCP: 0 ≤ δ ⟂ g + W_Nᵀ M⁻¹ W_N δ ≥ 0.
 
-use crate::lcp::{lemke, LcpFailure};
+use crate::lcp::{lemke, lemke_regularized, LcpFailure};
 use crate::moreau::advance;
 use crate::system::{Evaluation, Layout, System};
 use nalgebra::{DMatrix, DVector};
+
+/// Largest complementarity residual (relative to 1 + ‖rhs‖∞, a speed) accepted from a
+/// regularized solve of the step's contact problem (`nsga::lcp::lemke_regularized`): an
+/// approach speed of that size moves a gap by Δt times as much in the step, and the
+/// position projection removes it.
+const ACCEPT: f64 = 1e-8;
 
 /// Largest penetration left by the position projection.
 const PROJECTION_TOL: f64 = 1e-12;
@@ -199,7 +205,8 @@ pub(crate) fn lcp_step<S: System>(
         m[row * n + a + i] = -1.0;
         m[row * n + a + b + i] = -1.0;
     }
-    let sol = lemke(&m, &rhs, 50 * n + 50).map_err(|e| match e {
+    let accept = ACCEPT * (1.0 + rhs.iter().fold(0.0_f64, |s, x| s.max(x.abs())));
+    let (sol, _) = lemke_regularized(&m, &rhs, 50 * n + 50, accept).map_err(|e| match e {
         LcpFailure::Ray { .. } => LcpStepError::NoSolution(format!(
             "the step's contact problem has no solution: {e} (a Painlevé-type inconsistency)"
         )),
