@@ -321,6 +321,7 @@ pub fn stepper_options(scene: &Scene, options: &RunOptions) -> Result<Options, B
         prox: options.prox.unwrap_or(s.prox),
         tol: s.tol,
         max_iter: MAX_NEWTON_ITERATIONS,
+        max_iter_per_contact: 1,
         explore_branches: options.explore_branches,
         branch_rule: options.branch_rule,
         probe_flips: options.probe_flips,

@@ -105,6 +105,14 @@ pub struct Options {
     /// converge: its iterates settle into a cycle of index sets without progress, or,
     /// with fixed sets, its residual stalls (see `settled_cycle` and `stalled`).
     pub max_iter: usize,
+    /// Free attempts (index sets not fixed) may take up to max(`max_iter`,
+    /// `max_iter_per_contact` × number of normal contacts) updates; 0 leaves `max_iter`
+    /// alone. Newton changes the index sets of a few contacts per update, so a system
+    /// whose contacts change state by the dozen in one step (a tall column whose
+    /// interfaces rock) needs updates in proportion to its contacts (docs/method.md
+    /// §8.2).
+    #[serde(default)]
+    pub max_iter_per_contact: usize,
     /// Other ρ∞ values tried, in order, when a step does not converge (thesis §4.2).
     pub rho_inf_retries: Vec<f64>,
     /// Which failed attempts are retried with `rho_inf_retries`.
@@ -249,6 +257,7 @@ impl Default for Options {
             prox: Prox::Scaled(1.0),
             tol: 1e-10,
             max_iter: 40,
+            max_iter_per_contact: 0,
             rho_inf_retries: vec![0.8, 0.2, 1.0, 0.0],
             rho_inf_retry: RhoInfRetry::AnyFailure,
             retry_max_iter: DEFAULT_RETRY_MAX_ITER,

@@ -97,9 +97,14 @@ impl<S: System> Stepper<S> {
         let prune = keep.as_ref().and_then(|k| self.open_contacts(&mut x, k));
         self.mark_unused(prune.as_ref().map(|(map, _)| map.as_slice()));
         let params = GenAlpha::new(rho_inf);
+        // See `Options::max_iter_per_contact`.
+        let max_iter = match fixed {
+            None => (self.options.max_iter_per_contact * self.off.nn).max(self.options.max_iter),
+            Some(_) => self.options.max_iter,
+        };
         let settings = NewtonSettings {
             tol: self.options.tol,
-            max_iter: self.options.max_iter,
+            max_iter,
             line_search: self.options.line_search,
             reuse_factorization: self.options.reuse_factorization,
             give_up: if fixed.is_some() {
