@@ -11,7 +11,9 @@
 //! pivots. It ends on a solution whenever M is copositive-plus and the LCP is feasible
 //! (Cottle, Pang and Stone, *The Linear Complementarity Problem*, Thm. 4.4.9): the
 //! contact problem of a Moreau–Jean step in the form of Anitescu and Potra (1997) has such
-//! a matrix, so a ray there means the step's contact problem has no solution.
+//! a matrix, so in exact arithmetic a ray there means the step's contact problem has no
+//! solution. In floating point a rank-deficient M can end on a false ray;
+//! [`lemke_regularized`] retries such a problem with εI added.
 
 /// A solution of LCP(M, q).
 #[derive(Debug, Clone, PartialEq)]
