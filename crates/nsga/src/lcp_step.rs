@@ -16,6 +16,7 @@
 //! least M-norm displacement, itself an LCP: 0 ≤ δ ⟂ g + W_Nᵀ M⁻¹ W_N δ ≥ 0.
 
 use crate::lcp::{lemke, lemke_regularized, LcpFailure};
+use crate::linalg::max_norm;
 use crate::moreau::advance;
 use crate::system::{Evaluation, Layout, System};
 use nalgebra::{DMatrix, DVector};
@@ -205,7 +206,7 @@ pub(crate) fn lcp_step<S: System>(
         m[row * n + a + i] = -1.0;
         m[row * n + a + b + i] = -1.0;
     }
-    let accept = ACCEPT * (1.0 + rhs.iter().fold(0.0_f64, |s, x| s.max(x.abs())));
+    let accept = ACCEPT * (1.0 + max_norm(&rhs));
     let (sol, _) = lemke_regularized(&m, &rhs, 50 * n + 50, accept).map_err(|e| match e {
         LcpFailure::Ray { .. } => LcpStepError::NoSolution(format!(
             "the step's contact problem has no solution: {e} (a Painlevé-type inconsistency)"

@@ -76,12 +76,6 @@ impl Assembly {
                 .all(|(&(r, c, _), &(pr, pc))| r == pr && c == pc)
     }
 
-    /// The slot of (r, c) in the union pattern, if it holds it.
-    fn find(&self, r: usize, c: usize) -> Option<usize> {
-        let (lo, hi) = (self.col_ptr[c], self.col_ptr[c + 1]);
-        self.row_idx[lo..hi].binary_search(&r).ok().map(|i| lo + i)
-    }
-
     /// Maps a new triplet sequence onto the union pattern, growing the union (and
     /// dropping its symbolic analysis) when the sequence has entries it lacks.
     fn map(&mut self, triplets: &[(usize, usize, f64)]) -> Result<(), LinalgError> {
@@ -94,25 +88,27 @@ impl Assembly {
         self.pattern.clear();
         self.pattern
             .extend(triplets.iter().map(|&(r, c, _)| (r, c)));
-        // One search per triplet: a set change alters the sequence at most iterations,
-        // and on a tall column this map was a sixth of the run with two.
-        self.slot.clear();
-        for i in 0..self.pattern.len() {
-            let (r, c) = self.pattern[i];
-            match self.find(r, c) {
-                Some(s) => self.slot.push(s),
-                None => {
-                    self.grow();
-                    self.slot.clear();
-                    for &(r, c) in &self.pattern {
-                        let s = self.find(r, c).expect("the union holds every entry");
-                        self.slot.push(s);
-                    }
-                    break;
-                }
-            }
+        // One search per triplet while the union holds them all (it nearly always does:
+        // on a tall column a second search pass cost a sixth of the run).
+        if !self.map_slots() {
+            self.grow();
+            assert!(self.map_slots(), "the union holds every entry");
         }
         Ok(())
+    }
+
+    /// The slot of each entry of `pattern`, in `slot`; false (and `slot` partial) at the
+    /// first entry the union lacks.
+    fn map_slots(&mut self) -> bool {
+        self.slot.clear();
+        for &(r, c) in &self.pattern {
+            let (lo, hi) = (self.col_ptr[c], self.col_ptr[c + 1]);
+            match self.row_idx[lo..hi].binary_search(&r) {
+                Ok(i) => self.slot.push(lo + i),
+                Err(_) => return false,
+            }
+        }
+        true
     }
 
     /// The union of the pattern and the new sequence's entries.
