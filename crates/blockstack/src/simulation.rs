@@ -230,6 +230,10 @@ pub struct RunSummary {
     pub fallback_steps: usize,
     /// The largest complementarity residual of those steps (0 when none).
     pub fallback_residual: f64,
+    /// Why the consistent start failed, where the run started without it and took its
+    /// first step by the last resort ([`nsga::Stepper::start_failure`]); `None` after a
+    /// consistent start.
+    pub start_failure: Option<String>,
     /// Linear solves of the Newton iterations, in every attempt (failed ones, retries,
     /// fixed-set re-solves and substeps included): the run's work, independent of the
     /// machine ([`nsga::Stepper::linear_solves`]).
@@ -522,6 +526,7 @@ pub fn simulate_until(
         split_steps: 0,
         fallback_steps: 0,
         fallback_residual: 0.0,
+        start_failure: None,
         linear_solves: 0,
         max_energy_increase: f64::NEG_INFINITY,
         deepest: rec.deepest,
@@ -538,7 +543,10 @@ pub fn simulate_until(
     let started = Stepper::new(system, 0.0, &q0, &u0, opts);
     let mut solver_time = clock.elapsed().as_secs_f64();
     let mut stepper = match started {
-        Ok(s) => s,
+        Ok(s) => {
+            summary.start_failure = s.start_failure().map(str::to_owned);
+            s
+        }
         Err(e) => {
             summary.error = Some(RunError::Start(e));
             summary.final_poses = (0..scene.n_blocks())
@@ -705,6 +713,9 @@ pub struct RunReport {
     pub fallback_steps: usize,
     /// The largest complementarity residual of those steps (0 when none).
     pub fallback_residual: f64,
+    /// Why the consistent start failed, where the first step was taken by the last
+    /// resort instead; null after a consistent start.
+    pub start_failure: Option<String>,
     /// Linear solves of the Newton iterations in every attempt (the run's work).
     pub linear_solves: u64,
     /// Largest energy increase between two steps (≤ ~0 in unforced runs).
@@ -762,6 +773,7 @@ impl RunReport {
             split_steps: summary.split_steps,
             fallback_steps: summary.fallback_steps,
             fallback_residual: summary.fallback_residual,
+            start_failure: summary.start_failure.clone(),
             linear_solves: summary.linear_solves,
             max_energy_increase: summary.max_energy_increase,
             max_penetration: summary.deepest.depth(),
@@ -790,6 +802,8 @@ pub enum RunWarning {
         /// The tolerance it exceeded.
         tol: f64,
     },
+    /// The consistent start failed, so the first step was taken by the last resort.
+    StartFailed(String),
 }
 
 impl RunWarning {
@@ -802,6 +816,9 @@ impl RunWarning {
                 deepest: summary.deepest,
                 tol: summary.penetration_tol,
             });
+        }
+        if let Some(why) = &summary.start_failure {
+            warnings.push(Self::StartFailed(why.clone()));
         }
         warnings
     }
@@ -817,6 +834,11 @@ impl std::fmt::Display for RunWarning {
                  further than the contacts allow; the motion after that is not to be \
                  trusted (a smaller time step usually helps)",
                 deepest.t, deepest.penetration
+            ),
+            Self::StartFailed(why) => write!(
+                f,
+                "{why}: the first step was taken by the last resort (a Moreau–Jean step, \
+                 which needs no initial accelerations) and the run went on from there"
             ),
         }
     }

@@ -121,3 +121,42 @@ fn tall_columns_on_a_moving_base_start_and_step() {
         assert!(s.deepest.depth() < 1e-10, "{blocks} blocks");
     }
 }
+
+/// Painlevé's inconsistency (App. I): a block sliding on one corner with μ = 2 and B < 0
+/// whose corner also accelerates into the table without a contact force (A = −0.5 g)
+/// has no contact force on acceleration level (ÿ_P = A + B n < 0 for every n ≥ 0), so the
+/// consistent start has no solution. On velocity level the step does have one (a
+/// tangential impact stops the slip): the run starts by the last resort, says why, and
+/// goes on with the corner on the table and no penetration.
+#[test]
+fn painleves_inconsistent_start_is_taken_by_the_last_resort() {
+    use blockstack::scenarios::PainleveCorner;
+    let case = PainleveCorner {
+        free_acceleration: -0.5,
+        ..PainleveCorner::default()
+    };
+    assert!(case.response() < 0.0);
+    let scene = case.scene().unwrap();
+    let s = simulate(&scene, &RunOptions::default(), |_| {}).unwrap();
+    assert_eq!(s.error, None, "{:?}", s.error);
+    let why = s
+        .start_failure
+        .as_deref()
+        .expect("the consistent start fails");
+    assert!(why.contains("consistent start at t = 0"), "{why}");
+    assert!(s.fallback_steps >= 1 && s.fallback_residual < 1e-8, "{s:?}");
+    assert_eq!(s.steps, 10);
+    assert!(s.min_gap > -1e-8 && s.deepest.depth() < 1e-8, "{s:?}");
+    // Without the last resort the run cannot start, as before.
+    let strict = RunOptions {
+        skip_last_resort: true,
+        ..RunOptions::default()
+    };
+    let s = simulate(&scene, &strict, |_| {}).unwrap();
+    assert!(
+        matches!(s.error, Some(blockstack::RunError::Start(_))),
+        "{:?}",
+        s.error
+    );
+    assert_eq!(s.steps, 0);
+}

@@ -247,7 +247,7 @@ fn shake_runs_a_column_with_the_outputs_of_run() {
 }
 
 /// Valid numbers that make the consistent start fail: a constant prox parameter of
-/// 1e300 leaves the start's Newton matrix singular.
+/// 1e300 leaves the start's Newton matrix singular (and every later step's).
 fn start_fails(dir: &Path) -> String {
     write(
         dir,
@@ -261,10 +261,13 @@ fn a_run_that_cannot_start_still_writes_run_json_with_its_error() {
     let dir = temp_dir("scenes-start-fails");
     let scene = start_fails(&dir);
     let out = dir.join("out");
+    // Without the last resort, which would take the first step instead (next test).
     let (ok, stdout, stderr) = run(&[
         "blocks",
         "run",
         &scene,
+        "--last-resort",
+        "false",
         "--json",
         "--out",
         out.to_str().unwrap(),
@@ -337,12 +340,51 @@ fn a_run_that_stops_on_its_first_step_keeps_its_start() {
 fn a_run_without_steps_prints_none_not_inf() {
     let dir = temp_dir("scenes-no-inf");
     let scene = start_fails(&dir);
-    let (ok, stdout, stderr) = run(&["blocks", "run", &scene, "--max-frames", "0"]);
+    let (ok, stdout, stderr) = run(&[
+        "blocks",
+        "run",
+        &scene,
+        "--last-resort",
+        "false",
+        "--max-frames",
+        "0",
+    ]);
     assert!(!ok);
     assert!(stdout.contains("min gap none"), "{stdout}");
     // No number prints as `inf` (`rho_inf` is a name).
     let words = stdout.split(|c: char| !c.is_alphanumeric() && c != '_');
     assert!(!words.into_iter().any(|w| w == "inf"), "{stdout}");
     assert!(!stderr.contains("no frame"), "{stderr}");
+    std::fs::remove_dir_all(dir).unwrap();
+}
+
+#[test]
+fn a_run_whose_consistent_start_fails_goes_on_by_the_last_resort_and_says_so() {
+    let dir = temp_dir("scenes-start-fails-last-resort");
+    let scene = start_fails(&dir);
+    let (ok, stdout, stderr) = run(&["blocks", "run", &scene, "--json"]);
+    assert!(ok, "{stderr}");
+    let v: Value = serde_json::from_str(&stdout).expect("the JSON is printed");
+    assert!(v["error"].is_null(), "{v}");
+    assert_eq!(v["steps"].as_u64(), Some(5));
+    let why = v["start_failure"]
+        .as_str()
+        .expect("the start's failure is reported");
+    assert!(why.starts_with("consistent start at t = 0 failed"), "{why}");
+    // Every step's Newton matrix is singular too: each is a last-resort step.
+    assert_eq!(v["fallback_steps"].as_u64(), Some(5));
+    assert!(v["fallback_residual"].as_f64().unwrap() < 1e-8);
+    assert!(
+        v["warnings"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .any(|w| w.as_str().unwrap().contains("taken by the last resort")),
+        "{v}"
+    );
+    assert!(
+        stderr.contains("the first step was taken by the last resort"),
+        "{stderr}"
+    );
     std::fs::remove_dir_all(dir).unwrap();
 }

@@ -96,6 +96,19 @@ impl Dense {
     }
 }
 
+/// Whether [`lcp_step`] covers a system of this layout: planar friction laws and no
+/// bilateral constraints.
+pub(crate) fn covers(l: &Layout) -> Result<(), LcpStepError> {
+    if l.n_bilateral_position + l.n_bilateral_velocity > 0
+        || l.friction.iter().any(|f| f.components != 1)
+    {
+        return Err(LcpStepError::Unsupported(
+            "the LCP step covers planar friction without bilateral constraints".into(),
+        ));
+    }
+    Ok(())
+}
+
 /// The free acceleration M⁻¹h at (t, q, u), zero if M is singular.
 pub(crate) fn free_acceleration<S: System>(
     system: &S,
@@ -127,13 +140,7 @@ pub(crate) fn lcp_step<S: System>(
     activation: Activation,
     project: bool,
 ) -> Result<LcpStep, LcpStepError> {
-    if l.n_bilateral_position + l.n_bilateral_velocity > 0
-        || l.friction.iter().any(|f| f.components != 1)
-    {
-        return Err(LcpStepError::Unsupported(
-            "the LCP step covers planar friction without bilateral constraints".into(),
-        ));
-    }
+    covers(l)?;
     let (nu, nn, nf) = (l.nu, l.n_normal(), l.n_friction());
     let q_m = advance(system, t, q, u, 0.5 * dt);
     let t_m = t + 0.5 * dt;

@@ -23,6 +23,27 @@ pub struct Start {
     pub lambda_f: Vec<f64>,
 }
 
+impl Start {
+    /// The free accelerations M⁻¹h at (t, q, u) and no forces: what the generalized-α
+    /// state carries where the consistent start failed, until a last-resort step (which
+    /// needs no accelerations) has moved the state on.
+    pub(crate) fn unforced<S: System>(
+        system: &S,
+        layout: &Layout,
+        t: f64,
+        q: &[f64],
+        u: &[f64],
+    ) -> Self {
+        Self {
+            a: crate::lcp_step::free_acceleration(system, layout, t, q, u),
+            lambda_g: vec![0.0; layout.n_bilateral_position],
+            lambda_gamma: vec![0.0; layout.n_bilateral_velocity],
+            lambda_n: vec![0.0; layout.n_normal()],
+            lambda_f: vec![0.0; layout.n_friction()],
+        }
+    }
+}
+
 /// The acceleration-level problem at t0 on the Newton engine: unknowns
 /// y = (a, λ_g, λ_N, λ_γ, λ_F).
 struct StartProblem<'a> {

@@ -15,6 +15,7 @@
 
 use crate::attempt::Trial;
 use crate::error::StepError;
+use crate::lcp_step::covers;
 use crate::linalg::{AutoSolver, DenseLu, LinearSolver, SparseLu};
 use crate::newton::NewtonScratch;
 use crate::options::{Options, SolverChoice};
@@ -100,6 +101,12 @@ pub struct Stepper<S: System> {
     comp_ef: Vec<f64>,
     /// (t, k) from which the time grid t_k is counted.
     time_base: (f64, u64),
+    /// Why the consistent start failed, when the stepper started without consistent
+    /// accelerations and forces (docs/method.md §5).
+    start_failure: Option<String>,
+    /// The next step must be taken by the last resort: the state has no consistent
+    /// accelerations to start a generalized-α step from.
+    last_resort_first: bool,
 }
 
 /// Buffers reused from iterate to iterate and step to step.
@@ -191,9 +198,15 @@ impl<S: System> Stepper<S> {
     /// A stepper at t0 = `t0`, q0, u0, with consistent initial accelerations and forces
     /// (docs/method.md §5).
     ///
+    /// Where the consistent start fails and [`Options::last_resort`] covers the system,
+    /// the stepper starts anyway: [`Stepper::start_failure`] says why, and its first step
+    /// is taken by the last resort, a Moreau–Jean step, which needs no accelerations and
+    /// after which the generalized-α state restarts from a consistent start there.
+    ///
     /// # Errors
     /// [`StepError::InvalidInput`] for bad sizes, options or non-finite input;
-    /// [`StepError::Start`] when the acceleration-level start problem has no solution.
+    /// [`StepError::Start`] when the acceleration-level start problem is not solved and
+    /// the last resort is off or does not cover the system.
     pub fn new(
         system: S,
         t0: f64,
@@ -219,7 +232,17 @@ impl<S: System> Stepper<S> {
             ));
         }
         let off = Offsets::new(&layout);
-        let start = consistent_start(&system, &layout, t0, q0, u0, &options)?;
+        let (start, start_failure) = match consistent_start(&system, &layout, t0, q0, u0, &options)
+        {
+            Ok(start) => (start, None),
+            Err(failed @ StepError::Start { .. })
+                if options.last_resort && covers(&layout).is_ok() =>
+            {
+                let unforced = Start::unforced(&system, &layout, t0, q0, u0);
+                (unforced, Some(failed.to_string()))
+            }
+            Err(e) => return Err(e),
+        };
         let at = (0, t0, q0.to_vec(), u0.to_vec());
         let state = started_state(&off, at, start, vec![0.0; off.nn], vec![0.0; off.nf]);
         let work = Work::new(&layout, &options);
@@ -237,6 +260,8 @@ impl<S: System> Stepper<S> {
             law_off,
             comp_ef,
             time_base: (t0, 0),
+            last_resort_first: start_failure.is_some(),
+            start_failure,
         })
     }
 
@@ -260,6 +285,7 @@ impl<S: System> Stepper<S> {
     /// Replaces the state (to continue from a saved state or follow another branch).
     pub fn set_state(&mut self, state: State) {
         self.time_base = (state.t, state.k);
+        self.last_resort_first = false;
         self.state = state;
     }
     /// A stepper for the same system and options that continues from `state`, one of
@@ -285,6 +311,8 @@ impl<S: System> Stepper<S> {
             law_off: self.law_off.clone(),
             comp_ef: self.comp_ef.clone(),
             time_base: self.time_base,
+            start_failure: None,
+            last_resort_first: false,
         }
     }
     /// Drops the solver's buffers and kept factors (rebuilt at the next step), to hold a
@@ -323,6 +351,13 @@ impl<S: System> Stepper<S> {
     #[must_use]
     pub fn linear_solves(&self) -> u64 {
         self.work.linear_solves
+    }
+    /// Why the consistent start at t0 failed, where the stepper started without it and
+    /// took its first step by the last resort (see [`Stepper::new`]); `None` after a
+    /// consistent start.
+    #[must_use]
+    pub fn start_failure(&self) -> Option<&str> {
+        self.start_failure.as_deref()
     }
     /// Statistics (including the index sets) of the last accepted step.
     pub fn last_step(&self) -> Option<&StepStats> {
@@ -422,6 +457,13 @@ impl<S: System> Stepper<S> {
     /// stepper stays at the last good state, so the run can continue from it (for
     /// example after changing the options).
     pub fn step(&mut self) -> Result<&StepStats, StepError> {
+        if self.last_resort_first {
+            // No consistent a0 to start a generalized-α step from (§5): a Moreau–Jean
+            // step needs none, and restarts the state consistently after it.
+            self.last_resort()?;
+            self.last_resort_first = false;
+            return Ok(self.committed());
+        }
         if let Err(failed) = self.step_halving(self.options.max_halvings) {
             if !self.options.last_resort || matches!(failed, StepError::InvalidInput(_)) {
                 return Err(failed);

@@ -74,3 +74,42 @@ fn without_the_last_resort_the_starved_step_is_an_error() {
     );
     assert_eq!(s.run_stats().last_resort_steps, 0);
 }
+
+/// A stepper whose consistent start fails still starts where the last resort covers the
+/// system: it says why (`start_failure`), and its first step is a last-resort step (a
+/// Moreau–Jean step needs no initial accelerations). Here a constant prox parameter of
+/// 1e300 makes the start's Newton matrix singular for a ball sliding on the ground;
+/// with the last resort off the start is an error, as before.
+#[test]
+fn a_failed_start_is_followed_by_a_last_resort_step() {
+    let case = BallCase::new(2).unwrap();
+    let ball = case.ball;
+    let (q0, u0) = ([0.0, ball.radius, 0.0], [1.0, 0.0, 0.0]);
+    let options = |last_resort| Options {
+        dt: 1e-3,
+        prox: nsga::Prox::Constant(1e300),
+        last_resort,
+        ..Options::default()
+    };
+    let strict = Stepper::new(ball, 0.0, &q0, &u0, options(false));
+    assert!(matches!(strict, Err(StepError::Start { .. })), "{strict:?}");
+    let mut s = Stepper::new(ball, 0.0, &q0, &u0, options(true)).unwrap();
+    let why = s.start_failure().expect("the start failed");
+    assert!(why.starts_with("consistent start at t = 0 failed"), "{why}");
+    assert_eq!(s.state().k, 0);
+    let first = s.step().unwrap().clone();
+    let last = first
+        .last_resort
+        .expect("the first step is the last resort's");
+    assert!(last.residual < 1e-12, "{last:?}");
+    assert_eq!(s.run_stats().last_resort_steps, 1);
+    // It slides on: friction slows the ball, the gap stays closed.
+    assert!(
+        s.state().u[0] > 0.0 && s.state().u[0] < 1.0,
+        "{:?}",
+        s.state().u
+    );
+    assert!((s.state().q[1] - ball.radius).abs() < 1e-8);
+    // The start's failure stays on record.
+    assert!(s.start_failure().is_some());
+}

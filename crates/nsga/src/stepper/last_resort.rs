@@ -6,7 +6,7 @@
 
 use super::Stepper;
 use crate::error::StepError;
-use crate::lcp_step::{free_acceleration, lcp_step, Activation, LcpStepError};
+use crate::lcp_step::{lcp_step, Activation, LcpStepError};
 use crate::report::{LastResort, StepStats};
 use crate::sets::IndexSets;
 use crate::start::{consistent_start, Start};
@@ -78,15 +78,8 @@ impl<S: System> Stepper<S> {
         p_n: Vec<f64>,
         p_f: Vec<f64>,
     ) -> State {
-        let o = self.off;
         let start = consistent_start(&self.system, &self.layout, t, &q, &u, &self.options)
-            .unwrap_or_else(|_| Start {
-                a: free_acceleration(&self.system, &self.layout, t, &q, &u),
-                lambda_g: vec![0.0; o.ng],
-                lambda_gamma: vec![0.0; o.nga],
-                lambda_n: vec![0.0; o.nn],
-                lambda_f: vec![0.0; o.nf],
-            });
-        super::started_state(&o, (k, t, q, u), start, p_n, p_f)
+            .unwrap_or_else(|_| Start::unforced(&self.system, &self.layout, t, &q, &u));
+        super::started_state(&self.off, (k, t, q, u), start, p_n, p_f)
     }
 }
