@@ -78,6 +78,43 @@ fn grow_scratch(scratch: &mut Vec<std::mem::MaybeUninit<u8>>, bytes: usize) {
 /// through such a pivot returns round-off amplified by 1/pivot, not a Newton step.
 pub const SINGULAR_PIVOT: f64 = 1e-13;
 
+/// Equilibrates the rows of an n × n matrix (triplets) whose entries at the positions
+/// `added` (ascending) were added to it: `scale` gets, per row, the power of two that
+/// brings the row's largest entry *among the others* into [½, 1), and every entry of the
+/// row is multiplied by it. Exact in floating point, so the solution of the scaled system
+/// (right-hand side scaled alike) is unchanged; the relative [`SINGULAR_PIVOT`] test then
+/// weighs each row against its own scale. A row without any other nonzero entry gets
+/// scale 0: what was added cannot stand in for a row that the original matrix does not
+/// have (a constraint that no unknown moves), so that matrix stays singular.
+pub fn equilibrate_rows(
+    n: usize,
+    triplets: &mut [(usize, usize, f64)],
+    added: &[usize],
+    scale: &mut Vec<f64>,
+) {
+    scale.clear();
+    scale.resize(n, 0.0);
+    let mut skip = added.iter().peekable();
+    for (i, &(r, _, v)) in triplets.iter().enumerate() {
+        if skip.next_if_eq(&&i).is_none() {
+            scale[r] = scale[r].max(v.abs());
+        }
+    }
+    for s in scale.iter_mut() {
+        *s = if *s > 0.0 && s.is_finite() {
+            // 2^-(e+1) for a largest entry f·2^e, f ∈ [1, 2).
+            2.0_f64.powi(-(s.log2().floor() as i32 + 1))
+        } else if *s == 0.0 {
+            0.0
+        } else {
+            1.0
+        };
+    }
+    for t in triplets.iter_mut() {
+        t.2 *= scale[t.0];
+    }
+}
+
 /// Whether an LU's pivots pass the [`SINGULAR_PIVOT`] test: the least in magnitude above
 /// that fraction of the largest. NaN pivots fail (`f64::min` would skip them); no pivots
 /// (n = 0) pass.
@@ -383,5 +420,45 @@ mod tests {
         assert!(DenseLu::default().solve(2, &t, &mut b).is_err());
         let mut b = vec![1.0, 2.0];
         assert!(SparseLu::default().solve(2, &t, &mut b).is_err());
+    }
+
+    #[test]
+    fn equilibrated_rows_pass_the_singular_test_only_where_the_matrix_has_them() {
+        // Rows of scales 1e3 and 1e-3 (as the κ and λ rows of a step at small Δt), two
+        // redundant λ rows regularized by ε·1e-3 at positions 3 and 6: unscaled, the
+        // regularized pivots fall below SINGULAR_PIVOT; equilibrated, they pass and the
+        // solution is that of the unscaled system.
+        let eps = 1e-8;
+        let reg = vec![
+            (0, 0, 1e3),
+            (1, 1, 1e-3),
+            (1, 2, 1e-3),
+            (1, 1, eps * 1e-3),
+            (2, 1, 1e-3),
+            (2, 2, 1e-3),
+            (2, 2, eps * 1e-3),
+        ];
+        let added = [3, 6];
+        let rhs = [1e3, 2e-3, 2e-3];
+        let mut b = rhs.to_vec();
+        assert!(DenseLu::default().solve(3, &reg, &mut b).is_err());
+        let (mut t, mut scale) = (reg.clone(), Vec::new());
+        equilibrate_rows(3, &mut t, &added, &mut scale);
+        assert!(scale.iter().all(|s| s.log2().fract() == 0.0), "{scale:?}");
+        let mut b: Vec<f64> = rhs.iter().zip(&scale).map(|(r, s)| r * s).collect();
+        DenseLu::default().solve(3, &t, &mut b).unwrap();
+        // The least-norm share of the redundant pair: x₁ = x₂ ≈ 1.
+        assert!((b[0] - 1.0).abs() < 1e-12, "{b:?}");
+        assert!(
+            (b[1] - 1.0).abs() < 1e-6 && (b[2] - 1.0).abs() < 1e-6,
+            "{b:?}"
+        );
+        // A row made of added entries only is a row the matrix does not have: it is
+        // zeroed, and the matrix stays singular.
+        let mut t = vec![(0, 0, 1.0), (1, 1, eps)];
+        equilibrate_rows(2, &mut t, &[1], &mut scale);
+        assert_eq!(scale, [0.5, 0.0]);
+        let mut b = vec![0.5, 0.0];
+        assert!(DenseLu::default().solve(2, &t, &mut b).is_err());
     }
 }

@@ -118,6 +118,10 @@ struct Work {
     b: RowMat,
     bdot_u: Vec<f64>,
     jac: Vec<(usize, usize, f64)>,
+    /// Positions in `jac` of the regularization entries (§7 of docs/method.md).
+    regularized: Vec<usize>,
+    /// Power-of-two row scales of an equilibrated regularized matrix.
+    row_scale: Vec<f64>,
     rhs_red: Vec<f64>,
     res: Vec<f64>,
     newton: NewtonScratch,
@@ -161,6 +165,8 @@ impl Work {
             b: RowMat::default(),
             bdot_u: vec![0.0; layout.nq],
             jac: Vec::new(),
+            regularized: Vec::new(),
+            row_scale: Vec::new(),
             rhs_red: Vec::new(),
             res: vec![0.0; Offsets::new(layout).n],
             newton: NewtonScratch::default(),

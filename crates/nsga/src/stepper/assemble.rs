@@ -120,7 +120,8 @@ impl<S: System> Stepper<S> {
     /// Fills `work.jac` with the semismooth Jacobian ∂R/∂x for frozen sets (eq. 143).
     ///
     /// `eps` regularizes the closed contact rows (see `Options::regularization`): ε times
-    /// the diagonal entry the row has when open.
+    /// the diagonal entry the row has when open; `work.regularized` lists the positions
+    /// of those entries in `work.jac` (also for ε = 0, where they are explicit zeros).
     pub(super) fn jacobian(&mut self, x: &[f64], sets: &IndexSets, p: &GenAlpha, eps: f64) {
         let o = self.off;
         let dt = self.options.dt;
@@ -203,6 +204,9 @@ impl<S: System> Stepper<S> {
         w.dav.build(nv);
 
         let jac = &mut w.jac;
+        // Where the ε entries go, so that the rows can be scaled by their plain entries.
+        let regularized = &mut w.regularized;
+        regularized.clear();
         jac.clear();
         let col_p = |c: usize, first: usize, second: usize| {
             if c < o.ng {
@@ -260,6 +264,7 @@ impl<S: System> Stepper<S> {
             let rp = w.r_pos[pk];
             if sets.a[k] {
                 copy_row(jac, &w.dg, pk, o.kn + k, rp / dt);
+                regularized.push(jac.len());
                 jac.push((o.kn + k, o.kn + k, eps / dt));
             } else {
                 jac.push((o.kn + k, o.kn + k, 1.0 / dt));
@@ -267,6 +272,7 @@ impl<S: System> Stepper<S> {
             }
             if sets.b[k] {
                 copy_row(jac, &w.dxp, pk, o.cn + k, rp);
+                regularized.push(jac.len());
                 jac.push((o.cn + k, o.cn + k, eps));
             } else {
                 jac.push((o.cn + k, o.cn + k, 1.0));
@@ -274,6 +280,7 @@ impl<S: System> Stepper<S> {
             }
             if sets.c[k] {
                 copy_row(jac, &w.dap, pk, o.ln + k, rp * dt);
+                regularized.push(jac.len());
                 jac.push((o.ln + k, o.ln + k, eps * dt));
             } else {
                 jac.push((o.ln + k, o.ln + k, dt));
@@ -315,6 +322,7 @@ impl<S: System> Stepper<S> {
                 match &dirs.velocity {
                     None => {
                         copy_row(jac, &w.dxv, vs + m, rv, rl);
+                        regularized.push(jac.len());
                         jac.push((rv, o.cf + c, eps));
                     }
                     Some(d) => {
@@ -347,6 +355,7 @@ impl<S: System> Stepper<S> {
                 match &dirs.acceleration {
                     None => {
                         copy_row(jac, &w.dav, vs + m, ra, rl * dt);
+                        regularized.push(jac.len());
                         jac.push((ra, o.lf + c, eps * dt));
                     }
                     Some(d) => {

@@ -5,6 +5,7 @@
 
 use super::{FactoredFor, Stepper, SINGULAR_SETS_KEPT};
 use crate::attempt::{AttemptFailure, Trial};
+use crate::linalg::equilibrate_rows;
 use crate::newton::{self, GiveUp, NewtonProblem, NewtonSettings, Outcome};
 use crate::params::GenAlpha;
 use crate::report::StepStats;
@@ -16,6 +17,20 @@ use nalgebra::DMatrix;
 /// The map full → reduced index of the unknowns left in the linear solve
 /// (`usize::MAX` for a pruned one) and the reduced size.
 type Pruning = (Vec<usize>, usize);
+
+/// How a Newton update gets its factors.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Factor {
+    /// Factor the assembled Jacobian as it is.
+    Plain,
+    /// Factor the regularized Jacobian, whose rows `exact_direction` equilibrated by
+    /// their plain entries (docs/method.md §7): the rows span scales from 1/Δt to Δt,
+    /// and the singularity test compares pivots across them, so without it a
+    /// regularized row failed the test at small Δt.
+    Equilibrated,
+    /// Reuse the kept factors (a simplified Newton update).
+    Kept,
+}
 
 /// The step seen by the Newton engine: the stepper at one ρ∞, with fixed index sets or
 /// not, and the contacts pruned from this attempt.
@@ -330,7 +345,7 @@ impl<S: System> Stepper<S> {
         let redundant = |known: &IndexSets| known.same_normal_sets(sets);
         if !(eps > 0.0 && self.work.singular_sets.iter().any(redundant)) {
             self.jacobian(x, sets, p, 0.0);
-            match self.newton_direction(prune, false, dx) {
+            match self.newton_direction(prune, Factor::Plain, dx) {
                 Ok(()) => {
                     self.work.factored = Some(FactoredFor {
                         sets: sets.clone(),
@@ -353,7 +368,9 @@ impl<S: System> Stepper<S> {
             known.push(sets.clone());
         }
         self.jacobian(x, sets, p, eps);
-        self.newton_direction(prune, false, dx)
+        let w = &mut self.work;
+        equilibrate_rows(self.off.n, &mut w.jac, &w.regularized, &mut w.row_scale);
+        self.newton_direction(prune, Factor::Equilibrated, dx)
     }
 
     /// The simplified Newton update from the solver's kept factors into `dx`, when they
@@ -371,7 +388,7 @@ impl<S: System> Stepper<S> {
                 && f.dt == self.options.dt
                 && f.rho_inf == p.rho_inf
         });
-        fits && self.newton_direction(prune, true, dx).is_ok()
+        fits && self.newton_direction(prune, Factor::Kept, dx).is_ok()
     }
 
     /// The Newton update dx = −J⁻¹R from the assembled Jacobian and residual, or with
@@ -380,14 +397,19 @@ impl<S: System> Stepper<S> {
     fn newton_direction(
         &mut self,
         prune: Option<&Pruning>,
-        again: bool,
+        factor: Factor,
         dx: &mut [f64],
     ) -> Result<(), crate::linalg::LinalgError> {
         let w = &mut self.work;
+        let again = factor == Factor::Kept;
         if !again {
             w.linear_solves += 1;
         }
         dx.iter_mut().zip(&w.res).for_each(|(d, r)| *d = -r);
+        if factor == Factor::Equilibrated {
+            // The rows of J were scaled in `exact_direction`; the right-hand side follows.
+            dx.iter_mut().zip(&w.row_scale).for_each(|(d, s)| *d *= s);
+        }
         let Some((map, n_red)) = prune else {
             return if again {
                 w.solver.solve_again(dx)
