@@ -256,22 +256,20 @@ fn start_fails(dir: &Path) -> String {
     )
 }
 
+/// `blocks run` of a scene whose start fails, with `extra` flags and the last resort off
+/// (it would take the first step instead: the test after these).
+fn run_unstarted(scene: &str, extra: &[&str]) -> (bool, String, String) {
+    let mut args = vec!["blocks", "run", scene, "--last-resort", "false"];
+    args.extend_from_slice(extra);
+    run(&args)
+}
+
 #[test]
 fn a_run_that_cannot_start_still_writes_run_json_with_its_error() {
     let dir = temp_dir("scenes-start-fails");
     let scene = start_fails(&dir);
     let out = dir.join("out");
-    // Without the last resort, which would take the first step instead (next test).
-    let (ok, stdout, stderr) = run(&[
-        "blocks",
-        "run",
-        &scene,
-        "--last-resort",
-        "false",
-        "--json",
-        "--out",
-        out.to_str().unwrap(),
-    ]);
+    let (ok, stdout, stderr) = run_unstarted(&scene, &["--json", "--out", out.to_str().unwrap()]);
     assert!(!ok, "a failed run exits non-zero");
     assert!(!stderr.contains("no frame to animate"), "{stderr}");
     let last = stderr.trim().lines().last().unwrap();
@@ -340,15 +338,7 @@ fn a_run_that_stops_on_its_first_step_keeps_its_start() {
 fn a_run_without_steps_prints_none_not_inf() {
     let dir = temp_dir("scenes-no-inf");
     let scene = start_fails(&dir);
-    let (ok, stdout, stderr) = run(&[
-        "blocks",
-        "run",
-        &scene,
-        "--last-resort",
-        "false",
-        "--max-frames",
-        "0",
-    ]);
+    let (ok, stdout, stderr) = run_unstarted(&scene, &["--max-frames", "0"]);
     assert!(!ok);
     assert!(stdout.contains("min gap none"), "{stdout}");
     // No number prints as `inf` (`rho_inf` is a name).

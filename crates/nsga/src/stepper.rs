@@ -289,9 +289,10 @@ impl<S: System> Stepper<S> {
         &self.state
     }
     /// Replaces the state (to continue from a saved state or follow another branch).
+    /// After a failed start, the state at k = 0 is again stepped by the last resort.
     pub fn set_state(&mut self, state: State) {
         self.time_base = (state.t, state.k);
-        self.last_resort_first = false;
+        self.last_resort_first = self.start_failure.is_some() && state.k == 0;
         self.state = state;
     }
     /// A stepper for the same system and options that continues from `state`, one of
