@@ -97,6 +97,7 @@ fn a_failed_start_is_followed_by_a_last_resort_step() {
     let why = s.start_failure().expect("the start failed");
     assert!(why.starts_with("consistent start at t = 0 failed"), "{why}");
     assert_eq!(s.state().k, 0);
+    let initial = s.state().clone();
     let first = s.step().unwrap().clone();
     let last = first
         .last_resort
@@ -110,6 +111,11 @@ fn a_failed_start_is_followed_by_a_last_resort_step() {
         s.state().u
     );
     assert!((s.state().q[1] - ball.radius).abs() < 1e-8);
-    // The start's failure stays on record.
+    // The start's failure stays on record, and the initial state, set again, is again
+    // stepped by the last resort (a redone first step).
     assert!(s.start_failure().is_some());
+    let after_one = s.state().clone();
+    s.set_state(initial);
+    assert!(s.step().unwrap().last_resort.is_some());
+    assert_eq!(s.state(), &after_one);
 }
