@@ -21,7 +21,7 @@ pub enum Prox {
 
 impl Prox {
     /// The choice as one token for JSON and CSV: `scaled(alpha=1)` or `constant(r=0.3)`
-    /// (numbers in shortest round-trip form).
+    /// (numbers in shortest round-trip form, with an exponent outside 10⁻⁴ ≤ |x| < 10⁶).
     ///
     /// ```
     /// use nsga::Prox;
@@ -30,12 +30,13 @@ impl Prox {
     /// assert_eq!(Prox::Constant(0.3).label(), "constant(r=0.3)");
     /// assert_eq!(Prox::Constant(0.3).to_string(), "constant r = 0.3");
     /// assert_eq!(Prox::Scaled(0.5).to_string(), "scaled, alpha = 0.5");
+    /// assert_eq!(Prox::Constant(1e300).label(), "constant(r=1e300)");
     /// ```
     #[must_use]
     pub fn label(self) -> String {
         match self {
-            Self::Scaled(alpha) => format!("scaled(alpha={alpha})"),
-            Self::Constant(r) => format!("constant(r={r})"),
+            Self::Scaled(alpha) => format!("scaled(alpha={})", Short(alpha)),
+            Self::Constant(r) => format!("constant(r={})", Short(r)),
         }
     }
 }
@@ -44,8 +45,23 @@ impl std::fmt::Display for Prox {
     /// The choice as text: `scaled, alpha = 1` or `constant r = 0.3`.
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         match self {
-            Self::Scaled(alpha) => write!(f, "scaled, alpha = {alpha}"),
-            Self::Constant(r) => write!(f, "constant r = {r}"),
+            Self::Scaled(alpha) => write!(f, "scaled, alpha = {}", Short(*alpha)),
+            Self::Constant(r) => write!(f, "constant r = {}", Short(*r)),
+        }
+    }
+}
+
+/// A number in shortest round-trip form, with an exponent where the plain form would be
+/// long (|x| ≥ 10⁶ or below 10⁻⁴): `0.3`, `1`, `1e300`, `1e-8`.
+struct Short(f64);
+
+impl std::fmt::Display for Short {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let x = self.0;
+        if x == 0.0 || !x.is_finite() || (1e-4..1e6).contains(&x.abs()) {
+            write!(f, "{x}")
+        } else {
+            write!(f, "{x:e}")
         }
     }
 }
