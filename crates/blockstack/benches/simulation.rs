@@ -131,8 +131,8 @@ fn shaken_matrix_worst(c: &mut Criterion) {
 
 /// Columns on a base that barely moves (x = 0.001 sin 2t, μ = 0.2, Δt = 0.01), 100
 /// steps, solver time per run. Their interfaces rock, and the Newton updates per step
-/// grow with n (docs/method.md §8.2: 100 blocks take about 14 s); 300 blocks do not
-/// start (§5), so n stops at 100 here.
+/// grow with n (docs/method.md §8.2: 100 blocks take about 14 s); 300 blocks start only
+/// by the last resort (§5) and take about a minute for 5 steps, so n stops at 100 here.
 fn tall_column_moving_base(c: &mut Criterion) {
     let mut g = c.benchmark_group("tall_column_moving_base");
     g.sample_size(10);

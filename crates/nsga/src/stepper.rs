@@ -104,9 +104,6 @@ pub struct Stepper<S: System> {
     /// Why the consistent start failed, when the stepper started without consistent
     /// accelerations and forces (docs/method.md §5).
     start_failure: Option<String>,
-    /// The next step must be taken by the last resort: the state has no consistent
-    /// accelerations to start a generalized-α step from.
-    last_resort_first: bool,
 }
 
 /// Buffers reused from iterate to iterate and step to step.
@@ -266,7 +263,6 @@ impl<S: System> Stepper<S> {
             law_off,
             comp_ef,
             time_base: (t0, 0),
-            last_resort_first: start_failure.is_some(),
             start_failure,
         })
     }
@@ -292,7 +288,6 @@ impl<S: System> Stepper<S> {
     /// After a failed start, the state at k = 0 is again stepped by the last resort.
     pub fn set_state(&mut self, state: State) {
         self.time_base = (state.t, state.k);
-        self.last_resort_first = self.start_failure.is_some() && state.k == 0;
         self.state = state;
     }
     /// A stepper for the same system and options that continues from `state`, one of
@@ -319,7 +314,6 @@ impl<S: System> Stepper<S> {
             comp_ef: self.comp_ef.clone(),
             time_base: self.time_base,
             start_failure: None,
-            last_resort_first: false,
         }
     }
     /// Drops the solver's buffers and kept factors (rebuilt at the next step), to hold a
@@ -464,11 +458,11 @@ impl<S: System> Stepper<S> {
     /// stepper stays at the last good state, so the run can continue from it (for
     /// example after changing the options).
     pub fn step(&mut self) -> Result<&StepStats, StepError> {
-        if self.last_resort_first {
-            // No consistent a0 to start a generalized-α step from (§5): a Moreau–Jean
-            // step needs none, and restarts the state consistently after it.
+        if self.start_failure.is_some() && self.state.k == 0 {
+            // The initial state after a failed start has no consistent a0 to start a
+            // generalized-α step from (§5): a Moreau–Jean step needs none, and restarts
+            // the state consistently after it.
             self.last_resort()?;
-            self.last_resort_first = false;
             return Ok(self.committed());
         }
         if let Err(failed) = self.step_halving(self.options.max_halvings) {

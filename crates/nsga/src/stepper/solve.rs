@@ -23,10 +23,10 @@ type Pruning = (Vec<usize>, usize);
 enum Factor {
     /// Factor the assembled Jacobian as it is.
     Plain,
-    /// Factor the regularized Jacobian, whose rows `exact_direction` equilibrated by
-    /// their plain entries (docs/method.md §7): the rows span scales from 1/Δt to Δt,
-    /// and the singularity test compares pivots across them, so without it a
-    /// regularized row failed the test at small Δt.
+    /// Factor the regularized Jacobian with its rows equilibrated by their plain
+    /// entries (docs/method.md §7): the rows span scales from 1/Δt to Δt, and the
+    /// singularity test compares pivots across them, so without it a regularized row
+    /// failed the test at small Δt.
     Equilibrated,
     /// Reuse the kept factors (a simplified Newton update).
     Kept,
@@ -368,8 +368,6 @@ impl<S: System> Stepper<S> {
             known.push(sets.clone());
         }
         self.jacobian(x, sets, p, eps);
-        let w = &mut self.work;
-        equilibrate_rows(self.off.n, &mut w.jac, &w.regularized, &mut w.row_scale);
         self.newton_direction(prune, Factor::Equilibrated, dx)
     }
 
@@ -407,7 +405,7 @@ impl<S: System> Stepper<S> {
         }
         dx.iter_mut().zip(&w.res).for_each(|(d, r)| *d = -r);
         if factor == Factor::Equilibrated {
-            // The rows of J were scaled in `exact_direction`; the right-hand side follows.
+            equilibrate_rows(self.off.n, &mut w.jac, &w.regularized, &mut w.row_scale);
             dx.iter_mut().zip(&w.row_scale).for_each(|(d, s)| *d *= s);
         }
         let Some((map, n_red)) = prune else {
