@@ -183,6 +183,7 @@ mod tests {
             periods: 1.0,
             steps_per_period: 100.0,
             mu: 0.2,
+            start_with_base: false,
         };
         let watch = EventWatch::new(&shaking_column(&p).unwrap(), 1e-9);
         for angle in &watch.tipping {

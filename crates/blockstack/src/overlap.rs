@@ -222,6 +222,7 @@ mod tests {
             periods: 1.0,
             steps_per_period: 100.0,
             mu: 0.2,
+            start_with_base: false,
         };
         let scene = shaking_column(&p).unwrap();
         let sizes: Vec<_> = scene_bodies(&scene, 0.0, &scene.initial_coordinates())

@@ -199,6 +199,12 @@ pub struct Shaking {
     pub steps_per_period: f64,
     /// Friction coefficient (Figure 4.6: 0.2).
     pub mu: f64,
+    /// The blocks start moving with the base (velocity Aω, at rest relative to it)
+    /// instead of at rest (Figure 4.6, the default). From rest, the bottom interface
+    /// slides at t = 0 and friction kicks the column; a column that moves with its base
+    /// is only loaded by the base's acceleration −Aω² sin ωt, which tips a column of n
+    /// blocks once it exceeds g w/(h n) (docs/method.md §8.2, tall columns).
+    pub start_with_base: bool,
 }
 
 impl Shaking {
@@ -224,6 +230,7 @@ impl Default for Shaking {
             periods: 10.0,
             steps_per_period: 100.0,
             mu: 0.2,
+            start_with_base: false,
         }
     }
 }
@@ -238,7 +245,10 @@ pub fn shaking_column(p: &Shaking) -> Result<Scene, BlockError> {
     input::positive("periods", p.periods)?;
     input::positive("steps per period", p.steps_per_period)?;
     let base = Base::new(1.0, 0.1, BaseMotion::harmonic(p.amplitude, p.omega)?)?;
-    let block = Block::new(0.2, 0.4, 1.0)?;
+    let mut block = Block::new(0.2, 0.4, 1.0)?;
+    if p.start_with_base {
+        block = block.moving(base.motion.at(0.0).velocity, 0.0, 0.0)?;
+    }
     let blocks = stack_on(&base, &vec![(block, 0.0, 0.0); p.blocks])?;
     let floor = Some(Floor::new(base.bottom()));
     let solver = SolverParams {

@@ -69,6 +69,7 @@ fn two_blocks() -> Scene {
         periods: 3.0,
         steps_per_period: 60.0,
         mu: 0.3,
+        start_with_base: false,
     })
     .unwrap()
 }

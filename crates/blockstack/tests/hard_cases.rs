@@ -23,6 +23,7 @@ fn shaken(blocks: usize, omega: f64, mu: f64, t_end: f64) -> blockstack::RunSumm
         amplitude: 0.2,
         steps_per_period: 200.0,
         periods: 1.0,
+        start_with_base: false,
     })
     .unwrap();
     let options = RunOptions {
@@ -100,6 +101,7 @@ fn regularized_matrices_of_blocks_lying_on_a_fast_base_are_solved() {
         amplitude: 0.2,
         steps_per_period: 200.0,
         periods: 1.0,
+        start_with_base: false,
     })
     .unwrap();
     let options = RunOptions {
@@ -133,6 +135,7 @@ fn tall_columns_on_a_moving_base_start_and_step() {
             amplitude: 0.001,
             steps_per_period: 314.0,
             periods: 1.0,
+            start_with_base: false,
         })
         .unwrap();
         scene.solver.dt = 0.01;
@@ -190,4 +193,98 @@ fn painleves_inconsistent_start_is_taken_by_the_last_resort() {
         s.error
     );
     assert_eq!(s.steps, 0);
+}
+
+/// A column of n blocks that starts moving with its base x = 0.001 sin 2t is loaded only
+/// by the base's acceleration −Aω² sin ωt, at most 0.004. The base interface carries
+/// the whole column: its normal forces N₁ + N₂ = n m g and, for the column to follow the
+/// base as one body, N₂ − N₁ = m a h n²/w, so a corner of it lifts once
+/// a > g w/(h n) (0.2/(0.4 n) in the scene's units, g = 1), first for n > 125.
+fn column_moving_with_its_base(blocks: usize, steps_per_period: f64) -> blockstack::Scene {
+    shaking_column(&Shaking {
+        blocks,
+        omega: 2.0,
+        mu: 0.2,
+        amplitude: 0.001,
+        steps_per_period,
+        periods: 1.0,
+        start_with_base: true,
+    })
+    .unwrap()
+}
+
+/// Below the tipping acceleration a column moving with its base is one rigid body on
+/// closed contacts: every step converges in one update with the factors kept from the
+/// first, whatever n (docs/method.md §8.2, tall columns). 300 blocks, Δt ≈ 0.01, to
+/// t = 0.2, before the base acceleration reaches g w/(h n) at t = 0.215.
+#[test]
+fn a_tall_column_moving_with_its_base_takes_one_update_per_step() {
+    let scene = column_moving_with_its_base(300, 314.0);
+    let options = RunOptions {
+        t_end: Some(0.2),
+        explore_branches: true,
+        ..RunOptions::default()
+    };
+    let s = simulate(&scene, &options, |r| {
+        assert!(r.iterations <= 1, "t = {}: {} updates", r.t, r.iterations);
+    })
+    .unwrap();
+    assert_eq!(s.error, None, "{:?}", s.error);
+    assert_eq!(s.steps, 20);
+    assert_eq!((s.failed_steps, s.fallback_steps), (0, 0));
+    assert!(s.linear_solves <= 2, "{} factorizations", s.linear_solves);
+    assert!(s.deepest.depth() < 1e-10);
+}
+
+/// The same 300-block column at Δt ≈ 0.001 tips as the statics say: the first corner to
+/// lift is one of the base interface, within a step of a = g w/(h n)
+/// (0.004 sin 2t = 1/600, t = 0.2149), and 20 steps later the column is still one body
+/// (every block at the same angle, every interface above the base closed at both
+/// corners).
+#[test]
+fn a_tall_column_moving_with_its_base_tips_as_one_body_at_the_static_limit() {
+    let n = 300;
+    let scene = column_moving_with_its_base(n, 3140.0);
+    let options = RunOptions {
+        t_end: Some(0.235),
+        ..RunOptions::default()
+    };
+    let dt = scene.solver.dt;
+    let onset = (1.0f64 / 600.0 / 0.004).asin() / 2.0;
+    let mut first_lift = None;
+    let mut last = None;
+    let s = simulate(&scene, &options, |r| {
+        let lifted: Vec<usize> = (r.forces.iter().enumerate())
+            .filter(|(_, f)| {
+                f.normal
+                    .iter()
+                    .any(|&x| x <= 1e-12 * (f.normal[0] + f.normal[1]))
+            })
+            .map(|(k, _)| k)
+            .collect();
+        if first_lift.is_none() && !lifted.is_empty() {
+            first_lift = Some((r.t, lifted.clone()));
+        }
+        last = Some((r.poses.clone(), lifted));
+    })
+    .unwrap();
+    assert_eq!(s.error, None, "{:?}", s.error);
+    let (t, lifted) = first_lift.expect("the column tips before t = 0.235");
+    assert!(
+        (t - onset).abs() <= 2.0 * dt,
+        "first lift at t = {t}, statics: {onset}"
+    );
+    assert_eq!(lifted, vec![0], "only the base interface lifts first");
+    let (poses, lifted) = last.unwrap();
+    assert_eq!(lifted, vec![0], "the interfaces above stay closed");
+    let theta = poses[0].theta;
+    assert!(theta.abs() > 1e-11, "the column has turned: θ = {theta}");
+    // Round-off alone gives the blocks angles of 1e-14 before the column tips.
+    for p in &poses {
+        assert!(
+            (p.theta - theta).abs() <= 1e-3 * theta.abs(),
+            "{} vs {theta}",
+            p.theta
+        );
+    }
 }

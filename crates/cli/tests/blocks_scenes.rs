@@ -246,6 +246,42 @@ fn shake_runs_a_column_with_the_outputs_of_run() {
     std::fs::remove_dir_all(dir).unwrap();
 }
 
+/// `--start-with-base`: a 30-block column on x = 0.001 sin 2t that starts moving with
+/// its base is one rigid body below its tipping acceleration (method.md §8.2): one
+/// Newton update per step on the factors of one linear solve. From rest, friction kicks
+/// it at t = 0 and its interfaces rock: more updates than steps.
+#[test]
+fn shake_start_with_base_keeps_a_tall_column_in_one_piece() {
+    let column = |with_base: bool| {
+        let mut args = vec![
+            "blocks",
+            "shake",
+            "--blocks",
+            "30",
+            "--omega",
+            "2",
+            "--amplitude",
+            "0.001",
+            "--steps-per-period",
+            "314",
+            "--t-end",
+            "0.1",
+            "--json",
+        ];
+        if with_base {
+            args.push("--start-with-base");
+        }
+        json(&args)
+    };
+    let moving = column(true);
+    assert!(moving["error"].is_null(), "{}", moving["error"]);
+    assert_eq!(moving["steps"].as_u64(), Some(10));
+    assert!(moving["newton_iterations_mean"].as_f64().unwrap() <= 1.0);
+    assert!(moving["linear_solves"].as_u64().unwrap() <= 2);
+    let at_rest = column(false);
+    assert!(at_rest["newton_iterations_mean"].as_f64().unwrap() > 1.0);
+}
+
 /// Valid numbers that make the consistent start fail: a constant prox parameter of
 /// 1e300 leaves the start's Newton matrix singular (and every later step's).
 fn start_fails(dir: &Path) -> String {

@@ -193,6 +193,7 @@ fn shaking_params(
     mu: f64,
     steps_per_period: f64,
     periods: f64,
+    start_with_base: bool,
 ) -> PyResult<Shaking> {
     at_least_one_block(blocks)?;
     input::positive("omega", omega).map_err(value_error)?;
@@ -206,11 +207,13 @@ fn shaking_params(
         periods,
         steps_per_period,
         mu,
+        start_with_base,
     })
 }
 
 /// A column shaken at its base (§4.4): `scenarios::shaking_column`.
 #[pyfunction]
+#[pyo3(signature = (blocks, omega, amplitude, mu, steps_per_period, periods, start_with_base = false))]
 fn blocks_shaking(
     blocks: usize,
     omega: f64,
@@ -218,9 +221,18 @@ fn blocks_shaking(
     mu: f64,
     steps_per_period: f64,
     periods: f64,
+    start_with_base: bool,
 ) -> PyResult<PyScene> {
     guard(|| {
-        let p = shaking_params(blocks, omega, amplitude, mu, steps_per_period, periods)?;
+        let p = shaking_params(
+            blocks,
+            omega,
+            amplitude,
+            mu,
+            steps_per_period,
+            periods,
+            start_with_base,
+        )?;
         let scene = shaking_column(&p).map_err(value_error)?;
         Ok(PyScene::from_scene(
             scene,
@@ -464,7 +476,15 @@ fn blocks_sweep_frequency<'py>(
             .map(|&omega| {
                 // A horizon in time units, the same at every ω (as `--t-max`).
                 let periods = t_max.map_or(periods, |t| periods_for_horizon(t, omega));
-                let p = shaking_params(blocks, omega, amplitude, mu, steps_per_period, periods)?;
+                let p = shaking_params(
+                    blocks,
+                    omega,
+                    amplitude,
+                    mu,
+                    steps_per_period,
+                    periods,
+                    false,
+                )?;
                 shaking_column(&p).map_err(|e| value_error(format!("omega {omega}: {e}")))?;
                 Ok(p)
             })

@@ -107,6 +107,11 @@ def test_shaking_equals_cli(cli):
     r = blocks.simulate(blocks.shaking(blocks=3, omega=6.0, amplitude=0.1, periods=1.0))
     theirs = cli("blocks", "shake", "--blocks", "3", "--omega", "6", "--amplitude", "0.1", "--periods", "1")
     assert strip_timings(r.report) == cli_report(theirs)
+    r = blocks.simulate(blocks.shaking(blocks=3, omega=6.0, amplitude=0.1, periods=1.0, start_with_base=True))
+    theirs = cli(
+        "blocks", "shake", "--blocks", "3", "--omega", "6", "--amplitude", "0.1", "--periods", "1", "--start-with-base"
+    )
+    assert strip_timings(r.report) == cli_report(theirs)
 
 
 def test_presets_bad_input():

@@ -328,13 +328,21 @@ def shaking(
     mu: float = 0.2,
     steps_per_period: float = 100.0,
     periods: float = 10.0,
+    start_with_base: bool = False,
 ) -> Scene:
     """A column of blocks w = 0.2, h = 0.4 on a base w = 1, h = 0.1 moving as
     x = A sin(ωt) (§4.4, Figures 4.5-4.6); Δt and t_end count in base periods 2π/ω
-    (ERRATA 21). The scene of ``rollstack blocks shake``."""
+    (ERRATA 21). The scene of ``rollstack blocks shake``. The blocks start at rest
+    (Figure 4.6), or with ``start_with_base=True`` moving with the base (velocity Aω)."""
     return Scene(
         _rollstack.blocks_shaking(
-            int(blocks), float(omega), float(amplitude), float(mu), float(steps_per_period), float(periods)
+            int(blocks),
+            float(omega),
+            float(amplitude),
+            float(mu),
+            float(steps_per_period),
+            float(periods),
+            bool(start_with_base),
         )
     )
 

@@ -30,6 +30,10 @@ pub struct ShakeArgs {
     /// Base periods simulated: t_end = P·2π/ω.
     #[arg(long, default_value_t = 10.0, value_parser = parse_finite, allow_hyphen_values = true)]
     pub periods: f64,
+    /// The blocks start moving with the base (velocity Aω), not at rest: no sliding
+    /// at t = 0, so the column is loaded only by the base's acceleration.
+    #[arg(long)]
+    pub start_with_base: bool,
     /// End time (model time units), instead of --periods.
     #[arg(long, value_parser = parse_finite, allow_hyphen_values = true, conflicts_with = "periods")]
     pub t_end: Option<f64>,
@@ -60,6 +64,7 @@ pub fn run_shake(args: &ShakeArgs) -> Result<()> {
         periods: args.periods,
         steps_per_period: args.steps_per_period,
         mu: args.mu,
+        start_with_base: args.start_with_base,
     };
     let scene = shaking_column(&p)?;
     let options = args.solver.run_options(args.t_end, false)?;
@@ -75,7 +80,7 @@ pub fn run_shake(args: &ShakeArgs) -> Result<()> {
     );
     let inputs = serde_json::json!({
         "blocks": p.blocks, "omega": p.omega, "amplitude": p.amplitude, "mu": p.mu,
-        "steps_per_period": p.steps_per_period,
+        "steps_per_period": p.steps_per_period, "start_with_base": p.start_with_base,
         "periods": args.t_end.is_none().then_some(p.periods), "t_end": t_end,
         "prox_constant": args.solver.prox_constant,
         "explore_branches": args.solver.explore_branches,

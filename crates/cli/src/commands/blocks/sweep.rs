@@ -340,6 +340,7 @@ pub fn sweep_frequency(args: &FrequencyArgs) -> Result<()> {
             .map_or(args.periods, |t| periods_for_horizon(t, omega)),
         steps_per_period: args.steps_per_period,
         mu: args.mu,
+        start_with_base: false,
     };
     check_before_any_run(&omegas, &args.solver, &options, |&(_, omega)| {
         shaking_column(&column(omega)).with_context(|| format!("--omega {omega}"))
