@@ -193,7 +193,6 @@ fn shaking_params(
     mu: f64,
     steps_per_period: f64,
     periods: f64,
-    start_with_base: bool,
 ) -> PyResult<Shaking> {
     at_least_one_block(blocks)?;
     input::positive("omega", omega).map_err(value_error)?;
@@ -207,7 +206,7 @@ fn shaking_params(
         periods,
         steps_per_period,
         mu,
-        start_with_base,
+        start_with_base: false,
     })
 }
 
@@ -224,15 +223,10 @@ fn blocks_shaking(
     start_with_base: bool,
 ) -> PyResult<PyScene> {
     guard(|| {
-        let p = shaking_params(
-            blocks,
-            omega,
-            amplitude,
-            mu,
-            steps_per_period,
-            periods,
+        let p = Shaking {
             start_with_base,
-        )?;
+            ..shaking_params(blocks, omega, amplitude, mu, steps_per_period, periods)?
+        };
         let scene = shaking_column(&p).map_err(value_error)?;
         Ok(PyScene::from_scene(
             scene,
@@ -476,15 +470,7 @@ fn blocks_sweep_frequency<'py>(
             .map(|&omega| {
                 // A horizon in time units, the same at every ω (as `--t-max`).
                 let periods = t_max.map_or(periods, |t| periods_for_horizon(t, omega));
-                let p = shaking_params(
-                    blocks,
-                    omega,
-                    amplitude,
-                    mu,
-                    steps_per_period,
-                    periods,
-                    false,
-                )?;
+                let p = shaking_params(blocks, omega, amplitude, mu, steps_per_period, periods)?;
                 shaking_column(&p).map_err(|e| value_error(format!("omega {omega}: {e}")))?;
                 Ok(p)
             })
