@@ -2,7 +2,7 @@
 //! solved by the crate's one semismooth Newton engine ([`crate::newton`]).
 
 use crate::error::StepError;
-use crate::level::{LevelProblem, LevelRows};
+use crate::level::{ConstraintEntries, LevelProblem, LevelRows};
 use crate::linalg::{AutoSolver, LinearSolver};
 use crate::newton::{self, GiveUp, NewtonProblem, NewtonScratch, NewtonSettings, Outcome};
 use crate::options::Prox;
@@ -168,6 +168,8 @@ impl<S: System> MoreauStepper<S> {
                 r_pos: &r_pos,
                 r_vel: &r_vel,
                 r_law: &r_law,
+                w_p: ConstraintEntries::new(&e.position_w),
+                w_v: ConstraintEntries::new(&e.velocity_w),
             },
             rows: LevelRows::default(),
             rate_old,

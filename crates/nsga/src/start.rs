@@ -1,7 +1,7 @@
 //! Consistent initial accelerations and forces at t0 (docs/method.md §5).
 
 use crate::error::StepError;
-use crate::level::{LevelProblem, LevelRows};
+use crate::level::{ConstraintEntries, LevelProblem, LevelRows};
 use crate::linalg::{norm, AutoSolver, LinearSolver};
 use crate::newton::{self, GiveUp, NewtonProblem, NewtonScratch, NewtonSettings, Outcome};
 use crate::options::Options;
@@ -158,6 +158,8 @@ pub fn consistent_start<S: System>(
             r_pos: &r_pos,
             r_vel: &r_vel,
             r_law: &r_law,
+            w_p: ConstraintEntries::new(&e.position_w),
+            w_v: ConstraintEntries::new(&e.velocity_w),
         },
         rows: LevelRows::default(),
         acc_p: Vec::new(),
