@@ -209,7 +209,9 @@ pub fn consistent_start<S: System>(
 /// normal contacts is closed. The LU leaves round-off there (±3·10⁻¹⁴ on floor contacts
 /// 200 m below a 1000-block column), and a force that is not exactly zero keeps an open
 /// contact from being pruned (docs/method.md §8.1) until it has decayed, which changed
-/// the pruned set, and so forced a new factorization, a few steps later.
+/// the pruned set, and so forced a new factorization, a few steps later. `normal_row`
+/// and `friction_row` are the indices in y of the first normal force and of the first
+/// friction component.
 fn zero_separation_rows(
     layout: &Layout,
     closed: &[bool],
