@@ -15,8 +15,9 @@
 use blockstack::scenarios::{shaking_column, Shaking};
 use blockstack::{simulate, RunOptions};
 
-fn shaken(blocks: usize, omega: f64, mu: f64, t_end: f64) -> blockstack::RunSummary {
-    let scene = shaking_column(&Shaking {
+/// A column of the matrix: n blocks on x = 0.2 sin ωt, Δt = 2π/(200ω), from rest.
+fn matrix_column(blocks: usize, omega: f64, mu: f64) -> blockstack::Scene {
+    shaking_column(&Shaking {
         blocks,
         omega,
         mu,
@@ -25,7 +26,11 @@ fn shaken(blocks: usize, omega: f64, mu: f64, t_end: f64) -> blockstack::RunSumm
         periods: 1.0,
         start_with_base: false,
     })
-    .unwrap();
+    .unwrap()
+}
+
+fn shaken(blocks: usize, omega: f64, mu: f64, t_end: f64) -> blockstack::RunSummary {
+    let scene = matrix_column(blocks, omega, mu);
     let options = RunOptions {
         t_end: Some(t_end),
         explore_branches: true,
@@ -94,16 +99,7 @@ fn shaken_columns_that_fall_and_pile_up_stay_solid() {
 /// rows equilibrated (docs/method.md §7) the steps converge.
 #[test]
 fn regularized_matrices_of_blocks_lying_on_a_fast_base_are_solved() {
-    let scene = shaking_column(&Shaking {
-        blocks: 5,
-        omega: 24.0,
-        mu: 0.5,
-        amplitude: 0.2,
-        steps_per_period: 200.0,
-        periods: 1.0,
-        start_with_base: false,
-    })
-    .unwrap();
+    let scene = matrix_column(5, 24.0, 0.5);
     let options = RunOptions {
         t_end: Some(4.0),
         explore_branches: true,

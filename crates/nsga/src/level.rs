@@ -17,6 +17,7 @@
 //!   vector (the level itself, or a fixed slip velocity); inactive: μ_F = 0.
 
 use crate::linalg::norm;
+use crate::stepper::rows::{push_u_derivative, RowMat};
 use crate::system::{Evaluation, Layout, Triplets};
 
 /// The data of a one-level contact problem that stay fixed over its Newton iterations.
@@ -43,49 +44,21 @@ pub(crate) struct LevelProblem<'a> {
     pub r_vel: &'a [f64],
     /// See `r_pos`.
     pub r_law: &'a [f64],
-    /// W_p and W_v by constraint ([`ConstraintEntries::new`] of `eval`).
-    pub w_p: ConstraintEntries,
+    /// W_p and W_v of `eval` by constraint ([`by_constraint`]).
+    pub w_p: RowMat,
     /// See `w_p`.
-    pub w_v: ConstraintEntries,
+    pub w_v: RowMat,
 }
 
-/// The entries (i, v) of one W matrix grouped by constraint c, in their order in the
-/// triplets: a constraint row of the Jacobian then costs the entries of its own column
-/// of W, not a scan of all of W (which made the start of a 2000-block column spend half
-/// its time here, quadratic in n).
-#[derive(Debug, Default)]
-pub(crate) struct ConstraintEntries {
-    start: Vec<usize>,
-    entries: Vec<(usize, f64)>,
-}
-
-impl ConstraintEntries {
-    /// Groups the triplets (i, c, v) of `w` by c (a stable counting sort).
-    pub fn new(w: &Triplets<f64>) -> Self {
-        let n = w.entries.iter().map(|&(_, c, _)| c + 1).max().unwrap_or(0);
-        let mut start = vec![0; n + 1];
-        for &(_, c, _) in &w.entries {
-            start[c + 1] += 1;
-        }
-        for c in 0..n {
-            start[c + 1] += start[c];
-        }
-        let mut next = start.clone();
-        let mut entries = vec![(0, 0.0); w.entries.len()];
-        for &(i, c, v) in &w.entries {
-            entries[next[c]] = (i, v);
-            next[c] += 1;
-        }
-        Self { start, entries }
-    }
-
-    /// The entries (i, v) of constraint c (none past the last one W has).
-    fn of(&self, c: usize) -> &[(usize, f64)] {
-        match (self.start.get(c), self.start.get(c + 1)) {
-            (Some(&a), Some(&b)) => &self.entries[a..b],
-            _ => &[],
-        }
-    }
+/// W (entries (i, c, v)) compressed by constraint: row c holds the (i, v) of
+/// constraint c in the order of the triplets, so that a constraint row of the Jacobian
+/// costs the entries of its own column of W, not a scan of all of W (which made the
+/// start of a 2000-block column spend half its time in [`push_level`], quadratic in n).
+pub(crate) fn by_constraint(w: &Triplets<f64>, n_constraints: usize) -> RowMat {
+    let mut m = RowMat::default();
+    push_u_derivative(&mut m.tmp, w, true, 0, 1.0, &[(0, 1.0)]);
+    m.build(n_constraints);
+    m
 }
 
 /// The residual and Jacobian of one iterate, and its index sets (the rows whose
@@ -204,14 +177,8 @@ impl LevelProblem<'_> {
 
 /// Pushes `r · (column c0 of W)ᵀ` as the entries of `row` over the velocity-like
 /// unknowns (∂(r · level)/∂v = r Wᵀ).
-fn push_level(
-    jac: &mut Vec<(usize, usize, f64)>,
-    w: &ConstraintEntries,
-    c0: usize,
-    row: usize,
-    r: f64,
-) {
-    jac.extend(w.of(c0).iter().map(|&(i, v)| (row, i, r * v)));
+fn push_level(jac: &mut Vec<(usize, usize, f64)>, w: &RowMat, c0: usize, row: usize, r: f64) {
+    jac.extend(w.row(c0).map(|(i, v)| (row, i, r * v)));
 }
 
 #[cfg(test)]
@@ -219,16 +186,16 @@ mod tests {
     use super::*;
 
     #[test]
-    fn constraint_entries_group_a_column_in_the_order_of_the_triplets() {
+    fn by_constraint_keeps_the_order_of_the_triplets_per_constraint() {
         let w = Triplets {
             entries: vec![(0, 2, 1.0), (1, 0, 2.0), (2, 2, 3.0), (0, 0, 4.0)],
         };
-        let by = ConstraintEntries::new(&w);
-        assert_eq!(by.of(0), &[(1, 2.0), (0, 4.0)]);
-        assert_eq!(by.of(1), &[]);
-        assert_eq!(by.of(2), &[(0, 1.0), (2, 3.0)]);
-        // A constraint W has no entry for, past its last one, has an empty column.
-        assert_eq!(by.of(7), &[]);
-        assert_eq!(ConstraintEntries::new(&Triplets::default()).of(0), &[]);
+        let by = by_constraint(&w, 4);
+        let of = |c| by.row(c).collect::<Vec<_>>();
+        assert_eq!(of(0), [(1, 2.0), (0, 4.0)]);
+        assert_eq!(of(1), []);
+        assert_eq!(of(2), [(0, 1.0), (2, 3.0)]);
+        // A constraint W has no entry for, past its last one, has an empty row.
+        assert_eq!(of(3), []);
     }
 }

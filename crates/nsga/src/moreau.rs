@@ -2,7 +2,7 @@
 //! solved by the crate's one semismooth Newton engine ([`crate::newton`]).
 
 use crate::error::StepError;
-use crate::level::{ConstraintEntries, LevelProblem, LevelRows};
+use crate::level::{by_constraint, LevelProblem, LevelRows};
 use crate::linalg::{AutoSolver, LinearSolver};
 use crate::newton::{self, GiveUp, NewtonProblem, NewtonScratch, NewtonSettings, Outcome};
 use crate::options::Prox;
@@ -168,8 +168,8 @@ impl<S: System> MoreauStepper<S> {
                 r_pos: &r_pos,
                 r_vel: &r_vel,
                 r_law: &r_law,
-                w_p: ConstraintEntries::new(&e.position_w),
-                w_v: ConstraintEntries::new(&e.velocity_w),
+                w_p: by_constraint(&e.position_w, l.n_position()),
+                w_v: by_constraint(&e.velocity_w, l.n_velocity()),
             },
             rows: LevelRows::default(),
             rate_old,

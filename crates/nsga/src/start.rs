@@ -1,7 +1,7 @@
 //! Consistent initial accelerations and forces at t0 (docs/method.md §5).
 
 use crate::error::StepError;
-use crate::level::{ConstraintEntries, LevelProblem, LevelRows};
+use crate::level::{by_constraint, LevelProblem, LevelRows};
 use crate::linalg::{norm, AutoSolver, LinearSolver};
 use crate::newton::{self, GiveUp, NewtonProblem, NewtonScratch, NewtonSettings, Outcome};
 use crate::options::Options;
@@ -158,8 +158,8 @@ pub fn consistent_start<S: System>(
             r_pos: &r_pos,
             r_vel: &r_vel,
             r_law: &r_law,
-            w_p: ConstraintEntries::new(&e.position_w),
-            w_v: ConstraintEntries::new(&e.velocity_w),
+            w_p: by_constraint(&e.position_w, layout.n_position()),
+            w_v: by_constraint(&e.velocity_w, layout.n_velocity()),
         },
         rows: LevelRows::default(),
         acc_p: Vec::new(),

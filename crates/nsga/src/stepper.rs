@@ -35,7 +35,7 @@ mod iterate;
 mod last_resort;
 mod multipliers;
 mod resize;
-mod rows;
+pub(crate) mod rows;
 mod solve;
 mod unknowns;
 
