@@ -191,6 +191,19 @@ pub struct Options {
     /// when several contacts close at once.
     #[serde(default)]
     pub line_search: usize,
+    /// Openings per Newton update in the held-sets attempt (0: no such attempt). In a
+    /// system whose free attempts may take more than `max_iter` updates (more normal
+    /// contacts than `max_iter`, with `max_iter_per_contact` ≥ 1), the first attempt at
+    /// a step solves it with the previous step's index sets held, and from that solution
+    /// the contact laws may open at most this many contacts per update (those with the
+    /// largest prox argument r g_N − κ̂_N); closings and friction changes are not
+    /// limited, and convergence is judged on the laws' own sets. Only when that attempt
+    /// fails does free Newton follow. A tall column that starts to tip
+    /// then turns about its base as one body in a few updates, instead of opening a band
+    /// of interfaces that free Newton moves up the column one interface per update
+    /// (docs/method.md §8.2).
+    #[serde(default)]
+    pub max_openings_per_update: usize,
     /// How often a step that fails after every retry and fixed-set re-solve may be
     /// halved: it is then taken as two substeps of Δt/2 with this same policy, each of
     /// which may be halved again, down to Δt/2^`max_halvings` ([`Stepper::split_step`]).
@@ -288,6 +301,7 @@ impl Default for Options {
             reuse_factorization: false,
             line_search: 0,
             max_halvings: 0,
+            max_openings_per_update: 0,
             boundary_resolves: false,
             last_resort: true,
         }

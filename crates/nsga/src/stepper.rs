@@ -31,6 +31,7 @@ use unknowns::Offsets;
 mod assemble;
 mod branch;
 mod fallback;
+mod held;
 mod iterate;
 mod last_resort;
 mod multipliers;
@@ -41,6 +42,7 @@ mod unknowns;
 
 pub use assemble::NEGLIGIBLE_SLIP;
 pub use fallback::QUICK_CHECK_ITERATIONS;
+pub use held::MAX_HELD_EVALUATIONS;
 
 /// How many index sets found to have a singular plain Newton matrix are remembered
 /// (see [`Options::regularization`]). Redundancy is a property of which contacts are

@@ -184,3 +184,46 @@ fn the_line_search_carries_newton_where_full_updates_diverge() {
         assert!(s.state().q[0].abs() <= 0.3);
     }
 }
+
+/// The held-sets attempt (`Options::max_openings_per_update`) holds the previous step's
+/// index sets, then opens contacts one per update, but judges convergence on the contact
+/// laws' own sets: on a chain whose blocks fall onto each other and the ground, and
+/// slide, its steps are those of free Newton. The chain has more contacts (12) than
+/// `max_iter` (8) allows updates, so the attempt is taken at every step.
+#[test]
+fn the_held_sets_attempt_takes_the_steps_of_free_newton() {
+    let n = 12;
+    let chain = Chain::benchmark(n);
+    let h = chain.height;
+    let mut q0 = Vec::new();
+    let mut u0 = Vec::new();
+    for k in 0..n {
+        // Gaps of H/2 between the blocks; the upper half moves down and sideways.
+        q0.extend([0.0, h / 2.0 + 1.5 * h * k as f64]);
+        u0.extend([
+            if k >= n / 2 { 0.5 } else { 0.0 },
+            if k >= n / 2 { -1.0 } else { 0.0 },
+        ]);
+    }
+    let free = Options {
+        dt: 1e-3,
+        tol: 1e-11,
+        max_iter: 8,
+        max_iter_per_contact: 3,
+        ..Options::default()
+    };
+    let held = Options {
+        max_openings_per_update: 1,
+        ..free.clone()
+    };
+    let (a, _) = run(chain, &q0, &u0, free, 300);
+    let (b, _) = run(chain, &q0, &u0, held, 300);
+    let landed = |s: &State| s.lambda_n.iter().filter(|&&l| l > 0.0).count();
+    assert!(
+        landed(&a[299]) >= n / 2,
+        "the blocks land: {} contacts carry force",
+        landed(&a[299])
+    );
+    let d = largest_difference(&a, &b);
+    assert!(d < 1e-8, "held sets and free Newton differ by {d}");
+}

@@ -2,6 +2,7 @@
 //! as [`Stepper::step`] applies it: other ρ∞ (thesis §4.2), fixed-set re-solves at a
 //! branch point, the best iterate, halved substeps, and re-solves at a friction bound.
 
+use super::held::SetPolicy;
 use super::Stepper;
 use crate::attempt::{AttemptFailure, Trial};
 use crate::error::StepError;
@@ -45,7 +46,7 @@ impl<S: System> Stepper<S> {
     /// ρ∞ retries, the fixed-set re-solves of a cycling step, the best iterate.
     fn step_once(&mut self) -> Result<(), StepError> {
         let rho0 = self.options.rho_inf;
-        let first = match self.solve(None, rho0, self.state.x.clone()) {
+        let first = match self.first_attempt(rho0) {
             Ok(t) => {
                 let t = if self.options.probe_flips {
                     self.probe_flips(t, rho0)
@@ -123,6 +124,36 @@ impl<S: System> Stepper<S> {
             cycling,
             state: Box::new(self.state.clone()),
         })
+    }
+
+    /// The first attempt at a step: free Newton. In a system with more normal contacts
+    /// than `max_iter` (whose free attempts get more updates, see
+    /// [`Options::max_iter_per_contact`](crate::Options::max_iter_per_contact)), and with
+    /// [`Options::max_openings_per_update`](crate::Options::max_openings_per_update) set,
+    /// first the held-sets attempt (the previous step's sets, then a few openings per
+    /// update; docs/method.md §8.2), and free Newton only when that fails; the fallback
+    /// policy then handles free Newton's failure as before.
+    fn first_attempt(&mut self, rho0: f64) -> Result<Trial, AttemptFailure> {
+        let budget = self.free_budget();
+        let most = self.options.max_openings_per_update;
+        let previous = self
+            .last
+            .as_ref()
+            .map(|s| s.sets.clone())
+            .filter(|s| s.is_consistent(self.off.nn, self.layout.friction.len()));
+        let x = self.state.x.clone();
+        let (Some(previous), true) = (previous, most > 0 && budget > self.options.max_iter) else {
+            return self.solve(None, rho0, x);
+        };
+        let held = SetPolicy::Held {
+            budget,
+            previous,
+            most,
+        };
+        if let Ok(trial) = self.solve_with(None, &held, rho0, x.clone()) {
+            return Ok(trial);
+        }
+        self.solve(None, rho0, x)
     }
 
     /// A retry or fixed-set re-solve from the state's unknowns, with at most

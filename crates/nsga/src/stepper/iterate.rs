@@ -207,16 +207,39 @@ impl<S: System> Stepper<S> {
     }
 
     /// Index sets from the current iterate (eqs. 128–142).
-    pub(super) fn compute_sets(&mut self, x: &[f64]) -> IndexSets {
+    ///
+    /// With `limit` = (the sets of the last Newton update, k), at most k of the normal
+    /// contacts closed there on position level open at this iterate: those whose prox
+    /// argument r g_N − κ̂_N is largest. The others stay in A, and B, C and the friction
+    /// sets follow from that (see [`Options::max_openings_per_update`]).
+    ///
+    /// [`Options::max_openings_per_update`]: crate::Options::max_openings_per_update
+    pub(super) fn compute_sets(
+        &mut self,
+        x: &[f64],
+        limit: Option<(&IndexSets, usize)>,
+    ) -> IndexSets {
         let o = self.off;
         let l = &self.layout;
         let w = &self.work;
         let it = &w.it;
         let mut s = IndexSets::empty(o.nn, l.friction.len());
+        let open_by = |k: usize| w.r_pos[o.ng + k] * it.p[o.ng + k] - it.kappa_hat[k];
+        for k in 0..o.nn {
+            s.a[k] = open_by(k) <= 0.0;
+        }
+        if let Some((last, most)) = limit.filter(|(last, _)| last.a.len() == o.nn) {
+            let mut opening: Vec<usize> = (0..o.nn).filter(|&k| last.a[k] && !s.a[k]).collect();
+            if opening.len() > most {
+                opening.sort_by(|&i, &j| open_by(j).total_cmp(&open_by(i)));
+                for &k in &opening[most..] {
+                    s.a[k] = true;
+                }
+            }
+        }
         for k in 0..o.nn {
             let pk = o.ng + k;
             let r = w.r_pos[pk];
-            s.a[k] = r * it.p[pk] - it.kappa_hat[k] <= 0.0;
             s.b[k] = s.a[k] && r * it.xi_p[pk] - it.p_n[k] <= 0.0;
             s.c[k] = s.b[k] && r * it.acc_p[pk] - x[o.ln + k] <= 0.0;
         }

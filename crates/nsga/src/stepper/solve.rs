@@ -3,6 +3,7 @@
 //! solve, and the Newton update with its regularization of singular matrices
 //! (docs/method.md §4, §7).
 
+use super::held::{HeldSets, SetPolicy};
 use super::{FactoredFor, Stepper, SINGULAR_SETS_KEPT};
 use crate::attempt::{AttemptFailure, Trial};
 use crate::linalg::equilibrate_rows;
@@ -41,13 +42,20 @@ struct StepProblem<'a, S: System> {
     prune: Option<&'a Pruning>,
     /// The pruned contacts that closed at the iterate that asked for a restart.
     closing: Vec<bool>,
+    /// The progress of a held-sets attempt ([`SetPolicy::Held`]).
+    held: Option<HeldSets>,
 }
 
 impl<S: System> NewtonProblem for StepProblem<'_, S> {
     type Sets = IndexSets;
 
     fn evaluate(&mut self, x: &[f64], first: bool) -> (IndexSets, f64) {
-        self.stepper.evaluate_at(x, self.fixed, &self.params, first)
+        match &mut self.held {
+            Some(held) => self.stepper.evaluate_held(x, &self.params, first, held),
+            None => self
+                .stepper
+                .evaluate_at(x, self.fixed, &self.params, first, None),
+        }
     }
 
     /// A contact pruned as unable to close does close at this iterate: the attempt is
@@ -69,14 +77,22 @@ impl<S: System> NewtonProblem for StepProblem<'_, S> {
         sets: &IndexSets,
         dx: &mut [f64],
     ) -> Result<(), String> {
+        if let Some(held) = &mut self.held {
+            held.updated(sets);
+        }
         self.stepper
             .exact_direction(x, sets, &self.params, self.prune, dx)
             .map_err(|e| e.0)
     }
 
     fn kept_direction(&mut self, sets: &IndexSets, dx: &mut [f64]) -> bool {
-        self.stepper
-            .kept_direction(sets, &self.params, self.prune, dx)
+        let kept = self
+            .stepper
+            .kept_direction(sets, &self.params, self.prune, dx);
+        if let (true, Some(held)) = (kept, &mut self.held) {
+            held.updated(sets);
+        }
+        kept
     }
 }
 
@@ -91,19 +107,41 @@ impl<S: System> Stepper<S> {
         rho_inf: f64,
         x: Vec<f64>,
     ) -> Result<Trial, AttemptFailure> {
+        let policy = SetPolicy::Free {
+            budget: self.free_budget(),
+        };
+        self.solve_with(fixed, &policy, rho_inf, x)
+    }
+
+    /// Largest number of updates of a free attempt: see
+    /// [`Options::max_iter_per_contact`](crate::Options::max_iter_per_contact).
+    pub(super) fn free_budget(&self) -> usize {
+        (self.options.max_iter_per_contact * self.off.nn).max(self.options.max_iter)
+    }
+
+    /// [`Stepper::solve`] with the sets of a free attempt chosen by `policy` (ignored
+    /// when the sets are `fixed`).
+    pub(super) fn solve_with(
+        &mut self,
+        fixed: Option<&IndexSets>,
+        policy: &SetPolicy,
+        rho_inf: f64,
+        x: Vec<f64>,
+    ) -> Result<Trial, AttemptFailure> {
         let keep = self.options.prune_open_contacts.then(|| {
             (0..self.off.nn)
                 .map(|k| fixed.is_some_and(|f| f.a[k]))
                 .collect()
         });
-        self.solve_keeping(fixed, rho_inf, x, keep)
+        self.solve_keeping(fixed, policy, rho_inf, x, keep)
     }
 
-    /// [`Stepper::solve`] with `keep` the contacts that may not be pruned (None: no
+    /// [`Stepper::solve_with`] with `keep` the contacts that may not be pruned (None: no
     /// pruning).
     fn solve_keeping(
         &mut self,
         fixed: Option<&IndexSets>,
+        policy: &SetPolicy,
         rho_inf: f64,
         mut x: Vec<f64>,
         keep: Option<Vec<bool>>,
@@ -112,9 +150,8 @@ impl<S: System> Stepper<S> {
         let prune = keep.as_ref().and_then(|k| self.open_contacts(&mut x, k));
         self.mark_unused(prune.as_ref().map(|(map, _)| map.as_slice()));
         let params = GenAlpha::new(rho_inf);
-        // See `Options::max_iter_per_contact`.
         let max_iter = match fixed {
-            None => (self.options.max_iter_per_contact * self.off.nn).max(self.options.max_iter),
+            None => policy.budget(),
             Some(_) => self.options.max_iter,
         };
         let settings = NewtonSettings {
@@ -130,12 +167,19 @@ impl<S: System> Stepper<S> {
         };
         self.prepare_step();
         let mut scratch = std::mem::take(&mut self.work.newton);
+        let held = match (fixed, policy) {
+            (None, SetPolicy::Held { previous, most, .. }) => {
+                Some(HeldSets::new(previous.clone(), *most))
+            }
+            _ => None,
+        };
         let mut problem = StepProblem {
             stepper: self,
             fixed,
             params,
             prune: prune.as_ref(),
             closing: Vec::new(),
+            held,
         };
         let outcome = newton::solve(&mut problem, &mut x, &settings, &mut scratch);
         let closing = problem.closing;
@@ -153,7 +197,7 @@ impl<S: System> Stepper<S> {
                     *kk |= c;
                 }
                 let x0 = x_start.expect("a restart needs pruning, which needs a start");
-                self.solve_keeping(fixed, rho_inf, x0, Some(keep))
+                self.solve_keeping(fixed, policy, rho_inf, x0, Some(keep))
             }
             Outcome::NonFinite => Err(AttemptFailure::NonFinite),
             Outcome::Singular(message) => Err(AttemptFailure::Singular { message }),
@@ -187,22 +231,34 @@ impl<S: System> Stepper<S> {
 
     /// Evaluates the iterate `x`: kinematic updates, system, index sets (the fixed ones
     /// when given) and residual; returns the sets and ‖R‖∞.
-    fn evaluate_at(
+    ///
+    /// With `limit` (free sets only) and ‖R‖∞ above the tolerance, the returned sets are
+    /// those of [`Stepper::compute_sets`] with that limit on openings, and the residual
+    /// kept for the next update is theirs; ‖R‖∞ stays that of the laws' own sets.
+    pub(super) fn evaluate_at(
         &mut self,
         x: &[f64],
         fixed: Option<&IndexSets>,
         p: &GenAlpha,
         update_prox: bool,
+        limit: Option<(&IndexSets, usize)>,
     ) -> (IndexSets, f64) {
         self.derive(x, p);
         self.evaluate_iterate(update_prox);
         self.finish_accelerations(x);
         let sets = match fixed {
             Some(s) => s.clone(),
-            None => self.compute_sets(x),
+            None => self.compute_sets(x, None),
         };
         self.residual(x, &sets, p);
         let res = crate::linalg::max_norm(&self.work.res);
+        if let Some(limit) = limit.filter(|_| fixed.is_none() && res > self.options.tol) {
+            let limited = self.compute_sets(x, Some(limit));
+            if limited != sets {
+                self.residual(x, &limited, p);
+                return (limited, res);
+            }
+        }
         (sets, res)
     }
 
@@ -213,7 +269,7 @@ impl<S: System> Stepper<S> {
         self.derive(x, &p);
         self.evaluate_iterate(true);
         self.finish_accelerations(x);
-        self.compute_sets(x)
+        self.compute_sets(x, None)
     }
 
     /// Test oracle hook: the scaled residual R(x) and the semismooth Jacobian ∂R/∂x

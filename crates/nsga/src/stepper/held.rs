@@ -1,0 +1,129 @@
+//! The held-sets attempt at a step (docs/method.md §8.2): Newton first solves the step
+//! with the previous step's index sets, and from that solution lets the contact laws
+//! change the sets, opening at most a few contacts per update.
+//!
+//! Why: when a tall column starts to tip, the step has two solutions. The column can
+//! turn about its base as one body, which is the previous step's sets with the base
+//! corner opened. Or it can open a band of interfaces higher up. Free Newton finds tension
+//! at a dozen corners after its first update and opens them all. From there each
+//! update moves the band of openings up by one interface, so it reaches the far solution
+//! after a number of updates in proportion to the column's height (263 updates for 300
+//! blocks). With the sets held, the first solution is the previous motion continued.
+//! From there, opening the most tensile corner first opens the base corner, and Newton
+//! converges on the solution in which only that corner has lifted (12 updates for 300
+//! blocks; `cargo run --release -p blockstack --example tipping_onset`).
+
+use super::Stepper;
+use crate::linalg::max_norm;
+use crate::params::GenAlpha;
+use crate::sets::IndexSets;
+use crate::system::System;
+
+/// Evaluations with the previous step's sets held before they are released anyway (a
+/// held solve that converges does so within a few quadratic updates).
+pub const MAX_HELD_EVALUATIONS: usize = 8;
+
+/// How a free attempt (index sets not fixed) chooses the sets of its Newton updates.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub(super) enum SetPolicy {
+    /// The contact laws' sets at every iterate (eqs. 128–142), for at most `budget`
+    /// updates.
+    Free {
+        /// Largest number of Newton updates.
+        budget: usize,
+    },
+    /// The previous step's sets held, then released with at most `most` openings per
+    /// update ([`HeldSets`]), for at most `budget` updates.
+    Held {
+        /// Largest number of Newton updates.
+        budget: usize,
+        /// The previous step's sets.
+        previous: IndexSets,
+        /// Openings per update after the release.
+        most: usize,
+    },
+}
+
+impl SetPolicy {
+    /// The attempt's largest number of Newton updates.
+    pub(super) fn budget(&self) -> usize {
+        match self {
+            Self::Free { budget } | Self::Held { budget, .. } => *budget,
+        }
+    }
+}
+
+/// The progress of one held-sets attempt.
+#[derive(Debug, Clone)]
+pub(super) struct HeldSets {
+    /// The previous step's sets while they are held; None once released.
+    held: Option<IndexSets>,
+    /// Evaluations made while holding, and the held residual ‖R‖∞ at the last one.
+    evaluations: usize,
+    last_residual: f64,
+    /// The sets of the last Newton update, against which openings are counted.
+    last_update: IndexSets,
+    /// Openings per update after the release.
+    most: usize,
+}
+
+impl HeldSets {
+    /// Holds `previous` (the sets the last step converged with).
+    pub(super) fn new(previous: IndexSets, most: usize) -> Self {
+        Self {
+            held: Some(previous.clone()),
+            evaluations: 0,
+            last_residual: f64::INFINITY,
+            last_update: previous,
+            most,
+        }
+    }
+
+    /// A Newton update was taken with `sets`.
+    pub(super) fn updated(&mut self, sets: &IndexSets) {
+        self.last_update.clone_from(sets);
+    }
+}
+
+impl<S: System> Stepper<S> {
+    /// Evaluates the iterate `x` under the held-sets policy: returns the sets of the next
+    /// update (whose residual the stepper keeps) and the ‖R‖∞ of the contact laws' own
+    /// sets, on which convergence is judged.
+    ///
+    /// While the previous sets are held, the update solves the step with them. They are
+    /// released once that solve has converged, stalled (its residual no longer halves)
+    /// or had [`MAX_HELD_EVALUATIONS`] evaluations. From then on, the sets of an update
+    /// are the laws' sets with at most `most` contacts opened since the last update.
+    /// While the sets are held, the returned norm is the held solve's, so that the line
+    /// search and the give-up rules judge the solve the update belongs to; it is above
+    /// the tolerance, so the engine never stops on it.
+    pub(super) fn evaluate_held(
+        &mut self,
+        x: &[f64],
+        p: &GenAlpha,
+        first: bool,
+        progress: &mut HeldSets,
+    ) -> (IndexSets, f64) {
+        let limit = (&progress.last_update, progress.most);
+        let (sets, res) = self.evaluate_at(x, None, p, first, Some(limit));
+        let Some(held) = &progress.held else {
+            return (sets, res);
+        };
+        if res <= self.options.tol || &sets == held {
+            return (sets, res);
+        }
+        // The laws' residual is the update's again if the sets are released here.
+        let laws = self.work.res.clone();
+        self.residual(x, held, p);
+        let held_res = max_norm(&self.work.res);
+        progress.evaluations += 1;
+        let stalled = progress.evaluations > 1 && held_res > 0.5 * progress.last_residual;
+        if held_res <= self.options.tol || stalled || progress.evaluations >= MAX_HELD_EVALUATIONS {
+            progress.held = None;
+            self.work.res = laws;
+            return (sets, res);
+        }
+        progress.last_residual = held_res;
+        (held.clone(), held_res)
+    }
+}
