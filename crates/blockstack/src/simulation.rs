@@ -94,8 +94,9 @@ pub const LINE_SEARCH_HALVINGS: usize = 3;
 
 /// Openings per Newton update in nsga's held-sets attempt
 /// (`nsga::Options::max_openings_per_update`), the first attempt at each step of a
-/// column with more contacts than [`MAX_NEWTON_ITERATIONS`]. With one opening per update, a 300-block column moving with its base
-/// tips as one body: to t = 0.5 it takes 13 linear solves instead of 5393.
+/// column with more contacts than [`MAX_NEWTON_ITERATIONS`]. With one opening per
+/// update, a 300-block column moving with its base tips as one body: to t = 0.5 it
+/// takes 13 linear solves instead of 5393.
 pub const MAX_OPENINGS_PER_UPDATE: usize = 1;
 
 /// Newton iterations per attempt before nsga gives it up.

@@ -198,10 +198,10 @@ pub struct Options {
     /// the contact laws may open at most this many contacts per update (those with the
     /// largest prox argument r g_N − κ̂_N); closings and friction changes are not
     /// limited, and convergence is judged on the laws' own sets. Only when that attempt
-    /// fails does free Newton follow. A tall column that starts to tip
-    /// then turns about its base as one body in a few updates, instead of opening a band
-    /// of interfaces that free Newton moves up the column one interface per update
-    /// (docs/method.md §8.2).
+    /// fails does free Newton follow. A tall column that starts to tip then turns about
+    /// its base as one body in a few updates, instead of opening a band of interfaces
+    /// that free Newton moves up the column one interface per update (docs/method.md
+    /// §8.2).
     #[serde(default)]
     pub max_openings_per_update: usize,
     /// How often a step that fails after every retry and fixed-set re-solve may be

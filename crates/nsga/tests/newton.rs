@@ -200,10 +200,8 @@ fn the_held_sets_attempt_takes_the_steps_of_free_newton() {
     for k in 0..n {
         // Gaps of H/2 between the blocks; the upper half moves down and sideways.
         q0.extend([0.0, h / 2.0 + 1.5 * h * k as f64]);
-        u0.extend([
-            if k >= n / 2 { 0.5 } else { 0.0 },
-            if k >= n / 2 { -1.0 } else { 0.0 },
-        ]);
+        let moving = if k >= n / 2 { 1.0 } else { 0.0 };
+        u0.extend([0.5 * moving, -moving]);
     }
     let free = Options {
         dt: 1e-3,

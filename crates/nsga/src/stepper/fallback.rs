@@ -136,13 +136,17 @@ impl<S: System> Stepper<S> {
     fn first_attempt(&mut self, rho0: f64) -> Result<Trial, AttemptFailure> {
         let budget = self.free_budget();
         let most = self.options.max_openings_per_update;
-        let previous = self
-            .last
-            .as_ref()
-            .map(|s| s.sets.clone())
-            .filter(|s| s.is_consistent(self.off.nn, self.layout.friction.len()));
         let x = self.state.x.clone();
-        let (Some(previous), true) = (previous, most > 0 && budget > self.options.max_iter) else {
+        // Only systems that take the attempt pay for a copy of the previous sets.
+        let previous = (most > 0 && budget > self.options.max_iter)
+            .then_some(self.last.as_ref())
+            .flatten()
+            .filter(|s| {
+                s.sets
+                    .is_consistent(self.off.nn, self.layout.friction.len())
+            })
+            .map(|s| s.sets.clone());
+        let Some(previous) = previous else {
             return self.solve(None, rho0, x);
         };
         let held = SetPolicy::Held {

@@ -118,7 +118,8 @@ impl<S: System> Stepper<S> {
         let held_res = max_norm(&self.work.res);
         progress.evaluations += 1;
         let stalled = progress.evaluations > 1 && held_res > 0.5 * progress.last_residual;
-        if held_res <= self.options.tol || stalled || progress.evaluations >= MAX_HELD_EVALUATIONS {
+        let spent = progress.evaluations >= MAX_HELD_EVALUATIONS;
+        if held_res <= self.options.tol || stalled || spent {
             progress.held = None;
             self.work.res = laws;
             return (sets, res);
