@@ -36,8 +36,9 @@ pub(crate) enum Activation {
     /// Those closed at q_M (g_N ≤ 0), with the friction laws of a closed contact: the
     /// Moreau–Jean scheme of §6.
     ClosedAtMidpoint,
-    /// Every contact; one still open at q_M has ξ_N = W_Nᵀu⁺ + χ_N + g_N/(½Δt), so that it
-    /// is pushed only if its gap would close by the end of the step. (With the contacts
+    /// Every contact (posed first over those within reach of the step, see [`lcp_step`]);
+    /// one still open at q_M has ξ_N = W_Nᵀu⁺ + χ_N + g_N/(½Δt), so that it is pushed
+    /// only if its gap would close by the end of the step. (With the contacts
     /// closed at q_M only, a column resting on gaps of 1e-9 sinks by ½Δt‖u‖ in a step.)
     GapAware,
 }
@@ -131,6 +132,14 @@ pub(crate) fn free_acceleration<S: System>(
 }
 
 /// One step from (t, q, u) to t + `dt` (`t1`, on the caller's grid).
+///
+/// With [`Activation::GapAware`], the contact problem is first solved over the contacts
+/// within reach of the step ([`ContactProblem::within_reach`]); a contact left out is then checked at the solution's u⁺, and the problem is
+/// solved again with those that would end below zero. The set only grows, so this ends,
+/// and its solution solves the problem over every contact: a contact left out has
+/// P_N = 0 with ξ_N ≥ 0, and its friction law no normal percussion. A 300-block column
+/// on a base has 600 contacts between blocks and 1200 floor contacts metres away, which
+/// made Lemke's dense tableau 9 times larger than needed.
 pub(crate) fn lcp_step<S: System>(
     system: &S,
     l: &Layout,
@@ -149,89 +158,24 @@ pub(crate) fn lcp_step<S: System>(
     let no_solution = |m: &str| LcpStepError::NoSolution(m.to_owned());
     let d =
         Dense::of(&eval, nu, nn, nf).ok_or_else(|| no_solution("the mass matrix is singular"))?;
-    let closed: Vec<usize> = match activation {
-        Activation::GapAware => (0..nn).collect(),
-        Activation::ClosedAtMidpoint => (0..nn).filter(|&k| eval.position[k] <= 0.0).collect(),
+    let problem = ContactProblem::new(l, &eval, &d, u, dt);
+    let (closed, solved) = match activation {
+        Activation::GapAware => problem.solve_growing(problem.within_reach())?.0,
+        Activation::ClosedAtMidpoint => {
+            let closed: Vec<usize> = (0..nn).filter(|&k| eval.position[k] <= 0.0).collect();
+            let solved = problem.solve(&closed)?;
+            (closed, solved)
+        }
     };
-    let active: Vec<usize> = (0..l.friction.len())
-        .filter(|&j| l.friction[j].normals.iter().any(|k| closed.contains(k)))
-        .collect();
-    let u_n = DVector::from_column_slice(u);
-    let u_free = &u_n + &d.m_inv * DVector::from_iterator(nu, eval.forces.iter().map(|h| h * dt));
-    let xi_n = |k: usize, u: &DVector<f64>| d.w_p.column(k).dot(u) + eval.position_chi[k];
-    let xi_f = |j: usize, u: &DVector<f64>| d.w_v.column(j).dot(u) + eval.velocity_chi[j];
-    // Unknowns z = (P_N over `closed`, β⁺, β⁻, λ over `active`).
-    let (a, b) = (closed.len(), active.len());
-    let n = a + 3 * b;
-    let cols: Vec<DVector<f64>> = closed
-        .iter()
-        .map(|&k| d.w_p.column(k).into_owned())
-        .chain(active.iter().map(|&j| d.w_v.column(j).into_owned()))
-        .collect();
-    let g_cols: Vec<DVector<f64>> = cols.iter().map(|c| &d.m_inv * c).collect();
-    let mut m = vec![0.0; n * n];
-    let mut rhs = vec![0.0; n];
-    // The velocity rows: ±(column r)ᵀ M⁻¹ times the percussions, β⁺ − β⁻ for friction.
-    for (r, col_r) in cols.iter().enumerate() {
-        let rows: Vec<(usize, f64)> = if r < a {
-            vec![(r, 1.0)]
-        } else {
-            vec![(r, 1.0), (r + b, -1.0)]
-        };
-        for (row, sign) in rows {
-            for (c, g_c) in g_cols.iter().enumerate() {
-                let v = sign * col_r.dot(g_c);
-                m[row * n + c] = v;
-                if c >= a {
-                    m[row * n + c + b] = -v;
-                }
-            }
-        }
-    }
-    for (i, &k) in closed.iter().enumerate() {
-        let g = eval.position[k];
-        rhs[i] = xi_n(k, &u_free)
-            + if g <= 0.0 {
-                l.e_n[k] * xi_n(k, &u_n)
-            } else {
-                g / (0.5 * dt)
-            };
-    }
-    for (i, &j) in active.iter().enumerate() {
-        let c = xi_f(j, &u_free) + l.friction[j].e_f * xi_f(j, &u_n);
-        rhs[a + i] = c;
-        rhs[a + b + i] = -c;
-        // λ enters both slip rows; the friction bound row closes the system.
-        m[(a + i) * n + a + 2 * b + i] = 1.0;
-        m[(a + b + i) * n + a + 2 * b + i] = 1.0;
-        let row = a + 2 * b + i;
-        for &k in &l.friction[j].normals {
-            if let Some(p) = closed.iter().position(|&c| c == k) {
-                m[row * n + p] = l.friction[j].mu;
-            }
-        }
-        m[row * n + a + i] = -1.0;
-        m[row * n + a + b + i] = -1.0;
-    }
-    let accept = ACCEPT * (1.0 + max_norm(&rhs));
-    let (sol, _) = lemke_regularized(&m, &rhs, 50 * n + 50, accept).map_err(|e| match e {
-        LcpFailure::Ray { .. } => LcpStepError::NoSolution(format!(
-            "the step's contact problem has no solution: {e} (a Painlevé-type inconsistency)"
-        )),
-        e => LcpStepError::NoSolution(e.to_string()),
-    })?;
-    let mut u1 = u_free;
     let mut p_n = vec![0.0; nn];
     let mut p_f = vec![0.0; nf];
-    for (i, &k) in closed.iter().enumerate() {
-        p_n[k] = sol.z[i];
-        u1 += &g_cols[i] * sol.z[i];
+    for (&k, &p) in closed.iter().zip(&solved.p_n) {
+        p_n[k] = p;
     }
-    for (i, &j) in active.iter().enumerate() {
-        p_f[j] = sol.z[a + i] - sol.z[a + b + i];
-        u1 += &g_cols[a + i] * p_f[j];
+    for &(j, p) in &solved.p_f {
+        p_f[j] = p;
     }
-    let u1: Vec<f64> = u1.iter().copied().collect();
+    let u1: Vec<f64> = solved.u1.iter().copied().collect();
     let mut q1 = advance(system, t_m, &q_m, &u1, 0.5 * dt);
     let projection = if project {
         project_onto_gaps(system, l, t1, &mut q1, &u1)
@@ -246,10 +190,213 @@ pub(crate) fn lcp_step<S: System>(
         u: u1,
         p_n,
         p_f,
-        pivots: sol.pivots,
-        residual: sol.residual,
+        pivots: solved.pivots,
+        residual: solved.residual,
         projection,
     })
+}
+
+/// The step's contact problem at q_M, to be solved over a set of its contacts.
+struct ContactProblem<'a> {
+    l: &'a Layout,
+    eval: &'a Evaluation<f64>,
+    d: &'a Dense,
+    dt: f64,
+    u_n: DVector<f64>,
+    /// ũ = u_n + Δt M⁻¹h.
+    u_free: DVector<f64>,
+}
+
+/// The solution of [`ContactProblem::solve`].
+struct ContactSolution {
+    u1: DVector<f64>,
+    /// P_N of the contacts solved over, in their order.
+    p_n: Vec<f64>,
+    /// (friction law, β⁺ − β⁻) of the active laws.
+    p_f: Vec<(usize, f64)>,
+    pivots: usize,
+    residual: f64,
+    /// The complementarity residual accepted (a speed).
+    accept: f64,
+}
+
+impl<'a> ContactProblem<'a> {
+    /// The problem of a step of `dt` from the velocities `u`, with M, W and the gaps of
+    /// `eval` (at q_M).
+    fn new(l: &'a Layout, eval: &'a Evaluation<f64>, d: &'a Dense, u: &[f64], dt: f64) -> Self {
+        let u_n = DVector::from_column_slice(u);
+        let kick = DVector::from_iterator(l.nu, eval.forces.iter().map(|h| h * dt));
+        Self {
+            l,
+            eval,
+            d,
+            dt,
+            u_free: &u_n + &d.m_inv * kick,
+            u_n,
+        }
+    }
+
+    fn xi_n(&self, k: usize, u: &DVector<f64>) -> f64 {
+        self.d.w_p.column(k).dot(u) + self.eval.position_chi[k]
+    }
+
+    fn xi_f(&self, j: usize, u: &DVector<f64>) -> f64 {
+        self.d.w_v.column(j).dot(u) + self.eval.velocity_chi[j]
+    }
+
+    /// The normal row of contact k at u: ξ_N with Newton's restitution of a closed gap,
+    /// or with the gap-aware term g/(½Δt) of an open one.
+    fn rate(&self, k: usize, u: &DVector<f64>) -> f64 {
+        let g = self.eval.position[k];
+        self.xi_n(k, u)
+            + if g <= 0.0 {
+                self.l.e_n[k] * self.xi_n(k, &self.u_n)
+            } else {
+                g / (0.5 * self.dt)
+            }
+    }
+
+    /// The contacts within reach of the step: a closed gap, one the free motion closes
+    /// within the step, or one that the fastest free approach in the system would close
+    /// in two steps. (Gaps of 1e-15 between blocks resting on each other have rates of
+    /// nearly zero: taking the rates alone, the contacts of a kicked column were added
+    /// one interface per solve.)
+    fn within_reach(&self) -> Vec<usize> {
+        let nn = self.l.n_normal();
+        let fastest = (0..nn)
+            .map(|k| self.xi_n(k, &self.u_free).abs())
+            .fold(0.0, f64::max);
+        let reach = 2.0 * self.dt * fastest;
+        (0..nn)
+            .filter(|&k| self.eval.position[k] <= reach || self.rate(k, &self.u_free) <= 0.0)
+            .collect()
+    }
+
+    /// Solves over `closed` (sorted), then again with the contacts left out that would
+    /// end below zero at the solution's u⁺, until none would. Returns the contacts
+    /// solved over, the solution (its pivots summed over the solves) and the number of
+    /// solves.
+    fn solve_growing(
+        &self,
+        mut closed: Vec<usize>,
+    ) -> Result<((Vec<usize>, ContactSolution), usize), LcpStepError> {
+        let (mut pivots, mut solves) = (0, 0);
+        loop {
+            let mut solved = self.solve(&closed)?;
+            pivots += solved.pivots;
+            solves += 1;
+            let missing: Vec<usize> = (0..self.l.n_normal())
+                .filter(|k| closed.binary_search(k).is_err())
+                .filter(|&k| self.rate(k, &solved.u1) < -solved.accept)
+                .collect();
+            if missing.is_empty() {
+                solved.pivots = pivots;
+                return Ok(((closed, solved), solves));
+            }
+            closed.extend(missing);
+            closed.sort_unstable();
+        }
+    }
+
+    /// Solves the LCP of the module docs over the contacts `closed` (sorted) and the
+    /// friction laws of a contact among them, by Lemke's method.
+    fn solve(&self, closed: &[usize]) -> Result<ContactSolution, LcpStepError> {
+        let (l, d) = (self.l, self.d);
+        let active: Vec<usize> = (0..l.friction.len())
+            .filter(|&j| {
+                l.friction[j]
+                    .normals
+                    .iter()
+                    .any(|k| closed.binary_search(k).is_ok())
+            })
+            .collect();
+        // Unknowns z = (P_N over `closed`, β⁺, β⁻, λ over `active`).
+        let (a, b) = (closed.len(), active.len());
+        let n = a + 3 * b;
+        let cols: Vec<DVector<f64>> = closed
+            .iter()
+            .map(|&k| d.w_p.column(k).into_owned())
+            .chain(active.iter().map(|&j| d.w_v.column(j).into_owned()))
+            .collect();
+        // A contact's column has the few entries of the bodies it touches: the products
+        // below run over those only.
+        let support: Vec<Vec<(usize, f64)>> = cols
+            .iter()
+            .map(|c| {
+                c.iter()
+                    .copied()
+                    .enumerate()
+                    .filter(|e| e.1 != 0.0)
+                    .collect()
+            })
+            .collect();
+        let g_cols: Vec<DVector<f64>> = cols.iter().map(|c| &d.m_inv * c).collect();
+        let mut m = vec![0.0; n * n];
+        let mut rhs = vec![0.0; n];
+        // The velocity rows: ±(column r)ᵀ M⁻¹ times the percussions, β⁺ − β⁻ for friction.
+        for (r, col_r) in support.iter().enumerate() {
+            let rows: &[(usize, f64)] = if r < a {
+                &[(r, 1.0)]
+            } else {
+                &[(r, 1.0), (r + b, -1.0)]
+            };
+            for (c, g_c) in g_cols.iter().enumerate() {
+                let v: f64 = col_r.iter().map(|&(i, w)| w * g_c[i]).sum();
+                for &(row, sign) in rows {
+                    m[row * n + c] = sign * v;
+                    if c >= a {
+                        m[row * n + c + b] = -sign * v;
+                    }
+                }
+            }
+        }
+        for (i, &k) in closed.iter().enumerate() {
+            rhs[i] = self.rate(k, &self.u_free);
+        }
+        for (i, &j) in active.iter().enumerate() {
+            let c = self.xi_f(j, &self.u_free) + l.friction[j].e_f * self.xi_f(j, &self.u_n);
+            rhs[a + i] = c;
+            rhs[a + b + i] = -c;
+            // λ enters both slip rows; the friction bound row closes the system.
+            m[(a + i) * n + a + 2 * b + i] = 1.0;
+            m[(a + b + i) * n + a + 2 * b + i] = 1.0;
+            let row = a + 2 * b + i;
+            for &k in &l.friction[j].normals {
+                if let Ok(p) = closed.binary_search(&k) {
+                    m[row * n + p] = l.friction[j].mu;
+                }
+            }
+            m[row * n + a + i] = -1.0;
+            m[row * n + a + b + i] = -1.0;
+        }
+        let accept = ACCEPT * (1.0 + max_norm(&rhs));
+        let (sol, _) = lemke_regularized(&m, &rhs, 50 * n + 50, accept).map_err(|e| match e {
+            LcpFailure::Ray { .. } => LcpStepError::NoSolution(format!(
+                "the step's contact problem has no solution: {e} (a Painlevé-type inconsistency)"
+            )),
+            e => LcpStepError::NoSolution(e.to_string()),
+        })?;
+        let mut u1 = self.u_free.clone();
+        for (g_c, &p) in g_cols.iter().zip(&sol.z[..a]) {
+            u1 += g_c * p;
+        }
+        let p_f: Vec<(usize, f64)> = active
+            .iter()
+            .enumerate()
+            .map(|(i, &j)| (j, sol.z[a + i] - sol.z[a + b + i]))
+            .collect();
+        for (i, &(_, p)) in p_f.iter().enumerate() {
+            u1 += &g_cols[a + i] * p;
+        }
+        Ok(ContactSolution {
+            u1,
+            p_n: sol.z[..a].to_vec(),
+            p_f,
+            pivots: sol.pivots,
+            residual: sol.residual,
+            accept,
+        })
+    }
 }
 
 /// Moves `q` by the least M-norm displacement that closes every negative gap (to
@@ -299,4 +446,54 @@ fn project_onto_gaps<S: System>(
             .fold(moved, f64::max);
     }
     moved
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::systems::chain::Chain;
+
+    /// A 30-block chain falling onto the ground, its interfaces open by k·10⁻¹⁴ (as
+    /// blocks resting on each other are, to round-off) and its top block 1 m up.
+    fn hovering_chain() -> (Chain, Layout, Evaluation<f64>, Vec<f64>) {
+        let chain = Chain::benchmark(30);
+        let l = chain.layout();
+        let (mut q, u) = chain.resting(0.0);
+        for k in 0..chain.n {
+            q[2 * k + 1] += k as f64 * 1e-14;
+        }
+        q[2 * chain.n - 1] += 1.0;
+        let mut eval = Evaluation::new(&l);
+        chain.evaluate(0.0, &q, &u, &mut eval);
+        (chain, l, eval, u)
+    }
+
+    #[test]
+    fn the_contacts_within_reach_solve_the_step_at_once() {
+        let (chain, l, eval, u) = hovering_chain();
+        let d = Dense::of(&eval, l.nu, l.n_normal(), l.n_friction()).expect("M regular");
+        let problem = ContactProblem::new(&l, &eval, &d, &u, 1e-3);
+        let reach = problem.within_reach();
+        // Every interface but the top one, 1 m up.
+        assert_eq!(reach, (0..chain.n - 1).collect::<Vec<_>>());
+        let ((closed, at_once), solves) = problem.solve_growing(reach).expect("solved");
+        assert_eq!((closed.len(), solves), (chain.n - 1, 1));
+        // From the ground contact alone (the only one the free motion closes), the
+        // contacts join one interface per solve, to the same solution.
+        let ((_, grown), solves) = problem.solve_growing(vec![0]).expect("solved");
+        assert_eq!(solves, chain.n - 1);
+        let every: Vec<usize> = (0..l.n_normal()).collect();
+        let full = problem.solve(&every).expect("solved");
+        for (a, b) in [(&at_once.u1, &full.u1), (&grown.u1, &full.u1)] {
+            assert!((a - b).amax() < 1e-12, "{}", (a - b).amax());
+        }
+        // The chain below the top block stops (up to closing its gaps of 1e-14 in ½Δt),
+        // where the free fall is 9.81·10⁻³ m/s: no block falls through another.
+        assert!(at_once
+            .u1
+            .iter()
+            .take(2 * (chain.n - 1))
+            .all(|v| v.abs() < 1e-8));
+        assert!(at_once.u1[2 * chain.n - 1] < -9e-3);
+    }
 }
