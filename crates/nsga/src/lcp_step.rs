@@ -134,12 +134,13 @@ pub(crate) fn free_acceleration<S: System>(
 /// One step from (t, q, u) to t + `dt` (`t1`, on the caller's grid).
 ///
 /// With [`Activation::GapAware`], the contact problem is first solved over the contacts
-/// within reach of the step ([`ContactProblem::within_reach`]); a contact left out is then checked at the solution's u⁺, and the problem is
-/// solved again with those that would end below zero. The set only grows, so this ends,
-/// and its solution solves the problem over every contact: a contact left out has
-/// P_N = 0 with ξ_N ≥ 0, and its friction law no normal percussion. A 300-block column
-/// on a base has 600 contacts between blocks and 1200 floor contacts metres away, which
-/// made Lemke's dense tableau 9 times larger than needed.
+/// within reach of the step ([`ContactProblem::within_reach`]); a contact left out is
+/// then checked at the solution's u⁺, and the problem is solved again with those that
+/// would end below zero. The set only grows, so this ends, and its solution solves the
+/// problem over every contact: a contact left out has P_N = 0 with ξ_N ≥ 0, and its
+/// friction laws no normal percussion. A 300-block column on a base has 600 contacts
+/// between blocks and 1200 floor contacts metres away, which made Lemke's dense tableau
+/// 9 times larger than needed.
 pub(crate) fn lcp_step<S: System>(
     system: &S,
     l: &Layout,
