@@ -161,7 +161,7 @@ pub(crate) fn lcp_step<S: System>(
         Dense::of(&eval, nu, nn, nf).ok_or_else(|| no_solution("the mass matrix is singular"))?;
     let problem = ContactProblem::new(l, &eval, &d, u, dt);
     let (closed, solved) = match activation {
-        Activation::GapAware => problem.solve_growing(problem.within_reach())?.0,
+        Activation::GapAware => problem.solve_growing(problem.within_reach())?,
         Activation::ClosedAtMidpoint => {
             let closed: Vec<usize> = (0..nn).filter(|&k| eval.position[k] <= 0.0).collect();
             let solved = problem.solve(&closed)?;
@@ -206,6 +206,9 @@ struct ContactProblem<'a> {
     u_n: DVector<f64>,
     /// ũ = u_n + Δt M⁻¹h.
     u_free: DVector<f64>,
+    /// Per contact, what its normal row adds to ξ_N(u): Newton's restitution e_N ξ_N(u_n)
+    /// of a closed gap, the gap-aware term g/(½Δt) of an open one.
+    closing_term: Vec<f64>,
 }
 
 /// The solution of [`ContactProblem::solve`].
@@ -219,6 +222,8 @@ struct ContactSolution {
     residual: f64,
     /// The complementarity residual accepted (a speed).
     accept: f64,
+    /// Lemke solves taken ([`ContactProblem::solve_growing`] may take several).
+    solves: usize,
 }
 
 impl<'a> ContactProblem<'a> {
@@ -227,6 +232,16 @@ impl<'a> ContactProblem<'a> {
     fn new(l: &'a Layout, eval: &'a Evaluation<f64>, d: &'a Dense, u: &[f64], dt: f64) -> Self {
         let u_n = DVector::from_column_slice(u);
         let kick = DVector::from_iterator(l.nu, eval.forces.iter().map(|h| h * dt));
+        let closing_term = (0..l.n_normal())
+            .map(|k| {
+                let g = eval.position[k];
+                if g <= 0.0 {
+                    l.e_n[k] * (d.w_p.column(k).dot(&u_n) + eval.position_chi[k])
+                } else {
+                    g / (0.5 * dt)
+                }
+            })
+            .collect();
         Self {
             l,
             eval,
@@ -234,6 +249,7 @@ impl<'a> ContactProblem<'a> {
             dt,
             u_free: &u_n + &d.m_inv * kick,
             u_n,
+            closing_term,
         }
     }
 
@@ -248,13 +264,7 @@ impl<'a> ContactProblem<'a> {
     /// The normal row of contact k at u: ξ_N with Newton's restitution of a closed gap,
     /// or with the gap-aware term g/(½Δt) of an open one.
     fn rate(&self, k: usize, u: &DVector<f64>) -> f64 {
-        let g = self.eval.position[k];
-        self.xi_n(k, u)
-            + if g <= 0.0 {
-                self.l.e_n[k] * self.xi_n(k, &self.u_n)
-            } else {
-                g / (0.5 * self.dt)
-            }
+        self.xi_n(k, u) + self.closing_term[k]
     }
 
     /// The contacts within reach of the step: a closed gap, one the free motion closes
@@ -275,12 +285,11 @@ impl<'a> ContactProblem<'a> {
 
     /// Solves over `closed` (sorted), then again with the contacts left out that would
     /// end below zero at the solution's u⁺, until none would. Returns the contacts
-    /// solved over, the solution (its pivots summed over the solves) and the number of
-    /// solves.
+    /// solved over and the solution, its pivots and solves summed over the solves.
     fn solve_growing(
         &self,
         mut closed: Vec<usize>,
-    ) -> Result<((Vec<usize>, ContactSolution), usize), LcpStepError> {
+    ) -> Result<(Vec<usize>, ContactSolution), LcpStepError> {
         let (mut pivots, mut solves) = (0, 0);
         loop {
             let mut solved = self.solve(&closed)?;
@@ -292,7 +301,8 @@ impl<'a> ContactProblem<'a> {
                 .collect();
             if missing.is_empty() {
                 solved.pivots = pivots;
-                return Ok(((closed, solved), solves));
+                solved.solves = solves;
+                return Ok((closed, solved));
             }
             closed.extend(missing);
             closed.sort_unstable();
@@ -314,15 +324,15 @@ impl<'a> ContactProblem<'a> {
         // Unknowns z = (P_N over `closed`, β⁺, β⁻, λ over `active`).
         let (a, b) = (closed.len(), active.len());
         let n = a + 3 * b;
-        let cols: Vec<DVector<f64>> = closed
-            .iter()
-            .map(|&k| d.w_p.column(k).into_owned())
-            .chain(active.iter().map(|&j| d.w_v.column(j).into_owned()))
-            .collect();
+        let cols = || {
+            closed
+                .iter()
+                .map(|&k| d.w_p.column(k))
+                .chain(active.iter().map(|&j| d.w_v.column(j)))
+        };
         // A contact's column has the few entries of the bodies it touches: the products
         // below run over those only.
-        let support: Vec<Vec<(usize, f64)>> = cols
-            .iter()
+        let support: Vec<Vec<(usize, f64)>> = cols()
             .map(|c| {
                 c.iter()
                     .copied()
@@ -331,7 +341,7 @@ impl<'a> ContactProblem<'a> {
                     .collect()
             })
             .collect();
-        let g_cols: Vec<DVector<f64>> = cols.iter().map(|c| &d.m_inv * c).collect();
+        let g_cols: Vec<DVector<f64>> = cols().map(|c| &d.m_inv * c).collect();
         let mut m = vec![0.0; n * n];
         let mut rhs = vec![0.0; n];
         // The velocity rows: ±(column r)ᵀ M⁻¹ times the percussions, β⁺ − β⁻ for friction.
@@ -396,6 +406,7 @@ impl<'a> ContactProblem<'a> {
             pivots: sol.pivots,
             residual: sol.residual,
             accept,
+            solves: 1,
         })
     }
 }
@@ -477,12 +488,12 @@ mod tests {
         let reach = problem.within_reach();
         // Every interface but the top one, 1 m up.
         assert_eq!(reach, (0..chain.n - 1).collect::<Vec<_>>());
-        let ((closed, at_once), solves) = problem.solve_growing(reach).expect("solved");
-        assert_eq!((closed.len(), solves), (chain.n - 1, 1));
+        let (closed, at_once) = problem.solve_growing(reach).expect("solved");
+        assert_eq!((closed.len(), at_once.solves), (chain.n - 1, 1));
         // From the ground contact alone (the only one the free motion closes), the
         // contacts join one interface per solve, to the same solution.
-        let ((_, grown), solves) = problem.solve_growing(vec![0]).expect("solved");
-        assert_eq!(solves, chain.n - 1);
+        let (_, grown) = problem.solve_growing(vec![0]).expect("solved");
+        assert_eq!(grown.solves, chain.n - 1);
         let every: Vec<usize> = (0..l.n_normal()).collect();
         let full = problem.solve(&every).expect("solved");
         for (a, b) in [(&at_once.u1, &full.u1), (&grown.u1, &full.u1)] {
