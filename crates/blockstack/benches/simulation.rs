@@ -135,7 +135,7 @@ fn shaken_matrix_worst(c: &mut Criterion) {
 /// `at_rest/n`: the blocks start at rest (Figure 4.6), 100 steps. Friction kicks the
 /// bottom block at t = 0, the interfaces rock, and the Newton updates per step grow with
 /// n (docs/method.md §8.2: 100 blocks take 15–20 s); 300 blocks start only by the
-/// last resort (§5) and take about a minute for 5 steps, so n stops at 100 here.
+/// last resort (§5) and take about 16 s for 5 steps, so n stops at 100 here.
 ///
 /// `with_base/n`: the blocks start moving with the base, 6 steps (to t = 0.06, before
 /// the 1000-block column reaches its tipping acceleration g w/(h n) at t = 0.063): one
