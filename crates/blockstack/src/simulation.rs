@@ -138,6 +138,10 @@ pub struct RunOptions {
     /// Leave out the last resort ([`nsga::Options::last_resort`]): a step nothing else
     /// resolves then ends the run (to see what the generalized-α scheme alone does).
     pub skip_last_resort: bool,
+    /// Start every step's Newton iteration from the last solution, never from the
+    /// extrapolated one ([`nsga::Options::predict_start`]): the paper's start, to compare
+    /// with.
+    pub skip_predicted_start: bool,
     /// A flag another thread may set to end the run after its current step, as a
     /// `ControlFlow::Break` of [`simulate_until`] would (a sweep that is interrupted
     /// stops every run it has started this way).
@@ -341,6 +345,7 @@ pub fn stepper_options(scene: &Scene, options: &RunOptions) -> Result<Options, B
         solver: SolverChoice::Markowitz(SMALL_LU_UP_TO),
         prune_open_contacts: true,
         reuse_factorization: true,
+        predict_start: !options.skip_predicted_start,
         line_search: LINE_SEARCH_HALVINGS,
         rho_inf_retry: RHO_INF_RETRY,
         max_halvings: MAX_HALVINGS,

@@ -378,3 +378,44 @@ fn a_cancelled_run_stops_after_its_current_step() {
     assert_eq!(records, 6);
     assert!(s.error.is_none());
 }
+
+/// The predicted Newton start ([`nsga::Options::predict_start`]) halves the updates of
+/// the Lire collapse's smooth phases and leaves its motion as it was: up to t = 5, before
+/// its first fork, the poses agree to far below the scheme's error at this Δt.
+#[test]
+fn the_predicted_start_saves_updates_and_keeps_the_lire_collapse() {
+    let scene = lire(4, Perturbation::Bottom).unwrap();
+    let runs = [true, false].map(|skip_predicted_start| {
+        let mut records = Vec::new();
+        let opts = RunOptions {
+            t_end: Some(5.0),
+            skip_predicted_start,
+            ..RunOptions::default()
+        };
+        let s = simulate(&scene, &opts, |r| records.push(r.clone())).unwrap();
+        (s, records)
+    });
+    let [plain, predicted] = runs;
+    assert_eq!(plain.0.error, None);
+    assert_eq!(predicted.0.error, None);
+    assert_eq!(plain.0.steps, predicted.0.steps);
+    assert!(
+        predicted.0.newton_iterations_mean < 0.75 * plain.0.newton_iterations_mean,
+        "{} against {}",
+        predicted.0.newton_iterations_mean,
+        plain.0.newton_iterations_mean
+    );
+    let apart = plain
+        .1
+        .iter()
+        .zip(&predicted.1)
+        .flat_map(|(a, b)| a.poses.iter().zip(&b.poses))
+        .map(|(p, q)| {
+            (p.x - q.x)
+                .abs()
+                .max((p.y - q.y).abs())
+                .max((p.theta - q.theta).abs())
+        })
+        .fold(0.0, f64::max);
+    assert!(apart < 1e-6, "{apart}");
+}

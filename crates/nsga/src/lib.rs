@@ -132,6 +132,7 @@ pub use report::{BranchPoint, LastResort, RunStats, StepStats};
 pub use sets::IndexSets;
 pub use state::{State, SAME_MOTION};
 pub use stepper::{
-    Stepper, MAX_HELD_EVALUATIONS, NEGLIGIBLE_SLIP, QUICK_CHECK_ITERATIONS, SINGULAR_SETS_KEPT,
+    Stepper, MAX_HELD_EVALUATIONS, NEGLIGIBLE_SLIP, PREDICTED_START_ITERATIONS,
+    QUICK_CHECK_ITERATIONS, SINGULAR_SETS_KEPT,
 };
 pub use system::{Derivatives, Evaluation, FrictionLaw, Layout, Probes, Scalar, System, Triplets};

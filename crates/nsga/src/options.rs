@@ -184,6 +184,15 @@ pub struct Options {
     /// costs residual evaluations and triangular solves, not factorizations.
     #[serde(default)]
     pub reuse_factorization: bool,
+    /// Start the first attempt at a step from the unknowns predicted by extrapolating a
+    /// and λ over the last steps, while their index sets stayed the same (quadratic
+    /// through three solutions, linear through two; docs/method.md §4). An attempt from
+    /// the prediction that has not converged after
+    /// [`PREDICTED_START_ITERATIONS`](crate::PREDICTED_START_ITERATIONS) updates gives
+    /// way to the usual one from the last solution. Off by default: the paper starts
+    /// from the last solution.
+    #[serde(default)]
+    pub predict_start: bool,
     /// Halvings of the Newton update allowed in its line search (0: full updates, as in
     /// the paper). With n > 0 the update is scaled by the first α = 1, ½, …, 2⁻ⁿ that
     /// reduces ‖R‖∞ by the factor 1 − 10⁻⁴α, or taken whole when none does. Damping
@@ -299,6 +308,7 @@ impl Default for Options {
             prune_open_contacts: false,
             regularization: DEFAULT_REGULARIZATION,
             reuse_factorization: false,
+            predict_start: false,
             line_search: 0,
             max_halvings: 0,
             max_openings_per_update: 0,

@@ -8,6 +8,7 @@
 //! - `rows`: sparse rows over x and the chain rule through q_{n+1}(x), u_{n+1}(x);
 //! - `solve`: one Newton attempt at the step on nsga's [`newton`](crate::newton)
 //!   engine, with open contacts pruned and singular matrices regularized;
+//! - `predict`: the Newton start extrapolated from the last steps' solutions;
 //! - `fallback`: the policy of a step whose first attempt fails (ρ∞ retries,
 //!   fixed-set re-solves, best iterate, halving);
 //! - `branch`: the fixed-set re-solves and their self-consistent, deduplicated
@@ -35,6 +36,7 @@ mod held;
 mod iterate;
 mod last_resort;
 mod multipliers;
+mod predict;
 mod resize;
 pub(crate) mod rows;
 mod solve;
@@ -43,6 +45,7 @@ mod unknowns;
 pub use assemble::NEGLIGIBLE_SLIP;
 pub use fallback::QUICK_CHECK_ITERATIONS;
 pub use held::MAX_HELD_EVALUATIONS;
+pub use predict::PREDICTED_START_ITERATIONS;
 
 /// How many index sets found to have a singular plain Newton matrix are remembered
 /// (see [`Options::regularization`]). Redundancy is a property of which contacts are
@@ -106,6 +109,9 @@ pub struct Stepper<S: System> {
     /// Why the consistent start failed, when the stepper started without consistent
     /// accelerations and forces (docs/method.md §5).
     start_failure: Option<String>,
+    /// The last steps' solutions, for a predicted Newton start
+    /// ([`Options::predict_start`]).
+    predictor: predict::StartPredictor,
 }
 
 /// Buffers reused from iterate to iterate and step to step.
@@ -266,6 +272,7 @@ impl<S: System> Stepper<S> {
             comp_ef,
             time_base: (t0, 0),
             start_failure,
+            predictor: predict::StartPredictor::default(),
         })
     }
 
@@ -291,6 +298,7 @@ impl<S: System> Stepper<S> {
     pub fn set_state(&mut self, state: State) {
         self.time_base = (state.t, state.k);
         self.state = state;
+        self.predictor.clear();
     }
     /// A stepper for the same system and options that continues from `state`, one of
     /// this stepper's states or a candidate of its last branch point (how an exploration
@@ -316,6 +324,7 @@ impl<S: System> Stepper<S> {
             comp_ef: self.comp_ef.clone(),
             time_base: self.time_base,
             start_failure: None,
+            predictor: predict::StartPredictor::default(),
         }
     }
     /// Drops the solver's buffers and kept factors (rebuilt at the next step), to hold a
@@ -394,7 +403,16 @@ impl<S: System> Stepper<S> {
     /// Commits a trial: the stepper advances to its state.
     pub fn commit(&mut self, trial: Trial) {
         self.account(&trial.stats);
-        self.state = trial.state;
+        // The solution the state leaves behind, for the next steps' predicted starts:
+        // smooth only while two generalized-α steps in a row keep their index sets.
+        let same_sets = trial.stats.last_resort.is_none()
+            && self
+                .last
+                .as_ref()
+                .is_some_and(|last| last.last_resort.is_none() && last.sets == trial.stats.sets);
+        let left = std::mem::replace(&mut self.state, trial.state);
+        self.predictor
+            .record(left.k, self.options.dt, left.x, same_sets);
         self.last = Some(trial.stats);
     }
 

@@ -3,6 +3,7 @@
 //! branch point, the best iterate, halved substeps, and re-solves at a friction bound.
 
 use super::held::SetPolicy;
+use super::predict::PREDICTED_START_ITERATIONS;
 use super::Stepper;
 use crate::attempt::{AttemptFailure, Trial};
 use crate::error::StepError;
@@ -132,11 +133,38 @@ impl<S: System> Stepper<S> {
     /// [`Options::max_openings_per_update`](crate::Options::max_openings_per_update) set,
     /// first the held-sets attempt (the previous step's sets, then a few openings per
     /// update; docs/method.md §8.2), and free Newton only when that fails; the fallback
-    /// policy then handles free Newton's failure as before.
+    /// policy then handles free Newton's failure as before. With
+    /// [`Options::predict_start`](crate::Options::predict_start) and a prediction at
+    /// hand, all of this first runs from the predicted unknowns with at most
+    /// [`PREDICTED_START_ITERATIONS`] updates, and from the last solution only when that
+    /// fails.
     fn first_attempt(&mut self, rho0: f64) -> Result<Trial, AttemptFailure> {
+        // A step that converged without an update from its start is followed by another
+        // one (a body at rest or in free flight): there the extrapolation would only
+        // add round-off to a start that is already a solution.
+        let moving = self.last.as_ref().is_some_and(|l| l.iterations > 0);
+        let predicted = (self.options.predict_start && moving).then(|| {
+            let o = &self.off;
+            self.predictor
+                .predict(self.state.k, self.options.dt, &self.state.x, o)
+        });
+        if let Some(x) = predicted.flatten() {
+            let full = (self.options.max_iter, self.options.max_iter_per_contact);
+            self.options.max_iter = PREDICTED_START_ITERATIONS.min(full.0);
+            self.options.max_iter_per_contact = 0;
+            let from_prediction = self.first_attempt_from(rho0, x);
+            (self.options.max_iter, self.options.max_iter_per_contact) = full;
+            if from_prediction.is_ok() {
+                return from_prediction;
+            }
+        }
+        self.first_attempt_from(rho0, self.state.x.clone())
+    }
+
+    /// [`Stepper::first_attempt`] from the unknowns `x`.
+    fn first_attempt_from(&mut self, rho0: f64, x: Vec<f64>) -> Result<Trial, AttemptFailure> {
         let budget = self.free_budget();
         let most = self.options.max_openings_per_update;
-        let x = self.state.x.clone();
         // Only systems that take the attempt pay for a copy of the previous sets.
         let previous = (most > 0 && budget > self.options.max_iter)
             .then_some(self.last.as_ref())
@@ -202,6 +230,9 @@ impl<S: System> Stepper<S> {
         let saved_base = self.time_base;
         let saved_stats = self.stats.clone();
         let saved_last = self.last.clone();
+        // Substeps are not on the step's grid: their solutions predict nothing for it
+        // (nor the step's for them).
+        self.predictor.clear();
         let mut sub = saved_options.clone();
         sub.dt = saved_options.dt / parts as f64;
         self.set_options(sub)?;
@@ -211,6 +242,7 @@ impl<S: System> Stepper<S> {
                 self.options = saved_options;
                 self.time_base = saved_base;
                 self.state = saved_state;
+                self.predictor.clear();
                 self.stats = saved_stats;
                 self.last = saved_last;
                 return Err(e);
@@ -237,6 +269,7 @@ impl<S: System> Stepper<S> {
         self.state.k = saved_state.k + 1;
         self.state.t = self.grid_time(self.state.k);
         merged.t = self.state.t;
+        self.predictor.clear();
         self.stats = saved_stats;
         self.stats.split_steps += 1;
         self.account(&merged);

@@ -62,6 +62,7 @@ impl<S: System> Stepper<S> {
         let state = self.restarted_state(k, t1, step.q, step.u, step.p_n, step.p_f);
         self.account(&stats);
         self.state = state;
+        self.predictor.clear();
         self.last = Some(stats);
         Ok(())
     }
