@@ -16,8 +16,9 @@ use std::path::PathBuf;
 #[derive(Debug, Args)]
 pub struct WorkPrecisionArgs {
     /// The scene: `block` (one block sliding and rocking on a shaken base, to t = 2),
-    /// `column` (three blocks in stick–slip, to t = 2) or `lire` (the Lire collapse, to
-    /// t = 5, before its first fork).
+    /// `column` (three blocks, the bottom one sliding, then sticking while a corner above
+    /// it lifts, to t = 0.8) or `lire` (the Lire collapse, to t = 5, before its first
+    /// fork).
     #[arg(long, default_value = "block", value_parser = ["block", "column", "lire"])]
     pub system: String,
     /// Time steps Δt (comma-separated).
