@@ -232,25 +232,27 @@ impl<'a> ContactProblem<'a> {
     fn new(l: &'a Layout, eval: &'a Evaluation<f64>, d: &'a Dense, u: &[f64], dt: f64) -> Self {
         let u_n = DVector::from_column_slice(u);
         let kick = DVector::from_iterator(l.nu, eval.forces.iter().map(|h| h * dt));
-        let closing_term = (0..l.n_normal())
-            .map(|k| {
-                let g = eval.position[k];
-                if g <= 0.0 {
-                    l.e_n[k] * (d.w_p.column(k).dot(&u_n) + eval.position_chi[k])
-                } else {
-                    g / (0.5 * dt)
-                }
-            })
-            .collect();
-        Self {
+        let mut problem = Self {
             l,
             eval,
             d,
             dt,
             u_free: &u_n + &d.m_inv * kick,
             u_n,
-            closing_term,
-        }
+            closing_term: Vec::new(),
+        };
+        let closing_term = (0..l.n_normal())
+            .map(|k| {
+                let g = eval.position[k];
+                if g <= 0.0 {
+                    l.e_n[k] * problem.xi_n(k, &problem.u_n)
+                } else {
+                    g / (0.5 * dt)
+                }
+            })
+            .collect();
+        problem.closing_term = closing_term;
+        problem
     }
 
     fn xi_n(&self, k: usize, u: &DVector<f64>) -> f64 {

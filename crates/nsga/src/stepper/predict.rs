@@ -10,7 +10,9 @@
 //! contact that opens, a law that starts to slip) makes the history start again.
 //!
 //! Measured on the Lire collapse (`rollstack blocks lire --perturb bottom --t-end 9.99
-//! --json`): 1.92 Newton updates per step from x_n, 1.08 from the quadratic prediction.
+//! --json`, `newton_iterations_mean`): 1.92 Newton updates per step from x_n, 0.89 with
+//! the prediction (where it applies, see [`PREDICTED_START_ITERATIONS`] and
+//! docs/method.md §4).
 
 use super::unknowns::Offsets;
 
