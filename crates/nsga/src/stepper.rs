@@ -401,8 +401,9 @@ impl<S: System> Stepper<S> {
     }
 
     /// Commits a trial: the stepper advances to its state.
-    pub fn commit(&mut self, trial: Trial) {
+    pub fn commit(&mut self, mut trial: Trial) {
         self.account(&trial.stats);
+        trial.state.flush_subnormals();
         // The solution the state leaves behind, for the next steps' predicted starts:
         // smooth only while two generalized-α steps in a row keep their index sets.
         let same_sets = trial.stats.last_resort.is_none()

@@ -59,7 +59,8 @@ impl<S: System> Stepper<S> {
                 projection: step.projection,
             }),
         };
-        let state = self.restarted_state(k, t1, step.q, step.u, step.p_n, step.p_f);
+        let mut state = self.restarted_state(k, t1, step.q, step.u, step.p_n, step.p_f);
+        state.flush_subnormals();
         self.account(&stats);
         self.state = state;
         self.predictor.clear();
