@@ -74,6 +74,12 @@ impl CornerStepping {
         stepper: &mut Stepper<StackSystem>,
         wanted: &[LineContacts],
     ) -> Result<(), StepError> {
+        self.most_contacts = self.most_contacts.max(count(wanted));
+        // The stepper forgets what it keeps from the last step whenever the system is
+        // borrowed mutably (`Stepper::system_mut`): borrow it only for a change.
+        if stepper.system().holds_corner_contacts(wanted) {
+            return Ok(());
+        }
         let change = stepper.system_mut().assign_corner_contacts(wanted);
         if change.grown {
             stepper.extend_layout()?;
@@ -81,7 +87,6 @@ impl CornerStepping {
         if !change.normals.is_empty() || !change.laws.is_empty() {
             stepper.forget_contacts(&change.normals, &change.laws)?;
         }
-        self.most_contacts = self.most_contacts.max(count(wanted));
         Ok(())
     }
 

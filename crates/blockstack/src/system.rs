@@ -155,6 +155,21 @@ impl StackSystem {
         ([first, first + 1], self.laws.len() + s)
     }
 
+    /// Whether the slots hold exactly the `wanted` contact lines with their contacts, so
+    /// that [`StackSystem::assign_corner_contacts`] would change nothing.
+    #[must_use]
+    pub fn holds_corner_contacts(&self, wanted: &[LineContacts]) -> bool {
+        let held = self.slots.iter().flatten();
+        held.clone().count() == wanted.len()
+            && wanted.iter().all(|w| {
+                held.clone().any(|s| {
+                    s.line == w.line
+                        && s.contacts.iter().all(|c| w.contacts.contains(c))
+                        && w.contacts.iter().all(|c| s.contacts.contains(c))
+                })
+            })
+    }
+
     /// Puts the `wanted` contact lines (from the broad phase, [`crate::broad_phase`])
     /// into the slots: a line already in a slot stays there, and so do its contacts that
     /// are still wanted; a slot whose line is no longer wanted is freed (the broad phase
@@ -908,6 +923,38 @@ mod tests {
         let n = sys.layout().n_normal();
         let change = sys.assign_corner_contacts(&[c(1), c(2), c(3), c(4), c(5)]);
         assert!(change.grown && sys.layout().n_normal() == n + 2 * 4);
+    }
+
+    #[test]
+    fn the_slots_hold_a_list_exactly_when_assigning_it_changes_nothing() {
+        let mut sys = StackSystem::new(lire_on_floor(3, Perturbation::Bottom).unwrap());
+        let c = |k| {
+            line(
+                Body::Base,
+                Body::Block(k),
+                LineKind::Face(Side::Top),
+                [
+                    contact(Body::Block(k), Corner::D, Body::Base, Side::Top),
+                    None,
+                ],
+            )
+        };
+        let mut two = c(2);
+        two.contacts[1] = contact(Body::Block(2), Corner::C, Body::Base, Side::Top);
+        sys.assign_corner_contacts(&[c(1), two]);
+        let mut swapped = two;
+        swapped.contacts.swap(0, 1);
+        for held in [vec![c(1), two], vec![two, c(1)], vec![c(1), swapped]] {
+            assert!(sys.holds_corner_contacts(&held));
+            let before = sys.corner_contacts().to_vec();
+            let change = sys.assign_corner_contacts(&held);
+            assert!(change.normals.is_empty() && change.laws.is_empty() && !change.grown);
+            assert_eq!(sys.corner_contacts(), before.as_slice());
+        }
+        // A contact less on a kept line, a line less, a line more.
+        for other in [vec![c(1), c(2)], vec![c(1)], vec![c(1), two, c(3)]] {
+            assert!(!sys.holds_corner_contacts(&other), "{other:?}");
+        }
     }
 
     #[test]

@@ -27,6 +27,7 @@ use crate::state::State;
 use crate::system::{Derivatives, Evaluation, Layout, System, Triplets};
 use iterate::Iterate;
 use rows::RowMat;
+use state_levels::StateLevels;
 use unknowns::Offsets;
 
 mod assemble;
@@ -40,6 +41,7 @@ mod predict;
 mod resize;
 pub(crate) mod rows;
 mod solve;
+mod state_levels;
 mod unknowns;
 
 pub use assemble::NEGLIGIBLE_SLIP;
@@ -152,6 +154,10 @@ struct Work {
     unused_velocity: Vec<bool>,
     /// What the solver's kept factors were assembled for (None: nothing reusable).
     factored: Option<FactoredFor>,
+    /// The levels of the last converged trial's state, and of the current state, for
+    /// the pruning of open contacts (`state_levels`).
+    trial_levels: StateLevels,
+    state_levels: StateLevels,
 }
 
 impl Work {
@@ -191,6 +197,8 @@ impl Work {
             factored: None,
             unused_position: Vec::new(),
             unused_velocity: Vec::new(),
+            trial_levels: StateLevels::default(),
+            state_levels: StateLevels::default(),
         }
     }
 }
@@ -281,8 +289,11 @@ impl<S: System> Stepper<S> {
         &self.system
     }
     /// The system, mutably (to change parameters between steps; the layout must not
-    /// change).
+    /// change). The stepper then forgets the constraint levels it kept from the last
+    /// step's solution and evaluates the state again (docs/method.md §7, "Pruned
+    /// matrices").
     pub fn system_mut(&mut self) -> &mut S {
+        self.work.state_levels.forget();
         &mut self.system
     }
     /// The layout of the system.
@@ -298,7 +309,7 @@ impl<S: System> Stepper<S> {
     pub fn set_state(&mut self, state: State) {
         self.time_base = (state.t, state.k);
         self.state = state;
-        self.predictor.clear();
+        self.forget_solutions();
     }
     /// A stepper for the same system and options that continues from `state`, one of
     /// this stepper's states or a candidate of its last branch point (how an exploration
@@ -403,6 +414,13 @@ impl<S: System> Stepper<S> {
     /// Commits a trial: the stepper advances to its state.
     pub fn commit(&mut self, mut trial: Trial) {
         self.account(&trial.stats);
+        let w = &mut self.work;
+        if w.trial_levels.describe(&trial.state) {
+            std::mem::swap(&mut w.trial_levels, &mut w.state_levels);
+        } else {
+            w.state_levels.forget();
+        }
+        w.trial_levels.forget();
         trial.state.flush_subnormals();
         // The solution the state leaves behind, for the next steps' predicted starts:
         // smooth only while two generalized-α steps in a row keep their index sets.
@@ -435,6 +453,13 @@ impl<S: System> Stepper<S> {
             self.stats.last_resort_steps += 1;
             self.stats.last_resort_residual = self.stats.last_resort_residual.max(last.residual);
         }
+    }
+
+    /// Forgets what the last solutions left for the next steps (the predicted start's
+    /// history, the state's levels): the state was replaced or the system changed.
+    fn forget_solutions(&mut self) {
+        self.predictor.clear();
+        self.work.state_levels.forget();
     }
 
     /// The statistics of the step just committed.

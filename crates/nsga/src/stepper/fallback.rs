@@ -232,7 +232,7 @@ impl<S: System> Stepper<S> {
         let saved_last = self.last.clone();
         // Substeps are not on the step's grid: their solutions predict nothing for it
         // (nor the step's for them).
-        self.predictor.clear();
+        self.forget_solutions();
         let mut sub = saved_options.clone();
         sub.dt = saved_options.dt / parts as f64;
         self.set_options(sub)?;
@@ -242,7 +242,7 @@ impl<S: System> Stepper<S> {
                 self.options = saved_options;
                 self.time_base = saved_base;
                 self.state = saved_state;
-                self.predictor.clear();
+                self.forget_solutions();
                 self.stats = saved_stats;
                 self.last = saved_last;
                 return Err(e);
@@ -269,7 +269,7 @@ impl<S: System> Stepper<S> {
         self.state.k = saved_state.k + 1;
         self.state.t = self.grid_time(self.state.k);
         merged.t = self.state.t;
-        self.predictor.clear();
+        self.forget_solutions();
         self.stats = saved_stats;
         self.stats.split_steps += 1;
         self.account(&merged);

@@ -63,7 +63,7 @@ impl<S: System> Stepper<S> {
         state.flush_subnormals();
         self.account(&stats);
         self.state = state;
-        self.predictor.clear();
+        self.forget_solutions();
         self.last = Some(stats);
         Ok(())
     }

@@ -65,7 +65,7 @@ impl<S: System> Stepper<S> {
         self.comp_ef = new.friction_restitution();
         self.off = to;
         self.layout = new;
-        self.predictor.clear();
+        self.forget_solutions();
         Ok(())
     }
 
@@ -102,7 +102,7 @@ impl<S: System> Stepper<S> {
         }
         self.work.factored = None;
         // The forgotten slots' past forces belong to other pairs of bodies.
-        self.predictor.clear();
+        self.forget_solutions();
         Ok(())
     }
 }

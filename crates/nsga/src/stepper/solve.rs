@@ -306,24 +306,17 @@ impl<S: System> Stepper<S> {
     fn open_contacts(&mut self, x: &mut [f64], keep: &[bool]) -> Option<Pruning> {
         let o = self.off;
         let dt = self.options.dt;
+        self.state_levels();
         let st = &self.state;
-        let w = &mut self.work;
-        w.eval.reset();
-        self.system.evaluate(st.t, &st.q, &st.u, &mut w.eval);
-        let e = &w.eval;
-        let mut rate = e.position_chi.clone();
-        let mut acc = e.position_zeta.clone();
-        for &(r, c, v) in &e.position_w.entries {
-            rate[c] += v * st.u[r];
-            acc[c] += v * st.a[r];
-        }
+        let levels = &self.work.state_levels;
+        let (gap, rate, acc) = (&levels.position, &levels.rate, &levels.acceleration);
         let mut pruned_n = vec![false; o.nn];
         for (k, pr) in pruned_n.iter_mut().enumerate() {
             let pk = o.ng + k;
             let margin = 2.0 * dt * rate[pk].abs() + dt * dt * acc[pk].abs();
             *pr = !keep[k]
-                && e.position[pk] > margin
-                && e.position[pk] > 0.0
+                && gap[pk] > margin
+                && gap[pk] > 0.0
                 && st.lambda_n[k] == 0.0
                 && st.lambda_n_bar[k] == 0.0;
         }
@@ -361,6 +354,19 @@ impl<S: System> Stepper<S> {
             }
         }
         Some((map, n_red))
+    }
+
+    /// Makes `work.state_levels` those of the current state: kept from the iterate that
+    /// became it (`state_levels`), or evaluated here.
+    fn state_levels(&mut self) {
+        let st = &self.state;
+        let w = &mut self.work;
+        if w.state_levels.describe(st) {
+            return;
+        }
+        w.eval.reset();
+        self.system.evaluate(st.t, &st.q, &st.u, &mut w.eval);
+        w.state_levels.evaluate(st, &w.eval);
     }
 
     /// Marks the constraints whose unknowns the prune `map` leaves out (none without).
@@ -512,6 +518,12 @@ impl<S: System> Stepper<S> {
         cycling: bool,
     ) -> Trial {
         let o = self.off;
+        if converged {
+            // The attempt ended on an evaluation of this x.
+            let (k, t) = (self.state.k + 1, self.t_next());
+            let w = &mut self.work;
+            w.trial_levels.record(k, t, &x, &w.it);
+        }
         let it = &self.work.it;
         let st = &self.state;
         let state = State {
