@@ -78,9 +78,13 @@ impl State {
             &mut self.p_f,
             &mut self.x,
         ] {
-            v.iter_mut()
-                .filter(|z| z.is_subnormal())
-                .for_each(|z| *z = 0.0);
+            // A branch-free scan first (it vectorizes): most states have none.
+            let any = v.iter().fold(false, |any, z| any | z.is_subnormal());
+            if any {
+                v.iter_mut()
+                    .filter(|z| z.is_subnormal())
+                    .for_each(|z| *z = 0.0);
+            }
         }
     }
 }
