@@ -108,6 +108,43 @@ pub struct Pose<T = f64> {
     pub theta: T,
 }
 
+/// The real parts of a pose with its basis evaluated once: the centre r and e₁, e₂ of
+/// (4.2.1)–(4.2.2). For the decisions that read one pose many times (which gap of
+/// (G.2.2), the support test (G.2.4)), each of which [`Pose::e1`], [`Pose::e2`] and
+/// [`Pose::point`] would compute sin θ and cos θ again (in the scalar type, a dual number
+/// in a derivative pass). Its values equal the real parts of those methods' to the bit:
+/// the same operations on the same numbers.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Frame {
+    /// The centre of mass r.
+    pub r: Vec2<f64>,
+    /// e₁ = (cos θ, sin θ).
+    pub e1: Vec2<f64>,
+    /// e₂ = (−sin θ, cos θ).
+    pub e2: Vec2<f64>,
+}
+
+impl Frame {
+    /// The frame of a pose (real parts).
+    #[must_use]
+    pub fn of<T: Scalar>(pose: &Pose<T>) -> Self {
+        let (s, c) = pose.theta.re().sin_cos();
+        Self {
+            r: Vec2::new(pose.x.re(), pose.y.re()),
+            e1: Vec2::new(c, s),
+            e2: Vec2::new(-s, c),
+        }
+    }
+
+    /// The point r + α e₁ + β e₂ of the body with components (α, β), as
+    /// [`Pose::point`].
+    #[must_use]
+    pub fn point(&self, body: &Vec2<f64>) -> Vec2<f64> {
+        let (c, s) = (self.e1.x, self.e1.y);
+        self.r + Vec2::new(c * body.x - s * body.y, s * body.x + c * body.y)
+    }
+}
+
 /// The velocities (ẋ, ẏ, θ̇) of one body; ω = θ̇ E₃ is its angular velocity.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct Twist<T = f64> {
@@ -259,6 +296,29 @@ impl BodyState<f64> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use num_dual::Dual64;
+
+    /// The frame's numbers are the real parts of the pose's own methods, to the bit, for
+    /// plain and dual scalars: the decisions it serves may not change.
+    #[test]
+    fn a_frame_gives_the_real_parts_of_the_pose_methods_exactly() {
+        let body = Vec2::new(0.37, -0.11);
+        for theta in [0.0, 0.7, -2.9, 1e-9, std::f64::consts::FRAC_PI_2] {
+            let p: Pose = Pose::new(0.3, -0.2, theta);
+            let d = Pose::new(
+                Dual64::new(0.3, 1.0),
+                Dual64::new(-0.2, 0.5),
+                Dual64::new(theta, -1.0),
+            );
+            for f in [Frame::of(&p), Frame::of(&d)] {
+                assert_eq!(f.r, p.r());
+                assert_eq!(f.e1, p.e1());
+                assert_eq!(f.e2, p.e2());
+                assert_eq!(f.point(&body), p.point(&body));
+                assert_eq!(f.point(&body), d.point(&body).re());
+            }
+        }
+    }
 
     #[test]
     fn basis_is_orthonormal_and_positively_oriented() {

@@ -23,7 +23,7 @@
 //! face of k, and (iii) the bottom face of k+1 overlaps the top face of k along e₁^k.
 //! Otherwise the two gaps cannot close (the upper block has fallen off).
 
-use crate::coordinates::{re, BodyState, Scalar, Vec2};
+use crate::coordinates::{re, BodyState, Frame, Scalar, Vec2};
 use crate::corners::Corner;
 use crate::gaps::{CornerOnFace, Face, PairRow};
 use crate::slip::LowerBody;
@@ -144,21 +144,25 @@ impl Interface {
     /// Support test (G.2.4), corrected and robust past ±π/2 (ERRATA 23).
     #[must_use]
     pub fn support<T: Scalar>(&self, lower: &BodyState<T>, upper: &BodyState<T>) -> Support {
-        // A decision, not a value: real parts only.
-        let (pl, pu) = (&lower.pose, &upper.pose);
-        if re(pl.e2().dot(&pu.e2())) <= 0.0 {
+        self.support_of(&Frame::of(&lower.pose), &Frame::of(&upper.pose))
+    }
+
+    /// [`Interface::support`] from the bodies' frames: a decision, not a value, so real
+    /// parts only.
+    fn support_of(&self, pl: &Frame, pu: &Frame) -> Support {
+        if pl.e2.dot(&pu.e2) <= 0.0 {
             return Support::TurnedOver;
         }
-        let rel = pu.r() - pl.r();
-        if re(rel.dot(&pl.e2())) <= 0.5 * self.lower.height {
+        let rel = pu.r - pl.r;
+        if rel.dot(&pl.e2) <= 0.5 * self.lower.height {
             return Support::Below;
         }
-        let (sc, sd) = self.bottom_corners_along(lower, upper);
+        let (sc, sd) = self.bottom_corners_along(pl, pu);
         let half = 0.5 * self.lower.width;
         if sc.max(sd) <= -half || sc.min(sd) >= half {
             return Support::Beside;
         }
-        if self.sunk(lower, upper) {
+        if self.sunk(pl, pu) {
             return Support::Sunk;
         }
         Support::Supported
@@ -172,31 +176,26 @@ impl Interface {
     /// the pair's corner contacts when this falls below its margin.
     #[must_use]
     pub fn support_margin<T: Scalar>(&self, lower: &BodyState<T>, upper: &BodyState<T>) -> f64 {
-        if self.support(lower, upper) != Support::Supported {
+        let (pl, pu) = (&Frame::of(&lower.pose), &Frame::of(&upper.pose));
+        if self.support_of(pl, pu) != Support::Supported {
             return 0.0;
         }
-        let (pl, pu) = (&lower.pose, &upper.pose);
-        let (sc, sd) = self.bottom_corners_along(lower, upper);
+        let (sc, sd) = self.bottom_corners_along(pl, pu);
         let half = 0.5 * self.lower.width;
         let common = (sc.max(sd).min(half) - sc.min(sd).max(-half)).max(0.0);
-        let above = re((pu.r() - pl.r()).dot(&pl.e2())) - 0.5 * self.lower.height;
+        let above = (pu.r - pl.r).dot(&pl.e2) - 0.5 * self.lower.height;
         // Falls to 0 as the faces turn towards 60° from each other, where the gaps stop
         // holding the contact ([`InterfaceContacts::holds`]): the corner contacts are
         // then in place before they are needed.
-        let square = re(pl.e2().dot(&pu.e2()));
+        let square = pl.e2.dot(&pu.e2);
         common.min(above) * ((square - HOLDS) / (1.0 - HOLDS)).max(0.0)
     }
 
     /// Where the upper block's bottom corners c and d lie along e₁ of the lower body,
     /// from its centre (real parts): the extent of the upper bottom face over the lower
     /// top face.
-    fn bottom_corners_along<T: Scalar>(
-        &self,
-        lower: &BodyState<T>,
-        upper: &BodyState<T>,
-    ) -> (f64, f64) {
-        let (pl, pu) = (&lower.pose, &upper.pose);
-        let along = |c: Corner| re((pu.point(&self.upper.corner(c)) - pl.r()).dot(&pl.e1()));
+    fn bottom_corners_along(&self, pl: &Frame, pu: &Frame) -> (f64, f64) {
+        let along = |c: Corner| (pu.point(&self.upper.corner(c)) - pl.r).dot(&pl.e1);
         (along(Corner::C), along(Corner::D))
     }
 
@@ -206,19 +205,15 @@ impl Interface {
     /// [`Support::Sunk`]). A block resting or pivoting on the lower one never does: its
     /// corners over the face are at depth ~0, and a corner pivoting past the edge is
     /// no longer over the face.
-    fn sunk<T: Scalar>(&self, lower: &BodyState<T>, upper: &BodyState<T>) -> bool {
-        let (pl, pu) = (&lower.pose, &upper.pose);
-        let deep = |corner_pose: &crate::Pose<T>,
-                    corner: Vec2,
-                    face_pose: &crate::Pose<T>,
-                    face: Size,
-                    outward: f64| {
-            let d = corner_pose.point(&corner) - face_pose.r();
-            let along = re(d.dot(&face_pose.e1()));
-            // Signed distance from the face body's centre line towards its face.
-            let up = outward * re(d.dot(&face_pose.e2()));
-            along.abs() < 0.5 * face.width && up < 0.0
-        };
+    fn sunk(&self, pl: &Frame, pu: &Frame) -> bool {
+        let deep =
+            |corner_pose: &Frame, corner: Vec2, face_pose: &Frame, face: Size, outward: f64| {
+                let d = corner_pose.point(&corner) - face_pose.r;
+                let along = d.dot(&face_pose.e1);
+                // Signed distance from the face body's centre line towards its face.
+                let up = outward * d.dot(&face_pose.e2);
+                along.abs() < 0.5 * face.width && up < 0.0
+            };
         [Corner::C, Corner::D]
             .iter()
             .any(|&c| deep(pu, self.upper.corner(c), pl, self.lower, 1.0))
@@ -234,9 +229,20 @@ impl Interface {
         lower: &BodyState<T>,
         upper: &BodyState<T>,
     ) -> InterfaceGap<T> {
-        let b = lower.pose.point(&self.lower.corner(Corner::B));
-        let c = upper.pose.point(&self.upper.corner(Corner::C));
-        if re((b - c).dot(&upper.pose.e1())) > 0.0 {
+        let frames = (Frame::of(&lower.pose), Frame::of(&upper.pose));
+        self.left_gap_of(frames, lower, upper)
+    }
+
+    /// [`Interface::left_gap`] with the bodies' frames, which decide the case.
+    fn left_gap_of<T: Scalar>(
+        &self,
+        (pl, pu): (Frame, Frame),
+        lower: &BodyState<T>,
+        upper: &BodyState<T>,
+    ) -> InterfaceGap<T> {
+        let b = pl.point(&self.lower.corner(Corner::B));
+        let c = pu.point(&self.upper.corner(Corner::C));
+        if (b - c).dot(&pu.e1) > 0.0 {
             self.lower_corner_gap(Corner::B, lower, upper)
         } else {
             self.upper_corner_gap(Corner::C, lower, upper)
@@ -250,9 +256,20 @@ impl Interface {
         lower: &BodyState<T>,
         upper: &BodyState<T>,
     ) -> InterfaceGap<T> {
-        let a = lower.pose.point(&self.lower.corner(Corner::A));
-        let d = upper.pose.point(&self.upper.corner(Corner::D));
-        if re((a - d).dot(&upper.pose.e1())) < 0.0 {
+        let frames = (Frame::of(&lower.pose), Frame::of(&upper.pose));
+        self.right_gap_of(frames, lower, upper)
+    }
+
+    /// [`Interface::right_gap`] with the bodies' frames, which decide the case.
+    fn right_gap_of<T: Scalar>(
+        &self,
+        (pl, pu): (Frame, Frame),
+        lower: &BodyState<T>,
+        upper: &BodyState<T>,
+    ) -> InterfaceGap<T> {
+        let a = pl.point(&self.lower.corner(Corner::A));
+        let d = pu.point(&self.upper.corner(Corner::D));
+        if (a - d).dot(&pu.e1) < 0.0 {
             self.lower_corner_gap(Corner::A, lower, upper)
         } else {
             self.upper_corner_gap(Corner::D, lower, upper)
@@ -341,19 +358,20 @@ impl Interface {
         lower: &BodyState<T>,
         upper: &BodyState<T>,
     ) -> InterfaceContacts<T> {
-        let left = self.left_gap(lower, upper);
-        let right = self.right_gap(lower, upper);
+        let frames = (Frame::of(&lower.pose), Frame::of(&upper.pose));
+        let left = self.left_gap_of(frames, lower, upper);
+        let right = self.right_gap_of(frames, lower, upper);
         let closer = if re(right.row.value) < re(left.row.value) {
             &right
         } else {
             &left
         };
         InterfaceContacts {
-            support: self.support(lower, upper),
+            support: self.support_of(&frames.0, &frames.1),
             left,
             right,
             slip: self.slip_at(closer, lower, upper),
-            facing: re(lower.pose.e2().dot(&upper.pose.e2())),
+            facing: frames.0.e2.dot(&frames.1.e2),
         }
     }
 }
