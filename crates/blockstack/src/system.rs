@@ -889,20 +889,23 @@ mod tests {
         check_system(&sys, 0.3, &[], &[]);
     }
 
+    /// Block k's corner d on the base's top face, alone on its line.
+    fn on_base_top(k: usize) -> LineContacts {
+        line(
+            Body::Base,
+            Body::Block(k),
+            LineKind::Face(Side::Top),
+            [
+                contact(Body::Block(k), Corner::D, Body::Base, Side::Top),
+                None,
+            ],
+        )
+    }
+
     #[test]
     fn slots_keep_their_lines_and_reuse_freed_ones() {
         let mut sys = StackSystem::new(lire_on_floor(3, Perturbation::Bottom).unwrap());
-        let c = |k| {
-            line(
-                Body::Base,
-                Body::Block(k),
-                LineKind::Face(Side::Top),
-                [
-                    contact(Body::Block(k), Corner::D, Body::Base, Side::Top),
-                    None,
-                ],
-            )
-        };
+        let c = on_base_top;
         sys.assign_corner_contacts(&[c(1), c(2)]);
         let change = sys.assign_corner_contacts(&[c(2), c(3)]);
         assert!(!change.grown);
@@ -928,17 +931,7 @@ mod tests {
     #[test]
     fn the_slots_hold_a_list_exactly_when_assigning_it_changes_nothing() {
         let mut sys = StackSystem::new(lire_on_floor(3, Perturbation::Bottom).unwrap());
-        let c = |k| {
-            line(
-                Body::Base,
-                Body::Block(k),
-                LineKind::Face(Side::Top),
-                [
-                    contact(Body::Block(k), Corner::D, Body::Base, Side::Top),
-                    None,
-                ],
-            )
-        };
+        let c = on_base_top;
         let mut two = c(2);
         two.contacts[1] = contact(Body::Block(2), Corner::C, Body::Base, Side::Top);
         sys.assign_corner_contacts(&[c(1), two]);
