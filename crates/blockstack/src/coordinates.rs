@@ -140,9 +140,14 @@ impl Frame {
     /// [`Pose::point`].
     #[must_use]
     pub fn point(&self, body: &Vec2<f64>) -> Vec2<f64> {
-        let (c, s) = (self.e1.x, self.e1.y);
-        self.r + Vec2::new(c * body.x - s * body.y, s * body.x + c * body.y)
+        self.r + rotate(self.e1.y, self.e1.x, body)
     }
+}
+
+/// R(θ) (α, β) from s = sin θ and c = cos θ: a vector given on {e₁, e₂}, expressed on
+/// {E₁, E₂} (the one formula of [`Pose::to_world`] and [`Frame::point`]).
+fn rotate<T: Scalar>(s: T, c: T, body: &Vec2<f64>) -> Vec2<T> {
+    Vec2::new(c * body.x - s * body.y, s * body.x + c * body.y)
 }
 
 /// The velocities (ẋ, ẏ, θ̇) of one body; ω = θ̇ E₃ is its angular velocity.
@@ -199,7 +204,7 @@ impl<T: Scalar> Pose<T> {
     #[must_use]
     pub fn to_world(&self, body: &Vec2<f64>) -> Vec2<T> {
         let (s, c) = self.theta.sin_cos();
-        Vec2::new(c * body.x - s * body.y, s * body.x + c * body.y)
+        rotate(s, c, body)
     }
 
     /// The point r + α e₁ + β e₂ of the body with components (α, β).

@@ -31,11 +31,7 @@ impl StateLevels {
     /// Copies the levels of an evaluated iterate whose state would be step `k` at time
     /// `t` with unknowns `x` (buffers reused from call to call).
     pub(super) fn record(&mut self, k: u64, t: f64, x: &[f64], it: &Iterate) {
-        self.valid = true;
-        self.k = k;
-        self.t = t;
-        self.x.clear();
-        self.x.extend_from_slice(x);
+        self.key(k, t, x);
         self.position.clone_from(&it.p);
         self.rate.clone_from(&it.rate_new);
         self.acceleration.clone_from(&it.acc_p);
@@ -43,21 +39,25 @@ impl StateLevels {
 
     /// Computes the levels of `state` from `e`, the system's evaluation there.
     pub(super) fn evaluate(&mut self, state: &State, e: &Evaluation<f64>) {
-        self.valid = true;
-        self.k = state.k;
-        self.t = state.t;
-        self.x.clone_from(&state.x);
+        self.key(state.k, state.t, &state.x);
         self.position.clone_from(&e.position);
         self.rate.clone_from(&e.position_chi);
         self.acceleration.clone_from(&e.position_zeta);
-        // In the order of the iterate's sums (`Stepper::evaluate_iterate`,
+        // Each sum in the order of the iterate's (`Stepper::evaluate_iterate`,
         // `Stepper::finish_accelerations`), so that both give the same bits.
         for &(r, c, v) in &e.position_w.entries {
             self.rate[c] += v * state.u[r];
-        }
-        for &(r, c, v) in &e.position_w.entries {
             self.acceleration[c] += v * state.a[r];
         }
+    }
+
+    /// Marks the levels valid for the state of step `k`, time `t` and unknowns `x`.
+    fn key(&mut self, k: u64, t: f64, x: &[f64]) {
+        self.valid = true;
+        self.k = k;
+        self.t = t;
+        self.x.clear();
+        self.x.extend_from_slice(x);
     }
 
     /// Whether these are the levels of `state`.
