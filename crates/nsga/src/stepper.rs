@@ -125,8 +125,13 @@ struct Work {
     b: RowMat,
     bdot_u: Vec<f64>,
     jac: Vec<(usize, usize, f64)>,
-    /// Positions in `jac` of the regularization entries (§7 of docs/method.md).
+    /// The positions in `jac` of the regularization entries (§7 of docs/method.md), and
+    /// the open form's diagonal entry of each row, which ε multiplies.
     regularized: Vec<usize>,
+    regularization_scale: Vec<assemble::EpsScale>,
+    /// `jac` renumbered to the unknowns left after pruning; `jac` itself is kept, so
+    /// that a singular plain matrix is regularized without being assembled again.
+    jac_pruned: Vec<(usize, usize, f64)>,
     /// Power-of-two row scales of an equilibrated regularized matrix.
     row_scale: Vec<f64>,
     rhs_red: Vec<f64>,
@@ -177,6 +182,8 @@ impl Work {
             bdot_u: vec![0.0; layout.nq],
             jac: Vec::new(),
             regularized: Vec::new(),
+            regularization_scale: Vec::new(),
+            jac_pruned: Vec::new(),
             row_scale: Vec::new(),
             rhs_red: Vec::new(),
             res: vec![0.0; Offsets::new(layout).n],

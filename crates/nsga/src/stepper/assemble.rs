@@ -2,6 +2,7 @@
 //! impulse units: acceleration-level rows × Δt, position-level rows ÷ Δt.
 
 use super::rows::{push_q_derivative, push_u_derivative, RowMat};
+use super::unknowns::Offsets;
 use super::Stepper;
 use crate::linalg::norm;
 use crate::params::GenAlpha;
@@ -117,17 +118,17 @@ impl<S: System> Stepper<S> {
         }
     }
 
-    /// Fills `work.jac` with the semismooth Jacobian ∂R/∂x for frozen sets (eq. 143).
+    /// Fills `work.jac` with the semismooth Jacobian for frozen sets (eq. 143), in the
+    /// columns of the unknowns z of [`KinematicColumns`]: ∂R/∂x · T.
     ///
-    /// `eps` regularizes the closed contact rows (see `Options::regularization`): ε times
-    /// the diagonal entry the row has when open; `work.regularized` lists the positions
-    /// of those entries in `work.jac` (also for ε = 0, where they are explicit zeros).
-    pub(super) fn jacobian(&mut self, x: &[f64], sets: &IndexSets, p: &GenAlpha, eps: f64) {
+    /// The closed contact rows get an explicit zero entry where
+    /// [`Self::regularize`] puts ε times the diagonal entry the row has when open (see
+    /// `Options::regularization`); `work.regularized` lists their positions in `work.jac`.
+    pub(super) fn jacobian(&mut self, x: &[f64], sets: &IndexSets, p: &GenAlpha) {
         let o = self.off;
         let dt = self.options.dt;
         let ar = p.alpha_r();
-        let c_ua = dt * p.gamma * ar; // ∂u_{n+1}/∂a
-        let c_qa = dt * dt * p.beta * ar; // ∂q_{n+1}/∂a (times B)
+        let KinematicColumns { c_ua, c_qa } = KinematicColumns::new(dt, p);
         let c_pl = dt * p.gamma * ar; // ∂P/∂λ
         let c_kl = dt * dt * p.beta * ar; // ∂κ̂/∂λ_N
         let t1 = self.state.t + dt;
@@ -154,8 +155,9 @@ impl<S: System> Stepper<S> {
         let d = &w.der;
         let e = &w.eval;
         let b = &w.b;
-        let qcols = [(o.a, c_qa), (o.qq, 1.0)];
-        let ucols = [(o.a, c_ua), (o.uu, 1.0)];
+        // q_{n+1} and u_{n+1} depend on z through y_q and y_u alone.
+        let qcols = [(o.qq, 1.0)];
+        let ucols = [(o.uu, 1.0)];
         let np = l.n_position();
         let nv = l.n_velocity();
         // Rows of ∂(level)/∂x.
@@ -205,8 +207,12 @@ impl<S: System> Stepper<S> {
 
         let jac = &mut w.jac;
         // Where the ε entries go, so that the rows can be scaled by their plain entries.
-        let regularized = &mut w.regularized;
-        regularized.clear();
+        let mut regularized = Regularized {
+            at: &mut w.regularized,
+            scale: &mut w.regularization_scale,
+        };
+        regularized.at.clear();
+        regularized.scale.clear();
         jac.clear();
         let col_p = |c: usize, first: usize, second: usize| {
             if c < o.ng {
@@ -227,9 +233,17 @@ impl<S: System> Stepper<S> {
         push_u_derivative(jac, &d.forces_u, false, o.a, -dt, &ucols);
         push_q_derivative(jac, &d.dynamics_q[0], b, o.a, dt, &qcols);
         push_q_derivative(jac, &d.forces_q, b, o.a, -dt, &qcols);
-        push_u_derivative(jac, &e.mass, false, o.uu, 1.0, &[(o.uu, 1.0)]);
+        // M U = M (y_u − c_u a) and M Q = M (y_q − c_q a).
+        push_u_derivative(jac, &e.mass, false, o.uu, 1.0, &[(o.uu, 1.0), (o.a, -c_ua)]);
         push_q_derivative(jac, &d.dynamics_q[1], b, o.uu, 1.0, &qcols);
-        push_u_derivative(jac, &e.mass, false, o.qq, 1.0 / dt, &[(o.qq, 1.0)]);
+        push_u_derivative(
+            jac,
+            &e.mass,
+            false,
+            o.qq,
+            1.0 / dt,
+            &[(o.qq, 1.0), (o.a, -c_qa)],
+        );
         push_q_derivative(jac, &d.dynamics_q[2], b, o.qq, 1.0 / dt, &qcols);
         for &(i, c, v) in &e.position_w.entries {
             jac.push((o.a + i, col_p(c, o.lg, o.ln), -dt * v));
@@ -264,24 +278,21 @@ impl<S: System> Stepper<S> {
             let rp = w.r_pos[pk];
             if sets.a[k] {
                 copy_row(jac, &w.dg, pk, o.kn + k, rp / dt);
-                regularized.push(jac.len());
-                jac.push((o.kn + k, o.kn + k, eps / dt));
+                regularized.push(jac, o.kn + k, EpsScale::PerDt);
             } else {
                 jac.push((o.kn + k, o.kn + k, 1.0 / dt));
                 jac.push((o.kn + k, o.ln + k, c_kl / dt));
             }
             if sets.b[k] {
                 copy_row(jac, &w.dxp, pk, o.cn + k, rp);
-                regularized.push(jac.len());
-                jac.push((o.cn + k, o.cn + k, eps));
+                regularized.push(jac, o.cn + k, EpsScale::One);
             } else {
                 jac.push((o.cn + k, o.cn + k, 1.0));
                 jac.push((o.cn + k, o.ln + k, c_pl));
             }
             if sets.c[k] {
                 copy_row(jac, &w.dap, pk, o.ln + k, rp * dt);
-                regularized.push(jac.len());
-                jac.push((o.ln + k, o.ln + k, eps * dt));
+                regularized.push(jac, o.ln + k, EpsScale::TimesDt);
             } else {
                 jac.push((o.ln + k, o.ln + k, dt));
             }
@@ -322,8 +333,7 @@ impl<S: System> Stepper<S> {
                 match &dirs.velocity {
                     None => {
                         copy_row(jac, &w.dxv, vs + m, rv, rl);
-                        regularized.push(jac.len());
-                        jac.push((rv, o.cf + c, eps));
+                        regularized.push(jac, rv, EpsScale::One);
                     }
                     Some(d) => {
                         // P_F + μ P̂ ξ/‖ξ‖
@@ -355,8 +365,7 @@ impl<S: System> Stepper<S> {
                 match &dirs.acceleration {
                     None => {
                         copy_row(jac, &w.dav, vs + m, ra, rl * dt);
-                        regularized.push(jac.len());
-                        jac.push((ra, o.lf + c, eps * dt));
+                        regularized.push(jac, ra, EpsScale::TimesDt);
                     }
                     Some(d) => {
                         jac.push((ra, o.lf + c, dt));
@@ -372,6 +381,100 @@ impl<S: System> Stepper<S> {
                     }
                 }
             }
+        }
+    }
+}
+
+/// The diagonal entry a closed contact row has in its open form, of which its
+/// regularization entry is ε times: 1/Δt (κ rows), 1 (Λ rows) or Δt (λ rows).
+#[derive(Debug, Clone, Copy)]
+pub(super) enum EpsScale {
+    PerDt,
+    One,
+    TimesDt,
+}
+
+impl EpsScale {
+    fn entry(self, eps: f64, dt: f64) -> f64 {
+        match self {
+            Self::PerDt => eps / dt,
+            Self::One => eps,
+            Self::TimesDt => eps * dt,
+        }
+    }
+}
+
+/// Where the regularization entries of the Newton matrix go.
+struct Regularized<'a> {
+    at: &'a mut Vec<usize>,
+    scale: &'a mut Vec<EpsScale>,
+}
+
+impl Regularized<'_> {
+    /// Pushes the diagonal entry of `row` (a multiplier's own row and column), zero until
+    /// [`Stepper::regularize`] sets it.
+    fn push(&mut self, jac: &mut Vec<(usize, usize, f64)>, row: usize, scale: EpsScale) {
+        self.at.push(jac.len());
+        self.scale.push(scale);
+        jac.push((row, row, 0.0));
+    }
+}
+
+impl<S: System> Stepper<S> {
+    /// Sets the regularization entries of the assembled Jacobian to ε times the open
+    /// form's diagonal entry of their rows (docs/method.md §7).
+    pub(super) fn regularize(&mut self, eps: f64) {
+        let dt = self.options.dt;
+        let w = &mut self.work;
+        for (&i, &scale) in w.regularized.iter().zip(&w.regularization_scale) {
+            w.jac[i].2 = scale.entry(eps, dt);
+        }
+    }
+}
+
+/// The unknowns in which the Newton matrix is assembled and factored:
+/// z = (a, y_u, y_q, the multipliers) with y_u = U + c_u a and y_q = Q + c_q a, where
+/// c_u = ∂u_{n+1}/∂a = Δt γ α_r and c_q B(q_n) = ∂q_{n+1}/∂a = Δt² β α_r B(q_n) (eqs. 73,
+/// 125). Then u_{n+1} depends on z through y_u alone and q_{n+1} through y_q alone, so
+/// every derivative of the system enters the matrix once, in the columns of y, instead of
+/// once in y's and once in a's columns: a's columns keep only the explicit M a, M U, M Q
+/// and Wᵀa. That halves the entries the system's derivatives put in the matrix and leaves
+/// a's columns nearly empty, which the sparse elimination's fill follows
+/// (docs/method.md §4, "The Jacobian"). The update dx = T dz is recovered by
+/// [`KinematicColumns::to_unknowns`].
+#[derive(Debug, Clone, Copy)]
+pub(super) struct KinematicColumns {
+    /// c_u = ∂u_{n+1}/∂a.
+    pub c_ua: f64,
+    /// c_q = ∂q_{n+1}/∂a, times B(q_n).
+    pub c_qa: f64,
+}
+
+impl KinematicColumns {
+    pub(super) fn new(dt: f64, p: &GenAlpha) -> Self {
+        let ar = p.alpha_r();
+        Self {
+            c_ua: dt * p.gamma * ar,
+            c_qa: dt * dt * p.beta * ar,
+        }
+    }
+
+    /// dx = T dz: dU = dy_u − c_u da and dQ = dy_q − c_q da, in place.
+    pub(super) fn to_unknowns(self, o: &Offsets, dz: &mut [f64]) {
+        for i in 0..o.nu {
+            let da = dz[o.a + i];
+            dz[o.uu + i] -= self.c_ua * da;
+            dz[o.qq + i] -= self.c_qa * da;
+        }
+    }
+
+    /// The columns of ∂R/∂x from those of ∂R/∂x · T (`j`, dense), in place:
+    /// ∂R/∂a = (∂R/∂z)_a + c_u (∂R/∂z)_{y_u} + c_q (∂R/∂z)_{y_q}.
+    pub(super) fn to_unknown_columns(self, o: &Offsets, j: &mut nalgebra::DMatrix<f64>) {
+        for i in 0..o.nu {
+            let col = j.column(o.uu + i) * self.c_ua + j.column(o.qq + i) * self.c_qa;
+            let mut a = j.column_mut(o.a + i);
+            a += col;
         }
     }
 }
@@ -534,5 +637,48 @@ pub(crate) fn slip_row(
         dv.for_each(mp, |c, val| {
             jac.push((row, c, scale * radius * proj / n * val));
         });
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::system::{FrictionLaw, Layout};
+    use nalgebra::{DMatrix, DVector};
+
+    /// The matrix the stepper factors, J T, and the update it returns, T dz, are those
+    /// of the Jacobian in x: (J T) dz = J (T dz) for any J T and dz. With the
+    /// finite-difference check of `to_unknown_columns` (crates/nsga/tests/jacobian.rs),
+    /// this makes the update an exact Newton update in x.
+    #[test]
+    fn the_update_in_x_solves_the_system_in_z() {
+        let layout = Layout {
+            nq: 3,
+            nu: 3,
+            n_bilateral_position: 1,
+            n_bilateral_velocity: 0,
+            e_n: vec![0.0, 0.5],
+            friction: vec![FrictionLaw {
+                mu: 0.3,
+                e_f: 0.0,
+                normals: vec![1],
+                components: 1,
+            }],
+        };
+        let o = Offsets::new(&layout);
+        let columns = KinematicColumns::new(0.01, &GenAlpha::new(0.5));
+        let entry = |i: usize, j: usize| ((7 * i + 3 * j) as f64).sin();
+        let j_z = DMatrix::from_fn(o.n, o.n, entry);
+        let dz = DVector::from_fn(o.n, |i, _| (i as f64).cos());
+        let mut j_x = j_z.clone();
+        columns.to_unknown_columns(&o, &mut j_x);
+        let mut dx = dz.clone();
+        columns.to_unknowns(&o, dx.as_mut_slice());
+        let (lhs, rhs) = (&j_z * &dz, &j_x * &dx);
+        assert!((lhs - rhs).amax() < 1e-12);
+        assert!(
+            (&dx - &dz).amax() > 1e-6,
+            "the change of unknowns is not the identity"
+        );
     }
 }

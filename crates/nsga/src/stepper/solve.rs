@@ -3,6 +3,7 @@
 //! solve, and the Newton update with its regularization of singular matrices
 //! (docs/method.md §4, §7).
 
+use super::assemble::KinematicColumns;
 use super::held::{HeldSets, SetPolicy};
 use super::{FactoredFor, Stepper, SINGULAR_SETS_KEPT};
 use crate::attempt::{AttemptFailure, Trial};
@@ -291,12 +292,13 @@ impl<S: System> Stepper<S> {
         self.residual(x, sets, &p);
         // The full matrix: nothing pruned.
         self.mark_unused(None);
-        self.jacobian(x, sets, &p, 0.0);
+        self.jacobian(x, sets, &p);
         let n = self.off.n;
         let mut j = DMatrix::zeros(n, n);
         for &(r, c, v) in &self.work.jac {
             j[(r, c)] += v;
         }
+        KinematicColumns::new(self.options.dt, &p).to_unknown_columns(&self.off, &mut j);
         (self.work.res.clone(), j)
     }
 
@@ -405,9 +407,9 @@ impl<S: System> Stepper<S> {
         // contacts are those of a singular plain matrix go straight to the regularized
         // one, whatever their friction sets.
         let redundant = |known: &IndexSets| known.same_normal_sets(sets);
+        self.jacobian(x, sets, p);
         if !(eps > 0.0 && self.work.singular_sets.iter().any(redundant)) {
-            self.jacobian(x, sets, p, 0.0);
-            match self.newton_direction(prune, Factor::Plain, dx) {
+            match self.newton_direction(prune, Factor::Plain, p, dx) {
                 Ok(()) => {
                     self.work.factored = Some(FactoredFor {
                         sets: sets.clone(),
@@ -429,8 +431,8 @@ impl<S: System> Stepper<S> {
             }
             known.push(sets.clone());
         }
-        self.jacobian(x, sets, p, eps);
-        self.newton_direction(prune, Factor::Equilibrated, dx)
+        self.regularize(eps);
+        self.newton_direction(prune, Factor::Equilibrated, p, dx)
     }
 
     /// The simplified Newton update from the solver's kept factors into `dx`, when they
@@ -448,13 +450,27 @@ impl<S: System> Stepper<S> {
                 && f.dt == self.options.dt
                 && f.rho_inf == p.rho_inf
         });
-        fits && self.newton_direction(prune, Factor::Kept, dx).is_ok()
+        fits && self.newton_direction(prune, Factor::Kept, p, dx).is_ok()
     }
 
     /// The Newton update dx = −J⁻¹R from the assembled Jacobian and residual, or with
     /// `again` from the solver's kept factors (a simplified Newton update), on the reduced
-    /// system when open contacts are pruned (their updates are 0).
+    /// system when open contacts are pruned (their updates are 0). The matrix is
+    /// assembled in the unknowns z of [`KinematicColumns`]; dx = T dz.
     fn newton_direction(
+        &mut self,
+        prune: Option<&Pruning>,
+        factor: Factor,
+        p: &GenAlpha,
+        dx: &mut [f64],
+    ) -> Result<(), crate::linalg::LinalgError> {
+        let out = self.newton_direction_in_z(prune, factor, dx);
+        KinematicColumns::new(self.options.dt, p).to_unknowns(&self.off, dx);
+        out
+    }
+
+    /// [`Self::newton_direction`] before the change back to x: dz = −(∂R/∂x T)⁻¹ R.
+    fn newton_direction_in_z(
         &mut self,
         prune: Option<&Pruning>,
         factor: Factor,
@@ -487,17 +503,18 @@ impl<S: System> Stepper<S> {
         let out = if again {
             w.solver.solve_again(&mut w.rhs_red)
         } else {
-            // Renumbered in place (the assembled Jacobian is not used again), without a
-            // branch per entry: about one entry in seven is pruned, in no predictable order.
+            // Renumbered without a branch per entry: about one entry in seven is pruned,
+            // in no predictable order.
+            let pruned = &mut w.jac_pruned;
+            pruned.resize(w.jac.len(), (0, 0, 0.0));
             let mut kept = 0;
-            for i in 0..w.jac.len() {
-                let (r, c, v) = w.jac[i];
+            for &(r, c, v) in &w.jac {
                 let (r, c) = (map[r], map[c]);
-                w.jac[kept] = (r, c, v);
+                pruned[kept] = (r, c, v);
                 kept += usize::from(r != usize::MAX && c != usize::MAX);
             }
-            w.jac.truncate(kept);
-            w.solver.solve(*n_red, &w.jac, &mut w.rhs_red)
+            pruned.truncate(kept);
+            w.solver.solve(*n_red, pruned, &mut w.rhs_red)
         };
         for (i, &m) in map.iter().enumerate() {
             dx[i] = if m == usize::MAX { 0.0 } else { w.rhs_red[m] };
