@@ -605,7 +605,12 @@ fn scene_sweep_runs_the_product_of_its_keys_in_order() {
         assert!(r["error"].is_null(), "{r}");
         assert!(r["steps"].as_u64().unwrap() > 0 && f(&r["top_y"]) > 0.0);
     }
+    assert!(rows.iter().all(|r| r["linear_solves"].as_u64().is_some()));
     let (header, csv_rows) = read_csv(&dir.join("sweep_scene.csv"));
+    let solves = header.iter().position(|h| h == "linear_solves").unwrap();
+    for (row, csv) in rows.iter().zip(&csv_rows) {
+        assert_eq!(csv[solves], row["linear_solves"].to_string());
+    }
     assert_eq!(
         header[..5],
         [

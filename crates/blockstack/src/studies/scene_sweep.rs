@@ -396,6 +396,7 @@ impl SceneSweep {
             failed_steps: 0,
             branch_points: 0,
             fallback_steps: 0,
+            linear_solves: 0,
             min_gap: None,
             max_penetration: None,
             top_x: None,
@@ -422,6 +423,7 @@ impl SceneSweep {
                 row.failed_steps = s.failed_steps;
                 row.branch_points = s.branch_points.len();
                 row.fallback_steps = s.fallback_steps;
+                row.linear_solves = s.linear_solves;
                 row.min_gap = Some(s.min_gap).filter(|g| g.is_finite());
                 row.max_penetration = Some(s.deepest.depth());
                 row.error = s.error.map(|e| one_line(&e.to_string()));
@@ -488,6 +490,8 @@ pub struct SceneRow {
     pub branch_points: usize,
     /// Steps taken by the last resort (Moreau–Jean solved by Lemke's method).
     pub fallback_steps: usize,
+    /// Linear solves of the Newton iterations in every attempt (the run's work).
+    pub linear_solves: u64,
     /// Smallest gap among the contacts that can close over the run, or null when none
     /// could.
     pub min_gap: Option<f64>,
@@ -508,7 +512,7 @@ pub struct SceneRow {
 
 impl SceneRow {
     /// The measured columns, after the swept keys' columns.
-    pub const MEASURED: [&'static str; 14] = [
+    pub const MEASURED: [&'static str; 15] = [
         "failure_time",
         "opening_time",
         "t_final",
@@ -516,6 +520,7 @@ impl SceneRow {
         "failed_steps",
         "branch_points",
         "fallback_steps",
+        "linear_solves",
         "min_gap",
         "max_penetration",
         "top_x",
@@ -548,6 +553,7 @@ impl SceneRow {
             self.failed_steps.to_string(),
             self.branch_points.to_string(),
             self.fallback_steps.to_string(),
+            self.linear_solves.to_string(),
             optional_text(self.min_gap),
             optional_text(self.max_penetration),
             optional_text(self.top_x),
