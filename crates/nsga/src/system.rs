@@ -393,6 +393,14 @@ pub trait System {
     /// u. `t` is the integrator's own time t_k = t0 + kΔt (ERRATA 20).
     fn evaluate<T: Scalar>(&self, t: f64, q: &[T], u: &[T], out: &mut Evaluation<T>);
 
+    /// [`System::evaluate`] at a real state: what the stepper calls for every Newton
+    /// iterate. Default: `evaluate::<f64>`. A system may override it to keep between
+    /// calls the buffers that an evaluation generic over the scalar cannot keep (the
+    /// block stack's contact lists); it must fill `out` exactly as `evaluate` does.
+    fn evaluate_real(&self, t: f64, q: &[f64], u: &[f64], out: &mut Evaluation<f64>) {
+        self.evaluate(t, q, u, out);
+    }
+
     /// The kinematic matrix B(t,q) (nq × nu, as (coordinate, velocity, value) triplets)
     /// of q̇ = B u. Default: the identity (q̇ = u).
     fn kinematics(&self, _t: f64, q: &[f64], b: &mut Triplets<f64>) {

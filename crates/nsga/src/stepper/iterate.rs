@@ -132,7 +132,8 @@ impl<S: System> Stepper<S> {
         let t1 = self.t_next();
         let w = &mut self.work;
         w.eval.reset();
-        self.system.evaluate(t1, &w.it.q1, &w.it.u1, &mut w.eval);
+        self.system
+            .evaluate_real(t1, &w.it.q1, &w.it.u1, &mut w.eval);
         if update_prox {
             prox_parameters(
                 self.options.prox,

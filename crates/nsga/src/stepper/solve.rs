@@ -367,7 +367,7 @@ impl<S: System> Stepper<S> {
             return;
         }
         w.eval.reset();
-        self.system.evaluate(st.t, &st.q, &st.u, &mut w.eval);
+        self.system.evaluate_real(st.t, &st.q, &st.u, &mut w.eval);
         w.state_levels.evaluate(st, &w.eval);
     }
 
