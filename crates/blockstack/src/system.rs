@@ -926,12 +926,7 @@ mod tests {
     #[test]
     fn real_evaluations_equal_generic_ones_bitwise() {
         // A moving base (so t matters), a floor, and two corner contacts in slots.
-        let scene = shaking_column(&Shaking {
-            blocks: 3,
-            ..Shaking::default()
-        })
-        .unwrap();
-        let mut sys = StackSystem::new(scene);
+        let mut sys = StackSystem::new(shaken_column(3));
         sys.assign_corner_contacts(&[on_base_top(1), on_base_top(2)]);
         let layout = sys.layout();
         let q0 = sys.scene().initial_coordinates();
@@ -998,13 +993,17 @@ mod tests {
         }
     }
 
-    #[test]
-    fn sparse_derivatives_equal_forward_ad_on_a_shaken_column() {
-        let scene = shaking_column(&Shaking {
-            blocks: 5,
+    /// The built-in shaken column of `blocks` blocks, on its moving base above a floor.
+    fn shaken_column(blocks: usize) -> Scene {
+        shaking_column(&Shaking {
+            blocks,
             ..Shaking::default()
         })
-        .unwrap();
-        check(scene, 0.77);
+        .unwrap()
+    }
+
+    #[test]
+    fn sparse_derivatives_equal_forward_ad_on_a_shaken_column() {
+        check(shaken_column(5), 0.77);
     }
 }
