@@ -125,6 +125,30 @@ impl<T> InterfaceContacts<T> {
     }
 }
 
+/// One end of an interface for the choice of its gap (G.2.2): the lower block's top
+/// corner, the upper block's bottom corner, and the sign that makes "beyond" point
+/// outward from the interface along e₁ of the upper block.
+#[derive(Debug, Clone, Copy)]
+struct InterfaceEnd {
+    lower: Corner,
+    upper: Corner,
+    outward: f64,
+}
+
+/// The left end, (G.2.2)₁: ℓ_b when (b − c)·e₁ > 0, else ℓ_c.
+const LEFT_END: InterfaceEnd = InterfaceEnd {
+    lower: Corner::B,
+    upper: Corner::C,
+    outward: 1.0,
+};
+
+/// The right end, (G.2.2)₂: ℓ_a when (a − d)·e₁ < 0, else ℓ_d.
+const RIGHT_END: InterfaceEnd = InterfaceEnd {
+    lower: Corner::A,
+    upper: Corner::D,
+    outward: -1.0,
+};
+
 /// The contact between a lower body (block k, or the base) and the upper block k+1.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Interface {
@@ -230,23 +254,7 @@ impl Interface {
         upper: &BodyState<T>,
     ) -> InterfaceGap<T> {
         let frames = (Frame::of(&lower.pose), Frame::of(&upper.pose));
-        self.left_gap_of(frames, lower, upper)
-    }
-
-    /// [`Interface::left_gap`] with the bodies' frames, which decide the case.
-    fn left_gap_of<T: Scalar>(
-        &self,
-        (pl, pu): (Frame, Frame),
-        lower: &BodyState<T>,
-        upper: &BodyState<T>,
-    ) -> InterfaceGap<T> {
-        let b = pl.point(&self.lower.corner(Corner::B));
-        let c = pu.point(&self.upper.corner(Corner::C));
-        if (b - c).dot(&pu.e1) > 0.0 {
-            self.lower_corner_gap(Corner::B, lower, upper)
-        } else {
-            self.upper_corner_gap(Corner::C, lower, upper)
-        }
+        self.end_gap(LEFT_END, frames, lower, upper)
     }
 
     /// The right gap: ℓ_a or ℓ_d per (G.2.2)₂.
@@ -257,22 +265,26 @@ impl Interface {
         upper: &BodyState<T>,
     ) -> InterfaceGap<T> {
         let frames = (Frame::of(&lower.pose), Frame::of(&upper.pose));
-        self.right_gap_of(frames, lower, upper)
+        self.end_gap(RIGHT_END, frames, lower, upper)
     }
 
-    /// [`Interface::right_gap`] with the bodies' frames, which decide the case.
-    fn right_gap_of<T: Scalar>(
+    /// The gap at one end of the interface, (G.2.2): the lower block's top corner against
+    /// the upper's bottom face when that corner lies beyond the upper's bottom corner
+    /// along e₁ of the upper block, outward from the interface; otherwise the upper
+    /// corner against the lower's top face. The bodies' frames decide the case.
+    fn end_gap<T: Scalar>(
         &self,
+        end: InterfaceEnd,
         (pl, pu): (Frame, Frame),
         lower: &BodyState<T>,
         upper: &BodyState<T>,
     ) -> InterfaceGap<T> {
-        let a = pl.point(&self.lower.corner(Corner::A));
-        let d = pu.point(&self.upper.corner(Corner::D));
-        if (a - d).dot(&pu.e1) < 0.0 {
-            self.lower_corner_gap(Corner::A, lower, upper)
+        let l = pl.point(&self.lower.corner(end.lower));
+        let u = pu.point(&self.upper.corner(end.upper));
+        if end.outward * (l - u).dot(&pu.e1) > 0.0 {
+            self.lower_corner_gap(end.lower, lower, upper)
         } else {
-            self.upper_corner_gap(Corner::D, lower, upper)
+            self.upper_corner_gap(end.upper, lower, upper)
         }
     }
 
@@ -359,8 +371,8 @@ impl Interface {
         upper: &BodyState<T>,
     ) -> InterfaceContacts<T> {
         let frames = (Frame::of(&lower.pose), Frame::of(&upper.pose));
-        let left = self.left_gap_of(frames, lower, upper);
-        let right = self.right_gap_of(frames, lower, upper);
+        let left = self.end_gap(LEFT_END, frames, lower, upper);
+        let right = self.end_gap(RIGHT_END, frames, lower, upper);
         let closer = if re(right.row.value) < re(left.row.value) {
             &right
         } else {
