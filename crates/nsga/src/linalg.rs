@@ -44,14 +44,31 @@ pub trait LinearSolver: std::fmt::Debug + Send {
 
 /// The ∞-norm max |xᵢ| of a residual, NaN when an entry is NaN: `f64::max` alone skips a
 /// NaN, which let a residual of NaN entries read as converged.
+///
+/// It runs on every Newton iterate's residual: four lanes of maxima, because one running
+/// maximum makes each entry wait for the last (a chain of dependent `max`es that cost
+/// the Lire collapse about 3 % of its time). `max` is exact, so the lanes give the
+/// one-accumulator value to the bit.
 pub(crate) fn max_norm(v: &[f64]) -> f64 {
-    v.iter().fold(0.0_f64, |m, x| {
-        if m.is_nan() || x.is_nan() {
-            f64::NAN
-        } else {
-            m.max(x.abs())
+    let mut lanes = [0.0_f64; 4];
+    let mut nan = false;
+    let chunks = v.chunks_exact(4);
+    let rest = chunks.remainder();
+    for chunk in chunks {
+        for (lane, x) in lanes.iter_mut().zip(chunk) {
+            *lane = lane.max(x.abs());
+            nan |= x.is_nan();
         }
-    })
+    }
+    for x in rest {
+        lanes[0] = lanes[0].max(x.abs());
+        nan |= x.is_nan();
+    }
+    if nan {
+        f64::NAN
+    } else {
+        lanes.into_iter().fold(0.0, f64::max)
+    }
 }
 
 /// Euclidean norm of a short slice.
@@ -337,6 +354,25 @@ impl LinearSolver for AutoSolver {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn max_norm_is_the_largest_magnitude_or_nan() {
+        let v: Vec<f64> = (0..11).map(|i| f64::from(i * 7 % 11) - 5.5).collect();
+        for len in 0..=v.len() {
+            let one_by_one = v[..len].iter().fold(0.0_f64, |m, x| m.max(x.abs()));
+            assert_eq!(max_norm(&v[..len]).to_bits(), one_by_one.to_bits());
+            let mut with_nan = v[..len].to_vec();
+            with_nan.push(f64::NAN);
+            with_nan.rotate_right(len / 2 + 1);
+            assert!(
+                max_norm(&with_nan).is_nan(),
+                "NaN at {} of {}",
+                len / 2,
+                len + 1
+            );
+        }
+        assert_eq!(max_norm(&[-0.0]).to_bits(), 0.0_f64.to_bits());
+    }
 
     #[test]
     fn dense_and_sparse_agree_with_duplicates() {
