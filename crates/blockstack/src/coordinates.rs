@@ -128,7 +128,14 @@ impl Frame {
     /// The frame of a pose (real parts).
     #[must_use]
     pub fn of<T: Scalar>(pose: &Pose<T>) -> Self {
-        let (s, c) = pose.theta.re().sin_cos();
+        Self::turned(pose, &Rotation::of(pose.theta.re()))
+    }
+
+    /// The frame of a pose whose rotation is evaluated already (in any scalar type: its
+    /// real parts are sin θ and cos θ of the real θ, the same bits).
+    #[must_use]
+    pub fn turned<T: Scalar, R: Scalar>(pose: &Pose<T>, rotation: &Rotation<R>) -> Self {
+        let (s, c) = (rotation.sin.re(), rotation.cos.re());
         Self {
             r: Vec2::new(pose.x.re(), pose.y.re()),
             e1: Vec2::new(c, s),
@@ -141,6 +148,36 @@ impl Frame {
     #[must_use]
     pub fn point(&self, body: &Vec2<f64>) -> Vec2<f64> {
         self.r + rotate(self.e1.y, self.e1.x, body)
+    }
+}
+
+/// sin θ and cos θ of a body, evaluated once for every vector the body turns.
+///
+/// A contact row turns up to three of them per body (a corner, a face's normal and
+/// tangent), and an interface evaluates three rows: through [`Pose::to_world`] alone that
+/// is one `sin_cos` per vector, a tenth of a stack's evaluation (more in a derivative
+/// pass, where each is a dual number). [`Rotation::apply`] is the same formula as
+/// [`Pose::to_world`], so both give the same bits.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Rotation<T = f64> {
+    /// sin θ.
+    pub sin: T,
+    /// cos θ.
+    pub cos: T,
+}
+
+impl<T: Scalar> Rotation<T> {
+    /// The rotation by θ.
+    #[must_use]
+    pub fn of(theta: T) -> Self {
+        let (sin, cos) = theta.sin_cos();
+        Self { sin, cos }
+    }
+
+    /// R(θ) (α, β): a vector given on {e₁, e₂}, expressed on {E₁, E₂}.
+    #[must_use]
+    pub fn apply(&self, body: &Vec2<f64>) -> Vec2<T> {
+        rotate(self.sin, self.cos, body)
     }
 }
 
@@ -203,8 +240,13 @@ impl<T: Scalar> Pose<T> {
     /// A vector given by constant components (α, β) on {e₁, e₂}, expressed on {E₁, E₂}.
     #[must_use]
     pub fn to_world(&self, body: &Vec2<f64>) -> Vec2<T> {
-        let (s, c) = self.theta.sin_cos();
-        rotate(s, c, body)
+        self.rotation().apply(body)
+    }
+
+    /// The rotation R(θ) from {e₁, e₂} to {E₁, E₂}, for turning several vectors.
+    #[must_use]
+    pub fn rotation(&self) -> Rotation<T> {
+        Rotation::of(self.theta)
     }
 
     /// The point r + α e₁ + β e₂ of the body with components (α, β).
@@ -315,13 +357,20 @@ mod tests {
                 Dual64::new(-0.2, 0.5),
                 Dual64::new(theta, -1.0),
             );
-            for f in [Frame::of(&p), Frame::of(&d)] {
+            let turned = [
+                Frame::turned(&p, &p.rotation()),
+                Frame::turned(&d, &d.rotation()),
+            ];
+            for f in [Frame::of(&p), Frame::of(&d)].into_iter().chain(turned) {
                 assert_eq!(f.r, p.r());
                 assert_eq!(f.e1, p.e1());
                 assert_eq!(f.e2, p.e2());
                 assert_eq!(f.point(&body), p.point(&body));
                 assert_eq!(f.point(&body), d.point(&body).re());
             }
+            // A rotation evaluated once turns vectors as the pose does, to the bit.
+            assert_eq!(p.rotation().apply(&body), p.to_world(&body));
+            assert_eq!(d.rotation().apply(&body), d.to_world(&body));
         }
     }
 

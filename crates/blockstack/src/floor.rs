@@ -61,7 +61,9 @@ impl Floor {
     /// The four corner gaps and the slip of the lowest corner of a block.
     #[must_use]
     pub fn contacts<T: Scalar>(&self, block: &BodyState<T>, size: Size) -> FloorContacts<T> {
-        let gaps = Corner::ALL.map(|c| self.pair(c, block, size).gap());
+        // The block's rotation and the floor's (θ = 0), once for the five rows.
+        let rotations = self.pair(Corner::A, block, size).rotations();
+        let gaps = Corner::ALL.map(|c| self.pair(c, block, size).gap_turned(&rotations));
         let mut lowest = 0;
         for i in 1..4 {
             if re(gaps[i].value) < re(gaps[lowest].value) {
@@ -72,7 +74,9 @@ impl Floor {
         FloorContacts {
             gaps,
             lowest: corner,
-            slip: self.pair(corner, block, size).slip(LowerBody::Face),
+            slip: self
+                .pair(corner, block, size)
+                .slip_turned(LowerBody::Face, &rotations),
         }
     }
 }

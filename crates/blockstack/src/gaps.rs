@@ -16,7 +16,7 @@
 //!
 //!   ζ = 2 ω_B (v_A − v_B) · ⊥n_B + (2 ω_A ω_B − ω_A²) p · n_B − ω_B² δ · n_B.
 
-use crate::coordinates::{perp, BodyState, Scalar, Vec2};
+use crate::coordinates::{perp, BodyState, Rotation, Scalar, Vec2};
 
 /// A flat face of a body, described on the body's own basis {e₁, e₂}.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -150,10 +150,29 @@ pub struct CornerOnFace<T = f64> {
     pub face: Face,
 }
 
+/// The rotations of the two bodies of a [`CornerOnFace`], evaluated once for its gap and
+/// its slip (see [`Rotation`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PairRotations<T = f64> {
+    /// R(θ_A) of the corner's body.
+    pub corner: Rotation<T>,
+    /// R(θ_B) of the face's body.
+    pub face: Rotation<T>,
+}
+
 impl<T: Scalar> CornerOnFace<T> {
+    /// The rotations of the corner's and the face's bodies at their states.
+    #[must_use]
+    pub fn rotations(&self) -> PairRotations<T> {
+        PairRotations {
+            corner: self.corner_body.pose.rotation(),
+            face: self.face_body.pose.rotation(),
+        }
+    }
+
     /// World offset p = R(θ_A) ρ_P of the corner from A's centre of mass.
-    pub(crate) fn corner_offset(&self) -> Vec2<T> {
-        self.corner_body.pose.to_world(&self.corner)
+    pub(crate) fn corner_offset(&self, rotations: &PairRotations<T>) -> Vec2<T> {
+        rotations.corner.apply(&self.corner)
     }
 
     /// The signed distance g of the corner from the face's line, positive outside,
@@ -161,9 +180,15 @@ impl<T: Scalar> CornerOnFace<T> {
     /// `w_first` on the corner's body A and `w_second` on the face's body B.
     #[must_use]
     pub fn gap(&self) -> PairRow<T> {
+        self.gap_turned(&self.rotations())
+    }
+
+    /// [`CornerOnFace::gap`] with the bodies' rotations at hand.
+    #[must_use]
+    pub fn gap_turned(&self, rotations: &PairRotations<T>) -> PairRow<T> {
         let (a, b) = (&self.corner_body, &self.face_body);
-        let p = self.corner_offset();
-        let n = b.pose.to_world(&self.face.normal);
+        let p = self.corner_offset(rotations);
+        let n = rotations.face.apply(&self.face.normal);
         let delta = a.pose.r() + p - b.pose.r();
         let value = delta.dot(&n) - T::from(self.face.offset);
         let perp_n = perp(&n);

@@ -23,9 +23,9 @@
 //! face of k, and (iii) the bottom face of k+1 overlaps the top face of k along e₁^k.
 //! Otherwise the two gaps cannot close (the upper block has fallen off).
 
-use crate::coordinates::{re, BodyState, Frame, Scalar, Vec2};
+use crate::coordinates::{re, BodyState, Frame, Rotation, Scalar, Vec2};
 use crate::corners::Corner;
-use crate::gaps::{CornerOnFace, Face, PairRow};
+use crate::gaps::{CornerOnFace, Face, PairRotations, PairRow};
 use crate::slip::LowerBody;
 
 /// e₂·e₂ above which a supported interface's gaps hold the contact (cos 60°); see
@@ -158,6 +158,47 @@ pub struct Interface {
     pub upper: Size,
 }
 
+/// The two bodies of an interface with their rotations, evaluated once for the two gaps,
+/// the slip and the decisions between the cases (their frames): see [`Rotation`].
+struct Turned<'a, T> {
+    lower: &'a BodyState<T>,
+    upper: &'a BodyState<T>,
+    rotations: (Rotation<T>, Rotation<T>),
+    frames: (Frame, Frame),
+}
+
+impl<'a, T: Scalar> Turned<'a, T> {
+    fn of(lower: &'a BodyState<T>, upper: &'a BodyState<T>) -> Self {
+        let rotations = (lower.pose.rotation(), upper.pose.rotation());
+        let frames = (
+            Frame::turned(&lower.pose, &rotations.0),
+            Frame::turned(&upper.pose, &rotations.1),
+        );
+        Self {
+            lower,
+            upper,
+            rotations,
+            frames,
+        }
+    }
+
+    /// A top corner of the lower body on the bottom face of the upper.
+    fn lower_corner(&self) -> PairRotations<T> {
+        PairRotations {
+            corner: self.rotations.0,
+            face: self.rotations.1,
+        }
+    }
+
+    /// A bottom corner of the upper body on the top face of the lower.
+    fn upper_corner(&self) -> PairRotations<T> {
+        PairRotations {
+            corner: self.rotations.1,
+            face: self.rotations.0,
+        }
+    }
+}
+
 impl Interface {
     /// An interface between bodies of the given sizes.
     #[must_use]
@@ -253,8 +294,7 @@ impl Interface {
         lower: &BodyState<T>,
         upper: &BodyState<T>,
     ) -> InterfaceGap<T> {
-        let frames = (Frame::of(&lower.pose), Frame::of(&upper.pose));
-        self.end_gap(LEFT_END, frames, lower, upper)
+        self.end_gap(LEFT_END, &Turned::of(lower, upper))
     }
 
     /// The right gap: ℓ_a or ℓ_d per (G.2.2)₂.
@@ -264,27 +304,21 @@ impl Interface {
         lower: &BodyState<T>,
         upper: &BodyState<T>,
     ) -> InterfaceGap<T> {
-        let frames = (Frame::of(&lower.pose), Frame::of(&upper.pose));
-        self.end_gap(RIGHT_END, frames, lower, upper)
+        self.end_gap(RIGHT_END, &Turned::of(lower, upper))
     }
 
     /// The gap at one end of the interface, (G.2.2): the lower block's top corner against
     /// the upper's bottom face when that corner lies beyond the upper's bottom corner
     /// along e₁ of the upper block, outward from the interface; otherwise the upper
     /// corner against the lower's top face. The bodies' frames decide the case.
-    fn end_gap<T: Scalar>(
-        &self,
-        end: InterfaceEnd,
-        (pl, pu): (Frame, Frame),
-        lower: &BodyState<T>,
-        upper: &BodyState<T>,
-    ) -> InterfaceGap<T> {
+    fn end_gap<T: Scalar>(&self, end: InterfaceEnd, bodies: &Turned<'_, T>) -> InterfaceGap<T> {
+        let (pl, pu) = &bodies.frames;
         let l = pl.point(&self.lower.corner(end.lower));
         let u = pu.point(&self.upper.corner(end.upper));
         if end.outward * (l - u).dot(&pu.e1) > 0.0 {
-            self.lower_corner_gap(end.lower, lower, upper)
+            self.lower_corner_gap(end.lower, bodies)
         } else {
-            self.upper_corner_gap(end.upper, lower, upper)
+            self.upper_corner_gap(end.upper, bodies)
         }
     }
 
@@ -318,28 +352,20 @@ impl Interface {
         }
     }
 
-    fn lower_corner_gap<T: Scalar>(
-        &self,
-        corner: Corner,
-        lower: &BodyState<T>,
-        upper: &BodyState<T>,
-    ) -> InterfaceGap<T> {
+    fn lower_corner_gap<T: Scalar>(&self, corner: Corner, b: &Turned<'_, T>) -> InterfaceGap<T> {
+        let pair = self.lower_corner_pair(corner, b.lower, b.upper);
         InterfaceGap {
             case: GapCase::LowerCorner(corner),
-            row: self.lower_corner_pair(corner, lower, upper).gap(),
+            row: pair.gap_turned(&b.lower_corner()),
         }
     }
 
-    fn upper_corner_gap<T: Scalar>(
-        &self,
-        corner: Corner,
-        lower: &BodyState<T>,
-        upper: &BodyState<T>,
-    ) -> InterfaceGap<T> {
+    fn upper_corner_gap<T: Scalar>(&self, corner: Corner, b: &Turned<'_, T>) -> InterfaceGap<T> {
+        let pair = self.upper_corner_pair(corner, b.lower, b.upper);
         InterfaceGap {
             case: GapCase::UpperCorner(corner),
             // Stored corner-body first; swap so that the lower block comes first.
-            row: self.upper_corner_pair(corner, lower, upper).gap().swapped(),
+            row: pair.gap_turned(&b.upper_corner()).swapped(),
         }
     }
 
@@ -351,13 +377,18 @@ impl Interface {
         lower: &BodyState<T>,
         upper: &BodyState<T>,
     ) -> PairRow<T> {
+        self.turned_slip_at(gap, &Turned::of(lower, upper))
+    }
+
+    /// [`Interface::slip_at`] with the bodies' rotations at hand.
+    fn turned_slip_at<T: Scalar>(&self, gap: &InterfaceGap<T>, b: &Turned<'_, T>) -> PairRow<T> {
         match gap.case {
             GapCase::LowerCorner(c) => self
-                .lower_corner_pair(c, lower, upper)
-                .slip(LowerBody::Corner),
+                .lower_corner_pair(c, b.lower, b.upper)
+                .slip_turned(LowerBody::Corner, &b.lower_corner()),
             GapCase::UpperCorner(c) => self
-                .upper_corner_pair(c, lower, upper)
-                .slip(LowerBody::Face)
+                .upper_corner_pair(c, b.lower, b.upper)
+                .slip_turned(LowerBody::Face, &b.upper_corner())
                 .swapped(),
         }
     }
@@ -370,9 +401,10 @@ impl Interface {
         lower: &BodyState<T>,
         upper: &BodyState<T>,
     ) -> InterfaceContacts<T> {
-        let frames = (Frame::of(&lower.pose), Frame::of(&upper.pose));
-        let left = self.end_gap(LEFT_END, frames, lower, upper);
-        let right = self.end_gap(RIGHT_END, frames, lower, upper);
+        let bodies = Turned::of(lower, upper);
+        let frames = &bodies.frames;
+        let left = self.end_gap(LEFT_END, &bodies);
+        let right = self.end_gap(RIGHT_END, &bodies);
         let closer = if re(right.row.value) < re(left.row.value) {
             &right
         } else {
@@ -382,7 +414,7 @@ impl Interface {
             support: self.support_of(&frames.0, &frames.1),
             left,
             right,
-            slip: self.slip_at(closer, lower, upper),
+            slip: self.turned_slip_at(closer, &bodies),
             facing: frames.0.e2.dot(&frames.1.e2),
         }
     }

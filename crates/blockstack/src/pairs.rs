@@ -238,15 +238,16 @@ impl CornerContact {
         } else {
             LowerBody::Face
         };
-        let mut slip = pair.slip(lower);
+        let rotations = pair.rotations();
+        let mut slip = pair.slip_turned(lower, &rotations);
         if let Some(t) = along {
-            let tangent = face.pose.to_world(&face_geometry.tangent);
+            let tangent = rotations.face.apply(&face_geometry.tangent);
             if re(tangent.dot(t)) < 0.0 {
                 slip = slip.negated();
             }
         }
         let fold = |row| pair_row(&row, blocks, &base_vel, base_acc);
-        (fold(pair.gap()), fold(slip))
+        (fold(pair.gap_turned(&rotations)), fold(slip))
     }
 }
 

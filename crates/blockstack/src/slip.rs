@@ -16,7 +16,7 @@
 //!   γ̇ = Wᵀu̇ + ζ_F,  ζ_F = σ [ ω_B (v_A − v_B) · ⊥t_B + (ω_A ω_B − ω_A²) p · t_B ].
 
 use crate::coordinates::{perp, Scalar};
-use crate::gaps::{CornerOnFace, PairRow};
+use crate::gaps::{CornerOnFace, PairRotations, PairRow};
 
 /// Which body of a corner-on-face pair is the lower one (it fixes the sign σ of the slip).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -32,14 +32,20 @@ impl<T: Scalar> CornerOnFace<T> {
     /// (G.3.1). Stored with `w_first` on the corner's body and `w_second` on the face's.
     #[must_use]
     pub fn slip(&self, lower: LowerBody) -> PairRow<T> {
+        self.slip_turned(lower, &self.rotations())
+    }
+
+    /// [`CornerOnFace::slip`] with the bodies' rotations at hand.
+    #[must_use]
+    pub fn slip_turned(&self, lower: LowerBody, rotations: &PairRotations<T>) -> PairRow<T> {
         let sigma = match lower {
             LowerBody::Corner => 1.0,
             LowerBody::Face => -1.0,
         };
         let (a, b) = (&self.corner_body, &self.face_body);
-        let p = self.corner_offset();
-        let t = b.pose.to_world(&self.face.tangent);
-        let n = b.pose.to_world(&self.face.normal);
+        let p = self.corner_offset(rotations);
+        let t = rotations.face.apply(&self.face.tangent);
+        let n = rotations.face.apply(&self.face.normal);
         let face_arm = perp(&n).dot(&t) * self.face.offset;
         let w_first = [t.x, t.y, perp(&p).dot(&t)].map(|w| w * sigma);
         let w_second = [-t.x, -t.y, -face_arm].map(|w| w * sigma);
