@@ -42,6 +42,9 @@ pub struct CornerStepping {
     pub split_steps: usize,
     /// The most corner contacts in the slots at once.
     pub most_contacts: usize,
+    /// The state before the step being taken, kept to undo it: a buffer reused from
+    /// step to step (`State::clone_from`), not a new copy per step.
+    before: nsga::State,
 }
 
 impl CornerStepping {
@@ -61,6 +64,7 @@ impl CornerStepping {
     pub fn for_branch(&self) -> Self {
         Self {
             wanted: None,
+            before: nsga::State::default(),
             ..self.clone()
         }
     }
@@ -128,10 +132,12 @@ impl CornerStepping {
     ) -> Result<(), StepError> {
         let wanted = self.wanted(scene, stepper);
         self.assign(stepper, &wanted)?;
-        let before = stepper.state().clone();
+        let mut before = std::mem::take(&mut self.before);
+        before.clone_from(stepper.state());
         stepper.step()?;
         let missed = self.penetrating(scene, stepper, &before, tol);
         if missed.is_empty() {
+            self.before = before;
             return Ok(());
         }
         self.redone_steps += 1;

@@ -144,7 +144,13 @@ impl<S: System> MoreauStepper<S> {
         self.system.evaluate(t_m, &q_m, &st.u, &mut self.eval);
         let e = &self.eval;
         let (mut r_pos, mut r_vel, mut r_law) = (Vec::new(), Vec::new(), Vec::new());
-        prox_parameters(self.options.prox, l, e, &mut r_pos, &mut r_vel, &mut r_law);
+        prox_parameters(
+            self.options.prox,
+            l,
+            e,
+            (&mut r_pos, &mut r_vel, &mut r_law),
+            &mut Vec::new(),
+        );
         let closed: Vec<bool> = (0..nn).map(|k| e.position[ng + k] <= 0.0).collect();
         // ṗ(u_n), v(u_n) for the restitution terms.
         let mut rate_old = e.position_chi.clone();

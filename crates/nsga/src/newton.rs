@@ -100,6 +100,13 @@ pub trait NewtonProblem {
     fn kept_direction(&mut self, _sets: &Self::Sets, _dx: &mut [f64]) -> bool {
         false
     }
+
+    /// Takes back sets that an evaluation returned and the engine no longer needs (equal
+    /// to sets visited already), so that the problem can reuse their buffers. Default:
+    /// dropped.
+    fn recycle(&mut self, sets: Self::Sets) {
+        drop(sets);
+    }
 }
 
 /// The best (smallest-residual) iterate of an attempt that did not converge.
@@ -151,6 +158,11 @@ pub enum Outcome<S> {
 pub struct NewtonScratch {
     dx: Vec<f64>,
     x_from: Vec<f64>,
+    /// Per iterate: the id of its sets in `visited`, and ‖R‖∞.
+    history: Vec<usize>,
+    residuals: Vec<f64>,
+    /// The best iterate's x.
+    best_x: Vec<f64>,
 }
 
 /// Solves `problem` by semismooth Newton from `x`, which holds the last iterate at the
@@ -164,11 +176,10 @@ pub fn solve<P: NewtonProblem>(
     scratch.dx.clear();
     scratch.dx.resize(x.len(), 0.0);
     let mut visited: Vec<P::Sets> = Vec::new();
-    let mut history: Vec<usize> = Vec::new();
-    let mut residuals: Vec<f64> = Vec::new();
-    // Best iterate so far: (residual, iteration, visited-set id) and its x.
+    scratch.history.clear();
+    scratch.residuals.clear();
+    // Best iterate so far: (residual, iteration, visited-set id); its x in the scratch.
     let mut best: Option<(f64, usize, usize)> = None;
-    let mut best_x: Vec<f64> = Vec::new();
     // The evaluation the line search left behind, to be used by the next iteration.
     let mut pending: Option<(P::Sets, f64)> = None;
     // Simplified Newton bookkeeping: whether the last update reused kept factors, how
@@ -181,22 +192,26 @@ pub fn solve<P: NewtonProblem>(
             None => problem.evaluate(x, iter == 0),
         };
         let id = match visited.iter().position(|v| v == &sets) {
-            Some(i) => i,
+            Some(i) => {
+                problem.recycle(sets);
+                i
+            }
             None => {
-                visited.push(sets.clone());
+                visited.push(sets);
                 visited.len() - 1
             }
         };
-        history.push(id);
+        let sets = &visited[id];
+        scratch.history.push(id);
         if !res.is_finite() {
             return Outcome::NonFinite;
         }
-        if problem.restart(&sets) {
+        if problem.restart(sets) {
             return Outcome::Restart;
         }
         if res <= settings.tol {
             return Outcome::Converged {
-                sets,
+                sets: sets.clone(),
                 iterations: iter,
                 residual: res,
                 visited,
@@ -204,14 +219,14 @@ pub fn solve<P: NewtonProblem>(
         }
         if best.as_ref().is_none_or(|b| res < b.0) {
             best = Some((res, iter, id));
-            best_x.clear();
-            best_x.extend_from_slice(x);
+            scratch.best_x.clear();
+            scratch.best_x.extend_from_slice(x);
         }
-        residuals.push(res);
+        scratch.residuals.push(res);
         let hopeless = match settings.give_up {
             GiveUp::Never => false,
-            GiveUp::SettledCycle => settled_cycle(&history, &residuals),
-            GiveUp::Stall => stalled(&residuals),
+            GiveUp::SettledCycle => settled_cycle(&scratch.history, &scratch.residuals),
+            GiveUp::Stall => stalled(&scratch.residuals),
         };
         if iter == settings.max_iter || hopeless {
             break;
@@ -220,12 +235,12 @@ pub fn solve<P: NewtonProblem>(
         if reused && res > REUSE_CONTRACTION * last_res {
             may_reuse = false;
         }
-        reused = may_reuse && reuses < MAX_REUSES && problem.kept_direction(&sets, &mut scratch.dx);
+        reused = may_reuse && reuses < MAX_REUSES && problem.kept_direction(sets, &mut scratch.dx);
         if reused {
             reuses += 1;
         } else {
             reuses = 0;
-            if let Err(message) = problem.exact_direction(x, &sets, &mut scratch.dx) {
+            if let Err(message) = problem.exact_direction(x, sets, &mut scratch.dx) {
                 return Outcome::Singular(message);
             }
         }
@@ -233,11 +248,12 @@ pub fn solve<P: NewtonProblem>(
         pending = Some(line_search(problem, x, settings.line_search, res, scratch));
     }
     // Cycling: more than one distinct set among the last half of the iterates.
+    let history = &scratch.history;
     let tail = &history[history.len().saturating_sub(1) / 2..];
     let cycling = settings.give_up != GiveUp::Stall && tail.iter().any(|&i| i != tail[0]);
     Outcome::NotConverged {
         best: best.map(|(residual, iteration, id)| BestIterate {
-            x: best_x,
+            x: scratch.best_x.clone(),
             residual,
             iteration,
             sets: visited[id].clone(),

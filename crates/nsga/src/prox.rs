@@ -7,13 +7,16 @@ use nalgebra::DMatrix;
 
 /// Per-constraint prox parameters r for position- and velocity-level constraints
 /// and friction laws (docs/method.md §4): r_k = α/(w_kᵀ M⁻¹ w_k), or a constant.
+///
+/// The stepper calls this at the start of every Newton attempt: the quadratic forms
+/// are accumulated in the output vectors themselves and `diag` is the caller's scratch
+/// for the diagonal of M, so that a call allocates nothing once the buffers have grown.
 pub(crate) fn prox_parameters(
     prox: Prox,
     layout: &Layout,
     eval: &Evaluation<f64>,
-    r_pos: &mut Vec<f64>,
-    r_vel: &mut Vec<f64>,
-    r_law: &mut Vec<f64>,
+    (r_pos, r_vel, r_law): (&mut Vec<f64>, &mut Vec<f64>, &mut Vec<f64>),
+    diag: &mut Vec<f64>,
 ) {
     let (np, nv) = (layout.n_position(), layout.n_velocity());
     r_pos.clear();
@@ -29,11 +32,11 @@ pub(crate) fn prox_parameters(
         Prox::Scaled(a) => a,
     };
     let nu = layout.nu;
-    // wᵀM⁻¹w: exact through a dense factorisation for small systems, Jacobi (diagonal
-    // of M) for large ones, exact for the block-diagonal masses of rigid bodies with
-    // diagonal inertia.
-    let mut quad_pos = vec![0.0; np];
-    let mut quad_vel = vec![0.0; nv];
+    // wᵀM⁻¹w, into r_pos and r_vel until r_of below turns them into r: exact through a
+    // dense factorisation for small systems, Jacobi (diagonal of M) for large ones,
+    // exact for the block-diagonal masses of rigid bodies with diagonal inertia.
+    r_pos.resize(np, 0.0);
+    r_vel.resize(nv, 0.0);
     // A diagonal M (point masses, planar rigid bodies) is inverted exactly below.
     let diagonal_mass = eval.mass.entries.iter().all(|&(r, c, _)| r == c);
     if nu <= 60 && !diagonal_mass {
@@ -59,14 +62,15 @@ pub(crate) fn prox_parameters(
                 s
             };
             for (k, c) in columns(&eval.position_w, np).iter().enumerate() {
-                quad_pos[k] = quad(c);
+                r_pos[k] = quad(c);
             }
             for (k, c) in columns(&eval.velocity_w, nv).iter().enumerate() {
-                quad_vel[k] = quad(c);
+                r_vel[k] = quad(c);
             }
         }
     } else {
-        let mut diag = vec![0.0; nu];
+        diag.clear();
+        diag.resize(nu, 0.0);
         for &(r, c, v) in &eval.mass.entries {
             if r == c {
                 diag[r] += v;
@@ -80,8 +84,8 @@ pub(crate) fn prox_parameters(
                 }
             }
         };
-        accumulate(&eval.position_w, &mut quad_pos);
-        accumulate(&eval.velocity_w, &mut quad_vel);
+        accumulate(&eval.position_w, r_pos);
+        accumulate(&eval.velocity_w, r_vel);
     }
     let r_of = |w: f64| {
         if w > 1e-300 && w.is_finite() {
@@ -90,14 +94,17 @@ pub(crate) fn prox_parameters(
             alpha
         }
     };
-    r_pos.extend(quad_pos.iter().map(|&w| r_of(w)));
-    r_vel.extend(quad_vel.iter().map(|&w| r_of(w)));
-    let ngam = layout.n_bilateral_velocity;
-    for (law, f0) in layout.friction.iter().zip(layout.friction_offsets()) {
-        let off = ngam + f0;
-        let w = (0..law.components)
-            .map(|m| quad_vel[off + m])
+    // A law's r from the largest wᵀM⁻¹w of its components, read before r_vel becomes r.
+    let mut component = layout.n_bilateral_velocity;
+    for law in &layout.friction {
+        let w = r_vel[component..component + law.components]
+            .iter()
+            .copied()
             .fold(0.0, f64::max);
         r_law.push(r_of(w));
+        component += law.components;
+    }
+    for r in r_pos.iter_mut().chain(r_vel.iter_mut()) {
+        *r = r_of(*r);
     }
 }

@@ -34,6 +34,21 @@ impl IndexSets {
         }
     }
 
+    /// Makes these sets [`IndexSets::empty`] for `n_normal` contacts and `n_laws`
+    /// friction laws, in their own buffers.
+    pub fn reset(&mut self, n_normal: usize, n_laws: usize) {
+        for (v, n) in [
+            (&mut self.a, n_normal),
+            (&mut self.b, n_normal),
+            (&mut self.c, n_normal),
+            (&mut self.d, n_laws),
+            (&mut self.e, n_laws),
+        ] {
+            v.clear();
+            v.resize(n, false);
+        }
+    }
+
     /// Whether the sizes match and the nesting A ⊇ B ⊇ C, D ⊇ E holds.
     #[must_use]
     pub fn is_consistent(&self, n_normal: usize, n_laws: usize) -> bool {
@@ -80,6 +95,16 @@ impl IndexSets {
 mod tests {
     use super::IndexSets;
 
+    /// A copy of `s` with every set filled, then reset to its sizes.
+    fn opened_and_reset(s: &IndexSets) -> IndexSets {
+        let mut t = s.clone();
+        for v in [&mut t.a, &mut t.b, &mut t.c, &mut t.d, &mut t.e] {
+            v.iter_mut().for_each(|x| *x = true);
+        }
+        t.reset(s.a.len(), s.d.len());
+        t
+    }
+
     #[test]
     fn normal_sets_compare_without_the_friction_sets() {
         let mut s = IndexSets::empty(2, 1);
@@ -87,6 +112,10 @@ mod tests {
         let mut slipping = s.clone();
         slipping.d = vec![true];
         assert!(s.same_normal_sets(&slipping));
+        let mut reused = opened_and_reset(&s);
+        assert_eq!(reused, IndexSets::empty(2, 1));
+        reused.reset(1, 3);
+        assert_eq!(reused, IndexSets::empty(1, 3));
         let mut opened = s.clone();
         opened.a[1] = false;
         assert!(!s.same_normal_sets(&opened));

@@ -123,7 +123,13 @@ pub fn consistent_start<S: System>(
     let mut e = Evaluation::<f64>::new(layout);
     system.evaluate(t0, q0, u0, &mut e);
     let (mut r_pos, mut r_vel, mut r_law) = (Vec::new(), Vec::new(), Vec::new());
-    prox_parameters(options.prox, layout, &e, &mut r_pos, &mut r_vel, &mut r_law);
+    prox_parameters(
+        options.prox,
+        layout,
+        &e,
+        (&mut r_pos, &mut r_vel, &mut r_law),
+        &mut Vec::new(),
+    );
     let mut rate = e.position_chi.clone();
     for &(r, c, v) in &e.position_w.entries {
         rate[c] += v * u0[r];

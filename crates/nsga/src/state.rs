@@ -7,7 +7,7 @@ use crate::linalg::norm;
 pub const SAME_MOTION: f64 = 1e-8;
 
 /// The state carried from step to step (docs/method.md §3 "Carried over").
-#[derive(Debug, Clone, Default, PartialEq, serde::Serialize, serde::Deserialize)]
+#[derive(Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct State {
     /// Step counter k (t = t0 + k Δt, ERRATA 20).
     pub k: u64,
@@ -37,7 +37,95 @@ pub struct State {
     pub x: Vec<f64>,
 }
 
+/// Field by field, so that `clone_from` reuses the vectors' buffers: a caller that keeps
+/// a copy of the state before each step (to undo it) then allocates nothing per step.
+impl Clone for State {
+    fn clone(&self) -> Self {
+        let mut copy = Self {
+            k: self.k,
+            t: self.t,
+            ..Self::default()
+        };
+        copy.clone_from(self);
+        copy
+    }
+
+    fn clone_from(&mut self, source: &Self) {
+        self.k = source.k;
+        self.t = source.t;
+        for (to, from) in self.vectors_mut().into_iter().zip(source.vectors()) {
+            to.clone_from(from);
+        }
+    }
+}
+
 impl State {
+    /// The vectors q, u, a, ā, λ_N, λ̄_N, λ_F, λ̄_F, P_N, P_F, x, in that order. (The
+    /// destructuring names every field: a field added to the state must be added here,
+    /// or to the scalars, for the clone to copy it.)
+    fn vectors(&self) -> [&Vec<f64>; 11] {
+        let Self {
+            k: _,
+            t: _,
+            q,
+            u,
+            a,
+            a_bar,
+            lambda_n,
+            lambda_n_bar,
+            lambda_f,
+            lambda_f_bar,
+            p_n,
+            p_f,
+            x,
+        } = self;
+        [
+            q,
+            u,
+            a,
+            a_bar,
+            lambda_n,
+            lambda_n_bar,
+            lambda_f,
+            lambda_f_bar,
+            p_n,
+            p_f,
+            x,
+        ]
+    }
+
+    /// [`State::vectors`], mutable.
+    fn vectors_mut(&mut self) -> [&mut Vec<f64>; 11] {
+        let Self {
+            k: _,
+            t: _,
+            q,
+            u,
+            a,
+            a_bar,
+            lambda_n,
+            lambda_n_bar,
+            lambda_f,
+            lambda_f_bar,
+            p_n,
+            p_f,
+            x,
+        } = self;
+        [
+            q,
+            u,
+            a,
+            a_bar,
+            lambda_n,
+            lambda_n_bar,
+            lambda_f,
+            lambda_f_bar,
+            p_n,
+            p_f,
+            x,
+        ]
+    }
+
     /// Whether two states are the same continuation: q and u agree to 1e-8 relative to
     /// 1 + ‖q‖ + ‖u‖ (how branch candidates are deduplicated, docs/method.md §4).
     #[must_use]
@@ -65,19 +153,7 @@ impl State {
     /// carries them. Zero is the value these numbers approximate, and it is what they
     /// become. (Measured in docs/method.md §3, "What is committed".)
     pub fn flush_subnormals(&mut self) {
-        for v in [
-            &mut self.q,
-            &mut self.u,
-            &mut self.a,
-            &mut self.a_bar,
-            &mut self.lambda_n,
-            &mut self.lambda_n_bar,
-            &mut self.lambda_f,
-            &mut self.lambda_f_bar,
-            &mut self.p_n,
-            &mut self.p_f,
-            &mut self.x,
-        ] {
+        for v in self.vectors_mut() {
             // A branch-free scan first (it vectorizes): most states have none.
             let any = v.iter().fold(false, |any, z| any | z.is_subnormal());
             if any {
@@ -104,5 +180,27 @@ mod tests {
         s.flush_subnormals();
         assert_eq!(s.u, vec![0.0, 0.0, f64::MIN_POSITIVE, 1.0, 0.0]);
         assert_eq!(s.x, vec![0.0, 1e-300]);
+    }
+
+    /// Every field is copied, by `clone` and by `clone_from` into a state of other sizes.
+    #[test]
+    fn clones_copy_every_field() {
+        let ramp = |n: usize, from: f64| (0..n).map(|i| from + i as f64).collect::<Vec<_>>();
+        let mut s = State {
+            k: 7,
+            t: 0.25,
+            ..State::default()
+        };
+        for (i, v) in s.vectors_mut().into_iter().enumerate() {
+            *v = ramp(i + 1, 10.0 * i as f64);
+        }
+        assert_eq!(s.clone(), s);
+        let mut reused = State {
+            k: 1,
+            q: vec![0.0; 30],
+            ..State::default()
+        };
+        reused.clone_from(&s);
+        assert_eq!(reused, s);
     }
 }

@@ -61,6 +61,11 @@ pub use predict::PREDICTED_START_ITERATIONS;
 /// 938 linear solves per run, against 810 remembering the normal sets of the last 16.
 pub const SINGULAR_SETS_KEPT: usize = 16;
 
+/// Spent index sets kept for their buffers: a step evaluates a few iterates, each of
+/// which decides its sets anew (five vectors of flags), and most of them are dropped by
+/// the end of the step.
+const SPARE_SETS: usize = 8;
+
 /// The state at (k, t, q, u) with the accelerations and forces of a consistent start
 /// (docs/method.md §5): ā = a, λ̄ = λ, and the next Newton start x holding them.
 fn started_state(
@@ -147,6 +152,13 @@ struct Work {
     r_pos: Vec<f64>,
     r_vel: Vec<f64>,
     r_law: Vec<f64>,
+    /// Index sets no longer needed, whose buffers [`Stepper::compute_sets`] reuses (at
+    /// most [`SPARE_SETS`]).
+    spare_sets: Vec<IndexSets>,
+    /// The state the last commit replaced, whose buffers the next trial fills.
+    spare_state: State,
+    /// Scratch of `prox_parameters`: the diagonal of M.
+    mass_diagonal: Vec<f64>,
     it: Iterate,
     solver: Box<dyn LinearSolver>,
     /// Linear solves since the stepper was built, failed attempts included.
@@ -197,6 +209,9 @@ impl Work {
             r_pos: Vec::new(),
             r_vel: Vec::new(),
             r_law: Vec::new(),
+            spare_sets: Vec::new(),
+            spare_state: State::default(),
+            mass_diagonal: Vec::new(),
             it: Iterate::default(),
             solver,
             linear_solves: 0,
@@ -436,10 +451,25 @@ impl<S: System> Stepper<S> {
                 .last
                 .as_ref()
                 .is_some_and(|last| last.last_resort.is_none() && last.sets == trial.stats.sets);
-        let left = std::mem::replace(&mut self.state, trial.state);
-        self.predictor
-            .record(left.k, self.options.dt, left.x, same_sets);
-        self.last = Some(trial.stats);
+        for sets in trial.visited {
+            self.recycle_sets(sets);
+        }
+        let mut left = std::mem::replace(&mut self.state, trial.state);
+        let x = std::mem::take(&mut left.x);
+        self.predictor.record(left.k, self.options.dt, x, same_sets);
+        // Its buffers serve the next step's trial state.
+        self.work.spare_state = left;
+        if let Some(last) = self.last.replace(trial.stats) {
+            self.recycle_sets(last.sets);
+        }
+    }
+
+    /// Keeps `sets` for [`Stepper::compute_sets`] to reuse, while fewer than
+    /// [`SPARE_SETS`] are kept.
+    fn recycle_sets(&mut self, sets: IndexSets) {
+        if self.work.spare_sets.len() < SPARE_SETS {
+            self.work.spare_sets.push(sets);
+        }
     }
 
     /// Adds one accepted step to the run statistics.

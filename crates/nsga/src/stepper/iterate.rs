@@ -139,9 +139,8 @@ impl<S: System> Stepper<S> {
                 self.options.prox,
                 &self.layout,
                 &w.eval,
-                &mut w.r_pos,
-                &mut w.r_vel,
-                &mut w.r_law,
+                (&mut w.r_pos, &mut w.r_vel, &mut w.r_law),
+                &mut w.mass_diagonal,
             );
         }
         let l = &self.layout;
@@ -221,10 +220,11 @@ impl<S: System> Stepper<S> {
         limit: Option<(&IndexSets, usize)>,
     ) -> IndexSets {
         let o = self.off;
+        let mut s = self.work.spare_sets.pop().unwrap_or_default();
+        s.reset(o.nn, self.layout.friction.len());
         let l = &self.layout;
         let w = &self.work;
         let it = &w.it;
-        let mut s = IndexSets::empty(o.nn, l.friction.len());
         let open_by = |k: usize| w.r_pos[o.ng + k] * it.p[o.ng + k] - it.kappa_hat[k];
         for k in 0..o.nn {
             s.a[k] = open_by(k) <= 0.0;

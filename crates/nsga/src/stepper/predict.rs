@@ -30,6 +30,9 @@ pub const PREDICTED_START_ITERATIONS: usize = 2;
 #[derive(Debug, Clone, Default)]
 pub(super) struct StartPredictor {
     history: Vec<(u64, f64, Vec<f64>)>,
+    /// The buffer of the solution that left the history, for the next prediction: the
+    /// unknowns go round from prediction to state to history without an allocation.
+    spare: Vec<f64>,
 }
 
 impl StartPredictor {
@@ -46,7 +49,7 @@ impl StartPredictor {
             return;
         }
         if self.history.len() == 2 {
-            self.history.remove(0);
+            self.spare = self.history.remove(0).2;
         }
         self.history.push((k, dt, x));
     }
@@ -54,17 +57,25 @@ impl StartPredictor {
     /// The predicted start of the step after state `k` whose solution is `x`, for time
     /// step `dt`: a, λ of every family extrapolated, the rest as in `x`; None without a
     /// history of consecutive steps of this Δt and layout.
-    pub(super) fn predict(&self, k: u64, dt: f64, x: &[f64], off: &Offsets) -> Option<Vec<f64>> {
-        // The solutions of steps k − 1, k − 2, … that fit, newest first.
-        let fitting: Vec<&[f64]> = self
+    pub(super) fn predict(
+        &mut self,
+        k: u64,
+        dt: f64,
+        x: &[f64],
+        off: &Offsets,
+    ) -> Option<Vec<f64>> {
+        // The solutions of steps k − 1 and k − 2 that fit, newest first.
+        let mut fitting = self
             .history
             .iter()
             .rev()
             .zip(1..)
             .take_while(|((kh, dh, xh), back)| kh + back == k && *dh == dt && xh.len() == x.len())
-            .map(|((_, _, xh), _)| xh.as_slice())
-            .collect();
-        let mut predicted = x.to_vec();
+            .map(|((_, _, xh), _)| xh.as_slice());
+        let fitting = [fitting.next()?, fitting.next().unwrap_or_default()];
+        let mut predicted = std::mem::take(&mut self.spare);
+        predicted.clear();
+        predicted.extend_from_slice(x);
         let smooth = [
             off.a..off.a + off.nu,
             off.lg..off.lg + off.ng,
@@ -72,12 +83,12 @@ impl StartPredictor {
             off.ln..off.ln + off.nn,
             off.lf..off.lf + off.nf,
         ];
-        match fitting[..] {
-            [] => return None,
-            [x1] => smooth.into_iter().flatten().for_each(|i| {
+        match fitting {
+            // Only the newest fits (a fitting solution has x's length, so is not empty).
+            [x1, []] => smooth.into_iter().flatten().for_each(|i| {
                 predicted[i] = 2.0 * x[i] - x1[i];
             }),
-            [x1, x2, ..] => smooth.into_iter().flatten().for_each(|i| {
+            [x1, x2] => smooth.into_iter().flatten().for_each(|i| {
                 predicted[i] = 3.0 * (x[i] - x1[i]) + x2[i];
             }),
         }

@@ -12,7 +12,6 @@ use crate::newton::{self, GiveUp, NewtonProblem, NewtonSettings, Outcome};
 use crate::params::GenAlpha;
 use crate::report::StepStats;
 use crate::sets::IndexSets;
-use crate::state::State;
 use crate::system::System;
 use nalgebra::DMatrix;
 
@@ -66,9 +65,9 @@ impl<S: System> NewtonProblem for StepProblem<'_, S> {
             return false;
         };
         let o = self.stepper.off;
-        self.closing = (0..o.nn)
-            .map(|k| map[o.kn + k] == usize::MAX && sets.a[k])
-            .collect();
+        self.closing.clear();
+        self.closing
+            .extend((0..o.nn).map(|k| map[o.kn + k] == usize::MAX && sets.a[k]));
         self.closing.iter().any(|&c| c)
     }
 
@@ -84,6 +83,10 @@ impl<S: System> NewtonProblem for StepProblem<'_, S> {
         self.stepper
             .exact_direction(x, sets, &self.params, self.prune, dx)
             .map_err(|e| e.0)
+    }
+
+    fn recycle(&mut self, sets: IndexSets) {
+        self.stepper.recycle_sets(sets);
     }
 
     fn kept_direction(&mut self, sets: &IndexSets, dx: &mut [f64]) -> bool {
@@ -541,23 +544,23 @@ impl<S: System> Stepper<S> {
             let w = &mut self.work;
             w.trial_levels.record(k, t, &x, &w.it);
         }
+        // Into the buffers of the state the last commit replaced (its x went on to the
+        // predictor): a step allocates no state of its own.
+        let mut state = std::mem::take(&mut self.work.spare_state);
         let it = &self.work.it;
-        let st = &self.state;
-        let state = State {
-            k: st.k + 1,
-            t: self.t_next(),
-            q: it.q1.clone(),
-            u: it.u1.clone(),
-            a: x[o.a..o.a + o.nu].to_vec(),
-            a_bar: it.a_bar1.clone(),
-            lambda_n: x[o.ln..o.ln + o.nn].to_vec(),
-            lambda_n_bar: it.lbar_n1.clone(),
-            lambda_f: x[o.lf..o.lf + o.nf].to_vec(),
-            lambda_f_bar: it.lbar_f1.clone(),
-            p_n: it.p_n.clone(),
-            p_f: it.p_f.clone(),
-            x,
-        };
+        state.k = self.state.k + 1;
+        state.t = self.t_next();
+        state.q.clone_from(&it.q1);
+        state.u.clone_from(&it.u1);
+        copy_into(&mut state.a, &x[o.a..o.a + o.nu]);
+        state.a_bar.clone_from(&it.a_bar1);
+        copy_into(&mut state.lambda_n, &x[o.ln..o.ln + o.nn]);
+        state.lambda_n_bar.clone_from(&it.lbar_n1);
+        copy_into(&mut state.lambda_f, &x[o.lf..o.lf + o.nf]);
+        state.lambda_f_bar.clone_from(&it.lbar_f1);
+        state.p_n.clone_from(&it.p_n);
+        state.p_f.clone_from(&it.p_f);
+        state.x = x;
         let stats = StepStats {
             last_resort: None,
             t: state.t,
@@ -578,4 +581,10 @@ impl<S: System> Stepper<S> {
             cycling,
         }
     }
+}
+
+/// `to` becomes a copy of `from`, in `to`'s buffer.
+fn copy_into(to: &mut Vec<f64>, from: &[f64]) {
+    to.clear();
+    to.extend_from_slice(from);
 }
