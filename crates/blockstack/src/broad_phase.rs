@@ -18,7 +18,7 @@
 //!
 //! [`Interface::support_margin`]: crate::interface::Interface::support_margin
 
-use crate::coordinates::{BodyState, Pose, Twist};
+use crate::coordinates::{BodyState, Frame, Pose, Twist};
 use crate::corners::Corner;
 use crate::gaps::Face;
 use crate::interface::Size;
@@ -43,6 +43,8 @@ pub const TIE: f64 = 1e-6;
 struct Boxed {
     body: Body,
     state: BodyState,
+    /// The state's frame: each body's sin θ, cos θ once for all its corners and faces.
+    frame: Frame,
     size: Size,
     lo: [f64; 2],
     hi: [f64; 2],
@@ -50,7 +52,8 @@ struct Boxed {
 }
 
 fn boxed(body: Body, state: BodyState, size: Size, dt: f64, delta: f64) -> Boxed {
-    let corners = crate::corners::corners(&state.pose, size.width, size.height);
+    let frame = Frame::of(&state.pose);
+    let corners = Corner::ALL.map(|c| frame.point(&c.body_offset(size.width, size.height)));
     let mut lo = [f64::INFINITY; 2];
     let mut hi = [f64::NEG_INFINITY; 2];
     for c in corners {
@@ -62,6 +65,7 @@ fn boxed(body: Body, state: BodyState, size: Size, dt: f64, delta: f64) -> Boxed
     Boxed {
         body,
         state,
+        frame,
         size,
         lo,
         hi,
@@ -72,11 +76,8 @@ fn boxed(body: Body, state: BodyState, size: Size, dt: f64, delta: f64) -> Boxed
 /// The face of `b` that corner `c` of `a` meets and its signed distance from it
 /// ([`Side::facing`], ties within `tie`).
 fn corner_face(a: &Boxed, c: Corner, b: &Boxed, tie: f64) -> (Side, f64) {
-    let p = a
-        .state
-        .pose
-        .point(&c.body_offset(a.size.width, a.size.height));
-    Side::facing(&p, &a.state.pose.r(), &b.state.pose, b.size, tie)
+    let p = a.frame.point(&c.body_offset(a.size.width, a.size.height));
+    Side::facing(&p, &a.frame.r, &b.frame, b.size, tie)
 }
 
 /// Body `b` of the scene at time t (a block's pose from q, its velocity from u, or at
@@ -103,13 +104,10 @@ fn scene_box(
 /// The gap of corner `c` of `a` against the body `b`: the largest signed distance from
 /// b's faces, positive exactly when the corner is outside b.
 fn corner_gap(a: &Boxed, c: Corner, b: &Boxed) -> f64 {
-    let p = a
-        .state
-        .pose
-        .point(&c.body_offset(a.size.width, a.size.height));
+    let p = a.frame.point(&c.body_offset(a.size.width, a.size.height));
     Face::of_rectangle(b.size.width, b.size.height)
         .iter()
-        .map(|f| f.distance(&b.state.pose, &p))
+        .map(|f| f.distance(&b.frame, &p))
         .fold(f64::NEG_INFINITY, f64::max)
 }
 
@@ -174,8 +172,8 @@ fn lines_of(a: &Boxed, b: &Boxed, found: &[Candidate]) -> Vec<LineContacts> {
     let world = |body: &Boxed, side: Side| {
         let f = side.face(body.size);
         (
-            body.state.pose.to_world(&f.normal),
-            body.state.pose.to_world(&f.tangent),
+            body.frame.to_world(&f.normal),
+            body.frame.to_world(&f.tangent),
         )
     };
     let line_of = |c: &CornerContact| {
@@ -240,12 +238,9 @@ fn pair_candidates(a: &Boxed, b: &Boxed, m: f64, reach: f64, tie: f64) -> Vec<Ca
     let mut found = Vec::new();
     for (x, y) in [(a, b), (b, a)] {
         for c in Corner::ALL {
-            let point = x
-                .state
-                .pose
-                .point(&c.body_offset(x.size.width, x.size.height));
+            let point = x.frame.point(&c.body_offset(x.size.width, x.size.height));
             let (face, gap) = corner_face(x, c, y, tie);
-            if gap >= m || face.beyond_end(&y.state.pose, y.size, &point) > reach + tie {
+            if gap >= m || face.beyond_end(&y.frame, y.size, &point) > reach + tie {
                 continue;
             }
             let contact = CornerContact {

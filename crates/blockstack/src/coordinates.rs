@@ -147,7 +147,14 @@ impl Frame {
     /// [`Pose::point`].
     #[must_use]
     pub fn point(&self, body: &Vec2<f64>) -> Vec2<f64> {
-        self.r + rotate(self.e1.y, self.e1.x, body)
+        self.r + self.to_world(body)
+    }
+
+    /// A vector given by its components (α, β) on {e₁, e₂}, expressed on {E₁, E₂}, as
+    /// [`Pose::to_world`].
+    #[must_use]
+    pub fn to_world(&self, body: &Vec2<f64>) -> Vec2<f64> {
+        rotate(self.e1.y, self.e1.x, body)
     }
 }
 

@@ -16,7 +16,7 @@
 //!
 //!   ζ = 2 ω_B (v_A − v_B) · ⊥n_B + (2 ω_A ω_B − ω_A²) p · n_B − ω_B² δ · n_B.
 
-use crate::coordinates::{perp, BodyState, Rotation, Scalar, Vec2};
+use crate::coordinates::{perp, BodyState, Frame, Rotation, Scalar, Vec2};
 
 /// A flat face of a body, described on the body's own basis {e₁, e₂}.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -68,10 +68,10 @@ impl Face {
     }
 
     /// The signed distance of the world point `p` from this face's line when the face
-    /// belongs to a body at `pose` (positive outside).
+    /// belongs to a body with frame `frame` (positive outside).
     #[must_use]
-    pub fn distance<T: Scalar>(&self, pose: &crate::coordinates::Pose<T>, p: &Vec2<T>) -> T {
-        (*p - pose.r()).dot(&pose.to_world(&self.normal)) - T::from(self.offset)
+    pub fn distance(&self, frame: &Frame, p: &Vec2) -> f64 {
+        (*p - frame.r).dot(&frame.to_world(&self.normal)) - self.offset
     }
 
     /// The floor seen from its own reference point (0, y_floor): normal E₂, tangent E₁.

@@ -26,7 +26,7 @@
 //! ([`crate::broad_phase`]); how they enter the stepper, the system's
 //! ([`crate::StackSystem`]).
 
-use crate::coordinates::{re, BodyState, Scalar, Twist};
+use crate::coordinates::{re, BodyState, Frame, Scalar, Twist};
 use crate::corners::Corner;
 use crate::gaps::{CornerOnFace, Face};
 use crate::interface::Size;
@@ -84,14 +84,14 @@ impl Side {
     pub fn facing(
         p: &crate::coordinates::Vec2,
         centre: &crate::coordinates::Vec2,
-        face: &crate::coordinates::Pose,
+        face: &Frame,
         face_size: Size,
         tie: f64,
     ) -> (Side, f64) {
         let faces = Face::of_rectangle(face_size.width, face_size.height);
         let d = faces.map(|f| f.distance(face, p));
         let best = d.iter().copied().fold(f64::NEG_INFINITY, f64::max);
-        let towards = |f: &Face| face.to_world(&f.normal).dot(&(*centre - face.r()));
+        let towards = |f: &Face| face.to_world(&f.normal).dot(&(*centre - face.r));
         let mut chosen = 0;
         for i in 1..4 {
             let better = d[i] >= best - tie
@@ -103,20 +103,16 @@ impl Side {
         (Self::ALL[chosen], d[chosen])
     }
 
-    /// How far beyond the nearer end of this face of a body (at `pose`, of `size`) the
-    /// world point `p` lies along the face (negative: within the face's extent). A corner
-    /// beyond the end of a face does not touch it: the other body's corner there does.
+    /// How far beyond the nearer end of this face of a body (with frame `frame`, of
+    /// `size`) the world point `p` lies along the face (negative: within the face's
+    /// extent). A corner beyond the end of a face does not touch it: the other body's
+    /// corner there does.
     #[must_use]
-    pub fn beyond_end(
-        self,
-        pose: &crate::coordinates::Pose,
-        size: Size,
-        p: &crate::coordinates::Vec2,
-    ) -> f64 {
-        let d = *p - pose.r();
+    pub fn beyond_end(self, frame: &Frame, size: Size, p: &crate::coordinates::Vec2) -> f64 {
+        let d = *p - frame.r;
         let (along, half) = match self {
-            Side::Top | Side::Bottom => (d.dot(&pose.e1()), 0.5 * size.width),
-            Side::Right | Side::Left => (d.dot(&pose.e2()), 0.5 * size.height),
+            Side::Top | Side::Bottom => (d.dot(&frame.e1), 0.5 * size.width),
+            Side::Right | Side::Left => (d.dot(&frame.e2), 0.5 * size.height),
         };
         along.abs() - half
     }
@@ -176,9 +172,7 @@ impl CornerContact {
     ) -> f64 {
         let offset = self.corner.body_offset(sizes[0].width, sizes[0].height);
         let p = corner.pose.point(&offset).re();
-        let pose =
-            crate::coordinates::Pose::new(re(face.pose.x), re(face.pose.y), re(face.pose.theta));
-        self.face.beyond_end(&pose, sizes[1], &p)
+        self.face.beyond_end(&Frame::of(&face.pose), sizes[1], &p)
     }
 
     /// Whether this is a contact that a neighbour interface measures while it supports
@@ -350,7 +344,7 @@ mod tests {
         let p = a
             .pose
             .point(&c.body_offset(SIZES[0].width, SIZES[0].height));
-        Side::facing(&p, &a.pose.r(), &b.pose, SIZES[1], 1e-9)
+        Side::facing(&p, &a.pose.r(), &Frame::of(&b.pose), SIZES[1], 1e-9)
     }
 
     #[test]
