@@ -51,78 +51,54 @@ impl Clone for State {
     }
 
     fn clone_from(&mut self, source: &Self) {
-        self.k = source.k;
-        self.t = source.t;
-        for (to, from) in self.vectors_mut().into_iter().zip(source.vectors()) {
-            to.clone_from(from);
-        }
+        // The destructuring names every field: one added to the state must be copied
+        // here too.
+        let Self {
+            k,
+            t,
+            q,
+            u,
+            a,
+            a_bar,
+            lambda_n,
+            lambda_n_bar,
+            lambda_f,
+            lambda_f_bar,
+            p_n,
+            p_f,
+            x,
+        } = source;
+        self.k = *k;
+        self.t = *t;
+        self.q.clone_from(q);
+        self.u.clone_from(u);
+        self.a.clone_from(a);
+        self.a_bar.clone_from(a_bar);
+        self.lambda_n.clone_from(lambda_n);
+        self.lambda_n_bar.clone_from(lambda_n_bar);
+        self.lambda_f.clone_from(lambda_f);
+        self.lambda_f_bar.clone_from(lambda_f_bar);
+        self.p_n.clone_from(p_n);
+        self.p_f.clone_from(p_f);
+        self.x.clone_from(x);
     }
 }
 
 impl State {
-    /// The vectors q, u, a, ā, λ_N, λ̄_N, λ_F, λ̄_F, P_N, P_F, x, in that order. (The
-    /// destructuring names every field: a field added to the state must be added here,
-    /// or to the scalars, for the clone to copy it.)
-    fn vectors(&self) -> [&Vec<f64>; 11] {
-        let Self {
-            k: _,
-            t: _,
-            q,
-            u,
-            a,
-            a_bar,
-            lambda_n,
-            lambda_n_bar,
-            lambda_f,
-            lambda_f_bar,
-            p_n,
-            p_f,
-            x,
-        } = self;
-        [
-            q,
-            u,
-            a,
-            a_bar,
-            lambda_n,
-            lambda_n_bar,
-            lambda_f,
-            lambda_f_bar,
-            p_n,
-            p_f,
-            x,
-        ]
-    }
-
-    /// [`State::vectors`], mutable.
+    /// The vectors q, u, a, ā, λ_N, λ̄_N, λ_F, λ̄_F, P_N, P_F, x, in that order.
     fn vectors_mut(&mut self) -> [&mut Vec<f64>; 11] {
-        let Self {
-            k: _,
-            t: _,
-            q,
-            u,
-            a,
-            a_bar,
-            lambda_n,
-            lambda_n_bar,
-            lambda_f,
-            lambda_f_bar,
-            p_n,
-            p_f,
-            x,
-        } = self;
         [
-            q,
-            u,
-            a,
-            a_bar,
-            lambda_n,
-            lambda_n_bar,
-            lambda_f,
-            lambda_f_bar,
-            p_n,
-            p_f,
-            x,
+            &mut self.q,
+            &mut self.u,
+            &mut self.a,
+            &mut self.a_bar,
+            &mut self.lambda_n,
+            &mut self.lambda_n_bar,
+            &mut self.lambda_f,
+            &mut self.lambda_f_bar,
+            &mut self.p_n,
+            &mut self.p_f,
+            &mut self.x,
         ]
     }
 
