@@ -166,7 +166,7 @@ pub fn deepest_penetration(scene: &Scene, t: f64, q: &[f64]) -> Penetration {
 #[must_use]
 pub fn penetration_depth(a: (&Pose, Size), b: (&Pose, Size)) -> f64 {
     // Each body's basis once: the corners and axes of [`corners`], [`Pose::e1`] and
-    // [`Pose::e2`], the same numbers (see [`Frame`]) for a tenth of the sin_cos calls.
+    // [`Pose::e2`], the same numbers (see [`Frame`]) for two sin_cos calls instead of twelve.
     let (fa, fb) = (Frame::of(a.0), Frame::of(b.0));
     let corners_of = |f: &Frame, size: Size| {
         Corner::ALL.map(|c| f.point(&c.body_offset(size.width, size.height)))
