@@ -12,6 +12,7 @@ use crate::newton::{self, GiveUp, NewtonProblem, NewtonSettings, Outcome};
 use crate::params::GenAlpha;
 use crate::report::StepStats;
 use crate::sets::IndexSets;
+use crate::state::State;
 use crate::system::System;
 use nalgebra::DMatrix;
 
@@ -545,22 +546,47 @@ impl<S: System> Stepper<S> {
             w.trial_levels.record(k, t, &x, &w.it);
         }
         // Into the buffers of the state the last commit replaced (its x went on to the
-        // predictor): a step allocates no state of its own.
-        let mut state = std::mem::take(&mut self.work.spare_state);
+        // predictor): a step allocates no state of its own. The literal below names
+        // every field, so none keeps a value of that older state.
+        let State {
+            mut q,
+            mut u,
+            mut a,
+            mut a_bar,
+            mut lambda_n,
+            mut lambda_n_bar,
+            mut lambda_f,
+            mut lambda_f_bar,
+            mut p_n,
+            mut p_f,
+            ..
+        } = std::mem::take(&mut self.work.spare_state);
         let it = &self.work.it;
-        state.k = self.state.k + 1;
-        state.t = self.t_next();
-        state.q.clone_from(&it.q1);
-        state.u.clone_from(&it.u1);
-        copy_into(&mut state.a, &x[o.a..o.a + o.nu]);
-        state.a_bar.clone_from(&it.a_bar1);
-        copy_into(&mut state.lambda_n, &x[o.ln..o.ln + o.nn]);
-        state.lambda_n_bar.clone_from(&it.lbar_n1);
-        copy_into(&mut state.lambda_f, &x[o.lf..o.lf + o.nf]);
-        state.lambda_f_bar.clone_from(&it.lbar_f1);
-        state.p_n.clone_from(&it.p_n);
-        state.p_f.clone_from(&it.p_f);
-        state.x = x;
+        q.clone_from(&it.q1);
+        u.clone_from(&it.u1);
+        copy_into(&mut a, &x[o.a..o.a + o.nu]);
+        a_bar.clone_from(&it.a_bar1);
+        copy_into(&mut lambda_n, &x[o.ln..o.ln + o.nn]);
+        lambda_n_bar.clone_from(&it.lbar_n1);
+        copy_into(&mut lambda_f, &x[o.lf..o.lf + o.nf]);
+        lambda_f_bar.clone_from(&it.lbar_f1);
+        p_n.clone_from(&it.p_n);
+        p_f.clone_from(&it.p_f);
+        let state = State {
+            k: self.state.k + 1,
+            t: self.t_next(),
+            q,
+            u,
+            a,
+            a_bar,
+            lambda_n,
+            lambda_n_bar,
+            lambda_f,
+            lambda_f_bar,
+            p_n,
+            p_f,
+            x,
+        };
         let stats = StepStats {
             last_resort: None,
             t: state.t,
