@@ -19,7 +19,7 @@
 //! [`Interface::support_margin`]: crate::interface::Interface::support_margin
 
 use crate::coordinates::{BodyState, Frame, Pose, Twist};
-use crate::corners::Corner;
+use crate::corners::{frame_corners, Corner};
 use crate::gaps::Face;
 use crate::interface::Size;
 use crate::overlap::Body;
@@ -53,7 +53,7 @@ struct Boxed {
 
 fn boxed(body: Body, state: BodyState, size: Size, dt: f64, delta: f64) -> Boxed {
     let frame = Frame::of(&state.pose);
-    let corners = Corner::ALL.map(|c| frame.point(&c.body_offset(size.width, size.height)));
+    let corners = frame_corners(&frame, size.width, size.height);
     let mut lo = [f64::INFINITY; 2];
     let mut hi = [f64::NEG_INFINITY; 2];
     for c in corners {

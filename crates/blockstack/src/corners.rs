@@ -1,6 +1,6 @@
 //! The four corners a, b, c, d of a block, (G.1.1), and their velocities, (G.3.2).
 
-use crate::coordinates::{BodyState, Pose, Scalar, Vec2};
+use crate::coordinates::{BodyState, Frame, Pose, Scalar, Vec2};
 
 /// A corner of a block, labelled as in (G.1.1) and Figure 4.1(b).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -62,6 +62,12 @@ pub fn corners<T: Scalar>(pose: &Pose<T>, width: f64, height: f64) -> [Vec2<T>; 
     Corner::ALL.map(|c| c.position(pose, width, height))
 }
 
+/// [`corners`] of a block whose frame is evaluated already (real parts; the same bits).
+#[must_use]
+pub fn frame_corners(frame: &Frame, width: f64, height: f64) -> [Vec2; 4] {
+    Corner::ALL.map(|c| frame.point(&c.body_offset(width, height)))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -81,5 +87,17 @@ mod tests {
         let p = Pose::new(0.0, 0.0, std::f64::consts::FRAC_PI_2);
         let a = Corner::A.position(&p, 2.0, 1.0);
         assert!((a - Vec2::new(-0.5, 1.0)).norm() < 1e-15);
+    }
+
+    /// The corners from a frame are the pose's corners to the bit.
+    #[test]
+    fn frame_corners_are_the_poses_corners() {
+        for theta in [0.0, 0.3, -2.1, std::f64::consts::FRAC_PI_2] {
+            let p = Pose::new(0.4, -1.2, theta);
+            assert_eq!(
+                frame_corners(&Frame::of(&p), 0.2, 0.4),
+                corners(&p, 0.2, 0.4)
+            );
+        }
     }
 }

@@ -6,7 +6,7 @@
 //! measures is how well the contacts are held: the solver's tolerance, or a defect.
 
 use crate::coordinates::{Frame, Pose, Vec2};
-use crate::corners::Corner;
+use crate::corners::frame_corners;
 use crate::interface::Size;
 use crate::scene::Scene;
 use std::fmt;
@@ -168,10 +168,8 @@ pub fn penetration_depth(a: (&Pose, Size), b: (&Pose, Size)) -> f64 {
     // Each body's basis once: the corners and axes of [`corners`], [`Pose::e1`] and
     // [`Pose::e2`], the same numbers (see [`Frame`]) for two sin_cos calls instead of twelve.
     let (fa, fb) = (Frame::of(a.0), Frame::of(b.0));
-    let corners_of = |f: &Frame, size: Size| {
-        Corner::ALL.map(|c| f.point(&c.body_offset(size.width, size.height)))
-    };
-    let (ca, cb) = (corners_of(&fa, a.1), corners_of(&fb, b.1));
+    let ca = frame_corners(&fa, a.1.width, a.1.height);
+    let cb = frame_corners(&fb, b.1.width, b.1.height);
     let axes = [fa.e1, fa.e2, fb.e1, fb.e2];
     let mut depth = f64::INFINITY;
     for axis in &axes {

@@ -127,10 +127,10 @@ impl<S: System> Stepper<S> {
     pub(super) fn jacobian(&mut self, x: &[f64], sets: &IndexSets, p: &GenAlpha) {
         let o = self.off;
         let dt = self.options.dt;
-        let ar = p.alpha_r();
         let KinematicColumns { c_ua, c_qa } = KinematicColumns::new(dt, p);
-        let c_pl = dt * p.gamma * ar; // ∂P/∂λ
-        let c_kl = dt * dt * p.beta * ar; // ∂κ̂/∂λ_N
+        // ∂P/∂λ and ∂κ̂/∂λ_N: the percussions follow λ (eqs. 95, 96) as u_{n+1} and
+        // q_{n+1} follow a (eqs. 73, 125), with the same factors Δt γ α_r and Δt² β α_r.
+        let (c_pl, c_kl) = (c_ua, c_qa);
         let t1 = self.state.t + dt;
         let l = &self.layout;
         let w = &mut self.work;
