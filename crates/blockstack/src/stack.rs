@@ -227,23 +227,27 @@ impl Scene {
     /// # Panics
     /// When q or u is shorter than 3n.
     pub fn contacts_into<T: Scalar>(&self, t: f64, q: &[T], u: &[T], out: &mut StackContacts<T>) {
-        self.contacts_into_with_floor(t, q, u, |_| true, out);
+        self.contacts_into_with_floor(t, q, u, |_| true, None, out);
     }
 
     /// [`Scene::contacts_into`] with the floor contacts of only the blocks `floor_of`
-    /// accepts (0-based). The numbering stays the same: a block left out gets `None`
-    /// corner gaps, a zero floor slip and no [`StackContacts::floor`] detail. For a
-    /// caller that knows those rows are not needed (a derivative pass for a Newton
-    /// matrix without them).
+    /// accepts (0-based), and with the interfaces whose gaps hold their contact given
+    /// by `holds` (one entry per interface; `None`: [`InterfaceContacts::holds`] at this
+    /// q). The numbering stays the same: a block left out gets `None` corner gaps, a
+    /// zero floor slip and no [`StackContacts::floor`] detail. For a caller that knows
+    /// those rows are not needed (a derivative pass for a Newton matrix without them),
+    /// and for the stepper's system, which decides the holding once per step
+    /// ([`crate::system::StackSystem::hold_interfaces`]).
     ///
     /// # Panics
-    /// When q or u is shorter than 3n.
+    /// When q or u is shorter than 3n, or `holds` has fewer than n entries.
     pub fn contacts_into_with_floor<T: Scalar>(
         &self,
         t: f64,
         q: &[T],
         u: &[T],
         floor_of: impl Fn(usize) -> bool,
+        holds: Option<&[bool]>,
         out: &mut StackContacts<T>,
     ) {
         let n = self.n_blocks();
@@ -251,29 +255,16 @@ impl Scene {
             q.len() >= 3 * n && u.len() >= 3 * n,
             "q and u need 3 entries per block"
         );
-        let base = BodyState::lift(&self.base().state(t));
         let base_acc = Twist::lift(&self.base().acceleration(t));
-        // States read on the fly from q and u: no allocation per call.
-        let block = |k: usize| {
-            BodyState::new(
-                Pose::from_slice(&q[3 * k..3 * k + 3]),
-                Twist::from_slice(&u[3 * k..3 * k + 3]),
-            )
-        };
         out.normals.clear();
         out.slips.clear();
         out.interfaces.clear();
         out.floor.clear();
         for k in 0..n {
-            let (lower_body, lower) = if k == 0 {
-                (Body::Base, base)
-            } else {
-                (Body::Block(k - 1), block(k - 1))
-            };
-            let c = self.interface(k).contacts(&lower, &block(k));
+            let (lower_body, lower, c) = self.interface_contacts(t, q, u, k);
             let fold =
                 |row: &PairRow<T>| fold_pair(row, lower_body, &lower, &base_acc, Body::Block(k));
-            let holds = c.holds();
+            let holds = holds.map_or_else(|| c.holds(), |h| h[k]);
             out.normals.push(holds.then(|| fold(&c.left.row)));
             out.normals.push(holds.then(|| fold(&c.right.row)));
             out.slips.push(fold(&c.slip));
@@ -291,7 +282,7 @@ impl Scene {
                     });
                     continue;
                 }
-                let c = floor.contacts(&block(i), self.size(i + 1));
+                let c = floor.contacts(&block_state(q, u, i), self.size(i + 1));
                 for g in &c.gaps {
                     out.normals.push(Some(single(g, i)));
                 }
@@ -300,6 +291,44 @@ impl Scene {
             }
         }
     }
+
+    /// Whether the gaps of each interface hold its contact at (t, q, u)
+    /// ([`InterfaceContacts::holds`]), without the rest of the contacts.
+    ///
+    /// # Panics
+    /// When q or u is shorter than 3n.
+    #[must_use]
+    pub fn interfaces_holding(&self, t: f64, q: &[f64], u: &[f64]) -> Vec<bool> {
+        (0..self.n_blocks())
+            .map(|k| self.interface_contacts(t, q, u, k).2.holds())
+            .collect()
+    }
+
+    /// The lower body of interface k (the base for k = 0), its state, and the
+    /// interface's contacts at (t, q, u).
+    fn interface_contacts<T: Scalar>(
+        &self,
+        t: f64,
+        q: &[T],
+        u: &[T],
+        k: usize,
+    ) -> (Body, BodyState<T>, InterfaceContacts<T>) {
+        let (lower_body, lower) = if k == 0 {
+            (Body::Base, BodyState::lift(&self.base().state(t)))
+        } else {
+            (Body::Block(k - 1), block_state(q, u, k - 1))
+        };
+        let c = self.interface(k).contacts(&lower, &block_state(q, u, k));
+        (lower_body, lower, c)
+    }
+}
+
+/// The state of block k (0-based) read from q and u.
+fn block_state<T: Scalar>(q: &[T], u: &[T], k: usize) -> BodyState<T> {
+    BodyState::new(
+        Pose::from_slice(&q[3 * k..3 * k + 3]),
+        Twist::from_slice(&u[3 * k..3 * k + 3]),
+    )
 }
 
 /// A row on (lower body, upper block) in global coordinates; a base's terms go into χ, ζ.

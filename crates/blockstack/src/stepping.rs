@@ -53,6 +53,9 @@ impl CornerStepping {
     pub fn start(&mut self, system: &mut StackSystem, q0: &[f64], u0: &[f64], dt: f64) {
         let list = corner_contacts(system.scene(), 0.0, q0, u0, dt);
         system.assign_corner_contacts(&list);
+        let holds = system.scene().interfaces_holding(0.0, q0, u0);
+        // The first decision: no forces to forget yet.
+        let _ = system.hold_interfaces(holds);
         self.most_contacts = self.most_contacts.max(count(&list));
         self.wanted = Some((0, list));
     }
@@ -94,6 +97,26 @@ impl CornerStepping {
         Ok(())
     }
 
+    /// Decides at the stepper's current state which interfaces hold their contact with
+    /// their own gaps for the step about to be taken
+    /// ([`StackSystem::hold_interfaces`]).
+    ///
+    /// # Errors
+    /// Only if the stepper refuses to forget the flipped interfaces' forces (a bug).
+    fn hold_interfaces(scene: &Scene, stepper: &mut Stepper<StackSystem>) -> Result<(), StepError> {
+        let st = stepper.state();
+        let holds = scene.interfaces_holding(st.t, &st.q, &st.u);
+        // Borrowed mutably only for a change, as in `assign`.
+        if stepper.system().holds_interfaces(&holds) {
+            return Ok(());
+        }
+        let change = stepper.system_mut().hold_interfaces(holds);
+        if change.normals.is_empty() {
+            return Ok(());
+        }
+        stepper.forget_contacts(&change.normals, &change.laws)
+    }
+
     /// The broad phase's list at the stepper's current state (computed once per state).
     fn wanted(&mut self, scene: &Scene, stepper: &Stepper<StackSystem>) -> Vec<LineContacts> {
         let st = stepper.state();
@@ -132,6 +155,7 @@ impl CornerStepping {
     ) -> Result<(), StepError> {
         let wanted = self.wanted(scene, stepper);
         self.assign(stepper, &wanted)?;
+        Self::hold_interfaces(scene, stepper)?;
         let mut before = std::mem::take(&mut self.before);
         before.clone_from(stepper.state());
         stepper.step()?;

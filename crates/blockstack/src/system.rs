@@ -79,6 +79,10 @@ pub struct StackSystem {
     /// a free slot. Each slot has two normal contacts and one friction law, after the
     /// scene's.
     slots: Vec<Option<LineContacts>>,
+    /// Whether each neighbour interface's gaps hold its contact, decided once per step
+    /// at the step's start ([`StackSystem::hold_interfaces`]); `None`: decided at every
+    /// evaluation from the evaluated q.
+    interface_holds: Option<Vec<bool>>,
     /// How far past the end of its face a corner contact's corner may be and still touch
     /// it: [`END_TOL`] times the smallest block dimension.
     end_tol: f64,
@@ -114,6 +118,7 @@ impl Clone for StackSystem {
     fn clone(&self) -> Self {
         let mut copy = Self::new(self.scene.clone());
         copy.slots.clone_from(&self.slots);
+        copy.interface_holds.clone_from(&self.interface_holds);
         copy
     }
 }
@@ -139,6 +144,7 @@ impl StackSystem {
             e_n: vec![scene.contact.e_n; scene.n_normal_contacts()],
             laws,
             slots: Vec::new(),
+            interface_holds: None,
             end_tol: END_TOL * scene.smallest_block_dimension(),
             scratch: RefCell::new(DualScratch::default()),
             real_contacts: RefCell::new(StackContacts::for_scene(&scene)),
@@ -157,6 +163,59 @@ impl StackSystem {
     pub fn slot_contacts(&self, s: usize) -> ([usize; 2], usize) {
         let first = self.e_n.len() + 2 * s;
         ([first, first + 1], self.laws.len() + s)
+    }
+
+    /// Decides which neighbour interfaces hold their contact with their own two gaps
+    /// (one entry per interface, as [`Scene::interfaces_holding`] gives them at the
+    /// state a step starts from) for every evaluation until the next call; the corner
+    /// contacts of the slots hold the others. Within a step the choice is fixed, as the
+    /// face of a corner contact is: decided from each evaluated q, it made the step's
+    /// equations discontinuous where a block turns or slides across the limit of
+    /// [`crate::interface::InterfaceContacts::holds`] (the same corner passes from an
+    /// interface gap to a slot's contact, with other unknowns), and Newton could cycle
+    /// between the two sides with no solution on either at any Δt (docs/method.md §8.2).
+    ///
+    /// Returns the normal contacts and friction laws of the interfaces whose choice
+    /// changed: their forces belong to the other side of the handover, and the stepper
+    /// must forget them ([`nsga::Stepper::forget_contacts`]), as for a slot given to
+    /// another contact. (With the forces of a held interface kept, a closed gap that no
+    /// longer has a W column made the next Newton matrix singular.)
+    ///
+    /// # Panics
+    /// When `holds` does not have one entry per interface.
+    pub fn hold_interfaces(&mut self, holds: Vec<bool>) -> SlotChange {
+        assert_eq!(
+            holds.len(),
+            self.scene.n_blocks(),
+            "one entry per interface"
+        );
+        let mut change = SlotChange::default();
+        if let Some(before) = &self.interface_holds {
+            for (k, (was, is)) in before.iter().zip(&holds).enumerate() {
+                if was != is {
+                    // Interface k: normal contacts 2k, 2k + 1 and friction law k
+                    // (`Scene::friction_laws`).
+                    change.normals.extend([2 * k, 2 * k + 1]);
+                    change.laws.push(k);
+                }
+            }
+        }
+        self.interface_holds = Some(holds);
+        change
+    }
+
+    /// Whether [`StackSystem::hold_interfaces`] with `holds` would change nothing.
+    #[must_use]
+    pub fn holds_interfaces(&self, holds: &[bool]) -> bool {
+        self.interface_holds.as_deref() == Some(holds)
+    }
+
+    /// Whether interface `k`, with contacts `c` at the evaluated q, holds its contact:
+    /// the decision of [`StackSystem::hold_interfaces`] if one was made.
+    fn interface_holds<T>(&self, k: usize, c: &crate::interface::InterfaceContacts<T>) -> bool {
+        self.interface_holds
+            .as_ref()
+            .map_or_else(|| c.holds(), |h| h[k])
     }
 
     /// Whether the slots hold exactly the `wanted` contact lines with their contacts, so
@@ -257,7 +316,10 @@ impl StackSystem {
     ) -> Option<SlotRows<T>> {
         // While the interface supports, it holds the corners it measures (ℓ_a…ℓ_d of
         // (G.2.3)); the line keeps only its other contacts (a corner against a side).
-        let supported = line.line.interface().is_some_and(|k| interfaces[k].holds());
+        let supported = line
+            .line
+            .interface()
+            .is_some_and(|k| self.interface_holds(k, &interfaces[k]));
         let size = |b| self.scene.size(body_index(b));
         // A corner that has slid past the end of its face no longer touches it (its face
         // was chosen at the start of the step): the contact opens rather than hold the
@@ -428,8 +490,14 @@ impl System for StackSystem {
                     .iter()
                     .any(|&k| probes.uses_position(k))
         };
-        self.scene
-            .contacts_into_with_floor(t, &s.q, &s.u, floor_used, &mut s.contacts);
+        self.scene.contacts_into_with_floor(
+            t,
+            &s.q,
+            &s.u,
+            floor_used,
+            self.interface_holds.as_deref(),
+            &mut s.contacts,
+        );
         for parity in 0..2 {
             for coord in 0..3 {
                 let (dq, du) = (
@@ -474,7 +542,8 @@ impl StackSystem {
             out.mass.push(i, i, T::from(m));
             out.forces[i] = T::from(h);
         }
-        self.scene.contacts_into(t, q, u, c);
+        self.scene
+            .contacts_into_with_floor(t, q, u, |_| true, self.interface_holds.as_deref(), c);
         for (i, row) in c.normals.iter().enumerate() {
             put_row(
                 row.as_ref(),
@@ -943,6 +1012,54 @@ mod tests {
             sys.evaluate_real(t, q, &u, &mut real);
             assert_eq!(format!("{real:?}"), format!("{generic:?}"), "t = {t}");
         }
+    }
+
+    /// The holding of an interface decided for a step stays across the limit of
+    /// `InterfaceContacts::holds` (faces turned 60° from each other): evaluated per q,
+    /// the gaps of interface 1 vanish there (the contact passes to the slots, with
+    /// other unknowns), which made the step's equations discontinuous; held, they go on
+    /// continuously and their derivatives stay exact. A flip of the decision names the
+    /// interface's contacts and law, whose forces the stepper must forget.
+    #[test]
+    fn the_interface_holding_decided_for_a_step_is_kept_across_the_limit() {
+        let mut sys = StackSystem::new(shaken_column(2));
+        let layout = sys.layout();
+        let q0 = sys.scene().initial_coordinates();
+        // The upper block turned by θ about its centre and moved left so that its bottom
+        // corner stays over the lower block's top face, the lower one upright: the faces
+        // are turned from each other by θ, and e₂·e₂ = cos θ passes `HOLDS` = cos 60°
+        // between the two.
+        let turned = |theta: f64| {
+            let mut q = q0.clone();
+            q[3] -= 0.15;
+            q[5] = theta;
+            q
+        };
+        let (before, after) = (turned(59.9_f64.to_radians()), turned(60.1_f64.to_radians()));
+        let u = vec![0.1; q0.len()];
+        let scene = sys.scene().clone();
+        assert_eq!(scene.interfaces_holding(0.3, &before, &u), [true, true]);
+        assert_eq!(scene.interfaces_holding(0.3, &after, &u), [true, false]);
+        let gaps = |sys: &StackSystem, q: &[f64]| {
+            let mut e = Evaluation::new(&layout);
+            sys.evaluate_real(0.3, q, &u, &mut e);
+            [e.position[2], e.position[3]]
+        };
+        assert_eq!(gaps(&sys, &after), [UNSUPPORTED_GAP; 2]);
+        let first = sys.hold_interfaces(scene.interfaces_holding(0.3, &before, &u));
+        assert_eq!(first, SlotChange::default());
+        let (held, across) = (gaps(&sys, &before), gaps(&sys, &after));
+        for (g0, g1) in held.into_iter().zip(across) {
+            assert!(
+                g1 != UNSUPPORTED_GAP && (g1 - g0).abs() < 2e-3,
+                "{g0} → {g1}"
+            );
+        }
+        check_system(&sys, 0.3, &[], &[]);
+        let flipped = sys.hold_interfaces(scene.interfaces_holding(0.3, &after, &u));
+        assert_eq!((flipped.normals, flipped.laws), (vec![2, 3], vec![1]));
+        assert!(sys.holds_interfaces(&[true, false]));
+        assert_eq!(gaps(&sys, &before), [UNSUPPORTED_GAP; 2]);
     }
 
     #[test]
