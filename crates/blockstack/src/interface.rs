@@ -212,6 +212,14 @@ impl Interface {
         self.support_of(&Frame::of(&lower.pose), &Frame::of(&upper.pose))
     }
 
+    /// Whether the interface's gaps hold the contact of the two bodies
+    /// ([`InterfaceContacts::holds`], the same decision), from their frames alone: the
+    /// support test and the facing, without the gaps and the slip.
+    #[must_use]
+    pub fn holds(&self, lower: &Frame, upper: &Frame) -> bool {
+        self.support_of(lower, upper) == Support::Supported && lower.e2.dot(&upper.e2) > HOLDS
+    }
+
     /// [`Interface::support`] from the bodies' frames: a decision, not a value, so real
     /// parts only.
     fn support_of(&self, pl: &Frame, pu: &Frame) -> Support {

@@ -23,7 +23,7 @@
 //! [`Scene::contact`](crate::Scene). Each row touches at most two bodies, so exact sparse
 //! Jacobians can be formed row by row.
 
-use crate::coordinates::{BodyState, Pose, Scalar, Twist};
+use crate::coordinates::{BodyState, Frame, Pose, Scalar, Twist};
 use crate::floor::FloorContacts;
 use crate::gaps::PairRow;
 use crate::interface::{Interface, InterfaceContacts};
@@ -255,13 +255,21 @@ impl Scene {
             q.len() >= 3 * n && u.len() >= 3 * n,
             "q and u need 3 entries per block"
         );
+        let base = BodyState::lift(&self.base().state(t));
         let base_acc = Twist::lift(&self.base().acceleration(t));
+        // States read on the fly from q and u: no allocation per call.
+        let block = |k: usize| block_state(q, u, k);
         out.normals.clear();
         out.slips.clear();
         out.interfaces.clear();
         out.floor.clear();
         for k in 0..n {
-            let (lower_body, lower, c) = self.interface_contacts(t, q, u, k);
+            let (lower_body, lower) = if k == 0 {
+                (Body::Base, base)
+            } else {
+                (Body::Block(k - 1), block(k - 1))
+            };
+            let c = self.interface(k).contacts(&lower, &block(k));
             let fold =
                 |row: &PairRow<T>| fold_pair(row, lower_body, &lower, &base_acc, Body::Block(k));
             let holds = holds.map_or_else(|| c.holds(), |h| h[k]);
@@ -282,7 +290,7 @@ impl Scene {
                     });
                     continue;
                 }
-                let c = floor.contacts(&block_state(q, u, i), self.size(i + 1));
+                let c = floor.contacts(&block(i), self.size(i + 1));
                 for g in &c.gaps {
                     out.normals.push(Some(single(g, i)));
                 }
@@ -299,27 +307,17 @@ impl Scene {
     /// When q or u is shorter than 3n.
     #[must_use]
     pub fn interfaces_holding(&self, t: f64, q: &[f64], u: &[f64]) -> Vec<bool> {
+        // Each body's frame once: it is the upper body of one interface and the lower
+        // of the next.
+        let mut lower = Frame::of(&self.base().state(t).pose);
         (0..self.n_blocks())
-            .map(|k| self.interface_contacts(t, q, u, k).2.holds())
+            .map(|k| {
+                let upper = Frame::of(&block_state(q, u, k).pose);
+                let holds = self.interface(k).holds(&lower, &upper);
+                lower = upper;
+                holds
+            })
             .collect()
-    }
-
-    /// The lower body of interface k (the base for k = 0), its state, and the
-    /// interface's contacts at (t, q, u).
-    fn interface_contacts<T: Scalar>(
-        &self,
-        t: f64,
-        q: &[T],
-        u: &[T],
-        k: usize,
-    ) -> (Body, BodyState<T>, InterfaceContacts<T>) {
-        let (lower_body, lower) = if k == 0 {
-            (Body::Base, BodyState::lift(&self.base().state(t)))
-        } else {
-            (Body::Block(k - 1), block_state(q, u, k - 1))
-        };
-        let c = self.interface(k).contacts(&lower, &block_state(q, u, k));
-        (lower_body, lower, c)
     }
 }
 

@@ -1040,6 +1040,15 @@ mod tests {
         let scene = sys.scene().clone();
         assert_eq!(scene.interfaces_holding(0.3, &before, &u), [true, true]);
         assert_eq!(scene.interfaces_holding(0.3, &after, &u), [true, false]);
+        for q in [&q0, &before, &after] {
+            let each: Vec<bool> = scene
+                .contacts(0.3, q, &u)
+                .interfaces
+                .iter()
+                .map(crate::interface::InterfaceContacts::holds)
+                .collect();
+            assert_eq!(scene.interfaces_holding(0.3, q, &u), each);
+        }
         let gaps = |sys: &StackSystem, q: &[f64]| {
             let mut e = Evaluation::new(&layout);
             sys.evaluate_real(0.3, q, &u, &mut e);
