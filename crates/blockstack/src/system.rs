@@ -56,8 +56,10 @@ fn part(x: &Directions, d: usize) -> f64 {
     x.eps.0.as_ref().map_or(0.0, |v| v[d])
 }
 
-/// The value reported for a gap that cannot close (its upper block has fallen off):
-/// any positive number makes the contact open with zero force.
+/// The value reported for a gap that cannot close (its upper block has fallen off, or a
+/// slot's corner has slid past the end of its face), with no W: positive, so the contact
+/// opens once its multipliers are zero (with a multiplier κ̂_N ≥ r left from an iterate
+/// where it was closed, the prox test still counts it closed; docs/method.md §8.2).
 pub const UNSUPPORTED_GAP: f64 = 1.0;
 
 /// How far past the end of its face (times the smallest block dimension) a corner contact
