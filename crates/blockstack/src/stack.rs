@@ -272,7 +272,7 @@ impl Scene {
             let c = self.interface(k).contacts(&lower, &block(k));
             let fold =
                 |row: &PairRow<T>| fold_pair(row, lower_body, &lower, &base_acc, Body::Block(k));
-            let holds = holds.map_or_else(|| c.holds(), |h| h[k]);
+            let holds = holds_contact(holds, k, &c);
             out.normals.push(holds.then(|| fold(&c.left.row)));
             out.normals.push(holds.then(|| fold(&c.right.row)));
             out.slips.push(fold(&c.slip));
@@ -321,8 +321,15 @@ impl Scene {
     }
 }
 
+/// Whether interface `k`, with contacts `c` at the evaluated q, holds its contact with
+/// its own gaps: the decision in `holds` if one was made for the step, else
+/// [`InterfaceContacts::holds`] at this q.
+pub(crate) fn holds_contact<T>(holds: Option<&[bool]>, k: usize, c: &InterfaceContacts<T>) -> bool {
+    holds.map_or_else(|| c.holds(), |h| h[k])
+}
+
 /// The state of block k (0-based) read from q and u.
-fn block_state<T: Scalar>(q: &[T], u: &[T], k: usize) -> BodyState<T> {
+pub(crate) fn block_state<T: Scalar>(q: &[T], u: &[T], k: usize) -> BodyState<T> {
     BodyState::new(
         Pose::from_slice(&q[3 * k..3 * k + 3]),
         Twist::from_slice(&u[3 * k..3 * k + 3]),

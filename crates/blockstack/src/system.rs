@@ -33,7 +33,7 @@ use crate::coordinates::{BodyState, Pose, Twist};
 use crate::overlap::Body;
 use crate::pairs::{body_index, free_block, CornerContact, LineContacts, LineKind};
 use crate::scene::Scene;
-use crate::stack::{ContactRow, StackContacts};
+use crate::stack::{block_state, holds_contact, ContactRow, StackContacts};
 use nsga::{Derivatives, Evaluation, FrictionLaw, Layout, Probes, Scalar, System};
 use num_dual::DualSVec64;
 use std::cell::RefCell;
@@ -215,9 +215,7 @@ impl StackSystem {
     /// Whether interface `k`, with contacts `c` at the evaluated q, holds its contact:
     /// the decision of [`StackSystem::hold_interfaces`] if one was made.
     fn interface_holds<T>(&self, k: usize, c: &crate::interface::InterfaceContacts<T>) -> bool {
-        self.interface_holds
-            .as_ref()
-            .map_or_else(|| c.holds(), |h| h[k])
+        holds_contact(self.interface_holds.as_deref(), k, c)
     }
 
     /// Whether the slots hold exactly the `wanted` contact lines with their contacts, so
@@ -560,12 +558,7 @@ impl StackSystem {
         for (j, row) in c.slips.iter().enumerate() {
             put_slip(row, j, out);
         }
-        let block = |i: usize| {
-            BodyState::new(
-                Pose::from_slice(&q[3 * i..3 * i + 3]),
-                Twist::from_slice(&u[3 * i..3 * i + 3]),
-            )
-        };
+        let block = |i: usize| block_state(q, u, i);
         for (s, line) in self.slots.iter().enumerate() {
             let (normals, law) = self.slot_contacts(s);
             let state = |b| self.body_state(t, b, block);
