@@ -192,6 +192,7 @@ impl<S: System> MoreauStepper<S> {
             max_iter: self.options.max_iter,
             line_search: 0,
             reuse_factorization: false,
+            resume_reuse: false,
             give_up: GiveUp::Never,
         };
         match newton::solve(

@@ -62,6 +62,9 @@ pub struct NewtonSettings {
     pub line_search: usize,
     /// Whether simplified updates from kept factors may be tried.
     pub reuse_factorization: bool,
+    /// Whether they may be tried again after a new factorization, once one failed to
+    /// contract (otherwise not for the rest of the attempt).
+    pub resume_reuse: bool,
     /// When the attempt gives up early.
     pub give_up: GiveUp,
 }
@@ -95,9 +98,9 @@ pub trait NewtonProblem {
         dx: &mut [f64],
     ) -> Result<(), String>;
 
-    /// A simplified Newton update from kept factors, when the problem has factors that
-    /// fit `sets`; false (and `dx` untouched) otherwise. Default: none kept.
-    fn kept_direction(&mut self, _sets: &Self::Sets, _dx: &mut [f64]) -> bool {
+    /// A simplified Newton update at `x` from kept factors, when the problem has factors
+    /// that fit `sets`; false otherwise. Default: none kept.
+    fn kept_direction(&mut self, _x: &[f64], _sets: &Self::Sets, _dx: &mut [f64]) -> bool {
         false
     }
 
@@ -235,7 +238,8 @@ pub fn solve<P: NewtonProblem>(
         if reused && res > REUSE_CONTRACTION * last_res {
             may_reuse = false;
         }
-        reused = may_reuse && reuses < MAX_REUSES && problem.kept_direction(sets, &mut scratch.dx);
+        reused =
+            may_reuse && reuses < MAX_REUSES && problem.kept_direction(x, sets, &mut scratch.dx);
         if reused {
             reuses += 1;
         } else {
@@ -243,6 +247,8 @@ pub fn solve<P: NewtonProblem>(
             if let Err(message) = problem.exact_direction(x, sets, &mut scratch.dx) {
                 return Outcome::Singular(message);
             }
+            // New factors, of this iterate: worth trying again.
+            may_reuse |= settings.reuse_factorization && settings.resume_reuse;
         }
         last_res = res;
         pending = Some(line_search(problem, x, settings.line_search, res, scratch));
@@ -414,6 +420,7 @@ mod tests {
             max_iter: 10,
             line_search: 0,
             reuse_factorization: false,
+            resume_reuse: false,
             give_up: GiveUp::Never,
         };
         let mut x = [3.0];

@@ -184,6 +184,15 @@ pub struct Options {
     /// costs residual evaluations and triangular solves, not factorizations.
     #[serde(default)]
     pub reuse_factorization: bool,
+    /// With [`Options::reuse_factorization`], in the first attempt at each step:
+    /// where the index sets differ from those of the kept factors in at most
+    /// [`LOW_RANK_ROWS`](crate::stepper::LOW_RANK_ROWS) rows of the Newton matrix, the
+    /// simplified update solves the kept matrix with those rows replaced, from the kept
+    /// factors (a low-rank update, docs/method.md §7); and after a simplified update that
+    /// did not contract, they are tried again once the matrix has been factorized anew.
+    /// The retries, re-solves and halvings of a failed step factorize as before.
+    #[serde(default)]
+    pub low_rank_updates: bool,
     /// Start the first attempt at a step from the unknowns predicted by extrapolating a
     /// and λ over the last steps, while their index sets stayed the same (quadratic
     /// through three solutions, linear through two; docs/method.md §4). An attempt from
@@ -308,6 +317,7 @@ impl Default for Options {
             prune_open_contacts: false,
             regularization: DEFAULT_REGULARIZATION,
             reuse_factorization: false,
+            low_rank_updates: false,
             predict_start: false,
             line_search: 0,
             max_halvings: 0,

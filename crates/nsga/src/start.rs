@@ -182,6 +182,7 @@ pub fn consistent_start<S: System>(
         max_iter: options.max_iter.max(nn),
         line_search: 0,
         reuse_factorization: false,
+        resume_reuse: false,
         give_up: GiveUp::Never,
     };
     let mut y = vec![0.0; problem.level.n()];

@@ -36,6 +36,7 @@ mod fallback;
 mod held;
 mod iterate;
 mod last_resort;
+mod low_rank;
 mod multipliers;
 mod predict;
 mod resize;
@@ -47,6 +48,7 @@ mod unknowns;
 pub use assemble::NEGLIGIBLE_SLIP;
 pub use fallback::QUICK_CHECK_ITERATIONS;
 pub use held::MAX_HELD_EVALUATIONS;
+pub use low_rank::LOW_RANK_ROWS;
 pub use predict::PREDICTED_START_ITERATIONS;
 
 /// How many index sets found to have a singular plain Newton matrix are remembered
@@ -171,6 +173,10 @@ struct Work {
     unused_velocity: Vec<bool>,
     /// What the solver's kept factors were assembled for (None: nothing reusable).
     factored: Option<FactoredFor>,
+    /// The kept factors' matrix and the scratch of updates for changed sets.
+    low_rank: low_rank::LowRank,
+    /// Whether a step's first attempt is under way (see `Options::low_rank_updates`).
+    first_attempt: bool,
     /// The levels of the last converged trial's state, and of the current state, for
     /// the pruning of open contacts (`state_levels`).
     trial_levels: StateLevels,
@@ -217,6 +223,8 @@ impl Work {
             linear_solves: 0,
             singular_sets: Vec::new(),
             factored: None,
+            low_rank: low_rank::LowRank::default(),
+            first_attempt: false,
             unused_position: Vec::new(),
             unused_velocity: Vec::new(),
             trial_levels: StateLevels::default(),

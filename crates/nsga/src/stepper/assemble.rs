@@ -125,12 +125,15 @@ impl<S: System> Stepper<S> {
     /// [`Self::regularize`] puts ε times the diagonal entry the row has when open (see
     /// `Options::regularization`); `work.regularized` lists their positions in `work.jac`.
     pub(super) fn jacobian(&mut self, x: &[f64], sets: &IndexSets, p: &GenAlpha) {
+        self.derivative_rows(x);
+        self.assemble_jacobian(x, sets, p, None);
+    }
+
+    /// The system's exact derivatives at the current iterate, and from them the rows
+    /// ∂(level)/∂x of every constraint's levels that the Jacobian's contact rows copy.
+    fn derivative_rows(&mut self, x: &[f64]) {
         let o = self.off;
         let dt = self.options.dt;
-        let KinematicColumns { c_ua, c_qa } = KinematicColumns::new(dt, p);
-        // ∂P/∂λ and ∂κ̂/∂λ_N: the percussions follow λ (eqs. 95, 96) as u_{n+1} and
-        // q_{n+1} follow a (eqs. 73, 125), with the same factors Δt γ α_r and Δt² β α_r.
-        let (c_pl, c_kl) = (c_ua, c_qa);
         let t1 = self.state.t + dt;
         let l = &self.layout;
         let w = &mut self.work;
@@ -204,7 +207,31 @@ impl<S: System> Stepper<S> {
         push_u_derivative(&mut w.dav.tmp, &d.velocity_accel_u, false, 0, 1.0, &ucols);
         push_u_derivative(&mut w.dav.tmp, &e.velocity_w, true, 0, 1.0, &[(o.a, 1.0)]);
         w.dav.build(nv);
+    }
 
+    /// [`Self::jacobian`] from the derivative rows [`Self::derivative_rows`] computed last,
+    /// which need not be those of this iterate: the low-rank update (`low_rank`) forms
+    /// the rows of changed index sets at the kept factors' linearization point.
+    pub(super) fn assemble_jacobian(
+        &mut self,
+        x: &[f64],
+        sets: &IndexSets,
+        p: &GenAlpha,
+        only: Option<&ContactRows>,
+    ) {
+        let o = self.off;
+        let dt = self.options.dt;
+        let KinematicColumns { c_ua, c_qa } = KinematicColumns::new(dt, p);
+        // ∂P/∂λ and ∂κ̂/∂λ_N: the percussions follow λ (eqs. 95, 96) as u_{n+1} and
+        // q_{n+1} follow a (eqs. 73, 125), with the same factors Δt γ α_r and Δt² β α_r.
+        let (c_pl, c_kl) = (c_ua, c_qa);
+        let l = &self.layout;
+        let w = &mut self.work;
+        let d = &w.der;
+        let e = &w.eval;
+        let b = &w.b;
+        let qcols = [(o.qq, 1.0)];
+        let ucols = [(o.uu, 1.0)];
         let jac = &mut w.jac;
         // Where the ε entries go, so that the rows can be scaled by their plain entries.
         let mut regularized = Regularized {
@@ -228,52 +255,58 @@ impl<S: System> Stepper<S> {
                 second + c - o.nga
             }
         };
-        // Smooth rows (eq. 127).
-        push_u_derivative(jac, &e.mass, false, o.a, dt, &[(o.a, 1.0)]);
-        push_u_derivative(jac, &d.forces_u, false, o.a, -dt, &ucols);
-        push_q_derivative(jac, &d.dynamics_q[0], b, o.a, dt, &qcols);
-        push_q_derivative(jac, &d.forces_q, b, o.a, -dt, &qcols);
-        // M U = M (y_u − c_u a) and M Q = M (y_q − c_q a).
-        push_u_derivative(jac, &e.mass, false, o.uu, 1.0, &[(o.uu, 1.0), (o.a, -c_ua)]);
-        push_q_derivative(jac, &d.dynamics_q[1], b, o.uu, 1.0, &qcols);
-        push_u_derivative(
-            jac,
-            &e.mass,
-            false,
-            o.qq,
-            1.0 / dt,
-            &[(o.qq, 1.0), (o.a, -c_qa)],
-        );
-        push_q_derivative(jac, &d.dynamics_q[2], b, o.qq, 1.0 / dt, &qcols);
-        for &(i, c, v) in &e.position_w.entries {
-            jac.push((o.a + i, col_p(c, o.lg, o.ln), -dt * v));
-            jac.push((o.uu + i, col_p(c, o.cg, o.cn), -v));
-            jac.push((o.qq + i, col_p(c, o.kg, o.kn), -v / dt));
-        }
-        for &(i, c, v) in &e.velocity_w.entries {
-            jac.push((o.a + i, col_v(c, o.lga, o.lf), -dt * v));
-            jac.push((o.uu + i, col_v(c, o.cga, o.cf), -v));
-            jac.push((o.qq + i, col_v(c, o.cga, o.cf), -0.5 * v));
-        }
         let copy_row =
             |jac: &mut Vec<(usize, usize, f64)>, m: &RowMat, src: usize, dst: usize, s: f64| {
                 for (c, v) in m.row(src) {
                     jac.push((dst, c, s * v));
                 }
             };
-        for i in 0..o.ng {
-            let rp = w.r_pos[i];
-            copy_row(jac, &w.dg, i, o.kg + i, rp / dt);
-            copy_row(jac, &w.dxp, i, o.cg + i, rp);
-            copy_row(jac, &w.dap, i, o.lg + i, rp * dt);
-        }
-        for i in 0..o.nga {
-            let rv = w.r_vel[i];
-            copy_row(jac, &w.dxv, i, o.cga + i, rv);
-            copy_row(jac, &w.dav, i, o.lga + i, rv * dt);
+        // The rows no set changes, left out of a low-rank update's rows.
+        if only.is_none() {
+            // Smooth rows (eq. 127).
+            push_u_derivative(jac, &e.mass, false, o.a, dt, &[(o.a, 1.0)]);
+            push_u_derivative(jac, &d.forces_u, false, o.a, -dt, &ucols);
+            push_q_derivative(jac, &d.dynamics_q[0], b, o.a, dt, &qcols);
+            push_q_derivative(jac, &d.forces_q, b, o.a, -dt, &qcols);
+            // M U = M (y_u − c_u a) and M Q = M (y_q − c_q a).
+            push_u_derivative(jac, &e.mass, false, o.uu, 1.0, &[(o.uu, 1.0), (o.a, -c_ua)]);
+            push_q_derivative(jac, &d.dynamics_q[1], b, o.uu, 1.0, &qcols);
+            push_u_derivative(
+                jac,
+                &e.mass,
+                false,
+                o.qq,
+                1.0 / dt,
+                &[(o.qq, 1.0), (o.a, -c_qa)],
+            );
+            push_q_derivative(jac, &d.dynamics_q[2], b, o.qq, 1.0 / dt, &qcols);
+            for &(i, c, v) in &e.position_w.entries {
+                jac.push((o.a + i, col_p(c, o.lg, o.ln), -dt * v));
+                jac.push((o.uu + i, col_p(c, o.cg, o.cn), -v));
+                jac.push((o.qq + i, col_p(c, o.kg, o.kn), -v / dt));
+            }
+            for &(i, c, v) in &e.velocity_w.entries {
+                jac.push((o.a + i, col_v(c, o.lga, o.lf), -dt * v));
+                jac.push((o.uu + i, col_v(c, o.cga, o.cf), -v));
+                jac.push((o.qq + i, col_v(c, o.cga, o.cf), -0.5 * v));
+            }
+            for i in 0..o.ng {
+                let rp = w.r_pos[i];
+                copy_row(jac, &w.dg, i, o.kg + i, rp / dt);
+                copy_row(jac, &w.dxp, i, o.cg + i, rp);
+                copy_row(jac, &w.dap, i, o.lg + i, rp * dt);
+            }
+            for i in 0..o.nga {
+                let rv = w.r_vel[i];
+                copy_row(jac, &w.dxv, i, o.cga + i, rv);
+                copy_row(jac, &w.dav, i, o.lga + i, rv * dt);
+            }
         }
         // Normal contacts.
         for k in 0..o.nn {
+            if only.is_some_and(|only| !only.normals[k]) {
+                continue;
+            }
             let pk = o.ng + k;
             let rp = w.r_pos[pk];
             if sets.a[k] {
@@ -300,6 +333,9 @@ impl<S: System> Stepper<S> {
         // Friction laws.
         let it = &w.it;
         for (j, law) in l.friction.iter().enumerate() {
+            if only.is_some_and(|only| !only.laws[j]) {
+                continue;
+            }
             let f0 = self.law_off[j];
             let nc = law.components;
             let vs = o.nga + f0;
@@ -383,6 +419,14 @@ impl<S: System> Stepper<S> {
             }
         }
     }
+}
+
+/// The contacts and friction laws whose rows [`Stepper::assemble_jacobian`] assembles
+/// alone (a low-rank update's changed rows).
+#[derive(Debug, Clone, Default)]
+pub(super) struct ContactRows {
+    pub normals: Vec<bool>,
+    pub laws: Vec<bool>,
 }
 
 /// The diagonal entry a closed contact row has in its open form, of which its

@@ -47,7 +47,10 @@ impl<S: System> Stepper<S> {
     /// ρ∞ retries, the fixed-set re-solves of a cycling step, the best iterate.
     fn step_once(&mut self) -> Result<(), StepError> {
         let rho0 = self.options.rho_inf;
-        let first = match self.first_attempt(rho0) {
+        self.work.first_attempt = true;
+        let first = self.first_attempt(rho0);
+        self.work.first_attempt = false;
+        let first = match first {
             Ok(t) => {
                 let t = if self.options.probe_flips {
                     self.probe_flips(t, rho0)

@@ -90,10 +90,10 @@ impl<S: System> NewtonProblem for StepProblem<'_, S> {
         self.stepper.recycle_sets(sets);
     }
 
-    fn kept_direction(&mut self, sets: &IndexSets, dx: &mut [f64]) -> bool {
+    fn kept_direction(&mut self, x: &[f64], sets: &IndexSets, dx: &mut [f64]) -> bool {
         let kept = self
             .stepper
-            .kept_direction(sets, &self.params, self.prune, dx);
+            .kept_direction(x, sets, &self.params, self.prune, dx);
         if let (true, Some(held)) = (kept, &mut self.held) {
             held.updated(sets);
         }
@@ -116,6 +116,13 @@ impl<S: System> Stepper<S> {
             budget: self.free_budget(),
         };
         self.solve_with(fixed, &policy, rho_inf, x)
+    }
+
+    /// Whether this attempt takes the updates of
+    /// [`Options::low_rank_updates`](crate::Options::low_rank_updates): a step's first
+    /// attempt, when they are asked for.
+    fn quick_updates(&self) -> bool {
+        self.options.low_rank_updates && self.work.first_attempt
     }
 
     /// Largest number of updates of a free attempt: see
@@ -164,6 +171,7 @@ impl<S: System> Stepper<S> {
             max_iter,
             line_search: self.options.line_search,
             reuse_factorization: self.options.reuse_factorization,
+            resume_reuse: self.quick_updates(),
             give_up: if fixed.is_some() {
                 GiveUp::Stall
             } else {
@@ -289,6 +297,8 @@ impl<S: System> Stepper<S> {
         update_prox: bool,
     ) -> (Vec<f64>, DMatrix<f64>) {
         let p = GenAlpha::new(rho_inf);
+        // The derivative rows are replaced: the kept factors no longer fit them.
+        self.work.factored = None;
         self.prepare_step();
         self.derive(x, &p);
         self.evaluate_iterate(update_prox);
@@ -395,7 +405,7 @@ impl<S: System> Stepper<S> {
     /// The exact Newton update at `x` (eq. 143) into `dx`: assembles and factors the
     /// Jacobian, regularized ([`Options::regularization`](crate::Options::regularization))
     /// when it is singular.
-    fn exact_direction(
+    pub(super) fn exact_direction(
         &mut self,
         x: &[f64],
         sets: &IndexSets,
@@ -415,6 +425,13 @@ impl<S: System> Stepper<S> {
         if !(eps > 0.0 && self.work.singular_sets.iter().any(redundant)) {
             match self.newton_direction(prune, Factor::Plain, p, dx) {
                 Ok(()) => {
+                    let w = &mut self.work;
+                    let factored = if prune.is_some() {
+                        &w.jac_pruned
+                    } else {
+                        &w.jac
+                    };
+                    w.low_rank.factored(factored);
                     self.work.factored = Some(FactoredFor {
                         sets: sets.clone(),
                         map: prune.map(|(map, _)| map.clone()),
@@ -443,18 +460,26 @@ impl<S: System> Stepper<S> {
     /// were assembled for these sets, prune map, Δt and ρ∞; false otherwise.
     fn kept_direction(
         &mut self,
+        x: &[f64],
         sets: &IndexSets,
         p: &GenAlpha,
         prune: Option<&Pruning>,
         dx: &mut [f64],
     ) -> bool {
-        let fits = self.work.factored.as_ref().is_some_and(|f| {
-            &f.sets == sets
-                && f.map.as_ref() == prune.map(|(map, _)| map)
-                && f.dt == self.options.dt
-                && f.rho_inf == p.rho_inf
+        let map = prune.map(|(map, _)| map);
+        let (fits, same_sets) = self.work.factored.as_ref().map_or((false, false), |f| {
+            (
+                f.map.as_ref() == map && f.dt == self.options.dt && f.rho_inf == p.rho_inf,
+                &f.sets == sets,
+            )
         });
-        fits && self.newton_direction(prune, Factor::Kept, p, dx).is_ok()
+        if !fits {
+            return false;
+        }
+        if same_sets {
+            return self.newton_direction(prune, Factor::Kept, p, dx).is_ok();
+        }
+        self.quick_updates() && self.low_rank_direction(x, sets, p, map.map(Vec::as_slice), dx)
     }
 
     /// The Newton update dx = −J⁻¹R from the assembled Jacobian and residual, or with

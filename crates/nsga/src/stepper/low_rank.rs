@@ -1,0 +1,383 @@
+//! A simplified Newton update for index sets other than those of the kept factors: the
+//! kept matrix with the rows whose form the sets change replaced, solved from the kept
+//! factors by the Sherman–Morrison–Woodbury formula (docs/method.md §7, "Low-rank
+//! updates for changed index sets").
+//!
+//! A contact that opens or closes on one level, or a friction law that switches between
+//! sticking and slipping, changes one or two rows of the Newton matrix of eq. 143 from
+//! one form to the other (§3: a closed row holds W, an open one the identity). With the
+//! kept matrix J₀ and D the k changed rows' differences (new minus kept), the matrix
+//! J₀ + E D (E: the unit columns of those rows) is solved as
+//!
+//! ```text
+//! y = J₀⁻¹ b,   Z = J₀⁻¹ E,   (I + D Z) w = D y,   x = y − Z w:
+//! ```
+//!
+//! one substitution with the kept factors for y, the columns of Z (kept while the
+//! factors are, since they depend on nothing else), and a k × k solve, instead of new
+//! derivatives and a new factorization. The new rows are formed at the kept factors'
+//! linearization point, from the derivative rows computed with them, so that the matrix
+//! solved is the Newton matrix of that point for the new sets. Like every simplified
+//! update it is taken only while the residual contracts.
+
+use super::assemble::{ContactRows, KinematicColumns};
+use super::rows::RowMat;
+use super::Stepper;
+use crate::params::GenAlpha;
+use crate::sets::IndexSets;
+use crate::system::System;
+
+/// Most rows a low-rank update replaces; where the sets change more, the matrix is
+/// factorized anew.
+pub const LOW_RANK_ROWS: usize = 8;
+
+/// Columns of Z = J₀⁻¹ E kept per factorization.
+const KEPT_COLUMNS: usize = 32;
+
+/// The kept matrix and the scratch of low-rank updates.
+#[derive(Debug, Clone, Default)]
+pub(super) struct LowRank {
+    /// The kept factors' matrix, as factorized (reduced numbering): its triplets until a
+    /// low-rank update needs it by row (`by_row`), then compressed.
+    kept: RowMat,
+    by_row: bool,
+    /// Columns J₀⁻¹ e_r of the kept factors, for the reduced rows r in `z_rows`.
+    z_rows: Vec<usize>,
+    z_cols: Vec<Vec<f64>>,
+    /// The changed rows (full numbering, then reduced) and their contacts.
+    rows: Vec<usize>,
+    reduced: Vec<usize>,
+    only: ContactRows,
+    /// For each reduced row, its place among the changed rows (`usize::MAX`: none).
+    slot: Vec<usize>,
+    /// D (k × n, row-major) and y.
+    d: Vec<f64>,
+    y: Vec<f64>,
+}
+
+impl LowRank {
+    /// New kept factors, of the matrix `kept` (reduced numbering).
+    pub fn factored(&mut self, kept: &[(usize, usize, f64)]) {
+        self.kept.tmp.clear();
+        self.kept.tmp.extend_from_slice(kept);
+        self.by_row = false;
+        self.z_rows.clear();
+    }
+
+    /// The kept matrix compressed by row (once per factorization).
+    fn index_rows(&mut self, n: usize) {
+        if !self.by_row {
+            self.kept.build(n);
+            self.by_row = true;
+        }
+    }
+}
+
+/// The rows of the Newton matrix whose form differs between `kept` and `sets`, full
+/// numbering, and their contacts: κ, Λ, λ of a normal contact whose A, B, C membership
+/// differs; both rows of every component of a friction law whose activity (a normal in
+/// A), D or E membership differs. False when there are more than [`LOW_RANK_ROWS`].
+fn changed_rows<S: System>(
+    stepper: &Stepper<S>,
+    kept: &IndexSets,
+    sets: &IndexSets,
+    rows: &mut Vec<usize>,
+    only: &mut ContactRows,
+) -> bool {
+    let o = stepper.off;
+    rows.clear();
+    only.normals.clear();
+    only.laws.clear();
+    for k in 0..o.nn {
+        let len = rows.len();
+        for (changed, row) in [
+            (kept.a[k] != sets.a[k], o.kn + k),
+            (kept.b[k] != sets.b[k], o.cn + k),
+            (kept.c[k] != sets.c[k], o.ln + k),
+        ] {
+            if changed {
+                rows.push(row);
+            }
+        }
+        only.normals.push(rows.len() > len);
+    }
+    for (j, law) in stepper.layout.friction.iter().enumerate() {
+        let active = |s: &IndexSets| law.normals.iter().any(|&k| s.a[k]);
+        let changed =
+            active(kept) != active(sets) || kept.d[j] != sets.d[j] || kept.e[j] != sets.e[j];
+        if changed {
+            let f0 = stepper.law_off[j];
+            for m in 0..law.components {
+                rows.extend([o.cf + f0 + m, o.lf + f0 + m]);
+            }
+        }
+        only.laws.push(changed);
+    }
+    rows.len() <= LOW_RANK_ROWS
+}
+
+/// Solves the k × k system `c` w = `rhs` (row-major) in place by Gaussian elimination
+/// with partial pivoting; false when a pivot is not above 10⁻¹² times the largest entry
+/// (the updated matrix is then taken as singular, and factorized anew).
+fn solve_small(k: usize, c: &mut [f64], rhs: &mut [f64]) -> bool {
+    let largest = c.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
+    for col in 0..k {
+        let p = (col..k)
+            .max_by(|&i, &j| c[i * k + col].abs().total_cmp(&c[j * k + col].abs()))
+            .unwrap_or(col);
+        // NaN entries fail this test too.
+        let usable = c[p * k + col].abs() > 1e-12 * largest;
+        if !usable {
+            return false;
+        }
+        if p != col {
+            for m in 0..k {
+                c.swap(p * k + m, col * k + m);
+            }
+            rhs.swap(p, col);
+        }
+        for i in col + 1..k {
+            let l = c[i * k + col] / c[col * k + col];
+            for m in col..k {
+                c[i * k + m] -= l * c[col * k + m];
+            }
+            rhs[i] -= l * rhs[col];
+        }
+    }
+    for col in (0..k).rev() {
+        let s = (col + 1..k).fold(rhs[col], |s, m| s - c[col * k + m] * rhs[m]);
+        rhs[col] = s / c[col * k + col];
+    }
+    rhs.iter().all(|v| v.is_finite())
+}
+
+impl<S: System> Stepper<S> {
+    /// The low-rank update (module docs) at `x` for `sets` into `dx`, when the kept
+    /// factors fit but for at most [`LOW_RANK_ROWS`] rows; false otherwise (`dx` then
+    /// holds nothing that counts). `map` is the prune map of this attempt, the kept
+    /// factors' too.
+    pub(super) fn low_rank_direction(
+        &mut self,
+        x: &[f64],
+        sets: &IndexSets,
+        p: &GenAlpha,
+        map: Option<&[usize]>,
+        dx: &mut [f64],
+    ) -> bool {
+        let Some(kept) = self.work.factored.as_ref() else {
+            return false;
+        };
+        let mut rows = std::mem::take(&mut self.work.low_rank.rows);
+        let mut only = std::mem::take(&mut self.work.low_rank.only);
+        let fits = changed_rows(self, &kept.sets, sets, &mut rows, &mut only) && !rows.is_empty();
+        if fits {
+            // The derivative rows are still those of the kept factors' point: only a
+            // plain factorization keeps factors, right after computing them.
+            self.assemble_jacobian(x, sets, p, Some(&only));
+        }
+        self.work.low_rank.rows = rows;
+        self.work.low_rank.only = only;
+        let ok = fits && self.low_rank_solve(map, dx);
+        if ok {
+            KinematicColumns::new(self.options.dt, p).to_unknowns(&self.off, dx);
+        }
+        ok
+    }
+
+    /// The Woodbury solve of the module docs, with the changed rows in `work.jac` and the
+    /// residual in `work.res`.
+    fn low_rank_solve(&mut self, map: Option<&[usize]>, dx: &mut [f64]) -> bool {
+        let n_full = self.off.n;
+        let reduce = |i: usize| map.map_or(i, |m| m[i]);
+        let w = &mut self.work;
+        let lr = &mut w.low_rank;
+        let n = map.map_or(n_full, |m| m.iter().filter(|&&r| r != usize::MAX).count());
+        lr.reduced.clear();
+        lr.reduced.extend(
+            lr.rows
+                .iter()
+                .map(|&r| reduce(r))
+                .filter(|&r| r != usize::MAX),
+        );
+        let k = lr.reduced.len();
+        if k == 0 {
+            return false;
+        }
+        lr.slot.clear();
+        lr.slot.resize(n, usize::MAX);
+        for (s, &r) in lr.reduced.iter().enumerate() {
+            lr.slot[r] = s;
+        }
+        // D: the new rows minus the kept ones.
+        lr.d.clear();
+        lr.d.resize(k * n, 0.0);
+        for &(r, c, v) in &w.jac {
+            let (r, c) = (reduce(r), reduce(c));
+            if r != usize::MAX && c != usize::MAX && lr.slot[r] != usize::MAX {
+                lr.d[lr.slot[r] * n + c] += v;
+            }
+        }
+        lr.index_rows(n);
+        for (s, &r) in lr.reduced.iter().enumerate() {
+            for (c, v) in lr.kept.row(r) {
+                lr.d[s * n + c] -= v;
+            }
+        }
+        // y = J₀⁻¹ b with b = −R.
+        lr.y.clear();
+        lr.y.resize(n, 0.0);
+        for (i, &r) in w.res.iter().enumerate() {
+            let ri = reduce(i);
+            if ri != usize::MAX {
+                lr.y[ri] = -r;
+            }
+        }
+        if w.solver.solve_again(&mut lr.y).is_err() {
+            return false;
+        }
+        // The columns of Z, kept from earlier updates on these factors where they can be.
+        if lr.z_rows.len() + k > KEPT_COLUMNS {
+            lr.z_rows.clear();
+        }
+        let mut z = [0; LOW_RANK_ROWS];
+        for (s, &r) in lr.reduced.iter().enumerate() {
+            z[s] = if let Some(at) = lr.z_rows.iter().position(|&kept| kept == r) {
+                at
+            } else {
+                let at = lr.z_rows.len();
+                if lr.z_cols.len() == at {
+                    lr.z_cols.push(Vec::new());
+                }
+                let col = &mut lr.z_cols[at];
+                col.clear();
+                col.resize(n, 0.0);
+                col[r] = 1.0;
+                if w.solver.solve_again(col).is_err() {
+                    return false;
+                }
+                lr.z_rows.push(r);
+                at
+            };
+        }
+        // (I + D Z) w = D y.
+        let mut c = [0.0; LOW_RANK_ROWS * LOW_RANK_ROWS];
+        let mut rhs = [0.0; LOW_RANK_ROWS];
+        for i in 0..k {
+            let d_i = &lr.d[i * n..(i + 1) * n];
+            rhs[i] = d_i.iter().zip(&lr.y).map(|(a, b)| a * b).sum();
+            for j in 0..k {
+                let dz: f64 = d_i.iter().zip(&lr.z_cols[z[j]]).map(|(a, b)| a * b).sum();
+                c[i * k + j] = f64::from(u8::from(i == j)) + dz;
+            }
+        }
+        if !solve_small(k, &mut c[..k * k], &mut rhs[..k]) {
+            return false;
+        }
+        for (j, &wj) in rhs[..k].iter().enumerate() {
+            for (yi, zi) in lr.y.iter_mut().zip(&lr.z_cols[z[j]]) {
+                *yi -= zi * wj;
+            }
+        }
+        if !lr.y.iter().all(|v| v.is_finite()) {
+            return false;
+        }
+        for (i, d) in dx.iter_mut().enumerate().take(n_full) {
+            let ri = reduce(i);
+            *d = if ri == usize::MAX { 0.0 } else { lr.y[ri] };
+        }
+        true
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::systems::chain::Chain;
+    use crate::Options;
+
+    fn max_difference(a: &[f64], b: &[f64]) -> f64 {
+        a.iter()
+            .zip(b)
+            .fold(0.0_f64, |m, (x, y)| m.max((x - y).abs()))
+    }
+
+    /// A resting chain of n blocks, the top one slipping, with its Newton matrix at the
+    /// start factorized for the sets there: the stepper, x, the parameters, those sets,
+    /// and the update they give.
+    fn factored_chain(n: usize) -> (Stepper<Chain>, Vec<f64>, GenAlpha, IndexSets, Vec<f64>) {
+        let chain = Chain::benchmark(n);
+        let (q0, u0) = chain.resting(0.3);
+        let options = Options {
+            dt: 1e-3,
+            reuse_factorization: true,
+            low_rank_updates: true,
+            ..Options::default()
+        };
+        let mut s = Stepper::new(chain, 0.0, &q0, &u0, options).unwrap();
+        let x = s.state().x.clone();
+        let p = GenAlpha::new(0.5);
+        let kept = s.sets_of(&x, 0.5);
+        assert!(
+            kept.a.iter().all(|&a| a) && !kept.d[n - 1],
+            "{}",
+            kept.describe()
+        );
+        let mut dx = vec![0.0; x.len()];
+        s.residual(&x, &kept, &p);
+        s.exact_direction(&x, &kept, &p, None, &mut dx).unwrap();
+        (s, x, p, kept, dx)
+    }
+
+    /// At the kept factors' own iterate, the kept matrix with the changed rows replaced
+    /// is the Newton matrix of the new sets there: the low-rank update must equal the
+    /// exact update for those sets.
+    #[test]
+    fn at_the_kept_iterate_the_low_rank_update_is_the_exact_one() {
+        let (_, _, _, kept, _) = factored_chain(4);
+        // The top block sticks instead of slipping (2 rows); the top contact opens on
+        // every level, which also frees its friction law (5 rows).
+        let mut sticking = kept.clone();
+        (sticking.d[3], sticking.e[3]) = (true, true);
+        let mut opened = kept.clone();
+        (opened.a[3], opened.b[3], opened.c[3]) = (false, false, false);
+        for (sets, rows) in [(sticking, 2), (opened, 5)] {
+            let (mut s, x, p, _, kept_update) = factored_chain(4);
+            s.residual(&x, &sets, &p);
+            let mut low = vec![0.0; x.len()];
+            assert!(s.low_rank_direction(&x, &sets, &p, None, &mut low));
+            assert_eq!(s.work.low_rank.rows.len(), rows);
+            let mut exact = vec![0.0; x.len()];
+            s.exact_direction(&x, &sets, &p, None, &mut exact).unwrap();
+            let size = exact.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
+            assert!(size > 0.0);
+            let diff = max_difference(&low, &exact);
+            assert!(diff <= 1e-10 * size, "{diff} against {size}");
+            // Not the kept sets' update: the changed rows matter.
+            assert!(max_difference(&low, &kept_update) > 1e-6 * size);
+        }
+    }
+
+    #[test]
+    fn more_changed_rows_than_the_limit_are_left_to_a_factorization() {
+        let (mut s, x, p, kept, mut dx) = factored_chain(12);
+        // Three contacts opened: 3 × (3 + 2) rows.
+        let mut sets = kept.clone();
+        for k in [1, 5, 9] {
+            (sets.a[k], sets.b[k], sets.c[k]) = (false, false, false);
+        }
+        s.residual(&x, &sets, &p);
+        assert!(!s.low_rank_direction(&x, &sets, &p, None, &mut dx));
+        assert!(s.work.low_rank.rows.len() > LOW_RANK_ROWS);
+    }
+
+    #[test]
+    fn small_systems_are_solved_with_pivoting() {
+        // A zero leading entry needs the row swap.
+        let mut c = [0.0, 1.0, 2.0, 1.0];
+        let mut rhs = [3.0, 5.0];
+        assert!(solve_small(2, &mut c, &mut rhs));
+        assert!((rhs[0] - 1.0).abs() < 1e-15 && (rhs[1] - 3.0).abs() < 1e-15);
+        let mut singular = [1.0, 2.0, 2.0, 4.0];
+        assert!(!solve_small(2, &mut singular, &mut [1.0, 1.0]));
+    }
+}
