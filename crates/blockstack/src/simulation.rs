@@ -138,6 +138,12 @@ pub struct RunOptions {
     /// Leave out the last resort ([`nsga::Options::last_resort`]): a step nothing else
     /// resolves then ends the run (to see what the generalized-α scheme alone does).
     pub skip_last_resort: bool,
+    /// Factorize the Newton matrix whenever the index sets differ from those of its kept
+    /// factors, as the paper does, instead of updating the kept factors for the changed
+    /// rows ([`nsga::Options::low_rank_updates`]). The exploration of branches
+    /// ([`crate::exploration`]) always does: it finds forks where a first attempt fails,
+    /// and the updates converge through some of them unnoticed.
+    pub skip_low_rank_updates: bool,
     /// Start every step's Newton iteration from the last solution, never from the
     /// extrapolated one ([`nsga::Options::predict_start`]): the paper's start, to compare
     /// with.
@@ -345,6 +351,7 @@ pub fn stepper_options(scene: &Scene, options: &RunOptions) -> Result<Options, B
         solver: SolverChoice::Markowitz(SMALL_LU_UP_TO),
         prune_open_contacts: true,
         reuse_factorization: true,
+        low_rank_updates: !options.skip_low_rank_updates,
         predict_start: !options.skip_predicted_start,
         line_search: LINE_SEARCH_HALVINGS,
         rho_inf_retry: RHO_INF_RETRY,

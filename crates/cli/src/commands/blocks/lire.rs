@@ -86,6 +86,7 @@ pub fn run_lire(args: &LireArgs) -> Result<()> {
         "prox_constant": args.solver.prox_constant,
         "explore_branches": args.solver.explore_branches,
         "last_resort": args.solver.last_resort,
+        "low_rank_updates": args.solver.low_rank_updates,
         "snapshots": plan.snapshots,
     });
     print_warnings(&scene);

@@ -117,6 +117,12 @@ pub struct SolverArgs {
     /// `false` such a step ends the run.
     #[arg(long, default_value_t = true, action = clap::ArgAction::Set, value_name = "BOOL")]
     pub last_resort: bool,
+    /// Where a Newton iterate's index sets differ from those of the kept factors in a
+    /// few rows, update the kept factors for those rows instead of factorizing anew
+    /// (docs/method.md §7); with `false` every change of sets is factorized, as in the
+    /// paper. Branch exploration (`blocks explore`) never updates.
+    #[arg(long, default_value_t = true, action = clap::ArgAction::Set, value_name = "BOOL")]
+    pub low_rank_updates: bool,
     /// Run even when the runs are estimated to take longer than ten minutes.
     #[arg(long)]
     pub force: bool,
@@ -143,6 +149,7 @@ impl SolverArgs {
             explore_branches: self.explore_branches,
             stop_at_failure,
             skip_last_resort: !self.last_resort,
+            skip_low_rank_updates: !self.low_rank_updates,
             ..RunOptions::default()
         })
     }

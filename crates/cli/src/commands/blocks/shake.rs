@@ -84,7 +84,8 @@ pub fn run_shake(args: &ShakeArgs) -> Result<()> {
         "periods": args.t_end.is_none().then_some(p.periods), "t_end": t_end,
         "prox_constant": args.solver.prox_constant,
         "explore_branches": args.solver.explore_branches,
-        "last_resort": args.solver.last_resort, "snapshots": plan.snapshots,
+        "last_resort": args.solver.last_resort,
+        "low_rank_updates": args.solver.low_rank_updates, "snapshots": plan.snapshots,
     });
     print_warnings(&scene);
     let out = simulate_with_output(&scene, &options, &plan, "blocks shake", &inputs)?;

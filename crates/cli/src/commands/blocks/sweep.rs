@@ -90,6 +90,7 @@ impl<'a> SweepRun<'a> {
         inputs["prox_constant"] = serde_json::json!(solver.prox_constant);
         inputs["explore_branches"] = solver.explore_branches.into();
         inputs["last_resort"] = solver.last_resort.into();
+        inputs["low_rank_updates"] = solver.low_rank_updates.into();
         Self::of_command(format!("blocks sweep {name}"), name, output, inputs, total)
     }
 
