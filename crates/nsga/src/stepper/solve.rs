@@ -425,13 +425,15 @@ impl<S: System> Stepper<S> {
         if !(eps > 0.0 && self.work.singular_sets.iter().any(redundant)) {
             match self.newton_direction(prune, Factor::Plain, p, dx) {
                 Ok(()) => {
-                    let w = &mut self.work;
-                    let factored = if prune.is_some() {
-                        &w.jac_pruned
-                    } else {
-                        &w.jac
-                    };
-                    w.low_rank.factored(factored);
+                    if self.options.low_rank_updates {
+                        let w = &mut self.work;
+                        let factored = if prune.is_some() {
+                            &w.jac_pruned
+                        } else {
+                            &w.jac
+                        };
+                        w.low_rank.factored(factored);
+                    }
                     self.work.factored = Some(FactoredFor {
                         sets: sets.clone(),
                         map: prune.map(|(map, _)| map.clone()),
@@ -456,8 +458,10 @@ impl<S: System> Stepper<S> {
         self.newton_direction(prune, Factor::Equilibrated, p, dx)
     }
 
-    /// The simplified Newton update from the solver's kept factors into `dx`, when they
-    /// were assembled for these sets, prune map, Δt and ρ∞; false otherwise.
+    /// The simplified Newton update at `x` from the solver's kept factors into `dx`, when
+    /// they were assembled for this prune map, Δt and ρ∞, and for these sets or (with
+    /// [`Self::quick_updates`]) sets that differ in a few rows (the low-rank update of
+    /// `low_rank`); false otherwise.
     fn kept_direction(
         &mut self,
         x: &[f64],
