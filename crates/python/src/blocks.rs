@@ -267,6 +267,7 @@ fn run_options(
     explore_branches: bool,
     last_resort: bool,
     stop_at_failure: bool,
+    low_rank_updates: bool,
 ) -> PyResult<RunOptions> {
     if let Some(t) = t_end {
         input::positive("t_end", t).map_err(value_error)?;
@@ -280,6 +281,7 @@ fn run_options(
         explore_branches,
         stop_at_failure,
         skip_last_resort: !last_resort,
+        skip_low_rank_updates: !low_rank_updates,
         ..RunOptions::default()
     })
 }
@@ -357,7 +359,7 @@ impl Trajectory {
 /// `interrupted` (a KeyboardInterrupt to raise, or None: the caller raises it after
 /// keeping the partial result).
 #[pyfunction]
-#[pyo3(signature = (scene, t_end = None, prox_constant = None, explore_branches = true, last_resort = true, stop_at_failure = false))]
+#[pyo3(signature = (scene, t_end = None, prox_constant = None, explore_branches = true, last_resort = true, stop_at_failure = false, low_rank_updates = true))]
 fn blocks_simulate<'py>(
     py: Python<'py>,
     scene: &PyScene,
@@ -366,6 +368,7 @@ fn blocks_simulate<'py>(
     explore_branches: bool,
     last_resort: bool,
     stop_at_failure: bool,
+    low_rank_updates: bool,
 ) -> PyResult<Bound<'py, PyDict>> {
     guard(|| {
         let options = run_options(
@@ -374,6 +377,7 @@ fn blocks_simulate<'py>(
             explore_branches,
             last_resort,
             stop_at_failure,
+            low_rank_updates,
         )?;
         let mut trajectory = Trajectory::default();
         let mut interrupt: Option<PyErr> = None;
@@ -445,7 +449,7 @@ fn blocks_simulate<'py>(
 /// Rows of Figure 4.6 (`studies::shaking::frequency_row`), one per ω, in parallel on
 /// rayon with the GIL released; each row as the CLI's `blocks sweep frequency --json`.
 #[pyfunction]
-#[pyo3(signature = (omegas, periods, amplitude, blocks, steps_per_period, mu, prox_constant = None, explore_branches = true, last_resort = true, t_max = None))]
+#[pyo3(signature = (omegas, periods, amplitude, blocks, steps_per_period, mu, prox_constant = None, explore_branches = true, last_resort = true, t_max = None, low_rank_updates = true))]
 #[allow(clippy::too_many_arguments)]
 fn blocks_sweep_frequency<'py>(
     py: Python<'py>,
@@ -459,12 +463,20 @@ fn blocks_sweep_frequency<'py>(
     explore_branches: bool,
     last_resort: bool,
     t_max: Option<f64>,
+    low_rank_updates: bool,
 ) -> PyResult<Bound<'py, PyAny>> {
     guard(|| {
         if let Some(t) = t_max {
             input::positive("t_max", t).map_err(value_error)?;
         }
-        let mut options = run_options(None, prox_constant, explore_branches, last_resort, true)?;
+        let mut options = run_options(
+            None,
+            prox_constant,
+            explore_branches,
+            last_resort,
+            true,
+            low_rank_updates,
+        )?;
         let columns = omegas
             .iter()
             .map(|&omega| {
@@ -482,7 +494,7 @@ fn blocks_sweep_frequency<'py>(
 /// Rows of Figure 4.7 (`studies::slide::slide_row`), one per v0, in parallel on rayon
 /// with the GIL released; each row as the CLI's `blocks sweep slide --json`.
 #[pyfunction]
-#[pyo3(signature = (speeds, t_end, blocks, mu, prox_constant = None, explore_branches = true, last_resort = true))]
+#[pyo3(signature = (speeds, t_end, blocks, mu, prox_constant = None, explore_branches = true, last_resort = true, low_rank_updates = true))]
 fn blocks_sweep_slide<'py>(
     py: Python<'py>,
     speeds: Vec<f64>,
@@ -492,6 +504,7 @@ fn blocks_sweep_slide<'py>(
     prox_constant: Option<f64>,
     explore_branches: bool,
     last_resort: bool,
+    low_rank_updates: bool,
 ) -> PyResult<Bound<'py, PyAny>> {
     guard(|| {
         let mut options = run_options(
@@ -500,6 +513,7 @@ fn blocks_sweep_slide<'py>(
             explore_branches,
             last_resort,
             false,
+            low_rank_updates,
         )?;
         let columns = speeds
             .iter()
@@ -519,7 +533,7 @@ fn blocks_sweep_slide<'py>(
 /// (`contact.mu=0.1:0.5:0.1`, `base.omega=2,4,8`); every combination's scene is checked
 /// before any run.
 #[pyfunction]
-#[pyo3(signature = (scene, overrides, t_end = None, stop_at_failure = false, prox_constant = None, explore_branches = true, last_resort = true))]
+#[pyo3(signature = (scene, overrides, t_end = None, stop_at_failure = false, prox_constant = None, explore_branches = true, last_resort = true, low_rank_updates = true))]
 fn blocks_sweep_scene<'py>(
     py: Python<'py>,
     scene: &PyScene,
@@ -529,6 +543,7 @@ fn blocks_sweep_scene<'py>(
     prox_constant: Option<f64>,
     explore_branches: bool,
     last_resort: bool,
+    low_rank_updates: bool,
 ) -> PyResult<Bound<'py, PyAny>> {
     guard(|| {
         let text = scene.toml.as_deref().ok_or_else(|| {
@@ -547,6 +562,7 @@ fn blocks_sweep_scene<'py>(
             explore_branches,
             last_resort,
             stop_at_failure,
+            low_rank_updates,
         )?;
         let points = sweep.points();
         for point in &points {
@@ -661,7 +677,8 @@ fn blocks_explore<'py>(
         let options = RunOptions {
             branch_rule: rule,
             probe_flips,
-            ..run_options(t_end, prox_constant, true, true, false)?
+            // The exploration turns the low-rank updates off itself.
+            ..run_options(t_end, prox_constant, true, true, false, false)?
         };
         let explore_options = ExploreOptions {
             strategy,

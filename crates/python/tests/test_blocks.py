@@ -114,6 +114,18 @@ def test_shaking_equals_cli(cli):
     assert strip_timings(r.report) == cli_report(theirs)
 
 
+def test_low_rank_updates_off_equals_cli(cli):
+    scene = blocks.shaking(blocks=3, omega=6.0, amplitude=0.1, periods=1.0)
+    off = blocks.simulate(scene, low_rank_updates=False)
+    theirs = cli(
+        "blocks", "shake", "--blocks", "3", "--omega", "6", "--amplitude", "0.1", "--periods", "1",
+        "--low-rank-updates", "false",
+    )
+    assert strip_timings(off.report) == cli_report(theirs)
+    on = blocks.simulate(scene)
+    assert on.report["linear_solves"] <= off.report["linear_solves"]
+
+
 def test_presets_bad_input():
     with pytest.raises(ValueError, match="perturb"):
         blocks.lire(perturb="middle")

@@ -42,6 +42,7 @@ def blocks_simulate(
     explore_branches: bool = ...,
     last_resort: bool = ...,
     stop_at_failure: bool = ...,
+    low_rank_updates: bool = ...,
 ) -> Dict[str, Any]: ...
 def blocks_sweep_frequency(
     omegas: Sequence[float],
@@ -54,6 +55,7 @@ def blocks_sweep_frequency(
     explore_branches: bool = ...,
     last_resort: bool = ...,
     t_max: Optional[float] = ...,
+    low_rank_updates: bool = ...,
 ) -> List[Dict[str, Any]]: ...
 def blocks_explore(
     scene: Any,
@@ -75,6 +77,7 @@ def blocks_sweep_slide(
     prox_constant: Optional[float] = ...,
     explore_branches: bool = ...,
     last_resort: bool = ...,
+    low_rank_updates: bool = ...,
 ) -> List[Dict[str, Any]]: ...
 def blocks_sweep_scene(
     scene: Scene,
@@ -84,6 +87,7 @@ def blocks_sweep_scene(
     prox_constant: Optional[float] = ...,
     explore_branches: bool = ...,
     last_resort: bool = ...,
+    low_rank_updates: bool = ...,
 ) -> List[Dict[str, Any]]: ...
 def sphere_holonomy(theta: float, phi1: float, phi2: float, cw: bool = ...) -> Dict[str, Any]: ...
 def sphere_plan(angle: float, axis: Sequence[float]) -> Dict[str, Any]: ...

@@ -258,6 +258,7 @@ def simulate(
     explore_branches: bool = True,
     last_resort: bool = True,
     stop_at_failure: bool = False,
+    low_rank_updates: bool = True,
 ) -> Result:
     """Simulates ``scene`` from t = 0 to ``t_end`` (default: the scene's
     ``solver.t_end``) with the nonsmooth generalized-α stepper (§4.2, App. H): nsga's
@@ -272,7 +273,10 @@ def simulate(
       sets when Newton cycles);
     - ``last_resort``: take a step nothing else resolves as a Moreau-Jean step solved by
       Lemke's method (docs/method.md §8);
-    - ``stop_at_failure``: stop at the first loss of support (as the sweeps do).
+    - ``stop_at_failure``: stop at the first loss of support (as the sweeps do);
+    - ``low_rank_updates``: where a Newton iterate's index sets differ from those of the
+      kept factors in a few rows, update the kept factors instead of factorizing anew
+      (docs/method.md §7); ``False`` factorizes every change of sets, as the paper does.
 
     Returns a :class:`Result`. Raises ``ValueError`` for bad options (t_end ≤ 0, r ≤ 0),
     :class:`rollstack.SolverError` when the run stops early on a step it cannot resolve
@@ -294,6 +298,7 @@ def simulate(
         bool(explore_branches),
         bool(last_resort),
         bool(stop_at_failure),
+        bool(low_rank_updates),
     )
     result = Result(raw)
     if raw["interrupted"] is not None:
@@ -364,6 +369,7 @@ def sweep_frequency(
     explore_branches: bool = True,
     last_resort: bool = True,
     t_max: Optional[float] = None,
+    low_rank_updates: bool = True,
 ) -> List[Dict[str, Any]]:
     """Failure time against the shaking frequency (Figure 4.6): one row per ω, each run
     until the first loss of support or the end of its periods, in parallel (rayon, the
@@ -373,7 +379,7 @@ def sweep_frequency(
     --json`` (omega, horizon, outcome, failure_time, inv_failure_time, opening_time,
     steps, error, ...); ``outcome`` is ``failed``, ``no_failure_by_horizon`` or
     ``stopped``, and a run the solver stops has its message in ``error``. Every ω is
-    checked before any run (``ValueError``)."""
+    checked before any run (``ValueError``). ``low_rank_updates`` as in :func:`simulate`."""
     return _rollstack.blocks_sweep_frequency(
         [float(w) for w in omegas],
         float(periods),
@@ -385,6 +391,7 @@ def sweep_frequency(
         bool(explore_branches),
         bool(last_resort),
         None if t_max is None else float(t_max),
+        bool(low_rank_updates),
     )
 
 
@@ -397,6 +404,7 @@ def sweep_slide(
     prox_constant: Optional[float] = None,
     explore_branches: bool = True,
     last_resort: bool = True,
+    low_rank_updates: bool = True,
 ) -> List[Dict[str, Any]]:
     """The top block's angle against the speed of the pulled base (Figure 4.7): one row
     per v0, in parallel, in input order: the rows of ``rollstack blocks sweep slide
@@ -409,6 +417,7 @@ def sweep_slide(
         prox_constant,
         bool(explore_branches),
         bool(last_resort),
+        bool(low_rank_updates),
     )
 
 
@@ -421,6 +430,7 @@ def sweep_scene(
     prox_constant: Optional[float] = None,
     explore_branches: bool = True,
     last_resort: bool = True,
+    low_rank_updates: bool = True,
 ) -> List[Dict[str, Any]]:
     """Runs ``scene`` once per combination of the values of its swept keys (the
     cartesian product, in order), in parallel (rayon, the GIL released): the rows of
@@ -453,6 +463,7 @@ def sweep_scene(
         prox_constant,
         bool(explore_branches),
         bool(last_resort),
+        bool(low_rank_updates),
     )
 
 
