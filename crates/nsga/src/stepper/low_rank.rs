@@ -22,6 +22,7 @@
 
 use super::assemble::{ContactRows, KinematicColumns};
 use super::rows::RowMat;
+use super::solve::{expand, restrict, Pruning};
 use super::Stepper;
 use crate::params::GenAlpha;
 use crate::sets::IndexSets;
@@ -154,14 +155,14 @@ fn solve_small(k: usize, c: &mut [f64], rhs: &mut [f64]) -> bool {
 impl<S: System> Stepper<S> {
     /// The low-rank update (module docs) at `x` for `sets` into `dx`, when the kept
     /// factors fit but for at most [`LOW_RANK_ROWS`] rows; false otherwise (`dx` then
-    /// holds nothing that counts). `map` is the prune map of this attempt, the kept
-    /// factors' too.
+    /// holds nothing that counts). `prune` is this attempt's prune map and reduced size,
+    /// the kept factors' too.
     pub(super) fn low_rank_direction(
         &mut self,
         x: &[f64],
         sets: &IndexSets,
         p: &GenAlpha,
-        map: Option<&[usize]>,
+        prune: Option<&Pruning>,
         dx: &mut [f64],
     ) -> bool {
         let Some(kept) = self.work.factored.as_ref() else {
@@ -177,7 +178,7 @@ impl<S: System> Stepper<S> {
         }
         self.work.low_rank.rows = rows;
         self.work.low_rank.only = only;
-        let ok = fits && self.low_rank_solve(map, dx);
+        let ok = fits && self.low_rank_solve(prune, dx);
         if ok {
             KinematicColumns::new(self.options.dt, p).to_unknowns(&self.off, dx);
         }
@@ -186,12 +187,12 @@ impl<S: System> Stepper<S> {
 
     /// The Woodbury solve of the module docs, with the changed rows in `work.jac` and the
     /// residual in `work.res`.
-    fn low_rank_solve(&mut self, map: Option<&[usize]>, dx: &mut [f64]) -> bool {
-        let n_full = self.off.n;
+    fn low_rank_solve(&mut self, prune: Option<&Pruning>, dx: &mut [f64]) -> bool {
+        let map = prune.map(|(map, _)| map.as_slice());
+        let n = prune.map_or(self.off.n, |&(_, n_red)| n_red);
         let reduce = |i: usize| map.map_or(i, |m| m[i]);
         let w = &mut self.work;
         let lr = &mut w.low_rank;
-        let n = map.map_or(n_full, |m| m.iter().filter(|&&r| r != usize::MAX).count());
         lr.reduced.clear();
         lr.reduced.extend(
             lr.rows
@@ -226,12 +227,8 @@ impl<S: System> Stepper<S> {
         // y = J₀⁻¹ b with b = −R.
         lr.y.clear();
         lr.y.resize(n, 0.0);
-        for (i, &r) in w.res.iter().enumerate() {
-            let ri = reduce(i);
-            if ri != usize::MAX {
-                lr.y[ri] = -r;
-            }
-        }
+        restrict(map, &w.res, &mut lr.y);
+        lr.y.iter_mut().for_each(|v| *v = -*v);
         if w.solver.solve_again(&mut lr.y).is_err() {
             return false;
         }
@@ -281,10 +278,7 @@ impl<S: System> Stepper<S> {
         if !lr.y.iter().all(|v| v.is_finite()) {
             return false;
         }
-        for (i, d) in dx.iter_mut().enumerate().take(n_full) {
-            let ri = reduce(i);
-            *d = if ri == usize::MAX { 0.0 } else { lr.y[ri] };
-        }
+        expand(map, &lr.y, dx);
         true
     }
 }

@@ -18,7 +18,32 @@ use nalgebra::DMatrix;
 
 /// The map full → reduced index of the unknowns left in the linear solve
 /// (`usize::MAX` for a pruned one) and the reduced size.
-type Pruning = (Vec<usize>, usize);
+pub(super) type Pruning = (Vec<usize>, usize);
+
+/// Writes the entries of the full-length `full` left in the linear solve into `reduced`,
+/// in the reduced numbering of the prune `map` (all of them, in order, without one).
+pub(super) fn restrict(map: Option<&[usize]>, full: &[f64], reduced: &mut [f64]) {
+    let Some(map) = map else {
+        reduced.copy_from_slice(full);
+        return;
+    };
+    for (&m, &v) in map.iter().zip(full) {
+        if m != usize::MAX {
+            reduced[m] = v;
+        }
+    }
+}
+
+/// The inverse of [`restrict`]: `full` from `reduced`, the pruned entries 0.
+pub(super) fn expand(map: Option<&[usize]>, reduced: &[f64], full: &mut [f64]) {
+    let Some(map) = map else {
+        full.copy_from_slice(reduced);
+        return;
+    };
+    for (f, &m) in full.iter_mut().zip(map) {
+        *f = if m == usize::MAX { 0.0 } else { reduced[m] };
+    }
+}
 
 /// How a Newton update gets its factors.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -483,7 +508,7 @@ impl<S: System> Stepper<S> {
         if same_sets {
             return self.newton_direction(prune, Factor::Kept, p, dx).is_ok();
         }
-        self.quick_updates() && self.low_rank_direction(x, sets, p, map.map(Vec::as_slice), dx)
+        self.quick_updates() && self.low_rank_direction(x, sets, p, prune, dx)
     }
 
     /// The Newton update dx = −J⁻¹R from the assembled Jacobian and residual, or with
@@ -528,11 +553,7 @@ impl<S: System> Stepper<S> {
         };
         w.rhs_red.clear();
         w.rhs_red.resize(*n_red, 0.0);
-        for (i, &m) in map.iter().enumerate() {
-            if m != usize::MAX {
-                w.rhs_red[m] = dx[i];
-            }
-        }
+        restrict(Some(map), dx, &mut w.rhs_red);
         let out = if again {
             w.solver.solve_again(&mut w.rhs_red)
         } else {
@@ -549,9 +570,7 @@ impl<S: System> Stepper<S> {
             pruned.truncate(kept);
             w.solver.solve(*n_red, pruned, &mut w.rhs_red)
         };
-        for (i, &m) in map.iter().enumerate() {
-            dx[i] = if m == usize::MAX { 0.0 } else { w.rhs_red[m] };
-        }
+        expand(Some(map), &w.rhs_red, dx);
         out
     }
 
