@@ -247,6 +247,10 @@ pub struct RunSummary {
     pub fallback_steps: usize,
     /// The largest complementarity residual of those steps (0 when none).
     pub fallback_residual: f64,
+    /// Steps taken without the friction percussions' half-step shift, where the
+    /// paper's step had no self-consistent index sets
+    /// ([`nsga::Options::retry_without_friction_shift`]).
+    pub unshifted_steps: usize,
     /// Why the consistent start failed, where the run started without it and took its
     /// first step by the last resort ([`nsga::Stepper::start_failure`]); `None` after a
     /// consistent start.
@@ -352,6 +356,7 @@ pub fn stepper_options(scene: &Scene, options: &RunOptions) -> Result<Options, B
         prune_open_contacts: true,
         reuse_factorization: true,
         low_rank_updates: !options.skip_low_rank_updates,
+        retry_without_friction_shift: true,
         predict_start: !options.skip_predicted_start,
         line_search: LINE_SEARCH_HALVINGS,
         rho_inf_retry: RHO_INF_RETRY,
@@ -546,6 +551,7 @@ pub fn simulate_until(
         split_steps: 0,
         fallback_steps: 0,
         fallback_residual: 0.0,
+        unshifted_steps: 0,
         start_failure: None,
         linear_solves: 0,
         max_energy_increase: f64::NEG_INFINITY,
@@ -612,6 +618,9 @@ pub fn simulate_until(
         summary.branch_points.extend(branch);
         if stepper.last_step().is_some_and(|s| s.substeps > 1) {
             summary.split_steps += 1;
+        }
+        if stepper.last_step().is_some_and(|s| s.unshifted) {
+            summary.unshifted_steps += 1;
         }
         if let Some(last) = stepper.last_step().and_then(|s| s.last_resort.as_ref()) {
             summary.fallback_steps += 1;
@@ -733,6 +742,8 @@ pub struct RunReport {
     pub fallback_steps: usize,
     /// The largest complementarity residual of those steps (0 when none).
     pub fallback_residual: f64,
+    /// Steps taken without the friction percussions' half-step shift.
+    pub unshifted_steps: usize,
     /// Why the consistent start failed, where the first step was taken by the last
     /// resort instead; null after a consistent start.
     pub start_failure: Option<String>,
@@ -793,6 +804,7 @@ impl RunReport {
             split_steps: summary.split_steps,
             fallback_steps: summary.fallback_steps,
             fallback_residual: summary.fallback_residual,
+            unshifted_steps: summary.unshifted_steps,
             start_failure: summary.start_failure.clone(),
             linear_solves: summary.linear_solves,
             max_energy_increase: summary.max_energy_increase,

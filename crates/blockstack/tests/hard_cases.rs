@@ -212,6 +212,59 @@ fn tall_columns_on_a_moving_base_start_and_step() {
     }
 }
 
+/// A block 0.4 × 0.2 lying on a fixed base, tilted by 0.05 on its left corner and turning
+/// down at 0.5 rad/s while that corner slides at 0.02 (μ = 0.5, Δt = 0.01). Its landing
+/// step has no self-consistent index sets with the paper's half-step shift of the
+/// friction percussion, which turns the block against its own closed corners
+/// (docs/method.md §8.2): it is taken by stage 3b, the step without the shift, instead
+/// of halving, and the block comes to rest flat.
+#[test]
+fn a_block_landing_flat_while_it_slides_is_taken_without_the_shift() {
+    // Centre = corner + R(0.05)(0.2, 0.1), 10⁻⁷ above the base; velocity = (0.02, 0) +
+    // ω × (centre − corner).
+    let scene = blockstack::Scene::from_toml(
+        r#"
+        [base]
+        width = 2.0
+        height = 0.1
+
+        [[blocks]]
+        width = 0.4
+        height = 0.2
+        x = 0.19475213515192544
+        y = 0.15987095989363231
+        theta = 0.05
+        velocity = [0.07493542994681615, -0.09737606757596272, -0.5]
+
+        [contact]
+        mu = 0.5
+
+        [solver]
+        dt = 0.01
+        t_end = 0.4
+        "#,
+    )
+    .unwrap();
+    let s = simulate(&scene, &RunOptions::default(), |_| {}).unwrap();
+    assert_eq!(s.error, None);
+    assert_eq!(
+        (
+            s.failed_steps,
+            s.unshifted_steps,
+            s.split_steps,
+            s.fallback_steps
+        ),
+        (1, 1, 0, 0),
+        "{s:?}"
+    );
+    assert!(s.min_gap > -1e-8, "{}", s.min_gap);
+    let end = s.final_poses[0];
+    assert!(
+        end.theta.abs() < 1e-9 && (end.y - 0.15).abs() < 1e-9,
+        "{end:?}"
+    );
+}
+
 /// Painlevé's inconsistency (App. I): a block sliding on one corner with μ = 2 and B < 0
 /// whose corner also accelerates into the table without a contact force (A = −0.5 g)
 /// has no contact force on acceleration level (ÿ_P = A + B n < 0 for every n ≥ 0), so the

@@ -193,6 +193,24 @@ pub struct Options {
     /// The retries, re-solves and halvings of a failed step factorize as before.
     #[serde(default)]
     pub low_rank_updates: bool,
+    /// Whether the position correction carries half a step of the friction
+    /// percussions: M Q = W_N κ_N + ½Δt W_F Λ_F, as in the paper (eq. 127, rows of Q).
+    /// Without it, M Q = W_N κ_N: a friction percussion changes u_{n+1} and moves the
+    /// bodies from the next step on, as a normal percussion does. Where the friction
+    /// percussion of an impact has a lever arm (a block landing flat while it slides),
+    /// its half-step shift turns the body, the normal position multipliers of its other
+    /// closed contacts must turn it back, one of them with κ̂_N < 0, and the step's
+    /// index sets have no self-consistent choice at any Δt (docs/method.md §8.2,
+    /// "The friction percussion's half-step shift"). Both forms are first order at an
+    /// impact. The percussions of bilateral velocity constraints keep their shift.
+    #[serde(default = "yes")]
+    pub friction_percussion_shift: bool,
+    /// With [`Options::friction_percussion_shift`]: a step whose fixed-set re-solves
+    /// found no self-consistent solution is tried once more, from the start, without
+    /// the shift (docs/method.md §8.2, stage 3b), before the best iterate, halving and
+    /// the last resort.
+    #[serde(default)]
+    pub retry_without_friction_shift: bool,
     /// Start the first attempt at a step from the unknowns predicted by extrapolating a
     /// and λ over the last steps, while their index sets stayed the same (quadratic
     /// through three solutions, linear through two; docs/method.md §4). An attempt from
@@ -318,6 +336,8 @@ impl Default for Options {
             regularization: DEFAULT_REGULARIZATION,
             reuse_factorization: false,
             low_rank_updates: false,
+            friction_percussion_shift: true,
+            retry_without_friction_shift: false,
             predict_start: false,
             line_search: 0,
             max_halvings: 0,

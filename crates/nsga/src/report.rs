@@ -58,6 +58,11 @@ pub struct StepStats {
     /// Set when the step was taken by the last resort (docs/method.md §8, step 7).
     #[serde(default)]
     pub last_resort: Option<LastResort>,
+    /// Whether the step (or one of its substeps) was taken without the friction
+    /// percussions' half-step shift, by stage 3b of the policy
+    /// ([`Options::retry_without_friction_shift`](crate::Options::retry_without_friction_shift)).
+    #[serde(default)]
+    pub unshifted: bool,
 }
 
 /// How the last resort took a step: a Moreau–Jean step whose contact problem Lemke's
@@ -100,6 +105,10 @@ pub struct RunStats {
     /// The largest complementarity residual of those steps.
     #[serde(default)]
     pub last_resort_residual: f64,
+    /// Steps taken without the friction percussions' half-step shift
+    /// ([`StepStats::unshifted`]).
+    #[serde(default)]
+    pub unshifted_steps: u64,
 }
 
 impl RunStats {

@@ -494,6 +494,9 @@ impl<S: System> Stepper<S> {
         if step.branch.as_ref().is_some_and(|b| b.candidates.len() > 1) {
             self.stats.branch_points += 1;
         }
+        if step.unshifted {
+            self.stats.unshifted_steps += 1;
+        }
         if let Some(last) = &step.last_resort {
             self.stats.last_resort_steps += 1;
             self.stats.last_resort_residual = self.stats.last_resort_residual.max(last.residual);

@@ -288,7 +288,9 @@ impl<S: System> Stepper<S> {
             for &(i, c, v) in &e.velocity_w.entries {
                 jac.push((o.a + i, col_v(c, o.lga, o.lf), -dt * v));
                 jac.push((o.uu + i, col_v(c, o.cga, o.cf), -v));
-                jac.push((o.qq + i, col_v(c, o.cga, o.cf), -0.5 * v));
+                if c < o.nga || self.options.friction_percussion_shift {
+                    jac.push((o.qq + i, col_v(c, o.cga, o.cf), -0.5 * v));
+                }
             }
             for i in 0..o.ng {
                 let rp = w.r_pos[i];

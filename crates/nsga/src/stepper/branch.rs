@@ -361,6 +361,7 @@ mod tests {
                 solver: "dense".into(),
                 substeps: 1,
                 last_resort: None,
+                unshifted: false,
             },
             visited: Vec::new(),
             cycling: false,

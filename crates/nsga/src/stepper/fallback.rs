@@ -108,6 +108,14 @@ impl<S: System> Stepper<S> {
                 return Ok(());
             }
         }
+        if self.options.retry_without_friction_shift && self.options.friction_percussion_shift {
+            retries += 1;
+            if let Ok(mut t) = self.solve_unshifted(rho0) {
+                t.stats.retries = retries;
+                self.commit(t);
+                return Ok(());
+            }
+        }
         if self.options.on_failure == FailurePolicy::AcceptBest {
             if let Some(mut t) = best.take().map(|b| *b) {
                 if t.state.q.iter().chain(&t.state.u).all(|x| x.is_finite()) {
@@ -198,11 +206,30 @@ impl<S: System> Stepper<S> {
         fixed: Option<&IndexSets>,
         rho_inf: f64,
     ) -> Result<Trial, AttemptFailure> {
-        let full = self.options.max_iter;
-        self.options.max_iter = self.options.retry_max_iter.min(full);
+        let full = (self.options.max_iter, self.options.max_iter_per_contact);
+        self.options.max_iter = self.options.retry_max_iter.min(full.0);
+        // Free retries too: their budget would otherwise grow with the contacts.
+        self.options.max_iter_per_contact = 0;
         let out = self.solve(fixed, rho_inf, self.state.x.clone());
-        self.options.max_iter = full;
+        (self.options.max_iter, self.options.max_iter_per_contact) = full;
         out
+    }
+
+    /// Stage 3b of the policy of [`Stepper::step`]: the step from the state's unknowns,
+    /// with a free attempt's budget, without the friction percussions' half-step shift
+    /// ([`Options::retry_without_friction_shift`]). Where the paper's step has no
+    /// self-consistent index sets because that shift turns a body against its own
+    /// closed contacts, this one usually has (docs/method.md §8.2).
+    ///
+    /// [`Options::retry_without_friction_shift`]: crate::Options::retry_without_friction_shift
+    fn solve_unshifted(&mut self, rho0: f64) -> Result<Trial, AttemptFailure> {
+        self.options.friction_percussion_shift = false;
+        let out = self.solve(None, rho0, self.state.x.clone());
+        self.options.friction_percussion_shift = true;
+        out.map(|mut t| {
+            t.stats.unshifted = true;
+            t
+        })
     }
 
     /// Takes the step t_n → t_n + Δt as `parts` substeps of Δt/`parts`, each committed
@@ -260,6 +287,7 @@ impl<S: System> Stepper<S> {
                     retries: m.retries + last.retries,
                     converged: m.converged && last.converged,
                     branch: m.branch.or(last.branch),
+                    unshifted: m.unshifted || last.unshifted,
                     substeps: m.substeps + last.substeps,
                     ..last
                 },

@@ -109,12 +109,14 @@ impl<S: System> Stepper<S> {
         let Some(held) = &progress.held else {
             return (sets, res);
         };
-        if res <= self.options.tol || &sets == held {
+        let mut held = held.clone();
+        self.open_unsupported(&mut held);
+        if res <= self.options.tol || sets == held {
             return (sets, res);
         }
         // The laws' residual is the update's again if the sets are released here.
         let laws = self.work.res.clone();
-        self.residual(x, held, p);
+        self.residual(x, &held, p);
         let held_res = max_norm(&self.work.res);
         progress.evaluations += 1;
         let stalled = progress.evaluations > 1 && held_res > 0.5 * progress.last_residual;
@@ -125,6 +127,6 @@ impl<S: System> Stepper<S> {
             return (sets, res);
         }
         progress.last_residual = held_res;
-        (held.clone(), held_res)
+        (held, held_res)
     }
 }

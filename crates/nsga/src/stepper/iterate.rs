@@ -38,6 +38,8 @@ pub(super) struct Iterate {
     pub(super) cap_v: Vec<f64>,
     pub(super) kap_p: Vec<f64>,
     pub(super) half_cap_v: Vec<f64>,
+    /// Per position-level constraint: whether W_p has an entry in its column at q_{n+1}.
+    pub(super) supported: Vec<bool>,
 }
 
 impl<S: System> Stepper<S> {
@@ -124,7 +126,15 @@ impl<S: System> Stepper<S> {
         );
         fam(&mut it.kap_p, &x[o.kg..o.kg + o.ng], &x[o.kn..o.kn + o.nn]);
         it.half_cap_v.clear();
-        it.half_cap_v.extend(it.cap_v.iter().map(|c| 0.5 * dt * c));
+        // ½Δt Λ_v of the Q rows (eq. 127); the friction part only with the shift.
+        let shifted = if self.options.friction_percussion_shift {
+            o.nga + o.nf
+        } else {
+            o.nga
+        };
+        it.half_cap_v
+            .extend(it.cap_v.iter().take(shifted).map(|c| 0.5 * dt * c));
+        it.half_cap_v.resize(it.cap_v.len(), 0.0);
     }
 
     /// Evaluates the system at (t_{n+1}, q_{n+1}, u_{n+1}) and the constraint levels.
@@ -156,9 +166,12 @@ impl<S: System> Stepper<S> {
         // ṗ(q1,u1), ṗ(q1,u_n), p̈ = W_pᵀa + ζ_p (buffers reused: no allocation per iterate)
         it.rate_new.clone_from(&e.position_chi);
         it.rate_old.clone_from(&e.position_chi);
+        it.supported.clear();
+        it.supported.resize(np, false);
         for &(r, c, v) in &e.position_w.entries {
             it.rate_new[c] += v * it.u1[r];
             it.rate_old[c] += v * u0[r];
+            it.supported[c] = true;
         }
         it.p.clone_from(&e.position);
         it.xi_p.clear();
@@ -191,6 +204,26 @@ impl<S: System> Stepper<S> {
         }
         for &(r, c, v) in &w.eval.velocity_w.entries {
             w.it.acc_v[c] += v * x[o.a + r];
+        }
+    }
+
+    /// Opens, on every level, the normal contacts that have no W and a positive gap at
+    /// the current iterate: a system's "open contact that cannot close" (a corner slid
+    /// past the end of its face) transmits no force whatever its multipliers say, and
+    /// closed, its rows would hold nothing but the regularization: the Newton matrix
+    /// would be singular at every Δt (docs/method.md §8.2). A gap at or below zero
+    /// without W stays as the prox test decides: no force can keep it closed, and the
+    /// singular matrix says so.
+    pub(super) fn open_unsupported(&self, s: &mut IndexSets) {
+        let it = &self.work.it;
+        let ng = self.off.ng;
+        let supported = it.supported.get(ng..).unwrap_or(&[]);
+        for (k, _) in supported.iter().enumerate().filter(|(_, &w)| !w) {
+            if it.p[ng + k] > 0.0 {
+                s.a[k] = false;
+                s.b[k] = false;
+                s.c[k] = false;
+            }
         }
     }
 
@@ -238,6 +271,7 @@ impl<S: System> Stepper<S> {
                 }
             }
         }
+        self.open_unsupported(&mut s);
         for k in 0..o.nn {
             let pk = o.ng + k;
             let r = w.r_pos[pk];

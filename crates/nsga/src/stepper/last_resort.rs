@@ -58,6 +58,7 @@ impl<S: System> Stepper<S> {
                 residual: step.residual,
                 projection: step.projection,
             }),
+            unshifted: false,
         };
         let mut state = self.restarted_state(k, t1, step.q, step.u, step.p_n, step.p_f);
         state.flush_subnormals();

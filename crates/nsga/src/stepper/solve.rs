@@ -647,6 +647,7 @@ impl<S: System> Stepper<S> {
             branch: None,
             solver: self.work.solver.name().to_owned(),
             substeps: 1,
+            unshifted: false,
         };
         Trial {
             state,
