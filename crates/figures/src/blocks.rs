@@ -987,6 +987,7 @@ mod scene_sweep_tests {
                 failed_steps: 0,
                 branch_points: 0,
                 fallback_steps: 0,
+                unshifted_steps: 0,
                 linear_solves: 0,
                 min_gap: None,
                 max_penetration: None,

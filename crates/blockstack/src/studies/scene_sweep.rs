@@ -396,6 +396,7 @@ impl SceneSweep {
             failed_steps: 0,
             branch_points: 0,
             fallback_steps: 0,
+            unshifted_steps: 0,
             linear_solves: 0,
             min_gap: None,
             max_penetration: None,
@@ -423,6 +424,7 @@ impl SceneSweep {
                 row.failed_steps = s.failed_steps;
                 row.branch_points = s.branch_points.len();
                 row.fallback_steps = s.fallback_steps;
+                row.unshifted_steps = s.unshifted_steps;
                 row.linear_solves = s.linear_solves;
                 row.min_gap = Some(s.min_gap).filter(|g| g.is_finite());
                 row.max_penetration = Some(s.deepest.depth());
@@ -490,6 +492,10 @@ pub struct SceneRow {
     pub branch_points: usize,
     /// Steps taken by the last resort (Moreau–Jean solved by Lemke's method).
     pub fallback_steps: usize,
+    /// Steps taken without the friction percussions' half-step shift (stage 3b of the
+    /// step policy, docs/method.md §8.2).
+    #[serde(default)]
+    pub unshifted_steps: usize,
     /// Linear solves of the Newton iterations in every attempt (the run's work).
     pub linear_solves: u64,
     /// Smallest gap among the contacts that can close over the run, or null when none
@@ -512,7 +518,7 @@ pub struct SceneRow {
 
 impl SceneRow {
     /// The measured columns, after the swept keys' columns.
-    pub const MEASURED: [&'static str; 15] = [
+    pub const MEASURED: [&'static str; 16] = [
         "failure_time",
         "opening_time",
         "t_final",
@@ -520,6 +526,7 @@ impl SceneRow {
         "failed_steps",
         "branch_points",
         "fallback_steps",
+        "unshifted_steps",
         "linear_solves",
         "min_gap",
         "max_penetration",
@@ -553,6 +560,7 @@ impl SceneRow {
             self.failed_steps.to_string(),
             self.branch_points.to_string(),
             self.fallback_steps.to_string(),
+            self.unshifted_steps.to_string(),
             self.linear_solves.to_string(),
             optional_text(self.min_gap),
             optional_text(self.max_penetration),
