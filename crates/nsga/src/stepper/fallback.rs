@@ -109,12 +109,12 @@ impl<S: System> Stepper<S> {
             }
         }
         if self.options.retry_without_friction_shift && self.options.friction_percussion_shift {
-            retries += 1;
             if let Ok(mut t) = self.solve_unshifted(rho0) {
                 t.stats.retries = retries;
                 self.commit(t);
                 return Ok(());
             }
+            retries += 1;
         }
         if self.options.on_failure == FailurePolicy::AcceptBest {
             if let Some(mut t) = best.take().map(|b| *b) {
