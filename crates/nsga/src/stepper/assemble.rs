@@ -221,6 +221,7 @@ impl<S: System> Stepper<S> {
     ) {
         let o = self.off;
         let dt = self.options.dt;
+        let shifted = self.shifted_velocity_constraints();
         let KinematicColumns { c_ua, c_qa } = KinematicColumns::new(dt, p);
         // ∂P/∂λ and ∂κ̂/∂λ_N: the percussions follow λ (eqs. 95, 96) as u_{n+1} and
         // q_{n+1} follow a (eqs. 73, 125), with the same factors Δt γ α_r and Δt² β α_r.
@@ -288,7 +289,7 @@ impl<S: System> Stepper<S> {
             for &(i, c, v) in &e.velocity_w.entries {
                 jac.push((o.a + i, col_v(c, o.lga, o.lf), -dt * v));
                 jac.push((o.uu + i, col_v(c, o.cga, o.cf), -v));
-                if c < o.nga || self.options.friction_percussion_shift {
+                if c < shifted {
                     jac.push((o.qq + i, col_v(c, o.cga, o.cf), -0.5 * v));
                 }
             }

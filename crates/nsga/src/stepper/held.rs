@@ -109,9 +109,8 @@ impl<S: System> Stepper<S> {
         let Some(held) = &progress.held else {
             return (sets, res);
         };
-        let mut held = held.clone();
-        self.open_unsupported(&mut held);
-        if res <= self.options.tol || sets == held {
+        let held = self.with_unsupported_open(held);
+        if res <= self.options.tol || sets == *held {
             return (sets, res);
         }
         // The laws' residual is the update's again if the sets are released here.
@@ -127,6 +126,6 @@ impl<S: System> Stepper<S> {
             return (sets, res);
         }
         progress.last_residual = held_res;
-        (held, held_res)
+        (held.into_owned(), held_res)
     }
 }

@@ -8,6 +8,7 @@ use crate::params::GenAlpha;
 use crate::prox::prox_parameters;
 use crate::sets::IndexSets;
 use crate::system::System;
+use std::borrow::Cow;
 
 /// Quantities derived from x at one Newton iterate (eqs. 71, 73, 125, 95, 102, 113).
 #[derive(Debug, Clone, Default)]
@@ -127,11 +128,8 @@ impl<S: System> Stepper<S> {
         fam(&mut it.kap_p, &x[o.kg..o.kg + o.ng], &x[o.kn..o.kn + o.nn]);
         it.half_cap_v.clear();
         // ½Δt Λ_v of the Q rows (eq. 127); the friction part only with the shift.
-        let shifted = if self.options.friction_percussion_shift {
-            o.nga + o.nf
-        } else {
-            o.nga
-        };
+        let shifted = self.shifted_velocity_constraints();
+        let it = &mut self.work.it;
         it.half_cap_v
             .extend(it.cap_v.iter().take(shifted).map(|c| 0.5 * dt * c));
         it.half_cap_v.resize(it.cap_v.len(), 0.0);
@@ -207,23 +205,54 @@ impl<S: System> Stepper<S> {
         }
     }
 
-    /// Opens, on every level, the normal contacts that have no W and a positive gap at
-    /// the current iterate: a system's "open contact that cannot close" (a corner slid
-    /// past the end of its face) transmits no force whatever its multipliers say, and
-    /// closed, its rows would hold nothing but the regularization: the Newton matrix
-    /// would be singular at every Δt (docs/method.md §8.2). A gap at or below zero
-    /// without W stays as the prox test decides: no force can keep it closed, and the
-    /// singular matrix says so.
-    pub(super) fn open_unsupported(&self, s: &mut IndexSets) {
+    /// The normal contacts that have no W and a positive gap at the current iterate: a
+    /// system's "open contact that cannot close" (a corner slid past the end of its
+    /// face), which transmits no force whatever its multipliers say. Closed, its rows
+    /// would hold nothing but the regularization: the Newton matrix would be singular at
+    /// every Δt (docs/method.md §8.2). A gap at or below zero without W is not among
+    /// them: no force can keep it closed, and the singular matrix says so.
+    fn unsupported_contacts(&self) -> impl Iterator<Item = usize> + '_ {
         let it = &self.work.it;
         let ng = self.off.ng;
         let supported = it.supported.get(ng..).unwrap_or(&[]);
-        for (k, _) in supported.iter().enumerate().filter(|(_, &w)| !w) {
-            if it.p[ng + k] > 0.0 {
-                s.a[k] = false;
-                s.b[k] = false;
-                s.c[k] = false;
-            }
+        supported
+            .iter()
+            .enumerate()
+            .filter(move |&(k, &w)| !w && it.p[ng + k] > 0.0)
+            .map(|(k, _)| k)
+    }
+
+    /// Opens the [`Self::unsupported_contacts`] in `s`, on every level.
+    pub(super) fn open_unsupported(&self, s: &mut IndexSets) {
+        for k in self.unsupported_contacts() {
+            s.a[k] = false;
+            s.b[k] = false;
+            s.c[k] = false;
+        }
+    }
+
+    /// `sets` with the [`Self::unsupported_contacts`] open: borrowed where none of them
+    /// is closed in `sets` (consistent sets nest B and C in A), a copy otherwise.
+    pub(super) fn with_unsupported_open<'a>(&self, sets: &'a IndexSets) -> Cow<'a, IndexSets> {
+        if self.unsupported_contacts().any(|k| sets.a[k]) {
+            let mut opened = sets.clone();
+            self.open_unsupported(&mut opened);
+            Cow::Owned(opened)
+        } else {
+            Cow::Borrowed(sets)
+        }
+    }
+
+    /// How many velocity-level constraints, counted from the first, shift the position
+    /// by half a step of their percussions in the Q rows (eq. 127): the bilateral ones,
+    /// and the friction laws' with
+    /// [`Options::friction_percussion_shift`](crate::Options::friction_percussion_shift).
+    pub(super) fn shifted_velocity_constraints(&self) -> usize {
+        let o = &self.off;
+        if self.options.friction_percussion_shift {
+            o.nga + o.nf
+        } else {
+            o.nga
         }
     }
 
