@@ -168,6 +168,14 @@ pub struct NewtonScratch {
     best_x: Vec<f64>,
 }
 
+impl NewtonScratch {
+    /// The iterates the last [`solve`] evaluated (the updates it made, plus one).
+    #[must_use]
+    pub fn evaluations(&self) -> usize {
+        self.history.len()
+    }
+}
+
 /// Solves `problem` by semismooth Newton from `x`, which holds the last iterate at the
 /// end (the solution when [`Outcome::Converged`]).
 pub fn solve<P: NewtonProblem>(

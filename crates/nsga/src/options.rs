@@ -161,8 +161,9 @@ pub struct Options {
     /// Leave out of the linear solve the normal contacts (and their friction laws) that
     /// are open, carry no force and cannot close within the step
     /// (g_N > 2Δt|ġ_N| + Δt²|g̈_N|); if one of them closes at an iterate, the attempt
-    /// is redone with that contact kept. Fixed-set re-solves prune only the contacts
-    /// their sets leave open.
+    /// goes on from that iterate with that contact kept, which is where the unpruned
+    /// attempt would be (docs/method.md §8.1). Fixed-set re-solves prune only the
+    /// contacts their sets leave open.
     pub prune_open_contacts: bool,
     /// ε ≥ 0 added to the Newton matrix (not to the residual) on the multiplier diagonal
     /// of every closed contact row, scaled like the row's open form, when the Newton

@@ -70,12 +70,24 @@ struct StepProblem<'a, S: System> {
     closing: Vec<bool>,
     /// The progress of a held-sets attempt ([`SetPolicy::Held`]).
     held: Option<HeldSets>,
+    /// Whether this solve continues an attempt after a restart ([`Resumed`]).
+    resuming: bool,
+}
+
+/// How far an attempt went before a pruned contact closed and asked for a restart: the
+/// updates it made, and the progress of its held sets. The attempt goes on from the
+/// iterate of the restart with that contact kept; its budget counts the updates before.
+struct Resumed {
+    updates: usize,
+    held: Option<HeldSets>,
 }
 
 impl<S: System> NewtonProblem for StepProblem<'_, S> {
     type Sets = IndexSets;
 
     fn evaluate(&mut self, x: &[f64], first: bool) -> (IndexSets, f64) {
+        // A resumed attempt keeps the prox parameters of its start.
+        let first = first && !self.resuming;
         match &mut self.held {
             Some(held) => self.stepper.evaluate_held(x, &self.params, first, held),
             None => self
@@ -84,8 +96,8 @@ impl<S: System> NewtonProblem for StepProblem<'_, S> {
         }
     }
 
-    /// A contact pruned as unable to close does close at this iterate: the attempt is
-    /// redone with it kept in the system.
+    /// A contact pruned as unable to close does close at this iterate: the attempt goes
+    /// on from it with that contact kept in the system ([`Resumed`]).
     fn restart(&mut self, sets: &IndexSets) -> bool {
         let Some((map, _)) = self.prune else {
             return false;
@@ -183,14 +195,28 @@ impl<S: System> Stepper<S> {
         mut x: Vec<f64>,
         keep: Option<Vec<bool>>,
     ) -> Result<Trial, AttemptFailure> {
-        let x_start = keep.is_some().then(|| x.clone());
-        let prune = keep.as_ref().and_then(|k| self.open_contacts(&mut x, k));
+        self.solve_resuming(fixed, policy, rho_inf, &mut x, keep, None)
+    }
+
+    /// [`Stepper::solve_keeping`] from the iterate `x`, which continues an attempt when
+    /// `resumed` says how far it went (see [`Resumed`]).
+    fn solve_resuming(
+        &mut self,
+        fixed: Option<&IndexSets>,
+        policy: &SetPolicy,
+        rho_inf: f64,
+        x: &mut Vec<f64>,
+        keep: Option<Vec<bool>>,
+        resumed: Option<Resumed>,
+    ) -> Result<Trial, AttemptFailure> {
+        let prune = keep.as_ref().and_then(|k| self.open_contacts(x, k));
         self.mark_unused(prune.as_ref().map(|(map, _)| map.as_slice()));
         let params = GenAlpha::new(rho_inf);
-        let max_iter = match fixed {
+        let budget = match fixed {
             None => policy.budget(),
             Some(_) => self.options.max_iter,
         };
+        let max_iter = budget.saturating_sub(resumed.as_ref().map_or(0, |r| r.updates));
         let settings = NewtonSettings {
             tol: self.options.tol,
             max_iter,
@@ -205,11 +231,15 @@ impl<S: System> Stepper<S> {
         };
         self.prepare_step();
         let mut scratch = std::mem::take(&mut self.work.newton);
-        let held = match (fixed, policy) {
-            (None, SetPolicy::Held { previous, most, .. }) => {
-                Some(HeldSets::new(previous.clone(), *most))
-            }
-            _ => None,
+        let updates_before = resumed.as_ref().map_or(0, |r| r.updates);
+        let (held, resuming) = match resumed {
+            Some(r) => (r.held, true),
+            None => match (fixed, policy) {
+                (None, SetPolicy::Held { previous, most, .. }) => {
+                    (Some(HeldSets::new(previous.clone(), *most)), false)
+                }
+                _ => (None, false),
+            },
         };
         let mut problem = StepProblem {
             stepper: self,
@@ -218,9 +248,12 @@ impl<S: System> Stepper<S> {
             prune: prune.as_ref(),
             closing: Vec::new(),
             held,
+            resuming,
         };
-        let outcome = newton::solve(&mut problem, &mut x, &settings, &mut scratch);
-        let closing = problem.closing;
+        let outcome = newton::solve(&mut problem, x, &settings, &mut scratch);
+        let (closing, held) = (problem.closing, problem.held);
+        // Updates this solve made: one fewer than its evaluations.
+        let updates = updates_before + scratch.evaluations().saturating_sub(1);
         self.work.newton = scratch;
         match outcome {
             Outcome::Converged {
@@ -228,14 +261,26 @@ impl<S: System> Stepper<S> {
                 iterations,
                 residual,
                 visited,
-            } => Ok(self.make_trial(x, sets, iterations, residual, rho_inf, true, visited, false)),
+            } => Ok(self.make_trial(
+                std::mem::take(x),
+                sets,
+                updates_before + iterations,
+                residual,
+                rho_inf,
+                true,
+                visited,
+                false,
+            )),
             Outcome::Restart => {
+                // The iterate is the one the unpruned attempt would have reached (a pruned
+                // contact's unknowns stay zero while it is open): go on from it with the
+                // closing contacts kept, within what is left of the budget.
                 let mut keep = keep.unwrap_or_else(|| vec![false; self.off.nn]);
                 for (kk, c) in keep.iter_mut().zip(closing) {
                     *kk |= c;
                 }
-                let x0 = x_start.expect("a restart needs pruning, which needs a start");
-                self.solve_keeping(fixed, policy, rho_inf, x0, Some(keep))
+                let resumed = Resumed { updates, held };
+                self.solve_resuming(fixed, policy, rho_inf, x, Some(keep), Some(resumed))
             }
             Outcome::NonFinite => Err(AttemptFailure::NonFinite),
             Outcome::Singular(message) => Err(AttemptFailure::Singular { message }),
