@@ -43,6 +43,10 @@ pub struct BranchSummary {
     pub events: Vec<FailureEvent>,
     /// Steps taken by the last resort on this branch.
     pub fallback_steps: usize,
+    /// Steps taken without the friction percussions' half-step shift on this branch
+    /// (`nsga::StepStats::unshifted`, docs/method.md §8.2, stage 3b).
+    #[serde(default)]
+    pub unshifted_steps: usize,
     /// The deepest penetration from t = 0 to the branch's end.
     pub deepest: TimedPenetration,
     /// The top block's (t, y, θ), every `sample_every` steps and at both ends.
@@ -92,6 +96,7 @@ pub struct StackWalker<'a> {
     penetration_tol: f64,
     failure_time: Option<f64>,
     fallback_steps: usize,
+    unshifted_steps: usize,
     sample_every: u64,
     top: Vec<TopSample>,
     trajectories: Option<&'a Path>,
@@ -137,6 +142,7 @@ impl<'a> StackWalker<'a> {
             penetration_tol: PENETRATION_TOL * scene.smallest_block_height(),
             failure_time: None,
             fallback_steps: 0,
+            unshifted_steps: 0,
             sample_every: settings.sample_every.max(1),
             top: Vec::new(),
             trajectories: settings.trajectories,
@@ -178,6 +184,7 @@ impl<'a> StackWalker<'a> {
             penetration_tol: self.penetration_tol,
             failure_time: self.failure_time,
             fallback_steps: 0,
+            unshifted_steps: 0,
             sample_every: u64::MAX,
             top: Vec::new(),
             trajectories: None,
@@ -241,6 +248,9 @@ impl Walker for StackWalker<'_> {
         if stats.last_resort.is_some() {
             self.fallback_steps += 1;
         }
+        if stats.unshifted {
+            self.unshifted_steps += 1;
+        }
         let point = forkable(stats);
         if let (Some(p), Some(before)) = (&point, before) {
             let evidence = check_fork(self, &before, p);
@@ -284,6 +294,7 @@ impl Walker for StackWalker<'_> {
             penetration_tol: self.penetration_tol,
             failure_time: self.failure_time,
             fallback_steps: 0,
+            unshifted_steps: 0,
             sample_every: self.sample_every,
             top: Vec::new(),
             trajectories: self.trajectories,
@@ -325,6 +336,7 @@ impl Walker for StackWalker<'_> {
             failure_time: self.failure_time,
             events: self.rec.watch.events().to_vec(),
             fallback_steps: self.fallback_steps,
+            unshifted_steps: self.unshifted_steps,
             deepest: self.rec.deepest,
             top: std::mem::take(&mut self.top),
             trajectory_error: self.trajectory_error.take(),
@@ -593,6 +605,8 @@ pub struct ExplorationReport {
     pub steps: u64,
     /// Steps taken by the last resort over all branches.
     pub fallback_steps: usize,
+    /// Steps taken without the friction percussions' half-step shift over all branches.
+    pub unshifted_steps: usize,
     /// The deepest penetration between two bodies over all branches.
     pub max_penetration: f64,
     /// Wall time of the exploration, s.
@@ -634,6 +648,11 @@ impl ExplorationReport {
                 .count(),
             steps: tree.branches.iter().map(nsga::explore::Branch::steps).sum(),
             fallback_steps: tree.branches.iter().map(|b| b.outcome.fallback_steps).sum(),
+            unshifted_steps: tree
+                .branches
+                .iter()
+                .map(|b| b.outcome.unshifted_steps)
+                .sum(),
             max_penetration: tree
                 .branches
                 .iter()
@@ -646,7 +665,7 @@ impl ExplorationReport {
 }
 
 /// Columns of `branches.csv`.
-pub const BRANCH_COLUMNS: [&str; 12] = [
+pub const BRANCH_COLUMNS: [&str; 13] = [
     "id",
     "parent",
     "candidate",
@@ -658,6 +677,7 @@ pub const BRANCH_COLUMNS: [&str; 12] = [
     "forks_passed",
     "failure_time",
     "fallback_steps",
+    "unshifted_steps",
     "outcome",
 ];
 
@@ -682,6 +702,7 @@ pub fn branch_cells(b: &nsga::explore::Branch<BranchSummary>) -> Vec<String> {
         passed.to_string(),
         optional_text(b.outcome.failure_time),
         b.outcome.fallback_steps.to_string(),
+        b.outcome.unshifted_steps.to_string(),
         outcome,
     ]
 }

@@ -853,4 +853,16 @@ fn explore_writes_the_same_files_with_one_or_two_threads() {
     }
     assert!(names.len() > 5, "a tree of several branches: {names:?}");
     assert_eq!(one, two);
+    // The columns docs/cli.md lists for branches.csv.
+    let branches = &one.iter().find(|(n, _)| n == "out/branches.csv").unwrap().1;
+    let header = String::from_utf8_lossy(branches)
+        .lines()
+        .next()
+        .unwrap()
+        .to_owned();
+    assert_eq!(
+        header,
+        "id,parent,candidate,depth,t_start,t_end,steps,end,forks_passed,failure_time,\
+         fallback_steps,unshifted_steps,outcome"
+    );
 }
