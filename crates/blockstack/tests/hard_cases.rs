@@ -170,12 +170,37 @@ fn fallen_blocks_touching_corner_to_side_have_no_phantom_gaps() {
     }
 }
 
+/// A single block w × h from rest on the base shaken at ω = 8: the bottom interface
+/// slides, and the friction μ m g turns the block onto its trailing corner. Sliding on
+/// that corner, the block's normal acceleration per unit normal force is
+/// 1/m + (w/2)²/J − μ (w/2)(h/2)/J (App. I), negative above μ = (4w² + h²)/(3wh) = 4/3:
+/// Painlevé's inconsistency, where the acceleration-level start has no solution. The
+/// consistent start fails exactly there, not before; the last resort then takes the
+/// first step.
+#[test]
+fn a_sliding_block_starts_consistently_up_to_the_painleve_bound() {
+    let (w, h) = (0.2, 0.4);
+    let bound = (4.0 * w * w + h * h) / (3.0 * w * h);
+    for (mu, consistent) in [(bound - 0.005, true), (bound + 0.005, false)] {
+        let scene = matrix_column(1, 8.0, mu);
+        let options = RunOptions {
+            t_end: Some(0.01),
+            ..RunOptions::default()
+        };
+        let s = simulate(&scene, &options, |_| {}).unwrap();
+        assert!(s.error.is_none(), "μ = {mu}: {:?}", s.error);
+        assert_eq!(s.start_failure.is_none(), consistent, "μ = {mu}");
+        assert_eq!(s.fallback_steps, usize::from(!consistent), "μ = {mu}");
+        assert!(s.min_gap >= -1e-8, "μ = {mu}: gap {}", s.min_gap);
+    }
+}
+
 /// High friction, beyond the matrix: six blocks on the base shaken at ω = 8, μ = 1 and
 /// μ = 2, with and without restitution. From rest on a base already moving at Aω the
 /// bottom interface slides with a friction force μ n m g; at these μ the consistent start
-/// has no solution Newton finds (from μ = 0.8 for six blocks, μ = 1.3 for two, `rollstack
-/// blocks shake --t-end 0.01 --json`, `start_failure`), so the first step is the last
-/// resort's, and every later one an NSGA step (with the branch exploration of the CLI's
+/// fails (from μ = 0.8 for six blocks, μ = 1.3 for two, `rollstack blocks shake --t-end
+/// 0.01 --json`, `start_failure`; for one block exactly at Painlevé's bound 4/3, the test
+/// above), so the first step is the last resort's, and every later one an NSGA step (with the branch exploration of the CLI's
 /// default; without its fixed-set re-solves, μ = 2 takes one more step by the last resort
 /// before t = 2: above μ = 4/3 a block sliding on one corner is Painlevé-inconsistent,
 /// App. I). The μ = 1 run without restitution is the
