@@ -494,10 +494,9 @@ mod tests {
     /// t = 1.5826): blocks 1 and 2, fallen and lying on the floor side by side with
     /// their former interface faces turned 16° from each other, touch corner to side: a
     /// bottom corner of block 2 lies 4·10⁻⁵ inside block 1's side face, just under the
-    /// end of its top face. The
-    /// support test passed, the gaps said −0.037, and the next step pushed block 2 out
-    /// through block 1's top face (3.4 cm in one step, energy +0.6). 17 of the 135
-    /// matrix runs had such phantom gaps, down to −0.14.
+    /// end of its top face. The support test passed, the gaps said −0.037, and the next
+    /// step pushed block 2 out through block 1's top face (3.4 cm in one step, energy
+    /// +0.6). 17 of the 135 matrix runs had such phantom gaps, down to −0.14.
     #[test]
     fn a_corner_that_entered_through_the_side_face_is_sunk_not_supported() {
         let i = Interface::new(Size::new(0.2, 0.4), Size::new(0.2, 0.4));
