@@ -499,7 +499,8 @@ mod tests {
     /// +0.6). 17 of the 135 matrix runs had such phantom gaps, down to −0.14.
     #[test]
     fn a_corner_that_entered_through_the_side_face_is_sunk_not_supported() {
-        let i = Interface::new(Size::new(0.2, 0.4), Size::new(0.2, 0.4));
+        let size = Size::new(0.2, 0.4);
+        let i = Interface::new(size, size);
         let lower = state(
             1.110_255_416_966_587_7,
             0.154_826_542_936_385_92,
@@ -516,7 +517,6 @@ mod tests {
             0.0,
             0.0,
         );
-        let size = Size::new(0.2, 0.4);
         let depth = crate::overlap::penetration_depth((&lower.pose, size), (&upper.pose, size));
         assert!(depth < 1e-4, "{depth}");
         assert_eq!(i.support(&lower, &upper), Support::Sunk);

@@ -216,7 +216,8 @@ impl<S: System> Stepper<S> {
             None => policy.budget(),
             Some(_) => self.options.max_iter,
         };
-        let max_iter = budget.saturating_sub(resumed.as_ref().map_or(0, |r| r.updates));
+        let updates_before = resumed.as_ref().map_or(0, |r| r.updates);
+        let max_iter = budget.saturating_sub(updates_before);
         let settings = NewtonSettings {
             tol: self.options.tol,
             max_iter,
@@ -231,7 +232,6 @@ impl<S: System> Stepper<S> {
         };
         self.prepare_step();
         let mut scratch = std::mem::take(&mut self.work.newton);
-        let updates_before = resumed.as_ref().map_or(0, |r| r.updates);
         let (held, resuming) = match resumed {
             Some(r) => (r.held, true),
             None => match (fixed, policy) {
