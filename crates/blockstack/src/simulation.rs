@@ -259,6 +259,10 @@ pub struct RunSummary {
     /// fixed-set re-solves and substeps included): the run's work, independent of the
     /// machine ([`nsga::Stepper::linear_solves`]).
     pub linear_solves: u64,
+    /// The same by the stage of the step's policy that made them (first attempt, ρ∞
+    /// retries, branch trials, unshifted, boundary, other;
+    /// [`nsga::Stepper::solves_by_stage`]).
+    pub linear_solves_by_stage: nsga::SolvesByStage,
     /// Largest increase of the energy between two steps (unforced runs: ≤ ~0).
     pub max_energy_increase: f64,
     /// The deepest penetration between any two bodies over the run (base, blocks,
@@ -554,6 +558,7 @@ pub fn simulate_until(
         unshifted_steps: 0,
         start_failure: None,
         linear_solves: 0,
+        linear_solves_by_stage: nsga::SolvesByStage::default(),
         max_energy_increase: f64::NEG_INFINITY,
         deepest: rec.deepest,
         penetration_tol: PENETRATION_TOL * height,
@@ -634,6 +639,7 @@ pub fn simulate_until(
         stop = on_step(&r).is_break();
     }
     summary.linear_solves = stepper.linear_solves();
+    summary.linear_solves_by_stage = stepper.solves_by_stage();
     summary.corner_contacts = corners.most_contacts;
     summary.redone_steps = corners.redone_steps;
     summary.deepest = rec.deepest;
@@ -749,6 +755,8 @@ pub struct RunReport {
     pub start_failure: Option<String>,
     /// Linear solves of the Newton iterations in every attempt (the run's work).
     pub linear_solves: u64,
+    /// The same by the stage of the step's policy that made them.
+    pub linear_solves_by_stage: nsga::SolvesByStage,
     /// Largest energy increase between two steps (≤ ~0 in unforced runs).
     pub max_energy_increase: f64,
     /// The deepest penetration between any two bodies over the run (0 when they only
@@ -807,6 +815,7 @@ impl RunReport {
             unshifted_steps: summary.unshifted_steps,
             start_failure: summary.start_failure.clone(),
             linear_solves: summary.linear_solves,
+            linear_solves_by_stage: summary.linear_solves_by_stage,
             max_energy_increase: summary.max_energy_increase,
             max_penetration: summary.deepest.depth(),
             penetration: summary.deepest,

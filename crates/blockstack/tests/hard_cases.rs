@@ -523,3 +523,20 @@ fn a_tall_column_moving_with_its_base_tips_as_one_body_at_the_coarse_step() {
     assert_eq!(lifted, vec![0], "only the base interface has lifted");
     assert_turned_as_one_body(&poses);
 }
+
+/// The linear solves of a run add up by the stage of the step's policy that made them.
+/// The matrix's worst column (n = 6, ω = 2, μ = 0.3) to t = 5 fails two steps: at
+/// t = 4.81 the first attempt cycles, the ρ∞ retries and the unshifted step fail, and
+/// the halves go through.
+#[test]
+fn linear_solves_are_counted_by_the_stage_that_made_them() {
+    let s = shaken(6, 2.0, 0.3, 5.0);
+    assert!(s.error.is_none(), "{:?}", s.error);
+    let by_stage = s.linear_solves_by_stage;
+    assert_eq!(by_stage.total(), s.linear_solves, "{by_stage:?}");
+    assert!(s.failed_steps > 0 && s.split_steps > 0);
+    assert!(by_stage.first_attempt > 0, "{by_stage:?}");
+    assert!(by_stage.rho_retries > 0, "{by_stage:?}");
+    assert!(by_stage.unshifted > 0, "{by_stage:?}");
+    assert!(by_stage.first_attempt < s.linear_solves, "{by_stage:?}");
+}

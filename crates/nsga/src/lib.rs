@@ -128,7 +128,7 @@ pub use options::{
     DEFAULT_RETRY_MAX_ITER,
 };
 pub use params::GenAlpha;
-pub use report::{BranchPoint, LastResort, RunStats, StepStats};
+pub use report::{BranchPoint, LastResort, RunStats, SolvesByStage, StepStats};
 pub use sets::IndexSets;
 pub use state::{State, SAME_MOTION};
 pub use stepper::{

@@ -82,6 +82,62 @@ fn one() -> usize {
     1
 }
 
+/// The linear solves of a run by the stage of a step's policy that made them
+/// (docs/method.md §8.2): where the work of the failed and retried steps goes. Substeps
+/// count in the stages they run, so the fields add up to
+/// [`Stepper::linear_solves`](crate::Stepper::linear_solves).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+pub struct SolvesByStage {
+    /// Stage 1, the first attempt: from the predicted start, then from the last
+    /// solution; held sets, then free Newton.
+    pub first_attempt: u64,
+    /// Stage 2, the ρ∞ retries.
+    pub rho_retries: u64,
+    /// Stage 3, the fixed-set re-solves of a cycling step (branch trials).
+    pub branch_trials: u64,
+    /// Stage 3b, the step without the friction percussions' half-step shift.
+    pub unshifted: u64,
+    /// The re-solves at a friction bound, after the halvings.
+    pub boundary: u64,
+    /// Everything else: the flip probes of converged steps
+    /// ([`Options::probe_flips`](crate::Options::probe_flips)).
+    pub other: u64,
+}
+
+/// A stage of [`SolvesByStage`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum Stage {
+    FirstAttempt,
+    RhoRetries,
+    BranchTrials,
+    Unshifted,
+    Boundary,
+}
+
+impl SolvesByStage {
+    /// Adds `solves` to `stage`.
+    pub(crate) fn add(&mut self, stage: Stage, solves: u64) {
+        let field = match stage {
+            Stage::FirstAttempt => &mut self.first_attempt,
+            Stage::RhoRetries => &mut self.rho_retries,
+            Stage::BranchTrials => &mut self.branch_trials,
+            Stage::Unshifted => &mut self.unshifted,
+            Stage::Boundary => &mut self.boundary,
+        };
+        *field += solves;
+    }
+    /// The sum over the stages.
+    #[must_use]
+    pub fn total(&self) -> u64 {
+        self.first_attempt
+            + self.rho_retries
+            + self.branch_trials
+            + self.unshifted
+            + self.boundary
+            + self.other
+    }
+}
+
 /// Accumulated statistics of a run.
 #[derive(Debug, Clone, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct RunStats {

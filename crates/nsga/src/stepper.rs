@@ -20,7 +20,7 @@ use crate::lcp_step::covers;
 use crate::linalg::{AutoSolver, DenseLu, LinearSolver, SparseLu};
 use crate::newton::NewtonScratch;
 use crate::options::{Options, SolverChoice};
-use crate::report::{RunStats, StepStats};
+use crate::report::{RunStats, SolvesByStage, StepStats};
 use crate::sets::IndexSets;
 use crate::start::{consistent_start, Start};
 use crate::state::State;
@@ -115,6 +115,8 @@ pub struct Stepper<S: System> {
     comp_ef: Vec<f64>,
     /// (t, k) from which the time grid t_k is counted.
     time_base: (f64, u64),
+    /// Linear solves by stage (`other` left zero: it is what the stages do not count).
+    stage_solves: SolvesByStage,
     /// Why the consistent start failed, when the stepper started without consistent
     /// accelerations and forces (docs/method.md §5).
     start_failure: Option<String>,
@@ -309,6 +311,7 @@ impl<S: System> Stepper<S> {
             law_off,
             comp_ef,
             time_base: (t0, 0),
+            stage_solves: SolvesByStage::default(),
             start_failure,
             predictor: predict::StartPredictor::default(),
         })
@@ -364,6 +367,7 @@ impl<S: System> Stepper<S> {
             law_off: self.law_off.clone(),
             comp_ef: self.comp_ef.clone(),
             time_base: self.time_base,
+            stage_solves: SolvesByStage::default(),
             start_failure: None,
             predictor: predict::StartPredictor::default(),
         }
@@ -404,6 +408,15 @@ impl<S: System> Stepper<S> {
     #[must_use]
     pub fn linear_solves(&self) -> u64 {
         self.work.linear_solves
+    }
+    /// [`Stepper::linear_solves`] by the stage of the step's policy that made them.
+    #[must_use]
+    pub fn solves_by_stage(&self) -> SolvesByStage {
+        let counted = self.stage_solves.total();
+        SolvesByStage {
+            other: self.work.linear_solves - counted,
+            ..self.stage_solves
+        }
     }
     /// Why the consistent start at t0 failed, where the stepper started without it and
     /// took its first step by the last resort (see [`Stepper::new`]); `None` after a

@@ -8,7 +8,7 @@ use super::Stepper;
 use crate::attempt::{AttemptFailure, Trial};
 use crate::error::StepError;
 use crate::options::{FailurePolicy, RhoInfRetry};
-use crate::report::StepStats;
+use crate::report::{Stage, StepStats};
 use crate::sets::IndexSets;
 use crate::system::System;
 
@@ -36,9 +36,9 @@ impl<S: System> Stepper<S> {
                 cycling: true,
                 residual,
                 ..
-            } if self.options.boundary_resolves => {
-                self.resolve_at_boundary(&visited_sets, residual)
-            }
+            } if self.options.boundary_resolves => self.counting(Stage::Boundary, |s| {
+                s.resolve_at_boundary(&visited_sets, residual)
+            }),
             e => Err(e),
         }
     }
@@ -48,7 +48,7 @@ impl<S: System> Stepper<S> {
     fn step_once(&mut self) -> Result<(), StepError> {
         let rho0 = self.options.rho_inf;
         self.work.first_attempt = true;
-        let first = self.first_attempt(rho0);
+        let first = self.counting(Stage::FirstAttempt, |s| s.first_attempt(rho0));
         self.work.first_attempt = false;
         let first = match first {
             Ok(t) => {
@@ -82,7 +82,7 @@ impl<S: System> Stepper<S> {
             _ => self.options.rho_inf_retries.clone(),
         };
         for rho in rho_retries {
-            match self.solve_retry(None, rho) {
+            match self.counting(Stage::RhoRetries, |s| s.solve_retry(None, rho)) {
                 Ok(mut t) => {
                     t.stats.retries = retries;
                     self.commit(t);
@@ -103,13 +103,16 @@ impl<S: System> Stepper<S> {
             retries += 1;
         }
         if cycling && self.options.explore_branches {
-            if let Some(t) = self.branch_trial(&visited, rho0, retries) {
+            let trial = self.counting(Stage::BranchTrials, |s| {
+                s.branch_trial(&visited, rho0, retries)
+            });
+            if let Some(t) = trial {
                 self.commit(t);
                 return Ok(());
             }
         }
         if self.options.retry_without_friction_shift && self.options.friction_percussion_shift {
-            if let Ok(mut t) = self.solve_unshifted(rho0) {
+            if let Ok(mut t) = self.counting(Stage::Unshifted, |s| s.solve_unshifted(rho0)) {
                 t.stats.retries = retries;
                 self.commit(t);
                 return Ok(());
@@ -136,6 +139,17 @@ impl<S: System> Stepper<S> {
             cycling,
             state: Box::new(self.state.clone()),
         })
+    }
+
+    /// Runs `stage` of the policy, adding its linear solves to [`SolvesByStage`].
+    ///
+    /// [`SolvesByStage`]: crate::SolvesByStage
+    fn counting<T>(&mut self, stage: Stage, run: impl FnOnce(&mut Self) -> T) -> T {
+        let before = self.work.linear_solves;
+        let out = run(self);
+        let solves = self.work.linear_solves - before;
+        self.stage_solves.add(stage, solves);
+        out
     }
 
     /// The first attempt at a step: free Newton. In a system with more normal contacts
