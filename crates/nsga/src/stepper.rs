@@ -50,6 +50,7 @@ pub use fallback::QUICK_CHECK_ITERATIONS;
 pub use held::MAX_HELD_EVALUATIONS;
 pub use low_rank::LOW_RANK_ROWS;
 pub use predict::PREDICTED_START_ITERATIONS;
+pub use solve::WILD_UPDATE;
 
 /// How many index sets found to have a singular plain Newton matrix are remembered
 /// (see [`Options::regularization`]). Redundancy is a property of which contacts are
