@@ -711,7 +711,6 @@ impl<S: System> Stepper<S> {
     }
 }
 
-/// `to` becomes a copy of `from`, in `to`'s buffer.
 /// Largest Newton update, relative to 1 + ‖x‖∞, that a factorization may give before its
 /// matrix counts as singular up to round-off (docs/method.md §8.1, "Wild updates are
 /// singular matrices"): such an update is round-off amplified by a tiny pivot that
@@ -734,6 +733,7 @@ fn numerically_regular(x: &[f64], dx: &[f64]) -> Result<(), crate::linalg::Linal
     }
 }
 
+/// `to` becomes a copy of `from`, in `to`'s buffer.
 fn copy_into(to: &mut Vec<f64>, from: &[f64]) {
     to.clear();
     to.extend_from_slice(from);
