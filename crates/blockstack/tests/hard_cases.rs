@@ -200,12 +200,12 @@ fn a_sliding_block_starts_consistently_up_to_the_painleve_bound() {
 /// bottom interface slides with a friction force μ n m g; at these μ the consistent start
 /// fails (from μ = 0.8 for six blocks, μ = 1.3 for two, `rollstack blocks shake --t-end
 /// 0.01 --json`, `start_failure`; for one block exactly at Painlevé's bound 4/3, the test
-/// above), so the first step is the last resort's, and every later one an NSGA step (with the branch exploration of the CLI's
-/// default; without its fixed-set re-solves, μ = 2 takes one more step by the last resort
-/// before t = 2: above μ = 4/3 a block sliding on one corner is Painlevé-inconsistent,
-/// App. I). The μ = 1 run without restitution is the
-/// one whose fallen blocks touched corner to side at t = 1.58 with a phantom gap of
-/// −0.037 (`fallen_blocks_touching_corner_to_side_have_no_phantom_gaps`).
+/// above), so the first step is the last resort's, and every later one an NSGA step
+/// (with the branch exploration of the CLI's default; without its fixed-set re-solves,
+/// μ = 2 takes one more step by the last resort before t = 2: above μ = 4/3 a block
+/// sliding on one corner is Painlevé-inconsistent, App. I). The μ = 1 run without
+/// restitution is the one whose fallen blocks touched corner to side at t = 1.58 with a
+/// phantom gap of −0.037 (`fallen_blocks_touching_corner_to_side_have_no_phantom_gaps`).
 #[test]
 fn high_friction_columns_run_through_with_only_the_start_by_the_last_resort() {
     for (mu, e_n) in [(1.0, 0.0), (2.0, 0.0), (1.0, 0.5)] {
@@ -525,9 +525,9 @@ fn a_tall_column_moving_with_its_base_tips_as_one_body_at_the_coarse_step() {
 }
 
 /// The linear solves of a run add up by the stage of the step's policy that made them.
-/// The matrix's worst column (n = 6, ω = 2, μ = 0.3) to t = 5 fails two steps: at
-/// t = 4.81 the first attempt cycles, the ρ∞ retries and the unshifted step fail, and
-/// the halves go through.
+/// The matrix's worst column (n = 6, ω = 2, μ = 0.3) to t = 5 fails two steps, one of
+/// which goes through only as halves; on the way, ρ∞ retries (after a singular first
+/// attempt) and steps without the friction shift make linear solves of their own.
 #[test]
 fn linear_solves_are_counted_by_the_stage_that_made_them() {
     let s = shaken(6, 2.0, 0.3, 5.0);
@@ -541,7 +541,8 @@ fn linear_solves_are_counted_by_the_stage_that_made_them() {
     assert!(by_stage.first_attempt < s.linear_solves, "{by_stage:?}");
 }
 
-/// A 20-block column shaken (ω = 4, μ = 0.3) until it collapses into a pile on the floor:
+/// A 20-block column shaken (ω = 4, μ = 0.3, the other settings those of `rollstack
+/// blocks shake`) until it collapses into a pile on the floor:
 /// at t = 4.328, with two fallen blocks touching corner to corner, a factorization that
 /// passed the pivot test gave an update of 2.7·10¹⁶ from a residual of 0.62, the iterates
 /// diverged at every halving down to Δt/1024, and the step was taken by the last resort.
@@ -552,10 +553,7 @@ fn a_collapsing_tall_column_needs_no_last_resort() {
         blocks: 20,
         omega: 4.0,
         mu: 0.3,
-        amplitude: 0.2,
-        steps_per_period: 100.0,
-        periods: 1.0,
-        start_with_base: false,
+        ..Shaking::default()
     })
     .unwrap();
     let options = RunOptions {
