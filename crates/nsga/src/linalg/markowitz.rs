@@ -66,7 +66,9 @@ pub struct MarkowitzLu {
     l_entries: Vec<(usize, f64)>,
     u_ptr: Vec<usize>,
     u_entries: Vec<(usize, f64)>,
-    /// Scratch: the pivot row's active columns, and the solution.
+    /// Scratch: the pivot column's active (row, entry), the pivot row's active
+    /// columns, and the solution.
+    column: Vec<(usize, f64)>,
     u_words: Vec<u64>,
     x: Vec<f64>,
     /// Whether the factors of a regular matrix are kept.
@@ -123,6 +125,8 @@ impl MarkowitzLu {
         self.words = w;
         self.row_pattern.clear();
         self.row_pattern.resize(n * w, 0);
+        self.col_pattern.clear();
+        self.col_pattern.resize(n * w, 0);
         for (k, &(r, c, v)) in triplets.iter().enumerate() {
             if r >= n || c >= n {
                 // Leave the storage zeroed: undo what this matrix wrote.
@@ -133,30 +137,27 @@ impl MarkowitzLu {
             }
             self.a[r * sa + c] += v;
             set(&mut self.row_pattern, r * w, c);
+            set(&mut self.col_pattern, c * w, r);
         }
-        self.col_pattern.clear();
-        self.col_pattern.resize(n * w, 0);
-        self.row_count.clear();
-        self.row_count.resize(n, 0);
-        // Every column starts with count 0 in its own slot.
-        self.keys.clear();
-        self.keys.extend(0..n as u32);
-        self.slot.clear();
-        self.slot.extend(0..n as u32);
-        for r in 0..n {
-            for word in 0..w {
-                let mut kept = 0;
-                each_bit(self.row_pattern[r * w + word], 64 * word, |c| {
-                    if self.a[r * sa + c] != 0.0 {
-                        kept |= 1 << (c % 64);
-                        set(&mut self.col_pattern, c * w, r);
-                        self.keys[c] += ONE_ENTRY;
-                    }
-                });
-                self.row_pattern[r * w + word] = kept;
-                self.row_count[r] += kept.count_ones();
+        // Entries that summed to zero leave the patterns (rare: one test per triplet
+        // instead of one pass over every row's bits).
+        for &(r, c, _) in triplets {
+            if self.a[r * sa + c] == 0.0 {
+                clear(&mut self.row_pattern[r * w..], c);
+                clear(&mut self.col_pattern[c * w..], r);
             }
         }
+        let count = |words: &[u64]| words.iter().map(|x| x.count_ones()).sum::<u32>();
+        self.row_count.clear();
+        self.row_count
+            .extend((0..n).map(|r| count(&self.row_pattern[r * w..(r + 1) * w])));
+        // Every column starts in its own slot.
+        self.keys.clear();
+        self.keys.extend(
+            (0..n).map(|c| count(&self.col_pattern[c * w..(c + 1) * w]) * ONE_ENTRY + c as u32),
+        );
+        self.slot.clear();
+        self.slot.extend(0..n as u32);
         for v in [&mut self.active_rows, &mut self.active_cols] {
             v.clear();
             v.resize(w, 0);
@@ -184,16 +185,22 @@ impl MarkowitzLu {
     /// Searching two or four columns of least count (Zlatev's strategy) lowered the fill
     /// on the Lire collapse's Newton matrices only slightly and cost more in the search
     /// than it saved.
-    fn choose_pivot(&self) -> Option<(usize, usize)> {
+    ///
+    /// The active entries of the chosen column are left in `column` (rows in increasing
+    /// order), for [`MarkowitzLu::eliminate`]: the column is read from the storage once.
+    fn choose_pivot(&mut self) -> Option<(usize, usize)> {
         let (sa, w) = (self.stride, self.words);
         // The least (count, index) as one 32-bit key: a branch-free minimum over the
         // active columns, which the compiler vectorizes.
         let j = (self.keys.iter().copied().min()? & 0xFFFF) as usize;
-        let column = |word: usize| self.col_pattern[j * w + word] & self.active_rows[word];
+        self.column.clear();
         let mut largest = 0.0_f64;
         for word in 0..w {
-            each_bit(column(word), 64 * word, |i| {
-                largest = largest.max(self.a[i * sa + j].abs());
+            let rows = self.col_pattern[j * w + word] & self.active_rows[word];
+            each_bit(rows, 64 * word, |i| {
+                let v = self.a[i * sa + j];
+                largest = largest.max(v.abs());
+                self.column.push((i, v));
             });
         }
         // NaN entries fail this test too.
@@ -202,16 +209,14 @@ impl MarkowitzLu {
             return None;
         }
         let mut best: Option<(u32, usize, f64)> = None;
-        for word in 0..w {
-            each_bit(column(word), 64 * word, |i| {
-                let v = self.a[i * sa + j].abs();
-                let r = self.row_count[i];
-                if v >= PIVOT_THRESHOLD * largest
-                    && best.is_none_or(|(br, _, bv)| r < br || (r == br && v > bv))
-                {
-                    best = Some((r, i, v));
-                }
-            });
+        for &(i, v) in &self.column {
+            let v = v.abs();
+            let r = self.row_count[i];
+            if v >= PIVOT_THRESHOLD * largest
+                && best.is_none_or(|(br, _, bv)| r < br || (r == br && v > bv))
+            {
+                best = Some((r, i, v));
+            }
         }
         best.map(|(_, i, _)| (i, j))
     }
@@ -238,29 +243,29 @@ impl MarkowitzLu {
         self.pivots.push((p, c));
         self.pivot_value.push(pivot);
         let u_row = &self.u_entries[u_start..];
-        for word in 0..w {
-            let mut rows = self.col_pattern[c * w + word] & self.active_rows[word];
-            while rows != 0 {
-                let i = 64 * word + rows.trailing_zeros() as usize;
-                rows &= rows - 1;
-                self.row_count[i] -= 1;
-                let row = &mut self.a[i * sa..(i + 1) * sa];
-                let l = row[c] / pivot;
-                self.l_entries.push((i, l));
-                for &(j, u) in u_row {
-                    row[j] -= l * u;
-                }
-                // Fill: the pivot row's active columns new to row i.
-                for (fw, &columns) in self.u_words.iter().enumerate() {
-                    let fill = columns & !self.row_pattern[i * w + fw];
-                    if fill != 0 {
-                        self.row_pattern[i * w + fw] |= fill;
-                        self.row_count[i] += fill.count_ones();
-                        each_bit(fill, 64 * fw, |j| {
-                            set(&mut self.col_pattern, j * w, i);
-                            self.keys[self.slot[j] as usize] += ONE_ENTRY;
-                        });
-                    }
+        // The column's active rows and entries, as `choose_pivot` read them: the
+        // elimination changes only other columns.
+        for &(i, a_ic) in &self.column {
+            if i == p {
+                continue;
+            }
+            self.row_count[i] -= 1;
+            let row = &mut self.a[i * sa..(i + 1) * sa];
+            let l = a_ic / pivot;
+            self.l_entries.push((i, l));
+            for &(j, u) in u_row {
+                row[j] -= l * u;
+            }
+            // Fill: the pivot row's active columns new to row i.
+            for (fw, &columns) in self.u_words.iter().enumerate() {
+                let fill = columns & !self.row_pattern[i * w + fw];
+                if fill != 0 {
+                    self.row_pattern[i * w + fw] |= fill;
+                    self.row_count[i] += fill.count_ones();
+                    each_bit(fill, 64 * fw, |j| {
+                        set(&mut self.col_pattern, j * w, i);
+                        self.keys[self.slot[j] as usize] += ONE_ENTRY;
+                    });
                 }
             }
         }
