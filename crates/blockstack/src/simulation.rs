@@ -263,6 +263,9 @@ pub struct RunSummary {
     /// retries, branch trials, unshifted, boundary, other;
     /// [`nsga::Stepper::solves_by_stage`]).
     pub linear_solves_by_stage: nsga::SolvesByStage,
+    /// The Newton work by kind, why exact updates were made, and the seconds of each
+    /// kind ([`nsga::Stepper::newton_work`]).
+    pub newton_work: nsga::NewtonWork,
     /// Largest increase of the energy between two steps (unforced runs: ≤ ~0).
     pub max_energy_increase: f64,
     /// The deepest penetration between any two bodies over the run (base, blocks,
@@ -559,6 +562,7 @@ pub fn simulate_until(
         start_failure: None,
         linear_solves: 0,
         linear_solves_by_stage: nsga::SolvesByStage::default(),
+        newton_work: nsga::NewtonWork::default(),
         max_energy_increase: f64::NEG_INFINITY,
         deepest: rec.deepest,
         penetration_tol: PENETRATION_TOL * height,
@@ -640,6 +644,7 @@ pub fn simulate_until(
     }
     summary.linear_solves = stepper.linear_solves();
     summary.linear_solves_by_stage = stepper.solves_by_stage();
+    summary.newton_work = stepper.newton_work();
     summary.corner_contacts = corners.most_contacts;
     summary.redone_steps = corners.redone_steps;
     summary.deepest = rec.deepest;
@@ -757,6 +762,9 @@ pub struct RunReport {
     pub linear_solves: u64,
     /// The same by the stage of the step's policy that made them.
     pub linear_solves_by_stage: nsga::SolvesByStage,
+    /// Where the Newton work went: operations by kind, why exact updates were made,
+    /// seconds by kind.
+    pub newton_work: nsga::NewtonWork,
     /// Largest energy increase between two steps (≤ ~0 in unforced runs).
     pub max_energy_increase: f64,
     /// The deepest penetration between any two bodies over the run (0 when they only
@@ -816,6 +824,7 @@ impl RunReport {
             start_failure: summary.start_failure.clone(),
             linear_solves: summary.linear_solves,
             linear_solves_by_stage: summary.linear_solves_by_stage,
+            newton_work: summary.newton_work,
             max_energy_increase: summary.max_energy_increase,
             max_penetration: summary.deepest.depth(),
             penetration: summary.deepest,

@@ -541,6 +541,43 @@ fn linear_solves_are_counted_by_the_stage_that_made_them() {
     assert!(by_stage.first_attempt < s.linear_solves, "{by_stage:?}");
 }
 
+/// The Newton work of a run adds up: every exact update has one reason, every update
+/// is followed by an evaluation, and the seconds of the kinds of work fit in the
+/// solver's time. The matrix's worst column to t = 5 makes every kind of update and has
+/// exact updates for every reason but the kept factors' absence, which only the first
+/// update of a run and those after regularized or failed factorizations meet.
+#[test]
+fn the_newton_work_is_counted_by_kind_and_reason() {
+    let s = shaken(6, 2.0, 0.3, 5.0);
+    assert!(s.error.is_none(), "{:?}", s.error);
+    let w = s.newton_work;
+    let because = w.exact_because;
+    assert_eq!(because.total(), w.exact_updates, "{w:?}");
+    assert!(w.exact_updates <= s.linear_solves, "{w:?}");
+    for count in [
+        w.kept_updates,
+        w.low_rank_updates,
+        w.line_search_trials,
+        because.no_kept_factors,
+        because.other_system,
+        because.sets_changed,
+        because.not_asked,
+    ] {
+        assert!(count > 0, "{w:?}");
+    }
+    // One evaluation per attempt's start, per update and per damped trial.
+    let updates = w.exact_updates + w.kept_updates + w.low_rank_updates;
+    assert!(w.evaluations > updates + w.line_search_trials, "{w:?}");
+    let t = w.seconds;
+    let parts = [t.evaluation, t.jacobian, t.factorization, t.simplified];
+    assert!(parts.iter().all(|&p| p > 0.0), "{t:?}");
+    assert!(
+        parts.iter().sum::<f64>() <= s.wall_time_s,
+        "{t:?} in {}",
+        s.wall_time_s
+    );
+}
+
 /// A 20-block column shaken (ω = 4, μ = 0.3, the other settings those of `rollstack
 /// blocks shake`) until it collapses into a pile on the floor:
 /// at t = 4.328, with two fallen blocks touching corner to corner, a factorization that

@@ -128,7 +128,10 @@ pub use options::{
     DEFAULT_RETRY_MAX_ITER,
 };
 pub use params::GenAlpha;
-pub use report::{BranchPoint, LastResort, RunStats, SolvesByStage, StepStats};
+pub use report::{
+    BranchPoint, ExactBecause, LastResort, NewtonWork, RunStats, SolvesByStage, StepStats,
+    WorkSeconds,
+};
 pub use sets::IndexSets;
 pub use state::{State, SAME_MOTION};
 pub use stepper::{

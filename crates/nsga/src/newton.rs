@@ -166,6 +166,8 @@ pub struct NewtonScratch {
     residuals: Vec<f64>,
     /// The best iterate's x.
     best_x: Vec<f64>,
+    /// Damped trials of the line search in the last [`solve`].
+    line_search_trials: u64,
 }
 
 impl NewtonScratch {
@@ -173,6 +175,13 @@ impl NewtonScratch {
     #[must_use]
     pub fn evaluations(&self) -> usize {
         self.history.len()
+    }
+    /// The evaluations of the last [`solve`] that were damped trials of its line search
+    /// (or the full update taken again after them): the evaluations beyond one per
+    /// update.
+    #[must_use]
+    pub fn line_search_trials(&self) -> u64 {
+        self.line_search_trials
     }
 }
 
@@ -189,6 +198,7 @@ pub fn solve<P: NewtonProblem>(
     let mut visited: Vec<P::Sets> = Vec::new();
     scratch.history.clear();
     scratch.residuals.clear();
+    scratch.line_search_trials = 0;
     // Best iterate so far: (residual, iteration, visited-set id); its x in the scratch.
     let mut best: Option<(f64, usize, usize)> = None;
     // The evaluation the line search left behind, to be used by the next iteration.
@@ -292,7 +302,8 @@ fn line_search<P: NewtonProblem>(
     scratch.x_from.clear();
     scratch.x_from.extend_from_slice(x);
     let mut alpha = 1.0;
-    for _ in 0..=halvings {
+    for trial in 0..=halvings {
+        scratch.line_search_trials += u64::from(trial > 0);
         step_along(x, scratch, alpha);
         let (sets, res) = problem.evaluate(x, false);
         if halvings == 0 || res <= (1.0 - ARMIJO * alpha) * res0 {
@@ -301,6 +312,7 @@ fn line_search<P: NewtonProblem>(
         alpha *= 0.5;
     }
     step_along(x, scratch, 1.0);
+    scratch.line_search_trials += 1;
     problem.evaluate(x, false)
 }
 

@@ -138,6 +138,71 @@ impl SolvesByStage {
     }
 }
 
+/// Where the Newton iterations of a run spent their work (docs/method.md §7, "Counting
+/// the work"), over every attempt: the operations by kind, why each exact update was
+/// made, and the seconds each kind took. The counts are exact and do not depend on the
+/// machine; the seconds are wall-clock time, as noisy as the machine.
+#[derive(Debug, Clone, Copy, Default, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct NewtonWork {
+    /// Iterates evaluated: kinematic updates, system, index sets and residual.
+    pub evaluations: u64,
+    /// Of those, the damped trials of the line search (and the full update taken
+    /// again when none of them decreased the residual).
+    pub line_search_trials: u64,
+    /// Exact updates: the Newton matrix of the iterate assembled and factorized.
+    pub exact_updates: u64,
+    /// Simplified updates from the kept factors, for the sets they were made for.
+    pub kept_updates: u64,
+    /// Simplified updates from the kept factors for sets that differ in a few rows (the
+    /// low-rank update).
+    pub low_rank_updates: u64,
+    /// Why the exact updates were made; the four add up to `exact_updates`.
+    pub exact_because: ExactBecause,
+    /// The seconds spent in each kind of work.
+    pub seconds: WorkSeconds,
+}
+
+/// Why an exact Newton update was made instead of a simplified one ([`NewtonWork`]).
+#[derive(Debug, Clone, Copy, Default, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct ExactBecause {
+    /// No factors were kept: the attempt's first update, or one after a regularized
+    /// or failed factorization.
+    pub no_kept_factors: u64,
+    /// The kept factors belong to another system: other contacts pruned as open, or
+    /// another Δt or ρ∞.
+    pub other_system: u64,
+    /// The kept factors fit, but gave no update: the sets differ from theirs in more
+    /// rows than a low-rank update takes (or outside a step's first attempt), or the
+    /// update failed.
+    pub sets_changed: u64,
+    /// The Newton engine asked for none: the last simplified update did not contract
+    /// the residual enough, the most in a row were taken, or the stepper takes none
+    /// (`Options::reuse_factorization` off).
+    pub not_asked: u64,
+}
+
+impl ExactBecause {
+    /// The sum over the reasons.
+    #[must_use]
+    pub fn total(&self) -> u64 {
+        self.no_kept_factors + self.other_system + self.sets_changed + self.not_asked
+    }
+}
+
+/// Seconds of each kind of Newton work ([`NewtonWork`]).
+#[derive(Debug, Clone, Copy, Default, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct WorkSeconds {
+    /// Evaluating iterates.
+    pub evaluation: f64,
+    /// Assembling Newton matrices: the system's derivatives and the rows of eq. 143.
+    pub jacobian: f64,
+    /// Factorizing them and solving for the exact update (the regularized solve of
+    /// redundant contacts included).
+    pub factorization: f64,
+    /// Simplified updates, kept and low-rank, offered or not.
+    pub simplified: f64,
+}
+
 /// Accumulated statistics of a run.
 #[derive(Debug, Clone, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct RunStats {

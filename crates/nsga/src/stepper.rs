@@ -20,13 +20,14 @@ use crate::lcp_step::covers;
 use crate::linalg::{AutoSolver, DenseLu, LinearSolver, SparseLu};
 use crate::newton::NewtonScratch;
 use crate::options::{Options, SolverChoice};
-use crate::report::{RunStats, SolvesByStage, StepStats};
+use crate::report::{NewtonWork, RunStats, SolvesByStage, StepStats};
 use crate::sets::IndexSets;
 use crate::start::{consistent_start, Start};
 use crate::state::State;
 use crate::system::{Derivatives, Evaluation, Layout, System, Triplets};
 use iterate::Iterate;
 use rows::RowMat;
+use solve::Refusal;
 use state_levels::StateLevels;
 use unknowns::Offsets;
 
@@ -118,6 +119,13 @@ pub struct Stepper<S: System> {
     time_base: (f64, u64),
     /// Linear solves by stage (`other` left zero: it is what the stages do not count).
     stage_solves: SolvesByStage,
+    /// The Newton work by kind ([`Stepper::newton_work`]).
+    newton_work: NewtonWork,
+    /// Whether the last simplified update the Newton engine asked for was refused, and
+    /// why: the exact update that follows counts the reason
+    /// (`NewtonWork::exact_because`; none asked for: `not_asked`).
+    refused_simplified: bool,
+    refused_because: Refusal,
     /// Why the consistent start failed, when the stepper started without consistent
     /// accelerations and forces (docs/method.md §5).
     start_failure: Option<String>,
@@ -313,6 +321,9 @@ impl<S: System> Stepper<S> {
             comp_ef,
             time_base: (t0, 0),
             stage_solves: SolvesByStage::default(),
+            newton_work: NewtonWork::default(),
+            refused_simplified: false,
+            refused_because: Refusal::NoKeptFactors,
             start_failure,
             predictor: predict::StartPredictor::default(),
         })
@@ -369,6 +380,9 @@ impl<S: System> Stepper<S> {
             comp_ef: self.comp_ef.clone(),
             time_base: self.time_base,
             stage_solves: SolvesByStage::default(),
+            newton_work: NewtonWork::default(),
+            refused_simplified: false,
+            refused_because: Refusal::NoKeptFactors,
             start_failure: None,
             predictor: predict::StartPredictor::default(),
         }
@@ -418,6 +432,12 @@ impl<S: System> Stepper<S> {
             other: self.work.linear_solves - counted,
             ..self.stage_solves
         }
+    }
+    /// The work of the Newton iterations since the stepper was built, by kind, with why
+    /// exact updates were made and the seconds each kind took (see [`NewtonWork`]).
+    #[must_use]
+    pub fn newton_work(&self) -> NewtonWork {
+        self.newton_work
     }
     /// Why the consistent start at t0 failed, where the stepper started without it and
     /// took its first step by the last resort (see [`Stepper::new`]); `None` after a

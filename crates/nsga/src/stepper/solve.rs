@@ -15,6 +15,7 @@ use crate::sets::IndexSets;
 use crate::state::State;
 use crate::system::System;
 use nalgebra::DMatrix;
+use std::time::Instant;
 
 /// The map full → reduced index of the unknowns left in the linear solve
 /// (`usize::MAX` for a pruned one) and the reduced size.
@@ -59,6 +60,17 @@ enum Factor {
     Kept,
 }
 
+/// Why the kept factors gave no simplified update (`NewtonWork::exact_because`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(super) enum Refusal {
+    /// None are kept.
+    NoKeptFactors,
+    /// They were made for another prune map, Δt or ρ∞.
+    OtherSystem,
+    /// They fit, but the sets changed too much for them, or their update failed.
+    SetsChanged,
+}
+
 /// The step seen by the Newton engine: the stepper at one ρ∞, with fixed index sets or
 /// not, and the contacts pruned from this attempt.
 struct StepProblem<'a, S: System> {
@@ -86,14 +98,19 @@ impl<S: System> NewtonProblem for StepProblem<'_, S> {
     type Sets = IndexSets;
 
     fn evaluate(&mut self, x: &[f64], first: bool) -> (IndexSets, f64) {
+        let started = Instant::now();
         // A resumed attempt keeps the prox parameters of its start.
         let first = first && !self.resuming;
-        match &mut self.held {
+        let out = match &mut self.held {
             Some(held) => self.stepper.evaluate_held(x, &self.params, first, held),
             None => self
                 .stepper
                 .evaluate_at(x, self.fixed, &self.params, first, None),
-        }
+        };
+        let work = &mut self.stepper.newton_work;
+        work.evaluations += 1;
+        work.seconds.evaluation += started.elapsed().as_secs_f64();
+        out
     }
 
     /// A contact pruned as unable to close does close at this iterate: the attempt goes
@@ -118,9 +135,26 @@ impl<S: System> NewtonProblem for StepProblem<'_, S> {
         if let Some(held) = &mut self.held {
             held.updated(sets);
         }
-        self.stepper
+        let started = Instant::now();
+        let jacobian_before = self.stepper.newton_work.seconds.jacobian;
+        let out = self
+            .stepper
             .exact_direction(x, sets, &self.params, self.prune, dx)
-            .map_err(|e| e.0)
+            .map_err(|e| e.0);
+        let st = &mut *self.stepper;
+        let work = &mut st.newton_work;
+        work.exact_updates += 1;
+        let because = &mut work.exact_because;
+        *match (st.refused_simplified, st.refused_because) {
+            (false, _) => &mut because.not_asked,
+            (true, Refusal::NoKeptFactors) => &mut because.no_kept_factors,
+            (true, Refusal::OtherSystem) => &mut because.other_system,
+            (true, Refusal::SetsChanged) => &mut because.sets_changed,
+        } += 1;
+        st.refused_simplified = false;
+        let jacobian = work.seconds.jacobian - jacobian_before;
+        work.seconds.factorization += started.elapsed().as_secs_f64() - jacobian;
+        out
     }
 
     fn recycle(&mut self, sets: IndexSets) {
@@ -128,9 +162,14 @@ impl<S: System> NewtonProblem for StepProblem<'_, S> {
     }
 
     fn kept_direction(&mut self, x: &[f64], sets: &IndexSets, dx: &mut [f64]) -> bool {
+        let started = Instant::now();
         let kept = self
             .stepper
             .kept_direction(x, sets, &self.params, self.prune, dx);
+        let st = &mut *self.stepper;
+        // A refused one is followed by an exact update, which counts why.
+        st.refused_simplified = !kept;
+        st.newton_work.seconds.simplified += started.elapsed().as_secs_f64();
         if let (true, Some(held)) = (kept, &mut self.held) {
             held.updated(sets);
         }
@@ -252,6 +291,7 @@ impl<S: System> Stepper<S> {
         };
         let outcome = newton::solve(&mut problem, x, &settings, &mut scratch);
         let (closing, held) = (problem.closing, problem.held);
+        self.newton_work.line_search_trials += scratch.line_search_trials();
         // Updates this solve made: one fewer than its evaluations.
         let updates = updates_before + scratch.evaluations().saturating_sub(1);
         self.work.newton = scratch;
@@ -491,7 +531,9 @@ impl<S: System> Stepper<S> {
         // contacts are those of a singular plain matrix go straight to the regularized
         // one, whatever their friction sets.
         let redundant = |known: &IndexSets| known.same_normal_sets(sets);
+        let started = Instant::now();
         self.jacobian(x, sets, p);
+        self.newton_work.seconds.jacobian += started.elapsed().as_secs_f64();
         if !(eps > 0.0 && self.work.singular_sets.iter().any(redundant)) {
             match self
                 .newton_direction(prune, Factor::Plain, p, dx)
@@ -544,24 +586,35 @@ impl<S: System> Stepper<S> {
         dx: &mut [f64],
     ) -> bool {
         let map = prune.map(|(map, _)| map);
-        let (fits, same_sets) = self.work.factored.as_ref().map_or((false, false), |f| {
+        let Some((fits, same_sets)) = self.work.factored.as_ref().map(|f| {
             (
                 f.map.as_ref() == map && f.dt == self.options.dt && f.rho_inf == p.rho_inf,
                 &f.sets == sets,
             )
-        });
+        }) else {
+            self.refused_because = Refusal::NoKeptFactors;
+            return false;
+        };
         if !fits {
+            self.refused_because = Refusal::OtherSystem;
             return false;
         }
-        if same_sets {
-            return self
-                .newton_direction(prune, Factor::Kept, p, dx)
+        let taken = if same_sets {
+            self.newton_direction(prune, Factor::Kept, p, dx)
                 .and_then(|()| numerically_regular(x, dx))
-                .is_ok();
+                .is_ok()
+        } else {
+            self.quick_updates()
+                && self.low_rank_direction(x, sets, p, prune, dx)
+                && numerically_regular(x, dx).is_ok()
+        };
+        let work = &mut self.newton_work;
+        match (taken, same_sets) {
+            (false, _) => self.refused_because = Refusal::SetsChanged,
+            (true, true) => work.kept_updates += 1,
+            (true, false) => work.low_rank_updates += 1,
         }
-        self.quick_updates()
-            && self.low_rank_direction(x, sets, p, prune, dx)
-            && numerically_regular(x, dx).is_ok()
+        taken
     }
 
     /// The Newton update dx = −J⁻¹R from the assembled Jacobian and residual, or with
