@@ -87,9 +87,11 @@ fn a_block_at_the_limit_of_its_interface_costs_no_deep_halvings() {
 /// docs/method.md §7): where a Newton iterate's index sets differ from the kept factors'
 /// in a few rows, those rows are replaced by the Sherman–Morrison–Woodbury formula
 /// instead of factorizing the matrix anew. Over the first 382 steps of n = 6, ω = 24,
-/// μ = 0.2 (a column in stick–slip at every interface) they take fewer than half the
-/// factorizations (184 against 412) and reach the same state: the iterates converge to
-/// the same tolerance, so the poses agree to far below it.
+/// μ = 0.2 (a column in stick–slip at every interface) they take about half the
+/// factorizations (182 against 358) and reach the same state: the iterates converge to
+/// the same tolerance, so the poses agree to far below it. (Before kept factors served
+/// attempts that prune more contacts, docs/method.md §7, the run without them took
+/// 412 and the one with them 184.)
 #[test]
 fn low_rank_updates_factorize_less_for_the_same_motion() {
     let scene = matrix_column(6, 24.0, 0.2);
@@ -109,7 +111,7 @@ fn low_rank_updates_factorize_less_for_the_same_motion() {
         assert_eq!(s.fallback_steps, 0);
     }
     assert!(
-        2 * updated.linear_solves < factorized.linear_solves,
+        100 * updated.linear_solves < 55 * factorized.linear_solves,
         "{} against {} linear solves",
         updated.linear_solves,
         factorized.linear_solves

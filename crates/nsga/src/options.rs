@@ -178,7 +178,8 @@ pub struct Options {
     #[serde(default = "default_regularization")]
     pub regularization: f64,
     /// Simplified Newton: while the index sets (and pruned contacts, Δt, ρ∞) are those of
-    /// the last factorized Newton matrix, solve with its kept factors instead of
+    /// the last factorized Newton matrix (or, for the same sets, more contacts are pruned
+    /// than were then: docs/method.md §7), solve with its kept factors instead of
     /// assembling and factorizing a new one, as long as each such update at least
     /// [`REUSE_CONTRACTION`]-fold reduces the residual, and at most [`MAX_REUSES`] times
     /// in a row. The iterates converge to the same tolerance; a quiet contact phase then

@@ -244,12 +244,14 @@ impl Work {
     }
 }
 
-/// The index sets, prune map, Δt and ρ∞ of a factorized Newton matrix: its factors
-/// serve a simplified Newton update only while all four are unchanged.
+/// The index sets, pruned contacts, Δt and ρ∞ of a factorized Newton matrix: its factors
+/// serve a simplified Newton update while all four are unchanged, and for the same
+/// sets also where more contacts are pruned than when they were made
+/// (`Stepper::kept_direction`).
 #[derive(Debug, Clone, PartialEq)]
 struct FactoredFor {
     sets: IndexSets,
-    map: Option<Vec<usize>>,
+    prune: Option<solve::Pruning>,
     dt: f64,
     rho_inf: f64,
 }

@@ -551,7 +551,7 @@ impl<S: System> Stepper<S> {
                     }
                     self.work.factored = Some(FactoredFor {
                         sets: sets.clone(),
-                        map: prune.map(|(map, _)| map.clone()),
+                        prune: prune.cloned(),
                         dt: self.options.dt,
                         rho_inf: p.rho_inf,
                     });
@@ -586,24 +586,32 @@ impl<S: System> Stepper<S> {
         dx: &mut [f64],
     ) -> bool {
         let map = prune.map(|(map, _)| map);
-        let Some((fits, same_sets)) = self.work.factored.as_ref().map(|f| {
-            (
-                f.map.as_ref() == map && f.dt == self.options.dt && f.rho_inf == p.rho_inf,
-                &f.sets == sets,
-            )
-        }) else {
+        let Some(kept) = self.work.factored.take() else {
             self.refused_because = Refusal::NoKeptFactors;
             return false;
         };
+        let same_sets = &kept.sets == sets;
+        let kept_map = kept.prune.as_ref().map(|(map, _)| map);
+        let same_system = kept.dt == self.options.dt && kept.rho_inf == p.rho_inf;
+        let fits = same_system
+            && (kept_map == map || same_sets && keeps_all_of(kept_map, map.map(Vec::as_slice)));
         if !fits {
+            self.work.factored = Some(kept);
             self.refused_because = Refusal::OtherSystem;
             return false;
         }
         let taken = if same_sets {
-            self.newton_direction(prune, Factor::Kept, p, dx)
-                .and_then(|()| numerically_regular(x, dx))
-                .is_ok()
+            // With more contacts pruned now than in the kept factors, the extra ones are
+            // open in both sets with a zero residual: their rows, the identity of an open
+            // contact, give them a zero update, so the factors solve the reduced system
+            // of the point they were made at.
+            let update = self
+                .newton_direction(kept.prune.as_ref(), Factor::Kept, p, dx)
+                .and_then(|()| numerically_regular(x, dx));
+            self.work.factored = Some(kept);
+            update.is_ok()
         } else {
+            self.work.factored = Some(kept);
             self.quick_updates()
                 && self.low_rank_direction(x, sets, p, prune, dx)
                 && numerically_regular(x, dx).is_ok()
@@ -786,8 +794,89 @@ fn numerically_regular(x: &[f64], dx: &[f64]) -> Result<(), crate::linalg::Linal
     }
 }
 
+/// Whether the prune map `kept` (None: nothing pruned) keeps every unknown that `now`
+/// keeps, so that factors made with `kept` hold all of `now`'s unknowns.
+fn keeps_all_of(kept: Option<&Vec<usize>>, now: Option<&[usize]>) -> bool {
+    match (kept, now) {
+        (None, _) => true,
+        (Some(kept), None) => kept.iter().all(|&m| m != usize::MAX),
+        (Some(kept), Some(now)) => kept
+            .iter()
+            .zip(now)
+            .all(|(&k, &n)| n == usize::MAX || k != usize::MAX),
+    }
+}
+
 /// `to` becomes a copy of `from`, in `to`'s buffer.
 fn copy_into(to: &mut Vec<f64>, from: &[f64]) {
     to.clear();
     to.extend_from_slice(from);
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::systems::chain::Chain;
+    use crate::Options;
+
+    /// Kept factors made with a contact in the linear solve serve an attempt that
+    /// prunes it (open, force-free, at the same sets): the contact's rows are those of an
+    /// open contact with a zero residual, so the update is the exact update of the
+    /// pruned system, with zeros for the pruned unknowns.
+    #[test]
+    fn kept_factors_serve_an_attempt_that_prunes_more_contacts() {
+        let chain = Chain::benchmark(4);
+        // The top block 5 cm above the next: its contact open and force-free.
+        let (mut q0, u0) = chain.resting(0.0);
+        q0[7] += 0.05;
+        let options = Options {
+            dt: 1e-3,
+            reuse_factorization: true,
+            ..Options::default()
+        };
+        let mut s = Stepper::new(chain, 0.0, &q0, &u0, options).unwrap();
+        let p = GenAlpha::new(0.5);
+        // Its unknowns are zero, as the pruning leaves them.
+        let o = s.off;
+        let top = o.nn - 1;
+        let (f0, nc) = (s.law_off[top], s.layout.friction[top].components);
+        let x = s.state().x.clone();
+        let pruned: Vec<usize> = [o.kn + top, o.cn + top, o.ln + top]
+            .into_iter()
+            .chain((f0..f0 + nc).flat_map(|c| [o.cf + c, o.lf + c]))
+            .collect();
+        assert!(pruned.iter().all(|&i| x[i] == 0.0));
+        let sets = s.sets_of(&x, 0.5);
+        assert!(!sets.a[top] && sets.a[..top].iter().all(|&a| a));
+        let mut map = vec![0; o.n];
+        let mut n_red = 0;
+        for (i, m) in map.iter_mut().enumerate() {
+            *m = if pruned.contains(&i) {
+                usize::MAX
+            } else {
+                n_red += 1;
+                n_red - 1
+            };
+        }
+        let prune = (map, n_red);
+        // Factors of the whole system at x.
+        s.residual(&x, &sets, &p);
+        let mut whole = vec![0.0; o.n];
+        s.exact_direction(&x, &sets, &p, None, &mut whole).unwrap();
+        let mut kept = vec![0.0; o.n];
+        assert!(s.kept_direction(&x, &sets, &p, Some(&prune), &mut kept));
+        assert!(pruned.iter().all(|&i| kept[i] == 0.0));
+        let mut exact = vec![0.0; o.n];
+        s.exact_direction(&x, &sets, &p, Some(&prune), &mut exact)
+            .unwrap();
+        let size = exact.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
+        let diff = exact
+            .iter()
+            .zip(&kept)
+            .fold(0.0_f64, |m, (a, b)| m.max((a - b).abs()));
+        assert!(size > 0.0 && diff <= 1e-12 * size, "{diff} against {size}");
+        // The other way round (factors of the pruned system, the whole one asked for)
+        // they cannot serve: they lack the contact's unknowns.
+        assert!(!s.kept_direction(&x, &sets, &p, None, &mut kept));
+    }
 }
