@@ -168,8 +168,9 @@ pub struct ExactBecause {
     /// No factors were kept: the attempt's first update, or one after a regularized
     /// or failed factorization.
     pub no_kept_factors: u64,
-    /// The kept factors belong to another system: other contacts pruned as open, or
-    /// another Δt or ρ∞.
+    /// The kept factors belong to another system: they lack a contact the attempt
+    /// keeps (for other sets: other contacts are pruned), or were made for another Δt
+    /// or ρ∞.
     pub other_system: u64,
     /// The kept factors fit, but gave no update: the sets differ from theirs in more
     /// rows than a low-rank update takes (or outside a step's first attempt), or the

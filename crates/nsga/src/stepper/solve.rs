@@ -65,7 +65,8 @@ enum Factor {
 pub(super) enum Refusal {
     /// None are kept.
     NoKeptFactors,
-    /// They were made for another prune map, Δt or ρ∞.
+    /// They were made for another Δt or ρ∞, or without a contact this attempt keeps
+    /// (for other sets: with another prune map).
     OtherSystem,
     /// They fit, but the sets changed too much for them, or their update failed.
     SetsChanged,
