@@ -643,7 +643,15 @@ fn runs() -> Vec<Run> {
         ),
         run(
             "blocks work-precision",
-            &["--dts", "1e-2,5e-3", "--reference-factor", "2", "--json"],
+            &[
+                "--dts",
+                "1e-2,5e-3",
+                "--reference-factor",
+                "2",
+                "--repeat",
+                "1",
+                "--json",
+            ],
             true,
         ),
         run("tour", &["--only", "rotations,nsga"], true),

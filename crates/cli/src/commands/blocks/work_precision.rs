@@ -27,6 +27,9 @@ pub struct WorkPrecisionArgs {
     /// The reference run takes Δt = min(dts)/FACTOR.
     #[arg(long, default_value_t = 16.0, value_parser = parse_finite)]
     pub reference_factor: f64,
+    /// Repetitions per point (1 to 1000); the fastest solver time is kept.
+    #[arg(long, default_value_t = 3, value_parser = clap::value_parser!(u16).range(1..=1000))]
+    pub repeat: u16,
     /// Run even when the reference is estimated to take longer than ten minutes.
     #[arg(long)]
     pub force: bool,
@@ -61,7 +64,8 @@ pub fn run(a: &WorkPrecisionArgs) -> Result<()> {
         a.force,
         "take a smaller --reference-factor or larger --dts",
     )?;
-    let study = stack_work_precision(bench, &dts, a.reference_factor)?;
+    let repeat = usize::from(a.repeat);
+    let study = stack_work_precision(bench, &dts, a.reference_factor, repeat)?;
     if let Some(dir) = &a.out {
         ensure_dir(dir)?;
         let csv = study.rows.iter().map(StackWorkPrecisionRow::csv_cells);
@@ -72,7 +76,7 @@ pub fn run(a: &WorkPrecisionArgs) -> Result<()> {
         )?;
         plot_stack_work_precision(&dir.join("work_precision.png"), &study)?;
         let inputs = serde_json::json!({"system": a.system, "dts": dts,
-            "reference_factor": a.reference_factor});
+            "reference_factor": a.reference_factor, "repeat": repeat});
         let solver_s: f64 = study.rows.iter().map(|r| r.wall_time_s).sum();
         let timings = serde_json::json!({"solver_s": solver_s + study.reference_wall_time_s});
         write_run_json(dir, "blocks work-precision", &inputs, &timings)?;
