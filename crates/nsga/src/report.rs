@@ -200,7 +200,8 @@ pub struct WorkSeconds {
     /// Factorizing them and solving for the exact update (the regularized solve of
     /// redundant contacts included).
     pub factorization: f64,
-    /// Simplified updates, kept and low-rank, offered or not.
+    /// Simplified updates, kept and low-rank, whether the kept factors gave one or
+    /// refused.
     pub simplified: f64,
 }
 
