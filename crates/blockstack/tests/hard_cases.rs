@@ -546,8 +546,8 @@ fn linear_solves_are_counted_by_the_stage_that_made_them() {
 /// The Newton work of a run adds up: every exact update has one reason, every update
 /// is followed by an evaluation, and the seconds of the kinds of work fit in the
 /// solver's time. The matrix's worst column to t = 5 makes every kind of update and has
-/// exact updates for every reason but the kept factors' absence, which only the first
-/// update of a run and those after regularized or failed factorizations meet.
+/// exact updates for every reason; those without kept factors start its retries and
+/// fixed-set re-solves, or follow regularized factorizations.
 #[test]
 fn the_newton_work_is_counted_by_kind_and_reason() {
     let s = shaken(6, 2.0, 0.3, 5.0);

@@ -121,11 +121,10 @@ pub struct Stepper<S: System> {
     stage_solves: SolvesByStage,
     /// The Newton work by kind ([`Stepper::newton_work`]).
     newton_work: NewtonWork,
-    /// Whether the last simplified update the Newton engine asked for was refused, and
-    /// why: the exact update that follows counts the reason
-    /// (`NewtonWork::exact_because`; none asked for: `not_asked`).
-    refused_simplified: bool,
-    refused_because: Refusal,
+    /// Why the simplified update the Newton engine last asked for was refused, until the
+    /// exact update that follows counts it (`NewtonWork::exact_because`; None there:
+    /// none was asked for, `not_asked`).
+    refusal: Option<Refusal>,
     /// Why the consistent start failed, when the stepper started without consistent
     /// accelerations and forces (docs/method.md §5).
     start_failure: Option<String>,
@@ -324,8 +323,7 @@ impl<S: System> Stepper<S> {
             time_base: (t0, 0),
             stage_solves: SolvesByStage::default(),
             newton_work: NewtonWork::default(),
-            refused_simplified: false,
-            refused_because: Refusal::NoKeptFactors,
+            refusal: None,
             start_failure,
             predictor: predict::StartPredictor::default(),
         })
@@ -383,8 +381,7 @@ impl<S: System> Stepper<S> {
             time_base: self.time_base,
             stage_solves: SolvesByStage::default(),
             newton_work: NewtonWork::default(),
-            refused_simplified: false,
-            refused_because: Refusal::NoKeptFactors,
+            refusal: None,
             start_failure: None,
             predictor: predict::StartPredictor::default(),
         }

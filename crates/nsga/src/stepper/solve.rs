@@ -146,13 +146,12 @@ impl<S: System> NewtonProblem for StepProblem<'_, S> {
         let work = &mut st.newton_work;
         work.exact_updates += 1;
         let because = &mut work.exact_because;
-        *match (st.refused_simplified, st.refused_because) {
-            (false, _) => &mut because.not_asked,
-            (true, Refusal::NoKeptFactors) => &mut because.no_kept_factors,
-            (true, Refusal::OtherSystem) => &mut because.other_system,
-            (true, Refusal::SetsChanged) => &mut because.sets_changed,
+        *match st.refusal.take() {
+            None => &mut because.not_asked,
+            Some(Refusal::NoKeptFactors) => &mut because.no_kept_factors,
+            Some(Refusal::OtherSystem) => &mut because.other_system,
+            Some(Refusal::SetsChanged) => &mut because.sets_changed,
         } += 1;
-        st.refused_simplified = false;
         let jacobian = work.seconds.jacobian - jacobian_before;
         work.seconds.factorization += started.elapsed().as_secs_f64() - jacobian;
         out
@@ -167,10 +166,7 @@ impl<S: System> NewtonProblem for StepProblem<'_, S> {
         let kept = self
             .stepper
             .kept_direction(x, sets, &self.params, self.prune, dx);
-        let st = &mut *self.stepper;
-        // A refused one is followed by an exact update, which counts why.
-        st.refused_simplified = !kept;
-        st.newton_work.seconds.simplified += started.elapsed().as_secs_f64();
+        self.stepper.newton_work.seconds.simplified += started.elapsed().as_secs_f64();
         if let (true, Some(held)) = (kept, &mut self.held) {
             held.updated(sets);
         }
@@ -473,13 +469,7 @@ impl<S: System> Stepper<S> {
                 }
             }
         }
-        let mut n_red = 0;
-        for m in &mut map {
-            if *m != usize::MAX {
-                *m = n_red;
-                n_red += 1;
-            }
-        }
+        let n_red = number_kept(&mut map);
         Some((map, n_red))
     }
 
@@ -587,8 +577,10 @@ impl<S: System> Stepper<S> {
         dx: &mut [f64],
     ) -> bool {
         let map = prune.map(|(map, _)| map);
+        // A refused update is followed by an exact one, which counts why.
+        self.refusal = None;
         let Some(kept) = self.work.factored.take() else {
-            self.refused_because = Refusal::NoKeptFactors;
+            self.refusal = Some(Refusal::NoKeptFactors);
             return false;
         };
         let same_sets = &kept.sets == sets;
@@ -598,14 +590,14 @@ impl<S: System> Stepper<S> {
             && (kept_map == map || same_sets && keeps_all_of(kept_map, map.map(Vec::as_slice)));
         if !fits {
             self.work.factored = Some(kept);
-            self.refused_because = Refusal::OtherSystem;
+            self.refusal = Some(Refusal::OtherSystem);
             return false;
         }
         let taken = if same_sets {
             // With more contacts pruned now than in the kept factors, the extra ones are
-            // open in both sets with a zero residual: their rows, the identity of an open
-            // contact, give them a zero update, so the factors solve the reduced system
-            // of the point they were made at.
+            // open in both sets with a zero residual: their rows, an open contact's, hold
+            // only their own unknowns and give them a zero update, so the factors solve
+            // the reduced system of the point they were made at.
             let update = self
                 .newton_direction(kept.prune.as_ref(), Factor::Kept, p, dx)
                 .and_then(|()| numerically_regular(x, dx));
@@ -619,7 +611,7 @@ impl<S: System> Stepper<S> {
         };
         let work = &mut self.newton_work;
         match (taken, same_sets) {
-            (false, _) => self.refused_because = Refusal::SetsChanged,
+            (false, _) => self.refusal = Some(Refusal::SetsChanged),
             (true, true) => work.kept_updates += 1,
             (true, false) => work.low_rank_updates += 1,
         }
@@ -795,6 +787,17 @@ fn numerically_regular(x: &[f64], dx: &[f64]) -> Result<(), crate::linalg::Linal
     }
 }
 
+/// Numbers the unknowns `map` keeps (those not `usize::MAX`) 0, 1, … in order, making it
+/// a prune map; returns how many it keeps, the reduced size.
+fn number_kept(map: &mut [usize]) -> usize {
+    let mut n_red = 0;
+    for m in map.iter_mut().filter(|m| **m != usize::MAX) {
+        *m = n_red;
+        n_red += 1;
+    }
+    n_red
+}
+
 /// Whether the prune map `kept` (None: nothing pruned) keeps every unknown that `now`
 /// keeps, so that factors made with `kept` hold all of `now`'s unknowns.
 fn keeps_all_of(kept: Option<&Vec<usize>>, now: Option<&[usize]>) -> bool {
@@ -850,15 +853,10 @@ mod tests {
         let sets = s.sets_of(&x, 0.5);
         assert!(!sets.a[top] && sets.a[..top].iter().all(|&a| a));
         let mut map = vec![0; o.n];
-        let mut n_red = 0;
-        for (i, m) in map.iter_mut().enumerate() {
-            *m = if pruned.contains(&i) {
-                usize::MAX
-            } else {
-                n_red += 1;
-                n_red - 1
-            };
+        for &i in &pruned {
+            map[i] = usize::MAX;
         }
+        let n_red = number_kept(&mut map);
         let prune = (map, n_red);
         // Factors of the whole system at x.
         s.residual(&x, &sets, &p);
@@ -870,11 +868,9 @@ mod tests {
         let mut exact = vec![0.0; o.n];
         s.exact_direction(&x, &sets, &p, Some(&prune), &mut exact)
             .unwrap();
-        let size = exact.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
-        let diff = exact
-            .iter()
-            .zip(&kept)
-            .fold(0.0_f64, |m, (a, b)| m.max((a - b).abs()));
+        let size = max_norm(&exact);
+        let difference: Vec<f64> = exact.iter().zip(&kept).map(|(a, b)| a - b).collect();
+        let diff = max_norm(&difference);
         assert!(size > 0.0 && diff <= 1e-12 * size, "{diff} against {size}");
         // The other way round (factors of the pruned system, the whole one asked for)
         // they cannot serve: they lack the contact's unknowns.
