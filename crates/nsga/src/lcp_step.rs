@@ -15,11 +15,12 @@
 //! q_{n+1} = q_M + ½Δt B u⁺, and, if asked, gaps that end below zero are closed by the
 //! least M-norm displacement, itself an LCP: 0 ≤ δ ⟂ g + W_Nᵀ M⁻¹ W_N δ ≥ 0.
 
-use crate::lcp::{lemke, lemke_regularized, LcpFailure};
+use crate::coulomb_lcp::{CoulombLcp, Dense};
+use crate::lcp::{lemke, LcpFailure};
 use crate::linalg::max_norm;
 use crate::moreau::advance;
 use crate::system::{Evaluation, Layout, System};
-use nalgebra::{DMatrix, DVector};
+use nalgebra::DVector;
 
 /// Largest complementarity residual (relative to 1 + ‖rhs‖∞, a speed) accepted from a
 /// regularized solve of the step's contact problem (`nsga::lcp::lemke_regularized`): an
@@ -65,36 +66,6 @@ pub(crate) enum LcpStepError {
     /// The contact problem has no solution (Lemke's method ended on a ray), or the data
     /// or the result are not finite.
     NoSolution(String),
-}
-
-/// The dense pieces of one evaluation the LCPs are built from.
-struct Dense {
-    m_inv: DMatrix<f64>,
-    w_p: DMatrix<f64>,
-    w_v: DMatrix<f64>,
-}
-
-impl Dense {
-    /// M⁻¹ and the first `np` columns of W_p and `nv` of W_v (None: M is singular).
-    fn of(eval: &Evaluation<f64>, nu: usize, np: usize, nv: usize) -> Option<Self> {
-        let mut m = DMatrix::zeros(nu, nu);
-        for &(i, j, v) in &eval.mass.entries {
-            m[(i, j)] += v;
-        }
-        let mut w_p = DMatrix::zeros(nu, np);
-        for &(i, c, v) in eval.position_w.entries.iter().filter(|e| e.1 < np) {
-            w_p[(i, c)] += v;
-        }
-        let mut w_v = DMatrix::zeros(nu, nv);
-        for &(i, c, v) in eval.velocity_w.entries.iter().filter(|e| e.1 < nv) {
-            w_v[(i, c)] += v;
-        }
-        Some(Self {
-            m_inv: m.try_inverse()?,
-            w_p,
-            w_v,
-        })
-    }
 }
 
 /// Whether [`lcp_step`] covers a system of this layout: planar friction laws and no
@@ -323,88 +294,35 @@ impl<'a> ContactProblem<'a> {
                     .any(|k| closed.binary_search(k).is_ok())
             })
             .collect();
-        // Unknowns z = (P_N over `closed`, β⁺, β⁻, λ over `active`).
-        let (a, b) = (closed.len(), active.len());
-        let n = a + 3 * b;
-        let cols = || {
+        // The percussions act along the rows' own W columns.
+        let rows = CoulombLcp::rows_of(d, closed, &active);
+        let free =
             closed
                 .iter()
-                .map(|&k| d.w_p.column(k))
-                .chain(active.iter().map(|&j| d.w_v.column(j)))
+                .map(|&k| self.rate(k, &self.u_free))
+                .chain(active.iter().map(|&j| {
+                    self.xi_f(j, &self.u_free) + l.friction[j].e_f * self.xi_f(j, &self.u_n)
+                }))
+                .collect::<Vec<_>>();
+        let bounds = CoulombLcp::bounds_of(l, closed, &active);
+        let accept = ACCEPT * (1.0 + max_norm(&free));
+        let problem = CoulombLcp {
+            forces: rows.clone(),
+            rows,
+            normals: closed.len(),
+            bounds,
+            free,
         };
-        // A contact's column has the few entries of the bodies it touches: the products
-        // below run over those only.
-        let support: Vec<Vec<(usize, f64)>> = cols()
-            .map(|c| {
-                c.iter()
-                    .copied()
-                    .enumerate()
-                    .filter(|e| e.1 != 0.0)
-                    .collect()
-            })
-            .collect();
-        let g_cols: Vec<DVector<f64>> = cols().map(|c| &d.m_inv * c).collect();
-        let mut m = vec![0.0; n * n];
-        let mut rhs = vec![0.0; n];
-        // The velocity rows: ±(column r)ᵀ M⁻¹ times the percussions, β⁺ − β⁻ for friction.
-        for (r, col_r) in support.iter().enumerate() {
-            let rows: &[(usize, f64)] = if r < a {
-                &[(r, 1.0)]
-            } else {
-                &[(r, 1.0), (r + b, -1.0)]
-            };
-            for (c, g_c) in g_cols.iter().enumerate() {
-                let v: f64 = col_r.iter().map(|&(i, w)| w * g_c[i]).sum();
-                for &(row, sign) in rows {
-                    m[row * n + c] = sign * v;
-                    if c >= a {
-                        m[row * n + c + b] = -sign * v;
-                    }
-                }
-            }
-        }
-        for (i, &k) in closed.iter().enumerate() {
-            rhs[i] = self.rate(k, &self.u_free);
-        }
-        for (i, &j) in active.iter().enumerate() {
-            let c = self.xi_f(j, &self.u_free) + l.friction[j].e_f * self.xi_f(j, &self.u_n);
-            rhs[a + i] = c;
-            rhs[a + b + i] = -c;
-            // λ enters both slip rows; the friction bound row closes the system.
-            m[(a + i) * n + a + 2 * b + i] = 1.0;
-            m[(a + b + i) * n + a + 2 * b + i] = 1.0;
-            let row = a + 2 * b + i;
-            for &k in &l.friction[j].normals {
-                if let Ok(p) = closed.binary_search(&k) {
-                    m[row * n + p] = l.friction[j].mu;
-                }
-            }
-            m[row * n + a + i] = -1.0;
-            m[row * n + a + b + i] = -1.0;
-        }
-        let accept = ACCEPT * (1.0 + max_norm(&rhs));
-        let (sol, _) = lemke_regularized(&m, &rhs, 50 * n + 50, accept).map_err(|e| match e {
+        let sol = problem.solve(&d.m_inv, accept).map_err(|e| match e {
             LcpFailure::Ray { .. } => LcpStepError::NoSolution(format!(
                 "the step's contact problem has no solution: {e} (a Painlevé-type inconsistency)"
             )),
             e => LcpStepError::NoSolution(e.to_string()),
         })?;
-        let mut u1 = self.u_free.clone();
-        for (g_c, &p) in g_cols.iter().zip(&sol.z[..a]) {
-            u1 += g_c * p;
-        }
-        let p_f: Vec<(usize, f64)> = active
-            .iter()
-            .enumerate()
-            .map(|(i, &j)| (j, sol.z[a + i] - sol.z[a + b + i]))
-            .collect();
-        for (i, &(_, p)) in p_f.iter().enumerate() {
-            u1 += &g_cols[a + i] * p;
-        }
         Ok(ContactSolution {
-            u1,
-            p_n: sol.z[..a].to_vec(),
-            p_f,
+            u1: &self.u_free + sol.change,
+            p_n: sol.normal,
+            p_f: active.into_iter().zip(sol.friction).collect(),
             pivots: sol.pivots,
             residual: sol.residual,
             accept,

@@ -95,6 +95,7 @@
 #![warn(missing_docs)]
 
 pub mod attempt;
+mod coulomb_lcp;
 pub mod error;
 pub mod explore;
 pub mod lcp;
