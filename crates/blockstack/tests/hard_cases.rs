@@ -197,6 +197,44 @@ fn a_sliding_block_starts_consistently_up_to_the_painleve_bound() {
     }
 }
 
+/// A column of 20 blocks on the base shaken at ω = 4: from rest on a base moving at Aω,
+/// the bottom block slides under the column's weight, and the friction turns it onto a
+/// corner. Below μ ≈ 0.5 (4/3 for one block, 0.8 for six) a consistent start exists and
+/// the bottom block turns from rest: its angle after one step is ½θ̈Δt², so θ/Δt
+/// shrinks with Δt. Above, no contact forces satisfy the laws on acceleration level
+/// (Newton does not converge, and Lemke's method ends on a ray), and the motion starts
+/// with an impulse: the last resort's first step turns the block at a finite angular
+/// velocity (0.33 rad per time unit) whatever Δt.
+#[test]
+fn a_tall_column_sliding_past_its_painleve_bound_starts_with_an_impulse() {
+    let first_step = |mu: f64, dt: f64| {
+        let mut scene = matrix_column(20, 4.0, mu);
+        scene.solver.dt = dt;
+        let options = RunOptions {
+            t_end: Some(dt),
+            ..RunOptions::default()
+        };
+        let s = simulate(&scene, &options, |_| {}).unwrap();
+        assert!(s.error.is_none(), "μ = {mu}: {:?}", s.error);
+        (s.final_poses[0].theta / dt, s)
+    };
+    let dt = 2.0 * std::f64::consts::PI / (200.0 * 4.0);
+    let (smooth, s) = first_step(0.45, dt);
+    let (finer, _) = first_step(0.45, dt / 10.0);
+    assert!(s.start_failure.is_none(), "{:?}", s.start_failure);
+    assert!((finer / smooth - 0.1).abs() < 1e-3, "{smooth} {finer}");
+    let (kicked, s) = first_step(0.5, dt);
+    let (finer, _) = first_step(0.5, dt / 10.0);
+    let why = s.start_failure.expect("no consistent start");
+    assert!(why.contains("ray") && why.contains("Painlevé"), "{why}");
+    assert_eq!(s.fallback_steps, 1);
+    assert!(s.min_gap >= -1e-8, "gap {}", s.min_gap);
+    assert!(
+        kicked > 0.3 && (finer / kicked - 1.0).abs() < 0.05,
+        "{kicked} {finer}"
+    );
+}
+
 /// High friction, beyond the matrix: six blocks on the base shaken at ω = 8, μ = 1 and
 /// μ = 2, with and without restitution. From rest on a base already moving at Aω the
 /// bottom interface slides with a friction force μ n m g; at these μ the consistent start
