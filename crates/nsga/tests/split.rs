@@ -173,7 +173,10 @@ fn without_regularization_redundant_contacts_fail_as_singular() {
     let s = resting(0.0, 0.5).unwrap();
     assert!(s.start_failure().is_none(), "{:?}", s.start_failure());
     let st = s.state();
-    assert!((st.lambda_n[0] + st.lambda_n[1] - 1.0).abs() < 1e-9, "{st:?}");
+    assert!(
+        (st.lambda_n[0] + st.lambda_n[1] - 1.0).abs() < 1e-9,
+        "{st:?}"
+    );
     assert!(st.lambda_n.iter().all(|&l| l >= 0.0), "{st:?}");
 }
 
