@@ -104,14 +104,6 @@ pub trait NewtonProblem {
         false
     }
 
-    /// Whether the last evaluation's ‖R‖∞ measures another residual than the one before
-    /// it (the stepper's held-sets attempt, on releasing its sets, passes from the held
-    /// sets' residual to the contact laws'): the line search then takes that update as
-    /// it is, since the two norms do not compare. Default: never.
-    fn residual_changed(&mut self) -> bool {
-        false
-    }
-
     /// Takes back sets that an evaluation returned and the engine no longer needs (equal
     /// to sets visited already), so that the problem can reuse their buffers. Default:
     /// dropped.
@@ -314,7 +306,7 @@ fn line_search<P: NewtonProblem>(
         scratch.line_search_trials += u64::from(trial > 0);
         step_along(x, scratch, alpha);
         let (sets, res) = problem.evaluate(x, false);
-        if halvings == 0 || res <= (1.0 - ARMIJO * alpha) * res0 || problem.residual_changed() {
+        if halvings == 0 || res <= (1.0 - ARMIJO * alpha) * res0 {
             return (sets, res);
         }
         alpha *= 0.5;
@@ -439,67 +431,6 @@ mod tests {
             dx[0] = -self.res / slope;
             Ok(())
         }
-    }
-
-    /// x³ = 8, whose ‖R‖∞ is reported at a scale of 10⁻³ up to the `switch`-th
-    /// evaluation and at full scale after: as the held-sets attempt passes from the held
-    /// sets' residual to the laws'.
-    struct Rescaled {
-        res: f64,
-        evaluations: usize,
-        switch: usize,
-        says_so: bool,
-    }
-
-    impl NewtonProblem for Rescaled {
-        type Sets = ();
-        fn evaluate(&mut self, x: &[f64], _first: bool) -> ((), f64) {
-            self.evaluations += 1;
-            self.res = x[0].powi(3) - 8.0;
-            let scale = if self.evaluations <= self.switch {
-                1e-3
-            } else {
-                1.0
-            };
-            ((), scale * self.res.abs())
-        }
-        fn exact_direction(&mut self, x: &[f64], _: &(), dx: &mut [f64]) -> Result<(), String> {
-            dx[0] = -self.res / (3.0 * x[0] * x[0]);
-            Ok(())
-        }
-        fn residual_changed(&mut self) -> bool {
-            self.says_so && self.evaluations == self.switch + 1
-        }
-    }
-
-    #[test]
-    fn an_update_whose_residual_changes_meaning_is_taken_whole() {
-        let settings = NewtonSettings {
-            tol: 1e-12,
-            max_iter: 20,
-            line_search: 4,
-            reuse_factorization: false,
-            resume_reuse: false,
-            give_up: GiveUp::Never,
-        };
-        let trials = |says_so| {
-            let mut problem = Rescaled {
-                res: 0.0,
-                evaluations: 0,
-                switch: 1,
-                says_so,
-            };
-            let mut x = [3.0];
-            let mut scratch = NewtonScratch::default();
-            let out = solve(&mut problem, &mut x, &settings, &mut scratch);
-            assert!(matches!(out, Outcome::Converged { .. }), "{out:?}");
-            assert!((x[0] - 2.0).abs() < 1e-12);
-            scratch.line_search_trials()
-        };
-        // Told, the engine takes the first update whole; not told, it halves it against
-        // the smaller scale four times, then takes it whole (one more evaluation).
-        assert_eq!(trials(true), 0);
-        assert_eq!(trials(false), 5);
     }
 
     #[test]

@@ -65,9 +65,6 @@ pub(super) struct HeldSets {
     last_update: IndexSets,
     /// Openings per update after the release.
     most: usize,
-    /// Whether the last evaluation released the held sets: its ‖R‖∞ is the laws' where
-    /// the one before was the held sets' ([`crate::newton::NewtonProblem::residual_changed`]).
-    pub(super) released: bool,
 }
 
 impl HeldSets {
@@ -79,7 +76,6 @@ impl HeldSets {
             last_residual: f64::INFINITY,
             last_update: previous,
             most,
-            released: false,
         }
     }
 
@@ -100,11 +96,7 @@ impl<S: System> Stepper<S> {
     /// are the laws' sets with at most `most` contacts opened since the last update.
     /// While the sets are held, the returned norm is the held solve's, so that the line
     /// search and the give-up rules judge the solve the update belongs to; it is above
-    /// the tolerance, so the engine never stops on it. The evaluation that releases the
-    /// sets returns the laws' norm, which does not compare with the held one before it:
-    /// it says so ([`HeldSets::released`]), and the line search takes that update
-    /// whole. (It used to halve it four times against the held norm, and then take it
-    /// whole anyway.)
+    /// the tolerance, so the engine never stops on it.
     pub(super) fn evaluate_held(
         &mut self,
         x: &[f64],
@@ -112,7 +104,6 @@ impl<S: System> Stepper<S> {
         first: bool,
         progress: &mut HeldSets,
     ) -> (IndexSets, f64) {
-        progress.released = false;
         let limit = (&progress.last_update, progress.most);
         let (sets, res) = self.evaluate_at(x, None, p, first, Some(limit));
         let Some(held) = &progress.held else {
@@ -131,7 +122,6 @@ impl<S: System> Stepper<S> {
         let spent = progress.evaluations >= MAX_HELD_EVALUATIONS;
         if held_res <= self.options.tol || stalled || spent {
             progress.held = None;
-            progress.released = true;
             self.work.res = laws;
             return (sets, res);
         }

@@ -157,12 +157,6 @@ impl<S: System> NewtonProblem for StepProblem<'_, S> {
         out
     }
 
-    fn residual_changed(&mut self) -> bool {
-        self.held
-            .as_mut()
-            .is_some_and(|h| std::mem::take(&mut h.released))
-    }
-
     fn recycle(&mut self, sets: IndexSets) {
         self.stepper.recycle_sets(sets);
     }
