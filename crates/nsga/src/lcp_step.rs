@@ -68,6 +68,15 @@ pub(crate) enum LcpStepError {
     NoSolution(String),
 }
 
+impl LcpStepError {
+    /// The message of either kind of failure.
+    pub(crate) fn into_message(self) -> String {
+        match self {
+            Self::Unsupported(m) | Self::NoSolution(m) => m,
+        }
+    }
+}
+
 /// Whether [`lcp_step`] covers a system of this layout: planar friction laws and no
 /// bilateral constraints.
 pub(crate) fn covers(l: &Layout) -> Result<(), LcpStepError> {

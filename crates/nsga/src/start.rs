@@ -228,6 +228,32 @@ pub fn consistent_start<S: System>(
     }
 }
 
+/// The generalized force directions of the start LCP's unknowns: a closed contact's
+/// w_N, less μ sign(γ_F) w_F for each law that slides along γ_F and bounds it; a
+/// sticking law's w_F.
+fn force_directions(
+    layout: &Layout,
+    d: &Dense,
+    normals: &[usize],
+    sticking: &[usize],
+    slide: impl Fn(usize) -> Option<f64>,
+) -> Vec<DVector<f64>> {
+    let normal = |k: usize| {
+        let mut f = d.w_p.column(k).into_owned();
+        for (j, law) in layout.friction.iter().enumerate() {
+            if let (Some(sign), true) = (slide(j), law.normals.contains(&k)) {
+                f -= d.w_v.column(j) * (law.mu * sign);
+            }
+        }
+        f
+    };
+    normals
+        .iter()
+        .map(|&k| normal(k))
+        .chain(sticking.iter().map(|&j| d.w_v.column(j).into_owned()))
+        .collect()
+}
+
 /// Why the start's Newton iteration ended without a solution.
 fn describe(outcome: &Outcome<Vec<usize>>) -> String {
     match outcome {
@@ -252,13 +278,7 @@ fn lcp_start(
     closed: &[bool],
     fixed_slip: &[Option<Vec<f64>>],
 ) -> Result<Vec<f64>, String> {
-    if let Err(
-        crate::lcp_step::LcpStepError::Unsupported(why)
-        | crate::lcp_step::LcpStepError::NoSolution(why),
-    ) = crate::lcp_step::covers(layout)
-    {
-        return Err(why);
-    }
+    crate::lcp_step::covers(layout).map_err(crate::lcp_step::LcpStepError::into_message)?;
     let (nu, nn, nf) = (layout.nu, layout.n_normal(), layout.n_friction());
     let normals: Vec<usize> = (0..nn).filter(|&k| closed[k]).collect();
     let touching = |j: usize| layout.friction[j].normals.iter().any(|&k| closed[k]);
@@ -275,19 +295,7 @@ fn lcp_start(
     let a_free = &d.m_inv * DVector::from_column_slice(&e.forces);
     // The sign of a sliding law's slip (planar laws: one component).
     let slide = |j: usize| fixed_slip[j].as_ref().map(|s| s[0].signum());
-    let forces: Vec<DVector<f64>> = normals
-        .iter()
-        .map(|&k| {
-            let mut f = d.w_p.column(k).into_owned();
-            for (j, law) in layout.friction.iter().enumerate() {
-                if let (Some(sign), true) = (slide(j), law.normals.contains(&k)) {
-                    f -= d.w_v.column(j) * (law.mu * sign);
-                }
-            }
-            f
-        })
-        .chain(sticking.iter().map(|&j| d.w_v.column(j).into_owned()))
-        .collect();
+    let forces = force_directions(layout, &d, &normals, &sticking, slide);
     let rows = CoulombLcp::rows_of(&d, &normals, &sticking);
     let zeta = normals
         .iter()
@@ -314,14 +322,33 @@ fn lcp_start(
         ),
         e => e.to_string(),
     })?;
-    let mut y = vec![0.0; nu + nn + nf];
-    for (yi, (a0, da)) in y.iter_mut().zip(a_free.iter().zip(sol.change.iter())) {
-        *yi = a0 + da;
-    }
-    for (&k, &z) in normals.iter().zip(&sol.normal) {
+    let a: Vec<f64> = (a_free + &sol.change).iter().copied().collect();
+    Ok(start_unknowns(
+        layout,
+        a,
+        (&normals, &sol.normal),
+        (&sticking, &sol.friction),
+        slide,
+    ))
+}
+
+/// y = (a, λ_N, λ_F) of the start from the accelerations `a`, the normal forces of the
+/// closed contacts, the forces of the sticking laws, and the sliding laws' forces
+/// −μ Σλ_N sign(γ_F).
+fn start_unknowns(
+    layout: &Layout,
+    mut a: Vec<f64>,
+    (normals, lambda_n): (&[usize], &[f64]),
+    (sticking, lambda_f): (&[usize], &[f64]),
+    slide: impl Fn(usize) -> Option<f64>,
+) -> Vec<f64> {
+    let (nu, nn) = (layout.nu, layout.n_normal());
+    a.resize(nu + nn + layout.n_friction(), 0.0);
+    let mut y = a;
+    for (&k, &z) in normals.iter().zip(lambda_n) {
         y[nu + k] = z;
     }
-    for (&j, &z) in sticking.iter().zip(&sol.friction) {
+    for (&j, &z) in sticking.iter().zip(lambda_f) {
         y[nu + nn + j] = z;
     }
     for (j, law) in layout.friction.iter().enumerate() {
@@ -330,7 +357,7 @@ fn lcp_start(
             y[nu + nn + j] = -law.mu * sum * sign;
         }
     }
-    Ok(y)
+    y
 }
 
 /// Sets to exactly zero the forces whose rows say they are zero: a normal contact on
