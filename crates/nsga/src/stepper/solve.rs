@@ -157,6 +157,11 @@ impl<S: System> NewtonProblem for StepProblem<'_, S> {
         out
     }
 
+    fn reference_after_change(&mut self) -> Option<f64> {
+        let held = self.held.as_mut()?;
+        std::mem::take(&mut held.released).then_some(held.laws_at_update)
+    }
+
     fn recycle(&mut self, sets: IndexSets) {
         self.stepper.recycle_sets(sets);
     }
