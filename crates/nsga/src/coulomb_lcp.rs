@@ -3,7 +3,7 @@
 //!
 //! On the velocity level the unknowns are percussions and the rows are speeds (the
 //! Moreau–Jean step of [`crate::lcp_step`]); on the acceleration level they are forces
-//! and accelerations (the consistent start's last resort, [`crate::start`]). Either way,
+//! and accelerations (the consistent start's Lemke stage, [`crate::start`]). Either way,
 //! with v_free the level's free motion (ũ, or M⁻¹h):
 //!
 //! v = v_free + M⁻¹(Σ_i f_i z_i + Σ_j w_{F,j} (β⁺_j − β⁻_j)),
@@ -23,8 +23,11 @@ use nalgebra::{DMatrix, DVector};
 
 /// The dense pieces of one evaluation the LCPs are built from.
 pub(crate) struct Dense {
+    /// M⁻¹.
     pub m_inv: DMatrix<f64>,
+    /// The columns of W_p asked for.
     pub w_p: DMatrix<f64>,
+    /// The columns of W_v asked for.
     pub w_v: DMatrix<f64>,
 }
 
@@ -63,7 +66,7 @@ pub(crate) struct CoulombLcp {
     pub normals: usize,
     /// Per sticking law: μ and the normal unknowns whose sum it bounds.
     pub bounds: Vec<(f64, Vec<usize>)>,
-    /// The rows at the free motion, w ᵀv_free + c, in the order of the unknowns.
+    /// The rows at the free motion, wᵀv_free + c, in the order of the unknowns.
     pub free: Vec<f64>,
 }
 
