@@ -68,10 +68,10 @@ pub(super) struct HeldSets {
     /// The contact laws' ‖R‖∞ at the last evaluation, and at the iterate the last update
     /// started from: the line search's reference when the update releases the sets.
     laws_last: f64,
-    pub(super) laws_at_update: f64,
+    laws_at_update: f64,
     /// Whether the last evaluation released the held sets (its ‖R‖∞ is the laws', where
     /// the one before was the held sets').
-    pub(super) released: bool,
+    released: bool,
 }
 
 impl HeldSets {
@@ -87,6 +87,12 @@ impl HeldSets {
             laws_at_update: f64::INFINITY,
             released: false,
         }
+    }
+
+    /// Where the last evaluation released the sets, the laws' ‖R‖∞ at the start of the
+    /// update it belongs to, against which that update is then judged (once).
+    pub(super) fn take_release_reference(&mut self) -> Option<f64> {
+        std::mem::take(&mut self.released).then_some(self.laws_at_update)
     }
 
     /// A Newton update was taken with `sets`.

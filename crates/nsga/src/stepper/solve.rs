@@ -158,8 +158,7 @@ impl<S: System> NewtonProblem for StepProblem<'_, S> {
     }
 
     fn reference_after_change(&mut self) -> Option<f64> {
-        let held = self.held.as_mut()?;
-        std::mem::take(&mut held.released).then_some(held.laws_at_update)
+        self.held.as_mut()?.take_release_reference()
     }
 
     fn recycle(&mut self, sets: IndexSets) {
