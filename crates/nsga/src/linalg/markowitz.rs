@@ -21,13 +21,9 @@ use super::{finite, regular_pivots, DenseLu, LinalgError, LinearSolver};
 /// the growth of the entries stays bounded by (1 + 1/0.1) per elimination step.
 pub const PIVOT_THRESHOLD: f64 = 0.1;
 
-/// Most unknowns a [`MarkowitzLu`] takes: a column's count and index share one 32-bit
-/// key in the pivot search. (Its dense storage of n² values is the practical limit long
-/// before.)
+/// Most unknowns a [`MarkowitzLu`] takes. (Its dense storage of n² values is the
+/// practical limit long before.)
 pub const MAX_UNKNOWNS: usize = 0xFFFE;
-
-/// One entry in the count half of a column's pivot-search key (see `MarkowitzLu::keys`).
-const ONE_ENTRY: u32 = 1 << 16;
 
 /// Sparse LU with Markowitz pivoting on dense storage (see the module docs).
 #[derive(Debug, Clone, Default)]
@@ -47,12 +43,8 @@ pub struct MarkowitzLu {
     col_pattern: Vec<u64>,
     /// Counts of entries in the active submatrix, by row.
     row_count: Vec<u32>,
-    /// The pivot-search keys of the active columns, count << 16 | index (both ≤
-    /// MAX_UNKNOWNS), so that they order by count, then by index; in no order, and
-    /// `slot[j]` says where column j's is. They hold the column counts: the search
-    /// scans only the columns left.
-    keys: Vec<u32>,
-    slot: Vec<u32>,
+    /// The counts of the active columns, for the pivot search.
+    counts: ColumnCounts,
     /// Rows and columns not yet pivoted.
     active_rows: Vec<u64>,
     active_cols: Vec<u64>,
@@ -81,9 +73,93 @@ pub struct MarkowitzLu {
     /// regularization of redundant contacts (`Options::regularization`) is tuned
     /// against. Without it, 2 of 60 neighbouring Lire collapses that run through with
     /// dense LU stopped with an error, one of them at a matrix it called singular.
+    ///
+    /// A matrix whose elimination leaves an active column without a single entry in its
+    /// pattern is not handed on: the pattern (fill included) holds every entry the
+    /// Schur complement can have whatever the values, so that column of it is zero and
+    /// the matrix singular for every pivot order. In the piles of shaken columns these
+    /// are 2 in 5 of the singular matrices, and their dense LU cost more than all the
+    /// regular factorizations of a run: 98 of 242 over `rollstack blocks shake --blocks
+    /// 6 --omega 2 --mu 0.3 --amplitude 0.2 --steps-per-period 200 --t-end 5`, where
+    /// dense LU agreed on each. Over the same command with 5 blocks, μ = 0.5 and t = 20
+    /// it called 6 of 315 regular, by round-off: their solutions for a unit right-hand
+    /// side were 10¹⁰ to 10¹⁵.
     dense: DenseLu,
     /// Whether the last matrix was factorized by `dense`.
     by_dense: bool,
+}
+
+/// The entry counts of the active columns, with the columns of each count as a bit set,
+/// so that the pivot search finds the column of least count (the first of equals) by
+/// looking at a few counts from the least one occupied, not at every column: a scan of
+/// the columns makes the search O(n²) per factorization (27 against 28 µs per matrix
+/// on the Newton matrices of the worst shaken column, n ≈ 118).
+#[derive(Debug, Clone, Default)]
+struct ColumnCounts {
+    words: usize,
+    count: Vec<u32>,
+    /// Count c's columns in words `c * words..(c + 1) * words`.
+    buckets: Vec<u64>,
+    /// No count below it has a column.
+    lowest: usize,
+}
+
+impl ColumnCounts {
+    /// Every column of `counts` active, with its count.
+    fn reset(&mut self, words: usize, counts: impl Iterator<Item = u32>) {
+        self.words = words;
+        self.count.clear();
+        self.count.extend(counts);
+        let n = self.count.len();
+        self.buckets.clear();
+        self.buckets.resize((n + 1) * words, 0);
+        self.lowest = n;
+        for (j, &c) in self.count.iter().enumerate() {
+            set(&mut self.buckets, c as usize * words, j);
+            self.lowest = self.lowest.min(c as usize);
+        }
+    }
+
+    /// The active column of least count, the first of equals.
+    fn least(&mut self) -> Option<usize> {
+        let w = self.words;
+        while let Some(bucket) = self.buckets.get(self.lowest * w..(self.lowest + 1) * w) {
+            if let Some((word, &bits)) = bucket.iter().enumerate().find(|(_, &b)| b != 0) {
+                return Some(64 * word + bits.trailing_zeros() as usize);
+            }
+            self.lowest += 1;
+        }
+        None
+    }
+
+    /// Column j's count changes by one, up or down.
+    fn step(&mut self, j: usize, up: bool) {
+        let w = self.words;
+        let c = self.count[j] as usize;
+        let to = if up { c + 1 } else { c.saturating_sub(1) };
+        clear(&mut self.buckets[c * w..], j);
+        set(&mut self.buckets, to * w, j);
+        self.count[j] = to as u32;
+        self.lowest = self.lowest.min(to);
+    }
+
+    /// Column j leaves the search (it was pivoted).
+    fn retire(&mut self, j: usize) {
+        let c = self.count[j] as usize;
+        clear(&mut self.buckets[c * self.words..], j);
+    }
+}
+
+/// Why an elimination stopped.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Singular {
+    /// An active column has no entry in its pattern: singular whatever the values.
+    Structurally,
+    /// A column's entries are all zero, or a pivot fails the [`SINGULAR_PIVOT`] test:
+    /// threshold pivoting may have caused it.
+    ///
+    /// [`SINGULAR_PIVOT`]: super::SINGULAR_PIVOT
+    Numerically,
 }
 
 /// Sets bit `i` of the bit set that starts at word `base` of `words`.
@@ -116,6 +192,10 @@ impl MarkowitzLu {
                 "{n} unknowns: Markowitz LU takes at most {MAX_UNKNOWNS}"
             )));
         }
+        // Checked before anything is written, so that the storage stays zeroed.
+        if let Some(&(r, c, _)) = triplets.iter().find(|&&(r, c, _)| r >= n || c >= n) {
+            return Err(outside(r, c, n));
+        }
         if n > self.stride {
             self.stride = n;
             self.a = vec![0.0; n * n];
@@ -127,42 +207,37 @@ impl MarkowitzLu {
         self.row_pattern.resize(n * w, 0);
         self.col_pattern.clear();
         self.col_pattern.resize(n * w, 0);
-        for (k, &(r, c, v)) in triplets.iter().enumerate() {
-            if r >= n || c >= n {
-                // Leave the storage zeroed: undo what this matrix wrote.
-                for &(r, c, _) in &triplets[..k] {
-                    self.a[r * sa + c] = 0.0;
-                }
-                return Err(outside(r, c, n));
-            }
-            self.a[r * sa + c] += v;
-            set(&mut self.row_pattern, r * w, c);
-            set(&mut self.col_pattern, c * w, r);
+        // The buffers as plain slices: the loops below write through them once per
+        // triplet, and a field reached through `self` is reloaded after every store.
+        let (a, rows, cols) = (
+            &mut self.a[..],
+            &mut self.row_pattern[..],
+            &mut self.col_pattern[..],
+        );
+        for &(r, c, v) in triplets {
+            a[r * sa + c] += v;
+            set(rows, r * w, c);
+            set(cols, c * w, r);
         }
         // Entries that summed to zero leave the patterns (rare: one test per triplet
         // instead of one pass over every row's bits).
         for &(r, c, _) in triplets {
-            if self.a[r * sa + c] == 0.0 {
-                clear(&mut self.row_pattern[r * w..], c);
-                clear(&mut self.col_pattern[c * w..], r);
+            if a[r * sa + c] == 0.0 {
+                clear(&mut rows[r * w..], c);
+                clear(&mut cols[c * w..], r);
             }
         }
         let count = |words: &[u64]| words.iter().map(|x| x.count_ones()).sum::<u32>();
         self.row_count.clear();
         self.row_count
-            .extend((0..n).map(|r| count(&self.row_pattern[r * w..(r + 1) * w])));
-        // Every column starts in its own slot.
-        self.keys.clear();
-        self.keys.extend(
-            (0..n).map(|c| count(&self.col_pattern[c * w..(c + 1) * w]) * ONE_ENTRY + c as u32),
-        );
-        self.slot.clear();
-        self.slot.extend(0..n as u32);
+            .extend((0..n).map(|r| count(&rows[r * w..(r + 1) * w])));
+        self.counts
+            .reset(w, (0..n).map(|c| count(&cols[c * w..(c + 1) * w])));
         for v in [&mut self.active_rows, &mut self.active_cols] {
             v.clear();
-            v.resize(w, 0);
-            for i in 0..n {
-                set(v, 0, i);
+            v.resize(w, u64::MAX);
+            if !n.is_multiple_of(64) {
+                v[w - 1] = (1 << (n % 64)) - 1;
             }
         }
         self.pivots.clear();
@@ -179,7 +254,7 @@ impl MarkowitzLu {
     /// The next pivot by Markowitz's rule, searched in one column: the active column of
     /// least count c (the first of equals), and in it, among the entries passing the
     /// threshold test, the one of least row count r, which minimizes (r − 1)(c − 1)
-    /// there; ties go to the larger entry, then to the first row. `None` when that
+    /// there; ties go to the larger entry, then to the first row. An error when that
     /// column has no nonzero entry left (J is singular).
     ///
     /// Searching two or four columns of least count (Zlatev's strategy) lowered the fill
@@ -188,25 +263,27 @@ impl MarkowitzLu {
     ///
     /// The active entries of the chosen column are left in `column` (rows in increasing
     /// order), for [`MarkowitzLu::eliminate`]: the column is read from the storage once.
-    fn choose_pivot(&mut self) -> Option<(usize, usize)> {
+    fn choose_pivot(&mut self) -> Result<(usize, usize), Singular> {
         let (sa, w) = (self.stride, self.words);
-        // The least (count, index) as one 32-bit key: a branch-free minimum over the
-        // active columns, which the compiler vectorizes.
-        let j = (self.keys.iter().copied().min()? & 0xFFFF) as usize;
+        let j = self.counts.least().ok_or(Singular::Structurally)?;
         self.column.clear();
         let mut largest = 0.0_f64;
-        for word in 0..w {
-            let rows = self.col_pattern[j * w + word] & self.active_rows[word];
-            each_bit(rows, 64 * word, |i| {
-                let v = self.a[i * sa + j];
+        let (a, column) = (&self.a, &mut self.column);
+        let col = &self.col_pattern[j * w..(j + 1) * w];
+        for (word, (&rows, &active)) in col.iter().zip(&self.active_rows).enumerate() {
+            each_bit(rows & active, 64 * word, |i| {
+                let v = a[i * sa + j];
                 largest = largest.max(v.abs());
-                self.column.push((i, v));
+                column.push((i, v));
             });
+        }
+        if self.column.is_empty() {
+            return Err(Singular::Structurally);
         }
         // NaN entries fail this test too.
         let nonzero = largest > 0.0;
         if !nonzero {
-            return None;
+            return Err(Singular::Numerically);
         }
         let mut best: Option<(u32, usize, f64)> = None;
         for &(i, v) in &self.column {
@@ -218,7 +295,7 @@ impl MarkowitzLu {
                 best = Some((r, i, v));
             }
         }
-        best.map(|(_, i, _)| (i, j))
+        best.map(|(_, i, _)| (i, j)).ok_or(Singular::Numerically)
     }
 
     /// Pivots on entry (p, c): stores U row k and the multipliers of L, and updates
@@ -227,29 +304,35 @@ impl MarkowitzLu {
         let (sa, w) = (self.stride, self.words);
         clear(&mut self.active_rows, p);
         clear(&mut self.active_cols, c);
-        self.retire_key(c);
+        self.counts.retire(c);
         let u_start = self.u_entries.len();
         self.u_words.clear();
-        for word in 0..w {
-            let columns = self.row_pattern[p * w + word] & self.active_cols[word];
-            self.u_words.push(columns);
-            each_bit(columns, 64 * word, |j| {
-                self.u_entries.push((j, self.a[p * sa + j]));
-                self.keys[self.slot[j] as usize] -= ONE_ENTRY;
-            });
+        {
+            let (a, counts) = (&self.a[p * sa..(p + 1) * sa], &mut self.counts);
+            let u_entries = &mut self.u_entries;
+            let row = &self.row_pattern[p * w..(p + 1) * w];
+            for (word, (&pattern, &active)) in row.iter().zip(&self.active_cols).enumerate() {
+                let columns = pattern & active;
+                self.u_words.push(columns);
+                each_bit(columns, 64 * word, |j| {
+                    u_entries.push((j, a[j]));
+                    counts.step(j, false);
+                });
+            }
         }
         self.u_ptr.push(self.u_entries.len());
         let pivot = self.a[p * sa + c];
         self.pivots.push((p, c));
         self.pivot_value.push(pivot);
         let u_row = &self.u_entries[u_start..];
+        let (rows, cols) = (&mut self.row_pattern[..], &mut self.col_pattern[..]);
+        let counts = &mut self.counts;
         // The column's active rows and entries, as `choose_pivot` read them: the
         // elimination changes only other columns.
         for &(i, a_ic) in &self.column {
             if i == p {
                 continue;
             }
-            self.row_count[i] -= 1;
             let row = &mut self.a[i * sa..(i + 1) * sa];
             let l = a_ic / pivot;
             self.l_entries.push((i, l));
@@ -257,28 +340,22 @@ impl MarkowitzLu {
                 row[j] -= l * u;
             }
             // Fill: the pivot row's active columns new to row i.
-            for (fw, &columns) in self.u_words.iter().enumerate() {
-                let fill = columns & !self.row_pattern[i * w + fw];
+            let pattern = &mut rows[i * w..(i + 1) * w];
+            let mut count = self.row_count[i] - 1;
+            for (fw, (&columns, old)) in self.u_words.iter().zip(pattern).enumerate() {
+                let fill = columns & !*old;
                 if fill != 0 {
-                    self.row_pattern[i * w + fw] |= fill;
-                    self.row_count[i] += fill.count_ones();
+                    *old |= fill;
+                    count += fill.count_ones();
                     each_bit(fill, 64 * fw, |j| {
-                        set(&mut self.col_pattern, j * w, i);
-                        self.keys[self.slot[j] as usize] += ONE_ENTRY;
+                        set(cols, j * w, i);
+                        counts.step(j, true);
                     });
                 }
             }
+            self.row_count[i] = count;
         }
         self.l_ptr.push(self.l_entries.len());
-    }
-
-    /// Takes pivoted column c's key out of the search.
-    fn retire_key(&mut self, c: usize) {
-        let at = self.slot[c] as usize;
-        self.keys.swap_remove(at);
-        if let Some(&moved) = self.keys.get(at) {
-            self.slot[(moved & 0xFFFF) as usize] = at as u32;
-        }
     }
 
     /// Zeroes the entries of `a` the last matrix used: those in the row patterns, which
@@ -294,15 +371,13 @@ impl MarkowitzLu {
     }
 
     /// Factorizes the loaded matrix; an error when it is singular.
-    fn factor(&mut self) -> Result<(), LinalgError> {
+    fn factor(&mut self) -> Result<(), Singular> {
         for _ in 0..self.n {
-            let Some((p, c)) = self.choose_pivot() else {
-                return Err(LinalgError("singular matrix (Markowitz LU)".into()));
-            };
+            let (p, c) = self.choose_pivot()?;
             self.eliminate(p, c);
         }
         if !regular_pivots(self.pivot_value.iter().copied()) {
-            return Err(LinalgError("singular matrix (Markowitz LU)".into()));
+            return Err(Singular::Numerically);
         }
         Ok(())
     }
@@ -320,13 +395,20 @@ impl LinearSolver for MarkowitzLu {
         self.load(n, triplets)?;
         let factored = self.factor();
         self.clear_values();
-        if factored.is_err() {
-            // The reference decides: see `MarkowitzLu::dense`.
-            self.by_dense = true;
-            return self.dense.solve(n, triplets, rhs);
+        match factored {
+            Ok(()) => {
+                self.factored = true;
+                self.solve_again(rhs)
+            }
+            Err(Singular::Structurally) => Err(LinalgError(
+                "singular matrix (Markowitz LU: a column without entries)".into(),
+            )),
+            Err(Singular::Numerically) => {
+                // The reference decides: see `MarkowitzLu::dense`.
+                self.by_dense = true;
+                self.dense.solve(n, triplets, rhs)
+            }
         }
-        self.factored = true;
-        self.solve_again(rhs)
     }
     /// L y = b in pivot order, then U x = y backwards.
     fn solve_again(&mut self, rhs: &mut [f64]) -> Result<(), LinalgError> {
@@ -337,21 +419,23 @@ impl LinearSolver for MarkowitzLu {
             return Err(LinalgError("no factorization kept (Markowitz LU)".into()));
         }
         let y = rhs;
-        for (k, &(p, _)) in self.pivots.iter().enumerate() {
+        for (&(p, _), l) in self.pivots.iter().zip(self.l_ptr.windows(2)) {
             let v = y[p];
             if v != 0.0 {
-                for &(i, l) in &self.l_entries[self.l_ptr[k]..self.l_ptr[k + 1]] {
+                for &(i, l) in &self.l_entries[l[0]..l[1]] {
                     y[i] -= l * v;
                 }
             }
         }
         self.x.clear();
         self.x.resize(self.n, 0.0);
-        for (k, &(p, c)) in self.pivots.iter().enumerate().rev() {
-            let s = self.u_entries[self.u_ptr[k]..self.u_ptr[k + 1]]
+        let x = &mut self.x;
+        let columns = self.pivots.iter().zip(&self.pivot_value);
+        for ((&(p, c), pivot), u) in columns.zip(self.u_ptr.windows(2)).rev() {
+            let s = self.u_entries[u[0]..u[1]]
                 .iter()
-                .fold(y[p], |s, &(j, u)| s - u * self.x[j]);
-            self.x[c] = s / self.pivot_value[k];
+                .fold(y[p], |s, &(j, u)| s - u * x[j]);
+            x[c] = s / pivot;
         }
         y[..self.n].copy_from_slice(&self.x);
         finite(y, "Markowitz LU")
@@ -512,5 +596,32 @@ mod tests {
             .solve(n, &t, &mut b)
             .unwrap();
         assert!(b.iter().all(|&x| (x - 0.5).abs() < 1e-15));
+    }
+
+    /// A column the elimination leaves without entries is singular whatever the values
+    /// (here the third: rows 0 and 1 hold it, and they are pivoted on the first two
+    /// columns; row 2's only entry, a regularization slot at 0, leaves the pattern), and
+    /// it is reported without the dense LU that numerical singularity asks.
+    #[test]
+    fn a_column_left_without_entries_is_singular_at_once() {
+        let t = [
+            (0, 0, 2.0),
+            (1, 1, 3.0),
+            (0, 2, 1.0),
+            (1, 2, 1.0),
+            (2, 2, 0.0),
+        ];
+        let mut lu = MarkowitzLu::default();
+        let mut b = vec![1.0; 3];
+        let err = lu.solve(3, &t, &mut b).unwrap_err();
+        assert!(err.0.contains("without entries"), "{}", err.0);
+        assert!(!lu.by_dense);
+        // Dense LU agrees (row 2 is zero).
+        let mut b = vec![1.0; 3];
+        assert!(DenseLu::default().solve(3, &t, &mut b).is_err());
+        // A numerically zero column (entries that cancel) is still left to dense LU.
+        let cancelling = [(0, 0, 1.0), (1, 0, 1.0), (0, 1, 1.0), (1, 1, 1.0)];
+        assert!(lu.solve(2, &cancelling, &mut b).is_err());
+        assert!(lu.by_dense);
     }
 }
