@@ -538,9 +538,9 @@ impl<S: System> Stepper<S> {
                     if self.options.low_rank_updates {
                         let w = &mut self.work;
                         let factored = if prune.is_some() {
-                            &w.jac_pruned
+                            &mut w.jac_pruned
                         } else {
-                            &w.jac
+                            &mut w.jac
                         };
                         w.low_rank.factored(factored);
                     }
