@@ -80,10 +80,11 @@ pub struct MarkowitzLu {
     /// the matrix singular for every pivot order. In the piles of shaken columns these
     /// are 2 in 5 of the singular matrices, and their dense LU cost more than all the
     /// regular factorizations of a run: 98 of 242 over `rollstack blocks shake --blocks
-    /// 6 --omega 2 --mu 0.3 --amplitude 0.2 --steps-per-period 200 --t-end 5`, where
-    /// dense LU agreed on each. Over the same command with 5 blocks, μ = 0.5 and t = 20
-    /// it called 6 of 315 regular, by round-off: their solutions for a unit right-hand
-    /// side were 10¹⁰ to 10¹⁵.
+    /// 6 --omega 2 --mu 0.3 --amplitude 0.2 --steps-per-period 200 --t-end 5` (counted
+    /// on the matrices of that run written out by a scratch print), where dense LU
+    /// agreed on each. Over the same command with 5 blocks, μ = 0.5 and t = 20 it called
+    /// 6 of 315 regular, by round-off: their solutions for a unit right-hand side were
+    /// 10¹⁰ to 10¹⁵.
     dense: DenseLu,
     /// Whether the last matrix was factorized by `dense`.
     by_dense: bool,
@@ -91,9 +92,8 @@ pub struct MarkowitzLu {
 
 /// The entry counts of the active columns, with the columns of each count as a bit set,
 /// so that the pivot search finds the column of least count (the first of equals) by
-/// looking at a few counts from the least one occupied, not at every column: a scan of
-/// the columns makes the search O(n²) per factorization (27 against 28 µs per matrix
-/// on the Newton matrices of the worst shaken column, n ≈ 118).
+/// looking at a few counts from the least one occupied, not at every column (a scan of
+/// the columns makes the search O(n²) per factorization).
 #[derive(Debug, Clone, Default)]
 struct ColumnCounts {
     words: usize,
