@@ -542,6 +542,8 @@ impl<S: System> Stepper<S> {
                         } else {
                             &mut w.jac
                         };
+                        // Swapped, not copied: the buffer left here holds the matrix
+                        // factored before, and is assembled anew before its next read.
                         w.low_rank.factored(factored);
                     }
                     self.work.factored = Some(FactoredFor {
