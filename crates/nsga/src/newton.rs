@@ -32,11 +32,18 @@ pub const REUSE_CONTRACTION: f64 = 0.1;
 /// [`crate::Options::reuse_factorization`]).
 pub const MAX_REUSES: usize = 4;
 
-/// Periods (in Newton iterations) of set cycles that [`settled_cycle`] recognizes. Three
-/// periods of 12 fit in the 40 iterations of blockstack's first attempts; the landings of
-/// the Lire collapse cycle with periods of 7 to 9 iterations, which with periods only up
-/// to 4 ran on to the iteration limit.
+/// Periods (in Newton iterations) of set cycles that [`settled_cycle`] recognizes. The
+/// landings of the Lire collapse cycle with periods of 7 to 9 iterations, which with
+/// periods only up to 4 ran on to the iteration limit, and its fork with a period of 12.
 pub const CYCLE_PERIODS: std::ops::RangeInclusive<usize> = 2..=12;
+
+/// Periods from which [`settled_cycle`] takes two repetitions as evidence instead of
+/// three: two periods of 6 iterations or more span as many iterates as three of 4. The
+/// fork of the Lire collapse (t = 5.04) cycles with a period of 12, whose third period
+/// ended just at the 40 iterations of blockstack's first attempts: 8 exact updates and
+/// 29 evaluations that repeated the first two periods, after which the fixed-set
+/// re-solves found the same branch point from the same visited sets.
+pub const LONG_CYCLE: usize = 6;
 
 /// Iterations without progress after which a fixed-set solve is given up.
 pub const STALL_ITERATIONS: usize = 3;
@@ -347,16 +354,17 @@ fn step_along(x: &mut [f64], scratch: &NewtonScratch, alpha: f64) {
 }
 
 /// Whether the Newton iterates have settled into a cycle of index sets that makes no
-/// progress: the last three periods visit the same sets in the same order, and the
-/// smallest residual of the last period is no smaller than half that of the period
-/// before. Newton's iterates are then a discrete map caught in an attractor; running
-/// on to the iteration limit only repeats it.
+/// progress: the last three periods (two, for periods of [`LONG_CYCLE`] or more) visit
+/// the same sets in the same order, and the smallest residual of the last period is no
+/// smaller than half that of the period before. Newton's iterates are then a discrete
+/// map caught in an attractor; running on to the iteration limit only repeats it.
 #[must_use]
 pub fn settled_cycle(history: &[usize], residuals: &[f64]) -> bool {
     let n = history.len();
     CYCLE_PERIODS.into_iter().any(|p| {
-        n >= 3 * p
-            && (0..2 * p).all(|i| history[n - 1 - i] == history[n - 1 - i - p])
+        let periods = if p >= LONG_CYCLE { 2 } else { 3 };
+        n >= periods * p
+            && (0..(periods - 1) * p).all(|i| history[n - 1 - i] == history[n - 1 - i - p])
             && history[n - p..].iter().any(|&id| id != history[n - 1])
             && {
                 let min = |r: &[f64]| r.iter().copied().fold(f64::INFINITY, f64::min);
@@ -412,10 +420,24 @@ mod tests {
         // five damped updates within one set, again and again.
         let period = [0, 1, 2, 2, 2, 2, 2];
         let r = [2.0e-2, 1.0e-2, 4.7e-4, 2.3e-4, 1.2e-4, 8.8e-5, 6.6e-5];
-        let history: Vec<usize> = period.iter().cycle().take(21).copied().collect();
-        let residuals: Vec<f64> = r.iter().cycle().take(21).copied().collect();
+        let history: Vec<usize> = period.iter().cycle().take(14).copied().collect();
+        let residuals: Vec<f64> = r.iter().cycle().take(14).copied().collect();
+        // A period of 7 is long (`LONG_CYCLE`): two repetitions settle it.
         assert!(settled_cycle(&history, &residuals));
-        assert!(!settled_cycle(&history[..20], &residuals[..20]));
+        assert!(!settled_cycle(&history[..13], &residuals[..13]));
+    }
+
+    #[test]
+    fn short_periods_need_three_repetitions_and_long_ones_two() {
+        let run = |p: usize, len: usize| {
+            let history: Vec<usize> = (0..len).map(|i| i % p).collect();
+            settled_cycle(&history, &vec![1e-3; len])
+        };
+        let short = LONG_CYCLE - 1;
+        assert!(!run(short, 2 * short) && !run(short, 3 * short - 1));
+        assert!(run(short, 3 * short));
+        assert!(!run(LONG_CYCLE, 2 * LONG_CYCLE - 1));
+        assert!(run(LONG_CYCLE, 2 * LONG_CYCLE));
     }
 
     #[test]
