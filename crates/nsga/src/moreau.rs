@@ -190,7 +190,6 @@ impl<S: System> MoreauStepper<S> {
         let settings = NewtonSettings {
             tol: self.options.tol,
             max_iter: self.options.max_iter,
-            contracting_extra: 0,
             line_search: 0,
             reuse_factorization: false,
             resume_reuse: false,

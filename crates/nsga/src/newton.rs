@@ -7,9 +7,7 @@
 //! residual and index sets at an iterate and how to compute a Newton update; the engine
 //! owns the rest:
 //!
-//! - the iteration itself: evaluate, test ‖R‖∞ against the tolerance, update, up to
-//!   [`NewtonSettings::max_iter`] updates, and [`NewtonSettings::contracting_extra`]
-//!   more while the iterates converge fast within one index set ([`contracting`]);
+//! - the iteration itself: evaluate, test ‖R‖∞ against the tolerance, update;
 //! - the **line search** ([`NewtonSettings::line_search`]): the update is damped by
 //!   halvings where the full one overshoots;
 //! - **simplified Newton updates** ([`NewtonSettings::reuse_factorization`]): the kept
@@ -67,10 +65,6 @@ pub struct NewtonSettings {
     pub tol: f64,
     /// Largest number of Newton updates.
     pub max_iter: usize,
-    /// Updates allowed beyond `max_iter` while the attempt converges fast within one
-    /// index set ([`contracting`]): an attempt that is about to converge is let finish
-    /// instead of being cut off an update short (0: none).
-    pub contracting_extra: usize,
     /// Halvings of an update allowed in the line search (0: full updates).
     pub line_search: usize,
     /// Whether simplified updates from kept factors may be tried.
@@ -229,8 +223,7 @@ pub fn solve<P: NewtonProblem>(
     // many in a row did, and the residual before the last update.
     let (mut reused, mut reuses, mut last_res) = (false, 0, f64::INFINITY);
     let mut may_reuse = settings.reuse_factorization;
-    let last_iter = settings.max_iter + settings.contracting_extra;
-    for iter in 0..=last_iter {
+    for iter in 0..=settings.max_iter {
         let (sets, res) = match pending.take() {
             Some(e) => e,
             None => problem.evaluate(x, iter == 0),
@@ -272,9 +265,7 @@ pub fn solve<P: NewtonProblem>(
             GiveUp::SettledCycle => settled_cycle(&scratch.history, &scratch.residuals),
             GiveUp::Stall => stalled(&scratch.residuals),
         };
-        let spent = iter >= settings.max_iter
-            && (iter == last_iter || !contracting(&scratch.history, &scratch.residuals));
-        if spent || hopeless {
+        if iter == settings.max_iter || hopeless {
             break;
         }
         // Simplified Newton while it contracts.
@@ -371,17 +362,6 @@ pub fn settled_cycle(history: &[usize], residuals: &[f64]) -> bool {
                 min(&residuals[n - p..]) >= 0.5 * min(&residuals[n - 2 * p..n - p])
             }
     })
-}
-
-/// Whether the last update kept the index sets and contracted ‖R‖∞ by
-/// [`REUSE_CONTRACTION`] or better: the iterates converge at least linearly with that
-/// rate, and from a residual near the tolerance one more update reaches it.
-#[must_use]
-pub fn contracting(history: &[usize], residuals: &[f64]) -> bool {
-    let (n, m) = (history.len(), residuals.len());
-    n >= 2 && m >= 2 && history[n - 1] == history[n - 2] && {
-        residuals[m - 1] <= REUSE_CONTRACTION * residuals[m - 2]
-    }
 }
 
 /// Whether a Newton solve with fixed index sets has stalled: none of its last
@@ -524,7 +504,6 @@ mod tests {
         let settings = NewtonSettings {
             tol: 1e-12,
             max_iter: 20,
-            contracting_extra: 0,
             line_search: 4,
             reuse_factorization: false,
             resume_reuse: false,
@@ -550,62 +529,11 @@ mod tests {
         assert_eq!(trials(false), 5);
     }
 
-    /// x − 2 = 0 with updates that undershoot by `1 − gain`: linear convergence with
-    /// rate 1 − gain, in one index set.
-    struct Damped {
-        res: f64,
-        gain: f64,
-    }
-
-    impl NewtonProblem for Damped {
-        type Sets = ();
-        fn evaluate(&mut self, x: &[f64], _first: bool) -> ((), f64) {
-            self.res = x[0] - 2.0;
-            ((), self.res.abs())
-        }
-        fn exact_direction(&mut self, _: &[f64], _: &(), dx: &mut [f64]) -> Result<(), String> {
-            dx[0] = -self.gain * self.res;
-            Ok(())
-        }
-    }
-
-    #[test]
-    fn an_attempt_that_contracts_fast_is_let_finish() {
-        // From ‖R‖ = 1 to 10⁻⁶ at rate 0.05 takes 5 updates; 3 are allowed.
-        let settings = |contracting_extra| NewtonSettings {
-            tol: 1e-6,
-            max_iter: 3,
-            contracting_extra,
-            line_search: 0,
-            reuse_factorization: false,
-            resume_reuse: false,
-            give_up: GiveUp::Never,
-        };
-        let run = |gain, extra| {
-            let mut x = [3.0];
-            let out = solve(
-                &mut Damped { res: 0.0, gain },
-                &mut x,
-                &settings(extra),
-                &mut NewtonScratch::default(),
-            );
-            matches!(out, Outcome::Converged { iterations: 5, .. })
-        };
-        assert!(!run(0.95, 0));
-        assert!(run(0.95, 2));
-        // At rate 0.5 the extra updates are not taken.
-        assert!(!run(0.5, 20));
-        assert!(contracting(&[0, 0], &[1.0, 0.1]));
-        assert!(!contracting(&[0, 0], &[1.0, 0.11]));
-        assert!(!contracting(&[0, 1], &[1.0, 0.01]));
-    }
-
     #[test]
     fn the_engine_solves_a_piecewise_linear_problem_in_one_update() {
         let settings = NewtonSettings {
             tol: 1e-12,
             max_iter: 10,
-            contracting_extra: 0,
             line_search: 0,
             reuse_factorization: false,
             resume_reuse: false,

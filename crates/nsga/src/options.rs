@@ -217,10 +217,9 @@ pub struct Options {
     /// and λ over the last steps, while their index sets stayed the same (quadratic
     /// through three solutions, linear through two; docs/method.md §4). An attempt from
     /// the prediction that has not converged after
-    /// [`PREDICTED_START_ITERATIONS`](crate::PREDICTED_START_ITERATIONS) updates (and
-    /// [`PREDICTED_START_EXTRA`](crate::PREDICTED_START_EXTRA) more while it contracts
-    /// fast) gives way to the usual one from the last solution. Off by default: the
-    /// paper starts from the last solution.
+    /// [`PREDICTED_START_ITERATIONS`](crate::PREDICTED_START_ITERATIONS) updates gives
+    /// way to the usual one from the last solution. Off by default: the paper starts
+    /// from the last solution.
     #[serde(default)]
     pub predict_start: bool,
     /// Halvings of the Newton update allowed in its line search (0: full updates, as in

@@ -194,7 +194,6 @@ pub fn consistent_start<S: System>(
     let settings = NewtonSettings {
         tol: 1e-12 * scale,
         max_iter: options.max_iter.max(nn),
-        contracting_extra: 0,
         line_search: 0,
         reuse_factorization: false,
         resume_reuse: false,

@@ -50,7 +50,7 @@ pub use assemble::NEGLIGIBLE_SLIP;
 pub use fallback::QUICK_CHECK_ITERATIONS;
 pub use held::MAX_HELD_EVALUATIONS;
 pub use low_rank::LOW_RANK_ROWS;
-pub use predict::{PREDICTED_START_EXTRA, PREDICTED_START_ITERATIONS};
+pub use predict::PREDICTED_START_ITERATIONS;
 pub use solve::WILD_UPDATE;
 
 /// How many index sets found to have a singular plain Newton matrix are remembered
@@ -187,9 +187,6 @@ struct Work {
     low_rank: low_rank::LowRank,
     /// Whether a step's first attempt is under way (see `Options::low_rank_updates`).
     first_attempt: bool,
-    /// Whether that attempt starts from the predicted unknowns
-    /// (`predict::PREDICTED_START_EXTRA`).
-    predicting: bool,
     /// The levels of the last converged trial's state, and of the current state, for
     /// the pruning of open contacts (`state_levels`).
     trial_levels: StateLevels,
@@ -238,7 +235,6 @@ impl Work {
             factored: None,
             low_rank: low_rank::LowRank::default(),
             first_attempt: false,
-            predicting: false,
             unused_position: Vec::new(),
             unused_velocity: Vec::new(),
             trial_levels: StateLevels::default(),

@@ -177,9 +177,7 @@ impl<S: System> Stepper<S> {
             let full = (self.options.max_iter, self.options.max_iter_per_contact);
             self.options.max_iter = PREDICTED_START_ITERATIONS.min(full.0);
             self.options.max_iter_per_contact = 0;
-            self.work.predicting = true;
             let from_prediction = self.first_attempt_from(rho0, x);
-            self.work.predicting = false;
             (self.options.max_iter, self.options.max_iter_per_contact) = full;
             if from_prediction.is_ok() {
                 return from_prediction;

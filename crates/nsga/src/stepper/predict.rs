@@ -25,14 +25,6 @@ use super::unknowns::Offsets;
 /// 113 linear solves against 77 without prediction, 2 updates cost 91.
 pub const PREDICTED_START_ITERATIONS: usize = 2;
 
-/// Updates allowed from a predicted start beyond [`PREDICTED_START_ITERATIONS`] while
-/// the iterates stay in one index set and each update contracts the residual tenfold
-/// ([`crate::newton::contracting`]). In the Lire collapse the simplified updates from a
-/// prediction contract by 15 to 40 per update, and attempts that stood just above the
-/// tolerance after their two updates (1.4·10⁻¹⁰ against 10⁻¹⁰) were given up: the step
-/// was solved again from the last solution, with four more updates, one of them exact.
-pub const PREDICTED_START_EXTRA: usize = 2;
-
 /// Solutions of the last steps whose index sets were all equal: (k, Δt, x) of steps k,
 /// oldest first, at most two besides the current state's.
 #[derive(Debug, Clone, Default)]

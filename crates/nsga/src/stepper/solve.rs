@@ -5,7 +5,7 @@
 
 use super::assemble::KinematicColumns;
 use super::held::{HeldSets, SetPolicy};
-use super::{FactoredFor, Stepper, PREDICTED_START_EXTRA, SINGULAR_SETS_KEPT};
+use super::{FactoredFor, Stepper, SINGULAR_SETS_KEPT};
 use crate::attempt::{AttemptFailure, Trial};
 use crate::linalg::{equilibrate_rows, max_norm};
 use crate::newton::{self, GiveUp, NewtonProblem, NewtonSettings, Outcome};
@@ -261,11 +261,6 @@ impl<S: System> Stepper<S> {
         let settings = NewtonSettings {
             tol: self.options.tol,
             max_iter,
-            contracting_extra: if self.work.predicting {
-                PREDICTED_START_EXTRA
-            } else {
-                0
-            },
             line_search: self.options.line_search,
             reuse_factorization: self.options.reuse_factorization,
             resume_reuse: self.quick_updates(),
