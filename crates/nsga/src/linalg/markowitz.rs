@@ -13,6 +13,11 @@
 //! the nonzeros of the pivot row and column. Pivots are chosen as the factorization goes,
 //! so a changed pattern costs nothing extra. A matrix found singular is handed to dense
 //! LU with partial pivoting, whose verdict stands (see the `dense` field).
+//!
+//! The number of words per pattern is a compile-time constant of the elimination
+//! (1 to [`MAX_WORDS`]), so that the loops over the words of a row or column unroll and
+//! need no bounds checks: with a run-time count, walking the patterns cost more than
+//! the multiply-adds of the elimination.
 
 use super::{finite, regular_pivots, DenseLu, LinalgError, LinearSolver};
 
@@ -21,9 +26,20 @@ use super::{finite, regular_pivots, DenseLu, LinalgError, LinearSolver};
 /// the growth of the entries stays bounded by (1 + 1/0.1) per elimination step.
 pub const PIVOT_THRESHOLD: f64 = 0.1;
 
-/// Most unknowns a [`MarkowitzLu`] takes. (Its dense storage of n² values is the
-/// practical limit long before.)
-pub const MAX_UNKNOWNS: usize = 0xFFFE;
+/// Most 64-bit words in a row or column pattern.
+pub const MAX_WORDS: usize = 4;
+
+/// Most unknowns a [`MarkowitzLu`] takes: [`MAX_WORDS`] words of 64 per pattern. Above
+/// about this size faer's sparse LU is as fast or faster on the Newton matrices
+/// (`MARKOWITZ_SPARSE_THRESHOLD`), and the automatic choice hands larger matrices to it.
+pub const MAX_UNKNOWNS: usize = 64 * MAX_WORDS;
+
+/// A column's key for the pivot search: its entry count above [`KEY_SHIFT`] bits, its
+/// index below, so that the least key is the column of least count, the first of
+/// equals. Pivoted columns hold [`RETIRED`].
+const KEY_SHIFT: u32 = 16;
+const COUNT_ONE: u32 = 1 << KEY_SHIFT;
+const RETIRED: u32 = u32::MAX;
 
 /// Sparse LU with Markowitz pivoting on dense storage (see the module docs).
 #[derive(Debug, Clone, Default)]
@@ -38,30 +54,31 @@ pub struct MarkowitzLu {
     a: Vec<f64>,
     /// Row length of `a`: the largest n seen.
     stride: usize,
-    /// Pattern of each row (bit j: column j), and of each column (bit i: row i).
+    /// Pattern of each row (bit j: column j), and of each column (bit i: row i), in
+    /// `words` words each.
     row_pattern: Vec<u64>,
     col_pattern: Vec<u64>,
     /// Counts of entries in the active submatrix, by row.
     row_count: Vec<u32>,
-    /// The counts of the active columns, for the pivot search.
-    counts: ColumnCounts,
-    /// Rows and columns not yet pivoted.
-    active_rows: Vec<u64>,
-    active_cols: Vec<u64>,
+    /// The columns' keys for the pivot search (see [`KEY_SHIFT`]). A scan of the n keys
+    /// per pivot, which vectorizes, cost less here than keeping the columns of each
+    /// count in bit sets, whose updates (one per entry of U and per fill-in) it saves.
+    keys: Vec<u32>,
     /// Pivot k is entry (row, column) with value `pivot_value[k]`.
     pivots: Vec<(usize, usize)>,
     pivot_value: Vec<f64>,
-    /// The factors by pivot, compressed: the multipliers of L (row, l) and the entries
-    /// of U besides the pivot (column, u), pivot k's in `l_ptr[k]..l_ptr[k + 1]` and
-    /// `u_ptr[k]..u_ptr[k + 1]`.
+    /// The factors by pivot, compressed: the multipliers of L (rows `l_rows`, values
+    /// `l_values`) and the entries of U besides the pivot (columns `u_cols`, values
+    /// `u_values`), pivot k's in `l_ptr[k]..l_ptr[k + 1]` and `u_ptr[k]..u_ptr[k + 1]`.
     l_ptr: Vec<usize>,
-    l_entries: Vec<(usize, f64)>,
+    l_rows: Vec<u32>,
+    l_values: Vec<f64>,
     u_ptr: Vec<usize>,
-    u_entries: Vec<(usize, f64)>,
-    /// Scratch: the pivot column's active (row, entry), the pivot row's active
-    /// columns, and the solution.
-    column: Vec<(usize, f64)>,
-    u_words: Vec<u64>,
+    u_cols: Vec<u32>,
+    u_values: Vec<f64>,
+    /// Scratch: the pivot column's active rows and entries, and the solution.
+    column_rows: Vec<u32>,
+    column_values: Vec<f64>,
     x: Vec<f64>,
     /// Whether the factors of a regular matrix are kept.
     factored: bool,
@@ -90,66 +107,6 @@ pub struct MarkowitzLu {
     by_dense: bool,
 }
 
-/// The entry counts of the active columns, with the columns of each count as a bit set,
-/// so that the pivot search finds the column of least count (the first of equals) by
-/// looking at a few counts from the least one occupied, not at every column (a scan of
-/// the columns makes the search O(n²) per factorization).
-#[derive(Debug, Clone, Default)]
-struct ColumnCounts {
-    words: usize,
-    count: Vec<u32>,
-    /// Count c's columns in words `c * words..(c + 1) * words`.
-    buckets: Vec<u64>,
-    /// No count below it has a column.
-    lowest: usize,
-}
-
-impl ColumnCounts {
-    /// Every column of `counts` active, with its count.
-    fn reset(&mut self, words: usize, counts: impl Iterator<Item = u32>) {
-        self.words = words;
-        self.count.clear();
-        self.count.extend(counts);
-        let n = self.count.len();
-        self.buckets.clear();
-        self.buckets.resize((n + 1) * words, 0);
-        self.lowest = n;
-        for (j, &c) in self.count.iter().enumerate() {
-            set(&mut self.buckets, c as usize * words, j);
-            self.lowest = self.lowest.min(c as usize);
-        }
-    }
-
-    /// The active column of least count, the first of equals.
-    fn least(&mut self) -> Option<usize> {
-        let w = self.words;
-        while let Some(bucket) = self.buckets.get(self.lowest * w..(self.lowest + 1) * w) {
-            if let Some((word, &bits)) = bucket.iter().enumerate().find(|(_, &b)| b != 0) {
-                return Some(64 * word + bits.trailing_zeros() as usize);
-            }
-            self.lowest += 1;
-        }
-        None
-    }
-
-    /// Column j's count changes by one, up or down.
-    fn step(&mut self, j: usize, up: bool) {
-        let w = self.words;
-        let c = self.count[j] as usize;
-        let to = if up { c + 1 } else { c.saturating_sub(1) };
-        clear(&mut self.buckets[c * w..], j);
-        set(&mut self.buckets, to * w, j);
-        self.count[j] = to as u32;
-        self.lowest = self.lowest.min(to);
-    }
-
-    /// Column j leaves the search (it was pivoted).
-    fn retire(&mut self, j: usize) {
-        let c = self.count[j] as usize;
-        clear(&mut self.buckets[c * self.words..], j);
-    }
-}
-
 /// Why an elimination stopped.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 enum Singular {
@@ -162,13 +119,8 @@ enum Singular {
     Numerically,
 }
 
-/// Sets bit `i` of the bit set that starts at word `base` of `words`.
-fn set(words: &mut [u64], base: usize, i: usize) {
-    words[base + i / 64] |= 1 << (i % 64);
-}
-
-fn clear(words: &mut [u64], i: usize) {
-    words[i / 64] &= !(1 << (i % 64));
+fn bit(i: usize) -> u64 {
+    1 << (i % 64)
 }
 
 fn outside(r: usize, c: usize, n: usize) -> LinalgError {
@@ -183,33 +135,41 @@ fn each_bit(mut word: u64, base: usize, mut f: impl FnMut(usize)) {
     }
 }
 
+/// The bit set of indices 0..n in `W` words.
+fn first<const W: usize>(n: usize) -> [u64; W] {
+    std::array::from_fn(|w| match n.saturating_sub(64 * w) {
+        0 => 0,
+        k if k >= 64 => u64::MAX,
+        k => (1 << k) - 1,
+    })
+}
+
+fn ones<const W: usize>(words: &[u64; W]) -> u32 {
+    words.iter().map(|w| w.count_ones()).sum()
+}
+
+/// The least key of `keys` (see [`KEY_SHIFT`]): a branch-free fold, which vectorizes.
+fn least_key(keys: &[u32]) -> u32 {
+    keys.iter().fold(RETIRED, |m, &k| m.min(k))
+}
+
 impl MarkowitzLu {
     /// Loads J from triplets (duplicates summed; entries summing to zero are left out
-    /// of the pattern).
-    fn load(&mut self, n: usize, triplets: &[(usize, usize, f64)]) -> Result<(), LinalgError> {
-        if n > MAX_UNKNOWNS {
-            return Err(LinalgError(format!(
-                "{n} unknowns: Markowitz LU takes at most {MAX_UNKNOWNS}"
-            )));
-        }
-        if n > self.stride {
-            self.stride = n;
-            self.a = vec![0.0; n * n];
-        }
-        let (w, sa) = (n.div_ceil(64), self.stride);
-        self.n = n;
-        self.words = w;
+    /// of the pattern), with `W` words per pattern.
+    fn load<const W: usize>(
+        &mut self,
+        triplets: &[(usize, usize, f64)],
+    ) -> Result<(), LinalgError> {
+        let (n, sa) = (self.n, self.stride);
         self.row_pattern.clear();
-        self.row_pattern.resize(n * w, 0);
+        self.row_pattern.resize(n * W, 0);
         self.col_pattern.clear();
-        self.col_pattern.resize(n * w, 0);
+        self.col_pattern.resize(n * W, 0);
         // The buffers as plain slices: the loops below write through them once per
         // triplet, and a field reached through `self` is reloaded after every store.
-        let (a, rows, cols) = (
-            &mut self.a[..],
-            &mut self.row_pattern[..],
-            &mut self.col_pattern[..],
-        );
+        let a = &mut self.a[..];
+        let rows = self.row_pattern.as_chunks_mut::<W>().0;
+        let cols = self.col_pattern.as_chunks_mut::<W>().0;
         for (k, &(r, c, v)) in triplets.iter().enumerate() {
             if r >= n || c >= n {
                 // The storage stays zeroed between matrices: undo what was written.
@@ -219,176 +179,185 @@ impl MarkowitzLu {
                 return Err(outside(r, c, n));
             }
             a[r * sa + c] += v;
-            set(rows, r * w, c);
+            rows[r][c / 64] |= bit(c);
         }
         // Entries that summed to zero leave the row patterns, and the column patterns
         // are the rows' transposed: one pass over the distinct entries, where a pass per
         // triplet paid for the duplicates too (about half the triplets of eq. 143's
         // matrices, whose rows sum the system's derivatives).
-        for r in 0..n {
-            for word in 0..w {
-                each_bit(rows[r * w + word], 64 * word, |c| {
-                    if a[r * sa + c] == 0.0 {
-                        clear(&mut rows[r * w..], c);
+        for (r, row) in rows.iter_mut().enumerate() {
+            let values = &a[r * sa..r * sa + n];
+            for w in 0..W {
+                let mut zero = 0;
+                each_bit(row[w], 64 * w, |c| {
+                    if values[c] == 0.0 {
+                        zero |= bit(c);
                     } else {
-                        set(cols, c * w, r);
+                        cols[c][r / 64] |= bit(r);
                     }
                 });
+                row[w] &= !zero;
             }
         }
-        let count = |words: &[u64]| words.iter().map(|x| x.count_ones()).sum::<u32>();
         self.row_count.clear();
-        self.row_count
-            .extend((0..n).map(|r| count(&rows[r * w..(r + 1) * w])));
-        self.counts
-            .reset(w, (0..n).map(|c| count(&cols[c * w..(c + 1) * w])));
-        for v in [&mut self.active_rows, &mut self.active_cols] {
-            v.clear();
-            v.resize(w, u64::MAX);
-            if !n.is_multiple_of(64) {
-                v[w - 1] = (1 << (n % 64)) - 1;
-            }
-        }
+        self.row_count.extend(rows.iter().map(ones));
+        self.keys.clear();
+        self.keys.extend(
+            cols.iter()
+                .enumerate()
+                .map(|(c, col)| ones(col) << KEY_SHIFT | c as u32),
+        );
         self.pivots.clear();
         self.pivot_value.clear();
-        self.l_ptr.clear();
-        self.l_ptr.push(0);
-        self.l_entries.clear();
-        self.u_ptr.clear();
-        self.u_ptr.push(0);
-        self.u_entries.clear();
+        for ptr in [&mut self.l_ptr, &mut self.u_ptr] {
+            ptr.clear();
+            ptr.push(0);
+        }
+        self.l_rows.clear();
+        self.l_values.clear();
+        self.u_cols.clear();
+        self.u_values.clear();
         Ok(())
     }
 
-    /// The next pivot by Markowitz's rule, searched in one column: the active column of
-    /// least count c (the first of equals), and in it, among the entries passing the
-    /// threshold test, the one of least row count r, which minimizes (r − 1)(c − 1)
-    /// there; ties go to the larger entry, then to the first row. An error when that
-    /// column has no nonzero entry left (J is singular).
+    /// Factorizes the loaded matrix, `W` words per pattern; an error when it is
+    /// singular. Each step takes the pivot by Markowitz's rule, searched in one column:
+    /// the active column of least count c (the first of equals), and in it, among the
+    /// entries passing the threshold test, the one of least row count r, which minimizes
+    /// (r − 1)(c − 1) there; ties go to the larger entry, then to the first row. Then
+    /// it stores U row k and the multipliers of L, and updates the active rows of the
+    /// pivot column by the pivot row, following its fill.
     ///
     /// Searching two or four columns of least count (Zlatev's strategy) lowered the fill
     /// on the Lire collapse's Newton matrices only slightly and cost more in the search
     /// than it saved.
-    ///
-    /// The active entries of the chosen column are left in `column` (rows in increasing
-    /// order), for [`MarkowitzLu::eliminate`]: the column is read from the storage once.
-    fn choose_pivot(&mut self) -> Result<(usize, usize), Singular> {
-        let (sa, w) = (self.stride, self.words);
-        let j = self.counts.least().ok_or(Singular::Structurally)?;
-        self.column.clear();
-        let mut largest = 0.0_f64;
-        let (a, column) = (&self.a, &mut self.column);
-        let col = &self.col_pattern[j * w..(j + 1) * w];
-        for (word, (&rows, &active)) in col.iter().zip(&self.active_rows).enumerate() {
-            each_bit(rows & active, 64 * word, |i| {
-                let v = a[i * sa + j];
-                largest = largest.max(v.abs());
-                column.push((i, v));
-            });
-        }
-        if self.column.is_empty() {
-            return Err(Singular::Structurally);
-        }
-        // NaN entries fail this test too.
-        let nonzero = largest > 0.0;
-        if !nonzero {
-            return Err(Singular::Numerically);
-        }
-        let mut best: Option<(u32, usize, f64)> = None;
-        for &(i, v) in &self.column {
-            let v = v.abs();
-            let r = self.row_count[i];
-            if v >= PIVOT_THRESHOLD * largest
-                && best.is_none_or(|(br, _, bv)| r < br || (r == br && v > bv))
-            {
-                best = Some((r, i, v));
+    fn factor<const W: usize>(&mut self) -> Result<(), Singular> {
+        let (n, sa) = (self.n, self.stride);
+        let rows = self.row_pattern.as_chunks_mut::<W>().0;
+        let cols = self.col_pattern.as_chunks_mut::<W>().0;
+        let (a, keys, row_count) = (&mut self.a[..], &mut self.keys[..], &mut self.row_count);
+        let (l_rows, l_values) = (&mut self.l_rows, &mut self.l_values);
+        let (u_cols, u_values) = (&mut self.u_cols, &mut self.u_values);
+        let (column_rows, column_values) = (&mut self.column_rows, &mut self.column_values);
+        let mut active_rows = first::<W>(n);
+        let mut active_cols = active_rows;
+        for _ in 0..n {
+            // The column of least count, and its active entries (rows in increasing
+            // order), read from the storage once: the elimination changes only other
+            // columns.
+            let key = least_key(keys);
+            if key == RETIRED {
+                return Err(Singular::Structurally);
             }
-        }
-        best.map(|(_, i, _)| (i, j)).ok_or(Singular::Numerically)
-    }
-
-    /// Pivots on entry (p, c): stores U row k and the multipliers of L, and updates
-    /// the active rows of column c by the pivot row, following its fill.
-    fn eliminate(&mut self, p: usize, c: usize) {
-        let (sa, w) = (self.stride, self.words);
-        clear(&mut self.active_rows, p);
-        clear(&mut self.active_cols, c);
-        self.counts.retire(c);
-        let u_start = self.u_entries.len();
-        self.u_words.clear();
-        {
-            let (a, counts) = (&self.a[p * sa..(p + 1) * sa], &mut self.counts);
-            let u_entries = &mut self.u_entries;
-            let row = &self.row_pattern[p * w..(p + 1) * w];
-            for (word, (&pattern, &active)) in row.iter().zip(&self.active_cols).enumerate() {
-                let columns = pattern & active;
-                self.u_words.push(columns);
-                each_bit(columns, 64 * word, |j| {
-                    u_entries.push((j, a[j]));
-                    counts.step(j, false);
+            let c = (key & (COUNT_ONE - 1)) as usize;
+            column_rows.clear();
+            column_values.clear();
+            let mut largest = 0.0_f64;
+            for w in 0..W {
+                each_bit(cols[c][w] & active_rows[w], 64 * w, |i| {
+                    let v = a[i * sa + c];
+                    largest = largest.max(v.abs());
+                    column_rows.push(i as u32);
+                    column_values.push(v);
                 });
             }
-        }
-        self.u_ptr.push(self.u_entries.len());
-        let pivot = self.a[p * sa + c];
-        self.pivots.push((p, c));
-        self.pivot_value.push(pivot);
-        let u_row = &self.u_entries[u_start..];
-        let (rows, cols) = (&mut self.row_pattern[..], &mut self.col_pattern[..]);
-        let counts = &mut self.counts;
-        // The column's active rows and entries, as `choose_pivot` read them: the
-        // elimination changes only other columns.
-        for &(i, a_ic) in &self.column {
-            if i == p {
-                continue;
+            if column_rows.is_empty() {
+                return Err(Singular::Structurally);
             }
-            let row = &mut self.a[i * sa..(i + 1) * sa];
-            let l = a_ic / pivot;
-            self.l_entries.push((i, l));
-            for &(j, u) in u_row {
-                row[j] -= l * u;
+            // NaN entries fail this test too.
+            let nonzero = largest > 0.0;
+            if !nonzero {
+                return Err(Singular::Numerically);
             }
-            // Fill: the pivot row's active columns new to row i.
-            let pattern = &mut rows[i * w..(i + 1) * w];
-            let mut count = self.row_count[i] - 1;
-            for (fw, (&columns, old)) in self.u_words.iter().zip(pattern).enumerate() {
-                let fill = columns & !*old;
-                if fill != 0 {
-                    *old |= fill;
-                    count += fill.count_ones();
-                    each_bit(fill, 64 * fw, |j| {
-                        set(cols, j * w, i);
-                        counts.step(j, true);
-                    });
+            let mut best: Option<(u32, usize, f64)> = None;
+            for (&i, &v) in column_rows.iter().zip(column_values.iter()) {
+                let (i, v) = (i as usize, v.abs());
+                let r = row_count[i];
+                if v >= PIVOT_THRESHOLD * largest
+                    && best.is_none_or(|(br, _, bv)| r < br || (r == br && v > bv))
+                {
+                    best = Some((r, i, v));
                 }
             }
-            self.row_count[i] = count;
+            let Some((_, p, _)) = best else {
+                return Err(Singular::Numerically);
+            };
+
+            // U row k: the pivot row's active entries, which leave their columns' counts.
+            active_rows[p / 64] &= !bit(p);
+            active_cols[c / 64] &= !bit(c);
+            keys[c] = RETIRED;
+            let u_start = u_cols.len();
+            let mut u_words = [0; W];
+            for w in 0..W {
+                u_words[w] = rows[p][w] & active_cols[w];
+                each_bit(u_words[w], 64 * w, |j| {
+                    u_cols.push(j as u32);
+                    u_values.push(a[p * sa + j]);
+                    keys[j] -= COUNT_ONE;
+                });
+            }
+            self.u_ptr.push(u_cols.len());
+            let pivot = a[p * sa + c];
+            self.pivots.push((p, c));
+            self.pivot_value.push(pivot);
+            let (u_row_cols, u_row) = (&u_cols[u_start..], &u_values[u_start..]);
+            for (&i, &a_ic) in column_rows.iter().zip(column_values.iter()) {
+                let i = i as usize;
+                if i == p {
+                    continue;
+                }
+                let row = &mut a[i * sa..(i + 1) * sa];
+                let l = a_ic / pivot;
+                l_rows.push(i as u32);
+                l_values.push(l);
+                for (&j, &u) in u_row_cols.iter().zip(u_row) {
+                    row[j as usize] -= l * u;
+                }
+                // Fill: the pivot row's active columns new to row i.
+                let mut count = row_count[i] - 1;
+                for w in 0..W {
+                    let fill = u_words[w] & !rows[i][w];
+                    if fill != 0 {
+                        rows[i][w] |= fill;
+                        count += fill.count_ones();
+                        each_bit(fill, 64 * w, |j| {
+                            cols[j][i / 64] |= bit(i);
+                            keys[j] += COUNT_ONE;
+                        });
+                    }
+                }
+                row_count[i] = count;
+            }
+            self.l_ptr.push(l_rows.len());
         }
-        self.l_ptr.push(self.l_entries.len());
+        if !regular_pivots(self.pivot_value.iter().copied()) {
+            return Err(Singular::Numerically);
+        }
+        Ok(())
     }
 
     /// Zeroes the entries of `a` the last matrix used: those in the row patterns, which
     /// cover every entry loaded or filled in.
     fn clear_values(&mut self) {
         let (sa, w) = (self.stride, self.words);
-        for r in 0..self.n {
-            let row = &mut self.a[r * sa..(r + 1) * sa];
-            for word in 0..w {
-                each_bit(self.row_pattern[r * w + word], 64 * word, |c| row[c] = 0.0);
+        for (r, row) in self.row_pattern.chunks_exact(w.max(1)).enumerate() {
+            let values = &mut self.a[r * sa..(r + 1) * sa];
+            for (word, &bits) in row.iter().enumerate() {
+                each_bit(bits, 64 * word, |c| values[c] = 0.0);
             }
         }
     }
 
-    /// Factorizes the loaded matrix; an error when it is singular.
-    fn factor(&mut self) -> Result<(), Singular> {
-        for _ in 0..self.n {
-            let (p, c) = self.choose_pivot()?;
-            self.eliminate(p, c);
-        }
-        if !regular_pivots(self.pivot_value.iter().copied()) {
-            return Err(Singular::Numerically);
-        }
-        Ok(())
+    /// Loads and factorizes with `W` words per pattern, leaving the storage zeroed.
+    fn load_and_factor<const W: usize>(
+        &mut self,
+        triplets: &[(usize, usize, f64)],
+    ) -> Result<Result<(), Singular>, LinalgError> {
+        self.load::<W>(triplets)?;
+        let factored = self.factor::<W>();
+        self.clear_values();
+        Ok(factored)
     }
 }
 
@@ -401,9 +370,23 @@ impl LinearSolver for MarkowitzLu {
     ) -> Result<(), LinalgError> {
         self.factored = false;
         self.by_dense = false;
-        self.load(n, triplets)?;
-        let factored = self.factor();
-        self.clear_values();
+        if n > MAX_UNKNOWNS {
+            return Err(LinalgError(format!(
+                "{n} unknowns: Markowitz LU takes at most {MAX_UNKNOWNS}"
+            )));
+        }
+        if n > self.stride {
+            self.stride = n;
+            self.a = vec![0.0; n * n];
+        }
+        self.n = n;
+        self.words = n.div_ceil(64);
+        let factored = match self.words {
+            0 | 1 => self.load_and_factor::<1>(triplets),
+            2 => self.load_and_factor::<2>(triplets),
+            3 => self.load_and_factor::<3>(triplets),
+            _ => self.load_and_factor::<MAX_WORDS>(triplets),
+        }?;
         match factored {
             Ok(()) => {
                 self.factored = true;
@@ -431,8 +414,9 @@ impl LinearSolver for MarkowitzLu {
         for (&(p, _), l) in self.pivots.iter().zip(self.l_ptr.windows(2)) {
             let v = y[p];
             if v != 0.0 {
-                for &(i, l) in &self.l_entries[l[0]..l[1]] {
-                    y[i] -= l * v;
+                let (rows, values) = (&self.l_rows[l[0]..l[1]], &self.l_values[l[0]..l[1]]);
+                for (&i, &l) in rows.iter().zip(values) {
+                    y[i as usize] -= l * v;
                 }
             }
         }
@@ -441,9 +425,11 @@ impl LinearSolver for MarkowitzLu {
         let x = &mut self.x;
         let columns = self.pivots.iter().zip(&self.pivot_value);
         for ((&(p, c), pivot), u) in columns.zip(self.u_ptr.windows(2)).rev() {
-            let s = self.u_entries[u[0]..u[1]]
+            let (cols, values) = (&self.u_cols[u[0]..u[1]], &self.u_values[u[0]..u[1]]);
+            let s = cols
                 .iter()
-                .fold(y[p], |s, &(j, u)| s - u * x[j]);
+                .zip(values)
+                .fold(y[p], |s, (&j, &u)| s - u * x[j as usize]);
             x[c] = s / pivot;
         }
         y[..self.n].copy_from_slice(&self.x);
@@ -503,7 +489,17 @@ mod tests {
 
     #[test]
     fn agrees_with_dense_lu_on_sparse_matrices() {
-        for (n, seed) in [(1, 1), (5, 2), (40, 3), (63, 4), (64, 5), (65, 6), (150, 7)] {
+        for (n, seed) in [
+            (1, 1),
+            (5, 2),
+            (40, 3),
+            (63, 4),
+            (64, 5),
+            (65, 6),
+            (150, 7),
+            (200, 8),
+            (MAX_UNKNOWNS, 9),
+        ] {
             let t = saddle(n, seed);
             let mut s = seed + 100;
             let b: Vec<f64> = (0..n).map(|_| lcg(&mut s)).collect();
