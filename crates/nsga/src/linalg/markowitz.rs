@@ -27,9 +27,9 @@ use super::{finite, regular_pivots, DenseLu, LinalgError, LinearSolver};
 pub const PIVOT_THRESHOLD: f64 = 0.1;
 
 /// Most 64-bit words in a row or column pattern.
-pub const MAX_WORDS: usize = 4;
+const MAX_WORDS: usize = 4;
 
-/// Most unknowns a [`MarkowitzLu`] takes: [`MAX_WORDS`] words of 64 per pattern. Above
+/// Most unknowns a [`MarkowitzLu`] takes: four words of 64 per pattern. Above
 /// about this size faer's sparse LU is as fast or faster on the Newton matrices
 /// (`MARKOWITZ_SPARSE_THRESHOLD`), and the automatic choice hands larger matrices to it.
 pub const MAX_UNKNOWNS: usize = 64 * MAX_WORDS;
