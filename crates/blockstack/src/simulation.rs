@@ -89,7 +89,9 @@ pub const MAX_HALVINGS: usize = 10;
 /// Halvings allowed in the line search of each Newton update (`nsga::Options::line_search`).
 /// Measured on the Lire collapse on a floor and 29 neighbours (`cargo run --release -p
 /// blockstack --example lire_nearby 30 --floor`): with 3, failed steps fall from 6.5 to
-/// 3.3 per run and linear solves by 5 %; more halvings change nothing.
+/// 3.3 per run and linear solves by 5 %; more halvings change nothing. The held-sets
+/// attempt of columns with many contacts ([`MAX_OPENINGS_PER_UPDATE`]) takes its updates
+/// whole regardless (docs/method.md §8.2, stage 1).
 pub const LINE_SEARCH_HALVINGS: usize = 3;
 
 /// Openings per Newton update in nsga's held-sets attempt

@@ -111,15 +111,6 @@ pub trait NewtonProblem {
         false
     }
 
-    /// Where the last evaluation's ‖R‖∞ measures another residual than the one the
-    /// update started from, that other residual's ‖R‖∞ at the update's start, which
-    /// the line search then judges the update against. The stepper's held-sets attempt
-    /// passes from the held sets' residual to the contact laws' when it releases the
-    /// sets; the two norms do not compare. Default: never.
-    fn reference_after_change(&mut self) -> Option<f64> {
-        None
-    }
-
     /// Takes back sets that an evaluation returned and the engine no longer needs (equal
     /// to sets visited already), so that the problem can reuse their buffers. Default:
     /// dropped.
@@ -318,15 +309,10 @@ fn line_search<P: NewtonProblem>(
     scratch.x_from.clear();
     scratch.x_from.extend_from_slice(x);
     let mut alpha = 1.0;
-    let mut res0 = res0;
     for trial in 0..=halvings {
         scratch.line_search_trials += u64::from(trial > 0);
         step_along(x, scratch, alpha);
         let (sets, res) = problem.evaluate(x, false);
-        // From this trial on, the residual is another one: judge against its start.
-        if let Some(reference) = problem.reference_after_change() {
-            res0 = reference;
-        }
         if halvings == 0 || res <= (1.0 - ARMIJO * alpha) * res0 {
             return (sets, res);
         }
@@ -467,66 +453,6 @@ mod tests {
             dx[0] = -self.res / slope;
             Ok(())
         }
-    }
-
-    /// x³ = 8, whose ‖R‖∞ is reported at a scale of 10⁻³ at the first evaluation and at
-    /// full scale after: as the held-sets attempt passes from the held sets' residual
-    /// to the laws' at its release.
-    struct Rescaled {
-        res: f64,
-        evaluations: usize,
-        start: f64,
-        tells: bool,
-    }
-
-    impl NewtonProblem for Rescaled {
-        type Sets = ();
-        fn evaluate(&mut self, x: &[f64], _first: bool) -> ((), f64) {
-            self.evaluations += 1;
-            self.res = x[0].powi(3) - 8.0;
-            if self.evaluations == 1 {
-                self.start = self.res.abs();
-                return ((), 1e-3 * self.res.abs());
-            }
-            ((), self.res.abs())
-        }
-        fn exact_direction(&mut self, x: &[f64], _: &(), dx: &mut [f64]) -> Result<(), String> {
-            dx[0] = -self.res / (3.0 * x[0] * x[0]);
-            Ok(())
-        }
-        fn reference_after_change(&mut self) -> Option<f64> {
-            (self.tells && self.evaluations == 2).then_some(self.start)
-        }
-    }
-
-    #[test]
-    fn an_update_whose_residual_changes_is_judged_against_the_new_one() {
-        let settings = NewtonSettings {
-            tol: 1e-12,
-            max_iter: 20,
-            line_search: 4,
-            reuse_factorization: false,
-            resume_reuse: false,
-            give_up: GiveUp::Never,
-        };
-        let trials = |tells| {
-            let mut problem = Rescaled {
-                res: 0.0,
-                evaluations: 0,
-                start: 0.0,
-                tells,
-            };
-            let mut x = [3.0];
-            let mut scratch = NewtonScratch::default();
-            let out = solve(&mut problem, &mut x, &settings, &mut scratch);
-            assert!(matches!(out, Outcome::Converged { .. }), "{out:?}");
-            assert!((x[0] - 2.0).abs() < 1e-12);
-            scratch.line_search_trials()
-        };
-        // Told, the first update (19 → 4.1 at full scale) passes; not told, it is halved
-        // against 0.019 four times and then taken whole (one more evaluation).
-        assert_eq!(trials(true), 0);
-        assert_eq!(trials(false), 5);
     }
 
     #[test]

@@ -226,7 +226,8 @@ pub struct Options {
     /// the paper). With n > 0 the update is scaled by the first α = 1, ½, …, 2⁻ⁿ that
     /// reduces ‖R‖∞ by the factor 1 − 10⁻⁴α, or taken whole when none does. Damping
     /// the updates that overshoot keeps Newton from jumping between distant index sets
-    /// when several contacts close at once.
+    /// when several contacts close at once. The held-sets attempt
+    /// (`max_openings_per_update`) takes its updates whole regardless.
     #[serde(default)]
     pub line_search: usize,
     /// Openings per Newton update in the held-sets attempt (0: no such attempt). In a
@@ -239,7 +240,9 @@ pub struct Options {
     /// fails does free Newton follow. A tall column that starts to tip then turns about
     /// its base as one body in a few updates, instead of opening a band of interfaces
     /// that free Newton moves up the column one interface per update (docs/method.md
-    /// §8.2).
+    /// §8.2). The attempt takes its updates whole, without the line search of
+    /// `line_search`: its updates change the sets of a contact or a few each, and
+    /// halving them only delayed the next change.
     #[serde(default)]
     pub max_openings_per_update: usize,
     /// How often a step that fails after every retry and fixed-set re-solve may be

@@ -225,3 +225,45 @@ fn the_held_sets_attempt_takes_the_steps_of_free_newton() {
     let d = largest_difference(&a, &b);
     assert!(d < 1e-8, "held sets and free Newton differ by {d}");
 }
+
+/// The held-sets attempt takes its updates whole, whatever `Options::line_search` says:
+/// after the release each update changes the sets of a contact or a few, and halving
+/// those updates only delayed the next change (docs/method.md §8.2, stage 1). On the
+/// falling chain above at Δt = 2·10⁻³, the first 150 steps converge within that attempt,
+/// so a line search of three halvings changes nothing, to the last bit, and makes no
+/// damped trial (when the attempt still took the line search, it made 5, from step 95).
+#[test]
+fn the_held_sets_attempt_takes_its_updates_whole() {
+    let n = 12;
+    let chain = Chain::benchmark(n);
+    let h = chain.height;
+    let mut q0 = Vec::new();
+    let mut u0 = Vec::new();
+    for k in 0..n {
+        q0.extend([0.0, h / 2.0 + 1.5 * h * k as f64]);
+        let moving = if k >= n / 2 { 1.0 } else { 0.0 };
+        u0.extend([0.5 * moving, -moving]);
+    }
+    let whole = Options {
+        dt: 2e-3,
+        tol: 1e-11,
+        max_iter: 8,
+        max_iter_per_contact: 3,
+        max_openings_per_update: 1,
+        ..Options::default()
+    };
+    let damped = Options {
+        line_search: 3,
+        ..whole.clone()
+    };
+    let steps = 150;
+    let (a, _) = run(chain, &q0, &u0, whole, steps);
+    let mut s = Stepper::new(chain, 0.0, &q0, &u0, damped).unwrap();
+    let mut b = Vec::new();
+    for _ in 0..steps {
+        s.step().unwrap();
+        b.push(s.state().clone());
+    }
+    assert_eq!(s.newton_work().line_search_trials, 0);
+    assert_eq!(largest_difference(&a, &b), 0.0);
+}

@@ -65,13 +65,6 @@ pub(super) struct HeldSets {
     last_update: IndexSets,
     /// Openings per update after the release.
     most: usize,
-    /// The contact laws' ‖R‖∞ at the last evaluation, and at the iterate the last update
-    /// started from: the line search's reference when the update releases the sets.
-    laws_last: f64,
-    laws_at_update: f64,
-    /// Whether the last evaluation released the held sets (its ‖R‖∞ is the laws', where
-    /// the one before was the held sets').
-    released: bool,
 }
 
 impl HeldSets {
@@ -83,22 +76,12 @@ impl HeldSets {
             last_residual: f64::INFINITY,
             last_update: previous,
             most,
-            laws_last: f64::INFINITY,
-            laws_at_update: f64::INFINITY,
-            released: false,
         }
-    }
-
-    /// Where the last evaluation released the sets, the laws' ‖R‖∞ at the start of the
-    /// update it belongs to, against which that update is then judged (once).
-    pub(super) fn take_release_reference(&mut self) -> Option<f64> {
-        std::mem::take(&mut self.released).then_some(self.laws_at_update)
     }
 
     /// A Newton update was taken with `sets`.
     pub(super) fn updated(&mut self, sets: &IndexSets) {
         self.last_update.clone_from(sets);
-        self.laws_at_update = self.laws_last;
     }
 }
 
@@ -111,12 +94,11 @@ impl<S: System> Stepper<S> {
     /// released once that solve has converged, stalled (its residual no longer halves)
     /// or had [`MAX_HELD_EVALUATIONS`] evaluations. From then on, the sets of an update
     /// are the laws' sets with at most `most` contacts opened since the last update.
-    /// While the sets are held, the returned norm is the held solve's, so that the line
-    /// search and the give-up rules judge the solve the update belongs to; it is above
-    /// the tolerance, so the engine never stops on it. The evaluation that releases the
-    /// sets returns the laws' norm, which does not compare with the held one at the
-    /// update's start: the line search then judges that update against the laws' norm
-    /// there ([`crate::newton::NewtonProblem::reference_after_change`]).
+    /// While the sets are held, the returned norm is the held solve's, so that the
+    /// give-up rules judge the solve the update belongs to; it is above the tolerance,
+    /// so the engine never stops on it. The attempt takes its updates whole (no line
+    /// search, see `Stepper::solve_resuming`), so the norms before and after the release,
+    /// which do not compare, are never weighed against each other.
     pub(super) fn evaluate_held(
         &mut self,
         x: &[f64],
@@ -124,10 +106,8 @@ impl<S: System> Stepper<S> {
         first: bool,
         progress: &mut HeldSets,
     ) -> (IndexSets, f64) {
-        progress.released = false;
         let limit = (&progress.last_update, progress.most);
         let (sets, res) = self.evaluate_at(x, None, p, first, Some(limit));
-        progress.laws_last = res;
         let Some(held) = &progress.held else {
             return (sets, res);
         };
@@ -144,7 +124,6 @@ impl<S: System> Stepper<S> {
         let spent = progress.evaluations >= MAX_HELD_EVALUATIONS;
         if held_res <= self.options.tol || stalled || spent {
             progress.held = None;
-            progress.released = true;
             self.work.res = laws;
             return (sets, res);
         }

@@ -157,10 +157,6 @@ impl<S: System> NewtonProblem for StepProblem<'_, S> {
         out
     }
 
-    fn reference_after_change(&mut self) -> Option<f64> {
-        self.held.as_mut()?.take_release_reference()
-    }
-
     fn recycle(&mut self, sets: IndexSets) {
         self.stepper.recycle_sets(sets);
     }
@@ -258,10 +254,17 @@ impl<S: System> Stepper<S> {
         };
         let updates_before = resumed.as_ref().map_or(0, |r| r.updates);
         let max_iter = budget.saturating_sub(updates_before);
+        // The held-sets attempt takes its updates whole: after the release each update
+        // changes the sets of a contact or a few, and halving such updates only delayed
+        // the next change (docs/method.md §8.2, stage 1).
+        let line_search = match policy {
+            SetPolicy::Held { .. } => 0,
+            SetPolicy::Free { .. } => self.options.line_search,
+        };
         let settings = NewtonSettings {
             tol: self.options.tol,
             max_iter,
-            line_search: self.options.line_search,
+            line_search,
             reuse_factorization: self.options.reuse_factorization,
             resume_reuse: self.quick_updates(),
             give_up: if fixed.is_some() {
