@@ -111,29 +111,42 @@ impl Assembly {
         true
     }
 
-    /// The union of the pattern and the new sequence's entries.
+    /// The union of the pattern and the new sequence's entries: the entries it lacks,
+    /// sorted, merged into each column's sorted rows. (Sorting the whole union at each
+    /// growth, about 21 000 entries on a 100-block column whose union grows by a few
+    /// entries at a time as its corners rock, took 11 % of that column's run.)
     fn grow(&mut self) {
         let n = self.n;
-        let mut entries: Vec<(usize, usize)> = (0..n)
-            .flat_map(|c| {
-                self.row_idx[self.col_ptr[c]..self.col_ptr[c + 1]]
-                    .iter()
-                    .map(move |&r| (c, r))
+        let (col_ptr, row_idx) = (&self.col_ptr, &self.row_idx);
+        let mut missing: Vec<(usize, usize)> = self
+            .pattern
+            .iter()
+            .filter(|&&(r, c)| {
+                row_idx[col_ptr[c]..col_ptr[c + 1]]
+                    .binary_search(&r)
+                    .is_err()
             })
-            .chain(self.pattern.iter().map(|&(r, c)| (c, r)))
+            .map(|&(r, c)| (c, r))
             .collect();
-        entries.sort_unstable();
-        entries.dedup();
-        self.row_idx.clear();
-        self.col_ptr.clear();
-        self.col_ptr.resize(n + 1, 0);
-        for &(c, r) in &entries {
-            self.row_idx.push(r);
-            self.col_ptr[c + 1] += 1;
-        }
+        missing.sort_unstable();
+        missing.dedup();
+        let mut rows = Vec::with_capacity(row_idx.len() + missing.len());
+        let mut ptr = vec![0; n + 1];
+        let mut new = missing.iter().peekable();
         for c in 0..n {
-            self.col_ptr[c + 1] += self.col_ptr[c];
+            let old = &row_idx[col_ptr[c]..col_ptr[c + 1]];
+            let mut i = 0;
+            while let Some(&(_, r)) = new.next_if(|&&(nc, _)| nc == c) {
+                let below = old[i..].partition_point(|&o| o < r);
+                rows.extend_from_slice(&old[i..i + below]);
+                i += below;
+                rows.push(r);
+            }
+            rows.extend_from_slice(&old[i..]);
+            ptr[c + 1] = rows.len();
         }
+        self.row_idx = rows;
+        self.col_ptr = ptr;
         self.symbolic = None;
     }
 
@@ -310,6 +323,40 @@ mod tests {
         let twelve = sparse.sizes.iter().find(|a| a.n == 12).unwrap();
         assert!(twelve.symbolic.is_some());
         assert_eq!(twelve.row_idx.len(), 12 + 2 * 11);
+    }
+
+    /// Growing the union merges the entries it lacks into each column's sorted rows,
+    /// wherever they fall: before, between and after the rows there, in empty columns,
+    /// repeated in the sequence, and beside entries it already holds.
+    #[test]
+    fn the_union_grows_by_merging_sorted_columns() {
+        let mut a = Assembly::new(4);
+        let t = |entries: &[(usize, usize)]| -> Vec<(usize, usize, f64)> {
+            entries.iter().map(|&(r, c)| (r, c, 1.0)).collect()
+        };
+        a.map(&t(&[(1, 0), (3, 0), (2, 2)])).unwrap();
+        assert_eq!(
+            (a.col_ptr.clone(), a.row_idx.clone()),
+            (vec![0, 2, 2, 3, 3], vec![1, 3, 2])
+        );
+        a.map(&t(&[
+            (0, 0),
+            (2, 0),
+            (2, 0),
+            (3, 0),
+            (0, 1),
+            (3, 2),
+            (1, 2),
+            (0, 3),
+            (3, 3),
+        ]))
+        .unwrap();
+        assert_eq!(a.col_ptr, [0, 4, 5, 8, 10]);
+        assert_eq!(a.row_idx, [0, 1, 2, 3, 0, 1, 2, 3, 0, 3]);
+        // Every triplet has its slot in the union.
+        for (&s, &(r, c)) in a.slot.iter().zip(&a.pattern) {
+            assert!(a.col_ptr[c] <= s && s < a.col_ptr[c + 1] && a.row_idx[s] == r);
+        }
     }
 
     #[test]
