@@ -10,7 +10,7 @@
 //! after a number of updates in proportion to the column's height (263 updates for 300
 //! blocks). With the sets held, the first solution is the previous motion continued.
 //! From there, opening the most tensile corner first opens the base corner, and Newton
-//! converges on the solution in which only that corner has lifted (12 updates for 300
+//! converges on the solution in which only that corner has lifted (7 updates for 300
 //! blocks; `cargo run --release -p blockstack --example tipping_onset`).
 
 use super::Stepper;
