@@ -89,45 +89,40 @@ impl Assembly {
         self.pattern
             .extend(triplets.iter().map(|&(r, c, _)| (r, c)));
         // One search per triplet while the union holds them all (it nearly always does:
-        // on a tall column a second search pass cost a sixth of the run).
-        if !self.map_slots() {
-            self.grow();
-            assert!(self.map_slots(), "the union holds every entry");
+        // on a tall column a second search pass cost a sixth of the run); where it
+        // does not, the same pass lists what it lacks, and a second maps the grown union.
+        let mut missing = Vec::new();
+        if !self.map_slots(&mut missing) {
+            self.grow(missing);
+            assert!(
+                self.map_slots(&mut Vec::new()),
+                "the union holds every entry"
+            );
         }
         Ok(())
     }
 
-    /// The slot of each entry of `pattern`, in `slot`; false (and `slot` partial) at the
-    /// first entry the union lacks.
-    fn map_slots(&mut self) -> bool {
+    /// The slot of each entry of `pattern`, in `slot`; false when the union lacks some,
+    /// which are then in `missing` as (column, row), and `slot` is partial.
+    fn map_slots(&mut self, missing: &mut Vec<(usize, usize)>) -> bool {
         self.slot.clear();
         for &(r, c) in &self.pattern {
             let (lo, hi) = (self.col_ptr[c], self.col_ptr[c + 1]);
             match self.row_idx[lo..hi].binary_search(&r) {
                 Ok(i) => self.slot.push(lo + i),
-                Err(_) => return false,
+                Err(_) => missing.push((c, r)),
             }
         }
-        true
+        missing.is_empty()
     }
 
-    /// The union of the pattern and the new sequence's entries: the entries it lacks,
-    /// sorted, merged into each column's sorted rows. (Sorting the whole union at each
-    /// growth, about 21 000 entries on a 100-block column whose union grows by a few
-    /// entries at a time as its corners rock, took 11 % of that column's run.)
-    fn grow(&mut self) {
+    /// The union grown by the `missing` entries, (column, row): sorted, merged into each
+    /// column's sorted rows. (Sorting the whole union at each growth, about 21 000
+    /// entries on a 100-block column whose union grows by a few entries at a time as its
+    /// corners rock, took 11 % of that column's run.)
+    fn grow(&mut self, mut missing: Vec<(usize, usize)>) {
         let n = self.n;
         let (col_ptr, row_idx) = (&self.col_ptr, &self.row_idx);
-        let mut missing: Vec<(usize, usize)> = self
-            .pattern
-            .iter()
-            .filter(|&&(r, c)| {
-                row_idx[col_ptr[c]..col_ptr[c + 1]]
-                    .binary_search(&r)
-                    .is_err()
-            })
-            .map(|&(r, c)| (c, r))
-            .collect();
         missing.sort_unstable();
         missing.dedup();
         let mut rows = Vec::with_capacity(row_idx.len() + missing.len());
