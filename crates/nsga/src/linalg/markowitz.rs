@@ -153,6 +153,29 @@ fn least_key(keys: &[u32]) -> u32 {
     keys.iter().fold(RETIRED, |m, &k| m.min(k))
 }
 
+/// The pivot row in a column whose active entries are `values` in `rows`, the largest
+/// in magnitude `largest`: among the entries passing the threshold test (at least
+/// [`PIVOT_THRESHOLD`] times the largest), the one of least row count, which minimizes
+/// Markowitz's (r − 1)(c − 1) within the column; ties go to the larger entry, then to
+/// the first row. None when every entry is zero (NaN entries fail the test too).
+fn pivot_row(rows: &[u32], values: &[f64], largest: f64, row_count: &[u32]) -> Option<usize> {
+    let nonzero = largest > 0.0;
+    if !nonzero {
+        return None;
+    }
+    let mut best: Option<(u32, usize, f64)> = None;
+    for (&i, &v) in rows.iter().zip(values) {
+        let (i, v) = (i as usize, v.abs());
+        let r = row_count[i];
+        if v >= PIVOT_THRESHOLD * largest
+            && best.is_none_or(|(br, _, bv)| r < br || (r == br && v > bv))
+        {
+            best = Some((r, i, v));
+        }
+    }
+    best.map(|(_, i, _)| i)
+}
+
 impl MarkowitzLu {
     /// Loads J from triplets (duplicates summed; entries summing to zero are left out
     /// of the pattern), with `W` words per pattern.
@@ -264,24 +287,8 @@ impl MarkowitzLu {
             if column_rows.is_empty() {
                 return Err(Singular::Structurally);
             }
-            // NaN entries fail this test too.
-            let nonzero = largest > 0.0;
-            if !nonzero {
-                return Err(Singular::Numerically);
-            }
-            let mut best: Option<(u32, usize, f64)> = None;
-            for (&i, &v) in column_rows.iter().zip(column_values.iter()) {
-                let (i, v) = (i as usize, v.abs());
-                let r = row_count[i];
-                if v >= PIVOT_THRESHOLD * largest
-                    && best.is_none_or(|(br, _, bv)| r < br || (r == br && v > bv))
-                {
-                    best = Some((r, i, v));
-                }
-            }
-            let Some((_, p, _)) = best else {
-                return Err(Singular::Numerically);
-            };
+            let p = pivot_row(column_rows, column_values, largest, row_count)
+                .ok_or(Singular::Numerically)?;
 
             // U row k: the pivot row's active entries, which leave their columns' counts.
             active_rows[p / 64] &= !bit(p);
