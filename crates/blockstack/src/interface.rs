@@ -134,6 +134,11 @@ impl<T> InterfaceContacts<T> {
     }
 }
 
+/// [`Interface::holds`] with the support test of the two frames done already.
+pub(crate) fn holds_given(support: Support, lower: &Frame, upper: &Frame) -> bool {
+    support == Support::Supported && lower.e2.dot(&upper.e2) > HOLDS
+}
+
 /// One end of an interface for the choice of its gap (G.2.2): the lower block's top
 /// corner, the upper block's bottom corner, and the sign that makes "beyond" point
 /// outward from the interface along e₁ of the upper block.
@@ -226,12 +231,12 @@ impl Interface {
     /// support test and the facing, without the gaps and the slip.
     #[must_use]
     pub fn holds(&self, lower: &Frame, upper: &Frame) -> bool {
-        self.support_of(lower, upper) == Support::Supported && lower.e2.dot(&upper.e2) > HOLDS
+        holds_given(self.support_of(lower, upper), lower, upper)
     }
 
     /// [`Interface::support`] from the bodies' frames: a decision, not a value, so real
     /// parts only.
-    fn support_of(&self, pl: &Frame, pu: &Frame) -> Support {
+    pub(crate) fn support_of(&self, pl: &Frame, pu: &Frame) -> Support {
         if pl.e2.dot(&pu.e2) <= 0.0 {
             return Support::TurnedOver;
         }
@@ -259,7 +264,13 @@ impl Interface {
     #[must_use]
     pub fn support_margin<T: Scalar>(&self, lower: &BodyState<T>, upper: &BodyState<T>) -> f64 {
         let (pl, pu) = (&Frame::of(&lower.pose), &Frame::of(&upper.pose));
-        if self.support_of(pl, pu) != Support::Supported {
+        self.support_margin_given(self.support_of(pl, pu), pl, pu)
+    }
+
+    /// [`Interface::support_margin`] from the bodies' frames and their support test
+    /// ([`Interface::support_of`]), for a caller that has both at hand.
+    pub(crate) fn support_margin_given(&self, support: Support, pl: &Frame, pu: &Frame) -> f64 {
+        if support != Support::Supported {
             return 0.0;
         }
         let (sc, sd) = self.bottom_corners_along(pl, pu);

@@ -15,7 +15,7 @@
 //! tunnel into another unseen; [`CornerStepping::redone_steps`] counts how often it
 //! happened.
 
-use crate::broad_phase::{corner_contacts, pair_corner_contacts};
+use crate::broad_phase::{pair_corner_contacts, scan, Scan};
 use crate::coordinates::Pose;
 use crate::overlap::{penetration_depth, Body};
 use crate::pairs::LineContacts;
@@ -33,8 +33,8 @@ pub const MAX_CONTACT_SPLITS: usize = 4;
 /// The bookkeeping of the corner contacts over a run.
 #[derive(Debug, Clone, Default)]
 pub struct CornerStepping {
-    /// The broad phase's list at the current state (step number, list).
-    wanted: Option<(u64, Vec<LineContacts>)>,
+    /// The broad phase's findings at the current state (step number, findings).
+    wanted: Option<(u64, Scan)>,
     /// Steps taken again because a contact was missed.
     pub redone_steps: usize,
     /// Steps (or substeps) split in two because the bodies still entered each other
@@ -51,13 +51,12 @@ impl CornerStepping {
     /// The corner contacts of the initial state (t = 0, q0, u0) put into a system before
     /// its stepper is built; the list also serves the first step.
     pub fn start(&mut self, system: &mut StackSystem, q0: &[f64], u0: &[f64], dt: f64) {
-        let list = corner_contacts(system.scene(), 0.0, q0, u0, dt);
-        system.assign_corner_contacts(&list);
-        let holds = system.scene().interfaces_holding(0.0, q0, u0);
+        let found = scan(system.scene(), 0.0, q0, u0, dt);
+        system.assign_corner_contacts(&found.lines);
         // The first decision: no forces to forget yet.
-        let _ = system.hold_interfaces(holds);
-        self.most_contacts = self.most_contacts.max(count(&list));
-        self.wanted = Some((0, list));
+        let _ = system.hold_interfaces(found.holds.clone());
+        self.most_contacts = self.most_contacts.max(count(&found.lines));
+        self.wanted = Some((0, found));
     }
 
     /// The bookkeeping for a branch that continues from another state of this run (an
@@ -97,37 +96,48 @@ impl CornerStepping {
         Ok(())
     }
 
-    /// Decides at the stepper's current state which interfaces hold their contact with
-    /// their own gaps for the step about to be taken
-    /// ([`StackSystem::hold_interfaces`]).
+    /// Puts the decision `holds`, made at the stepper's current state, of which interfaces
+    /// hold their contact with their own gaps into the system for the step about to be
+    /// taken ([`StackSystem::hold_interfaces`]).
     ///
     /// # Errors
     /// Only if the stepper refuses to forget the flipped interfaces' forces (a bug).
-    fn hold_interfaces(scene: &Scene, stepper: &mut Stepper<StackSystem>) -> Result<(), StepError> {
-        let st = stepper.state();
-        let holds = scene.interfaces_holding(st.t, &st.q, &st.u);
+    fn hold_interfaces(
+        stepper: &mut Stepper<StackSystem>,
+        holds: &[bool],
+    ) -> Result<(), StepError> {
         // Borrowed mutably only for a change, as in `assign`.
-        if stepper.system().holds_interfaces(&holds) {
+        if stepper.system().holds_interfaces(holds) {
             return Ok(());
         }
-        let change = stepper.system_mut().hold_interfaces(holds);
+        let change = stepper.system_mut().hold_interfaces(holds.to_vec());
         if change.normals.is_empty() {
             return Ok(());
         }
         stepper.forget_contacts(&change.normals, &change.laws)
     }
 
-    /// The broad phase's list at the stepper's current state (computed once per state).
-    fn wanted(&mut self, scene: &Scene, stepper: &Stepper<StackSystem>) -> Vec<LineContacts> {
+    /// The broad phase's findings at the stepper's current state (computed once per
+    /// state: after a step, to look for missed contacts, and before the next).
+    fn wanted(&mut self, scene: &Scene, stepper: &Stepper<StackSystem>) -> &Scan {
         let st = stepper.state();
-        match &self.wanted {
-            Some((k, list)) if *k == st.k => list.clone(),
-            _ => {
-                let dt = stepper.options().dt;
-                let list = corner_contacts(scene, st.t, &st.q, &st.u, dt);
-                self.wanted = Some((st.k, list.clone()));
-                list
-            }
+        if self.wanted.as_ref().is_some_and(|(k, _)| *k != st.k) {
+            self.wanted = None;
+        }
+        let dt = stepper.options().dt;
+        &self
+            .wanted
+            .get_or_insert_with(|| (st.k, scan(scene, st.t, &st.q, &st.u, dt)))
+            .1
+    }
+
+    /// [`CornerStepping::wanted`] taken out of the bookkeeping, for the step from this
+    /// state: the findings at the state after it replace them.
+    fn take_wanted(&mut self, scene: &Scene, stepper: &Stepper<StackSystem>) -> Scan {
+        let st = stepper.state();
+        match self.wanted.take() {
+            Some((k, found)) if k == st.k => found,
+            _ => scan(scene, st.t, &st.q, &st.u, stepper.options().dt),
         }
     }
 
@@ -153,9 +163,9 @@ impl CornerStepping {
         tol: f64,
         splits: usize,
     ) -> Result<(), StepError> {
-        let wanted = self.wanted(scene, stepper);
-        self.assign(stepper, &wanted)?;
-        Self::hold_interfaces(scene, stepper)?;
+        let found = self.take_wanted(scene, stepper);
+        self.assign(stepper, &found.lines)?;
+        Self::hold_interfaces(stepper, &found.holds)?;
         let mut before = std::mem::take(&mut self.before);
         before.clone_from(stepper.state());
         stepper.step()?;
@@ -167,7 +177,8 @@ impl CornerStepping {
         self.redone_steps += 1;
         // The missed pairs' contacts with the faces they meet *before* the step (after
         // it, a corner may already be past the face it should have struck).
-        let mut union: Vec<LineContacts> = wanted
+        let mut union: Vec<LineContacts> = found
+            .lines
             .into_iter()
             .filter(|w| !missed.contains(&[w.line.lo, w.line.hi]))
             .collect();
@@ -212,12 +223,12 @@ impl CornerStepping {
         before: &nsga::State,
         tol: f64,
     ) -> Vec<[Body; 2]> {
-        let after = self.wanted(scene, stepper);
         let st = stepper.state();
+        let after = &self.wanted(scene, stepper).lines;
         // The pairs' overlap, not the corners' gaps: a corner exactly level with a side
         // of the other body is at distance zero from it however deep the faces overlap.
         let mut missed: Vec<[Body; 2]> = after
-            .into_iter()
+            .iter()
             .map(|l| [l.line.lo, l.line.hi])
             .filter(|&[a, b]| {
                 let depth = pair_depth(scene, st.t, &st.q, a, b);
@@ -272,7 +283,13 @@ mod tests {
         let mut stepper =
             Stepper::new(StackSystem::new(scene.clone()), 0.0, &q0, &u0, options).unwrap();
         let mut corners = CornerStepping {
-            wanted: Some((0, Vec::new())),
+            wanted: Some((
+                0,
+                Scan {
+                    lines: Vec::new(),
+                    holds: scene.interfaces_holding(0.0, &q0, &u0),
+                },
+            )),
             ..CornerStepping::default()
         };
         corners.step(&scene, &mut stepper, 1e-9).unwrap();
