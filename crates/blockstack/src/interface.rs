@@ -139,6 +139,35 @@ pub(crate) fn holds_given(support: Support, lower: &Frame, upper: &Frame) -> boo
     support == Support::Supported && lower.e2.dot(&upper.e2) > HOLDS
 }
 
+/// The corners of an interface's bodies that face each other, in world coordinates (real
+/// parts): the lower body's top corners a, b and the upper body's bottom corners c, d.
+/// The choice of each gap (G.2.2), the support test and the side-entry test read them
+/// all; they are computed once per interface.
+#[derive(Debug, Clone, Copy)]
+struct FacingCorners {
+    a: Vec2,
+    b: Vec2,
+    c: Vec2,
+    d: Vec2,
+}
+
+impl FacingCorners {
+    fn at(&self, corner: Corner) -> Vec2 {
+        match corner {
+            Corner::A => self.a,
+            Corner::B => self.b,
+            Corner::C => self.c,
+            Corner::D => self.d,
+        }
+    }
+}
+
+/// [`Interface::bottom_corners_along`] from the corners c and d in world coordinates.
+fn along_lower(pl: &Frame, c: Vec2, d: Vec2) -> (f64, f64) {
+    let along = |p: Vec2| (p - pl.r).dot(&pl.e1);
+    (along(c), along(d))
+}
+
 /// One end of an interface for the choice of its gap (G.2.2): the lower block's top
 /// corner, the upper block's bottom corner, and the sign that makes "beyond" point
 /// outward from the interface along e₁ of the upper block.
@@ -173,17 +202,29 @@ pub struct Interface {
 }
 
 /// The two bodies of an interface with their rotations, evaluated once for the two gaps,
-/// the slip and the decisions between the cases (their frames): see [`Rotation`].
+/// the slip and the decisions between the cases (their frames and facing corners): see
+/// [`Rotation`].
 struct Turned<'a, T> {
     lower: &'a BodyState<T>,
     upper: &'a BodyState<T>,
     rotations: (Rotation<T>, Rotation<T>),
     frames: (Frame, Frame),
+    corners: FacingCorners,
 }
 
 impl<'a, T: Scalar> Turned<'a, T> {
-    fn of(lower: &'a BodyState<T>, upper: &'a BodyState<T>) -> Self {
+    fn of(interface: &Interface, lower: &'a BodyState<T>, upper: &'a BodyState<T>) -> Self {
         let rotations = (lower.pose.rotation(), upper.pose.rotation());
+        Self::with(interface, lower, upper, rotations)
+    }
+
+    /// With the rotations (lower, upper) of the bodies evaluated already.
+    fn with(
+        interface: &Interface,
+        lower: &'a BodyState<T>,
+        upper: &'a BodyState<T>,
+        rotations: (Rotation<T>, Rotation<T>),
+    ) -> Self {
         let frames = (
             Frame::turned(&lower.pose, &rotations.0),
             Frame::turned(&upper.pose, &rotations.1),
@@ -193,6 +234,7 @@ impl<'a, T: Scalar> Turned<'a, T> {
             upper,
             rotations,
             frames,
+            corners: interface.facing_corners(&frames.0, &frames.1),
         }
     }
 
@@ -237,6 +279,11 @@ impl Interface {
     /// [`Interface::support`] from the bodies' frames: a decision, not a value, so real
     /// parts only.
     pub(crate) fn support_of(&self, pl: &Frame, pu: &Frame) -> Support {
+        self.support_at(pl, pu, &self.facing_corners(pl, pu))
+    }
+
+    /// [`Interface::support_of`] with the facing corners of the two frames at hand.
+    fn support_at(&self, pl: &Frame, pu: &Frame, corners: &FacingCorners) -> Support {
         if pl.e2.dot(&pu.e2) <= 0.0 {
             return Support::TurnedOver;
         }
@@ -244,12 +291,12 @@ impl Interface {
         if rel.dot(&pl.e2) <= 0.5 * self.lower.height {
             return Support::Below;
         }
-        let (sc, sd) = self.bottom_corners_along(pl, pu);
+        let (sc, sd) = along_lower(pl, corners.c, corners.d);
         let half = 0.5 * self.lower.width;
         if sc.max(sd) <= -half || sc.min(sd) >= half {
             return Support::Beside;
         }
-        if self.sunk(pl, pu) {
+        if self.sunk(pl, pu, corners) {
             return Support::Sunk;
         }
         Support::Supported
@@ -284,12 +331,24 @@ impl Interface {
         common.min(above) * ((square - HOLDS) / (1.0 - HOLDS)).max(0.0)
     }
 
+    /// The facing corners of the two bodies at frames `pl` (lower) and `pu` (upper).
+    fn facing_corners(&self, pl: &Frame, pu: &Frame) -> FacingCorners {
+        let lower = |c: Corner| pl.point(&self.lower.corner(c));
+        let upper = |c: Corner| pu.point(&self.upper.corner(c));
+        FacingCorners {
+            a: lower(Corner::A),
+            b: lower(Corner::B),
+            c: upper(Corner::C),
+            d: upper(Corner::D),
+        }
+    }
+
     /// Where the upper block's bottom corners c and d lie along e₁ of the lower body,
     /// from its centre (real parts): the extent of the upper bottom face over the lower
     /// top face.
     fn bottom_corners_along(&self, pl: &Frame, pu: &Frame) -> (f64, f64) {
-        let along = |c: Corner| (pu.point(&self.upper.corner(c)) - pl.r).dot(&pl.e1);
-        (along(Corner::C), along(Corner::D))
+        let upper = |c: Corner| pu.point(&self.upper.corner(c));
+        along_lower(pl, upper(Corner::C), upper(Corner::D))
     }
 
     /// Whether a bottom corner of the upper block lies over the top face of the lower one
@@ -301,23 +360,22 @@ impl Interface {
     /// push it out the long way. A block resting or pivoting on the lower one never
     /// does: its corners over the face are at depth ~0, and a corner pivoting past the
     /// edge is no longer over the face.
-    fn sunk(&self, pl: &Frame, pu: &Frame) -> bool {
-        let deep =
-            |corner_pose: &Frame, corner: Vec2, face_pose: &Frame, face: Size, outward: f64| {
-                let d = corner_pose.point(&corner) - face_pose.r;
-                // How far inside the face's extent, and below the face's line.
-                let side = 0.5 * face.width - d.dot(&face_pose.e1).abs();
-                let depth = 0.5 * face.height - outward * d.dot(&face_pose.e2);
-                side > 0.0
-                    && (depth > 0.5 * face.height
-                        || (depth > side && depth > SIDE_ENTRY_DEPTH * face.height))
-            };
-        [Corner::C, Corner::D]
-            .iter()
-            .any(|&c| deep(pu, self.upper.corner(c), pl, self.lower, 1.0))
-            || [Corner::A, Corner::B]
-                .iter()
-                .any(|&c| deep(pl, self.lower.corner(c), pu, self.upper, -1.0))
+    fn sunk(&self, pl: &Frame, pu: &Frame, corners: &FacingCorners) -> bool {
+        let deep = |corner: Vec2, face_pose: &Frame, face: Size, outward: f64| {
+            let d = corner - face_pose.r;
+            // How far inside the face's extent, and below the face's line.
+            let side = 0.5 * face.width - d.dot(&face_pose.e1).abs();
+            let depth = 0.5 * face.height - outward * d.dot(&face_pose.e2);
+            side > 0.0
+                && (depth > 0.5 * face.height
+                    || (depth > side && depth > SIDE_ENTRY_DEPTH * face.height))
+        };
+        [corners.c, corners.d]
+            .into_iter()
+            .any(|c| deep(c, pl, self.lower, 1.0))
+            || [corners.a, corners.b]
+                .into_iter()
+                .any(|c| deep(c, pu, self.upper, -1.0))
     }
 
     /// The left gap: ℓ_b or ℓ_c per (G.2.2)₁.
@@ -327,7 +385,7 @@ impl Interface {
         lower: &BodyState<T>,
         upper: &BodyState<T>,
     ) -> InterfaceGap<T> {
-        self.end_gap(LEFT_END, &Turned::of(lower, upper))
+        self.end_gap(LEFT_END, &Turned::of(self, lower, upper))
     }
 
     /// The right gap: ℓ_a or ℓ_d per (G.2.2)₂.
@@ -337,7 +395,7 @@ impl Interface {
         lower: &BodyState<T>,
         upper: &BodyState<T>,
     ) -> InterfaceGap<T> {
-        self.end_gap(RIGHT_END, &Turned::of(lower, upper))
+        self.end_gap(RIGHT_END, &Turned::of(self, lower, upper))
     }
 
     /// The gap at one end of the interface, (G.2.2): the lower block's top corner against
@@ -345,10 +403,8 @@ impl Interface {
     /// along e₁ of the upper block, outward from the interface; otherwise the upper
     /// corner against the lower's top face. The bodies' frames decide the case.
     fn end_gap<T: Scalar>(&self, end: InterfaceEnd, bodies: &Turned<'_, T>) -> InterfaceGap<T> {
-        let (pl, pu) = &bodies.frames;
-        let l = pl.point(&self.lower.corner(end.lower));
-        let u = pu.point(&self.upper.corner(end.upper));
-        if end.outward * (l - u).dot(&pu.e1) > 0.0 {
+        let (l, u) = (bodies.corners.at(end.lower), bodies.corners.at(end.upper));
+        if end.outward * (l - u).dot(&bodies.frames.1.e1) > 0.0 {
             self.lower_corner_gap(end.lower, bodies)
         } else {
             self.upper_corner_gap(end.upper, bodies)
@@ -410,7 +466,7 @@ impl Interface {
         lower: &BodyState<T>,
         upper: &BodyState<T>,
     ) -> PairRow<T> {
-        self.turned_slip_at(gap, &Turned::of(lower, upper))
+        self.turned_slip_at(gap, &Turned::of(self, lower, upper))
     }
 
     /// [`Interface::slip_at`] with the bodies' rotations at hand.
@@ -434,20 +490,35 @@ impl Interface {
         lower: &BodyState<T>,
         upper: &BodyState<T>,
     ) -> InterfaceContacts<T> {
-        let bodies = Turned::of(lower, upper);
+        self.turned_contacts(&Turned::of(self, lower, upper))
+    }
+
+    /// [`Interface::contacts`] with the rotations (lower, upper) of the bodies evaluated
+    /// already: a block is the upper body of one interface and the lower of the next,
+    /// and the scene turns it once for both.
+    pub(crate) fn contacts_turned<T: Scalar>(
+        &self,
+        lower: &BodyState<T>,
+        upper: &BodyState<T>,
+        rotations: (Rotation<T>, Rotation<T>),
+    ) -> InterfaceContacts<T> {
+        self.turned_contacts(&Turned::with(self, lower, upper, rotations))
+    }
+
+    fn turned_contacts<T: Scalar>(&self, bodies: &Turned<'_, T>) -> InterfaceContacts<T> {
         let frames = &bodies.frames;
-        let left = self.end_gap(LEFT_END, &bodies);
-        let right = self.end_gap(RIGHT_END, &bodies);
+        let left = self.end_gap(LEFT_END, bodies);
+        let right = self.end_gap(RIGHT_END, bodies);
         let closer = if re(right.row.value) < re(left.row.value) {
             &right
         } else {
             &left
         };
         InterfaceContacts {
-            support: self.support_of(&frames.0, &frames.1),
+            support: self.support_at(&frames.0, &frames.1, &bodies.corners),
             left,
             right,
-            slip: self.turned_slip_at(closer, &bodies),
+            slip: self.turned_slip_at(closer, bodies),
             facing: frames.0.e2.dot(&frames.1.e2),
         }
     }

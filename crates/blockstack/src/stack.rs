@@ -263,13 +263,19 @@ impl Scene {
         out.slips.clear();
         out.interfaces.clear();
         out.floor.clear();
+        // Each body turned once: it is the upper body of one interface and the lower of
+        // the next (in a derivative pass, with the same directions in both).
+        let mut lower_rotation = base.pose.rotation();
         for k in 0..n {
             let (lower_body, lower) = if k == 0 {
                 (Body::Base, base)
             } else {
                 (Body::Block(k - 1), block(k - 1))
             };
-            let c = self.interface(k).contacts(&lower, &block(k));
+            let upper = block(k);
+            let rotations = (lower_rotation, upper.pose.rotation());
+            lower_rotation = rotations.1;
+            let c = self.interface(k).contacts_turned(&lower, &upper, rotations);
             let fold =
                 |row: &PairRow<T>| fold_pair(row, lower_body, &lower, &base_acc, Body::Block(k));
             let holds = holds_contact(holds, k, &c);
