@@ -64,11 +64,16 @@ pub const PENETRATION_TOL: f64 = 1e-6;
 /// faer's sparse LU, and Markowitz LU, which skips the zeros that make up most of these
 /// matrices, is faster again (`cargo run --release -p blockstack --example lire_nearby
 /// 60 --floor`, paired
-/// runs: median solver time 105–114 ms against 126–127 ms with dense LU). The banded
-/// matrix of a tall column needs the sparse solver. Both small solvers detect the
-/// singular matrices of redundant contacts by their pivots (see
-/// `nsga::Options::regularization`).
-pub const SMALL_LU_UP_TO: usize = 200;
+/// runs: median solver time 105–114 ms against 126–127 ms with dense LU). Blocks piled on
+/// the floor make matrices of 200 to 400 unknowns, on which Markowitz LU is still about
+/// twice as fast as faer's sparse LU, and finds many of the singular ones (redundant
+/// contacts) by their structure, where faer's took longer than a regular factorization:
+/// up to 384 unknowns (its largest size) instead of 200, the 36 columns of 10 to 20
+/// blocks collapsing into piles (docs/method.md §7, "Crossovers") take 14.0 s of solver
+/// time instead of 20.0 s. Above it, the banded matrix of a tall column needs the sparse
+/// solver. Both small solvers detect the singular matrices of redundant contacts by their
+/// pivots (see `nsga::Options::regularization`).
+pub const SMALL_LU_UP_TO: usize = 384;
 
 /// How often a step that fails after every retry and re-solve may be halved (a
 /// failing step is then taken as 2, 4, … up to 2^MAX_HALVINGS substeps).

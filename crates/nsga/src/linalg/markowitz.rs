@@ -27,11 +27,13 @@ use super::{finite, regular_pivots, DenseLu, LinalgError, LinearSolver};
 pub const PIVOT_THRESHOLD: f64 = 0.1;
 
 /// Most 64-bit words in a row or column pattern.
-const MAX_WORDS: usize = 4;
+const MAX_WORDS: usize = 6;
 
-/// Most unknowns a [`MarkowitzLu`] takes: four words of 64 per pattern. Above
-/// about this size faer's sparse LU is as fast or faster on the Newton matrices
-/// (`MARKOWITZ_SPARSE_THRESHOLD`), and the automatic choice hands larger matrices to it.
+/// Most unknowns a [`MarkowitzLu`] takes: six words of 64 per pattern. On the chain
+/// matrices of a tall column faer's sparse LU is as fast from about 264 unknowns
+/// (`MARKOWITZ_SPARSE_THRESHOLD`, the stepper's default crossover), but on the matrices
+/// of blocks piled on a floor Markowitz LU stays the faster up to this size (the block
+/// stack's `SMALL_LU_UP_TO`); `AutoSolver::markowitz` hands larger matrices to sparse LU.
 pub const MAX_UNKNOWNS: usize = 64 * MAX_WORDS;
 
 /// A column's key for the pivot search: its entry count above [`KEY_SHIFT`] bits, its
@@ -392,6 +394,8 @@ impl LinearSolver for MarkowitzLu {
             0 | 1 => self.load_and_factor::<1>(triplets),
             2 => self.load_and_factor::<2>(triplets),
             3 => self.load_and_factor::<3>(triplets),
+            4 => self.load_and_factor::<4>(triplets),
+            5 => self.load_and_factor::<5>(triplets),
             _ => self.load_and_factor::<MAX_WORDS>(triplets),
         }?;
         match factored {
@@ -505,6 +509,8 @@ mod tests {
             (65, 6),
             (150, 7),
             (200, 8),
+            (256, 10),
+            (300, 11),
             (MAX_UNKNOWNS, 9),
         ] {
             let t = saddle(n, seed);
