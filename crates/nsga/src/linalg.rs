@@ -8,7 +8,9 @@
 
 mod markowitz;
 mod sparse;
-pub use markowitz::{MarkowitzLu, MAX_UNKNOWNS as MARKOWITZ_MAX_UNKNOWNS, PIVOT_THRESHOLD};
+pub use markowitz::{
+    MarkowitzLu, DENSE_VERDICT_UP_TO, MAX_UNKNOWNS as MARKOWITZ_MAX_UNKNOWNS, PIVOT_THRESHOLD,
+};
 pub use sparse::{SparseLu, SYMBOLIC_CACHE};
 
 /// A linear solve failed (singular or non-finite matrix).

@@ -12,7 +12,8 @@
 //! bit sets (one 64-bit word per 64 rows or columns), and the elimination touches only
 //! the nonzeros of the pivot row and column. Pivots are chosen as the factorization goes,
 //! so a changed pattern costs nothing extra. A matrix found singular is handed to dense
-//! LU with partial pivoting, whose verdict stands (see the `dense` field).
+//! LU with partial pivoting, whose verdict stands (see the `dense` field), or, above
+//! [`DENSE_VERDICT_UP_TO`] unknowns, factored again with partial pivoting.
 //!
 //! The number of words per pattern is a compile-time constant of the elimination
 //! (1 to [`MAX_WORDS`]), so that the loops over the words of a row or column unroll and
@@ -28,6 +29,24 @@ pub const PIVOT_THRESHOLD: f64 = 0.1;
 
 /// Most 64-bit words in a row or column pattern.
 const MAX_WORDS: usize = 6;
+
+/// Unknowns up to which a matrix the threshold pivots leave numerically singular is
+/// handed to dense LU, whose verdict stands (see `MarkowitzLu::dense`). Above, it is
+/// factored again with partial pivoting (threshold 1) in the columns that Markowitz's
+/// rule orders, and that verdict stands: dense LU's O(n³) cost, 400–600 µs at 260–300
+/// unknowns, was spent mostly on confirming a singular matrix.
+///
+/// Over the matrices of blocks piled on a floor that the threshold pivots called
+/// numerically singular, the two verdicts were compared one by one (a scratch print):
+/// on a shaken 14-block column (`rollstack blocks shake --blocks 14 --omega 4 --mu 0.3
+/// --amplitude 0.2 --periods 5 --json`) they agreed on 590 of 603 (dense LU: 17
+/// regular), at 35 µs against 402 µs each; on a 20-block one (`--blocks 20 --omega 5
+/// --amplitude 0.1`) on 222 of 247 (the partial pivots passed the singularity test on
+/// 24 that dense LU called singular, and failed on 1 it called regular), at 63 µs
+/// against 598 µs. Either verdict then sends a singular matrix to the regularized
+/// solve (`Options::regularization`), which converges from both. Below this size,
+/// where the Lire collapses' matrices are, dense LU costs little and keeps deciding.
+pub const DENSE_VERDICT_UP_TO: usize = 200;
 
 /// Most unknowns a [`MarkowitzLu`] takes: six words of 64 per pattern. On the chain
 /// matrices of a tall column faer's sparse LU is as fast from about 264 unknowns
@@ -104,6 +123,9 @@ pub struct MarkowitzLu {
     /// agreed on each. Over the same command with 5 blocks, μ = 0.5 and t = 20 it called
     /// 6 of 315 regular, by round-off: their solutions for a unit right-hand side were
     /// 10¹⁰ to 10¹⁵.
+    ///
+    /// Only matrices of up to [`DENSE_VERDICT_UP_TO`] unknowns are handed on; larger
+    /// ones are factored again with partial pivoting in Markowitz's column order.
     dense: DenseLu,
     /// Whether the last matrix was factorized by `dense`.
     by_dense: bool,
@@ -157,10 +179,16 @@ fn least_key(keys: &[u32]) -> u32 {
 
 /// The pivot row in a column whose active entries are `values` in `rows`, the largest
 /// in magnitude `largest`: among the entries passing the threshold test (at least
-/// [`PIVOT_THRESHOLD`] times the largest), the one of least row count, which minimizes
+/// `threshold` times the largest: [`PIVOT_THRESHOLD`], or 1 for partial pivoting), the one of least row count, which minimizes
 /// Markowitz's (r − 1)(c − 1) within the column; ties go to the larger entry, then to
 /// the first row. None when every entry is zero (NaN entries fail the test too).
-fn pivot_row(rows: &[u32], values: &[f64], largest: f64, row_count: &[u32]) -> Option<usize> {
+fn pivot_row(
+    rows: &[u32],
+    values: &[f64],
+    largest: f64,
+    row_count: &[u32],
+    threshold: f64,
+) -> Option<usize> {
     let nonzero = largest > 0.0;
     if !nonzero {
         return None;
@@ -169,8 +197,7 @@ fn pivot_row(rows: &[u32], values: &[f64], largest: f64, row_count: &[u32]) -> O
     for (&i, &v) in rows.iter().zip(values) {
         let (i, v) = (i as usize, v.abs());
         let r = row_count[i];
-        if v >= PIVOT_THRESHOLD * largest
-            && best.is_none_or(|(br, _, bv)| r < br || (r == br && v > bv))
+        if v >= threshold * largest && best.is_none_or(|(br, _, bv)| r < br || (r == br && v > bv))
         {
             best = Some((r, i, v));
         }
@@ -256,7 +283,7 @@ impl MarkowitzLu {
     /// Searching two or four columns of least count (Zlatev's strategy) lowered the fill
     /// on the Lire collapse's Newton matrices only slightly and cost more in the search
     /// than it saved.
-    fn factor<const W: usize>(&mut self) -> Result<(), Singular> {
+    fn factor<const W: usize>(&mut self, threshold: f64) -> Result<(), Singular> {
         let (n, sa) = (self.n, self.stride);
         let rows = self.row_pattern.as_chunks_mut::<W>().0;
         let cols = self.col_pattern.as_chunks_mut::<W>().0;
@@ -289,7 +316,7 @@ impl MarkowitzLu {
             if column_rows.is_empty() {
                 return Err(Singular::Structurally);
             }
-            let p = pivot_row(column_rows, column_values, largest, row_count)
+            let p = pivot_row(column_rows, column_values, largest, row_count, threshold)
                 .ok_or(Singular::Numerically)?;
 
             // U row k: the pivot row's active entries, which leave their columns' counts.
@@ -358,13 +385,41 @@ impl MarkowitzLu {
         }
     }
 
+    /// Sizes the storage for matrices of n unknowns (at most [`MAX_UNKNOWNS`]).
+    fn size_for(&mut self, n: usize) {
+        if n > self.stride {
+            self.stride = n;
+            self.a = vec![0.0; n * n];
+        }
+        self.n = n;
+        self.words = n.div_ceil(64);
+    }
+
+    /// [`MarkowitzLu::load_and_factor`] with the words of the current size, pivots
+    /// passing `threshold` (see [`pivot_row`]).
+    fn load_and_factor_any(
+        &mut self,
+        triplets: &[(usize, usize, f64)],
+        threshold: f64,
+    ) -> Result<Result<(), Singular>, LinalgError> {
+        match self.words {
+            0 | 1 => self.load_and_factor::<1>(triplets, threshold),
+            2 => self.load_and_factor::<2>(triplets, threshold),
+            3 => self.load_and_factor::<3>(triplets, threshold),
+            4 => self.load_and_factor::<4>(triplets, threshold),
+            5 => self.load_and_factor::<5>(triplets, threshold),
+            _ => self.load_and_factor::<MAX_WORDS>(triplets, threshold),
+        }
+    }
+
     /// Loads and factorizes with `W` words per pattern, leaving the storage zeroed.
     fn load_and_factor<const W: usize>(
         &mut self,
         triplets: &[(usize, usize, f64)],
+        threshold: f64,
     ) -> Result<Result<(), Singular>, LinalgError> {
         self.load::<W>(triplets)?;
-        let factored = self.factor::<W>();
+        let factored = self.factor::<W>(threshold);
         self.clear_values();
         Ok(factored)
     }
@@ -384,20 +439,8 @@ impl LinearSolver for MarkowitzLu {
                 "{n} unknowns: Markowitz LU takes at most {MAX_UNKNOWNS}"
             )));
         }
-        if n > self.stride {
-            self.stride = n;
-            self.a = vec![0.0; n * n];
-        }
-        self.n = n;
-        self.words = n.div_ceil(64);
-        let factored = match self.words {
-            0 | 1 => self.load_and_factor::<1>(triplets),
-            2 => self.load_and_factor::<2>(triplets),
-            3 => self.load_and_factor::<3>(triplets),
-            4 => self.load_and_factor::<4>(triplets),
-            5 => self.load_and_factor::<5>(triplets),
-            _ => self.load_and_factor::<MAX_WORDS>(triplets),
-        }?;
+        self.size_for(n);
+        let factored = self.load_and_factor_any(triplets, PIVOT_THRESHOLD)?;
         match factored {
             Ok(()) => {
                 self.factored = true;
@@ -407,9 +450,21 @@ impl LinearSolver for MarkowitzLu {
                 "singular matrix (Markowitz LU: a column without entries)".into(),
             )),
             Err(Singular::Numerically) => {
-                // The reference decides: see `MarkowitzLu::dense`.
-                self.by_dense = true;
-                self.dense.solve(n, triplets, rhs)
+                if n <= DENSE_VERDICT_UP_TO {
+                    // The reference decides: see `MarkowitzLu::dense`.
+                    self.by_dense = true;
+                    return self.dense.solve(n, triplets, rhs);
+                }
+                // Partial pivoting within the columns Markowitz's rule orders decides.
+                match self.load_and_factor_any(triplets, 1.0)? {
+                    Ok(()) => {
+                        self.factored = true;
+                        self.solve_again(rhs)
+                    }
+                    Err(_) => Err(LinalgError(
+                        "singular matrix (Markowitz LU with partial pivoting)".into(),
+                    )),
+                }
             }
         }
     }
@@ -627,6 +682,48 @@ mod tests {
             .solve(n, &t, &mut b)
             .unwrap();
         assert!(b.iter().all(|&x| (x - 0.5).abs() < 1e-15));
+    }
+
+    /// Above [`DENSE_VERDICT_UP_TO`] unknowns a matrix the threshold pivots leave
+    /// numerically singular is factored again with partial pivoting, without dense LU:
+    /// a singular one (two equal rows) is an error from that factorization, and the
+    /// partial-pivoting factors of a regular one solve it as dense LU does.
+    #[test]
+    fn above_the_dense_verdict_size_partial_pivoting_decides() {
+        let n = DENSE_VERDICT_UP_TO + 50;
+        let regular = saddle(n, 12);
+        let mut equal_rows: Vec<_> = regular.iter().copied().filter(|t| t.0 != 1).collect();
+        equal_rows.extend(
+            regular
+                .iter()
+                .filter(|t| t.0 == 0)
+                .map(|&(_, c, v)| (1, c, v)),
+        );
+        let mut lu = MarkowitzLu::default();
+        let mut b = vec![1.0; n];
+        let err = lu.solve(n, &equal_rows, &mut b).unwrap_err();
+        assert!(err.0.contains("partial pivoting"), "{}", err.0);
+        assert!(!lu.by_dense);
+        assert!(
+            lu.solve_again(&mut b).is_err(),
+            "singular factors are not kept"
+        );
+
+        let mut s = 7;
+        let b: Vec<f64> = (0..n).map(|_| lcg(&mut s)).collect();
+        lu.size_for(n);
+        lu.load_and_factor_any(&regular, 1.0).unwrap().unwrap();
+        lu.factored = true;
+        let mut x = b.clone();
+        lu.solve_again(&mut x).unwrap();
+        assert!(residual(n, &regular, &x, &b) < 1e-12);
+        let mut xd = b.clone();
+        DenseLu::default().solve(n, &regular, &mut xd).unwrap();
+        let diff = x
+            .iter()
+            .zip(&xd)
+            .fold(0.0_f64, |m, (a, b)| m.max((a - b).abs()));
+        assert!(diff <= 1e-9 * xd.iter().fold(0.0_f64, |m, a| m.max(a.abs())));
     }
 
     /// A column the elimination leaves without entries is singular whatever the values
