@@ -179,9 +179,10 @@ fn least_key(keys: &[u32]) -> u32 {
 
 /// The pivot row in a column whose active entries are `values` in `rows`, the largest
 /// in magnitude `largest`: among the entries passing the threshold test (at least
-/// `threshold` times the largest: [`PIVOT_THRESHOLD`], or 1 for partial pivoting), the one of least row count, which minimizes
-/// Markowitz's (r − 1)(c − 1) within the column; ties go to the larger entry, then to
-/// the first row. None when every entry is zero (NaN entries fail the test too).
+/// `threshold` times the largest: [`PIVOT_THRESHOLD`], or 1 for partial pivoting), the
+/// one of least row count, which minimizes Markowitz's (r − 1)(c − 1) within the column;
+/// ties go to the larger entry, then to the first row. None when every entry is zero
+/// (NaN entries fail the test too).
 fn pivot_row(
     rows: &[u32],
     values: &[f64],
