@@ -134,11 +134,9 @@ impl CornerStepping {
     /// [`CornerStepping::wanted`] taken out of the bookkeeping, for the step from this
     /// state: the findings at the state after it replace them.
     fn take_wanted(&mut self, scene: &Scene, stepper: &Stepper<StackSystem>) -> Scan {
-        let st = stepper.state();
-        match self.wanted.take() {
-            Some((k, found)) if k == st.k => found,
-            _ => scan(scene, st.t, &st.q, &st.u, stepper.options().dt),
-        }
+        self.wanted(scene, stepper);
+        let (_, found) = self.wanted.take().expect("`wanted` just kept the findings");
+        found
     }
 
     /// One step of [`nsga::Stepper::step`] with the corner contacts kept current (see the
