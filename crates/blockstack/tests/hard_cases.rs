@@ -648,3 +648,71 @@ fn a_collapsing_tall_column_needs_no_last_resort() {
     assert!(s.min_gap >= -1e-8, "gap {}", s.min_gap);
     assert!(s.deepest.depth() < 1e-8, "{:?}", s.deepest);
 }
+
+/// A block 0.2 × 0.4 dropped flat from rest at y = 1.5 onto a fixed base (Δt = 0.005)
+/// lands on both bottom corners at once, bounce after bounce. Two ties used to be decided
+/// by round-off (docs/method.md §8.2, "Simultaneous impacts"): with e_N = 0.5 every
+/// bounce lands on a grid instant (the flight times halve), where the two corners' gaps
+/// at the step's end differ by 10⁻¹⁴ and only one closed; and at the first iterate of a
+/// landing, friction laws with no percussion yet and a tangential velocity of round-off
+/// size slid in that round-off direction with the full bound. Either way one corner took
+/// the impact, and the block flew off spinning: on its side by t = 3.2 (e_N = 0.5) or
+/// t = 7.7 (e_N = 0.8, μ = 0.2).
+/// The run's summary and the largest |θ| of its blocks over it: blocks 0.2 × 0.4 whose
+/// centres start at rest at the heights `ys`.
+fn dropped_flat(ys: &[f64], e_n: f64, mu: f64) -> (blockstack::RunSummary, f64) {
+    let blocks: String = ys
+        .iter()
+        .map(|y| format!("[[blocks]]\nwidth = 0.2\nheight = 0.4\ny = {y}\n\n"))
+        .collect();
+    let scene = blockstack::Scene::from_toml(&format!(
+        r#"
+        [base]
+        width = 1.0
+        height = 0.1
+
+        {blocks}
+        [contact]
+        mu = {mu}
+        e_n = {e_n}
+
+        [solver]
+        dt = 0.005
+        t_end = 8.0
+        "#
+    ))
+    .unwrap();
+    let mut turned = 0.0_f64;
+    let s = simulate(&scene, &RunOptions::default(), |r| {
+        for p in &r.poses {
+            turned = turned.max(p.theta.abs());
+        }
+    })
+    .unwrap();
+    (s, turned)
+}
+
+#[test]
+fn a_block_dropped_flat_bounces_without_turning() {
+    for (e_n, mu) in [(0.5, 0.0), (0.5, 0.5), (0.8, 0.2), (0.9, 1.0)] {
+        let (s, turned) = dropped_flat(&[1.5], e_n, mu);
+        assert_eq!(s.error, None, "e_N = {e_n}, μ = {mu}");
+        let end = s.final_poses[0];
+        assert!(
+            turned < 1e-7 && end.x.abs() < 1e-7,
+            "e_N = {e_n}, μ = {mu}: largest |θ| {turned}, end {end:?}"
+        );
+        assert!(s.min_gap > -1e-8, "e_N = {e_n}, μ = {mu}: {}", s.min_gap);
+    }
+}
+
+/// Three such blocks dropped flat as a column (e_N = 0.5, μ = 0.5) land and bounce
+/// standing. The column used to turn by 0.011 rad in one step at its second bounce
+/// (t = 3.165, a grid instant) and lose its upper blocks.
+#[test]
+fn a_column_dropped_flat_lands_standing() {
+    let (s, turned) = dropped_flat(&[1.5, 1.9, 2.3], 0.5, 0.5);
+    assert_eq!(s.error, None);
+    assert!(turned < 1e-3, "largest |θ| {turned}");
+    assert!(s.min_gap > -1e-8, "{}", s.min_gap);
+}

@@ -49,6 +49,7 @@ mod unknowns;
 pub use assemble::NEGLIGIBLE_SLIP;
 pub use fallback::QUICK_CHECK_ITERATIONS;
 pub use held::MAX_HELD_EVALUATIONS;
+pub use iterate::SET_TIE;
 pub use low_rank::LOW_RANK_ROWS;
 pub use predict::PREDICTED_START_ITERATIONS;
 pub use solve::WILD_UPDATE;

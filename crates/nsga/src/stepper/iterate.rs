@@ -10,6 +10,22 @@ use crate::sets::IndexSets;
 use crate::system::System;
 use std::borrow::Cow;
 
+/// Relative width of the ties in the index-set decisions of an arriving contact (one
+/// that approaches its surface at the step's start, at speed v): a gap closed by less
+/// than this fraction of the distance vΔt the contact travels in the step still counts
+/// as open, and a friction law whose excess over its bound is below this fraction of
+/// μ r v sticks (μ r v/Δt on acceleration level). Far below anything physical, above
+/// the round-off that otherwise decided these ties (docs/method.md §8.2, "Simultaneous
+/// impacts").
+pub const SET_TIE: f64 = 1e-9;
+
+/// How fast a contact of normal velocity `rate` (γ_N at the step's start) arrives: −rate
+/// when it approaches, 0 when it rests or leaves, so that the ties of a resting contact
+/// stay at zero width.
+fn arrival(rate: f64) -> f64 {
+    (-rate).max(0.0)
+}
+
 /// Quantities derived from x at one Newton iterate (eqs. 71, 73, 125, 95, 102, 113).
 #[derive(Debug, Clone, Default)]
 pub(super) struct Iterate {
@@ -270,6 +286,20 @@ impl<S: System> Stepper<S> {
 
     /// Index sets from the current iterate (eqs. 128–142).
     ///
+    /// The prox conditions decide by sign, except for a contact that arrives (approaches
+    /// at the step's start): within ties of width [`SET_TIE`] relative to its arrival,
+    /// its gap stays open (A) and its friction law sticks (D, E). Two corners of a block
+    /// that lands flat reach their surface together up to round-off, and at the first
+    /// iterate of the landing their friction laws sit at the apex of their cones (no
+    /// percussion yet) with tangential velocities of round-off size; decided by the
+    /// sign of that round-off, one corner took the impact alone, or one law slid in a
+    /// round-off direction with the full bound μP_N, and the block flew off spinning.
+    /// A gap that closes exactly at the step's end stays open rather than closed: the
+    /// impact then comes in the next step, whose restitution law sees the arrival
+    /// velocity, where closing it here would apply the law to the start of this step's,
+    /// slower by gΔt. A resting contact (no arrival) keeps the exact sign rule, so that
+    /// redundant contacts of a pile are not closed or stuck by a tie.
+    ///
     /// With `limit` = (the sets of the last Newton update, k), at most k of the normal
     /// contacts closed there on position level open at this iterate: those whose prox
     /// argument r g_N − κ̂_N is largest. The others stay in A, and B, C and the friction
@@ -288,8 +318,10 @@ impl<S: System> Stepper<S> {
         let w = &self.work;
         let it = &w.it;
         let open_by = |k: usize| w.r_pos[o.ng + k] * it.p[o.ng + k] - it.kappa_hat[k];
+        let dt = self.options.dt;
         for k in 0..o.nn {
-            s.a[k] = open_by(k) <= 0.0;
+            let pk = o.ng + k;
+            s.a[k] = open_by(k) <= -SET_TIE * w.r_pos[pk] * dt * arrival(it.rate_old[pk]);
         }
         if let Some((last, most)) = limit.filter(|(last, _)| last.a.len() == o.nn) {
             let mut opening: Vec<usize> = (0..o.nn).filter(|&k| last.a[k] && !s.a[k]).collect();
@@ -329,8 +361,17 @@ impl<S: System> Stepper<S> {
                 nd += (r * it.xi_v[vc] - it.p_f[c]).powi(2);
                 ne += (r * it.acc_v[vc] - x[o.lf + c]).powi(2);
             }
-            s.d[j] = nd.sqrt() <= law.mu * p_hat;
-            s.e[j] = s.d[j] && ne.sqrt() <= law.mu * l_hat;
+            // The tie is μ r v SET_TIE for the fastest arrival v among the law's contacts
+            // closed on velocity level (per Δt on acceleration level).
+            let fastest = law
+                .normals
+                .iter()
+                .filter(|&&k| s.b[k])
+                .map(|&k| arrival(it.rate_old[o.ng + k]))
+                .fold(0.0, f64::max);
+            let tie = law.mu * SET_TIE * r * fastest;
+            s.d[j] = nd.sqrt() <= law.mu * p_hat + tie;
+            s.e[j] = s.d[j] && ne.sqrt() <= law.mu * l_hat + tie / dt;
         }
         s
     }
