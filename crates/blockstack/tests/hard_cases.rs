@@ -659,11 +659,11 @@ fn a_collapsing_tall_column_needs_no_last_resort() {
 /// the impact, and the block flew off spinning: on its side by t = 3.2 (e_N = 0.5) or
 /// t = 7.7 (e_N = 0.8, μ = 0.2).
 /// The run's summary and the largest |θ| of its blocks over it: blocks 0.2 × 0.4 whose
-/// centres start at rest at the heights `ys`.
-fn dropped_flat(ys: &[f64], e_n: f64, mu: f64) -> (blockstack::RunSummary, f64) {
-    let blocks: String = ys
+/// centres start at rest at `xys`, over a base 1 wide and a floor.
+fn dropped_flat(xys: &[(f64, f64)], e_n: f64, mu: f64) -> (blockstack::RunSummary, f64) {
+    let blocks: String = xys
         .iter()
-        .map(|y| format!("[[blocks]]\nwidth = 0.2\nheight = 0.4\ny = {y}\n\n"))
+        .map(|(x, y)| format!("[[blocks]]\nwidth = 0.2\nheight = 0.4\nx = {x}\ny = {y}\n\n"))
         .collect();
     let scene = blockstack::Scene::from_toml(&format!(
         r#"
@@ -679,6 +679,8 @@ fn dropped_flat(ys: &[f64], e_n: f64, mu: f64) -> (blockstack::RunSummary, f64) 
         [solver]
         dt = 0.005
         t_end = 8.0
+
+        [floor]
         "#
     ))
     .unwrap();
@@ -695,7 +697,7 @@ fn dropped_flat(ys: &[f64], e_n: f64, mu: f64) -> (blockstack::RunSummary, f64) 
 #[test]
 fn a_block_dropped_flat_bounces_without_turning() {
     for (e_n, mu) in [(0.5, 0.0), (0.5, 0.5), (0.8, 0.2), (0.9, 1.0)] {
-        let (s, turned) = dropped_flat(&[1.5], e_n, mu);
+        let (s, turned) = dropped_flat(&[(0.0, 1.5)], e_n, mu);
         assert_eq!(s.error, None, "e_N = {e_n}, μ = {mu}");
         let end = s.final_poses[0];
         assert!(
@@ -709,9 +711,22 @@ fn a_block_dropped_flat_bounces_without_turning() {
 /// Three such blocks dropped flat as a column (e_N = 0.5, μ = 0.5) land and bounce
 /// standing. The column used to turn by 0.011 rad in one step at its second bounce
 /// (t = 3.165, a grid instant) and lose its upper blocks.
+/// Beside the base, on the floor, the corners meet the floor as corner contacts of the
+/// broad phase, each with a friction law of its own: one block, and two side by side,
+/// used to end on their sides (|θ| = π/2).
+#[test]
+fn blocks_dropped_flat_onto_the_floor_bounce_without_turning() {
+    for xys in [vec![(1.5, 1.5)], vec![(1.5, 1.5), (2.5, 1.0)]] {
+        let (s, turned) = dropped_flat(&xys, 0.5, 0.5);
+        assert_eq!(s.error, None, "{xys:?}");
+        assert!(turned < 1e-7, "{xys:?}: largest |θ| {turned}");
+        assert!(s.min_gap > -1e-8, "{xys:?}: {}", s.min_gap);
+    }
+}
+
 #[test]
 fn a_column_dropped_flat_lands_standing() {
-    let (s, turned) = dropped_flat(&[1.5, 1.9, 2.3], 0.5, 0.5);
+    let (s, turned) = dropped_flat(&[(0.0, 1.5), (0.0, 1.9), (0.0, 2.3)], 0.5, 0.5);
     assert_eq!(s.error, None);
     assert!(turned < 1e-3, "largest |θ| {turned}");
     assert!(s.min_gap > -1e-8, "{}", s.min_gap);
