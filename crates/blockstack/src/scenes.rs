@@ -41,7 +41,7 @@ impl BuiltinScene {
     }
 }
 
-const BUILTIN: [BuiltinScene; 6] = [
+const BUILTIN: [BuiltinScene; 7] = [
     BuiltinScene {
         name: "abundance",
         description: "Figure 4.5 as the thesis states it: five blocks, mu = 0.3, base x = sin(3πt/2), 60 steps per period, 3 periods, floor (for `blocks explore`)",
@@ -51,6 +51,11 @@ const BUILTIN: [BuiltinScene; 6] = [
         name: "abundance-author",
         description: "Figure 4.5 with the author's scripts' settings: base x = 0.2 sin(3πt/2), 200 steps per period, 4 periods, floor (for `blocks explore`)",
         toml: include_str!("../scenes/abundance-author.toml"),
+    },
+    BuiltinScene {
+        name: "drop",
+        description: "a block dropped flat from rest onto a fixed table, e_N = 0.5, mu = 0.5: it bounces on both corners at once, a Zeno sequence that ends at t = 4.74, floor",
+        toml: include_str!("../scenes/drop.toml"),
     },
     BuiltinScene {
         name: "lire",

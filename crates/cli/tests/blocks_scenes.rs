@@ -94,7 +94,7 @@ fn run_takes_a_builtin_name_and_a_file_wins_over_it() {
     assert_eq!(stderr.trim().lines().count(), 1, "{stderr}");
     assert!(
         stderr.contains(
-            "built-in scenes: abundance, abundance-author, lire, lire-collapse, shaking, slide"
+            "built-in scenes: abundance, abundance-author, drop, lire, lire-collapse, shaking, slide"
         ),
         "{stderr}"
     );
