@@ -649,15 +649,6 @@ fn a_collapsing_tall_column_needs_no_last_resort() {
     assert!(s.deepest.depth() < 1e-8, "{:?}", s.deepest);
 }
 
-/// A block 0.2 × 0.4 dropped flat from rest at y = 1.5 onto a fixed base (Δt = 0.005)
-/// lands on both bottom corners at once, bounce after bounce. Two ties used to be decided
-/// by round-off (docs/method.md §8.2, "Simultaneous impacts"): with e_N = 0.5 every
-/// bounce lands on a grid instant (the flight times halve), where the two corners' gaps
-/// at the step's end differ by 10⁻¹⁴ and only one closed; and at the first iterate of a
-/// landing, friction laws with no percussion yet and a tangential velocity of round-off
-/// size slid in that round-off direction with the full bound. Either way one corner took
-/// the impact, and the block flew off spinning: on its side by t = 3.2 (e_N = 0.5) or
-/// t = 7.7 (e_N = 0.8, μ = 0.2).
 /// The run's summary and the largest |θ| of its blocks over it: blocks 0.2 × 0.4 whose
 /// centres start at rest at `xys`, over a base 1 wide and a floor.
 fn dropped_flat(xys: &[(f64, f64)], e_n: f64, mu: f64) -> (blockstack::RunSummary, f64) {
@@ -694,6 +685,15 @@ fn dropped_flat(xys: &[(f64, f64)], e_n: f64, mu: f64) -> (blockstack::RunSummar
     (s, turned)
 }
 
+/// A block 0.2 × 0.4 dropped flat from rest at y = 1.5 onto a fixed base (Δt = 0.005)
+/// lands on both bottom corners at once, bounce after bounce. Two ties used to be decided
+/// by round-off (docs/method.md §8.2, "Simultaneous impacts"): with e_N = 0.5 every
+/// bounce lands on a grid instant (the flight times halve), where the two corners' gaps
+/// at the step's end differ by 10⁻¹⁴ and only one closed; and at the first iterate of a
+/// landing, friction laws with no percussion yet and a tangential velocity of round-off
+/// size slid in that round-off direction with the full bound. Either way one corner took
+/// the impact, and the block flew off spinning: on its side by t = 3.2 (e_N = 0.5) or
+/// t = 7.7 (e_N = 0.8, μ = 0.2).
 #[test]
 fn a_block_dropped_flat_bounces_without_turning() {
     for (e_n, mu) in [(0.5, 0.0), (0.5, 0.5), (0.8, 0.2), (0.9, 1.0)] {
@@ -708,9 +708,6 @@ fn a_block_dropped_flat_bounces_without_turning() {
     }
 }
 
-/// Three such blocks dropped flat as a column (e_N = 0.5, μ = 0.5) land and bounce
-/// standing. The column used to turn by 0.011 rad in one step at its second bounce
-/// (t = 3.165, a grid instant) and lose its upper blocks.
 /// Beside the base, on the floor, the corners meet the floor as corner contacts of the
 /// broad phase, each with a friction law of its own: one block, and two side by side,
 /// used to end on their sides (|θ| = π/2).
@@ -724,6 +721,9 @@ fn blocks_dropped_flat_onto_the_floor_bounce_without_turning() {
     }
 }
 
+/// Three such blocks dropped flat as a column (e_N = 0.5, μ = 0.5) land and bounce
+/// standing. The column used to turn by 0.011 rad in one step at its second bounce
+/// (t = 3.165, a grid instant) and lose its upper blocks.
 #[test]
 fn a_column_dropped_flat_lands_standing() {
     let (s, turned) = dropped_flat(&[(0.0, 1.5), (0.0, 1.9), (0.0, 2.3)], 0.5, 0.5);
