@@ -194,6 +194,7 @@ impl<S: System> MoreauStepper<S> {
             reuse_factorization: false,
             resume_reuse: false,
             give_up: GiveUp::Never,
+            contracting_extra: 0,
         };
         match newton::solve(
             &mut problem,

@@ -15,7 +15,9 @@
 //!   residual contracts by [`REUSE_CONTRACTION`], at most [`MAX_REUSES`] times in a row;
 //! - the **give-up rules** ([`GiveUp`]): an attempt whose index sets settle into a cycle
 //!   without progress, or whose residual stalls with fixed sets, stops before the
-//!   iteration limit, since running on only repeats it;
+//!   iteration limit, since running on only repeats it; and the other way round, an
+//!   attempt may be allowed updates past its limit while it converges
+//!   ([`NewtonSettings::contracting_extra`]);
 //! - the **bookkeeping** a fallback policy needs: the index sets visited in first-visit
 //!   order, whether they cycled, and the best iterate.
 
@@ -74,6 +76,10 @@ pub struct NewtonSettings {
     pub resume_reuse: bool,
     /// When the attempt gives up early.
     pub give_up: GiveUp,
+    /// Updates allowed beyond `max_iter` while the iterates converge: each of them at
+    /// the same index sets as the iterate before and with its residual at most
+    /// [`REUSE_CONTRACTION`] times that iterate's (0: none).
+    pub contracting_extra: usize,
 }
 
 /// A nonsmooth problem solved by semismooth Newton: R(x) = 0 with index sets decided at
@@ -214,7 +220,7 @@ pub fn solve<P: NewtonProblem>(
     // many in a row did, and the residual before the last update.
     let (mut reused, mut reuses, mut last_res) = (false, 0, f64::INFINITY);
     let mut may_reuse = settings.reuse_factorization;
-    for iter in 0..=settings.max_iter {
+    for iter in 0..=settings.max_iter + settings.contracting_extra {
         let (sets, res) = match pending.take() {
             Some(e) => e,
             None => problem.evaluate(x, iter == 0),
@@ -256,7 +262,11 @@ pub fn solve<P: NewtonProblem>(
             GiveUp::SettledCycle => settled_cycle(&scratch.history, &scratch.residuals),
             GiveUp::Stall => stalled(&scratch.residuals),
         };
-        if iter == settings.max_iter || hopeless {
+        let converging = iter > 0
+            && res <= REUSE_CONTRACTION * last_res
+            && scratch.history[scratch.history.len() - 2] == id;
+        let extended = converging && iter < settings.max_iter + settings.contracting_extra;
+        if (iter >= settings.max_iter && !extended) || hopeless {
             break;
         }
         // Simplified Newton while it contracts.
@@ -464,6 +474,7 @@ mod tests {
             reuse_factorization: false,
             resume_reuse: false,
             give_up: GiveUp::Never,
+            contracting_extra: 0,
         };
         let mut x = [3.0];
         let out = solve(
@@ -477,5 +488,58 @@ mod tests {
             "{out:?}"
         );
         assert_eq!(x[0], 1.0);
+    }
+
+    /// x = 0 solved by updates that take away the fraction `1 − rate` of x (a Newton
+    /// matrix off by a constant factor: simplified Newton's linear convergence).
+    struct Linear {
+        rate: f64,
+    }
+
+    impl NewtonProblem for Linear {
+        type Sets = ();
+        fn evaluate(&mut self, x: &[f64], _first: bool) -> ((), f64) {
+            ((), x[0].abs())
+        }
+        fn exact_direction(&mut self, x: &[f64], _: &(), dx: &mut [f64]) -> Result<(), String> {
+            dx[0] = -(1.0 - self.rate) * x[0];
+            Ok(())
+        }
+    }
+
+    fn linear_updates(rate: f64, max_iter: usize, contracting_extra: usize) -> Outcome<()> {
+        let settings = NewtonSettings {
+            tol: 1e-10,
+            max_iter,
+            line_search: 0,
+            reuse_factorization: false,
+            resume_reuse: false,
+            give_up: GiveUp::Never,
+            contracting_extra,
+        };
+        let mut scratch = NewtonScratch::default();
+        solve(&mut Linear { rate }, &mut [1.0], &settings, &mut scratch)
+    }
+
+    #[test]
+    fn an_attempt_goes_past_its_limit_only_while_it_contracts() {
+        // Rate 0.01: 1e-10 after 5 updates, 2 allowed and 3 more while contracting.
+        assert!(matches!(
+            linear_updates(0.01, 2, 3),
+            Outcome::Converged { iterations: 5, .. }
+        ));
+        assert!(matches!(
+            linear_updates(0.01, 2, 2),
+            Outcome::NotConverged { .. }
+        ));
+        assert!(matches!(
+            linear_updates(0.01, 2, 0),
+            Outcome::NotConverged { .. }
+        ));
+        // Rate 0.5 contracts too slowly to be extended.
+        let Outcome::NotConverged { best, .. } = linear_updates(0.5, 2, 100) else {
+            panic!("a slow contraction was extended");
+        };
+        assert_eq!(best.map(|b| b.iteration), Some(2));
     }
 }

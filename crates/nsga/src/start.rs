@@ -198,6 +198,7 @@ pub fn consistent_start<S: System>(
         reuse_factorization: false,
         resume_reuse: false,
         give_up: GiveUp::Never,
+        contracting_extra: 0,
     };
     let mut y = vec![0.0; problem.level.n()];
     let failed = |message: String| StepError::Start { t: t0, message };

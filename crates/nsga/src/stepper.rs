@@ -132,6 +132,10 @@ pub struct Stepper<S: System> {
     /// The last steps' solutions, for a predicted Newton start
     /// ([`Options::predict_start`]).
     predictor: predict::StartPredictor,
+    /// Updates an attempt may take beyond its limit while its iterates converge
+    /// (`NewtonSettings::contracting_extra`): nonzero only for the attempt from a
+    /// predicted start.
+    contracting_extra: usize,
 }
 
 /// Buffers reused from iterate to iterate and step to step.
@@ -327,6 +331,7 @@ impl<S: System> Stepper<S> {
             refusal: None,
             start_failure,
             predictor: predict::StartPredictor::default(),
+            contracting_extra: 0,
         })
     }
 
@@ -385,6 +390,7 @@ impl<S: System> Stepper<S> {
             refusal: None,
             start_failure: None,
             predictor: predict::StartPredictor::default(),
+            contracting_extra: 0,
         }
     }
     /// Drops the solver's buffers and kept factors (rebuilt at the next step), to hold a

@@ -177,8 +177,10 @@ impl<S: System> Stepper<S> {
             let full = (self.options.max_iter, self.options.max_iter_per_contact);
             self.options.max_iter = PREDICTED_START_ITERATIONS.min(full.0);
             self.options.max_iter_per_contact = 0;
+            self.contracting_extra = full.0 - self.options.max_iter;
             let from_prediction = self.first_attempt_from(rho0, x);
             (self.options.max_iter, self.options.max_iter_per_contact) = full;
+            self.contracting_extra = 0;
             if from_prediction.is_ok() {
                 return from_prediction;
             }

@@ -272,6 +272,7 @@ impl<S: System> Stepper<S> {
             } else {
                 GiveUp::SettledCycle
             },
+            contracting_extra: self.contracting_extra,
         };
         self.prepare_step();
         let mut scratch = std::mem::take(&mut self.work.newton);
