@@ -219,7 +219,7 @@ pub struct Options {
     /// the prediction that has not converged after
     /// [`PREDICTED_START_ITERATIONS`](crate::PREDICTED_START_ITERATIONS) updates, and
     /// whose last update did not contract the residual by
-    /// [`REUSE_CONTRACTION`](crate::newton::REUSE_CONTRACTION) at unchanged index sets,
+    /// [`REUSE_CONTRACTION`] at unchanged index sets,
     /// gives way to the usual one from the last solution. Off by default: the paper
     /// starts from the last solution.
     #[serde(default)]
