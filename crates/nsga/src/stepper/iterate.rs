@@ -14,9 +14,11 @@ use std::borrow::Cow;
 /// that approaches its surface at the step's start, at speed v): a gap closed by less
 /// than this fraction of the distance vΔt the contact travels in the step still counts
 /// as open, and a friction law whose excess over its bound is below this fraction of
-/// μ r v sticks (μ r v/Δt on acceleration level). Far below anything physical, above
-/// the round-off that otherwise decided these ties (docs/method.md §8.2, "Simultaneous
-/// impacts").
+/// μ r v sticks (μ r v/Δt on acceleration level). At the first iterate of a step with
+/// an impact, every closed contact counts as closed on velocity level within this
+/// fraction of r v for the fastest arrival v (see `Stepper::compute_sets`). Far below
+/// anything physical, above the round-off that otherwise decided these ties
+/// (docs/method.md §8.2, "Simultaneous impacts").
 pub const SET_TIE: f64 = 1e-9;
 
 /// How fast a contact of normal velocity `rate` (γ_N at the step's start) arrives: −rate
@@ -298,7 +300,15 @@ impl<S: System> Stepper<S> {
     /// impact then comes in the next step, whose restitution law sees the arrival
     /// velocity, where closing it here would apply the law to the start of this step's,
     /// slower by gΔt. A resting contact (no arrival) keeps the exact sign rule, so that
-    /// redundant contacts of a pile are not closed or stuck by a tie.
+    /// redundant contacts of a pile are not closed or stuck by a tie, with one exception:
+    /// at the `first` iterate of an attempt at a step in which a contact arrives, every
+    /// contact closed on position level counts as closed on velocity level (B) within
+    /// [`SET_TIE`] of the fastest arrival. There a resting contact has no percussion yet
+    /// and a normal velocity of round-off size, and when a column landed flat, the sign
+    /// of that round-off opened one corner of an interface above the landing one: the
+    /// interface passed the impact on through the other corner alone, and the column
+    /// tipped. From the first iterate on, Newton decides these contacts by sign again,
+    /// so that a pile's redundant contacts are not held closed.
     ///
     /// With `limit` = (the sets of the last Newton update, k), at most k of the normal
     /// contacts closed there on position level open at this iterate: those whose prox
@@ -310,6 +320,7 @@ impl<S: System> Stepper<S> {
         &mut self,
         x: &[f64],
         limit: Option<(&IndexSets, usize)>,
+        first: bool,
     ) -> IndexSets {
         let o = self.off;
         let mut s = self.work.spare_sets.pop().unwrap_or_default();
@@ -333,10 +344,20 @@ impl<S: System> Stepper<S> {
             }
         }
         self.open_unsupported(&mut s);
+        // At an attempt's first iterate, the fastest arrival among the contacts closed
+        // on position level: nonzero only in a step with an impact.
+        let impact = if first {
+            (0..o.nn)
+                .filter(|&k| s.a[k])
+                .map(|k| arrival(it.rate_old[o.ng + k]))
+                .fold(0.0, f64::max)
+        } else {
+            0.0
+        };
         for k in 0..o.nn {
             let pk = o.ng + k;
             let r = w.r_pos[pk];
-            s.b[k] = s.a[k] && r * it.xi_p[pk] - it.p_n[k] <= 0.0;
+            s.b[k] = s.a[k] && r * it.xi_p[pk] - it.p_n[k] <= SET_TIE * r * impact;
             s.c[k] = s.b[k] && r * it.acc_p[pk] - x[o.ln + k] <= 0.0;
         }
         for (j, law) in l.friction.iter().enumerate() {

@@ -376,12 +376,12 @@ impl<S: System> Stepper<S> {
         self.finish_accelerations(x);
         let sets = match fixed {
             Some(s) => s.clone(),
-            None => self.compute_sets(x, None),
+            None => self.compute_sets(x, None, update_prox),
         };
         self.residual(x, &sets, p);
         let res = crate::linalg::max_norm(&self.work.res);
         if let Some(limit) = limit.filter(|_| fixed.is_none() && res > self.options.tol) {
-            let limited = self.compute_sets(x, Some(limit));
+            let limited = self.compute_sets(x, Some(limit), update_prox);
             if limited != sets {
                 self.residual(x, &limited, p);
                 return (limited, res);
@@ -397,7 +397,7 @@ impl<S: System> Stepper<S> {
         self.derive(x, &p);
         self.evaluate_iterate(true);
         self.finish_accelerations(x);
-        self.compute_sets(x, None)
+        self.compute_sets(x, None, false)
     }
 
     /// Test oracle hook: the scaled residual R(x) and the semismooth Jacobian ∂R/∂x
