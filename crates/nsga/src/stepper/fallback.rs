@@ -161,8 +161,8 @@ impl<S: System> Stepper<S> {
     /// policy then handles free Newton's failure as before. With
     /// [`Options::predict_start`](crate::Options::predict_start) and a prediction at
     /// hand, all of this first runs from the predicted unknowns with at most
-    /// [`PREDICTED_START_ITERATIONS`] updates, and from the last solution only when that
-    /// fails.
+    /// [`PREDICTED_START_ITERATIONS`] updates (more while they converge), and from the
+    /// last solution only when that fails.
     fn first_attempt(&mut self, rho0: f64) -> Result<Trial, AttemptFailure> {
         // A step that converged without an update from its start is followed by another
         // one (a body at rest or in free flight): there the extrapolation would only
