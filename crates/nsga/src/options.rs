@@ -218,10 +218,9 @@ pub struct Options {
     /// through three solutions, linear through two; docs/method.md §4). An attempt from
     /// the prediction that has not converged after
     /// [`PREDICTED_START_ITERATIONS`](crate::PREDICTED_START_ITERATIONS) updates, and
-    /// whose last update did not contract the residual by
-    /// [`REUSE_CONTRACTION`] at unchanged index sets,
-    /// gives way to the usual one from the last solution. Off by default: the paper
-    /// starts from the last solution.
+    /// whose last update did not contract the residual by [`REUSE_CONTRACTION`] at
+    /// unchanged index sets, gives way to the usual one from the last solution. Off by
+    /// default: the paper starts from the last solution.
     #[serde(default)]
     pub predict_start: bool,
     /// Halvings of the Newton update allowed in its line search (0: full updates, as in

@@ -307,7 +307,7 @@ impl<S: System> Stepper<S> {
     /// and a normal velocity of round-off size, and when a column landed flat, the sign
     /// of that round-off opened one corner of an interface above the landing one: the
     /// interface passed the impact on through the other corner alone, and the column
-    /// tipped. From the first iterate on, Newton decides these contacts by sign again,
+    /// tipped. From the second iterate on, Newton decides these contacts by sign again,
     /// so that a pile's redundant contacts are not held closed.
     ///
     /// With `limit` = (the sets of the last Newton update, k), at most k of the normal
