@@ -329,6 +329,11 @@ impl<S: System> Stepper<S> {
         let w = &self.work;
         let it = &w.it;
         let open_by = |k: usize| w.r_pos[o.ng + k] * it.p[o.ng + k] - it.kappa_hat[k];
+        // The fastest arrival among the normal contacts `ks` (0 when none arrives).
+        let fastest = |ks: &mut dyn Iterator<Item = usize>| {
+            ks.map(|k| arrival(it.rate_old[o.ng + k]))
+                .fold(0.0, f64::max)
+        };
         let dt = self.options.dt;
         for k in 0..o.nn {
             let pk = o.ng + k;
@@ -347,10 +352,7 @@ impl<S: System> Stepper<S> {
         // At an attempt's first iterate, the fastest arrival among the contacts closed
         // on position level: nonzero only in a step with an impact.
         let impact = if first {
-            (0..o.nn)
-                .filter(|&k| s.a[k])
-                .map(|k| arrival(it.rate_old[o.ng + k]))
-                .fold(0.0, f64::max)
+            fastest(&mut (0..o.nn).filter(|&k| s.a[k]))
         } else {
             0.0
         };
@@ -384,13 +386,8 @@ impl<S: System> Stepper<S> {
             }
             // The tie is μ r v SET_TIE for the fastest arrival v among the law's contacts
             // closed on velocity level (per Δt on acceleration level).
-            let fastest = law
-                .normals
-                .iter()
-                .filter(|&&k| s.b[k])
-                .map(|&k| arrival(it.rate_old[o.ng + k]))
-                .fold(0.0, f64::max);
-            let tie = law.mu * SET_TIE * r * fastest;
+            let arriving = fastest(&mut law.normals.iter().copied().filter(|&k| s.b[k]));
+            let tie = law.mu * SET_TIE * r * arriving;
             s.d[j] = nd.sqrt() <= law.mu * p_hat + tie;
             s.e[j] = s.d[j] && ne.sqrt() <= law.mu * l_hat + tie / dt;
         }

@@ -25,10 +25,11 @@ use super::unknowns::Offsets;
 /// budget (`NewtonSettings::contracting_extra`). Without that, a prediction followed by
 /// simplified updates on aging factors (contraction 0.02–0.06 per update in the Lire
 /// collapse at t ≈ 5.6) missed the tolerance after two updates by a factor of 1.3 and
-/// started again from the last solution, 10⁵ times farther off (docs/method.md §4). On the at-rest columns of 10 and 30 blocks
-/// (`rollstack blocks shake --blocks 10 --omega 2 --amplitude 0.001 --mu 0.2
-/// --steps-per-period 314 --t-end 1 --json --force`), whose corners rock, 6 updates cost
-/// 113 linear solves against 77 without prediction, 2 updates cost 91.
+/// started again from the last solution, 10⁵ times farther off (docs/method.md §4).
+/// On the at-rest columns of 10 and 30 blocks (`rollstack blocks shake --blocks 10
+/// --omega 2 --amplitude 0.001 --mu 0.2 --steps-per-period 314 --t-end 1 --json
+/// --force`), whose corners rock, 6 updates cost 113 linear solves against 77 without
+/// prediction, 2 updates cost 91.
 pub const PREDICTED_START_ITERATIONS: usize = 2;
 
 /// Solutions of the last steps whose index sets were all equal: (k, Δt, x) of steps k,
