@@ -136,7 +136,7 @@ pub use report::{
 pub use sets::IndexSets;
 pub use state::{State, SAME_MOTION};
 pub use stepper::{
-    Stepper, MAX_HELD_EVALUATIONS, NEGLIGIBLE_SLIP, PREDICTED_START_ITERATIONS,
+    Stepper, FAR_CORRECTION, MAX_HELD_EVALUATIONS, NEGLIGIBLE_SLIP, PREDICTED_START_ITERATIONS,
     QUICK_CHECK_ITERATIONS, SET_TIE, SINGULAR_SETS_KEPT, WILD_UPDATE,
 };
 pub use system::{Derivatives, Evaluation, FrictionLaw, Layout, Probes, Scalar, System, Triplets};

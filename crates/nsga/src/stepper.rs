@@ -34,6 +34,7 @@ use unknowns::Offsets;
 mod assemble;
 mod branch;
 mod fallback;
+mod far;
 mod held;
 mod iterate;
 mod last_resort;
@@ -48,6 +49,7 @@ mod unknowns;
 
 pub use assemble::NEGLIGIBLE_SLIP;
 pub use fallback::QUICK_CHECK_ITERATIONS;
+pub use far::FAR_CORRECTION;
 pub use held::MAX_HELD_EVALUATIONS;
 pub use iterate::SET_TIE;
 pub use low_rank::LOW_RANK_ROWS;
@@ -196,6 +198,8 @@ struct Work {
     /// the pruning of open contacts (`state_levels`).
     trial_levels: StateLevels,
     state_levels: StateLevels,
+    /// Scratch of `Stepper::correction_ratio`: √Mᵢᵢ.
+    root_mass_diagonal: Vec<f64>,
 }
 
 impl Work {
@@ -244,6 +248,7 @@ impl Work {
             unused_velocity: Vec::new(),
             trial_levels: StateLevels::default(),
             state_levels: StateLevels::default(),
+            root_mass_diagonal: Vec::new(),
         }
     }
 }

@@ -301,6 +301,21 @@ impl<S: System> Stepper<S> {
         let updates = updates_before + scratch.evaluations().saturating_sub(1);
         self.work.newton = scratch;
         match outcome {
+            Outcome::Converged { visited, sets, .. } if self.is_far(x) => {
+                // Refused as a failed attempt, not as a cycling one: the fixed-set
+                // re-solves of the sets it wandered through cost more than the policy's
+                // later stages, which found the near solution (docs/method.md §8.1).
+                self.newton_work.far_solutions += 1;
+                let mut visited = visited;
+                if !visited.contains(&sets) {
+                    visited.push(sets);
+                }
+                Err(AttemptFailure::NotConverged {
+                    visited,
+                    cycling: false,
+                    best: None,
+                })
+            }
             Outcome::Converged {
                 sets,
                 iterations,
