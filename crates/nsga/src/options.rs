@@ -236,8 +236,10 @@ pub struct Options {
     /// contacts than `max_iter`, with `max_iter_per_contact` ≥ 1), the first attempt at
     /// a step solves it with the previous step's index sets held, and from that solution
     /// the contact laws may open at most this many contacts per update (those with the
-    /// largest prox argument r g_N − κ̂_N); closings and friction changes are not
-    /// limited, and convergence is judged on the laws' own sets. Only when that attempt
+    /// largest prox argument r g_N − κ̂_N), and of the contacts that stay closed, at most
+    /// this many may leave the velocity or acceleration level (B, C); closings and
+    /// friction changes are not limited, and convergence is judged on the laws' own
+    /// sets. Only when that attempt
     /// fails does free Newton follow. A tall column that starts to tip then turns about
     /// its base as one body in a few updates, instead of opening a band of interfaces
     /// that free Newton moves up the column one interface per update (docs/method.md

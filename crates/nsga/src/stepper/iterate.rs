@@ -28,6 +28,20 @@ fn arrival(rate: f64) -> f64 {
     (-rate).max(0.0)
 }
 
+/// The contacts of `opening` past the `most` whose `strength` (prox argument) is
+/// largest: those an update with a limit on openings keeps closed.
+fn beyond_the_strongest(
+    mut opening: Vec<usize>,
+    most: usize,
+    strength: impl Fn(usize) -> f64,
+) -> Vec<usize> {
+    if opening.len() <= most {
+        return Vec::new();
+    }
+    opening.sort_by(|&i, &j| strength(j).total_cmp(&strength(i)));
+    opening.split_off(most)
+}
+
 /// Quantities derived from x at one Newton iterate (eqs. 71, 73, 125, 95, 102, 113).
 #[derive(Debug, Clone, Default)]
 pub(super) struct Iterate {
@@ -312,8 +326,10 @@ impl<S: System> Stepper<S> {
     ///
     /// With `limit` = (the sets of the last Newton update, k), at most k of the normal
     /// contacts closed there on position level open at this iterate: those whose prox
-    /// argument r g_N − κ̂_N is largest. The others stay in A, and B, C and the friction
-    /// sets follow from that (see [`Options::max_openings_per_update`]).
+    /// argument r g_N − κ̂_N is largest. The others stay in A. Likewise at most k of the
+    /// contacts that stay in A leave B or C (by their prox arguments r ξ_N − P_N and
+    /// (r g̈_N − λ_N)Δt, both impulses); the others keep the levels of the last update.
+    /// The friction sets follow (see [`Options::max_openings_per_update`]).
     ///
     /// [`Options::max_openings_per_update`]: crate::Options::max_openings_per_update
     pub(super) fn compute_sets(
@@ -340,12 +356,9 @@ impl<S: System> Stepper<S> {
             s.a[k] = open_by(k) <= -SET_TIE * w.r_pos[pk] * dt * arrival(it.rate_old[pk]);
         }
         if let Some((last, most)) = limit.filter(|(last, _)| last.a.len() == o.nn) {
-            let mut opening: Vec<usize> = (0..o.nn).filter(|&k| last.a[k] && !s.a[k]).collect();
-            if opening.len() > most {
-                opening.sort_by(|&i, &j| open_by(j).total_cmp(&open_by(i)));
-                for &k in &opening[most..] {
-                    s.a[k] = true;
-                }
+            let opening: Vec<usize> = (0..o.nn).filter(|&k| last.a[k] && !s.a[k]).collect();
+            for k in beyond_the_strongest(opening, most, open_by) {
+                s.a[k] = true;
             }
         }
         self.open_unsupported(&mut s);
@@ -361,6 +374,26 @@ impl<S: System> Stepper<S> {
             let r = w.r_pos[pk];
             s.b[k] = s.a[k] && r * it.xi_p[pk] - it.p_n[k] <= SET_TIE * r * impact;
             s.c[k] = s.b[k] && r * it.acc_p[pk] - x[o.ln + k] <= 0.0;
+        }
+        if let Some((last, most)) = limit.filter(|(last, _)| last.a.len() == o.nn) {
+            // Openings on velocity level (B) and acceleration level (C) of contacts that
+            // stay in A, ranked by their prox arguments in impulse units.
+            let leaves = |k: usize, s: &IndexSets| {
+                s.a[k] && ((last.b[k] && !s.b[k]) || (last.c[k] && s.b[k] && !s.c[k]))
+            };
+            let strength = |k: usize| {
+                let (pk, r) = (o.ng + k, w.r_pos[o.ng + k]);
+                if last.b[k] && !s.b[k] {
+                    r * it.xi_p[pk] - it.p_n[k]
+                } else {
+                    (r * it.acc_p[pk] - x[o.ln + k]) * dt
+                }
+            };
+            let opening: Vec<usize> = (0..o.nn).filter(|&k| leaves(k, &s)).collect();
+            for k in beyond_the_strongest(opening, most, strength) {
+                s.b[k] |= last.b[k];
+                s.c[k] |= last.c[k];
+            }
         }
         for (j, law) in l.friction.iter().enumerate() {
             let active = law.normals.iter().any(|&k| s.a[k]);
