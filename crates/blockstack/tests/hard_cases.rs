@@ -298,6 +298,21 @@ fn regularized_matrices_of_blocks_lying_on_a_fast_base_are_solved() {
     assert!(s.deepest.depth() < 1e-10, "{:?}", s.deepest);
 }
 
+/// A column of n blocks at rest on a base that barely moves, x = 0.001 sin 2t (μ = 0.2,
+/// Δt = 2π/628): the base's velocity at t0 kicks it.
+fn kicked_column(blocks: usize) -> blockstack::Scene {
+    shaking_column(&Shaking {
+        blocks,
+        omega: 2.0,
+        mu: 0.2,
+        amplitude: 0.001,
+        steps_per_period: 314.0,
+        periods: 1.0,
+        start_with_base: false,
+    })
+    .unwrap()
+}
+
 /// Tall columns on a base that barely moves (x = 0.001 sin 2t, μ = 0.2, Δt = 0.01): the
 /// bottom block slides at t0 and the friction force μ n mg rocks the slender column at
 /// every interface. The consistent start of 50 and 100 blocks used to fail ("semismooth
@@ -309,16 +324,7 @@ fn regularized_matrices_of_blocks_lying_on_a_fast_base_are_solved() {
 #[test]
 fn tall_columns_on_a_moving_base_start_and_step() {
     for (blocks, t_end) in [(50, 0.2), (100, 0.03)] {
-        let mut scene = shaking_column(&Shaking {
-            blocks,
-            omega: 2.0,
-            mu: 0.2,
-            amplitude: 0.001,
-            steps_per_period: 314.0,
-            periods: 1.0,
-            start_with_base: false,
-        })
-        .unwrap();
+        let mut scene = kicked_column(blocks);
         scene.solver.dt = 0.01;
         let options = RunOptions {
             t_end: Some(t_end),
@@ -346,16 +352,7 @@ fn tall_columns_on_a_moving_base_start_and_step() {
 /// 10⁻³ rad in a step.
 #[test]
 fn a_kicked_tall_column_takes_no_far_solution() {
-    let scene = shaking_column(&Shaking {
-        blocks: 30,
-        omega: 2.0,
-        mu: 0.2,
-        amplitude: 0.001,
-        steps_per_period: 314.0,
-        periods: 1.0,
-        start_with_base: false,
-    })
-    .unwrap();
+    let scene = kicked_column(30);
     let options = RunOptions {
         t_end: Some(1.0),
         ..RunOptions::default()
@@ -392,16 +389,7 @@ fn a_kicked_tall_column_takes_no_far_solution() {
 /// column, 1270 linear solves to t = 1 against 114 (docs/method.md §8.2, stage 1).
 #[test]
 fn a_kicked_tall_column_opens_one_corner_per_update_on_every_level() {
-    let scene = shaking_column(&Shaking {
-        blocks: 50,
-        omega: 2.0,
-        mu: 0.2,
-        amplitude: 0.001,
-        steps_per_period: 314.0,
-        periods: 1.0,
-        start_with_base: false,
-    })
-    .unwrap();
+    let scene = kicked_column(50);
     let options = RunOptions {
         t_end: Some(1.0),
         ..RunOptions::default()

@@ -15,12 +15,16 @@
 use super::Stepper;
 use crate::system::System;
 
-/// Largest ratio of the position correction to the step's motion (see
-/// [`Stepper::correction_ratio`]) of a solution that is taken. The solutions of the
-/// 135-run shaken-column matrix, the Lire collapse with and without a floor, the
-/// thesis's scenes, the kicked tall columns and the column runs of docs/method.md §8.2
-/// stay at or below 1.4; the far solution that turned block 25 of a kicked 30-block
-/// column by 0.83 rad in one step had 325.
+/// Largest ratio of the position correction to the step's motion,
+///
+/// ‖Q‖ / (Δt(‖u_n‖ + ‖u_{n+1}‖) + Δt²(‖ā_n‖ + ‖ā_{n+1}‖ + ‖M⁻¹h‖)),   ‖v‖ = maxᵢ √Mᵢᵢ |vᵢ|,
+///
+/// of a solution that is taken. The steps taken in the 135-run shaken-column matrix,
+/// the Lire collapse with and without a floor, the thesis's scenes and the kicked tall
+/// columns stay at or below 1.4, and fixed-set candidates of their branch points at or
+/// below 2.1; the far solutions start at 6.95, and the one that turned block 25 of a
+/// kicked 30-block column by 0.83 rad in one step had 325 (docs/method.md §8.1, "Far
+/// solutions").
 pub const FAR_CORRECTION: f64 = 4.0;
 
 impl<S: System> Stepper<S> {
