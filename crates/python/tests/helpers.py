@@ -25,10 +25,16 @@ def strip_timings(value):
 def exits_on_sigint(body: str) -> None:
     """Runs `body` (which has `blocks` and `nsga` imported and must take far longer than the test)
     in a child process, sends it SIGINT and checks that it raised KeyboardInterrupt
-    within a second."""
+    within a second.
+
+    The child installs Python's SIGINT handler itself: a process started in the
+    background by a non-interactive shell (`nohup`, a batch job) inherits SIGINT ignored,
+    and Python then installs none, so the signal would never reach it."""
     child = textwrap.dedent(
         """
+        import signal
         import sys
+        signal.signal(signal.SIGINT, signal.default_int_handler)
         from rollstack import blocks, nsga
         print("started", flush=True)
         try:
