@@ -239,13 +239,12 @@ pub struct Options {
     /// largest prox argument r g_N − κ̂_N), and of the contacts that stay closed, at most
     /// this many may leave the velocity or acceleration level (B, C); closings and
     /// friction changes are not limited, and convergence is judged on the laws' own
-    /// sets. Only when that attempt
-    /// fails does free Newton follow. A tall column that starts to tip then turns about
-    /// its base as one body in a few updates, instead of opening a band of interfaces
-    /// that free Newton moves up the column one interface per update (docs/method.md
-    /// §8.2). The attempt takes its updates whole, without the line search of
-    /// `line_search`: its updates change the sets of a contact or a few each, and
-    /// halving them only delayed the next change.
+    /// sets. Only when that attempt fails does free Newton follow. A tall column that
+    /// starts to tip then turns about its base as one body in a few updates, instead of
+    /// opening a band of interfaces that free Newton moves up the column one interface
+    /// per update (docs/method.md §8.2). The attempt takes its updates whole, without
+    /// the line search of `line_search`: its updates change the sets of a contact or a
+    /// few each, and halving them only delayed the next change.
     #[serde(default)]
     pub max_openings_per_update: usize,
     /// How often a step that fails after every retry and fixed-set re-solve may be

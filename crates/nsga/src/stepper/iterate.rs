@@ -355,7 +355,8 @@ impl<S: System> Stepper<S> {
             let pk = o.ng + k;
             s.a[k] = open_by(k) <= -SET_TIE * w.r_pos[pk] * dt * arrival(it.rate_old[pk]);
         }
-        if let Some((last, most)) = limit.filter(|(last, _)| last.a.len() == o.nn) {
+        let limit = limit.filter(|(last, _)| last.a.len() == o.nn);
+        if let Some((last, most)) = limit {
             let opening: Vec<usize> = (0..o.nn).filter(|&k| last.a[k] && !s.a[k]).collect();
             for k in beyond_the_strongest(opening, most, open_by) {
                 s.a[k] = true;
@@ -375,7 +376,7 @@ impl<S: System> Stepper<S> {
             s.b[k] = s.a[k] && r * it.xi_p[pk] - it.p_n[k] <= SET_TIE * r * impact;
             s.c[k] = s.b[k] && r * it.acc_p[pk] - x[o.ln + k] <= 0.0;
         }
-        if let Some((last, most)) = limit.filter(|(last, _)| last.a.len() == o.nn) {
+        if let Some((last, most)) = limit {
             // Openings on velocity level (B) and acceleration level (C) of contacts that
             // stay in A, ranked by their prox arguments in impulse units.
             let leaves = |k: usize, s: &IndexSets| {
