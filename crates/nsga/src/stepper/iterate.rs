@@ -344,7 +344,11 @@ impl<S: System> Stepper<S> {
         let l = &self.layout;
         let w = &self.work;
         let it = &w.it;
+        // The prox arguments of the normal contacts' laws on position, velocity and
+        // acceleration level: positive where the law opens the contact.
         let open_by = |k: usize| w.r_pos[o.ng + k] * it.p[o.ng + k] - it.kappa_hat[k];
+        let leaves_b_by = |k: usize| w.r_pos[o.ng + k] * it.xi_p[o.ng + k] - it.p_n[k];
+        let leaves_c_by = |k: usize| w.r_pos[o.ng + k] * it.acc_p[o.ng + k] - x[o.ln + k];
         // The fastest arrival among the normal contacts `ks` (0 when none arrives).
         let fastest = |ks: &mut dyn Iterator<Item = usize>| {
             ks.map(|k| arrival(it.rate_old[o.ng + k]))
@@ -371,26 +375,22 @@ impl<S: System> Stepper<S> {
             0.0
         };
         for k in 0..o.nn {
-            let pk = o.ng + k;
-            let r = w.r_pos[pk];
-            s.b[k] = s.a[k] && r * it.xi_p[pk] - it.p_n[k] <= SET_TIE * r * impact;
-            s.c[k] = s.b[k] && r * it.acc_p[pk] - x[o.ln + k] <= 0.0;
+            s.b[k] = s.a[k] && leaves_b_by(k) <= SET_TIE * w.r_pos[o.ng + k] * impact;
+            s.c[k] = s.b[k] && leaves_c_by(k) <= 0.0;
         }
         if let Some((last, most)) = limit {
             // Openings on velocity level (B) and acceleration level (C) of contacts that
             // stay in A, ranked by their prox arguments in impulse units.
-            let leaves = |k: usize, s: &IndexSets| {
-                s.a[k] && ((last.b[k] && !s.b[k]) || (last.c[k] && s.b[k] && !s.c[k]))
-            };
+            let leaves_b = |k: usize| last.b[k] && !s.b[k];
+            let leaves = |k: usize| s.a[k] && (leaves_b(k) || (last.c[k] && s.b[k] && !s.c[k]));
             let strength = |k: usize| {
-                let (pk, r) = (o.ng + k, w.r_pos[o.ng + k]);
-                if last.b[k] && !s.b[k] {
-                    r * it.xi_p[pk] - it.p_n[k]
+                if leaves_b(k) {
+                    leaves_b_by(k)
                 } else {
-                    (r * it.acc_p[pk] - x[o.ln + k]) * dt
+                    leaves_c_by(k) * dt
                 }
             };
-            let opening: Vec<usize> = (0..o.nn).filter(|&k| leaves(k, &s)).collect();
+            let opening: Vec<usize> = (0..o.nn).filter(|&k| leaves(k)).collect();
             for k in beyond_the_strongest(opening, most, strength) {
                 s.b[k] |= last.b[k];
                 s.c[k] |= last.c[k];
