@@ -68,6 +68,48 @@ pub(crate) struct LevelRows {
     pub res: Vec<f64>,
     pub jac: Vec<(usize, usize, f64)>,
     pub closed_rows: Vec<usize>,
+    /// The normal contacts kept on their contact row although their prox says open
+    /// ([`OpeningLimit`]), ascending.
+    pub held: Vec<usize>,
+    /// The friction laws kept on their stick rows although their prox says slip,
+    /// ascending.
+    pub held_stick: Vec<usize>,
+    /// The largest prox argument among the held rows: by how much the iterate's sets
+    /// differ from the problem's own (0 when nothing is held).
+    pub held_violation: f64,
+    /// Scratch: (prox argument, contact or law) of the rows that would open.
+    opening: Vec<(f64, usize)>,
+}
+
+impl LevelRows {
+    /// ‖R‖∞ of the iterate, or its [`LevelRows::held_violation`] where larger: zero only
+    /// at a solution of the problem itself, with nothing held.
+    pub fn free_residual(&self) -> f64 {
+        crate::linalg::max_norm(&self.res).max(self.held_violation)
+    }
+}
+
+/// At most `per_update` closed contacts that were on their contact row at the last
+/// iterate leave it at this one, and at most `per_update` friction laws that stuck
+/// there start to slip: those whose prox arguments pass their bounds the most (for a
+/// contact r · level − μ past 0, for a law ‖r · level − μ_F‖ past its radius); the
+/// others are held on their contact or stick rows.
+///
+/// Why: from zero forces, the first Newton solve of a tall column on a sliding base
+/// holds every contact, and the rigid column it describes needs a negative force at
+/// every second corner and is at the friction bound at every interface. Opening all of
+/// those at once frees every interface, and the iterates then took about one update per
+/// interface to close them again (88 evaluations at 100 blocks, 171 at 200). The
+/// solution opens three corners; one opening per update finds it in 11 and 30
+/// (docs/method.md §5).
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct OpeningLimit<'a> {
+    /// Per normal contact: on its contact row at the last iterate.
+    pub was_contact: &'a [bool],
+    /// Per friction law: on its stick rows at the last iterate.
+    pub was_stick: &'a [bool],
+    /// Openings of each kind allowed per update.
+    pub per_update: usize,
 }
 
 impl LevelProblem<'_> {
@@ -78,15 +120,27 @@ impl LevelProblem<'_> {
 
     /// Fills `out` at y, with the levels `level_p`, `level_v` (the constraint rates on
     /// this level at y: p̈, v̇ for the start; ξ_p, ξ_v for Moreau–Jean).
-    pub fn rows(&self, y: &[f64], level_p: &[f64], level_v: &[f64], out: &mut LevelRows) {
+    /// With a `limit`, some contacts are held on their contact row
+    /// ([`LevelRows::held`]).
+    pub fn rows(
+        &self,
+        y: &[f64],
+        (level_p, level_v): (&[f64], &[f64]),
+        limit: Option<OpeningLimit<'_>>,
+        out: &mut LevelRows,
+    ) {
         let l = self.layout;
         let e = self.eval;
         let (nu, ng, nga) = (l.nu, l.n_bilateral_position, l.n_bilateral_velocity);
         let (op, ov) = (nu, nu + l.n_position());
+        self.hold(y, (level_p, level_v), limit, out);
         let LevelRows {
             res,
             jac,
             closed_rows,
+            held,
+            held_stick,
+            ..
         } = out;
         res.clear();
         res.resize(self.n(), 0.0);
@@ -119,7 +173,8 @@ impl LevelProblem<'_> {
             let pk = ng + k;
             let row = op + pk;
             let (r, lam) = (self.r_pos[pk], y[row]);
-            if self.closed[k] && r * level_p[pk] - lam <= 0.0 {
+            let contact = r * level_p[pk] - lam <= 0.0 || held.binary_search(&k).is_ok();
+            if self.closed[k] && contact {
                 res[row] = r * level_p[pk];
                 push_level(jac, &self.w_p, pk, row, r);
                 closed_rows.push(row);
@@ -136,12 +191,10 @@ impl LevelProblem<'_> {
             let active = law.normals.iter().any(|&k| self.closed[k]);
             let sum: f64 = law.normals.iter().map(|&k| y[op + ng + k]).sum();
             let radius = law.mu * sum.max(0.0);
-            let stick = active && self.fixed_slip[j].is_none() && {
-                let d: f64 = (0..nc)
-                    .map(|m| (self.r_law[j] * level[m] - y[ov + vs + m]).powi(2))
-                    .sum();
-                d.sqrt() <= radius
-            };
+            let stick = self
+                .stick_excess(j, vs, y, level_v)
+                .is_some_and(|x| x <= 0.0)
+                || held_stick.binary_search(&j).is_ok();
             let dir: &[f64] = self.fixed_slip[j].as_deref().unwrap_or(level);
             let dn = norm(dir);
             for m in 0..nc {
@@ -173,6 +226,73 @@ impl LevelProblem<'_> {
             }
         }
     }
+
+    /// ‖r · level − μ_F‖ − ρ of friction law j, whose components start at velocity
+    /// constraint `vs`: its stick rows hold where this is not positive. None where the
+    /// law cannot stick (none of its contacts closed, or a fixed slip).
+    fn stick_excess(&self, j: usize, vs: usize, y: &[f64], level_v: &[f64]) -> Option<f64> {
+        let l = self.layout;
+        let law = &l.friction[j];
+        if self.fixed_slip[j].is_some() || !law.normals.iter().any(|&k| self.closed[k]) {
+            return None;
+        }
+        let (op, ov) = (l.nu + l.n_bilateral_position, l.nu + l.n_position());
+        let sum: f64 = law.normals.iter().map(|&k| y[op + k]).sum();
+        let d: f64 = (vs..vs + law.components)
+            .map(|c| (self.r_law[j] * level_v[c] - y[ov + c]).powi(2))
+            .sum();
+        Some(d.sqrt() - law.mu * sum.max(0.0))
+    }
+
+    /// Fills `out.held`, `out.held_stick` and `out.held_violation` under `limit`
+    /// ([`OpeningLimit`]); empty and 0 without one.
+    fn hold(
+        &self,
+        y: &[f64],
+        (level_p, level_v): (&[f64], &[f64]),
+        limit: Option<OpeningLimit<'_>>,
+        out: &mut LevelRows,
+    ) {
+        out.held.clear();
+        out.held_stick.clear();
+        out.held_violation = 0.0;
+        let Some(limit) = limit else { return };
+        let (op, ng) = (self.layout.nu, self.layout.n_bilateral_position);
+        out.opening.clear();
+        for k in (0..self.closed.len()).filter(|&k| self.closed[k] && limit.was_contact[k]) {
+            let arg = self.r_pos[ng + k] * level_p[ng + k] - y[op + ng + k];
+            if arg > 0.0 {
+                out.opening.push((arg, k));
+            }
+        }
+        out.held_violation = beyond_the_largest(&mut out.opening, limit.per_update, &mut out.held);
+        out.opening.clear();
+        let (nga, offsets) = (
+            self.layout.n_bilateral_velocity,
+            self.layout.friction_offsets(),
+        );
+        for j in (0..limit.was_stick.len()).filter(|&j| limit.was_stick[j]) {
+            match self.stick_excess(j, nga + offsets[j], y, level_v) {
+                Some(x) if x > 0.0 => out.opening.push((x, j)),
+                _ => {}
+            }
+        }
+        let stick = beyond_the_largest(&mut out.opening, limit.per_update, &mut out.held_stick);
+        out.held_violation = out.held_violation.max(stick);
+    }
+}
+
+/// Moves into `held` (ascending) the indices of the `candidates` (argument, index)
+/// beyond the `keep` largest arguments, and returns the largest held argument (0 when
+/// none is held). Ties go by index, so that the choice is deterministic.
+fn beyond_the_largest(candidates: &mut [(f64, usize)], keep: usize, held: &mut Vec<usize>) -> f64 {
+    if candidates.len() <= keep {
+        return 0.0;
+    }
+    candidates.sort_unstable_by(|a, b| b.0.total_cmp(&a.0).then(a.1.cmp(&b.1)));
+    held.extend(candidates[keep..].iter().map(|&(_, i)| i));
+    held.sort_unstable();
+    candidates[keep].0
 }
 
 /// Pushes `r · (column c0 of W)ᵀ` as the entries of `row` over the velocity-like
@@ -184,6 +304,18 @@ fn push_level(jac: &mut Vec<(usize, usize, f64)>, w: &RowMat, c0: usize, row: us
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_largest_arguments_open_and_the_others_are_held() {
+        let mut held = Vec::new();
+        let mut candidates = [(1.0, 4), (3.0, 2), (3.0, 7), (0.5, 1)];
+        // Ties go to the lower index; the largest held argument is reported.
+        assert_eq!(beyond_the_largest(&mut candidates, 1, &mut held), 3.0);
+        assert_eq!(held, [1, 4, 7]);
+        held.clear();
+        assert_eq!(beyond_the_largest(&mut candidates, 4, &mut held), 0.0);
+        assert!(held.is_empty());
+    }
 
     #[test]
     fn by_constraint_keeps_the_order_of_the_triplets_per_constraint() {

@@ -335,7 +335,8 @@ impl NewtonProblem for MoreauProblem<'_> {
                 self.xi_v[vs + m] += law.e_f * self.v_old[vs + m];
             }
         }
-        self.level.rows(z, &self.xi_p, &self.xi_v, &mut self.rows);
+        self.level
+            .rows(z, (&self.xi_p, &self.xi_v), None, &mut self.rows);
         let r = crate::linalg::max_norm(&self.rows.res);
         (self.rows.closed_rows.clone(), r)
     }
