@@ -35,6 +35,9 @@ pub struct Start {
     pub lambda_n: Vec<f64>,
     /// λ_F.
     pub lambda_f: Vec<f64>,
+    /// Newton updates the start took (both solves where Lemke's method ran between
+    /// them); 0 where the start failed and the free accelerations stand in for it.
+    pub updates: usize,
 }
 
 impl Start {
@@ -54,6 +57,7 @@ impl Start {
             lambda_gamma: vec![0.0; layout.n_bilateral_velocity],
             lambda_n: vec![0.0; layout.n_normal()],
             lambda_f: vec![0.0; layout.n_friction()],
+            updates: 0,
         }
     }
 }
@@ -261,7 +265,10 @@ pub fn consistent_start<S: System>(
     let failed = |message: String| StepError::Start { t: t0, message };
     let mut scratch = NewtonScratch::default();
     let mut outcome = newton::solve(&mut problem, &mut y, &settings, &mut scratch);
+    // Updates of a first solve that did not converge, before Lemke's method.
+    let mut before_lemke = 0;
     if !matches!(outcome, Outcome::Converged { .. }) {
+        before_lemke = scratch.evaluations().saturating_sub(1);
         // Newton changes the index sets of a few contacts per update and can cycle
         // through them (docs/method.md §5); Lemke's method pivots to the problem's
         // solution, whose sets Newton then only polishes.
@@ -271,7 +278,9 @@ pub fn consistent_start<S: System>(
         outcome = newton::solve(&mut problem, &mut y, &settings, &mut scratch);
     }
     match outcome {
-        Outcome::Converged { sets, .. } => {
+        Outcome::Converged {
+            sets, iterations, ..
+        } => {
             let (op, ov) = (nu, nu + layout.n_position());
             zero_separation_rows(layout, &closed, &sets, op + ng, ov + nga, &mut y);
             Ok(Start {
@@ -280,6 +289,7 @@ pub fn consistent_start<S: System>(
                 lambda_gamma: y[ov..ov + nga].to_vec(),
                 lambda_n: y[op + ng..op + ng + nn].to_vec(),
                 lambda_f: y[ov + nga..].to_vec(),
+                updates: before_lemke + iterations,
             })
         }
         other => Err(failed(describe(&other))),
