@@ -17,6 +17,7 @@
 //!   vector (the level itself, or a fixed slip velocity); inactive: μ_F = 0.
 
 use crate::linalg::norm;
+use crate::sets::beyond_the_strongest;
 use crate::stepper::rows::{push_u_derivative, RowMat};
 use crate::system::{Evaluation, Layout, Triplets};
 
@@ -77,8 +78,6 @@ pub(crate) struct LevelRows {
     /// The largest prox argument among the held rows: by how much the iterate's sets
     /// differ from the problem's own (0 when nothing is held).
     pub held_violation: f64,
-    /// Scratch: (prox argument, contact or law) of the rows that would open.
-    opening: Vec<(f64, usize)>,
 }
 
 impl LevelRows {
@@ -173,7 +172,7 @@ impl LevelProblem<'_> {
             let pk = ng + k;
             let row = op + pk;
             let (r, lam) = (self.r_pos[pk], y[row]);
-            let contact = r * level_p[pk] - lam <= 0.0 || held.binary_search(&k).is_ok();
+            let contact = self.opening_by(k, y, level_p) <= 0.0 || held.binary_search(&k).is_ok();
             if self.closed[k] && contact {
                 res[row] = r * level_p[pk];
                 push_level(jac, &self.w_p, pk, row, r);
@@ -244,6 +243,13 @@ impl LevelProblem<'_> {
         Some(d.sqrt() - law.mu * sum.max(0.0))
     }
 
+    /// r · level − μ of normal contact k: its contact row holds where this is not
+    /// positive.
+    fn opening_by(&self, k: usize, y: &[f64], level_p: &[f64]) -> f64 {
+        let pk = self.layout.n_bilateral_position + k;
+        self.r_pos[pk] * level_p[pk] - y[self.layout.nu + pk]
+    }
+
     /// Fills `out.held`, `out.held_stick` and `out.held_violation` under `limit`
     /// ([`OpeningLimit`]); empty and 0 without one.
     fn hold(
@@ -257,42 +263,29 @@ impl LevelProblem<'_> {
         out.held_stick.clear();
         out.held_violation = 0.0;
         let Some(limit) = limit else { return };
-        let (op, ng) = (self.layout.nu, self.layout.n_bilateral_position);
-        out.opening.clear();
-        for k in (0..self.closed.len()).filter(|&k| self.closed[k] && limit.was_contact[k]) {
-            let arg = self.r_pos[ng + k] * level_p[ng + k] - y[op + ng + k];
-            if arg > 0.0 {
-                out.opening.push((arg, k));
-            }
-        }
-        out.held_violation = beyond_the_largest(&mut out.opening, limit.per_update, &mut out.held);
-        out.opening.clear();
+        let opening_by = |k: usize| self.opening_by(k, y, level_p);
+        let opening = (0..self.closed.len())
+            .filter(|&k| limit.was_contact[k] && opening_by(k) > 0.0)
+            .collect();
+        out.held = beyond_the_strongest(opening, limit.per_update, opening_by);
         let (nga, offsets) = (
             self.layout.n_bilateral_velocity,
             self.layout.friction_offsets(),
         );
-        for j in (0..limit.was_stick.len()).filter(|&j| limit.was_stick[j]) {
-            match self.stick_excess(j, nga + offsets[j], y, level_v) {
-                Some(x) if x > 0.0 => out.opening.push((x, j)),
-                _ => {}
-            }
-        }
-        let stick = beyond_the_largest(&mut out.opening, limit.per_update, &mut out.held_stick);
-        out.held_violation = out.held_violation.max(stick);
+        let slipping_by = |j: usize| {
+            self.stick_excess(j, nga + offsets[j], y, level_v)
+                .unwrap_or(f64::NEG_INFINITY)
+        };
+        let slipping = (0..limit.was_stick.len())
+            .filter(|&j| limit.was_stick[j] && slipping_by(j) > 0.0)
+            .collect();
+        out.held_stick = beyond_the_strongest(slipping, limit.per_update, slipping_by);
+        out.held.sort_unstable();
+        out.held_stick.sort_unstable();
+        let held = out.held.iter().map(|&k| opening_by(k));
+        let held_stick = out.held_stick.iter().map(|&j| slipping_by(j));
+        out.held_violation = held.chain(held_stick).fold(0.0, f64::max);
     }
-}
-
-/// Moves into `held` (ascending) the indices of the `candidates` (argument, index)
-/// beyond the `keep` largest arguments, and returns the largest held argument (0 when
-/// none is held). Ties go by index, so that the choice is deterministic.
-fn beyond_the_largest(candidates: &mut [(f64, usize)], keep: usize, held: &mut Vec<usize>) -> f64 {
-    if candidates.len() <= keep {
-        return 0.0;
-    }
-    candidates.sort_unstable_by(|a, b| b.0.total_cmp(&a.0).then(a.1.cmp(&b.1)));
-    held.extend(candidates[keep..].iter().map(|&(_, i)| i));
-    held.sort_unstable();
-    candidates[keep].0
 }
 
 /// Pushes `r · (column c0 of W)ᵀ` as the entries of `row` over the velocity-like
@@ -304,18 +297,6 @@ fn push_level(jac: &mut Vec<(usize, usize, f64)>, w: &RowMat, c0: usize, row: us
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn the_largest_arguments_open_and_the_others_are_held() {
-        let mut held = Vec::new();
-        let mut candidates = [(1.0, 4), (3.0, 2), (3.0, 7), (0.5, 1)];
-        // Ties go to the lower index; the largest held argument is reported.
-        assert_eq!(beyond_the_largest(&mut candidates, 1, &mut held), 3.0);
-        assert_eq!(held, [1, 4, 7]);
-        held.clear();
-        assert_eq!(beyond_the_largest(&mut candidates, 4, &mut held), 0.0);
-        assert!(held.is_empty());
-    }
 
     #[test]
     fn by_constraint_keeps_the_order_of_the_triplets_per_constraint() {

@@ -91,9 +91,34 @@ impl IndexSets {
     }
 }
 
+/// The contacts (or laws) of `opening`, ascending, past the `most` whose `strength`
+/// (prox argument) is largest: those an update with a limit on openings keeps in their
+/// closed or sticking sets. Ties go to the lower index (the sort is stable).
+pub(crate) fn beyond_the_strongest(
+    mut opening: Vec<usize>,
+    most: usize,
+    strength: impl Fn(usize) -> f64,
+) -> Vec<usize> {
+    if opening.len() <= most {
+        return Vec::new();
+    }
+    opening.sort_by(|&i, &j| strength(j).total_cmp(&strength(i)));
+    opening.split_off(most)
+}
+
 #[cfg(test)]
 mod tests {
-    use super::IndexSets;
+    use super::{beyond_the_strongest, IndexSets};
+
+    #[test]
+    fn the_strongest_open_and_the_others_are_kept() {
+        let strength = |k: usize| [0.0, 0.5, 3.0, 0.0, 1.0, 0.0, 0.0, 3.0][k];
+        // Ties go to the lower index.
+        let mut kept = beyond_the_strongest(vec![1, 2, 4, 7], 1, strength);
+        kept.sort_unstable();
+        assert_eq!(kept, [1, 4, 7]);
+        assert!(beyond_the_strongest(vec![1, 2, 4, 7], 4, strength).is_empty());
+    }
 
     /// A copy of `s` with every set filled, then reset to its sizes.
     fn opened_and_reset(s: &IndexSets) -> IndexSets {

@@ -6,7 +6,7 @@
 use super::Stepper;
 use crate::params::GenAlpha;
 use crate::prox::prox_parameters;
-use crate::sets::IndexSets;
+use crate::sets::{beyond_the_strongest, IndexSets};
 use crate::system::System;
 use std::borrow::Cow;
 
@@ -26,20 +26,6 @@ pub const SET_TIE: f64 = 1e-9;
 /// stay at zero width.
 fn arrival(rate: f64) -> f64 {
     (-rate).max(0.0)
-}
-
-/// The contacts of `opening` past the `most` whose `strength` (prox argument) is
-/// largest: those an update with a limit on openings keeps closed.
-fn beyond_the_strongest(
-    mut opening: Vec<usize>,
-    most: usize,
-    strength: impl Fn(usize) -> f64,
-) -> Vec<usize> {
-    if opening.len() <= most {
-        return Vec::new();
-    }
-    opening.sort_by(|&i, &j| strength(j).total_cmp(&strength(i)));
-    opening.split_off(most)
 }
 
 /// Quantities derived from x at one Newton iterate (eqs. 71, 73, 125, 95, 102, 113).
