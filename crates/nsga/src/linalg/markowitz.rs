@@ -441,33 +441,29 @@ impl LinearSolver for MarkowitzLu {
             )));
         }
         self.size_for(n);
-        let factored = self.load_and_factor_any(triplets, PIVOT_THRESHOLD)?;
-        match factored {
-            Ok(()) => {
-                self.factored = true;
-                self.solve_again(rhs)
+        match self.load_and_factor_any(triplets, PIVOT_THRESHOLD)? {
+            Ok(()) => {}
+            Err(Singular::Structurally) => {
+                return Err(LinalgError(
+                    "singular matrix (Markowitz LU: a column without entries)".into(),
+                ))
             }
-            Err(Singular::Structurally) => Err(LinalgError(
-                "singular matrix (Markowitz LU: a column without entries)".into(),
-            )),
+            Err(Singular::Numerically) if n <= DENSE_VERDICT_UP_TO => {
+                // The reference decides: see `MarkowitzLu::dense`.
+                self.by_dense = true;
+                return self.dense.solve(n, triplets, rhs);
+            }
             Err(Singular::Numerically) => {
-                if n <= DENSE_VERDICT_UP_TO {
-                    // The reference decides: see `MarkowitzLu::dense`.
-                    self.by_dense = true;
-                    return self.dense.solve(n, triplets, rhs);
-                }
                 // Partial pivoting within the columns Markowitz's rule orders decides.
-                match self.load_and_factor_any(triplets, 1.0)? {
-                    Ok(()) => {
-                        self.factored = true;
-                        self.solve_again(rhs)
-                    }
-                    Err(_) => Err(LinalgError(
+                if self.load_and_factor_any(triplets, 1.0)?.is_err() {
+                    return Err(LinalgError(
                         "singular matrix (Markowitz LU with partial pivoting)".into(),
-                    )),
+                    ));
                 }
             }
         }
+        self.factored = true;
+        self.solve_again(rhs)
     }
     /// L y = b in pivot order, then U x = y backwards.
     fn solve_again(&mut self, rhs: &mut [f64]) -> Result<(), LinalgError> {
