@@ -267,12 +267,21 @@ impl Tableau {
         for x in &mut self.rows[row] {
             *x /= p;
         }
-        let pivot_row = self.rows[row].clone();
+        // The tableau of a contact problem stays mostly zeros for many pivots (B⁻¹ starts
+        // as I, and a contact's row of M has only the entries of the contacts that share
+        // a body with it): the update runs over the pivot row's nonzeros only, which
+        // changes no result (x − f·0 = x).
+        let pivot_row: Vec<(usize, f64)> = self.rows[row]
+            .iter()
+            .copied()
+            .enumerate()
+            .filter(|e| e.1 != 0.0)
+            .collect();
         for (i, r) in self.rows.iter_mut().enumerate() {
             let f = r[col];
             if i != row && f != 0.0 {
-                for (x, y) in r.iter_mut().zip(&pivot_row) {
-                    *x -= f * y;
+                for &(k, y) in &pivot_row {
+                    r[k] -= f * y;
                 }
             }
         }

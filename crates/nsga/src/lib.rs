@@ -102,6 +102,7 @@ pub mod lcp;
 mod lcp_step;
 mod level;
 pub mod linalg;
+mod mass_inverse;
 pub mod moreau;
 pub mod newton;
 pub mod options;

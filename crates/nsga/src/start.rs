@@ -307,10 +307,12 @@ fn force_directions(
     slide: impl Fn(usize) -> Option<f64>,
 ) -> Vec<DVector<f64>> {
     let normal = |k: usize| {
-        let mut f = d.w_p.column(k).into_owned();
+        let mut f = d.w_p.dense(k);
         for (j, law) in layout.friction.iter().enumerate() {
             if let (Some(sign), true) = (slide(j), law.normals.contains(&k)) {
-                f -= d.w_v.column(j) * (law.mu * sign);
+                for &(i, w) in d.w_v.entries(j) {
+                    f[i] -= w * law.mu * sign;
+                }
             }
         }
         f
@@ -318,7 +320,7 @@ fn force_directions(
     normals
         .iter()
         .map(|&k| normal(k))
-        .chain(sticking.iter().map(|&j| d.w_v.column(j).into_owned()))
+        .chain(sticking.iter().map(|&j| d.w_v.dense(j)))
         .collect()
 }
 
@@ -360,7 +362,7 @@ fn lcp_start(
         ));
     }
     let d = Dense::of(e, nu, nn, nf).ok_or("the mass matrix is singular")?;
-    let a_free = &d.m_inv * DVector::from_column_slice(&e.forces);
+    let a_free = d.m_inv.apply(&e.forces);
     // The sign of a sliding law's slip (planar laws: one component).
     let slide = |j: usize| fixed_slip[j].as_ref().map(|s| s[0].signum());
     let forces = force_directions(layout, &d, &normals, &sticking, slide);
