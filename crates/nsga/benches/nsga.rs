@@ -1,9 +1,11 @@
 //! Criterion benches of the solver core: one step, a whole ball run, step cost against
-//! the size of a chain, and the dense/sparse LU crossover.
+//! the size of a chain, the dense/sparse LU crossover, and Lemke's method on its
+//! tableau against on factors of its basis.
 //!
 //! `cargo bench -p nsga --bench nsga -- --quick`
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
+use nsga::lcp::{lemke_with, Pivoting};
 use nsga::studies::ball::{run_ball, Scheme};
 use nsga::systems::ball::BallCase;
 use nsga::systems::chain::Chain;
@@ -124,5 +126,53 @@ fn linear_solve(c: &mut Criterion) {
     g.finish();
 }
 
-criterion_group!(benches, one_step, ball_run, chain_scaling, linear_solve);
+/// The LCP of a chain pressed together (M tridiagonal: 2 on the diagonal, −1 beside it),
+/// two contacts in three pushed: Lemke's method takes n + 1 pivots, and the tableau's
+/// B⁻¹ fills in.
+fn chain_lcp(n: usize) -> (Vec<f64>, Vec<f64>) {
+    let mut m = vec![0.0; n * n];
+    for i in 0..n {
+        m[i * n + i] = 2.0;
+        if i > 0 {
+            m[i * n + i - 1] = -1.0;
+            m[(i - 1) * n + i] = -1.0;
+        }
+    }
+    let q = (0..n)
+        .map(|i| {
+            if i % 3 == 0 {
+                1.0
+            } else {
+                -1.0 - i as f64 * 1e-3
+            }
+        })
+        .collect();
+    (m, q)
+}
+
+fn lemke_pivoting(c: &mut Criterion) {
+    let mut g = c.benchmark_group("lemke_pivoting");
+    g.sample_size(10);
+    for n in [200usize, 400, 800, 1600] {
+        let (m, q) = chain_lcp(n);
+        for (name, pivoting) in [
+            ("tableau", Pivoting::Tableau),
+            ("factored_basis", Pivoting::FactoredBasis),
+        ] {
+            g.bench_with_input(BenchmarkId::new(name, n), &n, |b, _| {
+                b.iter(|| black_box(lemke_with(pivoting, &m, &q, 50 * n).unwrap().pivots));
+            });
+        }
+    }
+    g.finish();
+}
+
+criterion_group!(
+    benches,
+    one_step,
+    ball_run,
+    chain_scaling,
+    linear_solve,
+    lemke_pivoting
+);
 criterion_main!(benches);

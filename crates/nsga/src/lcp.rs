@@ -14,6 +14,13 @@
 //! a matrix, so in exact arithmetic a ray there means the step's contact problem has no
 //! solution. In floating point a rank-deficient M can end on a false ray;
 //! [`lemke_regularized`] retries such a problem with εI added.
+//!
+//! The basis is carried either as the dense tableau B⁻¹[I, −M, −e, q] or, for large
+//! problems, as sparse LU factors computed afresh at each pivot ([`Pivoting`]); both
+//! take the same pivots in exact arithmetic.
+
+mod factored;
+pub use factored::FACTORED_FROM;
 
 /// A solution of LCP(M, q).
 #[derive(Debug, Clone, PartialEq)]
@@ -50,7 +57,31 @@ pub enum LcpFailure {
 /// zero.
 const PIVOT_TOL: f64 = 1e-12;
 
-/// Solves LCP(M, q) by Lemke's method; `m` is row-major, n × n with n = q.len().
+/// How Lemke's method carries its basis from pivot to pivot.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Pivoting {
+    /// The dense tableau B⁻¹[I, −M, −e, q], updated by Gauss–Jordan pivots: O(n²) per
+    /// pivot once B⁻¹ has filled in, and cheap while it has not.
+    Tableau,
+    /// Sparse LU factors of the basis, computed afresh at each pivot: O(nnz) per pivot
+    /// for a banded M, with a larger constant (see [`FACTORED_FROM`]).
+    FactoredBasis,
+}
+
+impl Pivoting {
+    /// The faster for an LCP of `n` unknowns: the tableau below [`FACTORED_FROM`].
+    #[must_use]
+    pub fn for_size(n: usize) -> Self {
+        if n < FACTORED_FROM {
+            Self::Tableau
+        } else {
+            Self::FactoredBasis
+        }
+    }
+}
+
+/// Solves LCP(M, q) by Lemke's method; `m` is row-major, n × n with n = q.len(). The
+/// basis is carried as [`Pivoting::for_size`] says.
 ///
 /// # Errors
 /// [`LcpFailure::Ray`] when the method ends on a secondary ray,
@@ -66,6 +97,20 @@ const PIVOT_TOL: f64 = 1e-12;
 /// # Ok::<(), nsga::lcp::LcpFailure>(())
 /// ```
 pub fn lemke(m: &[f64], q: &[f64], max_pivots: usize) -> Result<LcpSolution, LcpFailure> {
+    lemke_with(Pivoting::for_size(q.len()), m, q, max_pivots)
+}
+
+/// [`lemke`] with the basis carried as `pivoting` says. Both take the same pivots in
+/// exact arithmetic.
+///
+/// # Errors
+/// As [`lemke`].
+pub fn lemke_with(
+    pivoting: Pivoting,
+    m: &[f64],
+    q: &[f64],
+    max_pivots: usize,
+) -> Result<LcpSolution, LcpFailure> {
     let n = q.len();
     if m.len() != n * n {
         return Err(LcpFailure::BadData(format!(
@@ -79,7 +124,10 @@ pub fn lemke(m: &[f64], q: &[f64], max_pivots: usize) -> Result<LcpSolution, Lcp
     let (z, pivots) = if q.iter().all(|&qi| qi >= 0.0) {
         (vec![0.0; n], 0)
     } else {
-        Tableau::new(m, q).pivot_to_solution(max_pivots)?
+        match pivoting {
+            Pivoting::Tableau => Tableau::new(m, q).pivot_to_solution(max_pivots)?,
+            Pivoting::FactoredBasis => factored::pivot_to_solution(m, q, max_pivots)?,
+        }
     };
     Ok(on_problem(m, q, z, pivots))
 }
@@ -335,6 +383,59 @@ mod tests {
             assert!(sol.residual < 1e-12, "seed {seed}: {sol:?}");
             assert!(sol.z.iter().chain(&sol.w).all(|&x| x >= -1e-12));
         }
+    }
+
+    /// LCP(M, q) with M = AᵀA + I (n × n) or, `singular`, AᵀA of a 2 × n matrix A.
+    fn random_problem(seed: u64, n: usize, singular: bool) -> (Vec<f64>, Vec<f64>) {
+        let mut r = sequence(seed);
+        let rows = if singular { 2 } else { n };
+        let a: Vec<f64> = (0..rows * n).map(|_| r()).collect();
+        let mut m = vec![0.0; n * n];
+        for i in 0..n {
+            for j in 0..n {
+                let identity = f64::from(u8::from(i == j && !singular));
+                m[i * n + j] =
+                    (0..rows).map(|k| a[k * n + i] * a[k * n + j]).sum::<f64>() + identity;
+            }
+        }
+        let q: Vec<f64> = (0..n).map(|_| r()).collect();
+        (m, q)
+    }
+
+    #[test]
+    fn the_factored_basis_takes_the_pivots_of_the_tableau() {
+        let mut compared = 0;
+        for seed in 0..60 {
+            let n = 2 + (seed as usize % 25);
+            let (m, q) = random_problem(seed, n, seed % 3 == 0);
+            if q.iter().all(|&x| x >= 0.0) {
+                continue;
+            }
+            let tableau = Tableau::new(&m, &q).pivot_to_solution(50 * n);
+            let factored = factored::pivot_to_solution(&m, &q, 50 * n);
+            match (tableau, factored) {
+                (Ok((zt, pt)), Ok((zf, pf))) => {
+                    assert_eq!(pt, pf, "seed {seed}");
+                    let gap = zt
+                        .iter()
+                        .zip(&zf)
+                        .map(|(a, b)| (a - b).abs())
+                        .fold(0.0, f64::max);
+                    assert!(gap < 1e-9, "seed {seed}: {gap}");
+                    compared += 1;
+                }
+                (t, f) => assert_eq!(t.is_ok(), f.is_ok(), "seed {seed}: {t:?} {f:?}"),
+            }
+        }
+        assert!(compared >= 40, "{compared}");
+        // Degenerate ties (equal q, singular M) and an infeasible problem.
+        let ones = [1.0; 9];
+        let (z, _) = factored::pivot_to_solution(&ones, &[-1.0, -1.0, -1.0], 50).unwrap();
+        assert!((z.iter().sum::<f64>() - 1.0).abs() < 1e-12, "{z:?}");
+        assert!(matches!(
+            factored::pivot_to_solution(&[-1.0], &[-1.0], 10),
+            Err(LcpFailure::Ray { pivots: 1 })
+        ));
     }
 
     #[test]
