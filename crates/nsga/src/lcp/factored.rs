@@ -83,6 +83,7 @@ impl Basis<'_> {
     }
 }
 
+/// K x = rhs (Kᵀ x = rhs with `transpose`) by the factors `lu`: x.
 fn solve(lu: &impl SolveCore<f64>, mut rhs: Vec<f64>, transpose: bool) -> Vec<f64> {
     let len = rhs.len();
     let b = MatMut::from_column_major_slice_mut(&mut rhs, len, 1);
