@@ -22,8 +22,8 @@ use crate::mass_inverse::MassInverse;
 use crate::system::{Evaluation, Layout};
 use nalgebra::DVector;
 
-/// The pieces of one evaluation the LCPs are built from.
-pub(crate) struct Dense {
+/// M⁻¹ and the W columns of one evaluation, the pieces the LCPs are built from.
+pub(crate) struct ContactMatrices {
     /// M⁻¹, by M's diagonal blocks.
     pub m_inv: MassInverse,
     /// The columns of W_p asked for.
@@ -32,7 +32,7 @@ pub(crate) struct Dense {
     pub w_v: SparseColumns,
 }
 
-impl Dense {
+impl ContactMatrices {
     /// M⁻¹ and the first `np` columns of W_p and `nv` of W_v (None: M is singular).
     pub(crate) fn of(eval: &Evaluation<f64>, nu: usize, np: usize, nv: usize) -> Option<Self> {
         Some(Self {
@@ -129,7 +129,7 @@ pub(crate) struct CoulombSolution {
 impl CoulombLcp {
     /// The rows of the contacts `normals` and of the friction laws `laws`, in that
     /// order: their W columns.
-    pub fn rows_of(d: &Dense, normals: &[usize], laws: &[usize]) -> Vec<DVector<f64>> {
+    pub fn rows_of(d: &ContactMatrices, normals: &[usize], laws: &[usize]) -> Vec<DVector<f64>> {
         normals
             .iter()
             .map(|&k| d.w_p.dense(k))

@@ -15,7 +15,7 @@
 //! q_{n+1} = q_M + ½Δt B u⁺, and, if asked, gaps that end below zero are closed by the
 //! least M-norm displacement, itself an LCP: 0 ≤ δ ⟂ g + W_Nᵀ M⁻¹ W_N δ ≥ 0.
 
-use crate::coulomb_lcp::{CoulombLcp, Dense};
+use crate::coulomb_lcp::{ContactMatrices, CoulombLcp};
 use crate::lcp::{lemke, LcpFailure};
 use crate::linalg::max_norm;
 use crate::moreau::advance;
@@ -100,7 +100,7 @@ pub(crate) fn free_acceleration<S: System>(
 ) -> Vec<f64> {
     let mut eval = Evaluation::new(l);
     system.evaluate(t, q, u, &mut eval);
-    Dense::of(&eval, l.nu, 0, 0).map_or_else(
+    ContactMatrices::of(&eval, l.nu, 0, 0).map_or_else(
         || vec![0.0; l.nu],
         |d| d.m_inv.apply(&eval.forces).iter().copied().collect(),
     )
@@ -132,8 +132,8 @@ pub(crate) fn lcp_step<S: System>(
     let mut eval = Evaluation::new(l);
     system.evaluate(t_m, &q_m, u, &mut eval);
     let no_solution = |m: &str| LcpStepError::NoSolution(m.to_owned());
-    let d =
-        Dense::of(&eval, nu, nn, nf).ok_or_else(|| no_solution("the mass matrix is singular"))?;
+    let d = ContactMatrices::of(&eval, nu, nn, nf)
+        .ok_or_else(|| no_solution("the mass matrix is singular"))?;
     let problem = ContactProblem::new(l, &eval, &d, u, dt);
     let (closed, solved) = match activation {
         Activation::GapAware => problem.solve_growing(problem.within_reach())?,
@@ -176,7 +176,7 @@ pub(crate) fn lcp_step<S: System>(
 struct ContactProblem<'a> {
     l: &'a Layout,
     eval: &'a Evaluation<f64>,
-    d: &'a Dense,
+    d: &'a ContactMatrices,
     dt: f64,
     u_n: DVector<f64>,
     /// ũ = u_n + Δt M⁻¹h.
@@ -204,7 +204,13 @@ struct ContactSolution {
 impl<'a> ContactProblem<'a> {
     /// The problem of a step of `dt` from the velocities `u`, with M, W and the gaps of
     /// `eval` (at q_M).
-    fn new(l: &'a Layout, eval: &'a Evaluation<f64>, d: &'a Dense, u: &[f64], dt: f64) -> Self {
+    fn new(
+        l: &'a Layout,
+        eval: &'a Evaluation<f64>,
+        d: &'a ContactMatrices,
+        u: &[f64],
+        dt: f64,
+    ) -> Self {
         let u_n = DVector::from_column_slice(u);
         let kick = DVector::from_iterator(l.nu, eval.forces.iter().map(|h| h * dt));
         let mut problem = Self {
@@ -353,7 +359,7 @@ fn project_onto_gaps<S: System>(
         if (0..nn).all(|k| eval.position[k] >= -PROJECTION_TOL) {
             break;
         }
-        let Some(d) = Dense::of(&eval, nu, nn, 0) else {
+        let Some(d) = ContactMatrices::of(&eval, nu, nn, 0) else {
             break;
         };
         let Some(du) = closing_displacement(&d, &eval.position[..nn]) else {
@@ -380,7 +386,7 @@ fn project_onto_gaps<S: System>(
 /// the tolerance that [`project_onto_gaps`] accepts, as [`ContactProblem::solve_growing`]
 /// does for the step. Posed over all 6000 contacts of a 1000-block column on a floor at
 /// once, with dense products, it was still running after 9 minutes.
-fn closing_displacement(d: &Dense, gaps: &[f64]) -> Option<DVector<f64>> {
+fn closing_displacement(d: &ContactMatrices, gaps: &[f64]) -> Option<DVector<f64>> {
     let mut set: Vec<usize> = (0..gaps.len())
         .filter(|&k| gaps[k] < -PROJECTION_TOL)
         .collect();
@@ -437,7 +443,7 @@ mod tests {
     #[test]
     fn the_contacts_within_reach_solve_the_step_at_once() {
         let (chain, l, eval, u) = hovering_chain();
-        let d = Dense::of(&eval, l.nu, l.n_normal(), l.n_friction()).expect("M regular");
+        let d = ContactMatrices::of(&eval, l.nu, l.n_normal(), l.n_friction()).expect("M regular");
         let problem = ContactProblem::new(&l, &eval, &d, &u, 1e-3);
         let reach = problem.within_reach();
         // Every interface but the top one, 1 m up.
@@ -476,7 +482,7 @@ mod tests {
         chain.evaluate(0.0, &q, &u, &mut eval);
         let nn = l.n_normal();
         let gaps = &eval.position[..nn];
-        let d = Dense::of(&eval, l.nu, nn, 0).expect("M regular");
+        let d = ContactMatrices::of(&eval, l.nu, nn, 0).expect("M regular");
         let du = closing_displacement(&d, gaps).expect("solved");
         for (k, g) in gaps.iter().enumerate() {
             let after = g + d.w_p.dot(k, du.as_slice());

@@ -1,6 +1,6 @@
 //! Consistent initial accelerations and forces at t0 (docs/method.md §5).
 
-use crate::coulomb_lcp::{CoulombLcp, Dense};
+use crate::coulomb_lcp::{ContactMatrices, CoulombLcp};
 use crate::error::StepError;
 use crate::lcp::LcpFailure;
 use crate::level::{by_constraint, LevelProblem, LevelRows, OpeningLimit};
@@ -301,7 +301,7 @@ pub fn consistent_start<S: System>(
 /// sticking law's w_F.
 fn force_directions(
     layout: &Layout,
-    d: &Dense,
+    d: &ContactMatrices,
     normals: &[usize],
     sticking: &[usize],
     slide: impl Fn(usize) -> Option<f64>,
@@ -361,7 +361,7 @@ fn lcp_start(
             "not tried, for {unknowns} unknowns (more than {LCP_START_UP_TO})"
         ));
     }
-    let d = Dense::of(e, nu, nn, nf).ok_or("the mass matrix is singular")?;
+    let d = ContactMatrices::of(e, nu, nn, nf).ok_or("the mass matrix is singular")?;
     let a_free = d.m_inv.apply(&e.forces);
     // The sign of a sliding law's slip (planar laws: one component).
     let slide = |j: usize| fixed_slip[j].as_ref().map(|s| s[0].signum());
