@@ -391,23 +391,7 @@ fn closing_displacement(d: &ContactMatrices, gaps: &[f64]) -> Option<DVector<f64
         .filter(|&k| gaps[k] < -PROJECTION_TOL)
         .collect();
     loop {
-        let n = set.len();
-        let g_cols: Vec<DVector<f64>> = set
-            .iter()
-            .map(|&k| d.m_inv.apply(d.w_p.dense(k).as_slice()))
-            .collect();
-        let mut m = vec![0.0; n * n];
-        for (r, &k) in set.iter().enumerate() {
-            for (c, g_c) in g_cols.iter().enumerate() {
-                m[r * n + c] = d.w_p.dot(k, g_c.as_slice());
-            }
-        }
-        let q: Vec<f64> = set.iter().map(|&k| gaps[k]).collect();
-        let sol = lemke(&m, &q, 50 * n + 50).ok()?;
-        let mut du = DVector::zeros(d.m_inv.dim());
-        for (g_c, delta) in g_cols.iter().zip(&sol.z) {
-            du.axpy(*delta, g_c, 1.0);
-        }
+        let du = displacement_over(d, gaps, &set)?;
         let missing: Vec<usize> = (0..gaps.len())
             .filter(|k| set.binary_search(k).is_err())
             .filter(|&k| gaps[k] + d.w_p.dot(k, du.as_slice()) < -PROJECTION_TOL)
@@ -418,6 +402,29 @@ fn closing_displacement(d: &ContactMatrices, gaps: &[f64]) -> Option<DVector<f64
         set.extend(missing);
         set.sort_unstable();
     }
+}
+
+/// The displacement of [`closing_displacement`] with the contacts `set` alone taking
+/// part: 0 ≤ z ⟂ g_S + W_Sᵀ M⁻¹ W_S z ≥ 0, du = M⁻¹ W_S z (None: Lemke's method failed).
+fn displacement_over(d: &ContactMatrices, gaps: &[f64], set: &[usize]) -> Option<DVector<f64>> {
+    let n = set.len();
+    let g_cols: Vec<DVector<f64>> = set
+        .iter()
+        .map(|&k| d.m_inv.apply(d.w_p.dense(k).as_slice()))
+        .collect();
+    let mut m = vec![0.0; n * n];
+    for (r, &k) in set.iter().enumerate() {
+        for (c, g_c) in g_cols.iter().enumerate() {
+            m[r * n + c] = d.w_p.dot(k, g_c.as_slice());
+        }
+    }
+    let q: Vec<f64> = set.iter().map(|&k| gaps[k]).collect();
+    let sol = lemke(&m, &q, 50 * n + 50).ok()?;
+    let mut du = DVector::zeros(d.m_inv.dim());
+    for (g_c, delta) in g_cols.iter().zip(&sol.z) {
+        du.axpy(*delta, g_c, 1.0);
+    }
+    Some(du)
 }
 
 #[cfg(test)]
@@ -489,20 +496,8 @@ mod tests {
             assert!(after >= -PROJECTION_TOL, "gap {k}: {after}");
         }
         // The same displacement as the problem over every contact at once.
-        let g_cols: Vec<DVector<f64>> = (0..nn)
-            .map(|k| d.m_inv.apply(d.w_p.dense(k).as_slice()))
-            .collect();
-        let mut m = vec![0.0; nn * nn];
-        for r in 0..nn {
-            for (c, g_c) in g_cols.iter().enumerate() {
-                m[r * nn + c] = d.w_p.dot(r, g_c.as_slice());
-            }
-        }
-        let every = lemke(&m, gaps, 1000).expect("solved");
-        let mut full = DVector::zeros(l.nu);
-        for (g_c, z) in g_cols.iter().zip(&every.z) {
-            full.axpy(*z, g_c, 1.0);
-        }
+        let every: Vec<usize> = (0..nn).collect();
+        let full = displacement_over(&d, gaps, &every).expect("solved");
         assert!((&du - &full).amax() < 1e-15, "{}", (&du - &full).amax());
         // Block 1 (y at index 3) rises by the depth; block 0 stays on the ground.
         assert!((du[3] - 1e-6).abs() < 1e-15 && du[1].abs() < 1e-15, "{du}");
