@@ -75,6 +75,14 @@ pub(crate) fn max_norm(v: &[f64]) -> f64 {
 
 /// Euclidean norm of a short slice.
 pub(crate) fn norm(v: &[f64]) -> f64 {
+    if let [x] = v {
+        // √(x²) is |x| except where x² is subnormal or zero: a round-off slip of an
+        // interval friction law (about 1e-160) then had a norm off by far more than an
+        // ulp, its direction was not ±1, and the Jacobian's projector 1 − d² (exactly 0
+        // for one component) became round-off over ‖v‖, entries of 1e150 that made the
+        // Newton matrix singular (docs/method.md §7).
+        return x.abs();
+    }
     v.iter().map(|x| x * x).sum::<f64>().sqrt()
 }
 

@@ -263,6 +263,10 @@ struct FactoredFor {
     prune: Option<solve::Pruning>,
     dt: f64,
     rho_inf: f64,
+    /// Factors of the regularized matrix with its rows equilibrated (`work.row_scale`
+    /// scales a right-hand side for them): they serve these sets only, without
+    /// low-rank updates, whose kept matrix is that of the last plain factorization.
+    regularized: bool,
 }
 
 impl<S: System> Stepper<S> {

@@ -151,6 +151,34 @@ fn known_singular_sets_go_straight_to_the_regularized_update() {
     assert!((st.lambda_n[0] + st.lambda_n[1] - load).abs() < 1e-9);
 }
 
+/// With simplified updates (`Options::reuse_factorization`), the factors of the
+/// regularized matrix serve the later updates of the same sets, as plain factors do:
+/// the redundant supports' steps then cost fewer factorizations than updates, and the
+/// forces still carry the load.
+#[test]
+fn regularized_factors_serve_simplified_updates() {
+    let opts = Options {
+        dt: 0.01,
+        reuse_factorization: true,
+        ..Options::default()
+    };
+    let sys = TwoCoincidentSupports { pulse: 0.5 };
+    let mut s = Stepper::new(sys, 0.0, &[0.0], &[0.0], opts).unwrap();
+    for _ in 0..40 {
+        s.step().unwrap();
+    }
+    let w = s.newton_work();
+    assert!(w.kept_updates > 0, "{w:?}");
+    assert!(s.linear_solves() < s.run_stats().newton_iterations, "{w:?}");
+    let st = s.state();
+    let load = 1.0 + 0.5 * (5.0 * st.t).sin();
+    assert!(
+        (st.lambda_n[0] + st.lambda_n[1] - load).abs() < 1e-9,
+        "{st:?}"
+    );
+    assert!(st.q[0].abs() < 1e-12, "{st:?}");
+}
+
 /// A load that varies (pulse 0.5), so that every step needs a Newton update and its
 /// singular matrix. (Under a constant load the consistent start, which Lemke's method
 /// finds without the Newton matrix, already solves every step.)

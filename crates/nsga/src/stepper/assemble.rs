@@ -728,4 +728,37 @@ mod tests {
             "the change of unknowns is not the identity"
         );
     }
+
+    /// A one-component (interval) law sliding at a round-off slip, down to where its
+    /// square is subnormal: the row is μ d ∂S alone, d = ±1, since the projector 1 − d²
+    /// is zero. When ‖v‖ was taken as √(v²), a slip of 1e-160 gave d ≠ ±1 and entries
+    /// of order μS/‖v‖·ε ≈ 1e140 on the slip's columns, a singular Newton matrix.
+    #[test]
+    fn an_interval_law_has_no_projector_at_a_round_off_slip() {
+        let mut dv = RowMat::default();
+        dv.tmp.push((0, 3, 0.7));
+        dv.tmp.push((0, 4, -0.7));
+        dv.build(1);
+        for slip in [1e-3, 1e-150, -1e-155, 1e-160, -3e-161, 1e-300] {
+            let mut jac = Vec::new();
+            let cols = [(7, 1.0), (8, 0.5)];
+            slip_row(
+                &mut jac,
+                0,
+                1.0,
+                0.5,
+                2.0,
+                &cols,
+                &[slip],
+                0,
+                SlipArgument::Rows(&dv, 0),
+            );
+            let sign = slip.signum();
+            assert_eq!(
+                jac,
+                vec![(0, 7, 0.5 * sign), (0, 8, 0.25 * sign)],
+                "slip {slip:e}"
+            );
+        }
+    }
 }

@@ -174,7 +174,8 @@ impl<S: System> Stepper<S> {
         let fits = changed_rows(self, &kept.sets, sets, &mut rows, &mut only) && !rows.is_empty();
         if fits {
             // The derivative rows are still those of the kept factors' point: only a
-            // plain factorization keeps factors, right after computing them.
+            // plain factorization's factors take low-rank updates, and it keeps them
+            // right after computing those rows.
             self.assemble_jacobian(x, sets, p, Some(&only));
         }
         self.work.low_rank.rows = rows;

@@ -58,6 +58,9 @@ enum Factor {
     Equilibrated,
     /// Reuse the kept factors (a simplified Newton update).
     Kept,
+    /// Reuse the kept factors of an `Equilibrated` matrix, whose row scales the
+    /// right-hand side takes.
+    KeptEquilibrated,
 }
 
 /// Why the kept factors gave no simplified update (`NewtonWork::exact_because`).
@@ -538,8 +541,8 @@ impl<S: System> Stepper<S> {
         dx: &mut [f64],
     ) -> Result<(), crate::linalg::LinalgError> {
         let eps = self.options.regularization;
-        // Only plain factors are kept for simplified Newton updates: the regularized
-        // linearization of redundant contacts already converges just linearly.
+        // The factors made below replace the kept ones; a regularized matrix's serve the
+        // same sets only, and only in a step's first attempt (docs/method.md §7).
         self.work.factored = None;
         // Redundancy is a property of which contacts are closed: sets whose normal
         // contacts are those of a singular plain matrix go straight to the regularized
@@ -570,6 +573,7 @@ impl<S: System> Stepper<S> {
                         prune: prune.cloned(),
                         dt: self.options.dt,
                         rho_inf: p.rho_inf,
+                        regularized: false,
                     });
                     return Ok(());
                 }
@@ -586,7 +590,17 @@ impl<S: System> Stepper<S> {
             known.push(sets.clone());
         }
         self.regularize(eps);
-        self.newton_direction(prune, Factor::Equilibrated, p, dx)
+        self.newton_direction(prune, Factor::Equilibrated, p, dx)?;
+        if self.options.reuse_factorization && self.work.first_attempt {
+            self.work.factored = Some(FactoredFor {
+                sets: sets.clone(),
+                prune: prune.cloned(),
+                dt: self.options.dt,
+                rho_inf: p.rho_inf,
+                regularized: true,
+            });
+        }
+        Ok(())
     }
 
     /// The simplified Newton update at `x` from the solver's kept factors into `dx`, when
@@ -623,14 +637,21 @@ impl<S: System> Stepper<S> {
             // open in both sets with a zero residual: their rows, an open contact's, hold
             // only their own unknowns and give them a zero update, so the factors solve
             // the reduced system of the point they were made at.
+            let factor = if kept.regularized {
+                Factor::KeptEquilibrated
+            } else {
+                Factor::Kept
+            };
             let update = self
-                .newton_direction(kept.prune.as_ref(), Factor::Kept, p, dx)
+                .newton_direction(kept.prune.as_ref(), factor, p, dx)
                 .and_then(|()| numerically_regular(x, dx));
             self.work.factored = Some(kept);
             update.is_ok()
         } else {
+            let plain = !kept.regularized;
             self.work.factored = Some(kept);
-            self.quick_updates()
+            plain
+                && self.quick_updates()
                 && self.low_rank_direction(x, sets, p, prune, dx)
                 && numerically_regular(x, dx).is_ok()
         };
@@ -667,13 +688,15 @@ impl<S: System> Stepper<S> {
         dx: &mut [f64],
     ) -> Result<(), crate::linalg::LinalgError> {
         let w = &mut self.work;
-        let again = factor == Factor::Kept;
+        let again = matches!(factor, Factor::Kept | Factor::KeptEquilibrated);
         if !again {
             w.linear_solves += 1;
         }
         dx.iter_mut().zip(&w.res).for_each(|(d, r)| *d = -r);
         if factor == Factor::Equilibrated {
             equilibrate_rows(self.off.n, &mut w.jac, &w.regularized, &mut w.row_scale);
+        }
+        if matches!(factor, Factor::Equilibrated | Factor::KeptEquilibrated) {
             dx.iter_mut().zip(&w.row_scale).for_each(|(d, s)| *d *= s);
         }
         let Some((map, n_red)) = prune else {
