@@ -5,9 +5,15 @@
 //! - `iterate`: what one iterate derives from x (eqs. 71–125), the system evaluated
 //!   there, and its index sets (eqs. 128–142);
 //! - `assemble`: the residual R(x) (eqs. 127–142) and its semismooth Jacobian (eq. 143);
+//! - `slip`: the sliding rows of a friction law and their guarded directions;
+//! - `kinematic`: the unknowns z the Newton matrix is assembled in, and back to x;
 //! - `rows`: sparse rows over x and the chain rule through q_{n+1}(x), u_{n+1}(x);
 //! - `solve`: one Newton attempt at the step on nsga's [`newton`](crate::newton)
-//!   engine, with open contacts pruned and singular matrices regularized;
+//!   engine;
+//! - `prune`: the open contacts left out of an attempt's linear solve;
+//! - `direction`: the Newton update, exact (regularized when singular) or from kept
+//!   factors;
+//! - `trial`: the uncommitted step an attempt ends on;
 //! - `predict`: the Newton start extrapolated from the last steps' solutions;
 //! - `fallback`: the policy of a step whose first attempt fails (ρ∞ retries,
 //!   fixed-set re-solves, best iterate, halving);
@@ -25,36 +31,41 @@ use crate::sets::IndexSets;
 use crate::start::{consistent_start, Start};
 use crate::state::State;
 use crate::system::{Derivatives, Evaluation, Layout, System, Triplets};
+use direction::Refusal;
 use iterate::Iterate;
 use rows::RowMat;
-use solve::Refusal;
 use state_levels::StateLevels;
 use unknowns::Offsets;
 
 mod assemble;
 mod branch;
+mod direction;
 mod fallback;
 mod far;
 mod held;
 mod iterate;
+mod kinematic;
 mod last_resort;
 mod low_rank;
 mod multipliers;
 mod predict;
+mod prune;
 mod resize;
 pub(crate) mod rows;
+mod slip;
 mod solve;
 mod state_levels;
+mod trial;
 mod unknowns;
 
-pub use assemble::NEGLIGIBLE_SLIP;
+pub use direction::WILD_UPDATE;
 pub use fallback::QUICK_CHECK_ITERATIONS;
 pub use far::FAR_CORRECTION;
 pub use held::MAX_HELD_EVALUATIONS;
 pub use iterate::SET_TIE;
 pub use low_rank::LOW_RANK_ROWS;
 pub use predict::PREDICTED_START_ITERATIONS;
-pub use solve::WILD_UPDATE;
+pub use slip::NEGLIGIBLE_SLIP;
 
 /// How many index sets found to have a singular plain Newton matrix are remembered
 /// (see [`Options::regularization`]). Redundancy is a property of which contacts are
@@ -260,7 +271,7 @@ impl Work {
 #[derive(Debug, Clone, PartialEq)]
 struct FactoredFor {
     sets: IndexSets,
-    prune: Option<solve::Pruning>,
+    prune: Option<prune::Pruning>,
     dt: f64,
     rho_inf: f64,
     /// Factors of the regularized matrix with its rows equilibrated (`work.row_scale`

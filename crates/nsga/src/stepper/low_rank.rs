@@ -20,9 +20,10 @@
 //! solved is the Newton matrix of that point for the new sets. Like every simplified
 //! update it is taken only while the residual contracts.
 
-use super::assemble::{ContactRows, KinematicColumns};
+use super::assemble::ContactRows;
+use super::kinematic::KinematicColumns;
+use super::prune::{expand, restrict, Pruning};
 use super::rows::RowMat;
-use super::solve::{expand, restrict, Pruning};
 use super::Stepper;
 use crate::params::GenAlpha;
 use crate::sets::IndexSets;

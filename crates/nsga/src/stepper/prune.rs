@@ -1,0 +1,141 @@
+//! Open contacts pruned from an attempt's linear solve (docs/method.md §7, "Pruned
+//! matrices"): a contact that is open, force-free and cannot close within the step keeps
+//! its unknowns at zero, and the Newton matrix is factored without its rows and columns.
+
+use super::Stepper;
+use crate::system::System;
+
+/// The map full → reduced index of the unknowns left in the linear solve
+/// (`usize::MAX` for a pruned one) and the reduced size.
+pub(super) type Pruning = (Vec<usize>, usize);
+
+/// Writes the entries of the full-length `full` left in the linear solve into `reduced`,
+/// in the reduced numbering of the prune `map` (all of them, in order, without one).
+pub(super) fn restrict(map: Option<&[usize]>, full: &[f64], reduced: &mut [f64]) {
+    let Some(map) = map else {
+        reduced.copy_from_slice(full);
+        return;
+    };
+    for (&m, &v) in map.iter().zip(full) {
+        if m != usize::MAX {
+            reduced[m] = v;
+        }
+    }
+}
+
+/// The inverse of [`restrict`]: `full` from `reduced`, the pruned entries 0.
+pub(super) fn expand(map: Option<&[usize]>, reduced: &[f64], full: &mut [f64]) {
+    let Some(map) = map else {
+        full.copy_from_slice(reduced);
+        return;
+    };
+    for (f, &m) in full.iter_mut().zip(map) {
+        *f = if m == usize::MAX { 0.0 } else { reduced[m] };
+    }
+}
+
+impl<S: System> Stepper<S> {
+    /// Marks the unknowns of contacts that are open, force-free and cannot close within
+    /// the step, sets them to zero in `x`, and returns the map full → reduced index
+    /// (`usize::MAX` for pruned) and the reduced size; None when nothing is pruned.
+    pub(super) fn open_contacts(&mut self, x: &mut [f64], keep: &[bool]) -> Option<Pruning> {
+        let o = self.off;
+        let dt = self.options.dt;
+        self.state_levels();
+        let st = &self.state;
+        let levels = &self.work.state_levels;
+        let (gap, rate, acc) = (&levels.position, &levels.rate, &levels.acceleration);
+        let mut pruned_n = vec![false; o.nn];
+        for (k, pr) in pruned_n.iter_mut().enumerate() {
+            let pk = o.ng + k;
+            let margin = 2.0 * dt * rate[pk].abs() + dt * dt * acc[pk].abs();
+            *pr = !keep[k]
+                && gap[pk] > margin
+                && gap[pk] > 0.0
+                && st.lambda_n[k] == 0.0
+                && st.lambda_n_bar[k] == 0.0;
+        }
+        if !pruned_n.iter().any(|&b| b) {
+            return None;
+        }
+        let mut map = vec![0usize; o.n];
+        let prune_unknown = |i: usize, map: &mut Vec<usize>, x: &mut [f64]| {
+            map[i] = usize::MAX;
+            x[i] = 0.0;
+        };
+        for (k, &pr) in pruned_n.iter().enumerate() {
+            if pr {
+                for base in [o.kn, o.cn, o.ln] {
+                    prune_unknown(base + k, &mut map, x);
+                }
+            }
+        }
+        for (j, law) in self.layout.friction.iter().enumerate() {
+            let f0 = self.law_off[j];
+            let quiet = (0..law.components)
+                .all(|m| st.lambda_f[f0 + m] == 0.0 && st.lambda_f_bar[f0 + m] == 0.0);
+            if quiet && law.normals.iter().all(|&k| pruned_n[k]) {
+                for m in 0..law.components {
+                    prune_unknown(o.cf + f0 + m, &mut map, x);
+                    prune_unknown(o.lf + f0 + m, &mut map, x);
+                }
+            }
+        }
+        let n_red = number_kept(&mut map);
+        Some((map, n_red))
+    }
+
+    /// Makes `work.state_levels` those of the current state: kept from the iterate that
+    /// became it (`state_levels`), or evaluated here.
+    fn state_levels(&mut self) {
+        let st = &self.state;
+        let w = &mut self.work;
+        if w.state_levels.describe(st) {
+            return;
+        }
+        w.eval.reset();
+        self.system.evaluate_real(st.t, &st.q, &st.u, &mut w.eval);
+        w.state_levels.evaluate(st, &w.eval);
+    }
+
+    /// Marks the constraints whose unknowns the prune `map` leaves out (none without).
+    pub(super) fn mark_unused(&mut self, map: Option<&[usize]>) {
+        let o = self.off;
+        let w = &mut self.work;
+        w.unused_position.clear();
+        w.unused_velocity.clear();
+        if let Some(map) = map {
+            let pruned = |i: usize| map[i] == usize::MAX;
+            w.unused_position.resize(o.ng, false);
+            w.unused_position
+                .extend((0..o.nn).map(|k| pruned(o.kn + k)));
+            w.unused_velocity.resize(o.nga, false);
+            w.unused_velocity
+                .extend((0..o.nf).map(|c| pruned(o.cf + c)));
+        }
+    }
+}
+
+/// Numbers the unknowns `map` keeps (those not `usize::MAX`) 0, 1, … in order, making it
+/// a prune map; returns how many it keeps, the reduced size.
+pub(super) fn number_kept(map: &mut [usize]) -> usize {
+    let mut n_red = 0;
+    for m in map.iter_mut().filter(|m| **m != usize::MAX) {
+        *m = n_red;
+        n_red += 1;
+    }
+    n_red
+}
+
+/// Whether the prune map `kept` (None: nothing pruned) keeps every unknown that `now`
+/// keeps, so that factors made with `kept` hold all of `now`'s unknowns.
+pub(super) fn keeps_all_of(kept: Option<&Vec<usize>>, now: Option<&[usize]>) -> bool {
+    match (kept, now) {
+        (None, _) => true,
+        (Some(kept), None) => kept.iter().all(|&m| m != usize::MAX),
+        (Some(kept), Some(now)) => kept
+            .iter()
+            .zip(now)
+            .all(|(&k, &n)| n == usize::MAX || k != usize::MAX),
+    }
+}
