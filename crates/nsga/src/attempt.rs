@@ -1,5 +1,5 @@
-//! The result of one Newton attempt at a step: a [`Trial`] to commit, or an
-//! [`AttemptFailure`] that tells the fallback policy what the iterates did.
+//! The outcome of one Newton attempt at a step ([`AttemptOutcome`]): a [`Trial`] to
+//! commit, or an [`AttemptFailure`] that tells the step's policy what the iterates did.
 //!
 //! The attempt reports its failure as data, not as a [`StepError`]: the policy of
 //! [`Stepper::step`] decides from it what to try next (other ρ∞, fixed index sets,
@@ -25,9 +25,28 @@ pub struct Trial {
     pub cycling: bool,
 }
 
+/// The outcome of one Newton attempt at a step: converged ([`Trial`]) or failed.
+pub type AttemptOutcome = Result<Trial, AttemptFailure>;
+
+/// Why a converged attempt's solution was refused.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum RefusedBecause {
+    /// Its position correction moves the bodies much farther than their motion over the
+    /// step could ([`FAR_CORRECTION`](crate::FAR_CORRECTION), docs/method.md §8.1).
+    FarSolution,
+}
+
 /// Why one Newton attempt at a step failed.
 #[derive(Debug, Clone, PartialEq)]
 pub enum AttemptFailure {
+    /// The iterates converged on a solution that is refused.
+    Refused {
+        /// Why.
+        reason: RefusedBecause,
+        /// Index sets visited by the Newton iterates, in first-visit order, the
+        /// solution's last.
+        visited: Vec<IndexSets>,
+    },
     /// The iterates did not converge: iteration limit, a settled cycle of index sets, or
     /// (with fixed sets) a stalled residual.
     NotConverged {
@@ -57,7 +76,23 @@ impl AttemptFailure {
         }
     }
 
-    /// The failure as the error of a step that started at `state`.
+    /// What the iterates did: the sets they visited, whether those cycled, and the
+    /// best iterate (none for an attempt without iterates or with a refused solution).
+    #[must_use]
+    pub fn iterates(self) -> (Vec<IndexSets>, bool, Option<Box<Trial>>) {
+        match self {
+            Self::NotConverged {
+                visited,
+                cycling,
+                best,
+            } => (visited, cycling, best),
+            Self::Refused { visited, .. } => (visited, false, None),
+            Self::NonFinite | Self::Singular { .. } => (Vec::new(), false, None),
+        }
+    }
+
+    /// The failure as the error of a step that started at `state` (a refused solution
+    /// as a step that did not converge).
     #[must_use]
     pub fn into_error(self, state: &State) -> StepError {
         let residual = self.residual();
@@ -69,6 +104,13 @@ impl AttemptFailure {
                 residual,
                 visited_sets: visited,
                 cycling,
+                state: Box::new(state.clone()),
+            },
+            Self::Refused { visited, .. } => StepError::NotConverged {
+                t: state.t,
+                residual,
+                visited_sets: visited,
+                cycling: false,
                 state: Box::new(state.clone()),
             },
             Self::NonFinite => StepError::NonFinite {

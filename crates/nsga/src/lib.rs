@@ -117,7 +117,7 @@ pub mod studies;
 pub mod system;
 pub mod systems;
 
-pub use attempt::{AttemptFailure, Trial};
+pub use attempt::{AttemptFailure, AttemptOutcome, RefusedBecause, Trial};
 pub use error::StepError;
 pub use explore::{
     explore, Branch, BranchEnd, Exploration, ExploreOptions, Fork, Strategy, Walker,

@@ -8,6 +8,8 @@
 //! - `slip`: the sliding rows of a friction law and their guarded directions;
 //! - `kinematic`: the unknowns z the Newton matrix is assembled in, and back to x;
 //! - `rows`: sparse rows over x and the chain rule through q_{n+1}(x), u_{n+1}(x);
+//! - `spec`: one attempt at the step as a value (start, index-set rule, ρ∞, budget, …);
+//! - `scheme`: what an attempt's iterates are evaluated and updated with;
 //! - `solve`: one Newton attempt at the step on nsga's [`newton`](crate::newton)
 //!   engine;
 //! - `prune`: the open contacts left out of an attempt's linear solve;
@@ -34,6 +36,7 @@ use crate::system::{Derivatives, Evaluation, Layout, System, Triplets};
 use direction::Refusal;
 use iterate::Iterate;
 use rows::RowMat;
+use spec::SetRule;
 use state_levels::StateLevels;
 use unknowns::Offsets;
 
@@ -52,8 +55,10 @@ mod predict;
 mod prune;
 mod resize;
 pub(crate) mod rows;
+mod scheme;
 mod slip;
 mod solve;
+mod spec;
 mod state_levels;
 mod trial;
 mod unknowns;
@@ -145,10 +150,6 @@ pub struct Stepper<S: System> {
     /// The last steps' solutions, for a predicted Newton start
     /// ([`Options::predict_start`]).
     predictor: predict::StartPredictor,
-    /// Updates an attempt may take beyond its limit while its iterates converge
-    /// (`NewtonSettings::contracting_extra`): nonzero only for the attempt from a
-    /// predicted start.
-    contracting_extra: usize,
 }
 
 /// Buffers reused from iterate to iterate and step to step.
@@ -203,8 +204,6 @@ struct Work {
     factored: Option<FactoredFor>,
     /// The kept factors' matrix and the scratch of updates for changed sets.
     low_rank: low_rank::LowRank,
-    /// Whether a step's first attempt is under way (see `Options::low_rank_updates`).
-    first_attempt: bool,
     /// The levels of the last converged trial's state, and of the current state, for
     /// the pruning of open contacts (`state_levels`).
     trial_levels: StateLevels,
@@ -254,7 +253,6 @@ impl Work {
             singular_sets: Vec::new(),
             factored: None,
             low_rank: low_rank::LowRank::default(),
-            first_attempt: false,
             unused_position: Vec::new(),
             unused_velocity: Vec::new(),
             trial_levels: StateLevels::default(),
@@ -351,7 +349,6 @@ impl<S: System> Stepper<S> {
             refusal: None,
             start_failure,
             predictor: predict::StartPredictor::default(),
-            contracting_extra: 0,
         })
     }
 
@@ -410,7 +407,6 @@ impl<S: System> Stepper<S> {
             refusal: None,
             start_failure: None,
             predictor: predict::StartPredictor::default(),
-            contracting_extra: 0,
         }
     }
     /// Drops the solver's buffers and kept factors (rebuilt at the next step), to hold a
@@ -497,7 +493,8 @@ impl<S: System> Stepper<S> {
                 ));
             }
         }
-        self.solve(fixed, rho_inf, self.state.x.clone())
+        let sets = fixed.map_or(SetRule::Free, |s| SetRule::Fixed(s.clone()));
+        self.attempt(&self.spec(sets, rho_inf))
             .map_err(|f| f.into_error(&self.state))
     }
 

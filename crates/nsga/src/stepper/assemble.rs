@@ -3,16 +3,16 @@
 
 use super::kinematic::KinematicColumns;
 use super::rows::{push_q_derivative, push_u_derivative, RowMat};
+use super::scheme::Scheme;
 use super::slip::{direction, slip_row, GuardedDirection, SlidingDirections, SlipArgument};
 use super::unknowns::Offsets;
 use super::{Stepper, Work};
-use crate::params::GenAlpha;
 use crate::sets::IndexSets;
 use crate::system::{FrictionLaw, Probes, System};
 
 impl<S: System> Stepper<S> {
     /// Fills `work.res` with R(x) for the given sets.
-    pub(super) fn residual(&mut self, x: &[f64], sets: &IndexSets, _p: &GenAlpha) {
+    pub(super) fn residual(&mut self, x: &[f64], sets: &IndexSets, _p: &Scheme) {
         let o = self.off;
         let dt = self.options.dt;
         let l = &self.layout;
@@ -125,7 +125,7 @@ impl<S: System> Stepper<S> {
     /// The closed contact rows get an explicit zero entry where
     /// [`Self::regularize`] puts ε times the diagonal entry the row has when open (see
     /// `Options::regularization`); `work.regularized` lists their positions in `work.jac`.
-    pub(super) fn jacobian(&mut self, x: &[f64], sets: &IndexSets, p: &GenAlpha) {
+    pub(super) fn jacobian(&mut self, x: &[f64], sets: &IndexSets, p: &Scheme) {
         self.derivative_rows(x);
         self.assemble_jacobian(x, sets, p, None);
     }
@@ -217,11 +217,11 @@ impl<S: System> Stepper<S> {
         &mut self,
         x: &[f64],
         sets: &IndexSets,
-        p: &GenAlpha,
+        p: &Scheme,
         only: Option<&ContactRows>,
     ) {
         let o = self.off;
-        let shifted = self.shifted_velocity_constraints();
+        let shifted = self.shifted_velocity_constraints(p.friction_shift);
         // Taken out of the buffers while the rows are read from the others.
         let w = &mut self.work;
         let mut jac = std::mem::take(&mut w.jac);
@@ -233,7 +233,7 @@ impl<S: System> Stepper<S> {
         let mut rows = Assembly {
             o,
             dt: self.options.dt,
-            columns: KinematicColumns::new(self.options.dt, p),
+            columns: KinematicColumns::new(self.options.dt, &p.alpha),
             w: &self.work,
             jac: &mut jac,
             at: &mut at,

@@ -14,8 +14,9 @@
 //! [`Options::boundary_resolves`]: crate::Options::boundary_resolves
 
 use super::fallback::QUICK_CHECK_ITERATIONS;
+use super::spec::{AttemptSpec, SetRule, StartAt};
 use super::Stepper;
-use crate::attempt::Trial;
+use crate::attempt::{AttemptOutcome, Trial};
 use crate::error::StepError;
 use crate::linalg::norm;
 use crate::options::BranchRule;
@@ -63,7 +64,7 @@ impl<S: System> Stepper<S> {
     ) -> Option<Trial> {
         let mut candidates = Candidates::default();
         for sets in visited {
-            let Ok(t) = self.solve_retry(Some(sets), rho0) else {
+            let Ok(t) = self.attempt(&self.retry_spec(SetRule::Fixed(sets.clone()), rho0)) else {
                 continue;
             };
             // Self-consistency: the sets recomputed from the converged x (the thesis's
@@ -116,7 +117,7 @@ impl<S: System> Stepper<S> {
         let sets = converged.stats.sets.clone();
         candidates.offer(&sets, converged, true);
         for s in &flips {
-            let Ok(t) = self.solve_retry(Some(s), rho0) else {
+            let Ok(t) = self.attempt(&self.retry_spec(SetRule::Fixed(s.clone()), rho0)) else {
                 continue;
             };
             if &self.sets_of(&t.state.x, rho0) == s {
@@ -174,11 +175,6 @@ impl<S: System> Stepper<S> {
         let rho = self.options.rho_inf;
         let mut candidates = Candidates::default();
         let all = neighbour_sets(visited, &self.layout.friction);
-        let options = self.options.clone();
-        let quick = crate::Options {
-            max_iter: QUICK_CHECK_ITERATIONS,
-            ..options.clone()
-        };
         let mut tried = 0;
         for (i, sets) in all.iter().enumerate() {
             // Neighbours only until a first solution is found.
@@ -193,16 +189,9 @@ impl<S: System> Stepper<S> {
             let candidate = if self.at_friction_bounds(sets, &recomputed, &fixed.state) {
                 fixed
             } else {
-                // Does a free Newton solve started from it converge? (`set_state` counts
-                // the time grid from the step's start, as any restart from a state does.)
-                let mut start = saved.clone();
-                start.x.clone_from(&fixed.state.x);
-                self.set_state(start);
-                self.set_options(quick.clone())?;
-                let free = self.trial(None, rho);
-                self.set_options(options.clone())?;
-                self.set_state(saved.clone());
-                let Ok(free) = free else { continue };
+                let Ok(free) = self.quick_check(fixed.state.x, rho) else {
+                    continue;
+                };
                 free
             };
             let sets = candidate.stats.sets.clone();
@@ -220,6 +209,25 @@ impl<S: System> Stepper<S> {
         trial.stats.retries = 1 + self.options.rho_inf_retries.len();
         self.commit(trial);
         Ok(())
+    }
+
+    /// Does a free Newton attempt started from the unknowns `x` of a fixed-set solution
+    /// converge within [`QUICK_CHECK_ITERATIONS`] updates (or a free attempt's budget of
+    /// [`Options::max_iter_per_contact`](crate::Options::max_iter_per_contact), when that
+    /// is larger)? The time grid is counted from the step's start from then on, and what
+    /// the last solutions left for the next steps is forgotten, as after any restart
+    /// from a state ([`Stepper::set_state`]).
+    fn quick_check(&mut self, x: Vec<f64>, rho: f64) -> AttemptOutcome {
+        self.time_base = (self.state.t, self.state.k);
+        self.forget_solutions();
+        let check = AttemptSpec {
+            start: StartAt::Unknowns(x),
+            budget: self.free_budget_over(QUICK_CHECK_ITERATIONS),
+            ..self.spec(SetRule::Free, rho)
+        };
+        let free = self.attempt(&check);
+        self.forget_solutions();
+        free
     }
 
     /// Whether the sets recomputed from a fixed-set solution differ from the fixed ones

@@ -4,9 +4,9 @@
 
 use super::kinematic::KinematicColumns;
 use super::prune::{expand, keeps_all_of, restrict, Pruning};
+use super::scheme::Scheme;
 use super::{FactoredFor, Stepper, SINGULAR_SETS_KEPT};
 use crate::linalg::{equilibrate_rows, max_norm};
-use crate::params::GenAlpha;
 use crate::sets::IndexSets;
 use crate::system::System;
 use std::time::Instant;
@@ -48,7 +48,7 @@ impl<S: System> Stepper<S> {
         &mut self,
         x: &[f64],
         sets: &IndexSets,
-        p: &GenAlpha,
+        p: &Scheme,
         prune: Option<&Pruning>,
         dx: &mut [f64],
     ) -> Result<(), crate::linalg::LinalgError> {
@@ -84,7 +84,7 @@ impl<S: System> Stepper<S> {
                         sets: sets.clone(),
                         prune: prune.cloned(),
                         dt: self.options.dt,
-                        rho_inf: p.rho_inf,
+                        rho_inf: p.alpha.rho_inf,
                         regularized: false,
                     });
                     return Ok(());
@@ -103,12 +103,12 @@ impl<S: System> Stepper<S> {
         }
         self.regularize(eps);
         self.newton_direction(prune, Factor::Equilibrated, p, dx)?;
-        if self.options.reuse_factorization && self.work.first_attempt {
+        if self.options.reuse_factorization && p.quick_updates {
             self.work.factored = Some(FactoredFor {
                 sets: sets.clone(),
                 prune: prune.cloned(),
                 dt: self.options.dt,
-                rho_inf: p.rho_inf,
+                rho_inf: p.alpha.rho_inf,
                 regularized: true,
             });
         }
@@ -123,7 +123,7 @@ impl<S: System> Stepper<S> {
         &mut self,
         x: &[f64],
         sets: &IndexSets,
-        p: &GenAlpha,
+        p: &Scheme,
         prune: Option<&Pruning>,
         dx: &mut [f64],
     ) -> bool {
@@ -136,7 +136,7 @@ impl<S: System> Stepper<S> {
         };
         let same_sets = &kept.sets == sets;
         let kept_map = kept.prune.as_ref().map(|(map, _)| map);
-        let same_system = kept.dt == self.options.dt && kept.rho_inf == p.rho_inf;
+        let same_system = kept.dt == self.options.dt && kept.rho_inf == p.alpha.rho_inf;
         let fits = same_system
             && (kept_map == map || same_sets && keeps_all_of(kept_map, map.map(Vec::as_slice)));
         if !fits {
@@ -163,7 +163,7 @@ impl<S: System> Stepper<S> {
             let plain = !kept.regularized;
             self.work.factored = Some(kept);
             plain
-                && self.quick_updates()
+                && self.quick_updates(p)
                 && self.low_rank_direction(x, sets, p, prune, dx)
                 && numerically_regular(x, dx).is_ok()
         };
@@ -184,11 +184,11 @@ impl<S: System> Stepper<S> {
         &mut self,
         prune: Option<&Pruning>,
         factor: Factor,
-        p: &GenAlpha,
+        p: &Scheme,
         dx: &mut [f64],
     ) -> Result<(), crate::linalg::LinalgError> {
         let out = self.newton_direction_in_z(prune, factor, dx);
-        KinematicColumns::new(self.options.dt, p).to_unknowns(&self.off, dx);
+        KinematicColumns::new(self.options.dt, &p.alpha).to_unknowns(&self.off, dx);
         out
     }
 
@@ -287,7 +287,7 @@ mod tests {
             ..Options::default()
         };
         let mut s = Stepper::new(chain, 0.0, &q0, &u0, options).unwrap();
-        let p = GenAlpha::new(0.5);
+        let p = s.scheme(0.5);
         // Its unknowns are zero, as the pruning leaves them.
         let o = s.off;
         let top = o.nn - 1;

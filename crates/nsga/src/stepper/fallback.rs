@@ -2,10 +2,10 @@
 //! as [`Stepper::step`] applies it: other ρ∞ (thesis §4.2), fixed-set re-solves at a
 //! branch point, the best iterate, halved substeps, and re-solves at a friction bound.
 
-use super::held::SetPolicy;
 use super::predict::PREDICTED_START_ITERATIONS;
+use super::spec::{AttemptSpec, SetRule, StartAt};
 use super::Stepper;
-use crate::attempt::{AttemptFailure, Trial};
+use crate::attempt::{AttemptFailure, AttemptOutcome, Trial};
 use crate::error::StepError;
 use crate::options::{FailurePolicy, RhoInfRetry};
 use crate::report::{Stage, StepStats};
@@ -47,9 +47,7 @@ impl<S: System> Stepper<S> {
     /// ρ∞ retries, the fixed-set re-solves of a cycling step, the best iterate.
     fn step_once(&mut self) -> Result<(), StepError> {
         let rho0 = self.options.rho_inf;
-        self.work.first_attempt = true;
         let first = self.counting(Stage::FirstAttempt, |s| s.first_attempt(rho0));
-        self.work.first_attempt = false;
         let first = match first {
             Ok(t) => {
                 let t = if self.options.probe_flips {
@@ -62,27 +60,22 @@ impl<S: System> Stepper<S> {
             }
             Err(f) => f,
         };
-        let iterated = matches!(first, AttemptFailure::NotConverged { .. });
+        let iterated = matches!(
+            first,
+            AttemptFailure::NotConverged { .. } | AttemptFailure::Refused { .. }
+        );
         // A singular Newton matrix on every attempt is reported as such, not as a
         // non-converged step without iterates.
         let mut singular = matches!(first, AttemptFailure::Singular { .. }).then(|| first.clone());
-        let (visited, cycling, mut best) = match first {
-            AttemptFailure::NotConverged {
-                visited,
-                cycling,
-                best,
-            } => (visited, cycling, best),
-            AttemptFailure::NonFinite | AttemptFailure::Singular { .. } => {
-                (Vec::new(), false, None)
-            }
-        };
+        let (visited, cycling, mut best) = first.iterates();
         let mut retries = 1;
         let rho_retries = match self.options.rho_inf_retry {
             RhoInfRetry::SingularMatrix if iterated => Vec::new(),
             _ => self.options.rho_inf_retries.clone(),
         };
         for rho in rho_retries {
-            match self.counting(Stage::RhoRetries, |s| s.solve_retry(None, rho)) {
+            let retry = self.retry_spec(SetRule::Free, rho);
+            match self.counting(Stage::RhoRetries, |s| s.attempt(&retry)) {
                 Ok(mut t) => {
                     t.stats.retries = retries;
                     self.commit(t);
@@ -98,7 +91,7 @@ impl<S: System> Stepper<S> {
                     }
                 }
                 Err(AttemptFailure::Singular { .. }) => {}
-                Err(AttemptFailure::NonFinite) => singular = None,
+                Err(AttemptFailure::NonFinite | AttemptFailure::Refused { .. }) => singular = None,
             }
             retries += 1;
         }
@@ -160,10 +153,11 @@ impl<S: System> Stepper<S> {
     /// update; docs/method.md §8.2), and free Newton only when that fails; the fallback
     /// policy then handles free Newton's failure as before. With
     /// [`Options::predict_start`](crate::Options::predict_start) and a prediction at
-    /// hand, all of this first runs from the predicted unknowns with at most
-    /// [`PREDICTED_START_ITERATIONS`] updates (more while they converge), and from the
-    /// last solution only when that fails.
-    fn first_attempt(&mut self, rho0: f64) -> Result<Trial, AttemptFailure> {
+    /// hand, free Newton first runs from the predicted unknowns with at most
+    /// [`PREDICTED_START_ITERATIONS`] updates (more while they converge), and all of
+    /// this from the last solution only when that fails. Every attempt here may take the
+    /// quick updates of a step's first attempt.
+    fn first_attempt(&mut self, rho0: f64) -> AttemptOutcome {
         // A step that converged without an update from its start is followed by another
         // one (a body at rest or in free flight): there the extrapolation would only
         // add round-off to a start that is already a solution.
@@ -173,62 +167,51 @@ impl<S: System> Stepper<S> {
             self.predictor
                 .predict(self.state.k, self.options.dt, &self.state.x, o)
         });
+        let free = self.first_spec(SetRule::Free, rho0);
         if let Some(x) = predicted.flatten() {
-            let full = (self.options.max_iter, self.options.max_iter_per_contact);
-            self.options.max_iter = PREDICTED_START_ITERATIONS.min(full.0);
-            self.options.max_iter_per_contact = 0;
-            self.contracting_extra = full.0 - self.options.max_iter;
-            let from_prediction = self.first_attempt_from(rho0, x);
-            (self.options.max_iter, self.options.max_iter_per_contact) = full;
-            self.contracting_extra = 0;
-            if from_prediction.is_ok() {
-                return from_prediction;
+            let budget = PREDICTED_START_ITERATIONS.min(self.options.max_iter);
+            let from_prediction = AttemptSpec {
+                start: StartAt::Unknowns(x),
+                budget,
+                contracting_extra: self.options.max_iter - budget,
+                ..free.clone()
+            };
+            let outcome = self.attempt(&from_prediction);
+            if outcome.is_ok() {
+                return outcome;
             }
         }
-        self.first_attempt_from(rho0, self.state.x.clone())
+        if let Some(previous) = self.held_sets() {
+            let most = self.options.max_openings_per_update;
+            let held = self.first_spec(SetRule::Held { previous, most }, rho0);
+            if let Ok(trial) = self.attempt(&held) {
+                return Ok(trial);
+            }
+        }
+        self.attempt(&free)
     }
 
-    /// [`Stepper::first_attempt`] from the unknowns `x`.
-    fn first_attempt_from(&mut self, rho0: f64, x: Vec<f64>) -> Result<Trial, AttemptFailure> {
-        let budget = self.free_budget();
+    /// An attempt of the step's first stage: [`Stepper::spec`] with quick updates.
+    fn first_spec(&self, sets: SetRule, rho0: f64) -> AttemptSpec {
+        AttemptSpec {
+            quick_updates: true,
+            ..self.spec(sets, rho0)
+        }
+    }
+
+    /// The previous step's sets, where a free attempt takes the held-sets attempt first
+    /// (see [`Stepper::first_attempt`]).
+    fn held_sets(&self) -> Option<IndexSets> {
         let most = self.options.max_openings_per_update;
         // Only systems that take the attempt pay for a copy of the previous sets.
-        let previous = (most > 0 && budget > self.options.max_iter)
+        (most > 0 && self.free_budget() > self.options.max_iter)
             .then_some(self.last.as_ref())
             .flatten()
             .filter(|s| {
                 s.sets
                     .is_consistent(self.off.nn, self.layout.friction.len())
             })
-            .map(|s| s.sets.clone());
-        let Some(previous) = previous else {
-            return self.solve(None, rho0, x);
-        };
-        let held = SetPolicy::Held {
-            budget,
-            previous,
-            most,
-        };
-        if let Ok(trial) = self.solve_with(None, &held, rho0, x.clone()) {
-            return Ok(trial);
-        }
-        self.solve(None, rho0, x)
-    }
-
-    /// A retry or fixed-set re-solve from the state's unknowns, with at most
-    /// [`Options::retry_max_iter`](crate::Options::retry_max_iter) Newton iterations.
-    pub(super) fn solve_retry(
-        &mut self,
-        fixed: Option<&IndexSets>,
-        rho_inf: f64,
-    ) -> Result<Trial, AttemptFailure> {
-        let full = (self.options.max_iter, self.options.max_iter_per_contact);
-        self.options.max_iter = self.options.retry_max_iter.min(full.0);
-        // Free retries too: their budget would otherwise grow with the contacts.
-        self.options.max_iter_per_contact = 0;
-        let out = self.solve(fixed, rho_inf, self.state.x.clone());
-        (self.options.max_iter, self.options.max_iter_per_contact) = full;
-        out
+            .map(|s| s.sets.clone())
     }
 
     /// Stage 3b of the policy of [`Stepper::step`]: the step from the state's unknowns,
@@ -238,11 +221,12 @@ impl<S: System> Stepper<S> {
     /// closed contacts, this one usually has (docs/method.md §8.2).
     ///
     /// [`Options::retry_without_friction_shift`]: crate::Options::retry_without_friction_shift
-    fn solve_unshifted(&mut self, rho0: f64) -> Result<Trial, AttemptFailure> {
-        self.options.friction_percussion_shift = false;
-        let out = self.solve(None, rho0, self.state.x.clone());
-        self.options.friction_percussion_shift = true;
-        out.map(|mut t| {
+    fn solve_unshifted(&mut self, rho0: f64) -> AttemptOutcome {
+        let unshifted = AttemptSpec {
+            friction_shift: false,
+            ..self.spec(SetRule::Free, rho0)
+        };
+        self.attempt(&unshifted).map(|mut t| {
             t.stats.unshifted = true;
             t
         })

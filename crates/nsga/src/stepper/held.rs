@@ -13,45 +13,15 @@
 //! converges on the solution in which only that corner has lifted (7 updates for 300
 //! blocks; `cargo run --release -p blockstack --example tipping_onset`).
 
+use super::scheme::Scheme;
 use super::Stepper;
 use crate::linalg::max_norm;
-use crate::params::GenAlpha;
 use crate::sets::IndexSets;
 use crate::system::System;
 
 /// Evaluations with the previous step's sets held before they are released anyway (a
 /// held solve that converges does so within a few quadratic updates).
 pub const MAX_HELD_EVALUATIONS: usize = 8;
-
-/// How a free attempt (index sets not fixed) chooses the sets of its Newton updates.
-#[derive(Debug, Clone, PartialEq, Eq)]
-pub(super) enum SetPolicy {
-    /// The contact laws' sets at every iterate (eqs. 128–142), for at most `budget`
-    /// updates.
-    Free {
-        /// Largest number of Newton updates.
-        budget: usize,
-    },
-    /// The previous step's sets held, then released with at most `most` openings per
-    /// update ([`HeldSets`]), for at most `budget` updates.
-    Held {
-        /// Largest number of Newton updates.
-        budget: usize,
-        /// The previous step's sets.
-        previous: IndexSets,
-        /// Openings per update after the release.
-        most: usize,
-    },
-}
-
-impl SetPolicy {
-    /// The attempt's largest number of Newton updates.
-    pub(super) fn budget(&self) -> usize {
-        match self {
-            Self::Free { budget } | Self::Held { budget, .. } => *budget,
-        }
-    }
-}
 
 /// The progress of one held-sets attempt.
 #[derive(Debug, Clone)]
@@ -102,7 +72,7 @@ impl<S: System> Stepper<S> {
     pub(super) fn evaluate_held(
         &mut self,
         x: &[f64],
-        p: &GenAlpha,
+        p: &Scheme,
         first: bool,
         progress: &mut HeldSets,
     ) -> (IndexSets, f64) {

@@ -3,8 +3,8 @@
 //! 96, 102, 113, 114, 125), the system evaluated there, and the index sets the contact
 //! laws give (eqs. 128–142).
 
+use super::scheme::Scheme;
 use super::Stepper;
-use crate::params::GenAlpha;
 use crate::prox::prox_parameters;
 use crate::sets::{beyond_the_strongest, IndexSets};
 use crate::system::System;
@@ -77,7 +77,7 @@ impl<S: System> Stepper<S> {
     }
 
     /// Kinematic updates (eqs. 71, 73, 125, 95, 96, 102, 113, 114).
-    pub(super) fn derive(&mut self, x: &[f64], p: &GenAlpha) {
+    pub(super) fn derive(&mut self, x: &[f64], p: &Scheme) {
         let o = self.off;
         let st = &self.state;
         let dt = self.options.dt;
@@ -86,10 +86,13 @@ impl<S: System> Stepper<S> {
         it.a_bar1.clear();
         it.u1.clear();
         for i in 0..o.nu {
-            let ab = p.bar(st.a[i], x[o.a + i], st.a_bar[i]);
+            let ab = p.alpha.bar(st.a[i], x[o.a + i], st.a_bar[i]);
             it.a_bar1.push(ab);
-            it.u1
-                .push(st.u[i] + dt * ((1.0 - p.gamma) * st.a_bar[i] + p.gamma * ab) + x[o.uu + i]);
+            it.u1.push(
+                st.u[i]
+                    + dt * ((1.0 - p.alpha.gamma) * st.a_bar[i] + p.alpha.gamma * ab)
+                    + x[o.uu + i],
+            );
         }
         it.q1.clear();
         for j in 0..o.nq {
@@ -99,7 +102,8 @@ impl<S: System> Stepper<S> {
             let mut bq = 0.0;
             for (i, bij) in b.row(j) {
                 bu += bij * st.u[i];
-                let a_beta = (1.0 - 2.0 * p.beta) * st.a_bar[i] + 2.0 * p.beta * it.a_bar1[i];
+                let a_beta =
+                    (1.0 - 2.0 * p.alpha.beta) * st.a_bar[i] + 2.0 * p.alpha.beta * it.a_bar1[i];
                 ba += bij * a_beta;
                 bq += bij * x[o.qq + i];
             }
@@ -110,20 +114,26 @@ impl<S: System> Stepper<S> {
         it.p_n.clear();
         it.kappa_hat.clear();
         for k in 0..o.nn {
-            let lb = p.bar(st.lambda_n[k], x[o.ln + k], st.lambda_n_bar[k]);
+            let lb = p.alpha.bar(st.lambda_n[k], x[o.ln + k], st.lambda_n_bar[k]);
             it.lbar_n1.push(lb);
-            it.p_n
-                .push(x[o.cn + k] + dt * ((1.0 - p.gamma) * st.lambda_n_bar[k] + p.gamma * lb));
-            it.kappa_hat
-                .push(x[o.kn + k] + dt * dt * ((0.5 - p.beta) * st.lambda_n_bar[k] + p.beta * lb));
+            it.p_n.push(
+                x[o.cn + k]
+                    + dt * ((1.0 - p.alpha.gamma) * st.lambda_n_bar[k] + p.alpha.gamma * lb),
+            );
+            it.kappa_hat.push(
+                x[o.kn + k]
+                    + dt * dt * ((0.5 - p.alpha.beta) * st.lambda_n_bar[k] + p.alpha.beta * lb),
+            );
         }
         it.lbar_f1.clear();
         it.p_f.clear();
         for c in 0..o.nf {
-            let lb = p.bar(st.lambda_f[c], x[o.lf + c], st.lambda_f_bar[c]);
+            let lb = p.alpha.bar(st.lambda_f[c], x[o.lf + c], st.lambda_f_bar[c]);
             it.lbar_f1.push(lb);
-            it.p_f
-                .push(x[o.cf + c] + dt * ((1.0 - p.gamma) * st.lambda_f_bar[c] + p.gamma * lb));
+            it.p_f.push(
+                x[o.cf + c]
+                    + dt * ((1.0 - p.alpha.gamma) * st.lambda_f_bar[c] + p.alpha.gamma * lb),
+            );
         }
         // Multipliers per family, for the smooth rows and the derivative probes.
         let fam = |v: &mut Vec<f64>, first: &[f64], second: &[f64]| {
@@ -146,7 +156,7 @@ impl<S: System> Stepper<S> {
         fam(&mut it.kap_p, &x[o.kg..o.kg + o.ng], &x[o.kn..o.kn + o.nn]);
         it.half_cap_v.clear();
         // ½Δt Λ_v of the Q rows (eq. 127); the friction part only with the shift.
-        let shifted = self.shifted_velocity_constraints();
+        let shifted = self.shifted_velocity_constraints(p.friction_shift);
         let it = &mut self.work.it;
         it.half_cap_v
             .extend(it.cap_v.iter().take(shifted).map(|c| 0.5 * dt * c));
@@ -263,11 +273,10 @@ impl<S: System> Stepper<S> {
 
     /// How many velocity-level constraints, counted from the first, shift the position
     /// by half a step of their percussions in the Q rows (eq. 127): the bilateral ones,
-    /// and the friction laws' with
-    /// [`Options::friction_percussion_shift`](crate::Options::friction_percussion_shift).
-    pub(super) fn shifted_velocity_constraints(&self) -> usize {
+    /// and with `friction_shift` ([`Scheme::friction_shift`]) the friction laws'.
+    pub(super) fn shifted_velocity_constraints(&self, friction_shift: bool) -> usize {
         let o = &self.off;
-        if self.options.friction_percussion_shift {
+        if friction_shift {
             o.nga + o.nf
         } else {
             o.nga

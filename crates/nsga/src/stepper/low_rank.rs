@@ -24,8 +24,8 @@ use super::assemble::ContactRows;
 use super::kinematic::KinematicColumns;
 use super::prune::{expand, restrict, Pruning};
 use super::rows::RowMat;
+use super::scheme::Scheme;
 use super::Stepper;
-use crate::params::GenAlpha;
 use crate::sets::IndexSets;
 use crate::system::System;
 
@@ -163,7 +163,7 @@ impl<S: System> Stepper<S> {
         &mut self,
         x: &[f64],
         sets: &IndexSets,
-        p: &GenAlpha,
+        p: &Scheme,
         prune: Option<&Pruning>,
         dx: &mut [f64],
     ) -> bool {
@@ -183,7 +183,7 @@ impl<S: System> Stepper<S> {
         self.work.low_rank.only = only;
         let ok = fits && self.low_rank_solve(prune, dx);
         if ok {
-            KinematicColumns::new(self.options.dt, p).to_unknowns(&self.off, dx);
+            KinematicColumns::new(self.options.dt, &p.alpha).to_unknowns(&self.off, dx);
         }
         ok
     }
@@ -301,7 +301,7 @@ mod tests {
     /// A resting chain of n blocks, the top one slipping, with its Newton matrix at the
     /// start factorized for the sets there: the stepper, x, the parameters, those sets,
     /// and the update they give.
-    fn factored_chain(n: usize) -> (Stepper<Chain>, Vec<f64>, GenAlpha, IndexSets, Vec<f64>) {
+    fn factored_chain(n: usize) -> (Stepper<Chain>, Vec<f64>, Scheme, IndexSets, Vec<f64>) {
         let chain = Chain::benchmark(n);
         let (q0, u0) = chain.resting(0.3);
         let options = Options {
@@ -312,7 +312,7 @@ mod tests {
         };
         let mut s = Stepper::new(chain, 0.0, &q0, &u0, options).unwrap();
         let x = s.state().x.clone();
-        let p = GenAlpha::new(0.5);
+        let p = s.scheme(0.5);
         let kept = s.sets_of(&x, 0.5);
         assert!(
             kept.a.iter().all(|&a| a) && !kept.d[n - 1],

@@ -3,13 +3,14 @@
 //! from its linear solve ([`super::prune`]) and its updates from [`super::direction`].
 
 use super::direction::Refusal;
-use super::held::{HeldSets, SetPolicy};
+use super::held::HeldSets;
 use super::kinematic::KinematicColumns;
 use super::prune::Pruning;
+use super::scheme::Scheme;
+use super::spec::AttemptSpec;
 use super::Stepper;
-use crate::attempt::{AttemptFailure, Trial};
+use crate::attempt::{AttemptFailure, AttemptOutcome, RefusedBecause};
 use crate::newton::{self, GiveUp, NewtonProblem, NewtonSettings, Outcome};
-use crate::params::GenAlpha;
 use crate::sets::IndexSets;
 use crate::system::System;
 use nalgebra::DMatrix;
@@ -20,11 +21,11 @@ use std::time::Instant;
 struct StepProblem<'a, S: System> {
     stepper: &'a mut Stepper<S>,
     fixed: Option<&'a IndexSets>,
-    params: GenAlpha,
+    params: Scheme,
     prune: Option<&'a Pruning>,
     /// The pruned contacts that closed at the iterate that asked for a restart.
     closing: Vec<bool>,
-    /// The progress of a held-sets attempt ([`SetPolicy::Held`]).
+    /// The progress of a held-sets attempt ([`SetRule::Held`](super::spec::SetRule)).
     held: Option<HeldSets>,
     /// Whether this solve continues an attempt after a restart ([`Resumed`]).
     resuming: bool,
@@ -36,6 +37,16 @@ struct StepProblem<'a, S: System> {
 struct Resumed {
     updates: usize,
     held: Option<HeldSets>,
+}
+
+/// How one run of the Newton engine within an attempt ended. One per run, moved once:
+/// boxing the outcome would only add an allocation.
+#[allow(clippy::large_enum_variant)]
+enum Run {
+    /// The attempt's outcome.
+    Ended(AttemptOutcome),
+    /// The pruned contacts `closing` closed: the attempt goes on `from` there.
+    Restart { closing: Vec<bool>, from: Resumed },
 }
 
 impl<S: System> NewtonProblem for StepProblem<'_, S> {
@@ -118,120 +129,82 @@ impl<S: System> NewtonProblem for StepProblem<'_, S> {
 }
 
 impl<S: System> Stepper<S> {
-    /// One Newton attempt at the step from the state's unknowns `x`, with ρ∞ = `rho_inf`
-    /// and the index sets computed per iterate or `fixed`; open contacts are pruned when
+    /// One Newton attempt at the step as `spec` describes it (docs/method.md §4). Open
+    /// contacts are pruned from its linear solve when
     /// [`Options::prune_open_contacts`](crate::Options::prune_open_contacts) asks for it
-    /// (with fixed sets, only those the sets leave open).
-    pub(super) fn solve(
-        &mut self,
-        fixed: Option<&IndexSets>,
-        rho_inf: f64,
-        x: Vec<f64>,
-    ) -> Result<Trial, AttemptFailure> {
-        let policy = SetPolicy::Free {
-            budget: self.free_budget(),
-        };
-        self.solve_with(fixed, &policy, rho_inf, x)
-    }
-
-    /// Whether this attempt takes the updates of
-    /// [`Options::low_rank_updates`](crate::Options::low_rank_updates): a step's first
-    /// attempt, when they are asked for.
-    pub(super) fn quick_updates(&self) -> bool {
-        self.options.low_rank_updates && self.work.first_attempt
-    }
-
-    /// Largest number of updates of a free attempt: see
-    /// [`Options::max_iter_per_contact`](crate::Options::max_iter_per_contact).
-    pub(super) fn free_budget(&self) -> usize {
-        (self.options.max_iter_per_contact * self.off.nn).max(self.options.max_iter)
-    }
-
-    /// [`Stepper::solve`] with the sets of a free attempt chosen by `policy` (ignored
-    /// when the sets are `fixed`).
-    pub(super) fn solve_with(
-        &mut self,
-        fixed: Option<&IndexSets>,
-        policy: &SetPolicy,
-        rho_inf: f64,
-        x: Vec<f64>,
-    ) -> Result<Trial, AttemptFailure> {
-        let keep = self.options.prune_open_contacts.then(|| {
+    /// (with fixed sets, only those the sets leave open); a pruned contact that closes
+    /// restarts the run from its iterate with that contact kept ([`Resumed`]).
+    pub(super) fn attempt(&mut self, spec: &AttemptSpec) -> AttemptOutcome {
+        let mut x = spec.start_unknowns(&self.state);
+        let fixed = spec.sets.fixed();
+        let mut keep: Option<Vec<bool>> = self.options.prune_open_contacts.then(|| {
             (0..self.off.nn)
                 .map(|k| fixed.is_some_and(|f| f.a[k]))
                 .collect()
         });
-        self.solve_keeping(fixed, policy, rho_inf, x, keep)
+        let mut resumed = None;
+        loop {
+            match self.newton_run(spec, &mut x, keep.as_deref(), resumed) {
+                Run::Ended(outcome) => return outcome,
+                Run::Restart { closing, from } => {
+                    // The iterate is the one the unpruned attempt would have reached (a
+                    // pruned contact's unknowns stay zero while it is open): go on from
+                    // it with the closing contacts kept, within what is left of the budget.
+                    let keep = keep.get_or_insert_with(|| vec![false; self.off.nn]);
+                    for (kk, c) in keep.iter_mut().zip(closing) {
+                        *kk |= c;
+                    }
+                    resumed = Some(from);
+                }
+            }
+        }
     }
 
-    /// [`Stepper::solve_with`] with `keep` the contacts that may not be pruned (None: no
-    /// pruning).
-    fn solve_keeping(
-        &mut self,
-        fixed: Option<&IndexSets>,
-        policy: &SetPolicy,
-        rho_inf: f64,
-        mut x: Vec<f64>,
-        keep: Option<Vec<bool>>,
-    ) -> Result<Trial, AttemptFailure> {
-        self.solve_resuming(fixed, policy, rho_inf, &mut x, keep, None)
+    /// Whether an attempt with `scheme` takes the updates of
+    /// [`Options::low_rank_updates`](crate::Options::low_rank_updates): a step's first
+    /// attempt, when they are asked for.
+    pub(super) fn quick_updates(&self, scheme: &Scheme) -> bool {
+        self.options.low_rank_updates && scheme.quick_updates
     }
 
-    /// [`Stepper::solve_keeping`] from the iterate `x`, which continues an attempt when
-    /// `resumed` says how far it went (see [`Resumed`]).
-    fn solve_resuming(
+    /// One run of the Newton engine for the attempt `spec` from the iterate `x`, with
+    /// `keep` the contacts that may not be pruned (None: no pruning); `resumed` says how
+    /// far the attempt went before, when the run continues it.
+    fn newton_run(
         &mut self,
-        fixed: Option<&IndexSets>,
-        policy: &SetPolicy,
-        rho_inf: f64,
+        spec: &AttemptSpec,
         x: &mut Vec<f64>,
-        keep: Option<Vec<bool>>,
+        keep: Option<&[bool]>,
         resumed: Option<Resumed>,
-    ) -> Result<Trial, AttemptFailure> {
-        let prune = keep.as_ref().and_then(|k| self.open_contacts(x, k));
+    ) -> Run {
+        let fixed = spec.sets.fixed();
+        let prune = keep.and_then(|k| self.open_contacts(x, k));
         self.mark_unused(prune.as_ref().map(|(map, _)| map.as_slice()));
-        let params = GenAlpha::new(rho_inf);
-        let budget = match fixed {
-            None => policy.budget(),
-            Some(_) => self.options.max_iter,
-        };
+        let scheme = spec.scheme();
         let updates_before = resumed.as_ref().map_or(0, |r| r.updates);
-        let max_iter = budget.saturating_sub(updates_before);
-        // The held-sets attempt takes its updates whole: after the release each update
-        // changes the sets of a contact or a few, and halving such updates only delayed
-        // the next change (docs/method.md §8.2, stage 1).
-        let line_search = match policy {
-            SetPolicy::Held { .. } => 0,
-            SetPolicy::Free { .. } => self.options.line_search,
-        };
         let settings = NewtonSettings {
             tol: self.options.tol,
-            max_iter,
-            line_search,
+            max_iter: spec.budget.saturating_sub(updates_before),
+            line_search: spec.line_search,
             reuse_factorization: self.options.reuse_factorization,
-            resume_reuse: self.quick_updates(),
+            resume_reuse: self.quick_updates(&scheme),
             give_up: if fixed.is_some() {
                 GiveUp::Stall
             } else {
                 GiveUp::SettledCycle
             },
-            contracting_extra: self.contracting_extra,
+            contracting_extra: spec.contracting_extra,
         };
         self.prepare_step();
         let mut scratch = std::mem::take(&mut self.work.newton);
         let (held, resuming) = match resumed {
             Some(r) => (r.held, true),
-            None => match (fixed, policy) {
-                (None, SetPolicy::Held { previous, most, .. }) => {
-                    (Some(HeldSets::new(previous.clone(), *most)), false)
-                }
-                _ => (None, false),
-            },
+            None => (spec.sets.held_start(), false),
         };
         let mut problem = StepProblem {
             stepper: self,
             fixed,
-            params,
+            params: scheme,
             prune: prune.as_ref(),
             closing: Vec::new(),
             held,
@@ -240,50 +213,22 @@ impl<S: System> Stepper<S> {
         let outcome = newton::solve(&mut problem, x, &settings, &mut scratch);
         let (closing, held) = (problem.closing, problem.held);
         self.newton_work.line_search_trials += scratch.line_search_trials();
-        // Updates this solve made: one fewer than its evaluations.
+        // Updates this run made: one fewer than its evaluations.
         let updates = updates_before + scratch.evaluations().saturating_sub(1);
         self.work.newton = scratch;
-        match outcome {
-            Outcome::Converged { visited, sets, .. } if self.is_far(x) => {
-                // Refused as a failed attempt, not as a cycling one: the fixed-set
-                // re-solves of the sets it wandered through cost more than the policy's
-                // later stages, which found the near solution (docs/method.md §8.1).
-                self.newton_work.far_solutions += 1;
-                let mut visited = visited;
-                if !visited.contains(&sets) {
-                    visited.push(sets);
-                }
-                Err(AttemptFailure::NotConverged {
-                    visited,
-                    cycling: false,
-                    best: None,
-                })
+        Run::Ended(match outcome {
+            Outcome::Restart => {
+                let from = Resumed { updates, held };
+                return Run::Restart { closing, from };
             }
             Outcome::Converged {
                 sets,
                 iterations,
                 residual,
                 visited,
-            } => Ok(self.make_trial(
-                std::mem::take(x),
-                sets,
-                updates_before + iterations,
-                residual,
-                rho_inf,
-                true,
-                visited,
-                false,
-            )),
-            Outcome::Restart => {
-                // The iterate is the one the unpruned attempt would have reached (a pruned
-                // contact's unknowns stay zero while it is open): go on from it with the
-                // closing contacts kept, within what is left of the budget.
-                let mut keep = keep.unwrap_or_else(|| vec![false; self.off.nn]);
-                for (kk, c) in keep.iter_mut().zip(closing) {
-                    *kk |= c;
-                }
-                let resumed = Resumed { updates, held };
-                self.solve_resuming(fixed, policy, rho_inf, x, Some(keep), Some(resumed))
+            } => {
+                let converged = (sets, updates_before + iterations, residual);
+                self.converged(x, converged, visited, spec.rho_inf)
             }
             Outcome::NonFinite => Err(AttemptFailure::NonFinite),
             Outcome::Singular(message) => Err(AttemptFailure::Singular { message }),
@@ -294,17 +239,9 @@ impl<S: System> Stepper<S> {
             } => {
                 let best = best.map(|b| {
                     // Re-derive the best iterate's state.
-                    self.derive(&b.x, &params);
-                    Box::new(self.make_trial(
-                        b.x,
-                        b.sets,
-                        b.iteration,
-                        b.residual,
-                        rho_inf,
-                        false,
-                        Vec::new(),
-                        cycling,
-                    ))
+                    self.derive(&b.x, &scheme);
+                    let at = (b.sets, b.iteration, b.residual);
+                    Box::new(self.make_trial(b.x, at, spec.rho_inf, false, Vec::new(), cycling))
                 });
                 Err(AttemptFailure::NotConverged {
                     visited,
@@ -312,7 +249,33 @@ impl<S: System> Stepper<S> {
                     best,
                 })
             }
+        })
+    }
+
+    /// The outcome of a run that converged at `x` with (sets, updates, residual): the
+    /// step, or refused when it is a far solution ([`Stepper::is_far`]).
+    fn converged(
+        &mut self,
+        x: &mut Vec<f64>,
+        (sets, iterations, residual): (IndexSets, usize, f64),
+        mut visited: Vec<IndexSets>,
+        rho_inf: f64,
+    ) -> AttemptOutcome {
+        if self.is_far(x) {
+            // Refused as an attempt without a solution, not as a cycling one: the
+            // fixed-set re-solves of the sets it wandered through cost more than the
+            // policy's later stages, which found the near solution (docs/method.md §8.1).
+            self.newton_work.far_solutions += 1;
+            if !visited.contains(&sets) {
+                visited.push(sets);
+            }
+            return Err(AttemptFailure::Refused {
+                reason: RefusedBecause::FarSolution,
+                visited,
+            });
         }
+        let at = (sets, iterations, residual);
+        Ok(self.make_trial(std::mem::take(x), at, rho_inf, true, visited, false))
     }
 
     /// Evaluates the iterate `x`: kinematic updates, system, index sets (the fixed ones
@@ -325,7 +288,7 @@ impl<S: System> Stepper<S> {
         &mut self,
         x: &[f64],
         fixed: Option<&IndexSets>,
-        p: &GenAlpha,
+        p: &Scheme,
         update_prox: bool,
         limit: Option<(&IndexSets, usize)>,
     ) -> (IndexSets, f64) {
@@ -350,7 +313,7 @@ impl<S: System> Stepper<S> {
 
     /// The index sets the contact laws give at unknowns `x` (no Newton update).
     pub fn sets_of(&mut self, x: &[f64], rho_inf: f64) -> IndexSets {
-        let p = GenAlpha::new(rho_inf);
+        let p = self.scheme(rho_inf);
         self.prepare_step();
         self.derive(x, &p);
         self.evaluate_iterate(true);
@@ -369,7 +332,7 @@ impl<S: System> Stepper<S> {
         rho_inf: f64,
         update_prox: bool,
     ) -> (Vec<f64>, DMatrix<f64>) {
-        let p = GenAlpha::new(rho_inf);
+        let p = self.scheme(rho_inf);
         // The derivative rows are replaced: the kept factors no longer fit them.
         self.work.factored = None;
         self.prepare_step();
@@ -385,7 +348,7 @@ impl<S: System> Stepper<S> {
         for &(r, c, v) in &self.work.jac {
             j[(r, c)] += v;
         }
-        KinematicColumns::new(self.options.dt, &p).to_unknown_columns(&self.off, &mut j);
+        KinematicColumns::new(self.options.dt, &p.alpha).to_unknown_columns(&self.off, &mut j);
         (self.work.res.clone(), j)
     }
 }

@@ -9,13 +9,14 @@ use crate::state::State;
 use crate::system::System;
 
 impl<S: System> Stepper<S> {
+    /// The step an attempt at ρ∞ = `rho_inf` ended on at the evaluated unknowns `x`,
+    /// with its (sets, updates, residual): converged, or its best iterate (`cycling`:
+    /// whether its sets cycled).
     #[allow(clippy::fn_params_excessive_bools)]
     pub(super) fn make_trial(
         &mut self,
         x: Vec<f64>,
-        sets: IndexSets,
-        iterations: usize,
-        residual: f64,
+        (sets, iterations, residual): (IndexSets, usize, f64),
         rho_inf: f64,
         converged: bool,
         visited: Vec<IndexSets>,

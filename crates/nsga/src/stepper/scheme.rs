@@ -1,0 +1,33 @@
+//! What an attempt's iterates are evaluated and updated with, besides the state: the
+//! generalized-α parameters of its ρ∞ (paper eq. 72), whether the friction percussions
+//! shift the position by half a step (eq. 127), and whether its updates may take the
+//! quick forms of a step's first attempt.
+
+use super::Stepper;
+use crate::params::GenAlpha;
+use crate::system::System;
+
+/// The scheme of one Newton attempt (part of its [`AttemptSpec`](super::spec::AttemptSpec)).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(super) struct Scheme {
+    /// α_m, α_f, γ, β for the attempt's ρ∞.
+    pub alpha: GenAlpha,
+    /// Whether the friction percussions shift the position by half a step
+    /// ([`Options::friction_percussion_shift`](crate::Options::friction_percussion_shift)).
+    pub friction_shift: bool,
+    /// Whether the updates may be low-rank updates of kept factors
+    /// ([`Options::low_rank_updates`](crate::Options::low_rank_updates)) and kept
+    /// factors of a regularized matrix: in a step's first attempt only.
+    pub quick_updates: bool,
+}
+
+impl<S: System> Stepper<S> {
+    /// The scheme of the options at ρ∞ = `rho_inf`, without quick updates.
+    pub(super) fn scheme(&self, rho_inf: f64) -> Scheme {
+        Scheme {
+            alpha: GenAlpha::new(rho_inf),
+            friction_shift: self.options.friction_percussion_shift,
+            quick_updates: false,
+        }
+    }
+}

@@ -1,0 +1,149 @@
+//! One Newton attempt at a step, as a value ([`AttemptSpec`]): where its iterates start,
+//! how they choose their index sets, and what they iterate with. The stages of the
+//! step's policy differ only in the attempts they ask for; none changes the options.
+
+use super::held::HeldSets;
+use super::scheme::Scheme;
+use super::Stepper;
+use crate::params::GenAlpha;
+use crate::sets::IndexSets;
+use crate::state::State;
+use crate::system::System;
+
+/// Where an attempt's Newton iterates start.
+#[derive(Debug, Clone, PartialEq)]
+pub(super) enum StartAt {
+    /// The unknowns x of the last accepted step (`State::x`).
+    LastSolution,
+    /// Other unknowns: a predicted start, or a fixed-set solution checked as a free one.
+    Unknowns(Vec<f64>),
+}
+
+/// How an attempt's iterates choose their index sets.
+#[derive(Debug, Clone, PartialEq)]
+pub(super) enum SetRule {
+    /// The contact laws' sets at every iterate (eqs. 128–142).
+    Free,
+    /// The previous step's sets held, then released with at most `most` openings per
+    /// update ([`HeldSets`], docs/method.md §8.2).
+    Held {
+        /// The previous step's sets.
+        previous: IndexSets,
+        /// Openings per update after the release.
+        most: usize,
+    },
+    /// These sets throughout (a fixed-set re-solve).
+    Fixed(IndexSets),
+}
+
+impl SetRule {
+    /// The fixed sets, if any.
+    pub(super) fn fixed(&self) -> Option<&IndexSets> {
+        match self {
+            Self::Fixed(sets) => Some(sets),
+            Self::Free | Self::Held { .. } => None,
+        }
+    }
+
+    /// The progress of a held-sets attempt at its start (None for other rules).
+    pub(super) fn held_start(&self) -> Option<HeldSets> {
+        match self {
+            Self::Held { previous, most } => Some(HeldSets::new(previous.clone(), *most)),
+            Self::Free | Self::Fixed(_) => None,
+        }
+    }
+}
+
+/// One Newton attempt at the step: everything [`Stepper::attempt`] needs besides the
+/// stepper's state and options.
+#[derive(Debug, Clone, PartialEq)]
+pub(super) struct AttemptSpec {
+    /// Where the iterates start.
+    pub start: StartAt,
+    /// How they choose their index sets.
+    pub sets: SetRule,
+    /// The generalized-α ρ∞ of the attempt.
+    pub rho_inf: f64,
+    /// Largest number of Newton updates.
+    pub budget: usize,
+    /// Updates allowed beyond `budget` while the iterates converge
+    /// (`NewtonSettings::contracting_extra`).
+    pub contracting_extra: usize,
+    /// Whether the friction percussions shift the position by half a step
+    /// ([`Options::friction_percussion_shift`](crate::Options::friction_percussion_shift)).
+    pub friction_shift: bool,
+    /// Halvings of an update allowed in the line search (0: whole updates).
+    pub line_search: usize,
+    /// Whether the updates may take the quick forms of a step's first attempt
+    /// ([`Scheme::quick_updates`]).
+    pub quick_updates: bool,
+}
+
+impl AttemptSpec {
+    /// The scheme the attempt's iterates are evaluated and updated with.
+    pub(super) fn scheme(&self) -> Scheme {
+        Scheme {
+            alpha: GenAlpha::new(self.rho_inf),
+            friction_shift: self.friction_shift,
+            quick_updates: self.quick_updates,
+        }
+    }
+
+    /// The unknowns the iterates start from, at the step from `state`.
+    pub(super) fn start_unknowns(&self, state: &State) -> Vec<f64> {
+        match &self.start {
+            StartAt::LastSolution => state.x.clone(),
+            StartAt::Unknowns(x) => x.clone(),
+        }
+    }
+}
+
+impl<S: System> Stepper<S> {
+    /// The attempt with `sets` at ρ∞ = `rho_inf` that the options describe: from the last
+    /// solution, with a free attempt's budget ([`Stepper::free_budget`]) or, with fixed
+    /// sets, [`Options::max_iter`](crate::Options::max_iter) updates; a held-sets
+    /// attempt takes its updates whole (after the release each update changes the sets
+    /// of a contact or a few, and halving such updates only delayed the next change;
+    /// docs/method.md §8.2, stage 1).
+    pub(super) fn spec(&self, sets: SetRule, rho_inf: f64) -> AttemptSpec {
+        let budget = match sets {
+            SetRule::Fixed(_) => self.options.max_iter,
+            SetRule::Free | SetRule::Held { .. } => self.free_budget(),
+        };
+        let line_search = match sets {
+            SetRule::Held { .. } => 0,
+            SetRule::Free | SetRule::Fixed(_) => self.options.line_search,
+        };
+        AttemptSpec {
+            start: StartAt::LastSolution,
+            sets,
+            rho_inf,
+            budget,
+            contracting_extra: 0,
+            friction_shift: self.options.friction_percussion_shift,
+            line_search,
+            quick_updates: false,
+        }
+    }
+
+    /// A retry or fixed-set re-solve: [`Stepper::spec`] with at most
+    /// [`Options::retry_max_iter`](crate::Options::retry_max_iter) updates, free retries
+    /// too (their budget would otherwise grow with the contacts).
+    pub(super) fn retry_spec(&self, sets: SetRule, rho_inf: f64) -> AttemptSpec {
+        AttemptSpec {
+            budget: self.options.retry_max_iter.min(self.options.max_iter),
+            ..self.spec(sets, rho_inf)
+        }
+    }
+
+    /// Largest number of updates of a free attempt: see
+    /// [`Options::max_iter_per_contact`](crate::Options::max_iter_per_contact).
+    pub(super) fn free_budget(&self) -> usize {
+        self.free_budget_over(self.options.max_iter)
+    }
+
+    /// [`Stepper::free_budget`] with `max_iter` in place of the options'.
+    pub(super) fn free_budget_over(&self, max_iter: usize) -> usize {
+        (self.options.max_iter_per_contact * self.off.nn).max(max_iter)
+    }
+}
