@@ -3,6 +3,7 @@
 
 use crate::sets::IndexSets;
 use crate::state::State;
+use crate::stepper::Stage;
 #[cfg(doc)]
 use crate::{FailurePolicy, Stepper};
 
@@ -88,41 +89,33 @@ fn one() -> usize {
 /// [`Stepper::linear_solves`](crate::Stepper::linear_solves).
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 pub struct SolvesByStage {
-    /// Stage 1, the first attempt: from the predicted start, then from the last
-    /// solution; held sets, then free Newton.
+    /// The first attempt (stages `Predicted`, `HeldSets`, `Free` of docs/method.md
+    /// §8.2): from the predicted start, then from the last solution; held sets, then
+    /// free Newton.
     pub first_attempt: u64,
-    /// Stage 2, the ρ∞ retries.
+    /// The ρ∞ retries (stage `RhoRetry`).
     pub rho_retries: u64,
-    /// Stage 3, the fixed-set re-solves of a cycling step (branch trials).
+    /// The fixed-set re-solves of a cycling step (stage `BranchTrials`).
     pub branch_trials: u64,
-    /// Stage 3b, the step without the friction percussions' half-step shift.
+    /// The step without the friction percussions' half-step shift (stage `Unshifted`).
     pub unshifted: u64,
-    /// The re-solves at a friction bound, after the halvings.
+    /// The re-solves at a friction bound, after the halvings (stage `Boundary`).
     pub boundary: u64,
     /// Everything else: the flip probes of converged steps
     /// ([`Options::probe_flips`](crate::Options::probe_flips)).
     pub other: u64,
 }
 
-/// A stage of [`SolvesByStage`].
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub(crate) enum Stage {
-    FirstAttempt,
-    RhoRetries,
-    BranchTrials,
-    Unshifted,
-    Boundary,
-}
-
 impl SolvesByStage {
-    /// Adds `solves` to `stage`.
+    /// Adds `solves` to the field of `stage` (none for the stages that `other` counts).
     pub(crate) fn add(&mut self, stage: Stage, solves: u64) {
         let field = match stage {
-            Stage::FirstAttempt => &mut self.first_attempt,
-            Stage::RhoRetries => &mut self.rho_retries,
+            Stage::Predicted | Stage::HeldSets | Stage::Free => &mut self.first_attempt,
+            Stage::RhoRetry(_) => &mut self.rho_retries,
             Stage::BranchTrials => &mut self.branch_trials,
             Stage::Unshifted => &mut self.unshifted,
             Stage::Boundary => &mut self.boundary,
+            Stage::FlipProbe | Stage::AcceptBest | Stage::Halving | Stage::LastResort => return,
         };
         *field += solves;
     }

@@ -17,10 +17,13 @@
 //!   factors;
 //! - `trial`: the uncommitted step an attempt ends on;
 //! - `predict`: the Newton start extrapolated from the last steps' solutions;
-//! - `fallback`: the policy of a step whose first attempt fails (ρ∞ retries,
-//!   fixed-set re-solves, best iterate, halving);
+//! - `policy`: the stages of a step, the one transition table between them, and the
+//!   loop of [`Stepper::step`] over them;
+//! - `stages`: what each stage runs;
+//! - `halving`: a step taken as substeps (the halving stage, [`Stepper::split_step`]);
 //! - `branch`: the fixed-set re-solves and their self-consistent, deduplicated
-//!   candidates (branch points).
+//!   candidates (branch points);
+//! - `last_resort`: the Moreau–Jean step of the last stage.
 
 use crate::attempt::Trial;
 use crate::error::StepError;
@@ -35,6 +38,7 @@ use crate::state::State;
 use crate::system::{Derivatives, Evaluation, Layout, System, Triplets};
 use direction::Refusal;
 use iterate::Iterate;
+pub(crate) use policy::Stage;
 use rows::RowMat;
 use spec::SetRule;
 use state_levels::StateLevels;
@@ -43,14 +47,15 @@ use unknowns::Offsets;
 mod assemble;
 mod branch;
 mod direction;
-mod fallback;
 mod far;
+mod halving;
 mod held;
 mod iterate;
 mod kinematic;
 mod last_resort;
 mod low_rank;
 mod multipliers;
+mod policy;
 mod predict;
 mod prune;
 mod resize;
@@ -59,12 +64,13 @@ mod scheme;
 mod slip;
 mod solve;
 mod spec;
+mod stages;
 mod state_levels;
 mod trial;
 mod unknowns;
 
+pub use branch::QUICK_CHECK_ITERATIONS;
 pub use direction::WILD_UPDATE;
-pub use fallback::QUICK_CHECK_ITERATIONS;
 pub use far::FAR_CORRECTION;
 pub use held::MAX_HELD_EVALUATIONS;
 pub use iterate::SET_TIE;
@@ -583,23 +589,11 @@ impl<S: System> Stepper<S> {
         Ok(self.committed())
     }
 
-    /// One step, with the whole fallback policy (docs/method.md §8), read top-down:
-    ///
-    /// 1. a Newton attempt with the default ρ∞;
-    /// 2. on failure, the other ρ∞ of [`Options::rho_inf_retries`] (after the failures
-    ///    that [`Options::rho_inf_retry`] names; thesis §4.2);
-    /// 3. if the index sets cycled, one re-solve per distinct set seen with the sets
-    ///    fixed; the self-consistent candidates, deduplicated by state, make a
-    ///    [`BranchPoint`](crate::BranchPoint), continued by the candidate
-    ///    [`System::choose_branch`] picks;
-    /// 4. with [`FailurePolicy::AcceptBest`](crate::FailurePolicy), the best iterate;
-    /// 5. up to [`Options::max_halvings`] times, the step as two halves, each with this
-    ///    whole policy;
-    /// 6. with [`Options::boundary_resolves`], fixed-set re-solves that accept friction
-    ///    laws sitting exactly on their stick–slip bound;
-    /// 7. with [`Options::last_resort`], a Moreau–Jean step whose contact problem is
-    ///    solved by Lemke's method, which terminates (`last_resort` in the step's
-    ///    statistics).
+    /// One step, by the policy of docs/method.md §8.2: the stages of
+    /// [`Stage`](policy::Stage) (predicted start, held sets, free Newton, flip probe,
+    /// ρ∞ retries, branch trials, the unshifted step, the best iterate, halving,
+    /// boundary re-solves, the last resort), each switched on by the [`Options`], in
+    /// the order of its one transition table; the first that finds the step commits it.
     ///
     /// # Errors
     /// [`StepError::NoSolution`] when the last resort finds that the step's contact
@@ -614,16 +608,8 @@ impl<S: System> Stepper<S> {
             // generalized-α step from (§5): a Moreau–Jean step needs none, and restarts
             // the state consistently after it.
             self.last_resort()?;
-            return Ok(self.committed());
-        }
-        if let Err(failed) = self.step_halving(self.options.max_halvings) {
-            if !self.options.last_resort || matches!(failed, StepError::InvalidInput(_)) {
-                return Err(failed);
-            }
-            self.last_resort().map_err(|e| match e {
-                StepError::InvalidInput(_) => failed,
-                e => e,
-            })?;
+        } else {
+            self.run_policy()?;
         }
         Ok(self.committed())
     }

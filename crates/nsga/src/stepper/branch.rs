@@ -13,17 +13,21 @@
 //!
 //! [`Options::boundary_resolves`]: crate::Options::boundary_resolves
 
-use super::fallback::QUICK_CHECK_ITERATIONS;
 use super::spec::{AttemptSpec, SetRule, StartAt};
 use super::Stepper;
 use crate::attempt::{AttemptOutcome, Trial};
-use crate::error::StepError;
 use crate::linalg::norm;
 use crate::options::BranchRule;
 use crate::report::BranchPoint;
 use crate::sets::IndexSets;
 use crate::state::State;
 use crate::system::{FrictionLaw, System};
+
+/// Newton iterations allowed when checking that a fixed-set solution also solves the
+/// free step (it converges at once when it does; see [`Options::boundary_resolves`]).
+///
+/// [`Options::boundary_resolves`]: crate::Options::boundary_resolves
+pub const QUICK_CHECK_ITERATIONS: usize = 8;
 
 /// Self-consistent, distinct solutions of one step, in the order they were found.
 #[derive(Debug, Default)]
@@ -55,13 +59,8 @@ impl Candidates {
 impl<S: System> Stepper<S> {
     /// The fixed-set re-solves of a cycling step: one per visited set, in first-visit
     /// order; the self-consistent ones, deduplicated by state, make the branch point, and
-    /// the one the system chooses is returned (with `retries` failed attempts before it).
-    pub(super) fn branch_trial(
-        &mut self,
-        visited: &[IndexSets],
-        rho0: f64,
-        retries: usize,
-    ) -> Option<Trial> {
+    /// the one the system chooses is returned.
+    pub(super) fn branch_trial(&mut self, visited: &[IndexSets], rho0: f64) -> Option<Trial> {
         let mut candidates = Candidates::default();
         for sets in visited {
             let Ok(t) = self.attempt(&self.retry_spec(SetRule::Fixed(sets.clone()), rho0)) else {
@@ -74,9 +73,7 @@ impl<S: System> Stepper<S> {
                 candidates.offer(sets, t, consistent);
             }
         }
-        let mut t = self.chosen(candidates, visited.len())?;
-        t.stats.retries = retries;
-        Some(t)
+        self.chosen(candidates, visited.len())
     }
 
     /// The candidate [`System::choose_branch`] picks, carrying the branch point.
@@ -165,13 +162,9 @@ impl<S: System> Stepper<S> {
     /// [`QUICK_CHECK_ITERATIONS`] (then that free solution is kept). When no visited set
     /// gives a solution, the sets one friction-law switch away ([`neighbour_sets`]) are
     /// tried the same way until the first solution. The step is reported as a branch
-    /// point (sets tried, distinct solutions).
-    pub(super) fn resolve_at_boundary(
-        &mut self,
-        visited: &[IndexSets],
-        residual: f64,
-    ) -> Result<(), StepError> {
-        let saved = self.state.clone();
+    /// point (sets tried, distinct solutions), not yet committed, after the first
+    /// attempt and every ρ∞ retry failed.
+    pub(super) fn resolve_at_boundary(&mut self, visited: &[IndexSets]) -> Option<Trial> {
         let rho = self.options.rho_inf;
         let mut candidates = Candidates::default();
         let all = neighbour_sets(visited, &self.layout.friction);
@@ -197,18 +190,9 @@ impl<S: System> Stepper<S> {
             let sets = candidate.stats.sets.clone();
             candidates.offer(&sets, candidate, true);
         }
-        let Some(mut trial) = self.chosen(candidates, tried) else {
-            return Err(StepError::NotConverged {
-                t: saved.t,
-                residual,
-                visited_sets: visited.to_vec(),
-                cycling: true,
-                state: Box::new(saved),
-            });
-        };
+        let mut trial = self.chosen(candidates, tried)?;
         trial.stats.retries = 1 + self.options.rho_inf_retries.len();
-        self.commit(trial);
-        Ok(())
+        Some(trial)
     }
 
     /// Does a free Newton attempt started from the unknowns `x` of a fixed-set solution

@@ -67,7 +67,7 @@ impl<S: System> Stepper<S> {
     /// While the sets are held, the returned norm is the held solve's, so that the
     /// give-up rules judge the solve the update belongs to; it is above the tolerance,
     /// so the engine never stops on it. The attempt takes its updates whole (no line
-    /// search, see `Stepper::solve_resuming`), so the norms before and after the release,
+    /// search, see `Stepper::spec`), so the norms before and after the release,
     /// which do not compare, are never weighed against each other.
     pub(super) fn evaluate_held(
         &mut self,

@@ -1,8 +1,8 @@
-//! The last resort of a step that every attempt of the fallback policy failed
-//! (docs/method.md §8, step 7): one Moreau–Jean step of the same system whose contact
-//! problem Lemke's method solves, with every contact taking part and the gaps projected
-//! back to zero after it ([`crate::lcp_step`]). The generalized-α state then restarts
-//! from the consistent accelerations and forces at the new state, as at t0.
+//! The last resort of a step that every other stage of its policy failed
+//! (`Stage::LastResort`, docs/method.md §8.2): one Moreau–Jean step of the same system
+//! whose contact problem Lemke's method solves, with every contact taking part and the
+//! gaps projected back to zero after it ([`crate::lcp_step`]). The generalized-α state
+//! then restarts from the consistent accelerations and forces at the new state, as at t0.
 
 use super::Stepper;
 use crate::error::StepError;

@@ -1,0 +1,529 @@
+//! The policy of a step (docs/method.md §8.2): its stages, the one transition table
+//! between them ([`Policy::next`]), and the loop of [`Stepper::step`] over them, whose
+//! step halving is an outer Δt controller: a halved step runs the whole policy again on
+//! each half, one level of halving down ([`super::halving`]).
+
+use super::halving::Halves;
+use super::Stepper;
+use crate::attempt::{AttemptFailure, Trial};
+use crate::error::StepError;
+use crate::options::{FailurePolicy, Options, RhoInfRetry};
+use crate::sets::IndexSets;
+use crate::state::State;
+use crate::system::System;
+
+/// A stage of a step's policy. This is the list of stages, in the order
+/// [`Policy::next`] tries them; a step is committed by the first stage that finds it.
+///
+/// 1. [`Stage::Predicted`]: free Newton from the start extrapolated from the last steps.
+/// 2. [`Stage::HeldSets`]: the previous step's index sets held, then released.
+/// 3. [`Stage::Free`]: free Newton from the last step's solution.
+/// 4. [`Stage::FlipProbe`]: after a converged first attempt, its contacts' states flipped.
+/// 5. [`Stage::RhoRetry`]: the other ρ∞ of the options.
+/// 6. [`Stage::BranchTrials`]: one fixed-set re-solve per set a cycling attempt visited.
+/// 7. [`Stage::Unshifted`]: the step without the friction percussions' half-step shift.
+/// 8. [`Stage::AcceptBest`]: the best iterate.
+/// 9. [`Stage::Halving`]: the step as two halves, each with this whole policy.
+/// 10. [`Stage::Boundary`]: fixed-set re-solves that accept laws on their friction bound.
+/// 11. [`Stage::LastResort`]: a Moreau–Jean step whose contact problem Lemke's method solves.
+///
+/// docs/method.md §8.2 shows the same list (a test keeps them in step).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum Stage {
+    /// Free Newton from the unknowns the last steps' solutions extrapolate to
+    /// ([`Options::predict_start`]), with at most
+    /// [`PREDICTED_START_ITERATIONS`](crate::PREDICTED_START_ITERATIONS) updates, more
+    /// while they converge. Where it fails, the first attempt starts again from the
+    /// last solution.
+    Predicted,
+    /// The held-sets attempt ([`Options::max_openings_per_update`]), in a system with
+    /// more normal contacts than [`Options::max_iter`]: the previous step's sets held,
+    /// then released a few openings per update (docs/method.md §8.2).
+    HeldSets,
+    /// Free Newton from the last step's solution, with a free attempt's budget
+    /// ([`Options::max_iter_per_contact`]). Its failure is the step's first failure,
+    /// which the later stages read.
+    Free,
+    /// The flip probe of a converged first attempt ([`Options::probe_flips`]): the step
+    /// re-solved with each touching contact's state flipped; it commits the converged
+    /// step, with a branch point when a flip gives another self-consistent solution.
+    FlipProbe,
+    /// The `i`th ρ∞ of [`Options::rho_inf_retries`] (after the failures that
+    /// [`Options::rho_inf_retry`] names; thesis §4.2).
+    RhoRetry(usize),
+    /// With [`Options::explore_branches`], when the first attempt's index sets cycled:
+    /// one re-solve per distinct set seen with the sets fixed; the self-consistent
+    /// candidates, deduplicated by state, make a branch point.
+    BranchTrials,
+    /// With [`Options::retry_without_friction_shift`]: the step without the friction
+    /// percussions' half-step shift.
+    Unshifted,
+    /// With [`FailurePolicy::AcceptBest`]: the best iterate, marked not converged.
+    AcceptBest,
+    /// Up to [`Options::max_halvings`] times: the step as two halves, each with this
+    /// whole policy.
+    Halving,
+    /// With [`Options::boundary_resolves`], when the first attempt's sets cycled:
+    /// fixed-set re-solves that accept friction laws sitting exactly on their stick–slip
+    /// bound.
+    Boundary,
+    /// With [`Options::last_resort`], at the step's own Δt: a Moreau–Jean step whose
+    /// contact problem is solved by Lemke's method, which terminates.
+    LastResort,
+}
+
+#[cfg(test)]
+impl Stage {
+    /// Every stage, in the order of the policy.
+    pub(crate) const ALL: [Self; 11] = [
+        Self::Predicted,
+        Self::HeldSets,
+        Self::Free,
+        Self::FlipProbe,
+        Self::RhoRetry(0),
+        Self::BranchTrials,
+        Self::Unshifted,
+        Self::AcceptBest,
+        Self::Halving,
+        Self::Boundary,
+        Self::LastResort,
+    ];
+
+    /// The variant's name, as docs/method.md writes it.
+    pub(crate) fn name(self) -> &'static str {
+        match self {
+            Self::Predicted => "Predicted",
+            Self::HeldSets => "HeldSets",
+            Self::Free => "Free",
+            Self::FlipProbe => "FlipProbe",
+            Self::RhoRetry(_) => "RhoRetry",
+            Self::BranchTrials => "BranchTrials",
+            Self::Unshifted => "Unshifted",
+            Self::AcceptBest => "AcceptBest",
+            Self::Halving => "Halving",
+            Self::Boundary => "Boundary",
+            Self::LastResort => "LastResort",
+        }
+    }
+}
+
+/// How a stage ended: the step it found (not yet committed), or why not; `Err(None)` for
+/// a stage that is not one attempt and found nothing.
+pub(super) type StageOutcome = Result<Trial, Option<AttemptFailure>>;
+
+/// What follows a stage. One per stage, moved once: boxing the trial would only add an
+/// allocation.
+#[allow(clippy::large_enum_variant)]
+pub(super) enum Next {
+    /// Run this stage.
+    Run(Stage),
+    /// Commit this step: the policy at this Δt is done.
+    Commit(Trial),
+    /// Every stage at this Δt failed.
+    Fail(StepError),
+}
+
+/// The stages tried, in order, once the attempts from the last solution and the ρ∞
+/// retries failed.
+const LATER: [Stage; 6] = [
+    Stage::BranchTrials,
+    Stage::Unshifted,
+    Stage::AcceptBest,
+    Stage::Halving,
+    Stage::Boundary,
+    Stage::LastResort,
+];
+
+/// The stages the options switch on.
+#[derive(Debug, Clone, Copy)]
+struct Enabled {
+    probe_flips: bool,
+    /// The number of ρ∞ retries, and whether they follow a first attempt that iterated.
+    rho_retries: usize,
+    rho_after_iterates: bool,
+    explore_branches: bool,
+    unshifted: bool,
+    accept_best: bool,
+    boundary_resolves: bool,
+    last_resort: bool,
+}
+
+impl Enabled {
+    fn new(o: &Options) -> Self {
+        Self {
+            probe_flips: o.probe_flips,
+            rho_retries: o.rho_inf_retries.len(),
+            rho_after_iterates: o.rho_inf_retry != RhoInfRetry::SingularMatrix,
+            explore_branches: o.explore_branches,
+            unshifted: o.retry_without_friction_shift && o.friction_percussion_shift,
+            accept_best: o.on_failure == FailurePolicy::AcceptBest,
+            boundary_resolves: o.boundary_resolves,
+            last_resort: o.last_resort,
+        }
+    }
+}
+
+/// The policy of one step at one Δt: the stages the options switch on, and what the
+/// stages so far found out (the first failure's iterates, the best iterate, the failed
+/// attempts).
+#[derive(Debug)]
+pub(super) struct Policy {
+    enabled: Enabled,
+    /// The halvings left at this Δt.
+    pub(super) halvings: usize,
+    /// Whether this is the step's own Δt (not a half), where the last resort may follow.
+    top: bool,
+    /// The predicted start, when there is one.
+    pub(super) prediction: Option<Vec<f64>>,
+    /// Whether the held-sets attempt applies.
+    held: bool,
+    /// The ρ∞ retries that follow the first attempt's failure.
+    rho_retries: usize,
+    /// A converged first attempt, for the flip probe.
+    pub(super) converged: Option<Trial>,
+    /// The sets the first failed attempt visited, and whether they cycled.
+    pub(super) visited: Vec<IndexSets>,
+    cycling: bool,
+    /// The best iterate of the failed attempts.
+    pub(super) best: Option<Box<Trial>>,
+    /// A singular first attempt, while no later attempt iterated.
+    singular: Option<AttemptFailure>,
+    /// Failed attempts before the current stage (`StepStats::retries`), from the first.
+    retries: usize,
+    /// Why the step failed at this Δt, once its attempts are spent.
+    pub(super) failure: Option<StepError>,
+}
+
+impl Policy {
+    /// The policy of a step from `stepper`'s state at its current Δt, with `halvings`
+    /// halvings left; `top`: at the step's own Δt.
+    pub(super) fn new<S: System>(stepper: &mut Stepper<S>, halvings: usize, top: bool) -> Self {
+        Self {
+            enabled: Enabled::new(&stepper.options),
+            halvings,
+            top,
+            prediction: stepper.prediction(),
+            held: stepper.held_sets_apply(),
+            rho_retries: 0,
+            converged: None,
+            visited: Vec::new(),
+            cycling: false,
+            best: None,
+            singular: None,
+            retries: 1,
+            failure: None,
+        }
+    }
+
+    /// The stage a step starts with.
+    pub(super) fn first(&self) -> Stage {
+        if self.prediction.is_some() {
+            Stage::Predicted
+        } else {
+            self.attempt_from_last_solution()
+        }
+    }
+
+    /// The first attempt from the last solution.
+    fn attempt_from_last_solution(&self) -> Stage {
+        if self.held {
+            Stage::HeldSets
+        } else {
+            Stage::Free
+        }
+    }
+
+    /// The transition table: what follows `stage`, which ended with `outcome` (recorded
+    /// for the stages after it). A failure reports the step from `state`.
+    pub(super) fn next(&mut self, stage: Stage, outcome: StageOutcome, state: &State) -> Next {
+        use Stage::{
+            AcceptBest, Boundary, BranchTrials, FlipProbe, Free, HeldSets, Predicted, RhoRetry,
+            Unshifted,
+        };
+        match (stage, outcome) {
+            (Predicted | HeldSets | Free, Ok(t)) if self.enabled.probe_flips => {
+                self.converged = Some(t);
+                Next::Run(FlipProbe)
+            }
+            (Predicted | HeldSets | Free | FlipProbe | Boundary, Ok(t)) => Next::Commit(t),
+            (RhoRetry(_) | BranchTrials | Unshifted | AcceptBest, Ok(mut t)) => {
+                t.stats.retries = self.retries;
+                if stage == AcceptBest {
+                    t.stats.converged = false;
+                }
+                Next::Commit(t)
+            }
+            (Predicted, Err(_)) => Next::Run(self.attempt_from_last_solution()),
+            (HeldSets, Err(_)) => Next::Run(Free),
+            (Free, Err(failure)) => {
+                self.first_failure(failure);
+                self.after(stage, state)
+            }
+            (RhoRetry(_), Err(failure)) => {
+                self.failed_retry(failure);
+                self.after(stage, state)
+            }
+            (Unshifted, Err(_)) => {
+                self.retries += 1;
+                self.after(stage, state)
+            }
+            (_, _) => self.after(stage, state),
+        }
+    }
+
+    /// Records the failure of the first attempt from the last solution.
+    fn first_failure(&mut self, failure: Option<AttemptFailure>) {
+        let Some(failure) = failure else { return };
+        let iterated = matches!(
+            failure,
+            AttemptFailure::NotConverged { .. } | AttemptFailure::Refused { .. }
+        );
+        if !iterated || self.enabled.rho_after_iterates {
+            self.rho_retries = self.enabled.rho_retries;
+        }
+        // A singular Newton matrix on every attempt is reported as such, not as a
+        // non-converged step without iterates.
+        if matches!(failure, AttemptFailure::Singular { .. }) {
+            self.singular = Some(failure.clone());
+        }
+        (self.visited, self.cycling, self.best) = failure.iterates();
+    }
+
+    /// Records a failed ρ∞ retry.
+    fn failed_retry(&mut self, failure: Option<AttemptFailure>) {
+        match failure {
+            Some(AttemptFailure::NotConverged { best, .. }) => {
+                self.singular = None;
+                let residual =
+                    |t: &Option<Box<Trial>>| t.as_ref().map_or(f64::INFINITY, |t| t.stats.residual);
+                if residual(&best) < residual(&self.best) {
+                    self.best = best;
+                }
+            }
+            Some(AttemptFailure::Singular { .. }) | None => {}
+            Some(AttemptFailure::NonFinite | AttemptFailure::Refused { .. }) => {
+                self.singular = None;
+            }
+        }
+        self.retries += 1;
+    }
+
+    /// The first stage after the failed `stage` that the options and what the step
+    /// found so far switch on.
+    fn after(&mut self, stage: Stage, state: &State) -> Next {
+        let retry = match stage {
+            Stage::Free => Some(0),
+            Stage::RhoRetry(i) => Some(i + 1),
+            _ => None,
+        };
+        if let Some(i) = retry.filter(|&i| i < self.rho_retries) {
+            return Next::Run(Stage::RhoRetry(i));
+        }
+        let from = LATER.iter().position(|&s| s == stage).map_or(0, |i| i + 1);
+        for &later in &LATER[from..] {
+            if later == Stage::Halving {
+                // The attempts at this Δt are spent.
+                self.failure = Some(self.attempts_failed(state));
+            }
+            if self.switched_on(later) {
+                return Next::Run(later);
+            }
+        }
+        Next::Fail(match self.failure.take() {
+            Some(failure) => failure,
+            None => self.attempts_failed(state),
+        })
+    }
+
+    /// Whether a stage after the ρ∞ retries runs.
+    fn switched_on(&self, stage: Stage) -> bool {
+        let e = &self.enabled;
+        match stage {
+            Stage::BranchTrials => self.cycling && e.explore_branches,
+            Stage::Unshifted => e.unshifted,
+            Stage::AcceptBest => e.accept_best,
+            Stage::Halving => self.halvings > 0,
+            Stage::Boundary => {
+                e.boundary_resolves
+                    && matches!(
+                        self.failure,
+                        Some(StepError::NotConverged { cycling: true, .. })
+                    )
+            }
+            Stage::LastResort => {
+                self.top
+                    && e.last_resort
+                    && !matches!(self.failure, Some(StepError::InvalidInput(_)))
+            }
+            _ => false,
+        }
+    }
+
+    /// The error of a step whose attempts at this Δt all failed: a singular matrix when
+    /// no attempt iterated, otherwise a step that did not converge.
+    fn attempts_failed(&mut self, state: &State) -> StepError {
+        if let (Some(s), true, None) = (self.singular.take(), self.visited.is_empty(), &self.best) {
+            return s.into_error(state);
+        }
+        StepError::NotConverged {
+            t: state.t,
+            residual: self
+                .best
+                .as_ref()
+                .map_or(f64::INFINITY, |b| b.stats.residual),
+            visited_sets: self.visited.clone(),
+            cycling: self.cycling,
+            state: Box::new(state.clone()),
+        }
+    }
+
+    /// The error a failed last resort leaves: its own, except where it does not cover
+    /// the system (then the step's failure before it).
+    pub(super) fn last_resort_failed(&mut self, e: StepError, state: &State) -> StepError {
+        match e {
+            StepError::InvalidInput(_) => match self.failure.take() {
+                Some(failure) => failure,
+                None => self.attempts_failed(state),
+            },
+            e => e,
+        }
+    }
+}
+
+/// How the step at one Δt ending leaves the levels of halving above it. One per level,
+/// moved once (as [`Next`]).
+#[allow(clippy::large_enum_variant)]
+enum Resume {
+    /// Go on at this Δt with this policy and stage.
+    At(Policy, Stage),
+    /// The whole step ended.
+    Finished(Result<(), StepError>),
+}
+
+impl<S: System> Stepper<S> {
+    /// The policy of one step: the stages at the step's Δt, in the order of
+    /// [`Policy::next`], where [`Stage::Halving`] takes the step as two halves that each
+    /// run the stages again with one halving less, the Δt controller keeping the levels
+    /// of halving above the current Δt.
+    pub(super) fn run_policy(&mut self) -> Result<(), StepError> {
+        let mut above: Vec<(Policy, Halves)> = Vec::new();
+        let mut policy = Policy::new(self, self.options.max_halvings, true);
+        let mut stage = policy.first();
+        loop {
+            let next = match stage {
+                Stage::Halving => match self.begin_split(2) {
+                    Ok(halves) => {
+                        let inner = Policy::new(self, policy.halvings - 1, false);
+                        stage = inner.first();
+                        above.push((std::mem::replace(&mut policy, inner), halves));
+                        continue;
+                    }
+                    Err(_) => policy.next(stage, Err(None), &self.state),
+                },
+                // Only at the step's own Δt, so it ends the step.
+                Stage::LastResort => {
+                    return self
+                        .last_resort()
+                        .map_err(|e| policy.last_resort_failed(e, &self.state));
+                }
+                _ => {
+                    let outcome = self.run_stage(stage, &mut policy);
+                    policy.next(stage, outcome, &self.state)
+                }
+            };
+            let ended = match next {
+                Next::Run(s) => {
+                    stage = s;
+                    continue;
+                }
+                Next::Commit(trial) => {
+                    self.commit(trial);
+                    Ok(())
+                }
+                Next::Fail(e) => Err(e),
+            };
+            match self.level_ended(&mut above, ended) {
+                Resume::At(p, s) => (policy, stage) = (p, s),
+                Resume::Finished(result) => return result,
+            }
+        }
+    }
+
+    /// The step at the innermost Δt ended: the next half, or the end of the halved step
+    /// above (whose Δt goes on after a failure), and so on up the levels.
+    fn level_ended(
+        &mut self,
+        above: &mut Vec<(Policy, Halves)>,
+        mut ended: Result<(), StepError>,
+    ) -> Resume {
+        loop {
+            let Some((mut parent, mut halves)) = above.pop() else {
+                return Resume::Finished(ended);
+            };
+            if ended.is_err() {
+                self.abort_split(halves);
+                match parent.next(Stage::Halving, Err(None), &self.state) {
+                    Next::Run(s) => return Resume::At(parent, s),
+                    Next::Commit(trial) => {
+                        self.commit(trial);
+                        ended = Ok(());
+                    }
+                    Next::Fail(e) => ended = Err(e),
+                }
+                continue;
+            }
+            self.substep_done(&mut halves);
+            if halves.left > 0 {
+                let inner = Policy::new(self, parent.halvings - 1, false);
+                let first = inner.first();
+                above.push((parent, halves));
+                return Resume::At(inner, first);
+            }
+            self.finish_split(halves);
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::Stage;
+
+    /// The names of the stages in the list at the head of `text` that starts at the
+    /// line `from` and ends at the first line without `marker`.
+    fn listed<'a>(text: &'a str, from: &str, marker: &str) -> Vec<&'a str> {
+        let start = text.find(from).expect("the list's heading") + from.len();
+        text[start..]
+            .lines()
+            .skip_while(|l| !l.contains(marker))
+            .take_while(|l| l.contains(marker))
+            .filter_map(|l| l.split(marker).nth(1)?.split('`').next())
+            .collect()
+    }
+
+    fn names() -> Vec<&'static str> {
+        Stage::ALL.iter().map(|s| s.name()).collect()
+    }
+
+    /// The doc comment of `Stage` lists the stages in the order of `Stage::ALL`, which
+    /// `name` covers exhaustively.
+    #[test]
+    fn the_stage_enum_lists_its_stages_in_order() {
+        let source = include_str!("policy.rs");
+        let doc = listed(source, "/// A stage of a step's policy.", "[`Stage::");
+        assert_eq!(doc, names());
+        for (i, s) in Stage::ALL.iter().enumerate() {
+            assert_eq!(
+                Stage::ALL.iter().position(|a| a.name() == s.name()),
+                Some(i)
+            );
+        }
+    }
+
+    /// docs/method.md §8.2 shows the stages in a table, in the order of `Stage::ALL`.
+    #[test]
+    fn docs_method_lists_the_stages_in_order() {
+        let method = include_str!("../../../../docs/method.md");
+        let table = listed(method, "#### The stages", "| `Stage::");
+        assert_eq!(table, names());
+    }
+}
