@@ -486,7 +486,130 @@ impl<S: System> Stepper<S> {
 
 #[cfg(test)]
 mod tests {
-    use super::Stage;
+    use super::{Enabled, Next, Policy, Stage};
+    use crate::attempt::{AttemptFailure, RefusedBecause};
+    use crate::error::StepError;
+    use crate::options::{FailurePolicy, Options, RhoInfRetry};
+    use crate::sets::IndexSets;
+    use crate::state::State;
+
+    /// The policy of a step at the step's own Δt with these options, before any stage.
+    fn policy(o: &Options) -> Policy {
+        Policy {
+            enabled: Enabled::new(o),
+            halvings: o.max_halvings,
+            top: true,
+            prediction: None,
+            held: false,
+            rho_retries: 0,
+            converged: None,
+            visited: Vec::new(),
+            cycling: false,
+            best: None,
+            singular: None,
+            retries: 1,
+            failure: None,
+        }
+    }
+
+    fn not_converged(visited: &[IndexSets], cycling: bool) -> AttemptFailure {
+        AttemptFailure::NotConverged {
+            visited: visited.to_vec(),
+            cycling,
+            best: None,
+        }
+    }
+
+    fn stage(next: &Next) -> Option<Stage> {
+        match next {
+            Next::Run(s) => Some(*s),
+            Next::Commit(_) | Next::Fail(_) => None,
+        }
+    }
+
+    /// A refused far solution is a failure whose iterates count (the ρ∞ retries that
+    /// follow only a singular matrix are skipped) and that has no best iterate; a
+    /// singular matrix is followed by the retries.
+    #[test]
+    fn a_refused_solution_is_a_failure_with_iterates_and_no_best() {
+        let o = Options {
+            rho_inf_retry: RhoInfRetry::SingularMatrix,
+            rho_inf_retries: vec![0.8, 0.9],
+            explore_branches: false,
+            retry_without_friction_shift: false,
+            boundary_resolves: false,
+            last_resort: false,
+            max_halvings: 0,
+            ..Options::default()
+        };
+        let sets = vec![IndexSets::empty(1, 0)];
+        let refused = AttemptFailure::Refused {
+            reason: RefusedBecause::FarSolution,
+            visited: sets.clone(),
+        };
+        let state = State::default();
+        match policy(&o).next(Stage::Free, Err(Some(refused)), &state) {
+            Next::Fail(StepError::NotConverged {
+                residual,
+                visited_sets,
+                cycling: false,
+                ..
+            }) => assert!(residual.is_infinite() && visited_sets == sets),
+            other => panic!("{:?}", stage(&other)),
+        }
+        let singular = AttemptFailure::Singular {
+            message: "pivot".into(),
+        };
+        let next = policy(&o).next(Stage::Free, Err(Some(singular)), &state);
+        assert_eq!(stage(&next), Some(Stage::RhoRetry(0)));
+    }
+
+    /// With every stage switched on and every stage failing, a step whose first
+    /// attempt cycled goes through the stages in the order of `Stage::ALL`.
+    #[test]
+    fn failing_stages_follow_one_another_in_order() {
+        let o = Options {
+            rho_inf_retries: vec![0.8],
+            explore_branches: true,
+            retry_without_friction_shift: true,
+            friction_percussion_shift: true,
+            on_failure: FailurePolicy::AcceptBest,
+            boundary_resolves: true,
+            last_resort: true,
+            max_halvings: 1,
+            ..Options::default()
+        };
+        let (mut p, state) = (policy(&o), State::default());
+        let visited = [IndexSets::empty(1, 0)];
+        let mut next = p.next(
+            Stage::Free,
+            Err(Some(not_converged(&visited, true))),
+            &state,
+        );
+        let mut seen = vec![Stage::Free];
+        while let Some(s) = stage(&next) {
+            seen.push(s);
+            let outcome = match s {
+                Stage::RhoRetry(_) => Some(not_converged(&visited, true)),
+                _ => None,
+            };
+            if s == Stage::LastResort {
+                break;
+            }
+            next = p.next(s, Err(outcome), &state);
+        }
+        let expected = [
+            Stage::Free,
+            Stage::RhoRetry(0),
+            Stage::BranchTrials,
+            Stage::Unshifted,
+            Stage::AcceptBest,
+            Stage::Halving,
+            Stage::Boundary,
+            Stage::LastResort,
+        ];
+        assert_eq!(seen, expected);
+    }
 
     /// The names of the stages in the list at the head of `text` that starts at the
     /// line `from` and ends at the first line without `marker`.
