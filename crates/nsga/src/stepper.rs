@@ -589,11 +589,9 @@ impl<S: System> Stepper<S> {
         Ok(self.committed())
     }
 
-    /// One step, by the policy of docs/method.md §8.2: the stages of
-    /// [`Stage`](policy::Stage) (predicted start, held sets, free Newton, flip probe,
-    /// ρ∞ retries, branch trials, the unshifted step, the best iterate, halving,
-    /// boundary re-solves, the last resort), each switched on by the [`Options`], in
-    /// the order of its one transition table; the first that finds the step commits it.
+    /// One step, by the policy of docs/method.md §8.2: the stages listed there (the
+    /// crate's `Stage` enum), each switched on by the [`Options`], in the order of their
+    /// one transition table; the first stage that finds the step commits it.
     ///
     /// # Errors
     /// [`StepError::NoSolution`] when the last resort finds that the step's contact
