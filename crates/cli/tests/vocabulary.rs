@@ -268,56 +268,86 @@ fn a_rotation_angle_in_degrees_without_deg_is_explained() {
     assert!(ok, "{err}");
     // Path lengths given as angles may be long: φ2 = 9 rad, φ1 = 13π/3.
     assert!(run(&["sphere", "holonomy", "--theta", "1", "--phi1", "0", "--phi2", "9"]).0);
-    let (ok, _, err) = run(&[
-        "cylinder",
-        "holonomy",
-        "rectangle",
-        "--theta",
-        "pi/10",
-        "--phi1",
-        "13pi/3",
-        "--phi2",
-        "7",
-        "--max-step",
-        "0.1",
-    ]);
-    assert!(ok, "{err}");
+    let args = "cylinder holonomy rectangle --theta pi/10 --phi1 1 --phi2 1 --max-step -1";
+    let (ok, _, err) = run(&args.split(' ').collect::<Vec<_>>());
+    assert!(!ok && !err.contains("unexpected argument"), "{err}");
+    assert!(
+        err.contains("--max-step"),
+        "the error names the flag: {err}"
+    );
 }
 
 #[test]
-fn cylinder_support_forces_in_newtons() {
-    let over_mg = common::json(&["cylinder", "support", "--theta", "30deg", "--json"]);
-    assert!(over_mg.get("forces_newton").is_none());
+fn ranges_take_what_single_values_take() {
+    use std::f64::consts::PI;
+    let thetas = |theta: &str| -> Vec<f64> {
+        let v = common::json(&[
+            "cylinder", "sweep", "pair", "--theta", theta, "--steps", "2", "--json",
+        ]);
+        v["rows"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|r| r["theta"].as_f64().unwrap())
+            .collect()
+    };
+    assert_eq!(thetas("30deg"), [PI / 6.0]);
+    assert_eq!(thetas("pi/6"), [PI / 6.0]);
+    let degrees: Vec<f64> = [20.0f64, 30.0, 40.0]
+        .iter()
+        .map(|d| d.to_radians())
+        .collect();
+    assert_eq!(thetas("20deg:40deg:10deg"), degrees);
+    // The single value of `cylinder pair` and the range's value are the same number.
+    let single = common::json(&[
+        "cylinder", "pair", "--theta", "30deg", "--steps", "2", "--json",
+    ]);
+    assert_eq!(single["theta"].as_f64(), Some(PI / 6.0));
+    // A rate as its own help writes it: --spin −6π, the default.
+    let spin = |extra: &[&str]| {
+        let mut args = vec![
+            "cylinder", "pair", "--theta", "30deg", "--steps", "2", "--json",
+        ];
+        args.extend(extra);
+        common::json(&args)["n_over_mg"].clone()
+    };
+    assert_eq!(spin(&["--spin", "-6pi"]), spin(&[]));
+    let (_, help, _) = run(&["cylinder", "pair", "--help"]);
+    assert!(help.contains("-6pi"), "the help writes −6π as it is typed");
+    // A scene key swept over multiples of π.
     let v = common::json(&[
-        "cylinder",
-        "support",
-        "--theta",
-        "30deg",
-        "--mass",
-        "2",
-        "--gravity",
-        "10",
+        "blocks",
+        "sweep",
+        "scene",
+        "shaking",
+        "--set",
+        "base.omega=2pi",
+        "--t-end",
+        "0.02",
         "--json",
     ]);
-    let n = &v["forces_newton"];
-    assert_eq!(n["weight"], 20.0);
-    let f3 = over_mg["min_force"]["f3_over_mg"].as_f64().unwrap();
-    assert!((n["f3_up"].as_f64().unwrap() - 20.0 * f3).abs() < 1e-12);
-    // The /mg values are unchanged.
-    let mut without = v.clone();
-    without.as_object_mut().unwrap().remove("forces_newton");
-    assert_eq!(without, over_mg);
-    let (ok, text, _) = run(&["cylinder", "support", "--theta", "30deg", "--mass", "2"]);
-    assert!(ok);
-    assert!(text.contains("F3/mg = ") && text.contains(" (vertical, up), F/mg = "));
-    assert!(text.contains("(horizontal, along e′2)"), "{text}");
+    assert_eq!(v["rows"][0]["set"][0]["value"].as_f64(), Some(2.0 * PI));
+    // A bad single value is not called a malformed range.
+    let (ok, _, err) = run(&["cylinder", "sweep", "pair", "--theta", "thirty"]);
     assert!(
-        text.contains("in newtons (m = 2 kg, g = 9.81 m/s²"),
-        "{text}"
+        !ok && err.contains("'thirty'") && !err.contains("A:B:STEP"),
+        "{err}"
     );
-    let (ok, _, err) = run(&["cylinder", "support", "--theta", "30deg", "--gravity", "10"]);
-    assert!(
-        !ok && err.contains("--mass"),
-        "--gravity needs --mass: {err}"
-    );
+}
+
+#[test]
+fn an_inclination_out_of_range_is_told_in_degrees_and_radians() {
+    for command in [
+        &["cylinder", "pair"][..],
+        &["cylinder", "sweep", "pair"][..],
+    ] {
+        let mut args = command.to_vec();
+        args.extend(["--theta", "5deg", "--steps", "2"]);
+        let (ok, _, err) = run(&args);
+        assert!(!ok, "{args:?}");
+        assert!(
+            err.contains("--theta 5° (0.0873 rad) is outside (10.008°, 90°)"),
+            "{args:?}: {err}"
+        );
+    }
 }

@@ -68,13 +68,13 @@ pub struct ExploreArgs {
     pub strategy: StrategyArg,
     /// Most branches, the root included; a fork whose candidates do not all fit is
     /// passed (its branch goes on with the chosen candidate).
-    #[arg(long, default_value_t = 1000)]
+    #[arg(long, default_value_t = 1000, allow_hyphen_values = true)]
     pub max_branches: usize,
     /// Most followed forks from the root to a branch (default: no limit).
-    #[arg(long)]
+    #[arg(long, allow_hyphen_values = true)]
     pub max_depth: Option<usize>,
     /// Wall time (s) after which running branches stop where they are.
-    #[arg(long, value_parser = parse_finite)]
+    #[arg(long, value_parser = parse_finite, allow_hyphen_values = true)]
     pub max_wall: Option<f64>,
     /// Which fixed-set solutions are a fork's candidates: `self-consistent` (solutions
     /// of the step's equations) or `converged` (the thesis's count).
