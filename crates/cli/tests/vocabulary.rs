@@ -268,6 +268,119 @@ fn a_rotation_angle_in_degrees_without_deg_is_explained() {
     assert!(ok, "{err}");
     // Path lengths given as angles may be long: φ2 = 9 rad, φ1 = 13π/3.
     assert!(run(&["sphere", "holonomy", "--theta", "1", "--phi1", "0", "--phi2", "9"]).0);
+    let (ok, _, err) = run(&[
+        "cylinder",
+        "holonomy",
+        "rectangle",
+        "--theta",
+        "pi/10",
+        "--phi1",
+        "13pi/3",
+        "--phi2",
+        "7",
+        "--max-step",
+        "0.1",
+    ]);
+    assert!(ok, "{err}");
+}
+
+#[test]
+fn cylinder_support_forces_in_newtons() {
+    let over_mg = common::json(&["cylinder", "support", "--theta", "30deg", "--json"]);
+    assert!(over_mg.get("forces_newton").is_none());
+    let v = common::json(&[
+        "cylinder",
+        "support",
+        "--theta",
+        "30deg",
+        "--mass",
+        "2",
+        "--gravity",
+        "10",
+        "--json",
+    ]);
+    let n = &v["forces_newton"];
+    assert_eq!(n["weight"], 20.0);
+    let f3 = over_mg["min_force"]["f3_over_mg"].as_f64().unwrap();
+    assert!((n["f3_up"].as_f64().unwrap() - 20.0 * f3).abs() < 1e-12);
+    // The /mg values are unchanged.
+    let mut without = v.clone();
+    without.as_object_mut().unwrap().remove("forces_newton");
+    assert_eq!(without, over_mg);
+    let (ok, text, _) = run(&["cylinder", "support", "--theta", "30deg", "--mass", "2"]);
+    assert!(ok);
+    assert!(text.contains("F3/mg = ") && text.contains(" (vertical, up), F/mg = "));
+    assert!(text.contains("(horizontal, along e′2)"), "{text}");
+    assert!(
+        text.contains("in newtons (m = 2 kg, g = 9.81 m/s²"),
+        "{text}"
+    );
+    let (ok, _, err) = run(&["cylinder", "support", "--theta", "30deg", "--gravity", "10"]);
+    assert!(
+        !ok && err.contains("--mass"),
+        "--gravity needs --mass: {err}"
+    );
+}
+
+/// Options whose value is a name, never a number: there a leading `-` is a flag.
+const NAMED_VALUES: &[(&str, &str)] = &[
+    ("rotation", "from"),
+    ("sphere euler-plan", "set"),
+    ("slurm", "partition"),
+    ("tour", "only"),
+];
+
+/// Every option of every command, with its command path.
+fn options() -> Vec<(String, clap::Arg)> {
+    fn walk(path: &str, cmd: &clap::Command, out: &mut Vec<(String, clap::Arg)>) {
+        for arg in cmd.get_arguments() {
+            let takes_value = matches!(
+                arg.get_action(),
+                clap::ArgAction::Set | clap::ArgAction::Append
+            );
+            if takes_value && !arg.is_positional() {
+                out.push((path.trim().to_owned(), arg.clone()));
+            }
+        }
+        for sub in cmd.get_subcommands() {
+            walk(&format!("{path} {}", sub.get_name()), sub, out);
+        }
+    }
+    let mut out = Vec::new();
+    walk(
+        "",
+        &<rollstack_cli::Cli as clap::CommandFactory>::command(),
+        &mut out,
+    );
+    out
+}
+
+#[test]
+fn every_option_that_may_be_negative_takes_a_leading_minus() {
+    use std::any::TypeId;
+    // A path, a shard, a choice among words or a name: a leading '-' is a flag there.
+    let not_numbers = [
+        TypeId::of::<std::path::PathBuf>(),
+        TypeId::of::<rollstack_cli::sweep::ShardChoice>(),
+    ];
+    let mut missing = Vec::new();
+    for (path, arg) in options() {
+        let id = arg.get_id().as_str();
+        let parser = arg.get_value_parser();
+        let words = !arg.get_possible_values().is_empty();
+        let named = NAMED_VALUES.contains(&(path.as_str(), id));
+        if words || named || not_numbers.iter().any(|t| parser.type_id() == *t) {
+            continue;
+        }
+        if !arg.is_allow_hyphen_values_set() {
+            missing.push(format!("{path} --{}", arg.get_long().unwrap_or(id)));
+        }
+    }
+    assert!(
+        missing.is_empty(),
+        "'--flag -1' is clap's 'unexpected argument' for: {missing:?}"
+    );
+    // And what the user sees: the value is read, and refused by its own check.
     let args = "cylinder holonomy rectangle --theta pi/10 --phi1 1 --phi2 1 --max-step -1";
     let (ok, _, err) = run(&args.split(' ').collect::<Vec<_>>());
     assert!(!ok && !err.contains("unexpected argument"), "{err}");
@@ -349,5 +462,35 @@ fn an_inclination_out_of_range_is_told_in_degrees_and_radians() {
             err.contains("--theta 5° (0.0873 rad) is outside (10.008°, 90°)"),
             "{args:?}: {err}"
         );
+    }
+}
+
+#[test]
+fn a_huge_value_is_printed_short_under_its_flag() {
+    for (args, expected) in [
+        (
+            "blocks shake --omega -1e300",
+            "--omega must be positive, got -1e300",
+        ),
+        (
+            "blocks run shaking --t-end -1e300",
+            "--t-end must be positive, got -1e300",
+        ),
+        (
+            "nsga ball --case 2 --dt 1e300",
+            "--dt must be in (0, 0.1] s, got 1e300",
+        ),
+        (
+            "cylinder frobenius --r-over-h -1e300",
+            "--r-over-h must be positive, got -1e300",
+        ),
+        (
+            "blocks sweep scene shaking --set contact.mu=1e300,-1e300",
+            "got -1e300",
+        ),
+    ] {
+        let (ok, _, err) = run(&args.split(' ').collect::<Vec<_>>());
+        assert!(!ok && err.contains(expected), "{args}: {err}");
+        assert!(err.len() < 300, "{args}: {err}");
     }
 }

@@ -142,14 +142,17 @@ pub fn run(args: &NsgaArgs) -> Result<()> {
 fn ball(a: &BallArgs) -> Result<()> {
     let dt = require_finite("--dt", a.dt)?;
     if dt <= 0.0 || dt > 0.1 {
-        bail!("--dt must be in (0, 0.1] s, got {dt}");
+        bail!("--dt must be in (0, 0.1] s, got {}", input::Short(dt));
     }
     if !(0.0..=1.0).contains(&a.rho_inf) {
-        bail!("--rho-inf must be in [0, 1], got {}", a.rho_inf);
+        bail!(
+            "--rho-inf must be in [0, 1], got {}",
+            input::Short(a.rho_inf)
+        );
     }
     let prox = match a.prox_constant {
         Some(r) if !(r.is_finite() && r > 0.0) => {
-            bail!("--prox-constant must be positive, got {r}")
+            bail!("--prox-constant must be positive, got {}", input::Short(r))
         }
         Some(r) => Prox::Constant(r),
         None => Prox::Scaled(1.0),

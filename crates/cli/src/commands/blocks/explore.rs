@@ -122,13 +122,13 @@ pub fn run(args: &ExploreArgs) -> Result<()> {
     let scene = &loaded.scene;
     anyhow::ensure!(args.max_branches >= 1, "--max-branches must be at least 1");
     if let Some(t) = args.t_end {
-        anyhow::ensure!(t > 0.0, "--t-end must be positive, got {t}");
+        input::positive("--t-end", t)?;
     }
     if let Some(r) = args.prox_constant {
-        anyhow::ensure!(r > 0.0, "--prox-constant must be positive, got {r}");
+        input::positive("--prox-constant", r)?;
     }
     if let Some(w) = args.max_wall {
-        anyhow::ensure!(w >= 0.0, "--max-wall must not be negative, got {w}");
+        input::non_negative("--max-wall", w)?;
     }
     let rule = args.branch_rule.rule();
     let strategy = match args.strategy {

@@ -138,10 +138,10 @@ impl SolverArgs {
     /// A non-positive end time or prox constant.
     pub fn run_options(&self, t_end: Option<f64>, stop_at_failure: bool) -> Result<RunOptions> {
         if let Some(t) = t_end {
-            anyhow::ensure!(t > 0.0, "--t-end must be positive, got {t}");
+            input::positive("--t-end", t)?;
         }
         if let Some(r) = self.prox_constant {
-            anyhow::ensure!(r > 0.0, "--prox-constant must be positive, got {r}");
+            input::positive("--prox-constant", r)?;
         }
         Ok(RunOptions {
             t_end,

@@ -52,12 +52,8 @@ pub struct ShakeArgs {
 /// Bad parameters, a run that could not start or stopped early, or unwritable output.
 pub fn run_shake(args: &ShakeArgs) -> Result<()> {
     anyhow::ensure!(args.blocks >= 1, "--blocks must be at least 1");
-    anyhow::ensure!(
-        args.omega > 0.0,
-        "--omega must be positive, got {}",
-        args.omega
-    );
-    anyhow::ensure!(args.mu >= 0.0, "--mu must not be negative, got {}", args.mu);
+    input::positive("--omega", args.omega)?;
+    input::non_negative("--mu", args.mu)?;
     let p = Shaking {
         blocks: args.blocks,
         amplitude: args.amplitude,

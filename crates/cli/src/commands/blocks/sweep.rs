@@ -344,7 +344,7 @@ pub fn sweep_frequency(args: &FrequencyArgs) -> Result<()> {
         start_with_base: false,
     };
     check_before_any_run(&omegas, &args.solver, &options, |&(_, omega)| {
-        shaking_column(&column(omega)).with_context(|| format!("--omega {omega}"))
+        shaking_column(&column(omega)).with_context(|| format!("--omega {}", input::Short(omega)))
     })?;
     let rows = sweep.rows(&omegas, |&omega| frequency_row(&column(omega), &options))?;
     if let Some(dir) = &args.output.out {
@@ -395,7 +395,7 @@ pub fn sweep_slide(args: &SlideArgs) -> Result<()> {
         mu: args.mu,
     };
     check_before_any_run(&speeds, &args.solver, &options, |&(_, v0)| {
-        sliding_column(&column(v0)).with_context(|| format!("--v0 {v0}"))
+        sliding_column(&column(v0)).with_context(|| format!("--v0 {}", input::Short(v0)))
     })?;
     let rows = sweep.rows(&speeds, |&v0| slide_row(&column(v0), &options))?;
     if let Some(dir) = &args.output.out {

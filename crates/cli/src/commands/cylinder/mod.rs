@@ -77,7 +77,7 @@ pub fn height(r: f64, h: Option<f64>, r_over_h: Option<f64>) -> Result<f64> {
     match (h, r_over_h) {
         (Some(h), _) => Ok(h),
         (None, Some(ratio)) => {
-            anyhow::ensure!(ratio > 0.0, "--r-over-h must be positive, got {ratio}");
+            input::positive("--r-over-h", ratio)?;
             Ok(r / ratio)
         }
         (None, None) => anyhow::bail!("give the height as --h or --r-over-h"),

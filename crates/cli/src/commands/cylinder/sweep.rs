@@ -94,7 +94,8 @@ fn sweep_pair(a: &PairSweepArgs) -> Result<()> {
     for &theta in &all {
         let s = settings(theta);
         super::check_theta(theta, &s.cylinder)?;
-        s.system().with_context(|| format!("--theta {theta}"))?;
+        s.system()
+            .with_context(|| format!("--theta {}", input::Short(theta)))?;
     }
     let inputs =
         serde_json::json!({"theta": a.theta, "dt": a.dt, "steps": a.steps, "spin": a.spin});
@@ -146,7 +147,8 @@ fn sweep_push(a: &PushSweepArgs) -> Result<()> {
     for &theta in &all {
         let s = settings(theta);
         super::check_theta(theta, &s.cylinder)?;
-        s.system().with_context(|| format!("--theta {theta}"))?;
+        s.system()
+            .with_context(|| format!("--theta {}", input::Short(theta)))?;
     }
     let inputs = serde_json::json!({
         "theta": a.theta, "push": a.push, "mu_floor": a.mu_floor, "dt": a.dt, "steps": a.steps,
