@@ -488,6 +488,15 @@ fn a_huge_value_is_printed_short_under_its_flag() {
             "blocks sweep scene shaking --set contact.mu=1e300,-1e300",
             "got -1e300",
         ),
+        // A setting of every inclination is refused under its own flag, not --theta's.
+        (
+            "cylinder sweep push --theta 30deg --dt -1e300",
+            "error: --dt must be positive, got -1e300",
+        ),
+        (
+            "cylinder sweep pair --theta 30deg --steps 0",
+            "error: --steps must be at least 1, got 0",
+        ),
     ] {
         let (ok, _, err) = run(&args.split(' ').collect::<Vec<_>>());
         assert!(!ok && err.contains(expected), "{args}: {err}");

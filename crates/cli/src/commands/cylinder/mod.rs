@@ -104,6 +104,17 @@ fn check_theta(theta: f64, cylinder: &cylinders::kinematics::Cylinder) -> Result
     Ok(())
 }
 
+/// Refuses a pair's time step or number of steps under its flag, before the runs of each
+/// inclination would refuse it under `--theta`.
+///
+/// # Errors
+/// `--dt` not positive, `--steps` 0.
+fn check_steps(dt: f64, steps: usize) -> Result<()> {
+    input::positive("--dt", dt)?;
+    anyhow::ensure!(steps >= 1, "--steps must be at least 1, got 0");
+    Ok(())
+}
+
 /// A number with at most four decimals, without trailing zeros (`5`, `11.3099`), or in
 /// scientific notation when it is too large or too small for that.
 fn short(v: f64) -> String {

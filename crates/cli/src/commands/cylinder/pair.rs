@@ -70,6 +70,7 @@ impl PairArgs {
 pub(super) fn run(a: &PairArgs) -> Result<()> {
     let start = Instant::now();
     let settings = a.settings();
+    super::check_steps(a.dt, a.steps)?;
     super::check_theta(settings.theta, &settings.cylinder)?;
     let mut report = run_pair(&settings, a.out.is_some())?;
     let trajectory = report.trajectory.take();

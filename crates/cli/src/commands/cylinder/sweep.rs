@@ -91,6 +91,7 @@ fn sweep_pair(a: &PairSweepArgs) -> Result<()> {
         spin: SpinProfile::constant(a.spin),
         ..PairSettings::thesis(theta)
     };
+    super::check_steps(a.dt, a.steps)?;
     for &theta in &all {
         let s = settings(theta);
         super::check_theta(theta, &s.cylinder)?;
@@ -144,6 +145,7 @@ fn sweep_push(a: &PushSweepArgs) -> Result<()> {
         mu_floor: a.mu_floor,
         ..PairSettings::thesis(theta)
     };
+    super::check_steps(a.dt, a.steps)?;
     for &theta in &all {
         let s = settings(theta);
         super::check_theta(theta, &s.cylinder)?;
