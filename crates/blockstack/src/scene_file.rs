@@ -103,8 +103,9 @@ pub struct BlockFile {
     /// Initial angle θ in radians (default 0).
     #[serde(default)]
     pub theta: f64,
-    /// Number of identical blocks (default 1).
-    #[serde(default = "one_count")]
+    /// Number of identical blocks (default 1): an integer, or a decimal that is one
+    /// (`count = 2.0`), as every number of the file may be written.
+    #[serde(default = "one_count", deserialize_with = "whole_count")]
     pub count: usize,
     /// Initial velocity [v_x, v_y, ω] of the centre (default: at rest).
     #[serde(default, skip_serializing_if = "is_at_rest")]
@@ -121,6 +122,42 @@ fn one() -> f64 {
 
 fn one_count() -> usize {
     1
+}
+
+/// Reads `count` from an integer or an integral decimal (`2.0`), refusing `2.5` and
+/// negative numbers with a message that names the key.
+fn whole_count<'de, D: serde::Deserializer<'de>>(d: D) -> Result<usize, D::Error> {
+    struct Count;
+    impl serde::de::Visitor<'_> for Count {
+        type Value = usize;
+
+        fn expecting(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+            f.write_str("a whole number of blocks")
+        }
+
+        fn visit_u64<E: serde::de::Error>(self, v: u64) -> Result<usize, E> {
+            usize::try_from(v).map_err(|_| E::custom(format!("count = {v} is too large")))
+        }
+
+        fn visit_i64<E: serde::de::Error>(self, v: i64) -> Result<usize, E> {
+            let v = u64::try_from(v)
+                .map_err(|_| E::custom(format!("count must not be negative, got {v}")))?;
+            self.visit_u64(v)
+        }
+
+        fn visit_f64<E: serde::de::Error>(self, v: f64) -> Result<usize, E> {
+            // Below 2^53 every whole decimal is exact, so the cast keeps its value.
+            if v.fract() == 0.0 && (0.0..9.007_199_254_740_992e15).contains(&v) {
+                #[allow(clippy::cast_possible_truncation, clippy::cast_sign_loss)]
+                return Ok(v as usize);
+            }
+            Err(E::custom(format!(
+                "count must be a whole number of blocks, got {}",
+                input::Short(v)
+            )))
+        }
+    }
+    d.deserialize_any(Count)
 }
 
 /// The `[contact]` table.
@@ -206,12 +243,16 @@ impl SceneFile {
     /// with its line number.
     pub fn parse(text: &str) -> Result<Self, BlockError> {
         toml::from_str(text).map_err(|e| {
-            let line = e
-                .span()
-                .map(|s| text[..s.start.min(text.len())].lines().count().max(1));
+            let start = e.span().map(|s| s.start.min(text.len()));
             let msg = e.message().trim().replace('\n', " ");
-            BlockError::Scene(match line {
-                Some(l) => format!("line {l}: {msg}"),
+            BlockError::Scene(match start {
+                Some(at) => {
+                    let line = text[..at].lines().count().max(1);
+                    match key_at(text, at) {
+                        Some(key) => format!("line {line}: {key}: {msg}"),
+                        None => format!("line {line}: {msg}"),
+                    }
+                }
                 None => msg,
             })
         })
@@ -424,6 +465,29 @@ impl LoadedScene {
     }
 }
 
+/// The key whose value starts at byte `at` of a scene file, with its table
+/// (`[contact] mu`), so that a wrong type names what the user wrote: toml's own message
+/// ("invalid type: string \"a\", expected f64") names only the type. None when `at` is
+/// not in a value (a syntax error, a missing key).
+fn key_at(text: &str, at: usize) -> Option<String> {
+    let line_start = text[..at].rfind('\n').map_or(0, |i| i + 1);
+    let before = &text[line_start..at];
+    let eq = before.rfind('=')?;
+    let key = before[..eq].rsplit(['{', ',']).next()?.trim();
+    if key.is_empty() || key.starts_with('#') || key.starts_with('[') {
+        return None;
+    }
+    let table = text[..line_start].lines().rev().find_map(|l| {
+        let l = l.trim();
+        l.starts_with('[')
+            .then(|| l.split('#').next().unwrap_or(l).trim().to_owned())
+    });
+    Some(match table {
+        Some(t) => format!("{t} {key}"),
+        None => key.to_owned(),
+    })
+}
+
 /// Prefixes "block k" to the name in a block-constructor error.
 fn name_block(e: BlockError, k: usize) -> BlockError {
     match e {
@@ -496,6 +560,30 @@ mu = 0.2
         assert!(overlap.contains("block 2 and block 3 overlap"), "{overlap}");
         assert!(err(&GOOD.replace("[floor]", "[floor]\ny = 0.5")).contains("floor"));
         assert!(err("[base]\nwidth = 1\n").contains("line"));
+    }
+
+    #[test]
+    fn a_wrong_type_names_its_key() {
+        let e = err(&GOOD.replace("mu = 0.2", "mu = \"0.2\""));
+        assert!(e.contains("[contact] mu: invalid type"), "{e}");
+        let e = err(&GOOD.replace("count = 4", "count = \"four\""));
+        assert!(e.contains("[[blocks]] count:"), "{e}");
+        let e = err(&GOOD.replace("omega = 4.0", "omega = [4.0]"));
+        assert!(e.contains("[base] omega:"), "{e}");
+    }
+
+    #[test]
+    fn an_integral_decimal_count_is_a_count() {
+        let two = Scene::from_toml(&GOOD.replace("count = 4", "count = 2.0")).unwrap();
+        assert_eq!(two.n_blocks(), 2);
+        let e = err(&GOOD.replace("count = 4", "count = 2.5"));
+        assert!(
+            e.contains("count must be a whole number of blocks, got 2.5"),
+            "{e}"
+        );
+        let e = err(&GOOD.replace("count = 4", "count = -1"));
+        assert!(e.contains("count must not be negative, got -1"), "{e}");
+        assert!(err(&GOOD.replace("count = 4", "count = 1e300")).contains("got 1e300"));
     }
 
     proptest::proptest! {

@@ -56,6 +56,44 @@ proptest! {
     }
 }
 
+/// The keys of [`scene_text`]'s values, as a refusal names them.
+const KEYS: [&str; 10] = [
+    "[base] width",
+    "[base] height",
+    "[base] amplitude",
+    "[base] omega",
+    "[[blocks]] width",
+    "[[blocks]] height",
+    "[[blocks]] mass",
+    "[contact] mu",
+    "[contact] e_n",
+    "[solver] dt",
+];
+
+proptest! {
+    /// A value of the wrong type is refused under its key, whichever key it is.
+    #[test]
+    fn a_wrong_type_names_its_key(k in 0usize..10, wrong in prop_oneof![Just("\"x\""), Just("[1.0]"), Just("true")]) {
+        let mut values = vec!["0.5".to_owned(); 10];
+        values[k] = wrong.to_owned();
+        let e = Scene::from_toml(&scene_text(&values)).unwrap_err().to_string();
+        prop_assert!(e.contains(&format!("{}: invalid type", KEYS[k])), "{e}");
+    }
+
+    /// A count may be written as a decimal when it is whole, as every number of a file.
+    #[test]
+    fn a_whole_decimal_count_counts(n in 1usize..5, half in proptest::bool::ANY) {
+        let mut values = vec!["0.5".to_owned(); 10];
+        values[9] = "0.01".to_owned(); // Δt below t_end
+        let count = if half { format!("{n}.5") } else { format!("{n}.0") };
+        let text = scene_text(&values).replace("count = 2", &format!("count = {count}"));
+        match Scene::from_toml(&text) {
+            Ok(scene) => prop_assert!(!half && scene.n_blocks() == n),
+            Err(e) => prop_assert!(half && e.to_string().contains("count must be a whole number"), "{e}"),
+        }
+    }
+}
+
 #[test]
 fn the_generator_produces_scenes_that_run() {
     let plausible: Vec<String> = [

@@ -981,3 +981,63 @@ fn the_page_reader_reads_what_it_should() {
         .any(|(f, c)| f == &["trajectory.csv"] && c.contains(&"x{k}".to_owned())));
     assert_eq!(flag_rows(lire)["--blocks"][1], "`4`");
 }
+
+// ------------------------------------------------------------------ the overview and transcripts
+
+#[test]
+fn the_command_table_names_every_command() {
+    // A row of the overview's table: ``| `rollstack a b`, `c`, `d e` | …``: the first
+    // span names a command by its path, the others by their path below its group (or,
+    // as `merge`, `slurm`, a command of their own).
+    let doc = read_doc();
+    let mut named = BTreeSet::new();
+    for row in doc
+        .overview
+        .lines()
+        .filter(|l| l.starts_with("| `rollstack "))
+    {
+        let first = row.split('|').nth(1).unwrap_or_default();
+        let spans = code_spans(first);
+        let Some(full) = spans.first().and_then(|s| s.strip_prefix("rollstack ")) else {
+            continue;
+        };
+        let group = full.split(' ').next().unwrap_or_default();
+        named.insert(full.to_owned());
+        for rest in &spans[1..] {
+            named.insert(format!("{group} {rest}"));
+            named.insert((*rest).to_owned());
+        }
+    }
+    let missing: Vec<String> = leaf_commands()
+        .into_iter()
+        .map(|(path, _)| path)
+        .filter(|path| !named.contains(path))
+        .collect();
+    assert!(
+        missing.is_empty(),
+        "the command table of docs/cli.md lacks {missing:?}"
+    );
+}
+
+#[test]
+fn every_transcript_on_the_page_is_what_the_command_prints() {
+    let failures = common::transcript_failures(DOC, "cli-doc", 2, &[]);
+    assert!(failures.is_empty(), "{}", failures.join("\n\n"));
+}
+
+#[test]
+fn the_transcript_reader_reads_what_it_should() {
+    let page = "a\n```text\n$ rollstack x --y 1\none\n…\nthree\n```\n```text\nno command\n```\n";
+    let t = common::transcripts(page);
+    assert_eq!(t.len(), 1);
+    assert_eq!(t[0].args, ["x", "--y", "1"]);
+    let matches = common::transcript_matches;
+    assert!(matches(&t[0].lines, &["one", "two", "2b", "three"]));
+    assert!(matches(&t[0].lines, &["one", "three"]));
+    assert!(!matches(&t[0].lines, &["one", "two"]));
+    assert!(!matches(&t[0].lines, &["zero", "one", "three"]));
+    let inline = ["a = 1 (…), b".to_owned()];
+    assert!(matches(&inline, &["a = 1 (solver 0.3 s), b"]));
+    assert!(!matches(&inline, &["a = 2 (solver 0.3 s), b"]));
+    assert!(!matches(&inline, &["a = 1 (x), b, c"]));
+}

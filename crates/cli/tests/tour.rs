@@ -64,3 +64,30 @@ fn every_tour_step_is_a_command_line_that_parses_and_is_documented() {
         }
     }
 }
+
+#[test]
+fn a_tour_step_that_quotes_its_results_is_a_checked_transcript() {
+    // A step marked `checked` may say what its run prints (which ω fail, and when):
+    // docs/cli.md then shows the same command's output, which its test runs.
+    let doc =
+        std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/../../docs/cli.md")).unwrap();
+    let shown: Vec<String> = common::transcripts(&doc)
+        .into_iter()
+        .map(|t| t.args.join(" "))
+        .collect();
+    let mut checked = 0;
+    for section in rollstack_cli::tour::sections().unwrap() {
+        for step in section.steps.iter().filter(|s| s.checked) {
+            checked += 1;
+            assert!(
+                shown.contains(&step.args),
+                "the tour quotes `rollstack {}`, which docs/cli.md does not show as a transcript",
+                step.args
+            );
+        }
+    }
+    assert!(
+        checked >= 2,
+        "the sweeps that quote their results are marked"
+    );
+}

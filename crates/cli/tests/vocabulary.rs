@@ -321,3 +321,185 @@ fn cylinder_support_forces_in_newtons() {
         "--gravity needs --mass: {err}"
     );
 }
+
+/// Options whose value is a name, never a number: there a leading `-` is a flag.
+const NAMED_VALUES: &[(&str, &str)] = &[
+    ("rotation", "from"),
+    ("sphere euler-plan", "set"),
+    ("slurm", "partition"),
+    ("tour", "only"),
+];
+
+/// Every option of every command, with its command path.
+fn options() -> Vec<(String, clap::Arg)> {
+    fn walk(path: &str, cmd: &clap::Command, out: &mut Vec<(String, clap::Arg)>) {
+        for arg in cmd.get_arguments() {
+            let takes_value = matches!(
+                arg.get_action(),
+                clap::ArgAction::Set | clap::ArgAction::Append
+            );
+            if takes_value && !arg.is_positional() {
+                out.push((path.trim().to_owned(), arg.clone()));
+            }
+        }
+        for sub in cmd.get_subcommands() {
+            walk(&format!("{path} {}", sub.get_name()), sub, out);
+        }
+    }
+    let mut out = Vec::new();
+    walk(
+        "",
+        &<rollstack_cli::Cli as clap::CommandFactory>::command(),
+        &mut out,
+    );
+    out
+}
+
+#[test]
+fn every_option_that_may_be_negative_takes_a_leading_minus() {
+    use std::any::TypeId;
+    // A path, a shard, a choice among words or a name: a leading '-' is a flag there.
+    let not_numbers = [
+        TypeId::of::<std::path::PathBuf>(),
+        TypeId::of::<rollstack_cli::sweep::ShardChoice>(),
+    ];
+    let mut missing = Vec::new();
+    for (path, arg) in options() {
+        let id = arg.get_id().as_str();
+        let parser = arg.get_value_parser();
+        let words = !arg.get_possible_values().is_empty();
+        let named = NAMED_VALUES.contains(&(path.as_str(), id));
+        if words || named || not_numbers.iter().any(|t| parser.type_id() == *t) {
+            continue;
+        }
+        if !arg.is_allow_hyphen_values_set() {
+            missing.push(format!("{path} --{}", arg.get_long().unwrap_or(id)));
+        }
+    }
+    assert!(
+        missing.is_empty(),
+        "'--flag -1' is clap's 'unexpected argument' for: {missing:?}"
+    );
+    // And what the user sees: the value is read, and refused by its own check.
+    let args = "cylinder holonomy rectangle --theta pi/10 --phi1 1 --phi2 1 --max-step -1";
+    let (ok, _, err) = run(&args.split(' ').collect::<Vec<_>>());
+    assert!(!ok && !err.contains("unexpected argument"), "{err}");
+    assert!(
+        err.contains("--max-step"),
+        "the error names the flag: {err}"
+    );
+}
+
+#[test]
+fn ranges_take_what_single_values_take() {
+    use std::f64::consts::PI;
+    let thetas = |theta: &str| -> Vec<f64> {
+        let v = common::json(&[
+            "cylinder", "sweep", "pair", "--theta", theta, "--steps", "2", "--json",
+        ]);
+        v["rows"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|r| r["theta"].as_f64().unwrap())
+            .collect()
+    };
+    assert_eq!(thetas("30deg"), [PI / 6.0]);
+    assert_eq!(thetas("pi/6"), [PI / 6.0]);
+    let degrees: Vec<f64> = [20.0f64, 30.0, 40.0]
+        .iter()
+        .map(|d| d.to_radians())
+        .collect();
+    assert_eq!(thetas("20deg:40deg:10deg"), degrees);
+    // The single value of `cylinder pair` and the range's value are the same number.
+    let single = common::json(&[
+        "cylinder", "pair", "--theta", "30deg", "--steps", "2", "--json",
+    ]);
+    assert_eq!(single["theta"].as_f64(), Some(PI / 6.0));
+    // A rate as its own help writes it: --spin −6π, the default.
+    let spin = |extra: &[&str]| {
+        let mut args = vec![
+            "cylinder", "pair", "--theta", "30deg", "--steps", "2", "--json",
+        ];
+        args.extend(extra);
+        common::json(&args)["n_over_mg"].clone()
+    };
+    assert_eq!(spin(&["--spin", "-6pi"]), spin(&[]));
+    let (_, help, _) = run(&["cylinder", "pair", "--help"]);
+    assert!(help.contains("-6pi"), "the help writes −6π as it is typed");
+    // A scene key swept over multiples of π.
+    let v = common::json(&[
+        "blocks",
+        "sweep",
+        "scene",
+        "shaking",
+        "--set",
+        "base.omega=2pi",
+        "--t-end",
+        "0.02",
+        "--json",
+    ]);
+    assert_eq!(v["rows"][0]["set"][0]["value"].as_f64(), Some(2.0 * PI));
+    // A bad single value is not called a malformed range.
+    let (ok, _, err) = run(&["cylinder", "sweep", "pair", "--theta", "thirty"]);
+    assert!(
+        !ok && err.contains("'thirty'") && !err.contains("A:B:STEP"),
+        "{err}"
+    );
+}
+
+#[test]
+fn an_inclination_out_of_range_is_told_in_degrees_and_radians() {
+    for command in [
+        &["cylinder", "pair"][..],
+        &["cylinder", "sweep", "pair"][..],
+    ] {
+        let mut args = command.to_vec();
+        args.extend(["--theta", "5deg", "--steps", "2"]);
+        let (ok, _, err) = run(&args);
+        assert!(!ok, "{args:?}");
+        assert!(
+            err.contains("--theta 5° (0.0873 rad) is outside (10.008°, 90°)"),
+            "{args:?}: {err}"
+        );
+    }
+}
+
+#[test]
+fn a_huge_value_is_printed_short_under_its_flag() {
+    for (args, expected) in [
+        (
+            "blocks shake --omega -1e300",
+            "--omega must be positive, got -1e300",
+        ),
+        (
+            "blocks run shaking --t-end -1e300",
+            "--t-end must be positive, got -1e300",
+        ),
+        (
+            "nsga ball --case 2 --dt 1e300",
+            "--dt must be in (0, 0.1] s, got 1e300",
+        ),
+        (
+            "cylinder frobenius --r-over-h -1e300",
+            "--r-over-h must be positive, got -1e300",
+        ),
+        (
+            "blocks sweep scene shaking --set contact.mu=1e300,-1e300",
+            "got -1e300",
+        ),
+        // A setting of every inclination is refused under its own flag, not --theta's.
+        (
+            "cylinder sweep push --theta 30deg --dt -1e300",
+            "error: --dt must be positive, got -1e300",
+        ),
+        (
+            "cylinder sweep pair --theta 30deg --steps 0",
+            "error: --steps must be at least 1, got 0",
+        ),
+    ] {
+        let (ok, _, err) = run(&args.split(' ').collect::<Vec<_>>());
+        assert!(!ok && err.contains(expected), "{args}: {err}");
+        assert!(err.len() < 300, "{args}: {err}");
+    }
+}

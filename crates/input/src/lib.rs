@@ -35,7 +35,7 @@ pub enum InputError {
     #[error("{0} is not finite")]
     NonFinite(String),
     /// A size, mass or step that must be positive is zero or negative.
-    #[error("{name} must be positive, got {value}")]
+    #[error("{name} must be positive, got {}", Short(*.value))]
     NotPositive {
         /// What the value is.
         name: String,
@@ -43,7 +43,7 @@ pub enum InputError {
         value: f64,
     },
     /// A value that must not be negative is.
-    #[error("{name} must not be negative, got {value}")]
+    #[error("{name} must not be negative, got {}", Short(*.value))]
     Negative {
         /// What the value is.
         name: String,
@@ -51,7 +51,7 @@ pub enum InputError {
         value: f64,
     },
     /// A value lies outside its admissible interval.
-    #[error("{name} must lie in {range}, got {value}")]
+    #[error("{name} must lie in {range}, got {}", Short(*.value))]
     OutOfRange {
         /// What the value is.
         name: String,
@@ -61,7 +61,7 @@ pub enum InputError {
         value: f64,
     },
     /// A value that would make the computation larger than it can be (steps, samples).
-    #[error("{name} = {value} needs {needed:.1e} {what}, more than the {limit:.0e} allowed")]
+    #[error("{name} = {} needs {needed:.1e} {what}, more than the {limit:.0e} allowed", Short(*.value))]
     TooLarge {
         /// What the value is.
         name: String,
@@ -109,6 +109,23 @@ impl InputError {
                 what,
                 limit,
             },
+        }
+    }
+}
+
+/// A number as a message prints it: as Rust writes it where that is short (`0.1`,
+/// `-2.5`, `1234`), else in scientific notation, so that `1e300` is not printed as three
+/// hundred digits and `1e-30` not as thirty zeros.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Short(pub f64);
+
+impl std::fmt::Display for Short {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let size = self.0.abs();
+        if size == 0.0 || !size.is_finite() || (1e-5..1e16).contains(&size) {
+            write!(f, "{}", self.0)
+        } else {
+            write!(f, "{:e}", self.0)
         }
     }
 }
@@ -206,5 +223,23 @@ mod tests {
                 .to_string(),
             "block 2 width must be positive, got -1"
         );
+    }
+
+    #[test]
+    fn huge_and_tiny_values_are_printed_short() {
+        assert_eq!(
+            in_range("mu", 1e300, 0.0..=1.0, "[0, 1]")
+                .unwrap_err()
+                .to_string(),
+            "mu must lie in [0, 1], got 1e300"
+        );
+        assert_eq!(
+            positive("dt", -1e-30).unwrap_err().to_string(),
+            "dt must be positive, got -1e-30"
+        );
+        for (v, text) in [(0.1, "0.1"), (-2.5, "-2.5"), (1234.0, "1234"), (0.0, "0")] {
+            assert_eq!(Short(v).to_string(), text);
+        }
+        assert_eq!(Short(-1.5e20).to_string(), "-1.5e20");
     }
 }

@@ -1,6 +1,8 @@
 //! Values written as text, as a user types them: angles in radians by default, `90deg`,
-//! and multiples of π such as `3pi/2`; finite numbers; comma-separated lists; and
-//! decimal-exact `A:B:STEP` ranges and lists of them for sweeps.
+//! and multiples of π such as `3pi/2`; values of any kind in the same forms (a rate
+//! `-6pi`, [`parse_value`]); plain finite numbers; comma-separated lists; and
+//! decimal-exact `A:B:STEP` ranges and lists of them for sweeps, whose A, B and STEP take
+//! the forms of a single value (`10deg:40deg:10deg`).
 //!
 //! docs/architecture.md (Conventions): every API takes radians; the command line also accepts
 //! degrees and π-fractions because that is how the thesis states its examples.
@@ -90,60 +92,134 @@ pub fn parse_rotation_angle_list(text: &str) -> Result<Vec<f64>, String> {
 /// # Errors
 /// A message naming the offending text when it is not an angle or not finite.
 pub fn parse_angle(text: &str) -> Result<f64, String> {
-    let s = text
-        .trim()
-        .to_ascii_lowercase()
-        .replace('π', "pi")
-        .replace(' ', "");
-    if s.is_empty() {
-        return Err("empty angle".into());
-    }
-    let value = if let Some(deg) = s.strip_suffix("deg") {
-        parse_number(deg, text)?.to_radians()
-    } else if let Some(pos) = s.find("pi") {
-        parse_pi_fraction(&s, pos, text)?
-    } else {
-        parse_number(&s, text)?
-    };
-    if value.is_finite() {
-        Ok(value)
-    } else {
-        Err(format!("angle '{text}' is not finite"))
-    }
+    Term::read(text)
+        .and_then(|t| t.value())
+        .map_err(|p| p.message(text, "angle", "use radians, 90deg or 3pi/2"))
 }
 
-/// `[k][*]pi[/d]`, with k and d plain numbers.
-fn parse_pi_fraction(s: &str, pos: usize, original: &str) -> Result<f64, String> {
-    let head = s[..pos].trim_end_matches('*');
-    let tail = &s[pos + 2..];
-    let factor = match head {
-        "" | "+" => 1.0,
-        "-" => -1.0,
-        h => parse_number(h, original)?,
-    };
-    let divisor = match tail {
-        "" => 1.0,
-        t => {
-            let d = t
-                .strip_prefix('/')
-                .ok_or_else(|| format!("cannot read angle '{original}'"))?;
-            parse_number(d, original)?
+/// Parses one value as a user types it: a plain number (`1.5`, `-2e-3`), a multiple of π
+/// (`2pi`, `-6π`, `pi/6`, `3*pi/2`), or degrees, converted to radians (`30deg`). The
+/// forms are those of [`parse_angle`], so that a rate may be written as `2pi` and every
+/// sweep value as the single values of the same flag.
+///
+/// # Errors
+/// A message naming the offending text when it is none of these or not finite.
+pub fn parse_value(text: &str) -> Result<f64, String> {
+    Term::read(text)
+        .and_then(|t| t.value())
+        .map_err(|p| p.message(text, "value", VALUE_FORMS))
+}
+
+/// The forms [`parse_value`] reads, for its error messages.
+const VALUE_FORMS: &str =
+    "use a number, a multiple of π such as 2pi or pi/6, or degrees such as 30deg";
+
+/// What is wrong with a typed value; worded by the parser that read it ([`Problem::message`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Problem {
+    Empty,
+    Unreadable,
+    DividesByZero,
+    NotFinite,
+}
+
+impl Problem {
+    /// The message for `text`, a `what` (`angle`), with `hint` on the forms accepted.
+    fn message(self, text: &str, what: &str, hint: &str) -> String {
+        match self {
+            Self::Empty => format!("empty {what}"),
+            Self::Unreadable => format!("cannot read {what} '{text}' ({hint})"),
+            Self::DividesByZero => format!("{what} '{text}' divides by zero"),
+            Self::NotFinite => format!("{what} '{text}' is not finite"),
         }
-    };
-    if divisor == 0.0 {
-        return Err(format!("angle '{original}' divides by zero"));
     }
-    Ok(factor * PI / divisor)
 }
 
-fn parse_number(s: &str, original: &str) -> Result<f64, String> {
-    let v: f64 = s
-        .parse()
-        .map_err(|_| format!("cannot read angle '{original}' (use radians, 90deg or 3pi/2)"))?;
+/// The unit a typed value's coefficient is in: none, π/d, or degrees (to radians).
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Unit {
+    Plain,
+    Pi { divisor: f64 },
+    Degrees,
+}
+
+impl Unit {
+    /// The value of `coefficient` of this unit, in radians for angles.
+    fn apply(self, coefficient: f64) -> f64 {
+        match self {
+            Self::Plain => coefficient,
+            Self::Pi { divisor } => coefficient * PI / divisor,
+            Self::Degrees => coefficient.to_radians(),
+        }
+    }
+}
+
+/// A typed value split into its decimal coefficient (as text) and its unit: `3pi/2` is
+/// 3 of π/2, `30deg` is 30 of degrees. A range steps in coefficients when its three
+/// values share a unit, so that `10deg:40deg:10deg` holds exactly what `20deg` reads as.
+#[derive(Debug, Clone, PartialEq)]
+struct Term {
+    coefficient: String,
+    unit: Unit,
+}
+
+impl Term {
+    /// `[k]deg`, `[k][*]pi[/d]` (k, d plain numbers) or a plain number.
+    fn read(text: &str) -> Result<Self, Problem> {
+        let s = text
+            .trim()
+            .to_ascii_lowercase()
+            .replace('π', "pi")
+            .replace(' ', "");
+        if s.is_empty() {
+            return Err(Problem::Empty);
+        }
+        if let Some(deg) = s.strip_suffix("deg") {
+            return Ok(Self::of(deg, Unit::Degrees));
+        }
+        let Some(pos) = s.find("pi") else {
+            return Ok(Self::of(&s, Unit::Plain));
+        };
+        let coefficient = match s[..pos].trim_end_matches('*') {
+            "" | "+" => "1",
+            "-" => "-1",
+            head => head,
+        };
+        let divisor = match &s[pos + 2..] {
+            "" => 1.0,
+            tail => number(tail.strip_prefix('/').ok_or(Problem::Unreadable)?)?,
+        };
+        if divisor == 0.0 {
+            return Err(Problem::DividesByZero);
+        }
+        Ok(Self::of(coefficient, Unit::Pi { divisor }))
+    }
+
+    fn of(coefficient: &str, unit: Unit) -> Self {
+        Self {
+            coefficient: coefficient.to_owned(),
+            unit,
+        }
+    }
+
+    /// The value it stands for, finite.
+    fn value(&self) -> Result<f64, Problem> {
+        let value = self.unit.apply(number(&self.coefficient)?);
+        if value.is_finite() {
+            Ok(value)
+        } else {
+            Err(Problem::NotFinite)
+        }
+    }
+}
+
+/// A plain finite number.
+fn number(s: &str) -> Result<f64, Problem> {
+    let v: f64 = s.parse().map_err(|_| Problem::Unreadable)?;
     if v.is_finite() {
         Ok(v)
     } else {
-        Err(format!("angle '{original}' is not finite"))
+        Err(Problem::NotFinite)
     }
 }
 
@@ -179,75 +255,103 @@ pub fn parse_number_list(text: &str) -> Result<Vec<f64>, String> {
     text.split(',').map(parse_finite).collect()
 }
 
-/// Parses `A:B:STEP` into the values A, A+STEP, … up to B inclusive, or a single number
-/// into one value.
+/// Parses `A:B:STEP` into the values A, A+STEP, … up to B inclusive, or a single value
+/// into one value. A, B, STEP and the single value take every form of [`parse_value`]:
+/// `0.5`, `2pi`, `pi/6`, `30deg` (`10deg:40deg:10deg`, `0:2pi:pi/4`).
 ///
-/// The values are decimal-exact: when A, B and STEP are decimals (at most 15 significant
-/// digits and 22 decimals, the usual case), each value is computed in integers scaled by
-/// a power of ten and divided once at the end, so it is the number its decimal text reads
-/// as: `0:1:0.05` contains `0.15` itself, not `0.15000000000000002`, and B is reached
-/// exactly when it lies on the grid. Other numbers (`1e-30:1e-29:1e-31`) are stepped in
+/// The values are decimal-exact: when A, B and STEP are decimals of one unit (at most 15
+/// significant digits and 22 decimals, the usual case), each value is computed in integers
+/// scaled by a power of ten and divided once at the end, so it is the number its decimal
+/// text reads as: `0:1:0.05` contains `0.15` itself, not `0.15000000000000002`,
+/// `10deg:40deg:10deg` contains what `20deg` reads as, and B is reached exactly when it
+/// lies on the grid. Other values (`1e-30:1e-29:1e-31`, `pi/6:pi/2:pi/6`) are stepped in
 /// floating point and B is reached within 1e-9 of a step.
 ///
 /// # Errors
-/// Non-finite values, a step of the wrong sign or zero, or more than ten million points.
+/// Unreadable or non-finite values (a single value is refused as [`parse_value`] refuses
+/// it), a step of the wrong sign or zero, or more than ten million points.
 pub fn parse_range(text: &str) -> Result<Vec<f64>, String> {
     let parts: Vec<&str> = text.split(':').collect();
-    let num = |s: &str| -> Result<f64, String> {
-        let v: f64 = s
-            .trim()
-            .parse()
-            .map_err(|_| format!("cannot read '{s}' in range '{text}' (expected A:B:STEP)"))?;
-        if !v.is_finite() {
-            return Err(format!("range '{text}' has a non-finite value"));
-        }
-        Ok(v)
-    };
     match parts.as_slice() {
-        [a] => Ok(vec![num(a)?]),
-        [a_text, b_text, step_text] => {
-            let (a, b, step) = (num(a_text)?, num(b_text)?, num(step_text)?);
-            if step == 0.0 || (b - a) * step < 0.0 {
-                return Err(format!(
-                    "range '{text}': STEP must be non-zero and point from A to B"
-                ));
-            }
-            let too_many = || format!("range '{text}' has more than ten million points");
-            if let Some(grid) = DecimalGrid::new(a_text, b_text, step_text) {
-                let n = grid.count();
-                if n > MAX_RANGE_POINTS {
-                    return Err(too_many());
+        [single] => Ok(vec![parse_value(single)?]),
+        [a, b, step] => {
+            let term = |part: &str| {
+                let t = Term::read(part)?;
+                t.value().map(|v| (t, v))
+            };
+            let bad = |part: &str, p: Problem| {
+                let what = format!("'{}' in range '{text}'", part.trim());
+                match p {
+                    Problem::Unreadable | Problem::Empty => {
+                        format!("cannot read {what} (A, B and STEP: {VALUE_FORMS})")
+                    }
+                    Problem::DividesByZero => format!("{what} divides by zero"),
+                    Problem::NotFinite => format!("range '{text}' has a non-finite value"),
                 }
-                return Ok((0..=n).map(|k| grid.value(k)).collect());
-            }
-            let n = ((b - a) / step + 1e-9).floor();
-            if n > MAX_RANGE_POINTS as f64 {
-                return Err(too_many());
-            }
-            // n is a checked non-negative count below 1e7, so the cast is exact.
-            #[allow(clippy::cast_possible_truncation, clippy::cast_sign_loss)]
-            let n = n as usize;
-            Ok((0..=n).map(|i| a + step * i as f64).collect())
+            };
+            let read = |part: &str| term(part).map_err(|p| bad(part, p));
+            range_values(text, read(a)?, read(b)?, read(step)?)
         }
         _ => Err(format!("cannot read range '{text}' (expected A:B:STEP)")),
     }
+}
+
+/// The values of the range `text` from its read A, B and STEP.
+fn range_values(
+    text: &str,
+    (a_term, a): (Term, f64),
+    (b_term, b): (Term, f64),
+    (step_term, step): (Term, f64),
+) -> Result<Vec<f64>, String> {
+    if step == 0.0 || (b - a) * step < 0.0 {
+        return Err(format!(
+            "range '{text}': STEP must be non-zero and point from A to B"
+        ));
+    }
+    let too_many = || format!("range '{text}' has more than ten million points");
+    let one_unit = a_term.unit == b_term.unit && b_term.unit == step_term.unit;
+    let grid = one_unit
+        .then(|| {
+            DecimalGrid::new(
+                &a_term.coefficient,
+                &b_term.coefficient,
+                &step_term.coefficient,
+            )
+        })
+        .flatten();
+    if let Some(grid) = grid {
+        let n = grid.count();
+        if n > MAX_RANGE_POINTS {
+            return Err(too_many());
+        }
+        let unit = a_term.unit;
+        return Ok((0..=n).map(|k| unit.apply(grid.value(k))).collect());
+    }
+    let n = ((b - a) / step + 1e-9).floor();
+    if n > MAX_RANGE_POINTS as f64 {
+        return Err(too_many());
+    }
+    // n is a checked non-negative count below 1e7, so the cast is exact.
+    #[allow(clippy::cast_possible_truncation, clippy::cast_sign_loss)]
+    let n = n as usize;
+    Ok((0..=n).map(|i| a + step * i as f64).collect())
 }
 
 /// Largest number of steps a range may take (ten million).
 const MAX_RANGE_POINTS: usize = 10_000_000;
 
 /// Parses the values of a sweep: comma-separated items, each an `A:B:STEP` range or one
-/// number ([`parse_range`]), in the order given: `0.1,0.2,0.5`, `0:1:0.25`,
-/// `0.1:0.3:0.1,0.5`.
+/// value ([`parse_range`]), in the order given: `0.1,0.2,0.5`, `0:1:0.25`,
+/// `0.1:0.3:0.1,0.5`, `pi/6,30deg:60deg:15deg`.
 ///
 /// # Errors
-/// The first item that is not a range or a number, or an empty item.
+/// The first item that is not a range or a value, or an empty item.
 pub fn parse_values(text: &str) -> Result<Vec<f64>, String> {
     let mut out = Vec::new();
     for item in text.split(',') {
         if item.trim().is_empty() {
             return Err(format!(
-                "empty value in '{text}' (expected A:B:STEP, a number or a comma list of them)"
+                "empty value in '{text}' (expected A:B:STEP, one value or a comma list of them)"
             ));
         }
         out.extend(parse_range(item)?);
@@ -410,7 +514,15 @@ mod tests {
         assert_eq!(parse_range("3").unwrap(), vec![3.0]);
         assert_eq!(parse_range("0:1:0.1").unwrap().len(), 11);
         assert_eq!(parse_range("2:1:-0.5").unwrap(), vec![2.0, 1.5, 1.0]);
-        for bad in ["1:2:0", "1:2:-1", "a:b:c", "1:2", "1:nan:1"] {
+        for bad in [
+            "1:2:0",
+            "1:2:-1",
+            "a:b:c",
+            "1:2",
+            "1:nan:1",
+            "1:2:3:4",
+            "30deg:10deg:10deg",
+        ] {
             assert!(parse_range(bad).is_err(), "{bad}");
         }
     }
@@ -451,6 +563,67 @@ mod tests {
             4
         );
         assert!(parse_range("0:1e8:1e-3").is_err(), "more than ten million");
+    }
+
+    #[test]
+    fn ranges_take_the_forms_of_a_single_value() {
+        // Each value of a range is the number its single value reads as.
+        let degrees = parse_range("10deg:40deg:10deg").unwrap();
+        let singles: Vec<f64> = ["10deg", "20deg", "30deg", "40deg"]
+            .iter()
+            .map(|t| parse_value(t).unwrap())
+            .collect();
+        assert_eq!(degrees, singles);
+        assert_eq!(parse_range("30deg").unwrap(), vec![PI / 6.0]);
+        assert_eq!(parse_range("pi/6").unwrap(), vec![PI / 6.0]);
+        assert_eq!(parse_range("2pi").unwrap(), vec![2.0 * PI]);
+        assert_eq!(parse_range("-6pi").unwrap(), vec![-6.0 * PI]);
+        assert_eq!(
+            parse_range("2pi:6pi:2pi").unwrap(),
+            vec![2.0 * PI, 4.0 * PI, 6.0 * PI]
+        );
+        let sixths = parse_range("pi/6:pi/2:pi/6").unwrap();
+        assert_eq!(sixths.len(), 3);
+        assert_relative_eq!(sixths[2], PI / 2.0, max_relative = 1e-15);
+        assert_eq!(parse_range("0:pi:pi/4").unwrap().len(), 5);
+        assert_eq!(
+            parse_values("pi/6,30deg:60deg:15deg").unwrap().len(),
+            4,
+            "a list mixes single values and ranges of any form"
+        );
+    }
+
+    #[test]
+    fn a_bad_single_value_is_not_called_a_range() {
+        let single = parse_range("abc").unwrap_err();
+        assert!(!single.contains("A:B:STEP"), "{single}");
+        assert!(
+            single.contains("'abc'") && single.contains("30deg"),
+            "{single}"
+        );
+        assert!(!parse_values("1,x").unwrap_err().contains("A:B:STEP"));
+        let part = parse_range("1:x:1").unwrap_err();
+        assert!(part.contains("'x' in range '1:x:1'"), "{part}");
+        assert_eq!(
+            parse_range("1:2").unwrap_err(),
+            "cannot read range '1:2' (expected A:B:STEP)"
+        );
+        assert!(parse_range("0:1:pi/0")
+            .unwrap_err()
+            .contains("divides by zero"));
+    }
+
+    #[test]
+    fn values_read_rates_as_multiples_of_pi() {
+        assert_eq!(parse_value("-6pi").unwrap(), -6.0 * PI);
+        assert_eq!(parse_value("-6π").unwrap(), parse_angle("-6pi").unwrap());
+        assert_eq!(parse_value(" 1.5 ").unwrap(), 1.5);
+        assert_eq!(parse_value("30deg").unwrap(), 30f64.to_radians());
+        assert_eq!(parse_value("").unwrap_err(), "empty value");
+        assert_eq!(parse_value("inf").unwrap_err(), "value 'inf' is not finite");
+        assert!(parse_value("abc")
+            .unwrap_err()
+            .starts_with("cannot read value 'abc'"));
     }
 
     #[test]

@@ -126,6 +126,20 @@ impl std::fmt::Display for FrequencyRow {
             "omega = {:.4}: failure {failure}, {} steps",
             self.omega, self.steps
         )?;
+        // The spread over the explored motions (`--branches`), so that the text says
+        // what the band drawn shows: whenever it is more than the plain run's time.
+        let plain = [self.failure_time; 2] == [self.failure_time_min, self.failure_time_max];
+        if self.branches > 1 || !plain {
+            let s = if self.branches == 1 { "" } else { "s" };
+            write!(
+                f,
+                "; {} motion{s}, {} failed",
+                self.branches, self.failed_branches
+            )?;
+            if let (Some(lo), Some(hi)) = (self.failure_time_min, self.failure_time_max) {
+                write!(f, " between t = {lo:.4} and {hi:.4}")?;
+            }
+        }
         if let Some(e) = &self.error {
             write!(f, ", error: {e}")?;
         }

@@ -150,6 +150,16 @@ impl std::fmt::Display for SlideRow {
             self.t_final,
             self.regime.map_or("-", SlideRegime::name)
         )?;
+        // The spread over the explored motions (`--branches`), as the band drawn:
+        // whenever it is more than the plain run's angle.
+        let plain = [self.top_angle; 2] == [self.top_angle_min, self.top_angle_max];
+        if self.branches > 1 || !plain {
+            let s = if self.branches == 1 { "" } else { "s" };
+            write!(f, "; {} motion{s}", self.branches)?;
+            if let (Some(lo), Some(hi)) = (self.top_angle_min, self.top_angle_max) {
+                write!(f, ", top angle from {lo:.4} to {hi:.4} rad")?;
+            }
+        }
         if let Some(e) = &self.error {
             write!(f, ", error: {e}")?;
         }

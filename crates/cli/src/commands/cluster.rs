@@ -31,16 +31,16 @@ pub struct MergeArgs {
 #[derive(Debug, Args)]
 pub struct SlurmArgs {
     /// Tasks of the job array: the sweep's shards.
-    #[arg(long)]
+    #[arg(long, allow_hyphen_values = true)]
     pub tasks: usize,
     /// Cores per task; the sweep runs its rows on that many threads.
-    #[arg(long, default_value_t = 1)]
+    #[arg(long, default_value_t = 1, allow_hyphen_values = true)]
     pub cpus_per_task: usize,
     /// Time limit of each task, minutes.
-    #[arg(long)]
+    #[arg(long, allow_hyphen_values = true)]
     pub time: Option<u64>,
     /// Memory of each task and of the merge job, MiB.
-    #[arg(long)]
+    #[arg(long, allow_hyphen_values = true)]
     pub mem: Option<u64>,
     /// Slurm partition of the jobs.
     #[arg(long)]

@@ -63,16 +63,16 @@ impl From<SchemeArg> for Scheme {
 pub struct BallArgs {
     /// Case 1 (e_N = 0.5, ω0 = 0), 2 (e_N = 0, ω0 = 50 rad/s), 3 (e_N = 0, ω0 = 10 rad/s)
     /// or 4 (e_N = 0.5, ω0 = 50 rad/s, x0 = −0.5 m, ẋ0 = 1 m/s).
-    #[arg(long)]
+    #[arg(long, allow_hyphen_values = true)]
     pub case: u8,
     /// Time step Δt in s.
-    #[arg(long, default_value_t = 2e-3)]
+    #[arg(long, value_parser = input::text::parse_finite, default_value_t = 2e-3, allow_hyphen_values = true)]
     pub dt: f64,
     /// Scheme.
     #[arg(long, value_enum, default_value_t = SchemeArg::Nsga)]
     pub scheme: SchemeArg,
     /// Spectral radius at infinity ρ∞ in [0, 1] (NSGA only).
-    #[arg(long, default_value_t = 0.5)]
+    #[arg(long, value_parser = input::text::parse_finite, default_value_t = 0.5, allow_hyphen_values = true)]
     pub rho_inf: f64,
     /// Constant prox parameter r in kg (the thesis uses 0.3); default: scaled per
     /// constraint, r = 1/(wᵀM⁻¹w).
@@ -100,13 +100,17 @@ pub struct WorkPrecisionArgs {
     pub out: Option<PathBuf>,
     /// Time steps Δt in s (comma-separated, each in (0, 0.1]); the same default for
     /// every system.
-    #[arg(long, default_value = "0.008,0.004,0.002,0.001,0.0005,0.00025")]
+    #[arg(
+        long,
+        default_value = "0.008,0.004,0.002,0.001,0.0005,0.00025",
+        allow_hyphen_values = true
+    )]
     pub dts: String,
     /// Values of ρ∞ for NSGA (comma-separated).
-    #[arg(long, default_value = "0,0.5,0.8,1")]
+    #[arg(long, default_value = "0,0.5,0.8,1", allow_hyphen_values = true)]
     pub rho_inf: String,
     /// Repetitions per point (1 to 1000); the fastest wall time is kept.
-    #[arg(long, default_value_t = 3, value_parser = clap::value_parser!(u16).range(1..=1000))]
+    #[arg(long, default_value_t = 3, value_parser = clap::value_parser!(u16).range(1..=1000), allow_hyphen_values = true)]
     pub repeat: u16,
     /// Print one JSON object on stdout.
     #[arg(long)]
@@ -138,14 +142,17 @@ pub fn run(args: &NsgaArgs) -> Result<()> {
 fn ball(a: &BallArgs) -> Result<()> {
     let dt = require_finite("--dt", a.dt)?;
     if dt <= 0.0 || dt > 0.1 {
-        bail!("--dt must be in (0, 0.1] s, got {dt}");
+        bail!("--dt must be in (0, 0.1] s, got {}", input::Short(dt));
     }
     if !(0.0..=1.0).contains(&a.rho_inf) {
-        bail!("--rho-inf must be in [0, 1], got {}", a.rho_inf);
+        bail!(
+            "--rho-inf must be in [0, 1], got {}",
+            input::Short(a.rho_inf)
+        );
     }
     let prox = match a.prox_constant {
         Some(r) if !(r.is_finite() && r > 0.0) => {
-            bail!("--prox-constant must be positive, got {r}")
+            bail!("--prox-constant must be positive, got {}", input::Short(r))
         }
         Some(r) => Prox::Constant(r),
         None => Prox::Scaled(1.0),

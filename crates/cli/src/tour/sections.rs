@@ -21,6 +21,11 @@ pub struct Step {
     /// What the step shows and the thesis's numbers to compare with (may be empty).
     #[serde(default)]
     pub text: String,
+    /// Whether docs/cli.md shows this very command's output as a transcript, run by its
+    /// test (`crates/cli/tests/cli_doc.rs`): only then may `text` quote what the run
+    /// prints (which ω fail, how many motions), since that quote is then checked.
+    #[serde(default)]
+    pub checked: bool,
 }
 
 /// One section of the tour: a system and the commands that show it.

@@ -68,13 +68,13 @@ pub struct ExploreArgs {
     pub strategy: StrategyArg,
     /// Most branches, the root included; a fork whose candidates do not all fit is
     /// passed (its branch goes on with the chosen candidate).
-    #[arg(long, default_value_t = 1000)]
+    #[arg(long, default_value_t = 1000, allow_hyphen_values = true)]
     pub max_branches: usize,
     /// Most followed forks from the root to a branch (default: no limit).
-    #[arg(long)]
+    #[arg(long, allow_hyphen_values = true)]
     pub max_depth: Option<usize>,
     /// Wall time (s) after which running branches stop where they are.
-    #[arg(long, value_parser = parse_finite)]
+    #[arg(long, value_parser = parse_finite, allow_hyphen_values = true)]
     pub max_wall: Option<f64>,
     /// Which fixed-set solutions are a fork's candidates: `self-consistent` (solutions
     /// of the step's equations) or `converged` (the thesis's count).
@@ -122,13 +122,13 @@ pub fn run(args: &ExploreArgs) -> Result<()> {
     let scene = &loaded.scene;
     anyhow::ensure!(args.max_branches >= 1, "--max-branches must be at least 1");
     if let Some(t) = args.t_end {
-        anyhow::ensure!(t > 0.0, "--t-end must be positive, got {t}");
+        input::positive("--t-end", t)?;
     }
     if let Some(r) = args.prox_constant {
-        anyhow::ensure!(r > 0.0, "--prox-constant must be positive, got {r}");
+        input::positive("--prox-constant", r)?;
     }
     if let Some(w) = args.max_wall {
-        anyhow::ensure!(w >= 0.0, "--max-wall must not be negative, got {w}");
+        input::non_negative("--max-wall", w)?;
     }
     let rule = args.branch_rule.rule();
     let strategy = match args.strategy {

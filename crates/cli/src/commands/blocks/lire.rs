@@ -33,7 +33,7 @@ impl From<PerturbArg> for Perturbation {
 #[derive(Debug, Args)]
 pub struct LireArgs {
     /// Number of free blocks on the table (the thesis: 4).
-    #[arg(long, default_value_t = 4)]
+    #[arg(long, default_value_t = 4, allow_hyphen_values = true)]
     pub blocks: usize,
     /// Which block is shifted outward by 1 % of its width.
     #[arg(long, value_enum, default_value_t = PerturbArg::None)]

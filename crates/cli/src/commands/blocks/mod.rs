@@ -138,10 +138,10 @@ impl SolverArgs {
     /// A non-positive end time or prox constant.
     pub fn run_options(&self, t_end: Option<f64>, stop_at_failure: bool) -> Result<RunOptions> {
         if let Some(t) = t_end {
-            anyhow::ensure!(t > 0.0, "--t-end must be positive, got {t}");
+            input::positive("--t-end", t)?;
         }
         if let Some(r) = self.prox_constant {
-            anyhow::ensure!(r > 0.0, "--prox-constant must be positive, got {r}");
+            input::positive("--prox-constant", r)?;
         }
         Ok(RunOptions {
             t_end,
@@ -202,10 +202,10 @@ pub struct OutputArgs {
     /// Times (model time units) of the PNG snapshots of the stack, comma-separated; the
     /// nearest computed step is drawn (default: lire 0,5,6.4; run and shake 0, t_end/2,
     /// t_end).
-    #[arg(long, value_delimiter = ',', value_parser = parse_finite)]
+    #[arg(long, value_delimiter = ',', value_parser = parse_finite, allow_hyphen_values = true)]
     pub snapshots: Option<Vec<f64>>,
     /// Largest number of animation frames (one every 10th step or sparser); 0: no GIF.
-    #[arg(long, default_value_t = 120)]
+    #[arg(long, default_value_t = 120, allow_hyphen_values = true)]
     pub max_frames: usize,
 }
 

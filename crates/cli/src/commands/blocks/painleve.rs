@@ -24,7 +24,7 @@ pub struct PainleveArgs {
     #[arg(long, default_value_t = 3.0, value_parser = parse_finite, allow_hyphen_values = true)]
     pub mu_max: f64,
     /// Grid nodes per axis of the b-sign grid (angle and μ_d).
-    #[arg(long, default_value_t = 121)]
+    #[arg(long, default_value_t = 121, allow_hyphen_values = true)]
     pub grid: usize,
     /// Print one JSON object on stdout (otherwise a readable summary).
     #[arg(long)]

@@ -48,22 +48,38 @@ pub fn load_scene(arg: &Path) -> Result<LoadedScene> {
 }
 
 /// The TOML text of the scene `arg` names (a file, else a built-in scene), with what it
-/// is for error messages (`scene my.toml`, `built-in scene shaking`).
+/// is for error messages (`scene my.toml`, `built-in scene shaking`). A directory is not
+/// a scene: `blocks run shaking --out shaking` makes one, after which `shaking` still
+/// names the built-in scene, taken with a note on stderr that says so.
 ///
 /// # Errors
 /// An unreadable file; no such file and no such built-in scene (the error names the
 /// built-in scenes).
 pub fn scene_text(arg: &Path) -> Result<(String, String)> {
-    if arg.exists() {
+    if arg.exists() && !arg.is_dir() {
         let text = std::fs::read_to_string(arg)
             .with_context(|| format!("cannot read scene {}", arg.display()))?;
         return Ok((text, format!("scene {}", arg.display())));
     }
     let builtin = arg.to_str().and_then(|name| scenes::find(name).ok());
+    let not_a_file = if arg.is_dir() {
+        "is a directory, not a scene file"
+    } else {
+        "no such file"
+    };
     match builtin {
-        Some(s) => Ok((s.toml.to_owned(), format!("built-in scene {}", s.name))),
+        Some(s) => {
+            if arg.is_dir() {
+                eprintln!(
+                    "note: {} {not_a_file}: took the built-in scene {}",
+                    arg.display(),
+                    s.name
+                );
+            }
+            Ok((s.toml.to_owned(), format!("built-in scene {}", s.name)))
+        }
         None => anyhow::bail!(
-            "cannot read scene {}: no such file, and no built-in scene of that name (built-in scenes: {})",
+            "cannot read scene {}: {not_a_file}, and no built-in scene of that name (built-in scenes: {})",
             arg.display(),
             scenes::names().join(", ")
         ),

@@ -7,16 +7,17 @@ use super::{OutputArgs, SolverArgs};
 use anyhow::Result;
 use blockstack::scenarios::{shaking_column, Shaking};
 use clap::Args;
-use input::text::parse_finite;
+use input::text::{parse_finite, parse_value};
 
 /// Arguments of `rollstack blocks shake`.
 #[derive(Debug, Args)]
 pub struct ShakeArgs {
     /// Number of free blocks w = 0.2, h = 0.4, m = 1 in the column (≥ 1).
-    #[arg(long, default_value_t = 4)]
+    #[arg(long, default_value_t = 4, allow_hyphen_values = true)]
     pub blocks: usize,
-    /// Angular frequency ω of the base, x = A sin(ωt) (rad per time unit, > 0).
-    #[arg(long, default_value_t = 4.0, value_parser = parse_finite, allow_hyphen_values = true)]
+    /// Angular frequency ω of the base, x = A sin(ωt) (rad per time unit, > 0; `2pi`
+    /// accepted).
+    #[arg(long, default_value_t = 4.0, value_parser = parse_value, allow_hyphen_values = true)]
     pub omega: f64,
     /// Amplitude A of the base motion (length units).
     #[arg(long, default_value_t = 0.2, value_parser = parse_finite, allow_hyphen_values = true)]
@@ -51,12 +52,8 @@ pub struct ShakeArgs {
 /// Bad parameters, a run that could not start or stopped early, or unwritable output.
 pub fn run_shake(args: &ShakeArgs) -> Result<()> {
     anyhow::ensure!(args.blocks >= 1, "--blocks must be at least 1");
-    anyhow::ensure!(
-        args.omega > 0.0,
-        "--omega must be positive, got {}",
-        args.omega
-    );
-    anyhow::ensure!(args.mu >= 0.0, "--mu must not be negative, got {}", args.mu);
+    input::positive("--omega", args.omega)?;
+    input::non_negative("--mu", args.mu)?;
     let p = Shaking {
         blocks: args.blocks,
         amplitude: args.amplitude,

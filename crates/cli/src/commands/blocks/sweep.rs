@@ -201,7 +201,7 @@ pub struct SpreadArgs {
     /// Explore up to this many branches of each run (`blocks explore`) and report the
     /// smallest, median and largest value over the motions found, drawn as a band; 1:
     /// the plain run only.
-    #[arg(long, default_value_t = 1)]
+    #[arg(long, default_value_t = 1, allow_hyphen_values = true)]
     pub branches: usize,
     /// Which solutions of a cycling step are a fork's candidates when exploring:
     /// `self-consistent` or `converged` (the thesis's count).
@@ -225,7 +225,7 @@ impl SpreadArgs {
 #[derive(Debug, Args)]
 pub struct FrequencyArgs {
     /// Base angular frequencies ω (rad per time unit), as A:B:STEP, one value or a comma
-    /// list of them.
+    /// list of them; each value may be a multiple of π (`2pi:6pi:pi`).
     #[arg(long, allow_hyphen_values = true)]
     pub omega: String,
     /// Number of base periods simulated per run (the run stops at the failure). A fast
@@ -240,7 +240,7 @@ pub struct FrequencyArgs {
     #[arg(long, default_value_t = 0.2, value_parser = parse_finite, allow_hyphen_values = true)]
     pub amplitude: f64,
     /// Number of free blocks on the base.
-    #[arg(long, default_value_t = 4)]
+    #[arg(long, default_value_t = 4, allow_hyphen_values = true)]
     pub blocks: usize,
     /// Steps per base period N: Δt = 2π/(Nω) (Figure 4.6: 100; ERRATA 21).
     #[arg(long, default_value_t = 100.0, value_parser = parse_finite, allow_hyphen_values = true)]
@@ -270,7 +270,7 @@ pub struct SlideArgs {
     #[arg(long, default_value_t = 3.0, value_parser = parse_finite, allow_hyphen_values = true)]
     pub t_end: f64,
     /// Number of free blocks on the base (Figure 4.7: 4, the thesis's "five" with the base).
-    #[arg(long, default_value_t = 4)]
+    #[arg(long, default_value_t = 4, allow_hyphen_values = true)]
     pub blocks: usize,
     /// Friction coefficient μ at every contact (dimensionless; Figure 4.7: 0.2).
     #[arg(long, default_value_t = 0.2, value_parser = parse_finite, allow_hyphen_values = true)]
@@ -344,7 +344,7 @@ pub fn sweep_frequency(args: &FrequencyArgs) -> Result<()> {
         start_with_base: false,
     };
     check_before_any_run(&omegas, &args.solver, &options, |&(_, omega)| {
-        shaking_column(&column(omega)).with_context(|| format!("--omega {omega}"))
+        shaking_column(&column(omega)).with_context(|| format!("--omega {}", input::Short(omega)))
     })?;
     let rows = sweep.rows(&omegas, |&omega| frequency_row(&column(omega), &options))?;
     if let Some(dir) = &args.output.out {
@@ -395,7 +395,7 @@ pub fn sweep_slide(args: &SlideArgs) -> Result<()> {
         mu: args.mu,
     };
     check_before_any_run(&speeds, &args.solver, &options, |&(_, v0)| {
-        sliding_column(&column(v0)).with_context(|| format!("--v0 {v0}"))
+        sliding_column(&column(v0)).with_context(|| format!("--v0 {}", input::Short(v0)))
     })?;
     let rows = sweep.rows(&speeds, |&v0| slide_row(&column(v0), &options))?;
     if let Some(dir) = &args.output.out {

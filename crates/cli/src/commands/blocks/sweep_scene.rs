@@ -66,7 +66,7 @@ pub fn sweep_scene(args: &SceneArgs) -> Result<()> {
     check_before_any_run(&points, &args.solver, &options, |(_, point)| {
         let set: Vec<String> = point
             .iter()
-            .map(|s| format!("{}={}", s.key, s.value))
+            .map(|s| format!("{}={}", s.key, input::Short(s.value)))
             .collect();
         let loaded = sweep
             .scene(point)

@@ -22,13 +22,17 @@ pub struct WorkPrecisionArgs {
     #[arg(long, default_value = "block", value_parser = ["block", "column", "lire"])]
     pub system: String,
     /// Time steps Δt (comma-separated).
-    #[arg(long, default_value = "1e-2,5e-3,2e-3,1e-3,5e-4")]
+    #[arg(
+        long,
+        default_value = "1e-2,5e-3,2e-3,1e-3,5e-4",
+        allow_hyphen_values = true
+    )]
     pub dts: String,
     /// The reference run takes Δt = min(dts)/FACTOR.
-    #[arg(long, default_value_t = 16.0, value_parser = parse_finite)]
+    #[arg(long, default_value_t = 16.0, value_parser = parse_finite, allow_hyphen_values = true)]
     pub reference_factor: f64,
     /// Repetitions per point (1 to 1000); the fastest solver time is kept.
-    #[arg(long, default_value_t = 3, value_parser = clap::value_parser!(u16).range(1..=1000))]
+    #[arg(long, default_value_t = 3, value_parser = clap::value_parser!(u16).range(1..=1000), allow_hyphen_values = true)]
     pub repeat: u16,
     /// Run even when the reference is estimated to take longer than ten minutes.
     #[arg(long)]

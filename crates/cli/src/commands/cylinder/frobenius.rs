@@ -65,13 +65,13 @@ pub struct FrobeniusArgs {
     #[arg(long, allow_hyphen_values = true, default_value = "0.5")]
     pub heading: RotationAngle,
     /// Where the cylinders touch along their axes, from the centre (m* = n*), metres.
-    #[arg(long, allow_hyphen_values = true, default_value_t = 0.3)]
+    #[arg(long, value_parser = parse_finite, allow_hyphen_values = true, default_value_t = 0.3)]
     pub contact_at: f64,
     /// Radius r of each cylinder, metres (default: the gas cylinder of §3.6).
-    #[arg(long, default_value_t = 0.1143)]
+    #[arg(long, value_parser = parse_finite, default_value_t = 0.1143, allow_hyphen_values = true)]
     pub r: f64,
     /// Height h of each cylinder, metres.
-    #[arg(long, default_value_t = 1.2954)]
+    #[arg(long, value_parser = parse_finite, default_value_t = 1.2954, allow_hyphen_values = true)]
     pub h: f64,
     /// Aspect ratio r/h of each cylinder, instead of --h (h = r / (r/h)).
     #[arg(long, conflicts_with = "h", value_parser = parse_finite, allow_hyphen_values = true)]

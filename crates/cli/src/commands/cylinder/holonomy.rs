@@ -72,7 +72,7 @@ pub struct RectangleArgs {
     #[arg(long, allow_hyphen_values = true)]
     pub phi2: Angle,
     /// Start point S on the first side, s in [0, 1] (Figure 3.9).
-    #[arg(long, default_value_t = 0.0)]
+    #[arg(long, value_parser = parse_finite, default_value_t = 0.0, allow_hyphen_values = true)]
     pub s: f64,
     /// Case I (e′2 outward) or II (inward).
     #[arg(long = "case", value_enum, default_value = "I")]
@@ -91,7 +91,7 @@ pub struct RectangleArgs {
     #[arg(long, hide = true, conflicts_with = "r_over_h", value_parser = parse_finite, allow_hyphen_values = true)]
     pub h_over_r: Option<f64>,
     /// Largest rotation per integration step of the rolled check, rad.
-    #[arg(long, default_value_t = 1e-3)]
+    #[arg(long, value_parser = parse_finite, default_value_t = 1e-3, allow_hyphen_values = true)]
     pub max_step: f64,
     /// Print one JSON object on stdout.
     #[arg(long)]
@@ -101,12 +101,13 @@ pub struct RectangleArgs {
     pub out: Option<PathBuf>,
 }
 
-/// The rolled check of the command line: a sample every 20 steps.
-fn settings(max_step: f64) -> RollSettings {
-    RollSettings {
-        max_step,
+/// The rolled check of the command line: a sample every 20 steps, `--max-step` checked
+/// here so that its error names the flag.
+fn settings(max_step: f64) -> Result<RollSettings> {
+    Ok(RollSettings {
+        max_step: input::positive("--max-step", max_step)?,
         record_every: 20,
-    }
+    })
 }
 
 pub(super) fn run_rectangle(a: &RectangleArgs) -> Result<()> {
@@ -116,7 +117,7 @@ pub(super) fn run_rectangle(a: &RectangleArgs) -> Result<()> {
     let psi0 = a.psi0.0;
     let h_over_r = super::height(1.0, a.h_over_r, Some(a.r_over_h))?;
     let cylinder = Cylinder::new(1.0, h_over_r)?;
-    let (rep, trace) = rectangle_report(&cylinder, theta, &path, psi0, settings(a.max_step))?;
+    let (rep, trace) = rectangle_report(&cylinder, theta, &path, psi0, settings(a.max_step)?)?;
     if let Some(dir) = &a.out {
         ensure_dir(dir)?;
         let title = format!(
@@ -144,19 +145,19 @@ pub(super) fn run_rectangle(a: &RectangleArgs) -> Result<()> {
 #[command(group = clap::ArgGroup::new("height").required(true).args(["h", "r_over_h"]))]
 pub struct CircleArgs {
     /// Radius ℓ of the circle traced by P (same unit as --r and --h).
-    #[arg(long)]
+    #[arg(long, value_parser = parse_finite, allow_hyphen_values = true)]
     pub ell: f64,
     /// Inclination ϑ, in (0, π/2), rad (`pi/10` accepted).
     #[arg(long, allow_hyphen_values = true)]
     pub theta: RotationAngle,
     /// Height h of the cylinder (or give --r-over-h).
-    #[arg(long)]
+    #[arg(long, value_parser = parse_finite, allow_hyphen_values = true)]
     pub h: Option<f64>,
     /// Aspect ratio r/h of the cylinder, instead of --h (h = r / (r/h)).
     #[arg(long, value_parser = parse_finite, allow_hyphen_values = true)]
     pub r_over_h: Option<f64>,
     /// Radius r of the cylinder (the unit of ℓ and h by default).
-    #[arg(long, default_value_t = 1.0)]
+    #[arg(long, value_parser = parse_finite, default_value_t = 1.0, allow_hyphen_values = true)]
     pub r: f64,
     /// Case I (e′2 outward) or II (inward).
     #[arg(long = "case", value_enum, default_value = "I")]
@@ -165,7 +166,7 @@ pub struct CircleArgs {
     #[arg(long)]
     pub cw: bool,
     /// Largest rotation per integration step of the rolled check, rad.
-    #[arg(long, default_value_t = 1e-3)]
+    #[arg(long, value_parser = parse_finite, default_value_t = 1e-3, allow_hyphen_values = true)]
     pub max_step: f64,
     /// Print one JSON object on stdout.
     #[arg(long)]
@@ -181,7 +182,7 @@ pub(super) fn run_circle(a: &CircleArgs) -> Result<()> {
     let cylinder = Cylinder::new(a.r, h)?;
     let theta = a.theta.0;
     let path = CirclePath::new(a.ell, a.case.into(), direction(a.cw))?;
-    let (rep, trace) = circle_report(&cylinder, theta, &path, settings(a.max_step))?;
+    let (rep, trace) = circle_report(&cylinder, theta, &path, settings(a.max_step)?)?;
     if let Some(dir) = &a.out {
         ensure_dir(dir)?;
         let title = format!(

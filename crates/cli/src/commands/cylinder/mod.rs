@@ -77,9 +77,50 @@ pub fn height(r: f64, h: Option<f64>, r_over_h: Option<f64>) -> Result<f64> {
     match (h, r_over_h) {
         (Some(h), _) => Ok(h),
         (None, Some(ratio)) => {
-            anyhow::ensure!(ratio > 0.0, "--r-over-h must be positive, got {ratio}");
+            input::positive("--r-over-h", ratio)?;
             Ok(r / ratio)
         }
         (None, None) => anyhow::bail!("give the height as --h or --r-over-h"),
     }
+}
+
+/// Refuses a `--theta` of the pair outside its admissible range, naming the value in
+/// degrees and radians since the user may have typed either (`--theta 5° (0.0873 rad) is
+/// outside (11.31°, 90°) = (arctan(2r/h), π/2)`): the library states the range only as
+/// (arctan(2r/h), π/2) and the value only in radians.
+///
+/// # Errors
+/// ϑ outside (arctan(2r/h), π/2).
+fn check_theta(theta: f64, cylinder: &cylinders::kinematics::Cylinder) -> Result<()> {
+    let (lo, hi) = cylinders::transport::inclination_range(cylinder);
+    anyhow::ensure!(
+        theta > lo && theta < hi,
+        "--theta {}° ({} rad) is outside ({}°, {}°) = (arctan(2r/h), π/2), the inclinations of the pair",
+        short(theta.to_degrees()),
+        short(theta),
+        short(lo.to_degrees()),
+        short(hi.to_degrees())
+    );
+    Ok(())
+}
+
+/// Refuses a pair's time step or number of steps under its flag, before the runs of each
+/// inclination would refuse it under `--theta`.
+///
+/// # Errors
+/// `--dt` not positive, `--steps` 0.
+fn check_steps(dt: f64, steps: usize) -> Result<()> {
+    input::positive("--dt", dt)?;
+    anyhow::ensure!(steps >= 1, "--steps must be at least 1, got 0");
+    Ok(())
+}
+
+/// A number with at most four decimals, without trailing zeros (`5`, `11.3099`), or in
+/// scientific notation when it is too large or too small for that.
+fn short(v: f64) -> String {
+    if v != 0.0 && !(1e-4..1e9).contains(&v.abs()) {
+        return format!("{}", input::Short(v));
+    }
+    let fixed = format!("{v:.4}");
+    fixed.trim_end_matches('0').trim_end_matches('.').to_owned()
 }

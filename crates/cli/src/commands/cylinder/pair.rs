@@ -7,7 +7,7 @@ use clap::Args;
 use cylinders::studies::pair::{run_pair, PairReport, PairSample, PairSettings};
 use cylinders::transport::SpinProfile;
 use figures::cylinders::{plot_pair_forces, plot_pair_view, write_pair_animation};
-use input::text::{parse_finite, RotationAngle};
+use input::text::{parse_finite, parse_value, RotationAngle};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
@@ -24,14 +24,14 @@ pub struct PairArgs {
     #[arg(long, default_value_t = 2e-3, value_parser = parse_finite, allow_hyphen_values = true)]
     pub dt: f64,
     /// Number of steps.
-    #[arg(long, default_value_t = 2000)]
+    #[arg(long, default_value_t = 2000, allow_hyphen_values = true)]
     pub steps: usize,
-    /// Prescribed spin φ̇10 of cylinder I, rad/s (the thesis: −6π).
-    #[arg(long, default_value_t = -6.0 * std::f64::consts::PI, value_parser = parse_finite, allow_hyphen_values = true)]
+    /// Prescribed spin φ̇10 of cylinder I, rad/s (the thesis: −6π, written `-6pi`).
+    #[arg(long, default_value_t = -6.0 * std::f64::consts::PI, value_parser = parse_value, allow_hyphen_values = true)]
     pub spin: f64,
     /// Spin up smoothly over this many seconds (from 1 % of --spin) instead of giving the
     /// spin at t = 0.
-    #[arg(long, value_parser = parse_finite)]
+    #[arg(long, value_parser = parse_finite, allow_hyphen_values = true)]
     pub ramp: Option<f64>,
     /// Horizontal push P/mg at each top along e′2 (the applied force F of §3.3).
     #[arg(long, default_value_t = 0.0, value_parser = parse_finite, allow_hyphen_values = true)]
@@ -70,6 +70,8 @@ impl PairArgs {
 pub(super) fn run(a: &PairArgs) -> Result<()> {
     let start = Instant::now();
     let settings = a.settings();
+    super::check_steps(a.dt, a.steps)?;
+    super::check_theta(settings.theta, &settings.cylinder)?;
     let mut report = run_pair(&settings, a.out.is_some())?;
     let trajectory = report.trajectory.take();
     if let (Some(dir), Some(samples)) = (&a.out, &trajectory) {

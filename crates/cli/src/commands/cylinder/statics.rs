@@ -8,6 +8,7 @@ use cylinders::studies::statics::{
     statics_figures, MinimumForceRow, NormalForceCurves, NormalForceRow, StaticsFigures,
 };
 use figures::cylinders::plot_statics;
+use input::text::parse_finite;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
@@ -15,13 +16,13 @@ use std::time::Instant;
 #[derive(Debug, Args)]
 pub struct StaticsArgs {
     /// Aspect ratio r/h of Figures 3.3, 3.5, 3.7, 3.8 (dimensionless, ≥ 0).
-    #[arg(long, default_value_t = 0.1, allow_hyphen_values = true)]
+    #[arg(long, value_parser = parse_finite, default_value_t = 0.1, allow_hyphen_values = true)]
     pub r_over_h: f64,
     /// Friction coefficient μ of Figures 3.3, 3.4, 3.7, 3.8 (dimensionless, ≥ 0).
-    #[arg(long, default_value_t = 0.2, allow_hyphen_values = true)]
+    #[arg(long, value_parser = parse_finite, default_value_t = 0.2, allow_hyphen_values = true)]
     pub mu: f64,
     /// Number of inclinations sampled in (0, 90°).
-    #[arg(long, default_value_t = 721)]
+    #[arg(long, default_value_t = 721, allow_hyphen_values = true)]
     pub points: usize,
     /// Write fig3_3.csv … fig3_8.csv, their PNGs and run.json here (without it, the
     /// curves are computed and nothing is written).

@@ -14,17 +14,17 @@ pub struct SupportArgs {
     #[arg(long, allow_hyphen_values = true)]
     pub theta: RotationAngle,
     /// Aspect ratio r/h (radius over height, dimensionless, ≥ 0).
-    #[arg(long, default_value_t = 0.1, allow_hyphen_values = true)]
+    #[arg(long, value_parser = parse_finite, default_value_t = 0.1, allow_hyphen_values = true)]
     pub r_over_h: f64,
     /// Static friction coefficient μ between cylinder and plane (dimensionless, ≥ 0).
-    #[arg(long, default_value_t = 0.2, allow_hyphen_values = true)]
+    #[arg(long, value_parser = parse_finite, default_value_t = 0.2, allow_hyphen_values = true)]
     pub mu: f64,
     /// Mass m of the cylinder, kg: also give the forces in newtons (the /mg values times
     /// mg).
-    #[arg(long, value_parser = parse_finite)]
+    #[arg(long, value_parser = parse_finite, allow_hyphen_values = true)]
     pub mass: Option<f64>,
     /// Gravity g, m/s², for the forces in newtons (only with --mass).
-    #[arg(long, default_value_t = 9.81, value_parser = parse_finite, requires = "mass")]
+    #[arg(long, default_value_t = 9.81, value_parser = parse_finite, requires = "mass", allow_hyphen_values = true)]
     pub gravity: f64,
     /// Print one JSON object on stdout.
     #[arg(long)]

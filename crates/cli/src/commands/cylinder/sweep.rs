@@ -10,7 +10,7 @@ use clap::{Args, Subcommand};
 use cylinders::studies::pair::{pair_sweep_row, push_row, PairSettings, PairSweepRow, PushRow};
 use cylinders::transport::SpinProfile;
 use figures::cylinders::{plot_minimum_force, plot_pair_sweep, plot_push_sweep};
-use input::text::{parse_finite, parse_values};
+use input::text::{parse_finite, parse_value, parse_values};
 
 /// The sweeps of `rollstack cylinder sweep`.
 #[derive(Debug, Subcommand)]
@@ -27,8 +27,8 @@ pub enum CylinderSweepCommand {
 /// Arguments of `rollstack cylinder sweep push`.
 #[derive(Debug, Args)]
 pub struct PushSweepArgs {
-    /// Inclinations ϑ, rad, as A:B:STEP, one value or a comma list, each in
-    /// (arctan(2r/h), π/2).
+    /// Inclinations ϑ, rad (`30deg`, `pi/6` accepted), as A:B:STEP, one value or a comma
+    /// list, each in (arctan(2r/h), π/2).
     #[arg(long, allow_hyphen_values = true)]
     pub theta: String,
     /// Pushes P/mg tried at each ϑ, moving away from 0 (increasing for pushes along
@@ -43,7 +43,7 @@ pub struct PushSweepArgs {
     #[arg(long, default_value_t = 2e-3, value_parser = parse_finite, allow_hyphen_values = true)]
     pub dt: f64,
     /// Number of steps per run (the push reaches its value after 0.05 s).
-    #[arg(long, default_value_t = 100)]
+    #[arg(long, default_value_t = 100, allow_hyphen_values = true)]
     pub steps: usize,
     #[command(flatten)]
     #[allow(missing_docs)]
@@ -53,18 +53,19 @@ pub struct PushSweepArgs {
 /// Arguments of `rollstack cylinder sweep pair`.
 #[derive(Debug, Args)]
 pub struct PairSweepArgs {
-    /// Inclinations ϑ, rad, as A:B:STEP, one value or a comma list, each in
-    /// (arctan(2r/h), π/2) (Figure 3.14: (arctan(2r/h), π/4)).
+    /// Inclinations ϑ, rad (`30deg`, `pi/6` accepted), as A:B:STEP (`10deg:40deg:10deg`),
+    /// one value or a comma list, each in (arctan(2r/h), π/2) (Figure 3.14:
+    /// (arctan(2r/h), π/4)).
     #[arg(long, allow_hyphen_values = true)]
     pub theta: String,
     /// Time step Δt, s.
     #[arg(long, default_value_t = 2e-3, value_parser = parse_finite, allow_hyphen_values = true)]
     pub dt: f64,
     /// Number of steps per run.
-    #[arg(long, default_value_t = 2000)]
+    #[arg(long, default_value_t = 2000, allow_hyphen_values = true)]
     pub steps: usize,
-    /// Prescribed spin φ̇10 of cylinder I, rad/s.
-    #[arg(long, default_value_t = -6.0 * std::f64::consts::PI, value_parser = parse_finite, allow_hyphen_values = true)]
+    /// Prescribed spin φ̇10 of cylinder I, rad/s (the thesis: −6π, written `-6pi`).
+    #[arg(long, default_value_t = -6.0 * std::f64::consts::PI, value_parser = parse_value, allow_hyphen_values = true)]
     pub spin: f64,
     #[command(flatten)]
     #[allow(missing_docs)]
@@ -90,10 +91,12 @@ fn sweep_pair(a: &PairSweepArgs) -> Result<()> {
         spin: SpinProfile::constant(a.spin),
         ..PairSettings::thesis(theta)
     };
+    super::check_steps(a.dt, a.steps)?;
     for &theta in &all {
-        settings(theta)
-            .system()
-            .with_context(|| format!("--theta {theta}"))?;
+        let s = settings(theta);
+        super::check_theta(theta, &s.cylinder)?;
+        s.system()
+            .with_context(|| format!("--theta {}", input::Short(theta)))?;
     }
     let inputs =
         serde_json::json!({"theta": a.theta, "dt": a.dt, "steps": a.steps, "spin": a.spin});
@@ -142,10 +145,12 @@ fn sweep_push(a: &PushSweepArgs) -> Result<()> {
         mu_floor: a.mu_floor,
         ..PairSettings::thesis(theta)
     };
+    super::check_steps(a.dt, a.steps)?;
     for &theta in &all {
-        settings(theta)
-            .system()
-            .with_context(|| format!("--theta {theta}"))?;
+        let s = settings(theta);
+        super::check_theta(theta, &s.cylinder)?;
+        s.system()
+            .with_context(|| format!("--theta {}", input::Short(theta)))?;
     }
     let inputs = serde_json::json!({
         "theta": a.theta, "push": a.push, "mu_floor": a.mu_floor, "dt": a.dt, "steps": a.steps,

@@ -9,7 +9,7 @@ use figures::sphere::{plot_study, plot_traces};
 use holonomy::roll::RollSample;
 use holonomy::studies::roll::{integrator_study, roll_report, ClosedPath, PathShape, StudyRow};
 use holonomy::{Integrator, Rectangle};
-use input::text::{parse_number_list, Angle};
+use input::text::{parse_finite, parse_number_list, Angle};
 use std::path::PathBuf;
 
 /// The two integrators of `sphere roll`.
@@ -46,13 +46,13 @@ pub struct RollArgs {
     #[arg(long)]
     pub cw: bool,
     /// Roll around a circle of this radius (units of R) instead of the rectangle.
-    #[arg(long, conflicts_with = "polygon")]
+    #[arg(long, value_parser = parse_finite, conflicts_with = "polygon", allow_hyphen_values = true)]
     pub circle: Option<f64>,
     /// Roll around the closed polygon `x1,y1,x2,y2,...` (units of R) instead.
     #[arg(long, allow_hyphen_values = true)]
     pub polygon: Option<String>,
     /// Number of integration steps (at least one per side).
-    #[arg(long, default_value_t = 400)]
+    #[arg(long, default_value_t = 400, allow_hyphen_values = true)]
     pub steps: usize,
     /// Integrator: `exact` (Lie-group exponential per segment) or `rk4` (on the quaternion).
     #[arg(long, value_enum, default_value = "exact")]
