@@ -6,6 +6,20 @@
 //! support on its neighbour in that sense (the Lire collapse on a floor topples block by
 //! block, each still half on the one below), so each kind of event is reported with its
 //! time, once per block, in the order they happen.
+//!
+//! **The failure of a run** ([`failure`]) is its first event of any kind: a block lost
+//! its support, tipped past its tipping angle or reached the floor from above, or the
+//! column's height dropped by a block. Each means the column no longer stands as it was
+//! built; which came first is the failure's kind. In the Lire collapse on a floor no
+//! block loses its support in the sense of (G.2.4) (the test compares positions along
+//! the faces, and the blocks lie on the floor one beyond the other), the top block
+//! reaches the floor at t = 5.53 and the column's highest corner falls by more than a
+//! block only at t = 7.05, when block 3 has fallen too
+//! (`a_collapse_on_a_floor_is_a_failure_with_its_kind`).
+//!
+//! Support is lost only by a block that had it: an interface whose upper block does not
+//! rest on the lower one in the initial state (two blocks side by side on the base)
+//! reports no event.
 
 use crate::coordinates::Pose;
 use crate::scene::Scene;
@@ -95,6 +109,10 @@ impl EventWatch {
             watch.seen[k][EventKind::TouchedFloor as usize] =
                 floor_gap(scene, &q0, k).is_some_and(|g| g <= floor_tol);
         }
+        let contacts = scene.contacts(0.0, &q0, &scene.initial_velocities());
+        for (k, interface) in contacts.interfaces.iter().enumerate() {
+            watch.seen[k][EventKind::SupportLost as usize] = !interface.is_supported();
+        }
         watch
     }
 
@@ -143,10 +161,64 @@ impl EventWatch {
         &self.events
     }
 
+    /// The time of the first event of `kind`, if any.
+    #[must_use]
+    pub fn first_time(&self, kind: EventKind) -> Option<f64> {
+        self.events.iter().find(|e| e.kind == kind).map(|e| e.t)
+    }
+
     /// The events, moved out.
     #[must_use]
     pub fn into_events(self) -> Vec<FailureEvent> {
         self.events
+    }
+}
+
+/// The failure of a run with these events (in the order they happened): the first of
+/// them, whatever its kind; `None` while the column stands.
+#[must_use]
+pub fn failure(events: &[FailureEvent]) -> Option<FailureEvent> {
+    events.first().copied()
+}
+
+/// The one line that says whether a run's column failed: `verdict: failed at t = …
+/// (block k …)`, `verdict: standing at t = …` (no failure by the end), or, for a run
+/// that stopped on an error before failing, `verdict: undecided` with the time reached.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Verdict {
+    failure: Option<FailureEvent>,
+    t_final: f64,
+    stopped_early: bool,
+}
+
+impl Verdict {
+    /// The verdict of a run with this `failure` ([`failure`]) that reached `t_final`,
+    /// `stopped_early` when an error ended it.
+    #[must_use]
+    pub fn new(failure: Option<FailureEvent>, t_final: f64, stopped_early: bool) -> Self {
+        Self {
+            failure,
+            t_final,
+            stopped_early,
+        }
+    }
+}
+
+impl fmt::Display for Verdict {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match (self.failure, self.stopped_early) {
+            (Some(e), _) => write!(f, "verdict: failed, {e}"),
+            (None, false) => write!(
+                f,
+                "verdict: standing at t = {:.4} (no block lost its support, tipped or reached the floor; the column's height held)",
+                self.t_final
+            ),
+            (None, true) => write!(
+                f,
+                "verdict: undecided, the run stopped at t = {:.4} before failing or reaching its end",
+                self.t_final
+            ),
+        }
     }
 }
 

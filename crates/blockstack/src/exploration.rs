@@ -266,9 +266,7 @@ impl Walker for StackWalker<'_> {
         let st = self.stepper.state();
         let (t, k) = (st.t, st.k);
         let rec = self.rec.record(t, st, self.iterations);
-        if self.failure_time.is_none() && self.rec.contacts.first_unsupported().is_some() {
-            self.failure_time = Some(t);
-        }
+        self.failure_time = self.rec.watch.first_time(EventKind::SupportLost);
         self.write_row(&rec);
         if self.top.is_empty() || k.is_multiple_of(self.sample_every) {
             self.sample();

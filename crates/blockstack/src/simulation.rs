@@ -31,7 +31,7 @@
 
 use crate::coordinates::Pose;
 use crate::error::BlockError;
-use crate::events::{EventWatch, FailureEvent};
+use crate::events::{EventKind, EventWatch, FailureEvent};
 use crate::overlap::{deepest_penetration, Penetration};
 use crate::scene::Scene;
 use crate::scene_info::{Defaults, SceneReport, SceneWarning};
@@ -673,7 +673,6 @@ pub fn simulate_until(
 /// One line per kind of failure event: the blocks in the order they were affected,
 /// each with its time.
 fn write_events(f: &mut std::fmt::Formatter<'_>, events: &[FailureEvent]) -> std::fmt::Result {
-    use crate::events::EventKind;
     if events.is_empty() {
         return write!(f, "\nfailure events: none");
     }
@@ -722,9 +721,7 @@ fn accepted(s: &nsga::StepStats) -> Accepted {
 
 /// Updates the failure and opening times from the contacts last recorded at t.
 fn check_failure(rec: &Recorder<'_>, t: f64, summary: &mut RunSummary) {
-    if summary.failure_time.is_none() && rec.contacts.first_unsupported().is_some() {
-        summary.failure_time = Some(t);
-    }
+    summary.failure_time = rec.watch.first_time(EventKind::SupportLost);
     if summary.opening_time.is_none() && rec.contacts.first_open(rec.open_tol).is_some() {
         summary.opening_time = Some(t);
     }
@@ -738,6 +735,10 @@ pub struct RunReport {
     pub steps: usize,
     /// First time any block loses support on the block beneath it (§4.4), or null.
     pub failure_time: Option<f64>,
+    /// The run's failure ([`crate::events::failure`]): its first event (support lost,
+    /// tipped, reached the floor, height dropped), with its kind, time and block; null
+    /// while the column stands.
+    pub failure: Option<FailureEvent>,
     /// Final poses of the free blocks, bottom to top.
     #[serde(rename = "final")]
     pub final_poses: Vec<BlockPose>,
@@ -817,6 +818,7 @@ impl RunReport {
         Self {
             steps: summary.steps,
             failure_time: summary.failure_time,
+            failure: crate::events::failure(&summary.events),
             final_poses: summary.final_poses.clone(),
             min_gap: Some(summary.min_gap).filter(|g| g.is_finite()),
             newton_iterations_mean: summary.newton_iterations_mean,
@@ -955,6 +957,11 @@ impl std::fmt::Display for RunReport {
             )?;
         }
         write_events(f, &self.events)?;
+        write!(
+            f,
+            "\n{}",
+            crate::events::Verdict::new(self.failure, self.t_final, self.error.is_some())
+        )?;
         if self.fallback_steps > 0 {
             write!(
                 f,

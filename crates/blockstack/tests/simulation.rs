@@ -422,3 +422,47 @@ fn the_predicted_start_saves_updates_and_keeps_the_lire_collapse() {
         .fold(0.0, f64::max);
     assert!(apart < 1e-6, "{apart}");
 }
+
+/// The Lire collapse on a floor: no block loses its support in the sense of (G.2.4), so
+/// `failure_time` stays empty, but the top block reaches the floor long before the
+/// column's height drops by a block; that is the run's failure, and the verdict says it
+/// failed (the report used to say "failure never").
+#[test]
+fn a_collapse_on_a_floor_is_a_failure_with_its_kind() {
+    use blockstack::events::{failure, Verdict};
+    use blockstack::EventKind;
+    let scene = lire_on_floor(4, Perturbation::Bottom).unwrap();
+    let (s, _) = run(&scene, 10.0);
+    let f = failure(&s.events).expect("the collapse is a failure");
+    assert_eq!(
+        (f.kind, f.block),
+        (EventKind::TouchedFloor, Some(4)),
+        "{f:?}"
+    );
+    let dropped = s.events.iter().find(|e| e.kind == EventKind::HeightDropped);
+    assert!(dropped.is_some_and(|d| d.t > f.t), "{:?}", s.events);
+    let line = Verdict::new(Some(f), 10.0, false).to_string();
+    assert!(line.starts_with("verdict: failed, t = "), "{line}");
+}
+
+/// Two blocks side by side on a fixed base: the upper entry does not rest on the lower
+/// one, so it has no support to lose. It used to report a failure at t = 0.
+#[test]
+fn blocks_side_by_side_on_the_base_do_not_fail_at_the_start() {
+    let scene = Scene::from_toml(
+        "[base]\nwidth = 1.0\nheight = 0.1\nmotion = \"fixed\"\n\n\
+         [[blocks]]\nwidth = 0.2\nheight = 0.4\nx = -0.2\n\n\
+         [[blocks]]\nwidth = 0.2\nheight = 0.4\nx = 0.2\ny = 0.25\n\n\
+         [contact]\nmu = 0.5\n\n[solver]\ndt = 0.01\nt_end = 1.0\n",
+    )
+    .unwrap();
+    let (s, _) = run(&scene, 1.0);
+    assert_eq!(s.error, None);
+    assert_eq!(s.failure_time, None, "{:?}", s.events);
+    assert_eq!(
+        blockstack::events::failure(&s.events),
+        None,
+        "{:?}",
+        s.events
+    );
+}

@@ -256,3 +256,12 @@ def test_explore_bad_input():
         blocks.explore(scene, max_branches=0)
     with pytest.raises(TypeError):
         blocks.explore("lire")
+
+
+def test_a_collapse_on_a_floor_is_a_failure():
+    # No block loses its support (failure_time None), but the top block reaches the floor.
+    r = blocks.simulate(blocks.lire(perturb="bottom", floor=True), t_end=10)
+    assert r.failure_time is None
+    assert r.failure["kind"] == "touched_floor" and r.failure["block"] == 4
+    assert 0 < r.failure["t"] < 10
+    assert r.failure == r.report["failure"]

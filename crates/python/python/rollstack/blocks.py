@@ -208,6 +208,13 @@ class Result:
             self._report = json.loads(self._report_json)
         return self._report
 
+    @property
+    def failure(self) -> Optional[Dict[str, Any]]:
+        """The run's failure: its first failure event (``kind``, ``t``, ``block``) of any
+        kind (support lost, tipped, touched the floor, height dropped), or None while the
+        column stands; ``report["failure"]``, the CLI's ``failure``."""
+        return self.report["failure"]
+
     def to_dataframe(self) -> Any:
         """The trajectory as a pandas DataFrame, one row per record, with the columns of
         the CLI's trajectory.csv (t, x1, y1, theta1, ..., n1a, n1b, f1, ..., base_x,
