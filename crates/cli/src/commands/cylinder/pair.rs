@@ -49,6 +49,9 @@ pub struct PairArgs {
     /// Print one JSON object on stdout.
     #[arg(long)]
     pub json: bool,
+    /// Run even when the run is estimated to take longer than ten minutes.
+    #[arg(long)]
+    pub force: bool,
 }
 
 impl PairArgs {
@@ -70,6 +73,7 @@ impl PairArgs {
 pub(super) fn run(a: &PairArgs) -> Result<()> {
     let start = Instant::now();
     let settings = a.settings();
+    super::guard::check_time_bound(&settings, 1, a.force)?;
     let mut report = run_pair(&settings, a.out.is_some())?;
     let trajectory = report.trajectory.take();
     if let (Some(dir), Some(samples)) = (&a.out, &trajectory) {
