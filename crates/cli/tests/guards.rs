@@ -218,3 +218,64 @@ fn the_time_guard_is_calibrated_on_the_first_steps() {
         "{stderr}"
     );
 }
+
+/// A 64 kB tmpfs at a fresh directory, unmounted when dropped; `None` where mounting is
+/// not permitted (not root, no tmpfs).
+struct TinyDisk(std::path::PathBuf);
+
+impl TinyDisk {
+    fn mount(tag: &str) -> Option<Self> {
+        let dir = temp_dir(tag);
+        std::fs::create_dir_all(&dir).ok()?;
+        let mounted = Command::new("mount")
+            .args(["-t", "tmpfs", "-o", "size=64k", "tmpfs"])
+            .arg(&dir)
+            .stderr(Stdio::null())
+            .status()
+            .is_ok_and(|s| s.success());
+        if mounted {
+            Some(Self(dir))
+        } else {
+            let _ = std::fs::remove_dir_all(&dir);
+            None
+        }
+    }
+}
+
+impl Drop for TinyDisk {
+    fn drop(&mut self) {
+        let _ = Command::new("umount").arg(&self.0).status();
+        let _ = std::fs::remove_dir_all(&self.0);
+    }
+}
+
+#[test]
+fn a_full_disk_leaves_no_temporaries_and_the_error_names_the_file() {
+    let Some(disk) = TinyDisk::mount("guards-full-disk") else {
+        eprintln!("skipped: no tmpfs can be mounted here");
+        return;
+    };
+    for (name, args) in [
+        ("shake", &["blocks", "shake", "--periods", "2"][..]),
+        (
+            "pair",
+            &["cylinder", "pair", "--theta", "0.5", "--steps", "200"],
+        ),
+    ] {
+        let out = disk.0.join(name);
+        let out_str = out.to_str().unwrap();
+        let (ok, _, stderr) = run(&[args, &["--out", out_str]].concat());
+        assert!(!ok && stderr.lines().count() == 1, "{stderr}");
+        assert!(stderr.contains("No space left on device"), "{stderr}");
+        assert!(
+            stderr.contains(out_str) && !stderr.contains(".tmp-"),
+            "{stderr}"
+        );
+        let left: Vec<String> = std::fs::read_dir(&out)
+            .unwrap()
+            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+            .filter(|n| n.starts_with(".tmp-"))
+            .collect();
+        assert!(left.is_empty(), "{left:?}");
+    }
+}
