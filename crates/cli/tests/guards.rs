@@ -279,3 +279,51 @@ fn a_full_disk_leaves_no_temporaries_and_the_error_names_the_file() {
         assert!(left.is_empty(), "{left:?}");
     }
 }
+
+#[test]
+fn the_limits_in_the_docs_are_the_program_s() {
+    use blockstack::scene::MAX_BLOCKS;
+    use blockstack::scene_file::MAX_SCENE_BYTES;
+    use blockstack::time_guard::{
+        CALIBRATION_STEPS, CALIBRATION_TIMEOUT_S, CALIBRATION_WALL_S, SECONDS_PER_BLOCK_STEP,
+        TIME_BOUND_S,
+    };
+    let doc = include_str!("../../../docs/cli.md");
+    let start = doc
+        .find("*Limits and the time guard.*")
+        .expect("the paragraph");
+    let paragraph = &doc[start..start + doc[start..].find("\n\n").unwrap()];
+    let paragraph = paragraph.replace('\n', " ");
+    // The cylinders' trial, as the refusal reports it.
+    let out = rollstack(&[
+        "cylinder",
+        "pair",
+        "--theta",
+        "0.5",
+        "--steps",
+        "1000000000",
+    ]);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    let trial = stderr
+        .split("measured on the first ")
+        .nth(1)
+        .and_then(|s| s.split(' ').next())
+        .expect("the trial's steps");
+    assert_eq!(TIME_BOUND_S, 600.0, "the paragraph says ten minutes");
+    for said in [
+        format!("at most {MAX_BLOCKS} blocks"),
+        format!("up to {} MiB", MAX_SCENE_BYTES >> 20),
+        format!(
+            "at {} µs per block and step",
+            (SECONDS_PER_BLOCK_STEP * 1e6).round()
+        ),
+        format!("(at most {CALIBRATION_STEPS} steps or {CALIBRATION_WALL_S} s"),
+        format!("at most {CALIBRATION_TIMEOUT_S} s waited for the first step"),
+        format!("measure their first {trial} steps"),
+    ] {
+        assert!(
+            paragraph.contains(&said),
+            "{said:?} not in docs/cli.md: {paragraph}"
+        );
+    }
+}
