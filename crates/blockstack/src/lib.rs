@@ -76,6 +76,7 @@ pub mod stack;
 pub mod stepping;
 pub mod studies;
 pub mod system;
+pub mod time_guard;
 
 pub use base::{Base, BaseKinematics, BaseMotion, CubicSpline};
 pub use block::Block;

@@ -117,6 +117,36 @@ pub struct Scene {
 /// Relative tolerance on initial overlaps (of the largest block size).
 const OVERLAP_TOL: f64 = 1e-9;
 
+/// The most free blocks a scene may have, checked before memory is taken for them. A
+/// step's cost grows like n² in a shaken column (docs/method.md: 13 s per step at 300
+/// blocks), so a step of 1000 blocks takes minutes and the ten-minute time guard
+/// ([`crate::time_guard`]) leaves a few of them; the thesis's stacks have 4 to 20.
+pub const MAX_BLOCKS: usize = 1000;
+
+/// [`MAX_BLOCKS`] as the range of a block count, for error messages.
+pub const BLOCK_COUNT_RANGE: &str = "[1, 1000]";
+
+/// Refuses a number of blocks over [`MAX_BLOCKS`] (or zero) before anything is
+/// allocated for them; `name` is what the user typed (`--blocks`, `blocks`, a scene's
+/// `[[blocks]] count`), so that the error names it:
+/// `--blocks must lie in [1, 1000], got 1000000000`.
+///
+/// # Errors
+/// Zero blocks, or more than [`MAX_BLOCKS`].
+pub fn check_block_count(name: &str, n: usize) -> Result<usize, BlockError> {
+    if (1..=MAX_BLOCKS).contains(&n) {
+        return Ok(n);
+    }
+    #[allow(clippy::cast_precision_loss)]
+    let value = n as f64;
+    Err(input::InputError::OutOfRange {
+        name: name.to_owned(),
+        range: BLOCK_COUNT_RANGE,
+        value,
+    }
+    .into())
+}
+
 impl Scene {
     /// A scene, checked: parameters in range, at least one block, no two bodies
     /// overlapping at the start, every block above the floor, and the floor not above the
@@ -138,6 +168,7 @@ impl Scene {
                 "a scene needs at least one block above the base".into(),
             ));
         }
+        check_block_count("the number of blocks", blocks.len())?;
         // Poses are public fields: check them here too.
         finite("base x", base.x0)?;
         finite("base y", base.y)?;

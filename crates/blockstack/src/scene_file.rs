@@ -50,9 +50,15 @@ use crate::base::{Base, BaseMotion, CubicSpline};
 use crate::block::Block;
 use crate::error::BlockError;
 use crate::floor::Floor;
-use crate::scene::{stack_on_top, ContactParams, Prox, Scene, SolverParams};
+use crate::scene::{check_block_count, stack_on_top, ContactParams, Prox, Scene, SolverParams};
 use crate::scene_info::Defaults;
 use serde::{Deserialize, Serialize};
+
+/// The largest scene file a reader takes, bytes (16 MiB): a scene is a few hundred bytes
+/// (one `[[blocks]]` entry with every key for each of the most blocks,
+/// [`crate::scene::MAX_BLOCKS`], is 200 kB), so a larger file is not a scene
+/// (`/dev/zero`) and is refused before it fills the memory.
+pub const MAX_SCENE_BYTES: u64 = 16 << 20;
 
 /// The `[base]` table.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -333,12 +339,9 @@ impl SceneFile {
     /// base motion that is not harmonic: one line each.
     pub fn build(&self) -> Result<LoadedScene, BlockError> {
         let base = Base::new(self.base.width, self.base.height, self.base_motion()?)?;
-        let mut column = Vec::new();
+        let mut column = Vec::with_capacity(self.block_count()?);
         let mut k = 0;
         for entry in &self.blocks {
-            if entry.count == 0 {
-                return Err(BlockError::Scene("a [[blocks]] entry has count = 0".into()));
-            }
             for _ in 0..entry.count {
                 k += 1;
                 let [vx, vy, omega] = entry.velocity;
@@ -378,6 +381,19 @@ impl SceneFile {
             .map(|f| Floor::new(defaults.or("floor.y", f.y, base.bottom())));
         let scene = Scene::new(base, blocks, floor, contact, solver)?;
         Ok(LoadedScene { scene, defaults })
+    }
+
+    /// The number of blocks the `[[blocks]]` entries make, checked against
+    /// [`crate::scene::MAX_BLOCKS`] before any block is built (a `count` of 10⁹ is refused, not
+    /// allocated).
+    fn block_count(&self) -> Result<usize, BlockError> {
+        let mut total = 0usize;
+        for (k, entry) in self.blocks.iter().enumerate() {
+            check_block_count(&format!("[[blocks]] entry {k} count"), entry.count)?;
+            // Both terms are at most MAX_BLOCKS: no overflow.
+            total = check_block_count("the [[blocks]] counts' total", total + entry.count)?;
+        }
+        Ok(total)
     }
 
     /// The `[solver]` table resolved: `steps_per_period` and `periods` turned into Δt and

@@ -42,6 +42,7 @@ use nsga::{Options, RhoInfRetry, SolverChoice, StepError, Stepper};
 use std::ops::ControlFlow;
 use std::time::Instant;
 
+pub use crate::time_guard::{run_cost, RunCost, SECONDS_PER_BLOCK_STEP, TIME_BOUND_S};
 pub use nsga::Prox;
 
 /// The errors of [`simulate`]: bad scenes or options.
@@ -383,45 +384,6 @@ pub fn stepper_options(scene: &Scene, options: &RunOptions) -> Result<Options, B
     opts.validate()
         .map_err(|e| BlockError::Scene(format!("solver options: {e}")))?;
     Ok(opts)
-}
-
-/// A typical solver cost per block and step on one core of a release build, seconds:
-/// the stack's runs measure 8–20 µs (`rollstack blocks shake --json`, `wall_time_s`
-/// over `steps` and blocks), so this estimate errs on the slow side. Debug builds are
-/// 10–30 times slower.
-pub const SECONDS_PER_BLOCK_STEP: f64 = 2e-5;
-
-/// What a run will cost before it starts, from its step count and size alone.
-#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
-pub struct RunCost {
-    /// Steps to the end time: t_end / Δt.
-    pub steps: f64,
-    /// The blocks of the scene.
-    pub blocks: usize,
-    /// A typical wall time, s: steps × blocks × [`SECONDS_PER_BLOCK_STEP`].
-    pub seconds: f64,
-}
-
-/// The cost of running `scene` with `options`, before any step: nothing is run.
-/// An end time or step that is not positive gives the cost of zero steps (the run
-/// itself refuses it with its reason).
-#[must_use]
-pub fn run_cost(scene: &Scene, options: &RunOptions) -> RunCost {
-    let t_end = options.t_end.unwrap_or(scene.solver.t_end);
-    let steps = (t_end / scene.solver.dt).max(0.0);
-    let steps = if steps.is_finite() {
-        steps
-    } else {
-        f64::INFINITY
-    };
-    let blocks = scene.blocks().len();
-    #[allow(clippy::cast_precision_loss)]
-    let seconds = steps * blocks as f64 * SECONDS_PER_BLOCK_STEP;
-    RunCost {
-        steps,
-        blocks,
-        seconds,
-    }
 }
 
 /// Number of steps to reach t_end with the scene's Δt (a final partial step is taken

@@ -106,3 +106,60 @@ fn the_generator_produces_scenes_that_run() {
     let summary = simulate(&scene, &RunOptions::default(), |_| {}).unwrap();
     assert!(summary.error.is_none() && summary.steps == 5);
 }
+
+/// Block counts that break naive code: zero, the limit and one over it, huge, the
+/// largest integer a scene file holds.
+fn count() -> impl Strategy<Value = u64> {
+    let max = blockstack::scene::MAX_BLOCKS as u64;
+    prop_oneof![
+        4 => 1..20u64,
+        1 => Just(0),
+        1 => Just(max),
+        1 => Just(max + 1),
+        1 => max..u64::from(u32::MAX),
+        1 => Just(1_000_000_000),
+        1 => Just(i64::MAX as u64),
+    ]
+}
+
+/// A scene of one `[[blocks]]` entry per count.
+fn counted_scene(counts: &[u64]) -> String {
+    let mut text = "[base]\nwidth = 1.0\nheight = 0.1\n".to_owned();
+    for c in counts {
+        text += &format!("[[blocks]]\nwidth = 0.2\nheight = 0.4\ncount = {c}\n");
+    }
+    text + "[contact]\nmu = 0.2\n"
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 48, ..ProptestConfig::default() })]
+
+    /// Counts are checked before any block is built: a scene over the limit is refused
+    /// in one line naming the count and the limit, at once (nothing allocated for it).
+    #[test]
+    fn block_counts_are_checked_before_any_block_is_built(counts in prop::collection::vec(count(), 1..4)) {
+        let total: u128 = counts.iter().map(|&c| u128::from(c)).sum();
+        let clock = std::time::Instant::now();
+        let loaded = Scene::from_toml(&counted_scene(&counts));
+        let within = counts.iter().all(|&c| c >= 1)
+            && total <= blockstack::scene::MAX_BLOCKS as u128;
+        match loaded {
+            Ok(scene) => prop_assert!(within && scene.n_blocks() as u128 == total),
+            Err(e) => {
+                let message = e.to_string();
+                prop_assert!(!within, "{message}");
+                prop_assert!(message.contains("count") && message.contains("[1, 1000]"), "{message}");
+                prop_assert!(!message.contains('\n'), "{message}");
+                prop_assert!(clock.elapsed().as_secs_f64() < 1.0, "refused only after {:?}", clock.elapsed());
+            }
+        }
+    }
+}
+
+#[test]
+fn the_block_limit_in_messages_is_the_limit() {
+    assert_eq!(
+        blockstack::scene::BLOCK_COUNT_RANGE,
+        format!("[1, {}]", blockstack::scene::MAX_BLOCKS)
+    );
+}

@@ -7,17 +7,47 @@ use anyhow::{Context, Result};
 use serde::Serialize;
 use std::fs;
 use std::io::Write;
-use std::path::Path;
+use std::path::{Path, PathBuf};
+use std::sync::Mutex;
 
 /// Creates `dir` (and parents) if needed, and removes the temporary files a killed
 /// earlier run left there ([`shards::remove_stale_temps`]: a trajectory can be 500 MB).
+/// The directory is remembered so that a command that fails removes its own
+/// temporaries there ([`remove_own_temps`]).
 ///
 /// # Errors
 /// When the directory cannot be created or cleaned.
 pub fn ensure_dir(dir: &Path) -> Result<()> {
     fs::create_dir_all(dir)
         .with_context(|| format!("cannot create directory {}", dir.display()))?;
+    if let Ok(mut dirs) = OUTPUT_DIRS.lock() {
+        if !dirs.iter().any(|d| d == dir) {
+            dirs.push(dir.to_owned());
+        }
+    }
     Ok(shards::remove_stale_temps(dir).map(drop)?)
+}
+
+/// The output directories of this process ([`ensure_dir`]).
+static OUTPUT_DIRS: Mutex<Vec<PathBuf>> = Mutex::new(Vec::new());
+
+/// Removes this process's temporary files (`.tmp-PID-NAME`, [`temp_sibling`]) from every
+/// output directory it used: a command that fails (a full disk, an error midway) leaves
+/// none behind, whichever library was writing. Call it only once the command has
+/// ended. Best effort: a file that cannot be removed is left.
+pub fn remove_own_temps() {
+    let prefix = format!(".tmp-{}-", std::process::id());
+    let dirs = OUTPUT_DIRS.lock().map(|d| d.clone()).unwrap_or_default();
+    for dir in dirs {
+        let Ok(entries) = fs::read_dir(&dir) else {
+            continue;
+        };
+        for entry in entries.flatten() {
+            if entry.file_name().to_string_lossy().starts_with(&prefix) {
+                let _ = fs::remove_file(entry.path());
+            }
+        }
+    }
 }
 
 pub use figures::file::temp_sibling;
@@ -25,14 +55,28 @@ pub use figures::file::temp_sibling;
 /// Writes `bytes` to `path` atomically: a temporary sibling first, then a rename.
 ///
 /// # Errors
-/// When the file cannot be written or renamed.
+/// When the file cannot be written or renamed (the error names `path`; the temporary
+/// is removed).
 pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
+    write_atomic_through(path, |tmp| fs::File::create(tmp), bytes)
+}
+
+/// [`write_atomic`] through the writer `create` opens on the temporary sibling (a file;
+/// in tests, one that fails midway): on any failure the temporary is removed and the
+/// error names `path`, never the temporary.
+fn write_atomic_through<W: Write>(
+    path: &Path,
+    create: impl FnOnce(&Path) -> std::io::Result<W>,
+    bytes: &[u8],
+) -> Result<()> {
     let tmp = temp_sibling(path);
-    {
-        let mut f =
-            fs::File::create(&tmp).with_context(|| format!("cannot write {}", tmp.display()))?;
-        f.write_all(bytes)
-            .with_context(|| format!("cannot write {}", tmp.display()))?;
+    let written = create(&tmp).and_then(|mut w| {
+        w.write_all(bytes)?;
+        w.flush()
+    });
+    if let Err(e) = written {
+        discard_temp(path);
+        return Err(anyhow::Error::new(e).context(format!("cannot write {}", path.display())));
     }
     commit_temp(path)
 }
@@ -40,9 +84,18 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
 /// Finishes a file produced at [`temp_sibling`]`(path)` by renaming it into place.
 ///
 /// # Errors
-/// When the rename fails.
+/// When the rename fails (the temporary is removed).
 pub fn commit_temp(path: &Path) -> Result<()> {
-    figures::file::commit_temp(path).with_context(|| format!("cannot write {}", path.display()))
+    figures::file::commit_temp(path).map_err(|e| {
+        discard_temp(path);
+        anyhow::Error::new(e).context(format!("cannot write {}", path.display()))
+    })
+}
+
+/// Removes the temporary sibling of `path` after a failed write (best effort: it may
+/// not have been created).
+pub fn discard_temp(path: &Path) {
+    let _ = fs::remove_file(temp_sibling(path));
 }
 
 /// Writes a CSV file with a header row, atomically. Rows are cells a library formatted
@@ -95,10 +148,19 @@ pub fn write_json(path: &Path, value: &impl Serialize) -> Result<()> {
 /// Prints one JSON object on stdout (the `--json` contract).
 ///
 /// # Errors
-/// When serialisation fails.
+/// When serialisation fails, or stdout cannot be written (a full disk).
 pub fn print_json(value: &impl Serialize) -> Result<()> {
-    println!("{}", serde_json::to_string(value)?);
-    Ok(())
+    let text = serde_json::to_string(value)?;
+    let mut out = std::io::stdout().lock();
+    writeln!(out, "{text}")
+        .and_then(|()| out.flush())
+        .map_err(stdout_error)
+}
+
+/// The error of a failed write to stdout, in one line.
+#[must_use]
+pub fn stdout_error(e: std::io::Error) -> anyhow::Error {
+    anyhow::Error::new(e).context("cannot write to stdout")
 }
 
 /// Writes `run.json` into `dir`: the command, its inputs, the rollstack version and timings.
@@ -152,6 +214,62 @@ pub fn require_finite(name: &str, value: f64) -> Result<f64> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A writer whose disk is full after `room` bytes.
+    struct FullAfter {
+        file: fs::File,
+        room: usize,
+    }
+
+    impl Write for FullAfter {
+        fn write(&mut self, buf: &[u8]) -> std::io::Result<usize> {
+            if self.room == 0 {
+                return Err(std::io::Error::from_raw_os_error(28)); // ENOSPC
+            }
+            let n = buf.len().min(self.room);
+            self.room -= n;
+            self.file.write(&buf[..n])
+        }
+
+        fn flush(&mut self) -> std::io::Result<()> {
+            self.file.flush()
+        }
+    }
+
+    #[test]
+    fn a_full_disk_leaves_no_temporary_and_names_the_destination() {
+        let dir = std::env::temp_dir().join(format!("rollstack-full-{}", std::process::id()));
+        ensure_dir(&dir).unwrap();
+        let p = dir.join("a.csv");
+        let full = |tmp: &Path| fs::File::create(tmp).map(|file| FullAfter { file, room: 5 });
+        let e = write_atomic_through(&p, full, b"x,y\n1,2\n").unwrap_err();
+        let message = format!("{e:#}");
+        assert!(message.contains(&p.display().to_string()), "{message}");
+        assert!(!message.contains(".tmp-"), "{message}");
+        assert!(message.contains("No space left on device"), "{message}");
+        let left: Vec<_> = fs::read_dir(&dir)
+            .unwrap()
+            .flatten()
+            .map(|e| e.file_name())
+            .collect();
+        assert!(left.is_empty(), "{left:?}");
+        fs::remove_dir_all(dir).unwrap();
+    }
+
+    #[test]
+    fn a_failed_command_removes_its_own_temporaries() {
+        let dir = std::env::temp_dir().join(format!("rollstack-temps-{}", std::process::id()));
+        ensure_dir(&dir).unwrap();
+        let ours = temp_sibling(&dir.join("plot.png"));
+        let other = dir.join(".tmp-1-plot.png");
+        let kept = dir.join("plot.png");
+        for f in [&ours, &other, &kept] {
+            fs::write(f, "x").unwrap();
+        }
+        remove_own_temps();
+        assert!(!ours.exists() && other.exists() && kept.exists());
+        fs::remove_dir_all(dir).unwrap();
+    }
 
     #[test]
     fn atomic_csv_roundtrip() {

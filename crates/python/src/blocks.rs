@@ -6,11 +6,13 @@ use crate::{guard, json_to_py, value_error};
 use blockstack::scenarios::{
     lire, lire_on_floor, shaking_column, sliding_column, Perturbation, Shaking, Sliding,
 };
+use blockstack::scene::check_block_count;
 use blockstack::scene_file::LoadedScene;
 use blockstack::simulation::{simulate_until, Prox, RunOptions, RunReport, StepRecord};
 use blockstack::studies::scene_sweep::{Override, SceneSweep};
 use blockstack::studies::shaking::{frequency_row, periods_for_horizon};
 use blockstack::studies::slide::slide_row;
+use blockstack::time_guard::{run_cost, wall_limit, Guard};
 use blockstack::{scenes, Defaults};
 use numpy::ndarray::{Array1, Array2, Array3};
 use numpy::IntoPyArray;
@@ -160,11 +162,26 @@ fn perturbation(name: &str) -> PyResult<Perturbation> {
     }
 }
 
+/// Refuses 0 blocks or more than `scene::MAX_BLOCKS` before any is built.
 fn at_least_one_block(blocks: usize) -> PyResult<()> {
-    if blocks == 0 {
-        return Err(PyValueError::new_err("blocks must be at least 1"));
-    }
+    check_block_count("blocks", blocks).map_err(value_error)?;
     Ok(())
+}
+
+/// Refuses a run estimated over the ten-minute time guard (`time_guard::Guard`: the
+/// typical cost, then the cost of its first steps), unless `force`.
+fn check_time_bound(scene: &blockstack::Scene, options: &RunOptions, force: bool) -> PyResult<()> {
+    if force {
+        return Ok(());
+    }
+    let guard = Guard {
+        costs: &[run_cost(scene, options)],
+        threads: 1,
+        probe: Some((scene, options)),
+    };
+    guard
+        .check()
+        .map_err(|e| value_error(format!("{e}: shorten t_end, or pass force=True")))
 }
 
 /// The Leaning Tower of Lire (§4.3): `scenarios::lire` or `lire_on_floor`.
@@ -359,7 +376,8 @@ impl Trajectory {
 /// `interrupted` (a KeyboardInterrupt to raise, or None: the caller raises it after
 /// keeping the partial result).
 #[pyfunction]
-#[pyo3(signature = (scene, t_end = None, prox_constant = None, explore_branches = true, last_resort = true, stop_at_failure = false, low_rank_updates = true))]
+#[pyo3(signature = (scene, t_end = None, prox_constant = None, explore_branches = true, last_resort = true, stop_at_failure = false, low_rank_updates = true, force = false))]
+#[allow(clippy::too_many_arguments)]
 fn blocks_simulate<'py>(
     py: Python<'py>,
     scene: &PyScene,
@@ -369,6 +387,7 @@ fn blocks_simulate<'py>(
     last_resort: bool,
     stop_at_failure: bool,
     low_rank_updates: bool,
+    force: bool,
 ) -> PyResult<Bound<'py, PyDict>> {
     guard(|| {
         let options = run_options(
@@ -379,6 +398,7 @@ fn blocks_simulate<'py>(
             stop_at_failure,
             low_rank_updates,
         )?;
+        check_time_bound(&scene.scene, &options, force)?;
         let mut trajectory = Trajectory::default();
         let mut interrupt: Option<PyErr> = None;
         let summary = simulate_until(&scene.scene, &options, |r| {
@@ -578,18 +598,13 @@ fn blocks_sweep_scene<'py>(
     })
 }
 
-/// How often a sweep's caller checks for Ctrl-C while the rows run.
-pub(crate) const SIGNAL_POLL: std::time::Duration = std::time::Duration::from_millis(20);
-
 /// Runs `row` over `items` in parallel on rayon, in input order, and returns the rows as
 /// `json.loads` makes them of the CLI's JSON. `options` are the runs' options: their
 /// `cancel` flag is set here.
 ///
-/// The rows run on a scoped thread while this thread, which holds the GIL between
-/// naps without it, checks for Ctrl-C every [`SIGNAL_POLL`]. A `KeyboardInterrupt`
-/// sets the flag, which ends every run after its current step and keeps rows from
-/// starting, and is raised once the worker has stopped. A panic does not cross into
-/// Python: its message comes back as a `RuntimeError`.
+/// The rows run on a worker thread while this one checks for Ctrl-C
+/// ([`crate::interruptible`]): a `KeyboardInterrupt` sets the flag, which ends every run
+/// after its current step and keeps rows from starting.
 fn parallel_rows<'py, P: Sync, R: Send + serde::Serialize>(
     py: Python<'py>,
     items: &[P],
@@ -600,25 +615,11 @@ fn parallel_rows<'py, P: Sync, R: Send + serde::Serialize>(
     let cancel = std::sync::Arc::new(AtomicBool::new(false));
     options.cancel = Some(cancel.clone());
     let options = &*options;
-    let rows = std::thread::scope(|scope| {
-        let worker = scope.spawn(|| {
-            guard(|| {
-                Ok(items
-                    .par_iter()
-                    .map(|p| (!cancel.load(Ordering::Relaxed)).then(|| row(p, options)))
-                    .collect::<Vec<_>>())
-            })
-        });
-        while !worker.is_finished() {
-            if let Err(interrupt) = py.check_signals() {
-                cancel.store(true, Ordering::Relaxed);
-                py.detach(|| worker.join()).ok();
-                return Err(interrupt);
-            }
-            py.detach(|| std::thread::sleep(SIGNAL_POLL));
-        }
-        py.detach(|| worker.join())
-            .unwrap_or_else(|_| Err(value_error("a sweep's worker thread stopped")))
+    let rows = crate::interruptible(py, &cancel, || {
+        Ok(items
+            .par_iter()
+            .map(|p| (!cancel.load(Ordering::Relaxed)).then(|| row(p, options)))
+            .collect::<Vec<_>>())
     })?;
     let rows: Vec<R> = rows.into_iter().flatten().collect();
     json_to_py(py, &rows)
@@ -684,7 +685,7 @@ fn blocks_explore<'py>(
             strategy,
             max_branches,
             max_depth: max_depth.unwrap_or(usize::MAX),
-            max_wall: max_wall.map(std::time::Duration::from_secs_f64),
+            max_wall: max_wall.and_then(wall_limit),
         };
         let settings = WalkSettings {
             sample_every: u64::MAX,

@@ -331,9 +331,10 @@ fn cylinders_pair<'py>(
     push_over_mg: f64,
     rho_inf: f64,
 ) -> PyResult<Bound<'py, PyDict>> {
-    use cylinders::studies::pair::{run_pair, PairSettings};
+    use cylinders::studies::pair::{run_pair_until, PairSettings};
     use cylinders::transport::SpinProfile;
     use cylinders::CylinderError;
+    use std::sync::atomic::AtomicBool;
     guard(|| {
         if !spin.is_finite() {
             return Err(PyValueError::new_err(format!(
@@ -357,12 +358,15 @@ fn cylinders_pair<'py>(
             push_over_mg,
             ..PairSettings::thesis(theta)
         };
-        let mut report = py
-            .detach(|| guard(|| Ok(run_pair(&settings, true))))?
-            .map_err(|e| match e {
-                CylinderError::Solver(m) => crate::solver_error(m),
-                e => value_error(e),
-            })?;
+        // On a worker thread, so that Ctrl-C is seen while it runs: the run stops
+        // after its current step.
+        let cancel = AtomicBool::new(false);
+        let mut report =
+            crate::interruptible(py, &cancel, || Ok(run_pair_until(&settings, true, &cancel)))?
+                .map_err(|e| match e {
+                    CylinderError::Solver(m) => crate::solver_error(m),
+                    e => value_error(e),
+                })?;
         let samples = report.trajectory.take().unwrap_or_default();
         let n = samples.len();
         let column = |f: &dyn Fn(&cylinders::studies::pair::PairSample) -> Vec<f64>,

@@ -24,6 +24,7 @@ use pyo3::exceptions::{PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
 use serde::Serialize;
 use std::panic::{catch_unwind, AssertUnwindSafe};
+use std::sync::atomic::{AtomicBool, Ordering};
 
 /// Runs `f`, turning a panic into a Python `RuntimeError` instead of letting it cross
 /// into Python.
@@ -41,6 +42,34 @@ pub(crate) fn guard<T>(f: impl FnOnce() -> PyResult<T>) -> PyResult<T> {
             )))
         }
     }
+}
+
+/// How often a caller checks for Ctrl-C while its worker runs ([`interruptible`]).
+pub(crate) const SIGNAL_POLL: std::time::Duration = std::time::Duration::from_millis(20);
+
+/// Runs `work` on a scoped worker thread while this thread, which holds the GIL between
+/// naps without it, checks for Ctrl-C every [`SIGNAL_POLL`]. A `KeyboardInterrupt` sets
+/// `cancel` (which `work` watches, ending soon after) and is raised once the worker has
+/// stopped. A panic does not cross into Python: its message comes back as a
+/// `RuntimeError`.
+pub(crate) fn interruptible<T: Send>(
+    py: Python<'_>,
+    cancel: &AtomicBool,
+    work: impl FnOnce() -> PyResult<T> + Send,
+) -> PyResult<T> {
+    std::thread::scope(|scope| {
+        let worker = scope.spawn(|| guard(work));
+        while !worker.is_finished() {
+            if let Err(interrupt) = py.check_signals() {
+                cancel.store(true, Ordering::Relaxed);
+                py.detach(|| worker.join()).ok();
+                return Err(interrupt);
+            }
+            py.detach(|| std::thread::sleep(SIGNAL_POLL));
+        }
+        py.detach(|| worker.join())
+            .unwrap_or_else(|_| Err(PyRuntimeError::new_err("the worker thread stopped")))
+    })
 }
 
 pyo3::create_exception!(

@@ -11,7 +11,7 @@ use numpy::IntoPyArray;
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
-use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::atomic::AtomicBool;
 
 fn check_dt(dt: f64) -> PyResult<()> {
     if !(dt.is_finite() && dt > 0.0 && dt <= 0.1) {
@@ -133,24 +133,10 @@ fn nsga_work_precision<'py>(
         // On a worker thread, so that Ctrl-C is seen while it runs: the study stops
         // between two of its runs (each a fraction of a second).
         let cancel = AtomicBool::new(false);
-        let rows = std::thread::scope(|scope| {
-            let worker = scope.spawn(|| {
-                guard(|| {
-                    Ok(work_precision_until(
-                        system, &dts, &rho_inf, repeat, &cancel,
-                    ))
-                })
-            });
-            while !worker.is_finished() {
-                if let Err(interrupt) = py.check_signals() {
-                    cancel.store(true, Ordering::Relaxed);
-                    py.detach(|| worker.join()).ok();
-                    return Err(interrupt);
-                }
-                py.detach(|| std::thread::sleep(crate::blocks::SIGNAL_POLL));
-            }
-            py.detach(|| worker.join())
-                .unwrap_or_else(|_| Err(PyValueError::new_err("the worker thread stopped")))
+        let rows = crate::interruptible(py, &cancel, || {
+            Ok(work_precision_until(
+                system, &dts, &rho_inf, repeat, &cancel,
+            ))
         })?
         .map_err(|e| match e {
             nsga::StepError::InvalidInput(m) => PyValueError::new_err(m),

@@ -213,7 +213,10 @@ def test_to_dataframe():
 
 
 def test_ctrl_c_interrupts_a_long_simulation():
-    exits_on_sigint("blocks.simulate(blocks.shaking(blocks=4, omega=4.0, periods=100000.0))")
+    # Forced: at 20 µs per block and step, the time guard would refuse it up front.
+    exits_on_sigint(
+        "blocks.simulate(blocks.shaking(blocks=4, omega=4.0, periods=100000.0), force=True)"
+    )
 
 
 def test_ctrl_c_interrupts_a_long_sweep():
@@ -265,3 +268,33 @@ def test_a_collapse_on_a_floor_is_a_failure():
     assert r.failure["kind"] == "touched_floor" and r.failure["block"] == 4
     assert 0 < r.failure["t"] < 10
     assert r.failure == r.report["failure"]
+
+
+@pytest.mark.parametrize(
+    "make",
+    [
+        lambda: blocks.shaking(blocks=10**9),
+        lambda: blocks.lire(blocks=10**9),
+        lambda: blocks.sliding(blocks=10**9),
+        lambda: blocks.Scene(**{**ONE_BLOCK, "blocks": [{**ONE_BLOCK["blocks"][0], "count": 2**63 - 1}]}),
+    ],
+)
+def test_block_counts_over_the_limit_are_refused_before_anything_is_built(make):
+    # Before the check, the interpreter died: the blocks were allocated first.
+    with pytest.raises(ValueError, match=r"must lie in \[1, 1000\]") as e:
+        make()
+    assert "blocks" in str(e.value) or "count" in str(e.value)
+
+
+def test_an_endless_run_is_refused_up_front_unless_forced():
+    scene = blocks.Scene(**ONE_BLOCK)
+    with pytest.raises(ValueError, match="more than 600 s") as e:
+        blocks.simulate(scene, t_end=1e300)
+    assert "force=True" in str(e.value)
+    # Forced, a short run goes as before.
+    assert blocks.simulate(scene, t_end=0.05, force=True).steps == 5
+
+
+def test_an_unreachable_wall_limit_is_no_limit():
+    tree = blocks.explore(blocks.Scene(**ONE_BLOCK), max_branches=1, max_wall=1e20)
+    assert not tree["wall_cap_reached"]

@@ -3,7 +3,7 @@ import math
 import numpy as np
 import pytest
 
-from helpers import strip_timings
+from helpers import exits_on_sigint, strip_timings
 
 from rollstack import cylinders
 
@@ -102,3 +102,7 @@ def test_pair_bad_input():
         cylinders.pair(0.5, dt=-1e-3)
     with pytest.raises(ValueError):
         cylinders.pair(0.5, ramp=0.0)
+
+
+def test_ctrl_c_interrupts_a_long_pair_run():
+    exits_on_sigint("from rollstack import cylinders; cylinders.pair(0.5, steps=10**8)")

@@ -3,12 +3,15 @@
 //! the cells of the CSV files come from [`nsga::studies`]; this module reads the flags
 //! and writes the files (docs/cli.md).
 
+use crate::commands::blocks::TIME_BOUND_S;
 use crate::output::{ensure_dir, print_json, require_finite, write_csv, write_run_json};
 use anyhow::{bail, Result};
 use clap::{Args, Subcommand, ValueEnum};
 use figures::nsga::{plot_ball, plot_work_precision};
 use nsga::studies::ball::{ball_report, BallRun, BallSample, Scheme};
-use nsga::studies::work_precision::{work_precision, WorkPrecisionRow, WorkPrecisionSystem};
+use nsga::studies::work_precision::{
+    work_precision, work_precision_point, WorkPrecisionRow, WorkPrecisionSystem,
+};
 use nsga::systems::ball::BallCase;
 use nsga::Prox;
 use std::path::{Path, PathBuf};
@@ -115,6 +118,9 @@ pub struct WorkPrecisionArgs {
     /// Print one JSON object on stdout.
     #[arg(long)]
     pub json: bool,
+    /// Run even when the study is estimated to take longer than ten minutes.
+    #[arg(long)]
+    pub force: bool,
 }
 
 /// Work-precision benchmark systems.
@@ -208,6 +214,9 @@ fn work_precision_command(a: &WorkPrecisionArgs) -> Result<()> {
         bail!("every --rho-inf value must be in [0, 1]");
     }
     let repeat = usize::from(a.repeat);
+    if !a.force {
+        check_time_bound(system, &dts, rhos.len() + 1, repeat)?;
+    }
     let rows = work_precision(system, &dts, &rhos, repeat)?;
     let csv = a.out.as_ref().map(|dir| dir.join("work_precision.csv"));
     if let Some(dir) = &a.out {
@@ -239,5 +248,39 @@ fn work_precision_command(a: &WorkPrecisionArgs) -> Result<()> {
             println!("wrote {}", csv.display());
         }
     }
+    Ok(())
+}
+
+/// The smallest Δt of the run [`check_time_bound`] times, s: at most 1500 steps.
+const SMALLEST_TIMED_DT: f64 = 1e-3;
+
+/// Refuses a work-precision study estimated to take more than [`TIME_BOUND_S`]: one run
+/// at the largest Δt (or at [`SMALLEST_TIMED_DT`], whichever is larger, so that the
+/// timed run is short) is timed, and a run at Δt costs its time × Δt_timed/Δt (steps go
+/// as 1/Δt), for each of `schemes` (the ρ∞ values and Moreau–Jean) `repeat` times.
+///
+/// # Errors
+/// When the estimate is over the bound, or the timed run fails.
+fn check_time_bound(
+    system: WorkPrecisionSystem,
+    dts: &[f64],
+    schemes: usize,
+    repeat: usize,
+) -> Result<()> {
+    let Some(largest) = dts.iter().copied().reduce(f64::max) else {
+        return Ok(());
+    };
+    let timed = largest.max(SMALLEST_TIMED_DT);
+    let (_, seconds) = work_precision_point(system, Scheme::Nsga, 0.5, timed)?;
+    #[allow(clippy::cast_precision_loss)]
+    let runs = (schemes * repeat) as f64;
+    let total = runs * dts.iter().map(|dt| seconds * timed / dt).sum::<f64>();
+    anyhow::ensure!(
+        total <= TIME_BOUND_S,
+        "{} run(s) would take about {total:.1e} s (one at Δt = {timed} s took {seconds:.1e} \
+         s, and a run's steps go as 1/Δt), more than {TIME_BOUND_S} s: take larger --dts, \
+         fewer --rho-inf values or a smaller --repeat, or pass --force",
+        schemes * repeat * dts.len()
+    );
     Ok(())
 }

@@ -12,6 +12,7 @@ use crate::transport::{check_inclination, top_height, PairTransport, SpinProfile
 use nsga::{Options, Stepper, System};
 use serde::{Deserialize, Serialize};
 use std::f64::consts::PI;
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Instant;
 
 /// What to simulate: the thesis's transport with its defaults (§3.6).
@@ -175,6 +176,19 @@ pub struct PairReport {
 /// Bad settings (see [`PairSettings::system`]) or a step of the solver that fails
 /// ([`CylinderError::Solver`]).
 pub fn run_pair(settings: &PairSettings, record: bool) -> Result<PairReport, CylinderError> {
+    run_pair_until(settings, record, &AtomicBool::new(false))
+}
+
+/// [`run_pair`] that ends after the current step once `cancel` is set (the Python
+/// module sets it on Ctrl-C); the report then covers the steps taken.
+///
+/// # Errors
+/// As [`run_pair`].
+pub fn run_pair_until(
+    settings: &PairSettings,
+    record: bool,
+    cancel: &AtomicBool,
+) -> Result<PairReport, CylinderError> {
     let sys = settings.system()?;
     let (q0, u0) = sys.initial_state(settings.theta)?;
     let options = Options {
@@ -229,11 +243,16 @@ pub fn run_pair(settings: &PairSettings, record: bool) -> Result<PairReport, Cyl
         last = Some(sample);
     };
     observe(&stepper, 0);
+    let mut steps = 0;
     for k in 1..=settings.steps {
+        if cancel.load(Ordering::Relaxed) {
+            break;
+        }
         stepper
             .step()
             .map_err(|e| CylinderError::Solver(e.to_string()))?;
         observe(&stepper, k);
+        steps = k;
     }
     let wall_time_s = clock.elapsed().as_secs_f64();
     let last = last.expect("observed at least the start");
@@ -254,7 +273,7 @@ pub fn run_pair(settings: &PairSettings, record: bool) -> Result<PairReport, Cyl
         n_over_mg: last.n_over_mg,
         f3_over_mg: last.f3_over_mg,
         contact_normal_force: last.contact_normal_force,
-        steps: settings.steps,
+        steps,
         wall_time_s,
         n_over_mg_static: n_static,
         static_error,
@@ -805,6 +824,16 @@ mod tests {
             steps: 200,
             ..PairSettings::thesis(theta)
         }
+    }
+
+    /// A cancelled run ends after its current step with the steps taken (Ctrl-C in the
+    /// Python module): here before its first.
+    #[test]
+    fn a_cancelled_run_stops_with_the_steps_taken() {
+        let r = run_pair_until(&short(0.5), true, &AtomicBool::new(true)).unwrap();
+        assert_eq!(r.steps, 0);
+        assert_eq!(r.trajectory.map(|t| t.len()), Some(1));
+        assert_eq!(run_pair(&short(0.5), false).unwrap().steps, 200);
     }
 
     /// A push along e′2 makes a rim slip within one grid step above μ_s N₋ of

@@ -43,6 +43,7 @@ def blocks_simulate(
     last_resort: bool = ...,
     stop_at_failure: bool = ...,
     low_rank_updates: bool = ...,
+    force: bool = ...,
 ) -> Dict[str, Any]: ...
 def blocks_sweep_frequency(
     omegas: Sequence[float],

@@ -266,6 +266,7 @@ def simulate(
     last_resort: bool = True,
     stop_at_failure: bool = False,
     low_rank_updates: bool = True,
+    force: bool = False,
 ) -> Result:
     """Simulates ``scene`` from t = 0 to ``t_end`` (default: the scene's
     ``solver.t_end``) with the nonsmooth generalized-α stepper (§4.2, App. H): nsga's
@@ -283,7 +284,10 @@ def simulate(
     - ``stop_at_failure``: stop at the first loss of support (as the sweeps do);
     - ``low_rank_updates``: where a Newton iterate's index sets differ from those of the
       kept factors in a few rows, update the kept factors instead of factorizing anew
-      (docs/method.md §7); ``False`` factorizes every change of sets, as the paper does.
+      (docs/method.md §7); ``False`` factorizes every change of sets, as the paper does;
+    - ``force``: run even when the run is estimated to take longer than ten minutes
+      (the time guard of ``rollstack blocks run``: otherwise such a run raises
+      ``ValueError`` with the estimate before it starts).
 
     Returns a :class:`Result`. Raises ``ValueError`` for bad options (t_end ≤ 0, r ≤ 0),
     :class:`rollstack.SolverError` when the run stops early on a step it cannot resolve
@@ -306,6 +310,7 @@ def simulate(
         bool(last_resort),
         bool(stop_at_failure),
         bool(low_rank_updates),
+        bool(force),
     )
     result = Result(raw)
     if raw["interrupted"] is not None:

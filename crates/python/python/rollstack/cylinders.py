@@ -126,7 +126,8 @@ def pair(
     ``spin_rates`` (n, 2), ``n_over_mg`` (n, 2), ``f3_over_mg`` (n, 2),
     ``contact_normal_force`` (n,), ``gaps`` (n, 3) (floor I, floor II, mutual). Bad
     input raises ``ValueError``; a step the solver cannot take, ``SolverError``. Runs
-    with the GIL released (about 8 µs per step)."""
+    with the GIL released (about 8 µs per step); Ctrl-C stops it after the current step
+    and raises ``KeyboardInterrupt``."""
     return _rollstack.cylinders_pair(
         float(theta),
         float(dt),

@@ -10,6 +10,7 @@ use blockstack::exploration::{
     OutcomeGroup, WalkSettings, BRANCH_COLUMNS, FORK_COLUMNS, OUTCOME_COLUMNS,
 };
 use blockstack::simulation::{Prox, RunOptions};
+use blockstack::time_guard::wall_limit;
 use clap::{Args, ValueEnum};
 use figures::exploration::plot_exploration;
 use input::text::parse_finite;
@@ -98,6 +99,10 @@ pub struct ExploreArgs {
     /// Print one JSON object on stdout (otherwise a readable summary).
     #[arg(long)]
     pub json: bool,
+    /// Run even when the root branch alone is estimated to take longer than ten
+    /// minutes.
+    #[arg(long)]
+    pub force: bool,
 }
 
 /// The JSON of `rollstack blocks explore`.
@@ -146,8 +151,14 @@ pub fn run(args: &ExploreArgs) -> Result<()> {
         strategy,
         max_branches: args.max_branches,
         max_depth: args.max_depth.unwrap_or(usize::MAX),
-        max_wall: args.max_wall.map(Duration::from_secs_f64),
+        max_wall: args.max_wall.and_then(wall_limit),
     };
+    super::check_time_bound(
+        &[super::run_cost(scene, &options)],
+        Some((scene, &options)),
+        args.force,
+        "shorten --t-end",
+    )?;
     let traj_dir = match (&args.out, args.trajectories) {
         (Some(dir), true) => {
             let d = dir.join("trajectories");

@@ -61,15 +61,14 @@ pub const LIRE_SNAPSHOTS: [f64; 3] = [0.0, 5.0, 6.4];
 /// # Errors
 /// Bad options, a run that stopped early, or unwritable output.
 pub fn run_lire(args: &LireArgs) -> Result<()> {
-    anyhow::ensure!(args.blocks >= 1, "--blocks must be at least 1");
+    blockstack::scene::check_block_count("--blocks", args.blocks)?;
     let scene = if args.floor {
         lire_on_floor(args.blocks, args.perturb.into())?
     } else {
         lire(args.blocks, args.perturb.into())?
     };
     let options = args.solver.run_options(Some(args.t_end), false)?;
-    args.solver
-        .check_cost(&[super::run_cost(&scene, &options)])?;
+    args.solver.check_run(&scene, &options)?;
     let perturb = args
         .perturb
         .to_possible_value()

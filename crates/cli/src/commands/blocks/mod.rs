@@ -26,8 +26,10 @@ pub mod sweep_scene;
 pub mod work_precision;
 
 use anyhow::Result;
-pub use blockstack::simulation::run_cost;
-use blockstack::simulation::{Prox, RunCost, RunOptions, SECONDS_PER_BLOCK_STEP};
+use blockstack::simulation::{Prox, RunOptions};
+use blockstack::time_guard::Guard;
+pub use blockstack::time_guard::{run_cost, RunCost, TIME_BOUND_S};
+use blockstack::Scene;
 use clap::{Args, Subcommand};
 use input::text::parse_finite;
 use std::path::PathBuf;
@@ -128,9 +130,6 @@ pub struct SolverArgs {
     pub force: bool,
 }
 
-/// The longest estimated wall time a command starts without `--force`, s.
-pub const TIME_BOUND_S: f64 = 600.0;
-
 impl SolverArgs {
     /// The library's run options for an end time override.
     ///
@@ -154,39 +153,58 @@ impl SolverArgs {
         })
     }
 
-    /// Refuses, before any step, runs whose estimated wall time ([`run_cost`], shared
-    /// out over the threads) exceeds [`TIME_BOUND_S`], unless `--force`.
+    /// Refuses, before any output, runs whose estimated wall time exceeds
+    /// [`TIME_BOUND_S`], unless `--force` ([`check_time_bound`]).
     ///
     /// # Errors
     /// When the estimate is over the bound and `--force` was not given.
-    pub fn check_cost(&self, costs: &[RunCost]) -> Result<()> {
+    pub fn check_cost(
+        &self,
+        costs: &[RunCost],
+        probe: Option<(&Scene, &RunOptions)>,
+    ) -> Result<()> {
         check_time_bound(
             costs,
+            probe,
             self.force,
             "shorten --t-end or --periods, take fewer values",
         )
     }
+
+    /// [`Self::check_cost`] of one run.
+    ///
+    /// # Errors
+    /// When the estimate is over the bound and `--force` was not given.
+    pub fn check_run(&self, scene: &Scene, options: &RunOptions) -> Result<()> {
+        self.check_cost(&[run_cost(scene, options)], Some((scene, options)))
+    }
 }
 
 /// Refuses `costs` whose estimated wall time, shared out over the threads, exceeds
-/// [`TIME_BOUND_S`], unless `force`; `advice` says what to change.
+/// [`TIME_BOUND_S`], unless `force`: at the typical cost per block and step first
+/// (nothing run), then at the cost measured on the first steps of `probe` (the
+/// costliest run), nothing written either way ([`blockstack::time_guard`]); `advice`
+/// says what to change.
 ///
 /// # Errors
-/// When the estimate is over the bound and `force` is false.
-pub fn check_time_bound(costs: &[RunCost], force: bool, advice: &str) -> Result<()> {
-    let steps: f64 = costs.iter().map(|c| c.steps).sum();
-    #[allow(clippy::cast_precision_loss)]
-    let threads = rayon::current_num_threads().min(costs.len()).max(1) as f64;
-    let seconds = costs.iter().map(|c| c.seconds).sum::<f64>() / threads;
-    anyhow::ensure!(
-        force || seconds <= TIME_BOUND_S,
-        "{} run(s) of {steps:.1e} steps in all would take about {seconds:.1e} s \
-         (at {:.0} µs per block and step), more than {TIME_BOUND_S} s: {advice}, or pass \
-         --force",
-        costs.len(),
-        SECONDS_PER_BLOCK_STEP * 1e6
-    );
-    Ok(())
+/// When an estimate is over the bound and `force` is false.
+pub fn check_time_bound(
+    costs: &[RunCost],
+    probe: Option<(&Scene, &RunOptions)>,
+    force: bool,
+    advice: &str,
+) -> Result<()> {
+    if force {
+        return Ok(());
+    }
+    let guard = Guard {
+        costs,
+        threads: rayon::current_num_threads(),
+        probe,
+    };
+    guard
+        .check()
+        .map_err(|estimate| anyhow::anyhow!("{estimate}: {advice}, or pass --force"))
 }
 
 /// Output options of `run`, `shake` and `lire`.

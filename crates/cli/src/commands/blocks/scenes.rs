@@ -3,9 +3,10 @@
 //! name).
 
 use anyhow::{Context, Result};
-use blockstack::scene_file::LoadedScene;
+use blockstack::scene_file::{LoadedScene, MAX_SCENE_BYTES};
 use blockstack::scenes;
 use clap::Args;
+use std::io::Read;
 use std::path::Path;
 
 /// Arguments of `rollstack blocks scenes`.
@@ -57,8 +58,8 @@ pub fn load_scene(arg: &Path) -> Result<LoadedScene> {
 /// built-in scenes).
 pub fn scene_text(arg: &Path) -> Result<(String, String)> {
     if arg.exists() && !arg.is_dir() {
-        let text = std::fs::read_to_string(arg)
-            .with_context(|| format!("cannot read scene {}", arg.display()))?;
+        let text =
+            read_scene_file(arg).with_context(|| format!("cannot read scene {}", arg.display()))?;
         return Ok((text, format!("scene {}", arg.display())));
     }
     let builtin = arg.to_str().and_then(|name| scenes::find(name).ok());
@@ -84,4 +85,22 @@ pub fn scene_text(arg: &Path) -> Result<(String, String)> {
             scenes::names().join(", ")
         ),
     }
+}
+
+/// The text of the scene file at `path`, read up to [`MAX_SCENE_BYTES`]: a larger file
+/// (`/dev/zero`, a trajectory given by mistake) is refused, not read into memory.
+///
+/// # Errors
+/// An unreadable or too large file, or one that is not UTF-8 text.
+fn read_scene_file(path: &Path) -> Result<String> {
+    let mut bytes = Vec::new();
+    std::fs::File::open(path)?
+        .take(MAX_SCENE_BYTES + 1)
+        .read_to_end(&mut bytes)?;
+    anyhow::ensure!(
+        bytes.len() as u64 <= MAX_SCENE_BYTES,
+        "larger than {} MiB, the most a scene file may be",
+        MAX_SCENE_BYTES >> 20
+    );
+    Ok(String::from_utf8(bytes)?)
 }

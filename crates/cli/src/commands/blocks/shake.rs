@@ -51,7 +51,7 @@ pub struct ShakeArgs {
 /// # Errors
 /// Bad parameters, a run that could not start or stopped early, or unwritable output.
 pub fn run_shake(args: &ShakeArgs) -> Result<()> {
-    anyhow::ensure!(args.blocks >= 1, "--blocks must be at least 1");
+    blockstack::scene::check_block_count("--blocks", args.blocks)?;
     input::positive("--omega", args.omega)?;
     input::non_negative("--mu", args.mu)?;
     let p = Shaking {
@@ -65,8 +65,7 @@ pub fn run_shake(args: &ShakeArgs) -> Result<()> {
     };
     let scene = shaking_column(&p)?;
     let options = args.solver.run_options(args.t_end, false)?;
-    args.solver
-        .check_cost(&[super::run_cost(&scene, &options)])?;
+    args.solver.check_run(&scene, &options)?;
     let t_end = options.t_end.unwrap_or(scene.solver.t_end);
     let plan = args.output.plan(
         vec![0.0, 0.5 * t_end, t_end],

@@ -4,10 +4,10 @@
 
 use super::{OutputArgs, SolverArgs};
 use crate::output::{
-    commit_temp, ensure_dir, print_json, temp_sibling, write_csv, write_run_json_with,
+    commit_temp, discard_temp, ensure_dir, print_json, temp_sibling, write_csv, write_run_json_with,
 };
 use anyhow::{Context, Result};
-use blockstack::record::{RecordPlan, Recorder, Recording};
+use blockstack::record::{RecordPlan, Recorder, Recording, TrajectoryError};
 use blockstack::simulation::{simulate, RunOptions, RunReport, RunSummary, RunWarning};
 use blockstack::{Defaults, Scene};
 use clap::Args;
@@ -114,15 +114,18 @@ pub fn simulate_with_output(
     let mut recorder = Recorder::new(scene, t_end, &record_plan, writer)?;
     let result = simulate(scene, options, |r| recorder.on_step(r));
     let (recording, writer, write_error) = recorder.finish();
+    let io_failed = matches!(write_error, Some(TrajectoryError::Io(_)));
     // Keep what was computed even when the run is refused or stops (ERRATA 25).
-    let finished = writer.zip(csv_path.as_ref()).map(|(mut w, path)| {
-        w.flush()
-            .with_context(|| format!("cannot write {}", path.display()))?;
-        drop(w);
-        commit_temp(path)
-    });
+    let finished = writer
+        .zip(csv_path.as_ref())
+        .map(|(w, path)| finish_trajectory(w, path, io_failed));
     let summary = result.context("cannot simulate the scene")?;
-    let mut write_error = write_error.map(|e| e.to_string());
+    let mut write_error = match (write_error, &csv_path) {
+        (Some(TrajectoryError::Io(e)), Some(path)) => {
+            Some(format!("cannot write {}: {e}", path.display()))
+        }
+        (e, _) => e.map(|e| e.to_string()),
+    };
     if let Some(Err(e)) = finished {
         write_error.get_or_insert(format!("{e:#}"));
     }
@@ -164,6 +167,23 @@ pub fn simulate_with_output(
         notes,
         write_error,
     })
+}
+
+/// Flushes the trajectory written progressively into the temporary sibling of `path`
+/// and renames it into place; after a failed write (`failed`: a full disk) or flush,
+/// the temporary is removed instead, and an error names `path`.
+fn finish_trajectory(mut w: BufWriter<File>, path: &Path, failed: bool) -> Result<()> {
+    let flushed = w.flush();
+    drop(w);
+    if let Err(e) = flushed {
+        discard_temp(path);
+        return Err(anyhow::Error::new(e).context(format!("cannot write {}", path.display())));
+    }
+    if failed {
+        discard_temp(path);
+        return Ok(());
+    }
+    commit_temp(path)
 }
 
 /// Writes branch_points.csv, the snapshots, the animation and the top block's plot into
@@ -255,8 +275,7 @@ pub fn run_scene_file(args: &RunArgs) -> Result<()> {
     let loaded = super::scenes::load_scene(&args.scene)?;
     let scene = &loaded.scene;
     let options = args.solver.run_options(args.t_end, false)?;
-    args.solver
-        .check_cost(&[super::run_cost(scene, &options)])?;
+    args.solver.check_run(scene, &options)?;
     let t_end = options.t_end.unwrap_or(scene.solver.t_end);
     let title = args
         .scene

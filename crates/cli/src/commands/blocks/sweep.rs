@@ -6,7 +6,7 @@
 //! manifest, outputs and exit status), which
 //! `sweep scene` ([`super::sweep_scene`]) uses too.
 
-use super::{run_cost, SolverArgs};
+use super::{run_cost, RunCost, SolverArgs};
 use crate::output::{ensure_dir, print_json, write_csv, write_run_json_with};
 use crate::sweep::{par_map_ordered, ShardChoice};
 use anyhow::{Context, Result};
@@ -62,6 +62,16 @@ pub struct SweepOutputArgs {
     /// Every row must come from the row log (set by `merge`).
     #[arg(skip)]
     pub complete: bool,
+}
+
+impl SweepOutputArgs {
+    /// Whether the time guard applies: not to a merge (its rows are computed already)
+    /// nor to a task of a Slurm job array (`--shard auto`: Slurm's `--time` bounds it,
+    /// and its rows per task are the user's choice).
+    #[must_use]
+    pub fn time_guarded(&self) -> bool {
+        !self.complete && !matches!(self.shard, ShardChoice::Auto)
+    }
 }
 
 /// One sweep being run ([`shards::Run`]: the sweep, the shard of `--shard`, the size),
@@ -287,22 +297,36 @@ pub struct SlideArgs {
 }
 
 /// What every sweep checks before any run: the scene of each of its `points` (a value
-/// the model refuses is the sweep's error, naming it), and the estimated time of them
-/// all ([`SolverArgs::check_cost`]).
+/// the model refuses is the sweep's error, naming it), and, where `output` is
+/// [`SweepOutputArgs::time_guarded`], the estimated time of them all
+/// ([`SolverArgs::check_cost`], calibrated on the costliest).
 ///
 /// # Errors
 /// The first refused point, or a sweep over the time bound.
 pub fn check_before_any_run<P>(
     points: &[P],
     solver: &SolverArgs,
+    output: &SweepOutputArgs,
     options: &RunOptions,
     scene: impl Fn(&P) -> Result<Scene>,
 ) -> Result<()> {
-    let costs = points
-        .iter()
-        .map(|p| Ok(run_cost(&scene(p)?, options)))
-        .collect::<Result<Vec<_>>>()?;
-    solver.check_cost(&costs)
+    let mut costs = Vec::with_capacity(points.len());
+    let mut costliest: Option<Scene> = None;
+    for p in points {
+        let s = scene(p)?;
+        let cost = run_cost(&s, options);
+        if costs
+            .iter()
+            .all(|c: &RunCost| c.block_steps() < cost.block_steps())
+        {
+            costliest = Some(s);
+        }
+        costs.push(cost);
+    }
+    if !output.time_guarded() {
+        return Ok(());
+    }
+    solver.check_cost(&costs, costliest.as_ref().map(|s| (s, options)))
 }
 
 /// Runs `rollstack blocks sweep frequency`.
@@ -310,7 +334,7 @@ pub fn check_before_any_run<P>(
 /// # Errors
 /// Bad input or an unwritable output directory; [`RowsFailed`] after the files.
 pub fn sweep_frequency(args: &FrequencyArgs) -> Result<()> {
-    anyhow::ensure!(args.blocks >= 1, "--blocks must be at least 1");
+    blockstack::scene::check_block_count("--blocks", args.blocks)?;
     anyhow::ensure!(args.periods > 0.0, "--periods must be positive");
     anyhow::ensure!(
         args.t_max.is_none_or(|t| t > 0.0),
@@ -343,9 +367,16 @@ pub fn sweep_frequency(args: &FrequencyArgs) -> Result<()> {
         mu: args.mu,
         start_with_base: false,
     };
-    check_before_any_run(&omegas, &args.solver, &options, |&(_, omega)| {
-        shaking_column(&column(omega)).with_context(|| format!("--omega {}", input::Short(omega)))
-    })?;
+    check_before_any_run(
+        &omegas,
+        &args.solver,
+        &args.output,
+        &options,
+        |&(_, omega)| {
+            shaking_column(&column(omega))
+                .with_context(|| format!("--omega {}", input::Short(omega)))
+        },
+    )?;
     let rows = sweep.rows(&omegas, |&omega| frequency_row(&column(omega), &options))?;
     if let Some(dir) = &args.output.out {
         ensure_dir(dir)?;
@@ -375,7 +406,7 @@ pub fn sweep_frequency(args: &FrequencyArgs) -> Result<()> {
 /// # Errors
 /// Bad input or an unwritable output directory; [`RowsFailed`] after the files.
 pub fn sweep_slide(args: &SlideArgs) -> Result<()> {
-    anyhow::ensure!(args.blocks >= 1, "--blocks must be at least 1");
+    blockstack::scene::check_block_count("--blocks", args.blocks)?;
     anyhow::ensure!(args.mu >= 0.0, "--mu must not be negative");
     let options = args
         .spread
@@ -394,7 +425,7 @@ pub fn sweep_slide(args: &SlideArgs) -> Result<()> {
         t_end: args.t_end,
         mu: args.mu,
     };
-    check_before_any_run(&speeds, &args.solver, &options, |&(_, v0)| {
+    check_before_any_run(&speeds, &args.solver, &args.output, &options, |&(_, v0)| {
         sliding_column(&column(v0)).with_context(|| format!("--v0 {}", input::Short(v0)))
     })?;
     let rows = sweep.rows(&speeds, |&v0| slide_row(&column(v0), &options))?;

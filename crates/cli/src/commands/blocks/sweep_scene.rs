@@ -63,16 +63,22 @@ pub fn sweep_scene(args: &SceneArgs) -> Result<()> {
     let all = sweep.points();
     let run = SweepRun::new("scene", &args.output, &args.solver, inputs, all.len())?;
     let points = run.run.select(&all);
-    check_before_any_run(&points, &args.solver, &options, |(_, point)| {
-        let set: Vec<String> = point
-            .iter()
-            .map(|s| format!("{}={}", s.key, input::Short(s.value)))
-            .collect();
-        let loaded = sweep
-            .scene(point)
-            .with_context(|| format!("--set {}", set.join(" --set ")))?;
-        Ok(loaded.scene)
-    })?;
+    check_before_any_run(
+        &points,
+        &args.solver,
+        &args.output,
+        &options,
+        |(_, point)| {
+            let set: Vec<String> = point
+                .iter()
+                .map(|s| format!("{}={}", s.key, input::Short(s.value)))
+                .collect();
+            let loaded = sweep
+                .scene(point)
+                .with_context(|| format!("--set {}", set.join(" --set ")))?;
+            Ok(loaded.scene)
+        },
+    )?;
     let rows = run.rows(&points, |p| sweep.row(p, &options))?;
     let mut files = Vec::new();
     let mut notes = Vec::new();

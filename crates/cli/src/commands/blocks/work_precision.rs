@@ -63,8 +63,10 @@ pub fn run(a: &WorkPrecisionArgs) -> Result<()> {
     );
     let smallest = dts.iter().copied().fold(f64::INFINITY, f64::min);
     let reference = bench.scene(smallest / a.reference_factor)?;
+    let options = RunOptions::default();
     check_time_bound(
-        &[run_cost(&reference, &RunOptions::default())],
+        &[run_cost(&reference, &options)],
+        Some((&reference, &options)),
         a.force,
         "take a smaller --reference-factor or larger --dts",
     )?;

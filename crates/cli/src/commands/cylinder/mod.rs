@@ -8,6 +8,7 @@
 //! this module reads the flags and writes the files (docs/cli.md).
 
 mod frobenius;
+mod guard;
 mod holonomy;
 mod pair;
 mod statics;

@@ -49,6 +49,9 @@ pub struct PairArgs {
     /// Print one JSON object on stdout.
     #[arg(long)]
     pub json: bool,
+    /// Run even when the run is estimated to take longer than ten minutes.
+    #[arg(long)]
+    pub force: bool,
 }
 
 impl PairArgs {
@@ -72,6 +75,7 @@ pub(super) fn run(a: &PairArgs) -> Result<()> {
     let settings = a.settings();
     super::check_steps(a.dt, a.steps)?;
     super::check_theta(settings.theta, &settings.cylinder)?;
+    super::guard::check_time_bound(&settings, 1, a.force)?;
     let mut report = run_pair(&settings, a.out.is_some())?;
     let trajectory = report.trajectory.take();
     if let (Some(dir), Some(samples)) = (&a.out, &trajectory) {

@@ -45,6 +45,9 @@ pub struct PushSweepArgs {
     /// Number of steps per run (the push reaches its value after 0.05 s).
     #[arg(long, default_value_t = 100, allow_hyphen_values = true)]
     pub steps: usize,
+    /// Run even when the runs are estimated to take longer than ten minutes.
+    #[arg(long)]
+    pub force: bool,
     #[command(flatten)]
     #[allow(missing_docs)]
     pub output: SweepOutputArgs,
@@ -64,6 +67,9 @@ pub struct PairSweepArgs {
     /// Number of steps per run.
     #[arg(long, default_value_t = 2000, allow_hyphen_values = true)]
     pub steps: usize,
+    /// Run even when the runs are estimated to take longer than ten minutes.
+    #[arg(long)]
+    pub force: bool,
     /// Prescribed spin φ̇10 of cylinder I, rad/s (the thesis: −6π, written `-6pi`).
     #[arg(long, default_value_t = -6.0 * std::f64::consts::PI, value_parser = parse_value, allow_hyphen_values = true)]
     pub spin: f64,
@@ -108,6 +114,10 @@ fn sweep_pair(a: &PairSweepArgs) -> Result<()> {
         all.len(),
     )?;
     let thetas = sweep.run.select(&all);
+    if let Some(&(_, theta)) = thetas.first() {
+        let force = a.force || !a.output.time_guarded();
+        super::guard::check_time_bound(&settings(theta), thetas.len(), force)?;
+    }
     let rows = sweep.rows(&thetas, |&theta| pair_sweep_row(&settings(theta)))?;
     if let Some(dir) = &a.output.out {
         ensure_dir(dir)?;
@@ -163,6 +173,12 @@ fn sweep_push(a: &PushSweepArgs) -> Result<()> {
         all.len(),
     )?;
     let thetas = sweep.run.select(&all);
+    if let Some(&(_, theta)) = thetas.first() {
+        // Every push of a row may be run: a bound.
+        let runs = thetas.len().saturating_mul(pushes.len());
+        let force = a.force || !a.output.time_guarded();
+        super::guard::check_time_bound(&settings(theta), runs, force)?;
+    }
     let rows = sweep.rows(&thetas, |&theta| {
         push_row(&settings(theta), &pushes).unwrap_or_else(|e| PushRow {
             error: Some(e.to_string()),
