@@ -387,3 +387,196 @@ fn merge_reads_the_kept_scene_from_anywhere_and_refuses_two_scenes() {
     assert!(!elsewhere.join("m").exists());
     let _ = std::fs::remove_dir_all(dir);
 }
+
+/// A stand-in for `sbatch` on PATH: it records its arguments and the words of its
+/// script's `#SBATCH` lines (read with a shell's quotes, as sbatch reads them) into
+/// `$SBATCH_LOG`, one `[word]` each, and prints a job id as `--parsable` does.
+const FAKE_SBATCH: &str = r#"#!/bin/bash
+{
+    printf 'sbatch'; printf ' [%s]' "$@"; echo
+    grep '^#SBATCH ' "${@: -1}" | while IFS= read -r line; do
+        eval "set -- ${line#'#SBATCH '}"
+        printf 'directive'; printf ' [%s]' "$@"; echo
+    done
+} >> "$SBATCH_LOG"
+echo "4242;cluster"
+"#;
+
+/// Every path below `dir` whose file name is `name`.
+fn find(dir: &Path, name: &str) -> Vec<PathBuf> {
+    let mut found = Vec::new();
+    for entry in std::fs::read_dir(dir).unwrap() {
+        let path = entry.unwrap().path();
+        if path.file_name().is_some_and(|n| n == name) {
+            found.push(path.clone());
+        }
+        if path.is_dir() {
+            found.extend(find(&path, name));
+        }
+    }
+    found
+}
+
+fn slurm_in(cwd: &Path, options: &[&str], out: &str) -> Output {
+    let mut args = vec!["slurm"];
+    args.extend(options);
+    args.extend(SWEEP);
+    args.extend(["--out", out]);
+    let mut c = command(&args, "2");
+    c.current_dir(cwd).output().unwrap()
+}
+
+#[test]
+fn slurm_refuses_bad_requests_and_values_before_writing() {
+    let dir = temp_dir("shards-slurm-bad");
+    std::fs::create_dir_all(&dir).unwrap();
+    let given = ["--time", "5", "--mem", "100"];
+    for (options, out, says) in [
+        (
+            &["--tasks", "2", "--partition", "a\nb"][..],
+            "o",
+            "--partition holds the control character '\\n'",
+        ),
+        (
+            &["--tasks", "2"],
+            "o\nx",
+            "holds the control character '\\n'",
+        ),
+        (
+            &["--tasks", "2", "--time", "0"],
+            "o",
+            "--time must be at least 1 minute",
+        ),
+        (
+            &["--tasks", "2", "--mem", "0"],
+            "o",
+            "--mem must be at least 1 MiB",
+        ),
+        (
+            &["--tasks", "1000000000"],
+            "o",
+            "--tasks must be between 1 and 100000",
+        ),
+        (
+            &["--tasks", "0"],
+            "o",
+            "--tasks must be between 1 and 100000",
+        ),
+    ] {
+        let out = slurm_in(&dir, options, out);
+        assert!(!out.status.success(), "{options:?}");
+        assert!(stderr(&out).contains(says), "{options:?}: {}", stderr(&out));
+        assert_eq!(stderr(&out).lines().count(), 1, "{}", stderr(&out));
+    }
+    // With --time and --mem there is no calibration run; the sweep's values are checked.
+    let mut args = vec!["slurm", "--tasks", "2"];
+    args.extend(given);
+    args.extend(&SWEEP[..3]);
+    args.extend(["--omega", "2,nan", "--out", "o"]);
+    let out = command(&args, "1").current_dir(&dir).output().unwrap();
+    assert!(!out.status.success());
+    assert!(stderr(&out).contains("--omega"), "{}", stderr(&out));
+    let mut args = vec!["slurm", "--tasks", "2"];
+    args.extend(given);
+    args.extend([
+        "blocks",
+        "sweep",
+        "scene",
+        "shaking",
+        "--set",
+        "contact.mu=-1,0.2",
+    ]);
+    args.extend(["--out", "o"]);
+    let out = command(&args, "1").current_dir(&dir).output().unwrap();
+    assert!(
+        stderr(&out).contains("--set contact.mu=-1"),
+        "{}",
+        stderr(&out)
+    );
+    assert_eq!(
+        std::fs::read_dir(&dir).unwrap().count(),
+        0,
+        "nothing is written"
+    );
+    let _ = std::fs::remove_dir_all(dir);
+}
+
+#[test]
+fn slurm_scripts_hold_hostile_values_literally_when_run() {
+    let dir = temp_dir("shards-slurm-hostile");
+    let bin = dir.join("bin");
+    std::fs::create_dir_all(&bin).unwrap();
+    let sbatch = bin.join("sbatch");
+    std::fs::write(&sbatch, FAKE_SBATCH).unwrap();
+    let chmod = Command::new("chmod")
+        .arg("+x")
+        .arg(&sbatch)
+        .status()
+        .unwrap();
+    assert!(chmod.success());
+    let name = "o4 $(touch INJ1) `touch INJ2` \" ' ; touch INJ3 #";
+    let options = [
+        "--tasks",
+        "2",
+        "--time",
+        "5",
+        "--mem",
+        "100",
+        "--partition",
+        "p q'\"",
+    ];
+    ok(&slurm_in(&dir, &options, name));
+    let out = dir.join(name);
+    let scripts = out.join("slurm");
+    let log = dir.join("sbatch.log");
+    let path = format!("{}:{}", bin.display(), std::env::var("PATH").unwrap());
+    let submit = Command::new("bash")
+        .arg(scripts.join("submit.sh"))
+        .env("PATH", &path)
+        .env("SBATCH_LOG", &log)
+        .current_dir(&dir)
+        .output()
+        .unwrap();
+    ok(&submit);
+    let printed = String::from_utf8_lossy(&submit.stdout);
+    assert!(
+        printed.contains(&format!("the merged sweep will be in {}\n", out.display())),
+        "{printed}"
+    );
+    let calls = std::fs::read_to_string(&log).unwrap();
+    let logs = scripts.join("logs");
+    for line in [
+        "sbatch [--parsable] [shards.sbatch]".to_owned(),
+        "directive [--array=0-1]".to_owned(),
+        "directive [--partition=p q'\"]".to_owned(),
+        format!("directive [--output={}/shard-%a.out]", logs.display()),
+        "sbatch [--parsable] [--dependency=afterok:4242] [merge.sbatch]".to_owned(),
+        format!("directive [--output={}/merge.out]", logs.display()),
+    ] {
+        assert!(calls.lines().any(|l| l == line), "{line}\nnot in\n{calls}");
+    }
+    // The jobs, run as Slurm would run them: each array task, then the merge.
+    for task in ["0", "1"] {
+        let run = Command::new("bash")
+            .arg(scripts.join("shards.sbatch"))
+            .env("SLURM_ARRAY_TASK_ID", task)
+            .env("SLURM_ARRAY_TASK_COUNT", "2")
+            .env("SLURM_CPUS_PER_TASK", "1")
+            .current_dir(&dir)
+            .output()
+            .unwrap();
+        ok(&run);
+    }
+    ok(&Command::new("bash")
+        .arg(scripts.join("merge.sbatch"))
+        .current_dir(&dir)
+        .output()
+        .unwrap());
+    let single = dir.join("single");
+    ok(&sweep(&[], &single, "2"));
+    assert_eq!(table(&out), table(&single));
+    for injected in ["INJ1", "INJ2", "INJ3"] {
+        assert_eq!(find(&dir, injected), Vec::<PathBuf>::new(), "{injected}");
+    }
+    let _ = std::fs::remove_dir_all(dir);
+}

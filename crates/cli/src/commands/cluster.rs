@@ -2,9 +2,9 @@
 //! joined again. The checks, the calibration and the scripts are the `shards` crate's;
 //! this module parses, runs the sweep's own code over the merged rows, and prints.
 
-use crate::commands::blocks::sweep::{SweepCommand, SweepOutputArgs};
+use crate::commands::blocks::sweep::{OnlyChecked, SweepCommand, SweepOutputArgs};
 use crate::commands::blocks::sweep_scene::SCENE_COPY;
-use crate::commands::blocks::{BlocksArgs, BlocksCommand};
+use crate::commands::blocks::{BlocksArgs, BlocksCommand, SolverArgs};
 use crate::commands::cylinder::sweep::CylinderSweepCommand;
 use crate::commands::cylinder::{CylinderArgs, CylinderCommand};
 use crate::output::write_atomic;
@@ -83,6 +83,15 @@ fn scene_of(command: &mut Command) -> Option<&mut PathBuf> {
     }
 }
 
+/// The solver options of a parsed sweep of blocks, or `None` for another command.
+fn solver_of(command: &mut Command) -> Option<&mut SolverArgs> {
+    Some(match blocks_sweep(command)? {
+        SweepCommand::Frequency(a) => &mut a.solver,
+        SweepCommand::Slide(a) => &mut a.solver,
+        SweepCommand::Scene(a) => &mut a.solver,
+    })
+}
+
 /// The name and output options of a parsed sweep, or `None` for another command.
 fn sweep_output(command: &mut Command) -> Option<(&'static str, &mut SweepOutputArgs)> {
     if let Command::Cylinder(CylinderArgs {
@@ -130,15 +139,36 @@ pub fn merge(args: &MergeArgs) -> Result<()> {
     crate::run(cli)
 }
 
-/// Runs `rollstack slurm`: a calibration run of the sweep's last row (unless `--time`
-/// and `--mem` are both given), then the batch scripts in `OUT/slurm`.
+/// Checks every value of the sweep `argv` (of all its shards) without running a row or
+/// writing a file: with `--time` and `--mem` given, no calibration run checks them. The
+/// time bound of one machine is not checked: the tasks' time is `--time`.
 ///
 /// # Errors
-/// A command line that is not a sweep with `--out`, a failed calibration, or an
-/// unwritable directory.
+/// The sweep's own error for a value it refuses.
+fn check_sweep(argv: &[String]) -> Result<()> {
+    let (sweep, _) = shards::slurm::split_out(argv).map_err(anyhow::Error::msg)?;
+    let (mut cli, _) = parse_sweep(&sweep)?;
+    if let Some(solver) = solver_of(&mut cli.command) {
+        solver.force = true;
+    }
+    let (_, output) = sweep_output(&mut cli.command).context("not a sweep")?;
+    output.check_only = true;
+    match crate::run(cli) {
+        Err(e) if !e.is::<OnlyChecked>() => Err(e),
+        _ => Ok(()),
+    }
+}
+
+/// Runs `rollstack slurm`: the requests and every value of the sweep checked, a
+/// calibration run of the sweep's last row (unless `--time` and `--mem` are both given),
+/// then the batch scripts in `OUT/slurm`.
+///
+/// # Errors
+/// A bad request ([`Request::check`]), a command line that is not a sweep with `--out`,
+/// a value the sweep refuses, a failed calibration, or an unwritable directory.
 pub fn slurm(args: &SlurmArgs) -> Result<()> {
     let (_, name) = parse_sweep(&args.sweep)?;
-    let (job, calibration) = Job::plan(Request {
+    let request = Request {
         name: name.to_owned(),
         tasks: args.tasks,
         cpus_per_task: args.cpus_per_task,
@@ -148,7 +178,10 @@ pub fn slurm(args: &SlurmArgs) -> Result<()> {
         sweep: args.sweep.clone(),
         binary: std::env::current_exe().context("cannot find the rollstack binary")?,
         workdir: std::env::current_dir()?,
-    })?;
+    };
+    request.check()?;
+    check_sweep(&args.sweep)?;
+    let (job, calibration) = Job::plan(request)?;
     let submit = job.write()?;
     print!("{}", job.summary(calibration.as_ref(), &submit));
     Ok(())

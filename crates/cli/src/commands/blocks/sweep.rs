@@ -62,7 +62,18 @@ pub struct SweepOutputArgs {
     /// Every row must come from the row log (set by `merge`).
     #[arg(skip)]
     pub complete: bool,
+    /// Check every value, then stop with [`OnlyChecked`] before any row (set by
+    /// `slurm`, which has no calibration run to check them when given `--time` and
+    /// `--mem`).
+    #[arg(skip)]
+    pub check_only: bool,
 }
+
+/// How a sweep run with [`SweepOutputArgs::check_only`] ends once its values are
+/// checked: no row was computed and nothing was written.
+#[derive(Debug, thiserror::Error)]
+#[error("every value of the sweep was checked; no row was run")]
+pub struct OnlyChecked;
 
 /// One sweep being run ([`shards::Run`]: the sweep, the shard of `--shard`, the size),
 /// with its output options and the files it reads.
@@ -140,13 +151,15 @@ impl<'a> SweepRun<'a> {
     /// ([`shards::resume_rows`]) after the files read are kept there.
     ///
     /// # Errors
-    /// A file read that differs from the one the rows of `--out` were computed from;
-    /// an unusable row log, or a lacking row in a merge.
+    /// [`OnlyChecked`] when only checking; a file read that differs from the one the
+    /// rows of `--out` were computed from; an unusable row log, or a lacking row in a
+    /// merge.
     pub fn rows<P: Sync, R: Serialize + DeserializeOwned + Send>(
         &self,
         points: &[(usize, P)],
         f: impl Fn(&P) -> R + Sync + Send,
     ) -> Result<Vec<R>> {
+        anyhow::ensure!(!self.output.check_only, OnlyChecked);
         let (out, id) = (self.output.out.as_deref(), &self.run.id);
         if let Some(dir) = out {
             keep_inputs(dir, id, &self.files)?;
