@@ -96,7 +96,8 @@ pub(super) fn run(a: &FrobeniusArgs) -> Result<()> {
     })
     .map_err(|e| match e {
         CylinderError::ContactOfSingle => anyhow::anyhow!(
-            "--contact-at is where the two cylinders of --system pair7 or pair9 touch;              --system single has one cylinder: leave --contact-at out"
+            "--contact-at is where the two cylinders of --system pair7 or pair9 touch; \
+             --system single has one cylinder: leave --contact-at out"
         ),
         e => e.into(),
     })?;
