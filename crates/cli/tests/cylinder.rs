@@ -232,3 +232,48 @@ fn statics_writes_figures() {
     assert!(!csv.contains("NaN") && !csv.contains("inf"));
     std::fs::remove_dir_all(dir).unwrap();
 }
+
+#[test]
+fn frobenius_refuses_a_non_finite_contact_and_one_for_the_single_cylinder() {
+    for (args, says) in [
+        (
+            &["--system", "pair9", "--contact-at", "nan"][..],
+            "--contact-at",
+        ),
+        (
+            &["--system", "pair7", "--contact-at", "inf"],
+            "--contact-at",
+        ),
+        (&["--contact-at", "nan"], "--contact-at"),
+        (&["--contact-at", "0.3"], "--system single"),
+        (
+            &["--system", "single", "--contact-at", "-0.1"],
+            "--system single",
+        ),
+    ] {
+        let mut all = vec!["cylinder", "frobenius"];
+        all.extend(args);
+        let (ok, stdout, stderr) = run(&all);
+        assert!(!ok && stdout.is_empty(), "{args:?}: {stdout}");
+        assert!(
+            stderr.contains(says) && stderr.contains("--contact-at"),
+            "{args:?}: {stderr}"
+        );
+        let first = stderr.lines().next().unwrap_or("");
+        assert!(first.contains(says) && !first.contains("  "), "{stderr}");
+    }
+    // Given for a pair, it is used: another contact, another configuration.
+    let at = |x: &str| {
+        json(&[
+            "cylinder",
+            "frobenius",
+            "--system",
+            "pair9",
+            "--contact-at",
+            x,
+            "--json",
+        ])["q"]
+            .clone()
+    };
+    assert_ne!(at("0.1"), at("0.2"));
+}

@@ -50,9 +50,14 @@ fn merge(dirs: &[&PathBuf], out: &Path) -> Output {
     command(&args, "2").output().unwrap()
 }
 
-/// The CSV of `dir` without its timing column, which differs from run to run.
+/// The CSV of the frequency sweep in `dir` without its timing column.
 fn table(dir: &Path) -> Vec<Vec<String>> {
-    let mut r = csv::Reader::from_path(dir.join("sweep_frequency.csv")).unwrap();
+    csv_table(dir, "sweep_frequency.csv")
+}
+
+/// The CSV `file` of `dir` without its timing column, which differs from run to run.
+fn csv_table(dir: &Path, file: &str) -> Vec<Vec<String>> {
+    let mut r = csv::Reader::from_path(dir.join(file)).unwrap();
     let header: Vec<String> = r.headers().unwrap().iter().map(str::to_owned).collect();
     let keep: Vec<usize> = (0..header.len())
         .filter(|&i| header[i] != "wall_time_s")
@@ -236,5 +241,342 @@ fn failed_rows_are_counted_and_end_with_status_3() {
     assert_eq!(run["failed_rows"], 1);
     // Column 7 of sweep_frequency.csv is `error`.
     assert_eq!(table(&merged)[4][7], "did not converge");
+    let _ = std::fs::remove_dir_all(dir);
+}
+
+/// A sweep of `my.toml` (in the working directory) over five amplitudes, two blocks,
+/// about 0.1 s a row: slow enough to be killed between rows.
+const SCENE_SWEEP: &[&str] = &[
+    "blocks",
+    "sweep",
+    "scene",
+    "my.toml",
+    "--set",
+    "base.amplitude=0.1:0.3:0.05",
+    "--set",
+    "blocks.count=2",
+    "--set",
+    "solver.periods=40",
+];
+
+/// Writes `dir/my.toml`: the built-in scene `shaking` with the friction coefficient `mu`.
+fn write_scene(dir: &Path, mu: &str) {
+    let out = command(&["blocks", "scenes", "shaking"], "1")
+        .output()
+        .unwrap();
+    ok(&out);
+    let text = String::from_utf8(out.stdout).unwrap();
+    assert!(text.contains("\nmu = 0.2\n"), "{text}");
+    let text = text.replace("\nmu = 0.2\n", &format!("\nmu = {mu}\n"));
+    std::fs::create_dir_all(dir).unwrap();
+    std::fs::write(dir.join("my.toml"), text).unwrap();
+}
+
+/// The scene sweep with `extra` arguments, run in `cwd` on one thread.
+fn scene_sweep(cwd: &Path, extra: &[&str]) -> Command {
+    let mut args = SCENE_SWEEP.to_vec();
+    args.extend(extra);
+    let mut c = command(&args, "1");
+    c.current_dir(cwd);
+    c
+}
+
+#[test]
+fn an_edited_scene_is_refused_by_the_rows_of_the_old_one() {
+    let dir = temp_dir("shards-scene-edit");
+    write_scene(&dir, "0.2");
+    ok(&scene_sweep(&dir, &["--out", "out"]).output().unwrap());
+    let out = dir.join("out");
+    let before = csv_table(&out, "sweep_scene.csv");
+    assert_eq!(before.len(), 6);
+    assert_eq!(
+        std::fs::read(out.join("scene.toml")).unwrap(),
+        std::fs::read(dir.join("my.toml")).unwrap(),
+        "the sweep keeps a copy of its scene"
+    );
+    // Edited, then run again: refused, naming the file, the change and the way out.
+    write_scene(&dir, "0.5");
+    let refused = scene_sweep(&dir, &["--out", "out"]).output().unwrap();
+    let says = stderr(&refused);
+    assert!(!refused.status.success(), "{says}");
+    assert!(
+        says.contains("scene my.toml differs from the one the rows in out were computed from")
+            && says.contains("is `mu = 0.5`, was `mu = 0.2`")
+            && says.contains("remove out or give another --out"),
+        "{says}"
+    );
+    assert_eq!(says.lines().count(), 1, "{says}");
+    assert_eq!(csv_table(&out, "sweep_scene.csv"), before);
+    // Killed after some rows, edited, run again: refused too, never a table that mixes
+    // the rows of two scenes.
+    write_scene(&dir, "0.2");
+    let killed = dir.join("killed");
+    let mut child = scene_sweep(&dir, &["--out", "killed"]).spawn().unwrap();
+    let start = Instant::now();
+    while log_lines(&killed) < 3 && start.elapsed() < Duration::from_secs(60) {
+        std::thread::sleep(Duration::from_millis(1));
+    }
+    child.kill().unwrap();
+    child.wait().unwrap();
+    let kept = log_lines(&killed) - 1;
+    assert!((2..5).contains(&kept), "killed after {kept} of 5 rows");
+    write_scene(&dir, "0.5");
+    let refused = scene_sweep(&dir, &["--out", "killed"]).output().unwrap();
+    assert!(
+        stderr(&refused).contains("is `mu = 0.5`, was `mu = 0.2`"),
+        "{}",
+        stderr(&refused)
+    );
+    assert!(!killed.join("sweep_scene.csv").exists());
+    assert_eq!(log_lines(&killed) - 1, kept, "the old rows are kept");
+    // The scene as it was: the sweep resumes to the uninterrupted table.
+    write_scene(&dir, "0.2");
+    ok(&scene_sweep(&dir, &["--out", "killed"]).output().unwrap());
+    assert_eq!(csv_table(&killed, "sweep_scene.csv"), before);
+    let _ = std::fs::remove_dir_all(dir);
+}
+
+#[test]
+fn merge_reads_the_kept_scene_from_anywhere_and_refuses_two_scenes() {
+    let dir = temp_dir("shards-scene-merge");
+    let (here, elsewhere) = (dir.join("here"), dir.join("elsewhere"));
+    std::fs::create_dir_all(&elsewhere).unwrap();
+    write_scene(&here, "0.2");
+    ok(&scene_sweep(&here, &["--out", "single"]).output().unwrap());
+    for k in 1..=2 {
+        let (shard, out) = (format!("{k}/2"), format!("part{k}"));
+        ok(&scene_sweep(&here, &["--shard", &shard, "--out", &out])
+            .output()
+            .unwrap());
+    }
+    // From a directory without my.toml, whose manifests name it by a relative path.
+    let merge_in = |cwd: &Path, parts: &[&str], out: &str| {
+        let mut args = vec!["merge"];
+        args.extend(parts);
+        args.extend(["--out", out]);
+        let mut c = command(&args, "2");
+        c.current_dir(cwd).output().unwrap()
+    };
+    ok(&merge_in(
+        &elsewhere,
+        &["../here/part2", "../here/part1"],
+        "merged",
+    ));
+    let merged = elsewhere.join("merged");
+    assert_eq!(
+        csv_table(&merged, "sweep_scene.csv"),
+        csv_table(&here.join("single"), "sweep_scene.csv")
+    );
+    assert_eq!(
+        std::fs::read(merged.join("scene.toml")).unwrap(),
+        std::fs::read(here.join("my.toml")).unwrap()
+    );
+    // A shard of the edited scene does not join the others.
+    write_scene(&here, "0.5");
+    ok(&scene_sweep(&here, &["--shard", "2/2", "--out", "edited2"])
+        .output()
+        .unwrap());
+    let out = merge_in(&elsewhere, &["../here/part1", "../here/edited2"], "m");
+    let says = stderr(&out);
+    assert!(!out.status.success(), "{says}");
+    assert!(
+        says.contains("not shards of one sweep: they read different scene.toml")
+            && says.contains("is `mu = 0.2` in ../here/part1, `mu = 0.5` in ../here/edited2"),
+        "{says}"
+    );
+    assert!(!elsewhere.join("m").exists());
+    let _ = std::fs::remove_dir_all(dir);
+}
+
+/// A stand-in for `sbatch` on PATH: it records its arguments and the words of its
+/// script's `#SBATCH` lines (read with a shell's quotes, as sbatch reads them) into
+/// `$SBATCH_LOG`, one `[word]` each, and prints a job id as `--parsable` does.
+const FAKE_SBATCH: &str = r#"#!/bin/bash
+{
+    printf 'sbatch'; printf ' [%s]' "$@"; echo
+    grep '^#SBATCH ' "${@: -1}" | while IFS= read -r line; do
+        eval "set -- ${line#'#SBATCH '}"
+        printf 'directive'; printf ' [%s]' "$@"; echo
+    done
+} >> "$SBATCH_LOG"
+echo "4242;cluster"
+"#;
+
+/// Every path below `dir` whose file name is `name`.
+fn find(dir: &Path, name: &str) -> Vec<PathBuf> {
+    let mut found = Vec::new();
+    for entry in std::fs::read_dir(dir).unwrap() {
+        let path = entry.unwrap().path();
+        if path.file_name().is_some_and(|n| n == name) {
+            found.push(path.clone());
+        }
+        if path.is_dir() {
+            found.extend(find(&path, name));
+        }
+    }
+    found
+}
+
+fn slurm_in(cwd: &Path, options: &[&str], out: &str) -> Output {
+    let mut args = vec!["slurm"];
+    args.extend(options);
+    args.extend(SWEEP);
+    args.extend(["--out", out]);
+    let mut c = command(&args, "2");
+    c.current_dir(cwd).output().unwrap()
+}
+
+#[test]
+fn slurm_refuses_bad_requests_and_values_before_writing() {
+    let dir = temp_dir("shards-slurm-bad");
+    std::fs::create_dir_all(&dir).unwrap();
+    let given = ["--time", "5", "--mem", "100"];
+    for (options, out, says) in [
+        (
+            &["--tasks", "2", "--partition", "a\nb"][..],
+            "o",
+            "--partition holds the control character '\\n'",
+        ),
+        (
+            &["--tasks", "2"],
+            "o\nx",
+            "holds the control character '\\n'",
+        ),
+        (
+            &["--tasks", "2", "--time", "0"],
+            "o",
+            "--time must be at least 1 minute",
+        ),
+        (
+            &["--tasks", "2", "--mem", "0"],
+            "o",
+            "--mem must be at least 1 MiB",
+        ),
+        (
+            &["--tasks", "1000000000"],
+            "o",
+            "--tasks must be between 1 and 100000",
+        ),
+        (
+            &["--tasks", "0"],
+            "o",
+            "--tasks must be between 1 and 100000",
+        ),
+    ] {
+        let out = slurm_in(&dir, options, out);
+        assert!(!out.status.success(), "{options:?}");
+        assert!(stderr(&out).contains(says), "{options:?}: {}", stderr(&out));
+        assert_eq!(stderr(&out).lines().count(), 1, "{}", stderr(&out));
+    }
+    // With --time and --mem there is no calibration run; the sweep's values are checked.
+    let mut args = vec!["slurm", "--tasks", "2"];
+    args.extend(given);
+    args.extend(&SWEEP[..3]);
+    args.extend(["--omega", "2,nan", "--out", "o"]);
+    let out = command(&args, "1").current_dir(&dir).output().unwrap();
+    assert!(!out.status.success());
+    assert!(stderr(&out).contains("--omega"), "{}", stderr(&out));
+    let mut args = vec!["slurm", "--tasks", "2"];
+    args.extend(given);
+    args.extend([
+        "blocks",
+        "sweep",
+        "scene",
+        "shaking",
+        "--set",
+        "contact.mu=-1,0.2",
+    ]);
+    args.extend(["--out", "o"]);
+    let out = command(&args, "1").current_dir(&dir).output().unwrap();
+    assert!(
+        stderr(&out).contains("--set contact.mu=-1"),
+        "{}",
+        stderr(&out)
+    );
+    assert_eq!(
+        std::fs::read_dir(&dir).unwrap().count(),
+        0,
+        "nothing is written"
+    );
+    let _ = std::fs::remove_dir_all(dir);
+}
+
+#[test]
+fn slurm_scripts_hold_hostile_values_literally_when_run() {
+    let dir = temp_dir("shards-slurm-hostile");
+    let bin = dir.join("bin");
+    std::fs::create_dir_all(&bin).unwrap();
+    let sbatch = bin.join("sbatch");
+    std::fs::write(&sbatch, FAKE_SBATCH).unwrap();
+    let chmod = Command::new("chmod")
+        .arg("+x")
+        .arg(&sbatch)
+        .status()
+        .unwrap();
+    assert!(chmod.success());
+    let name = "o4 $(touch INJ1) `touch INJ2` \" ' ; touch INJ3 #";
+    let options = [
+        "--tasks",
+        "2",
+        "--time",
+        "5",
+        "--mem",
+        "100",
+        "--partition",
+        "p q'\"",
+    ];
+    ok(&slurm_in(&dir, &options, name));
+    let out = dir.join(name);
+    let scripts = out.join("slurm");
+    let log = dir.join("sbatch.log");
+    let path = format!("{}:{}", bin.display(), std::env::var("PATH").unwrap());
+    let submit = Command::new("bash")
+        .arg(scripts.join("submit.sh"))
+        .env("PATH", &path)
+        .env("SBATCH_LOG", &log)
+        .current_dir(&dir)
+        .output()
+        .unwrap();
+    ok(&submit);
+    let printed = String::from_utf8_lossy(&submit.stdout);
+    assert!(
+        printed.contains(&format!("the merged sweep will be in {}\n", out.display())),
+        "{printed}"
+    );
+    let calls = std::fs::read_to_string(&log).unwrap();
+    let logs = scripts.join("logs");
+    for line in [
+        "sbatch [--parsable] [shards.sbatch]".to_owned(),
+        "directive [--array=0-1]".to_owned(),
+        "directive [--partition=p q'\"]".to_owned(),
+        format!("directive [--output={}/shard-%a.out]", logs.display()),
+        "sbatch [--parsable] [--dependency=afterok:4242] [merge.sbatch]".to_owned(),
+        format!("directive [--output={}/merge.out]", logs.display()),
+    ] {
+        assert!(calls.lines().any(|l| l == line), "{line}\nnot in\n{calls}");
+    }
+    // The jobs, run as Slurm would run them: each array task, then the merge.
+    for task in ["0", "1"] {
+        let run = Command::new("bash")
+            .arg(scripts.join("shards.sbatch"))
+            .env("SLURM_ARRAY_TASK_ID", task)
+            .env("SLURM_ARRAY_TASK_COUNT", "2")
+            .env("SLURM_CPUS_PER_TASK", "1")
+            .current_dir(&dir)
+            .output()
+            .unwrap();
+        ok(&run);
+    }
+    ok(&Command::new("bash")
+        .arg(scripts.join("merge.sbatch"))
+        .current_dir(&dir)
+        .output()
+        .unwrap());
+    let single = dir.join("single");
+    ok(&sweep(&[], &single, "2"));
+    assert_eq!(table(&out), table(&single));
+    for injected in ["INJ1", "INJ2", "INJ3"] {
+        assert_eq!(find(&dir, injected), Vec::<PathBuf>::new(), "{injected}");
+    }
     let _ = std::fs::remove_dir_all(dir);
 }

@@ -47,6 +47,10 @@ pub enum CylinderError {
     /// The time stepper (nsga) failed on a step or at the start.
     #[error("the time stepper failed: {0}")]
     Solver(String),
+    /// A contact position between two cylinders given for the single cylinder, whose
+    /// test has no such contact (the front ends name their own flag or argument).
+    #[error("a contact position between two cylinders applies to the pair systems (pair7, pair9), not to the single cylinder")]
+    ContactOfSingle,
     /// A dimension mismatch between a system and the coordinates given to it.
     #[error("expected {expected} coordinates, got {got}")]
     Dimension {

@@ -56,19 +56,37 @@ fn check_dimension<S: PfaffianSystem>(system: &S, q: &[f64]) -> Result<(), Cylin
     Ok(())
 }
 
-/// Assembles S^Γ_{L,K} = ∂_K W_{ΓL} − ∂_L W_{ΓK} from the derivative matrices ∂W/∂q^K.
-fn assemble(w: DMatrix<f64>, dw: &[DMatrix<f64>]) -> SkewMatrices {
+/// Assembles S^Γ_{L,K} = ∂_K W_{ΓL} − ∂_L W_{ΓK} from the derivative matrices ∂W/∂q^K,
+/// after checking that W and its derivatives are finite: an SVD of NaN has rank 0, and
+/// the test would then call the system "not integrable" instead of failing.
+fn assemble(w: DMatrix<f64>, dw: &[DMatrix<f64>]) -> Result<SkewMatrices, CylinderError> {
+    all_finite("W(q)", &w)?;
+    for (k, d) in dw.iter().enumerate() {
+        all_finite(&format!("the derivative of W(q) by q[{k}]"), d)?;
+    }
     let (m, n) = w.shape();
     let s = (0..m)
         .map(|gamma| DMatrix::from_fn(n, n, |l, k| dw[k][(gamma, l)] - dw[l][(gamma, k)]))
         .collect();
-    SkewMatrices { w, s }
+    Ok(SkewMatrices { w, s })
+}
+
+/// Refuses a matrix `what` with a NaN or infinite entry, naming the entry (row and
+/// column from 0, as the system's W(q) is indexed).
+fn all_finite(what: &str, a: &DMatrix<f64>) -> Result<(), CylinderError> {
+    match a.iter().position(|v| !v.is_finite()) {
+        Some(k) => {
+            let (row, column) = (k % a.nrows(), k / a.nrows());
+            Err(InputError::NonFinite(format!("{what} at row {row}, column {column}")).into())
+        }
+        None => Ok(()),
+    }
 }
 
 /// W and S^Γ with exact derivatives (forward-mode dual numbers, one pass per coordinate).
 ///
 /// # Errors
-/// When `q` has the wrong length or a non-finite entry.
+/// When `q` has the wrong length or a non-finite entry, or W(q) or a derivative has one.
 pub fn skew_matrices<S: PfaffianSystem>(
     system: &S,
     q: &[f64],
@@ -88,14 +106,16 @@ pub fn skew_matrices<S: PfaffianSystem>(
         dw.push(wd.map(|d| d.eps));
     }
     let w = w.unwrap_or_else(|| system.constraint_matrix(q));
-    Ok(assemble(w, &dw))
+    assemble(w, &dw)
 }
 
 /// W and S^Γ with central differences of step `step`: a test oracle for
-/// [`skew_matrices`], never used by the test itself.
+/// [`skew_matrices`], never used by the test itself, and the derivatives of a system
+/// that only evaluates in `f64` (Python's).
 ///
 /// # Errors
-/// When `q` has the wrong length or a non-finite entry.
+/// When `q` has the wrong length or a non-finite entry, or W or a difference quotient
+/// has one.
 pub fn skew_matrices_central_difference<S: PfaffianSystem>(
     system: &S,
     q: &[f64],
@@ -113,7 +133,7 @@ pub fn skew_matrices_central_difference<S: PfaffianSystem>(
             (plus - minus) / (2.0 * step)
         })
         .collect();
-    Ok(assemble(system.constraint_matrix(q), &dw))
+    assemble(system.constraint_matrix(q), &dw)
 }
 
 /// aᵀ S b.
@@ -173,7 +193,8 @@ pub const INTEGRABILITY_TOLERANCE: f64 = 1e-9;
 /// Runs the test at configuration `q` with the default tolerances.
 ///
 /// # Errors
-/// When `q` has the wrong length or a non-finite entry.
+/// When `q` has the wrong length or a non-finite entry, or W(q) or a derivative has one
+/// (never a rank-0 "not integrable" from NaN).
 pub fn frobenius_test<S: PfaffianSystem>(
     system: &S,
     q: &[f64],
@@ -299,5 +320,31 @@ mod tests {
         assert!(!report.integrable[0]);
         assert!(frobenius_test(&One, &[0.3]).is_err());
         assert!(frobenius_test(&One, &[0.3, f64::NAN, 0.0]).is_err());
+    }
+
+    /// W(q) = [√q0, 0]: NaN for q0 < 0, an infinite derivative at q0 = 0.
+    struct Singular;
+    impl PfaffianSystem for Singular {
+        fn coordinate_count(&self) -> usize {
+            2
+        }
+        fn constraint_count(&self) -> usize {
+            1
+        }
+        fn constraint_matrix<T: RealField + Copy>(&self, q: &[T]) -> DMatrix<T> {
+            DMatrix::from_row_slice(1, 2, &[q[0].sqrt(), T::zero()])
+        }
+    }
+
+    #[test]
+    fn a_non_finite_constraint_matrix_is_an_error_not_a_verdict() {
+        let err = frobenius_test(&Singular, &[-1.0, 1.0]).unwrap_err();
+        assert_eq!(err.to_string(), "W(q) at row 0, column 0 is not finite");
+        let derivative = "the derivative of W(q) by q[0] at row 0, column 0 is not finite";
+        let err = frobenius_test(&Singular, &[0.0, 1.0]).unwrap_err();
+        assert_eq!(err.to_string(), derivative);
+        let err = skew_matrices_central_difference(&Singular, &[0.0, 1.0], 1e-6).unwrap_err();
+        assert_eq!(err.to_string(), derivative);
+        assert!(frobenius_test(&Singular, &[1.0, 1.0]).is_ok());
     }
 }

@@ -106,3 +106,21 @@ def test_pair_bad_input():
 
 def test_ctrl_c_interrupts_a_long_pair_run():
     exits_on_sigint("from rollstack import cylinders; cylinders.pair(0.5, steps=10**8)")
+
+
+def test_no_silent_nan():
+    # Each of these returned NaN arrays, or a rank-0 "not integrable" verdict, before.
+    with pytest.raises(ValueError, match="psi0 is not finite"):
+        cylinders.holonomy_rectangle(0.3, 1, 2, psi0=math.inf)
+    with pytest.raises(ValueError, match=r"W\(q\) at row 0, column 0 is not finite"):
+        cylinders.frobenius_test(lambda q: [[math.nan, 0.0]], [0.1, 0.2])
+    with pytest.raises(ValueError, match="derivative of W"):
+        cylinders.frobenius_test(lambda q: [[math.sqrt(q[0]) if q[0] >= 0 else math.nan, 0.0]], [0.0, 0.2])
+    for bad in (math.nan, math.inf):
+        with pytest.raises(ValueError, match="contact position is not finite"):
+            cylinders.frobenius(system="pair9", contact_at=bad)
+        with pytest.raises(ValueError, match="contact_at"):
+            cylinders.frobenius(contact_at=bad)
+    with pytest.raises(ValueError, match="system='single'"):
+        cylinders.frobenius(contact_at=0.3)
+    assert cylinders.frobenius(system="pair7", contact_at=0.3)["rank"] == 7

@@ -8,8 +8,12 @@
 //!   half-written last record (a run killed mid-write) is dropped, never read back; a
 //!   resumed run computes only the rows the log lacks.
 //! - [`Manifest`]: what a shard holds (the sweep's command and inputs, the version, the
-//!   shard, its row indices, checksums of its CSV and of its rows), and [`merge`], which
-//!   checks a set of shards against each other before joining their rows.
+//!   checksums of the files it read, the shard, its row indices, checksums of its CSV and
+//!   of its rows), and [`merge`], which checks a set of shards against each other before
+//!   joining their rows.
+//! - [`InputFile`] and [`keep_inputs`]: a file a sweep reads (a scene) is part of its
+//!   identity by its content, and a copy of it is kept in the output directory; rows of
+//!   another content are never resumed or merged with its rows.
 //! - [`slurm`]: the resources a shard needs, from a calibration run, and the batch
 //!   scripts for a job array with a merge job that depends on it.
 //!
@@ -45,6 +49,7 @@
 #![warn(missing_docs)]
 
 mod checksum;
+mod inputs;
 mod manifest;
 mod rowlog;
 mod shard;
@@ -52,6 +57,7 @@ pub mod slurm;
 mod temps;
 
 pub use checksum::checksum;
+pub use inputs::{keep_inputs, InputFile};
 pub use manifest::{merge, Manifest, Merged, Run, SweepId, MANIFEST_FILE};
 pub use rowlog::{is_failed, resume_rows, Record, RowLog, ROW_LOG_FILE};
 pub use shard::{Shard, ShardChoice};
@@ -97,6 +103,10 @@ pub enum ShardError {
     /// Shards that do not join into one sweep.
     #[error("cannot merge: {0}")]
     Merge(String),
+    /// A file the sweep reads differs from the one the rows of its output directory
+    /// were computed from.
+    #[error("{0}")]
+    InputChanged(String),
 }
 
 impl ShardError {

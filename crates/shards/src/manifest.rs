@@ -1,6 +1,7 @@
 //! Manifests: what one shard's output directory holds, so that shards can be checked
 //! against each other before they are joined ([`merge`]).
 
+use crate::inputs::first_difference;
 use crate::{checksum, is_failed, RowLog, Shard, ShardError};
 use serde::{Deserialize, Serialize};
 use serde_json::Value;
@@ -16,8 +17,8 @@ const FORMAT: u32 = 1;
 
 /// What makes two runs parts of one sweep: the same command, the same inputs (the
 /// values swept and everything that changes a row, not the shard or the output
-/// directory), and the same rollstack version (another version may compute other
-/// rows).
+/// directory), the same content of every file it reads, and the same rollstack version
+/// (another version may compute other rows).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct SweepId {
     /// The command, as `run.json` names it (`blocks sweep frequency`).
@@ -26,17 +27,30 @@ pub struct SweepId {
     pub inputs: Value,
     /// The version of rollstack that computed the rows.
     pub version: String,
+    /// The [`checksum`] of each file the sweep reads, by the name of the copy kept in
+    /// its output directory (`scene.toml`): the content counts, not the path, so that
+    /// an edited file is another sweep and a moved one is not. Absent when none.
+    #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
+    pub files: BTreeMap<String, String>,
 }
 
 impl SweepId {
-    /// A sweep's identity.
+    /// A sweep's identity, reading no file.
     #[must_use]
     pub fn new(command: impl Into<String>, inputs: Value, version: impl Into<String>) -> Self {
         Self {
             command: command.into(),
             inputs,
             version: version.into(),
+            files: BTreeMap::new(),
         }
+    }
+
+    /// This sweep reading a file with the content `bytes`, kept as `copy`.
+    #[must_use]
+    pub fn with_file(mut self, copy: &str, bytes: &[u8]) -> Self {
+        self.files.insert(copy.to_owned(), checksum(bytes));
+        self
     }
 }
 
@@ -207,16 +221,21 @@ pub struct Merged {
     pub rows: BTreeMap<usize, Value>,
     /// How many of them failed.
     pub failed_rows: usize,
+    /// The content of each file the sweep read, from the copy kept in the shards, by
+    /// the name of the copy.
+    pub files: BTreeMap<String, Vec<u8>>,
 }
 
 /// Checks the shards in `dirs` (in any order) against each other and joins their rows:
-/// every manifest names the same sweep and the version `version` (the merging program's:
-/// it rewrites the outputs with its own code), every row of the sweep is in exactly one
-/// shard, and each shard's CSV and rows match the checksums of its manifest.
+/// every manifest names the same sweep (with the same content of the files it read) and
+/// the version `version` (the merging program's: it rewrites the outputs with its own
+/// code), every row of the sweep is in exactly one shard, and each shard's CSV, rows and
+/// kept copies of the files match the checksums of its manifest.
 ///
 /// # Errors
-/// A missing or damaged manifest, CSV or row log; shards of different sweeps or of
-/// another version; rows in no shard or in two (named by index and directory).
+/// A missing or damaged manifest, CSV, row log or kept file; shards of different sweeps
+/// (named by the first line of a file that differs) or of another version; rows in no
+/// shard or in two (named by index and directory).
 pub fn merge(dirs: &[PathBuf], version: &str) -> Result<Merged, ShardError> {
     let first_dir = dirs
         .first()
@@ -227,7 +246,7 @@ pub fn merge(dirs: &[PathBuf], version: &str) -> Result<Merged, ShardError> {
         .collect::<Result<Vec<_>, _>>()?;
     let first = &manifests[0];
     for (dir, m) in dirs.iter().zip(&manifests).skip(1) {
-        if let Some(why) = differs(first, m) {
+        if let Some(why) = differs((first_dir.as_path(), first), (dir.as_path(), m)) {
             return Err(ShardError::Merge(format!(
                 "{} and {} are not shards of one sweep: {why}",
                 first_dir.display(),
@@ -245,14 +264,11 @@ pub fn merge(dirs: &[PathBuf], version: &str) -> Result<Merged, ShardError> {
     check_coverage(dirs, &manifests)?;
     let mut rows = BTreeMap::new();
     let mut failed_rows = 0;
+    let mut files = BTreeMap::new();
     for (dir, m) in dirs.iter().zip(&manifests) {
-        let csv_path = dir.join(&m.csv);
-        let bytes = std::fs::read(&csv_path).map_err(|e| ShardError::io(&csv_path, e))?;
-        if checksum(&bytes) != m.csv_checksum {
-            return Err(ShardError::corrupt(
-                &csv_path,
-                "does not match the checksum of its manifest (damaged or changed after the run)",
-            ));
+        checked_read(&dir.join(&m.csv), &m.csv_checksum)?;
+        for (name, sum) in &m.sweep.files {
+            files.insert(name.clone(), checked_read(&dir.join(name), sum)?);
         }
         let (logged, all) = RowLog::read(dir)?;
         let log_path = dir.join(crate::ROW_LOG_FILE);
@@ -277,11 +293,25 @@ pub fn merge(dirs: &[PathBuf], version: &str) -> Result<Merged, ShardError> {
         argv: first.argv.clone(),
         rows,
         failed_rows,
+        files,
     })
 }
 
-/// Why two manifests are not of one sweep, or `None`.
-fn differs(a: &Manifest, b: &Manifest) -> Option<String> {
+/// The bytes of the file `path` of a shard, which must match `sum` of its manifest.
+fn checked_read(path: &Path, sum: &str) -> Result<Vec<u8>, ShardError> {
+    let bytes = std::fs::read(path).map_err(|e| ShardError::io(path, e))?;
+    if checksum(&bytes) != sum {
+        return Err(ShardError::corrupt(
+            path,
+            "does not match the checksum of its manifest (damaged or changed after the run)",
+        ));
+    }
+    Ok(bytes)
+}
+
+/// Why the manifests `a` and `b` (each with its directory) are not of one sweep, or
+/// `None`.
+fn differs((dir_a, a): (&Path, &Manifest), (dir_b, b): (&Path, &Manifest)) -> Option<String> {
     if a.sweep.command != b.sweep.command {
         return Some(format!(
             "`{}` against `{}`",
@@ -307,8 +337,40 @@ fn differs(a: &Manifest, b: &Manifest) -> Option<String> {
             .collect();
         return Some(format!("inputs differ: {}", names.join(", ")));
     }
+    if a.sweep.files != b.sweep.files {
+        return Some(files_differ(dir_a, dir_b, &a.sweep.files, &b.sweep.files));
+    }
     (a.total_rows != b.total_rows)
         .then(|| format!("{} rows against {} rows", a.total_rows, b.total_rows))
+}
+
+/// Which file read by the shards in `dir_a` and `dir_b` differs, with its first
+/// differing line from the kept copies.
+fn files_differ(
+    dir_a: &Path,
+    dir_b: &Path,
+    a: &BTreeMap<String, String>,
+    b: &BTreeMap<String, String>,
+) -> String {
+    let name = a
+        .keys()
+        .chain(b.keys())
+        .find(|k| a.get(*k) != b.get(*k))
+        .map_or("", String::as_str);
+    let line = match (
+        std::fs::read(dir_a.join(name)),
+        std::fs::read(dir_b.join(name)),
+    ) {
+        (Ok(x), Ok(y)) => first_difference(&x, &y).map(|(n, x, y)| {
+            format!(
+                " (line {n} is {x} in {}, {y} in {})",
+                dir_a.display(),
+                dir_b.display()
+            )
+        }),
+        _ => None,
+    };
+    format!("they read different {name}{}", line.unwrap_or_default())
 }
 
 fn show(v: Option<&Value>) -> String {
@@ -432,6 +494,48 @@ mod tests {
             (0..6).collect::<Vec<_>>()
         );
         assert_eq!(m.failed_rows, 1);
+        std::fs::remove_dir_all(&r).unwrap();
+    }
+
+    #[test]
+    fn shards_of_two_contents_of_a_file_are_refused_and_kept_copies_checked() {
+        let r = root("files");
+        let shard = |k: usize, text: &str| {
+            let id = SweepId::new("t", json!({}), "1").with_file("scene.toml", text.as_bytes());
+            let shard = Shard { index: k, count: 2 };
+            let dir = r.join(format!("s{k}-{}", text.len()));
+            let file = crate::InputFile {
+                copy: "scene.toml".into(),
+                source: "scene s.toml".into(),
+                bytes: text.as_bytes().to_vec(),
+            };
+            crate::keep_inputs(&dir, &id, &[file]).unwrap();
+            let log = RowLog::open(&dir, &id).unwrap();
+            for i in shard.range(4) {
+                log.append(i, &json!({"i": i, "error": null})).unwrap();
+            }
+            std::fs::write(dir.join("t.csv"), "x\n").unwrap();
+            Manifest::new(&id, vec![], shard, 4, shard.range(4), "t.csv", &dir)
+                .unwrap()
+                .write(&dir)
+                .unwrap();
+            dir
+        };
+        let (a, b) = (shard(1, "mu = 0.2\n"), shard(2, "mu = 0.25\n"));
+        let err = merge(&[a.clone(), b], "1").unwrap_err().to_string();
+        assert!(
+            err.contains("they read different scene.toml (line 1 is `mu = 0.2` in"),
+            "{err}"
+        );
+        let c = shard(2, "mu = 0.2\n");
+        let m = merge(&[a.clone(), c.clone()], "1").unwrap();
+        assert_eq!(m.files["scene.toml"], b"mu = 0.2\n");
+        std::fs::write(c.join("scene.toml"), "mu = 0.3\n").unwrap();
+        let err = merge(&[a, c], "1").unwrap_err().to_string();
+        assert!(
+            err.contains("scene.toml: does not match the checksum"),
+            "{err}"
+        );
         std::fs::remove_dir_all(&r).unwrap();
     }
 

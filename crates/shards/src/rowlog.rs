@@ -160,6 +160,20 @@ impl RowLog {
     }
 }
 
+/// The sweep whose rows the log of `dir` holds, or `None` when there is no log (or not
+/// even its header line is complete).
+///
+/// # Errors
+/// An unreadable or damaged log.
+pub(crate) fn logged_sweep(dir: &Path) -> Result<Option<SweepId>, ShardError> {
+    let path = dir.join(ROW_LOG_FILE);
+    match std::fs::read(&path) {
+        Ok(bytes) => Ok(parse(&path, &bytes)?.map(|p| p.id)),
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => Ok(None),
+        Err(e) => Err(ShardError::io(&path, e)),
+    }
+}
+
 /// Records a finished row in the log: given to the computation by [`resume_rows`].
 pub type Record<'a, R> = dyn Fn(usize, &R) -> Result<(), ShardError> + Sync + 'a;
 

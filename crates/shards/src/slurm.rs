@@ -132,6 +132,57 @@ pub struct Request {
     pub workdir: PathBuf,
 }
 
+/// The most tasks of a job array `rollstack slurm` writes (Slurm's own `MaxArraySize`
+/// is usually far lower): a bound checked before anything is sized by it.
+pub const MAX_TASKS: usize = 100_000;
+
+impl Request {
+    /// Checks the counts and requests, and that no value the scripts hold has a control
+    /// character (a newline would end an `#SBATCH` line and start a command).
+    ///
+    /// # Errors
+    /// The first bad value, naming its flag.
+    pub fn check(&self) -> Result<(), ShardError> {
+        let bad = |message: String| Err(ShardError::Shard(message));
+        if !(1..=MAX_TASKS).contains(&self.tasks) {
+            return bad(format!(
+                "--tasks must be between 1 and {MAX_TASKS}, got {} (one shard per task)",
+                self.tasks
+            ));
+        }
+        if self.cpus_per_task == 0 {
+            return bad("--cpus-per-task must be at least 1".into());
+        }
+        if self.minutes == Some(0) {
+            return bad("--time must be at least 1 minute".into());
+        }
+        if self.mem_mib == Some(0) {
+            return bad("--mem must be at least 1 MiB".into());
+        }
+        if let Some(p) = &self.partition {
+            no_control_character("--partition", p)?;
+        }
+        for a in &self.sweep {
+            no_control_character(&format!("the sweep's argument {a:?}"), a)?;
+        }
+        no_control_character(
+            "the rollstack binary's path",
+            &self.binary.to_string_lossy(),
+        )?;
+        no_control_character("the working directory", &self.workdir.to_string_lossy())
+    }
+}
+
+/// Refuses `text` (of `what`) when it holds a control character.
+fn no_control_character(what: &str, text: &str) -> Result<(), ShardError> {
+    match text.chars().find(|c| c.is_control()) {
+        Some(c) => Err(ShardError::Shard(format!(
+            "{what} holds the control character {c:?}: a batch script has no safe place for it"
+        ))),
+        None => Ok(()),
+    }
+}
+
 /// A sweep to run as a job array.
 #[derive(Debug, Clone)]
 pub struct Job {
@@ -164,13 +215,10 @@ impl Job {
     /// `OUT/calibration` ([`calibrate`]) for the [`estimate`].
     ///
     /// # Errors
-    /// Bad counts, a sweep without `--out` or with `--shard`, or a failed calibration.
+    /// Bad counts or requests, a value holding a control character, a sweep without
+    /// `--out` or with `--shard`, or a failed calibration.
     pub fn plan(r: Request) -> Result<(Self, Option<Calibration>), ShardError> {
-        if r.tasks == 0 || r.cpus_per_task == 0 {
-            return Err(ShardError::Shard(
-                "--tasks and --cpus-per-task must be at least 1".into(),
-            ));
-        }
+        r.check()?;
         let (sweep, out) = split_out(&r.sweep).map_err(ShardError::Shard)?;
         let out = r.workdir.join(out);
         let (calibration, task) = match (r.minutes, r.mem_mib) {
@@ -235,7 +283,7 @@ impl Job {
                 .div_ceil(self.tasks)
                 .to_string()),
             self.script_dir().display(),
-            quote_path(submit),
+            shell_quote_path(submit),
             self.out.display()
         );
         s
@@ -253,14 +301,18 @@ impl Job {
         self.out.join("slurm")
     }
 
+    /// The `#SBATCH` lines of a job. sbatch reads their values with the quotes of a
+    /// shell, so every value is [`shell_quote`]d; `%` of the log's directory is doubled
+    /// (sbatch expands `%a` and the like in `--output`, and reads `%%` as `%`).
     fn directives(&self, out: &mut String, name: &str, r: Resources, log: &str) {
-        let _ = writeln!(out, "#SBATCH --job-name={name}");
+        let logs = self.script_dir().join("logs");
+        let output = format!("{}/{log}", logs.to_string_lossy().replace('%', "%%"));
+        let _ = writeln!(out, "#SBATCH --job-name={}", shell_quote(name));
         let _ = writeln!(out, "#SBATCH --time={}", r.minutes);
         let _ = writeln!(out, "#SBATCH --mem={}M", r.mem_mib);
-        let logs = self.script_dir().join("logs").join(log);
-        let _ = writeln!(out, "#SBATCH --output={}", logs.display());
+        let _ = writeln!(out, "#SBATCH --output={}", shell_quote(&output));
         if let Some(p) = &self.partition {
-            let _ = writeln!(out, "#SBATCH --partition={p}");
+            let _ = writeln!(out, "#SBATCH --partition={}", shell_quote(p));
         }
     }
 
@@ -280,14 +332,14 @@ impl Job {
              cd {}\n\
              export RAYON_NUM_THREADS=\"${{SLURM_CPUS_PER_TASK:-1}}\"\n\
              exec {} {} --shard auto --out {}\"$SLURM_ARRAY_TASK_ID\"",
-            quote_path(&self.workdir),
-            quote_path(&self.binary),
+            shell_quote_path(&self.workdir),
+            shell_quote_path(&self.binary),
             self.sweep
                 .iter()
-                .map(|a| quote(a))
+                .map(|a| shell_quote(a))
                 .collect::<Vec<_>>()
                 .join(" "),
-            quote_path(&self.task_dir("")),
+            shell_quote_path(&self.task_dir("")),
         );
         s
     }
@@ -304,7 +356,7 @@ impl Job {
             "merge.out",
         );
         let dirs: Vec<String> = (0..self.tasks)
-            .map(|i| quote_path(&self.task_dir(&i.to_string())))
+            .map(|i| shell_quote_path(&self.task_dir(&i.to_string())))
             .collect();
         let _ = writeln!(
             s,
@@ -312,10 +364,10 @@ impl Job {
              set -euo pipefail\n\
              cd {}\n\
              exec {} merge {} --out {}",
-            quote_path(&self.workdir),
-            quote_path(&self.binary),
+            shell_quote_path(&self.workdir),
+            shell_quote_path(&self.binary),
             dirs.join(" "),
-            quote_path(&self.out),
+            shell_quote_path(&self.out),
         );
         s
     }
@@ -358,9 +410,9 @@ impl Job {
              merge=${{merge%%;*}}\n\
              echo \"submitted job array $array ({} tasks) and merge job $merge\"\n\
              echo \"follow them with: squeue -j $array,$merge\"\n\
-             echo \"the merged sweep will be in {}\"\n",
+             echo \"the merged sweep will be in \"{}\n",
             self.tasks,
-            self.out.display(),
+            shell_quote_path(&self.out),
         )
     }
 }
@@ -393,9 +445,10 @@ pub fn split_out(argv: &[String]) -> Result<(Vec<String>, String), String> {
 }
 
 /// `text` quoted for a POSIX shell (single quotes, a quote inside as `'\''`), left bare
-/// when it holds only characters no shell treats specially.
+/// when it holds only characters no shell treats specially. Every value a script of
+/// this module holds goes through it.
 #[must_use]
-pub fn quote(text: &str) -> String {
+pub fn shell_quote(text: &str) -> String {
     let plain = !text.is_empty()
         && text
             .bytes()
@@ -407,10 +460,10 @@ pub fn quote(text: &str) -> String {
     }
 }
 
-/// A path quoted for a POSIX shell ([`quote`]).
+/// A path quoted for a POSIX shell ([`shell_quote`]).
 #[must_use]
-pub fn quote_path(path: &Path) -> String {
-    quote(&path.to_string_lossy())
+pub fn shell_quote_path(path: &Path) -> String {
+    shell_quote(&path.to_string_lossy())
 }
 
 #[cfg(test)]
@@ -455,8 +508,8 @@ mod tests {
 
     #[test]
     fn scripts_quote_their_arguments() {
-        assert_eq!(quote("2:20:1"), "2:20:1");
-        assert_eq!(quote("a b'c"), "'a b'\\''c'");
+        assert_eq!(shell_quote("2:20:1"), "2:20:1");
+        assert_eq!(shell_quote("a b'c"), "'a b'\\''c'");
         let job = Job {
             name: "rollstack-frequency".into(),
             tasks: 4,
@@ -493,5 +546,79 @@ mod tests {
             "{m}"
         );
         assert!(job.submit_script().contains("--dependency=afterok:"));
+        // Every value is quoted, in the #SBATCH lines and in submit.sh's echo too; a %
+        // of a directory is no pattern of sbatch's.
+        let job = Job {
+            partition: Some("gpu; rm".into()),
+            out: "/scratch/o4 $(touch x) 100%".into(),
+            ..job
+        };
+        let s = job.shard_script();
+        assert!(s.contains("#SBATCH --partition='gpu; rm'\n"), "{s}");
+        assert!(
+            s.contains("#SBATCH --output='/scratch/o4 $(touch x) 100%%/slurm/logs/shard-%a.out'\n"),
+            "{s}"
+        );
+        let submit = job.submit_script();
+        assert!(
+            submit.contains("echo \"the merged sweep will be in \"'/scratch/o4 $(touch x) 100%'\n"),
+            "{submit}"
+        );
+    }
+
+    #[test]
+    fn requests_are_bounded_and_control_characters_refused() {
+        let request = Request {
+            name: "frequency".into(),
+            tasks: 4,
+            cpus_per_task: 1,
+            minutes: Some(5),
+            mem_mib: Some(512),
+            partition: None,
+            sweep: vec!["--out".into(), "x".into()],
+            binary: "/opt/rollstack".into(),
+            workdir: "/home/me".into(),
+        };
+        assert!(request.check().is_ok());
+        let err = |r: Request| r.check().unwrap_err().to_string();
+        for (bad, says) in [
+            (
+                Request {
+                    tasks: MAX_TASKS + 1,
+                    ..request.clone()
+                },
+                "--tasks must be between 1 and 100000, got 100001",
+            ),
+            (
+                Request {
+                    minutes: Some(0),
+                    ..request.clone()
+                },
+                "--time must be at least 1 minute",
+            ),
+            (
+                Request {
+                    mem_mib: Some(0),
+                    ..request.clone()
+                },
+                "--mem must be at least 1 MiB",
+            ),
+            (
+                Request {
+                    partition: Some("a\n#SBATCH --x".into()),
+                    ..request.clone()
+                },
+                "--partition holds the control character '\\n'",
+            ),
+            (
+                Request {
+                    sweep: vec!["--out".into(), "x\ry".into()],
+                    ..request.clone()
+                },
+                "the sweep's argument \"x\\ry\" holds the control character '\\r'",
+            ),
+        ] {
+            assert!(err(bad.clone()).starts_with(says), "{}", err(bad));
+        }
     }
 }

@@ -2,10 +2,12 @@
 //! joined again. The checks, the calibration and the scripts are the `shards` crate's;
 //! this module parses, runs the sweep's own code over the merged rows, and prints.
 
-use crate::commands::blocks::sweep::{SweepCommand, SweepOutputArgs};
-use crate::commands::blocks::{BlocksArgs, BlocksCommand};
+use crate::commands::blocks::sweep::{OnlyChecked, SweepCommand, SweepOutputArgs};
+use crate::commands::blocks::sweep_scene::SCENE_COPY;
+use crate::commands::blocks::{BlocksArgs, BlocksCommand, SolverArgs};
 use crate::commands::cylinder::sweep::CylinderSweepCommand;
 use crate::commands::cylinder::{CylinderArgs, CylinderCommand};
+use crate::output::write_atomic;
 use crate::{Cli, Command};
 use anyhow::{Context, Result};
 use clap::{Args, Parser};
@@ -63,6 +65,33 @@ fn parse_sweep(argv: &[String]) -> Result<(Cli, &'static str)> {
     Ok((cli, name))
 }
 
+/// The sweep of blocks a parsed command line runs, or `None` for another command.
+fn blocks_sweep(command: &mut Command) -> Option<&mut SweepCommand> {
+    match command {
+        Command::Blocks(BlocksArgs {
+            command: BlocksCommand::Sweep(sweep),
+        }) => Some(sweep),
+        _ => None,
+    }
+}
+
+/// The scene file a parsed sweep reads, or `None` for a sweep that reads no file.
+fn scene_of(command: &mut Command) -> Option<&mut PathBuf> {
+    match blocks_sweep(command)? {
+        SweepCommand::Scene(a) => Some(&mut a.scene),
+        _ => None,
+    }
+}
+
+/// The solver options of a parsed sweep of blocks, or `None` for another command.
+fn solver_of(command: &mut Command) -> Option<&mut SolverArgs> {
+    Some(match blocks_sweep(command)? {
+        SweepCommand::Frequency(a) => &mut a.solver,
+        SweepCommand::Slide(a) => &mut a.solver,
+        SweepCommand::Scene(a) => &mut a.solver,
+    })
+}
+
 /// The name and output options of a parsed sweep, or `None` for another command.
 fn sweep_output(command: &mut Command) -> Option<(&'static str, &mut SweepOutputArgs)> {
     if let Command::Cylinder(CylinderArgs {
@@ -74,13 +103,7 @@ fn sweep_output(command: &mut Command) -> Option<(&'static str, &mut SweepOutput
             CylinderSweepCommand::Push(a) => ("push", &mut a.output),
         });
     }
-    let Command::Blocks(BlocksArgs {
-        command: BlocksCommand::Sweep(sweep),
-    }) = command
-    else {
-        return None;
-    };
-    Some(match sweep {
+    Some(match blocks_sweep(command)? {
         SweepCommand::Frequency(a) => ("frequency", &mut a.output),
         SweepCommand::Slide(a) => ("slide", &mut a.output),
         SweepCommand::Scene(a) => ("scene", &mut a.output),
@@ -88,8 +111,9 @@ fn sweep_output(command: &mut Command) -> Option<(&'static str, &mut SweepOutput
 }
 
 /// Runs `rollstack merge`: checks the shards, writes their rows as the row log of
-/// `--out`, and runs the sweep of their manifests there, which then computes nothing and
-/// writes exactly what one run writes.
+/// `--out` and the copies of the files they read (the scene) there, and runs the sweep
+/// of their manifests there on those copies, which then computes nothing and writes
+/// exactly what one run writes, from any working directory.
 ///
 /// # Errors
 /// Shards that do not join ([`shards::merge`]), a version other than this one, an
@@ -97,25 +121,54 @@ fn sweep_output(command: &mut Command) -> Option<(&'static str, &mut SweepOutput
 pub fn merge(args: &MergeArgs) -> Result<()> {
     let merged = shards::merge(&args.dirs, env!("CARGO_PKG_VERSION"))?;
     let (mut cli, _) = parse_sweep(&merged.argv)?;
+    RowLog::write_all(&args.out, &merged.sweep, &merged.rows)?;
+    for (name, bytes) in &merged.files {
+        write_atomic(&args.out.join(name), bytes)?;
+    }
+    if let Some(scene) =
+        scene_of(&mut cli.command).filter(|_| merged.files.contains_key(SCENE_COPY))
+    {
+        *scene = args.out.join(SCENE_COPY);
+    }
     let (_, output) = sweep_output(&mut cli.command).context("not a sweep")?;
     output.out = Some(args.out.clone());
     output.shard = ShardChoice::default();
     output.json = args.json;
     output.argv.clone_from(&merged.argv);
     output.complete = true;
-    RowLog::write_all(&args.out, &merged.sweep, &merged.rows)?;
     crate::run(cli)
 }
 
-/// Runs `rollstack slurm`: a calibration run of the sweep's last row (unless `--time`
-/// and `--mem` are both given), then the batch scripts in `OUT/slurm`.
+/// Checks every value of the sweep `argv` (of all its shards) without running a row or
+/// writing a file: with `--time` and `--mem` given, no calibration run checks them. The
+/// time bound of one machine is not checked: the tasks' time is `--time`.
 ///
 /// # Errors
-/// A command line that is not a sweep with `--out`, a failed calibration, or an
-/// unwritable directory.
+/// The sweep's own error for a value it refuses.
+fn check_sweep(argv: &[String]) -> Result<()> {
+    let (sweep, _) = shards::slurm::split_out(argv).map_err(anyhow::Error::msg)?;
+    let (mut cli, _) = parse_sweep(&sweep)?;
+    if let Some(solver) = solver_of(&mut cli.command) {
+        solver.force = true;
+    }
+    let (_, output) = sweep_output(&mut cli.command).context("not a sweep")?;
+    output.check_only = true;
+    match crate::run(cli) {
+        Err(e) if !e.is::<OnlyChecked>() => Err(e),
+        _ => Ok(()),
+    }
+}
+
+/// Runs `rollstack slurm`: the requests and every value of the sweep checked, a
+/// calibration run of the sweep's last row (unless `--time` and `--mem` are both given),
+/// then the batch scripts in `OUT/slurm`.
+///
+/// # Errors
+/// A bad request ([`Request::check`]), a command line that is not a sweep with `--out`,
+/// a value the sweep refuses, a failed calibration, or an unwritable directory.
 pub fn slurm(args: &SlurmArgs) -> Result<()> {
     let (_, name) = parse_sweep(&args.sweep)?;
-    let (job, calibration) = Job::plan(Request {
+    let request = Request {
         name: name.to_owned(),
         tasks: args.tasks,
         cpus_per_task: args.cpus_per_task,
@@ -125,7 +178,10 @@ pub fn slurm(args: &SlurmArgs) -> Result<()> {
         sweep: args.sweep.clone(),
         binary: std::env::current_exe().context("cannot find the rollstack binary")?,
         workdir: std::env::current_dir()?,
-    })?;
+    };
+    request.check()?;
+    check_sweep(&args.sweep)?;
+    let (job, calibration) = Job::plan(request)?;
     let submit = job.write()?;
     print!("{}", job.summary(calibration.as_ref(), &submit));
     Ok(())

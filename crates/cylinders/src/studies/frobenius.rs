@@ -62,13 +62,18 @@ pub struct FrobeniusCase {
     /// Heading: the precession ψ of the single cylinder or of cylinder I, rad.
     pub heading: f64,
     /// Where the cylinders touch along their axes, from the centre (m* = n*), in
-    /// (−h/2, h/2), same unit as the cylinder (pair only).
-    pub contact_at: f64,
+    /// (−h/2, h/2), same unit as the cylinder; `None`: [`DEFAULT_CONTACT_AT`]. Pair
+    /// only: the single cylinder refuses one ([`CylinderError::ContactOfSingle`]).
+    pub contact_at: Option<f64>,
 }
+
+/// Where the pair touches when the case does not say: 0.3 from the centres.
+pub const DEFAULT_CONTACT_AT: f64 = 0.3;
 
 impl Default for FrobeniusCase {
     /// The single gas cylinder of §3.6 ([`Cylinder::gas_cylinder`]) at ϑ = 0.4,
-    /// heading 0.5, the pair touching 0.3 from the centres, generic configuration.
+    /// heading 0.5, no contact position (a pair touches at [`DEFAULT_CONTACT_AT`]),
+    /// generic configuration.
     fn default() -> Self {
         Self {
             system: ConstraintSystem::Single,
@@ -76,7 +81,7 @@ impl Default for FrobeniusCase {
             cylinder: Cylinder::gas_cylinder(),
             theta: 0.4,
             heading: 0.5,
-            contact_at: 0.3,
+            contact_at: None,
         }
     }
 }
@@ -168,10 +173,15 @@ impl fmt::Display for IntegrabilitySummary<'_> {
 ///
 /// # Errors
 /// ϑ outside (0, π/2) ([`CylinderError::NotPointContact`]), a non-finite heading or
-/// contact position, or one off the axes (pair only; [`CylinderError::Input`]).
+/// contact position, or one off the axes (pair only; [`CylinderError::Input`]); a
+/// contact position for the single cylinder ([`CylinderError::ContactOfSingle`]).
 pub fn integrability_report(case: &FrobeniusCase) -> Result<IntegrabilityReport, CylinderError> {
     let cylinder = case.cylinder;
     let theta = check_point_contact(case.theta)?;
+    input::finite("heading", case.heading)?;
+    if case.system == ConstraintSystem::Single && case.contact_at.is_some() {
+        return Err(CylinderError::ContactOfSingle);
+    }
     let pair = CylinderPair::identical(cylinder);
     let start = Instant::now();
     let (q, report, d24): (Vec<f64>, FrobeniusReport, _) = match case.system {
@@ -197,7 +207,7 @@ pub fn integrability_report(case: &FrobeniusCase) -> Result<IntegrabilityReport,
             (q, report, Some(d24))
         }
         ConstraintSystem::Pair7 | ConstraintSystem::Pair9 => {
-            let (at, heading) = (case.contact_at, case.heading);
+            let (at, heading) = (case.contact_at.unwrap_or(DEFAULT_CONTACT_AT), case.heading);
             let q = match case.configuration {
                 PairConfiguration::Generic => pair.generic_configuration(theta, at, heading)?,
                 PairConfiguration::Touching => pair.touching_configuration(theta, at, heading)?,
@@ -298,12 +308,47 @@ mod tests {
         ));
         let off_axis = FrobeniusCase {
             system: ConstraintSystem::Pair9,
-            contact_at: 1.0,
+            contact_at: Some(1.0),
             ..FrobeniusCase::default()
         };
         assert_eq!(
             integrability_report(&off_axis).unwrap_err().to_string(),
             "contact position must lie in (−h/2, h/2), got 1"
         );
+    }
+
+    #[test]
+    fn refuses_non_finite_input_and_a_contact_of_one_cylinder() {
+        for at in [f64::NAN, f64::INFINITY] {
+            let pair = FrobeniusCase {
+                system: ConstraintSystem::Pair7,
+                contact_at: Some(at),
+                ..FrobeniusCase::default()
+            };
+            let err = integrability_report(&pair).unwrap_err().to_string();
+            assert_eq!(err, "contact position is not finite");
+            let single = FrobeniusCase {
+                contact_at: Some(at),
+                ..FrobeniusCase::default()
+            };
+            assert_eq!(
+                integrability_report(&single),
+                Err(CylinderError::ContactOfSingle)
+            );
+        }
+        let single = FrobeniusCase {
+            contact_at: Some(0.3),
+            ..FrobeniusCase::default()
+        };
+        assert_eq!(
+            integrability_report(&single),
+            Err(CylinderError::ContactOfSingle)
+        );
+        let heading = FrobeniusCase {
+            heading: f64::NAN,
+            ..FrobeniusCase::default()
+        };
+        let err = integrability_report(&heading).unwrap_err().to_string();
+        assert_eq!(err, "heading is not finite");
     }
 }

@@ -97,8 +97,8 @@ impl fmt::Display for RectangleSummary<'_> {
 /// the traces of P and of a rim point of Figure 3.10.
 ///
 /// # Errors
-/// ϑ outside (0, π/2) ([`CylinderError::NotPointContact`]), a `settings.max_step` that
-/// is not positive.
+/// ϑ outside (0, π/2) ([`CylinderError::NotPointContact`]), a `psi0` that is not finite
+/// (every rotation would be NaN), a `settings.max_step` that is not positive.
 pub fn rectangle_report(
     cylinder: &Cylinder,
     theta: f64,
@@ -107,6 +107,7 @@ pub fn rectangle_report(
     settings: RollSettings,
 ) -> Result<(RectangleReport, RollingTrace), CylinderError> {
     let theta = check_point_contact(theta)?;
+    input::finite("psi0", psi0)?;
     let q = path.product_quaternion(theta, psi0);
     let product = q.to_rotation_matrix();
     let closed = path.closed_form(theta, psi0);
@@ -289,6 +290,12 @@ mod tests {
         assert_eq!(view.start, (0.0, 0.0));
         let bad = rectangle_report(&fig.cylinder, 0.0, &fig.path, 0.0, COARSE);
         assert!(matches!(bad, Err(CylinderError::NotPointContact(_))));
+        // Python's holonomy_rectangle(psi0=inf) calls this: an error, not NaN arrays.
+        for psi0 in [f64::INFINITY, f64::NAN] {
+            let bad = rectangle_report(&fig.cylinder, fig.theta, &fig.path, psi0, COARSE);
+            let err = bad.map(|_| ()).unwrap_err().to_string();
+            assert_eq!(err, "psi0 is not finite");
+        }
     }
 
     #[test]

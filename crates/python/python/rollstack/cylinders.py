@@ -76,16 +76,19 @@ def frobenius(
     config: str = "generic",
     theta: float = 0.4,
     heading: float = 0.5,
-    contact_at: float = 0.3,
+    contact_at: Optional[float] = None,
     r: float = 0.1143,
     h: float = 1.2954,
 ) -> Dict[str, Any]:
     """The Frobenius test (App. D) of a bundled constraint system: ``"single"`` (one
     cylinder, v_P = 0), ``"pair7"`` (Π1..Π7 of (3.5.13)) or ``"pair9"`` (App. F, the
     rank claim corrected, ERRATA), in the ``"generic"`` or ``"touching"`` configuration:
-    the dict of ``rollstack cylinder frobenius --json``."""
+    the dict of ``rollstack cylinder frobenius --json``. ``contact_at`` (pairs only,
+    default 0.3) is where the two cylinders touch along their axes; a NaN or infinite
+    value, or one given for ``"single"``, raises ``ValueError``."""
     return _rollstack.cylinders_frobenius(
-        system, config, float(theta), float(heading), float(contact_at), float(r), float(h)
+        system, config, float(theta), float(heading),
+        None if contact_at is None else float(contact_at), float(r), float(h)
     )
 
 
@@ -96,7 +99,8 @@ def frobenius_test(
     system W(q) q̇ = 0 at the configuration ``q``.
 
     ``constraint_matrix(q)`` returns W(q) as an (m, n) array (n = ``len(q)``); its
-    derivatives are taken by central differences of step ``step``. Returns the report of
+    derivatives are taken by central differences of step ``step``. A NaN or infinite
+    entry of W or of a derivative raises ``ValueError`` (never a rank-0 verdict). Returns the report of
     ``cylinders::frobenius::report_from``: rank, nullity, singular values, the largest
     |aᵀ S^Γ b| per constraint over the null space, and ``integrable`` per constraint.
     """

@@ -20,7 +20,7 @@ use figures::blocks::{plot_frequency_sweep, plot_slide_sweep, FrequencySweep, Sl
 use input::text::parse_finite;
 use input::text::parse_values;
 use serde::{de::DeserializeOwned, Serialize};
-use shards::{resume_rows, RowsFailed, Run, SweepId};
+use shards::{keep_inputs, resume_rows, InputFile, RowsFailed, Run, SweepId};
 use std::path::PathBuf;
 use std::time::Instant;
 
@@ -62,6 +62,11 @@ pub struct SweepOutputArgs {
     /// Every row must come from the row log (set by `merge`).
     #[arg(skip)]
     pub complete: bool,
+    /// Check every value, then stop with [`OnlyChecked`] before any row (set by
+    /// `slurm`, which has no calibration run to check them when given `--time` and
+    /// `--mem`).
+    #[arg(skip)]
+    pub check_only: bool,
 }
 
 impl SweepOutputArgs {
@@ -74,14 +79,24 @@ impl SweepOutputArgs {
     }
 }
 
+/// How a sweep run with [`SweepOutputArgs::check_only`] ends once its values are
+/// checked: no row was computed and nothing was written.
+#[derive(Debug, thiserror::Error)]
+#[error("every value of the sweep was checked; no row was run")]
+pub struct OnlyChecked;
+
 /// One sweep being run ([`shards::Run`]: the sweep, the shard of `--shard`, the size),
-/// with its output options.
+/// with its output options and the files it reads.
 #[derive(Debug)]
 pub struct SweepRun<'a> {
     name: &'static str,
     output: &'a SweepOutputArgs,
     /// The sweep and this run's shard of it.
     pub run: Run,
+    files: Vec<InputFile>,
+    /// Inputs of `run.json` that are not part of the sweep's identity: the paths of
+    /// the files, which count by their content.
+    named: serde_json::Map<String, serde_json::Value>,
     start: Instant,
 }
 
@@ -124,21 +139,41 @@ impl<'a> SweepRun<'a> {
             name,
             output,
             run,
+            files: Vec::new(),
+            named: serde_json::Map::new(),
             start,
         })
     }
 
+    /// This sweep reading `file`, which `run.json` names as `given` under `key`: its
+    /// content, not its path, joins the sweep's identity, and `--out` keeps a copy
+    /// ([`shards::keep_inputs`]), so that rows of an edited file are never resumed
+    /// with the old rows, and `merge` reads the copy.
+    #[must_use]
+    pub fn reading(mut self, key: &str, given: &str, file: InputFile) -> Self {
+        self.run.id = self.run.id.with_file(&file.copy, &file.bytes);
+        self.named.insert(key.into(), given.into());
+        self.files.push(file);
+        self
+    }
+
     /// The rows of `points` in order, in parallel, resumed from the row log of `--out`
-    /// ([`shards::resume_rows`]).
+    /// ([`shards::resume_rows`]) after the files read are kept there.
     ///
     /// # Errors
-    /// An unusable row log, or a lacking row in a merge.
+    /// [`OnlyChecked`] when only checking; a file read that differs from the one the
+    /// rows of `--out` were computed from; an unusable row log, or a lacking row in a
+    /// merge.
     pub fn rows<P: Sync, R: Serialize + DeserializeOwned + Send>(
         &self,
         points: &[(usize, P)],
         f: impl Fn(&P) -> R + Sync + Send,
     ) -> Result<Vec<R>> {
+        anyhow::ensure!(!self.output.check_only, OnlyChecked);
         let (out, id) = (self.output.out.as_deref(), &self.run.id);
+        if let Some(dir) = out {
+            keep_inputs(dir, id, &self.files)?;
+        }
         let rows = resume_rows(out, id, self.output.complete, points, |lacking, record| {
             par_map_ordered(lacking, self.name, |(i, p)| {
                 let row = f(p);
@@ -174,8 +209,11 @@ impl<'a> SweepRun<'a> {
         let csv = files.first().copied().unwrap_or_default();
         let failed = self.run.finish(out, argv, csv, &values)?;
         extra.insert("failed_rows".into(), failed.into());
-        let mut inputs = self.run.id.inputs.clone();
-        inputs["shard"] = self.run.shard.to_string().into();
+        let mut inputs = self.named.clone();
+        if let Some(identity) = self.run.id.inputs.as_object() {
+            inputs.extend(identity.clone());
+        }
+        inputs.insert("shard".into(), self.run.shard.to_string().into());
         if let Some(dir) = out {
             let timings = serde_json::json!({
                 "total_s": self.start.elapsed().as_secs_f64(),

@@ -10,7 +10,12 @@ use blockstack::studies::scene_sweep::{Override, SceneRow, SceneSweep};
 use clap::Args;
 use figures::blocks::plot_scene_sweep;
 use input::text::parse_finite;
+use shards::InputFile;
 use std::path::PathBuf;
+
+/// The name of the copy of the scene a sweep keeps in its `--out` (the scene counts by
+/// its content: an edited scene is another sweep, and `merge` reads this copy).
+pub const SCENE_COPY: &str = "scene.toml";
 
 /// Arguments of `rollstack blocks sweep scene`.
 #[derive(Debug, Args)]
@@ -52,16 +57,24 @@ pub fn sweep_scene(args: &SceneArgs) -> Result<()> {
         .iter()
         .map(|s| s.parse::<Override>().map_err(anyhow::Error::msg))
         .collect::<Result<Vec<_>>>()?;
-    let sweep = SceneSweep::new(&text, overrides).with_context(|| what)?;
+    let sweep = SceneSweep::new(&text, overrides).with_context(|| what.clone())?;
     let options = args.solver.run_options(args.t_end, args.stop_at_failure)?;
     let inputs = serde_json::json!({
-        "scene": args.scene.display().to_string(),
         "set": args.set,
         "t_end": args.t_end,
         "stop_at_failure": args.stop_at_failure,
     });
     let all = sweep.points();
-    let run = SweepRun::new("scene", &args.output, &args.solver, inputs, all.len())?;
+    let scene = InputFile {
+        copy: SCENE_COPY.into(),
+        source: what,
+        bytes: text.as_bytes().to_vec(),
+    };
+    let run = SweepRun::new("scene", &args.output, &args.solver, inputs, all.len())?.reading(
+        "scene",
+        &args.scene.display().to_string(),
+        scene,
+    );
     let points = run.run.select(&all);
     check_before_any_run(
         &points,
@@ -93,6 +106,7 @@ pub fn sweep_scene(args: &SceneArgs) -> Result<()> {
         let drawn = plot_scene_sweep(&dir.join("sweep_scene.png"), &rows)?;
         files.push("sweep_scene.csv".to_owned());
         files.extend(drawn.files);
+        files.push(SCENE_COPY.to_owned());
         notes = drawn.notes;
     }
     let files: Vec<&str> = files.iter().map(String::as_str).collect();

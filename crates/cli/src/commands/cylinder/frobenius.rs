@@ -8,6 +8,7 @@ use cylinders::kinematics::Cylinder;
 use cylinders::studies::frobenius::{
     integrability_report, ConstraintSystem, FrobeniusCase, PairConfiguration,
 };
+use cylinders::CylinderError;
 use input::text::{parse_finite, RotationAngle};
 
 /// The constraint systems of `cylinder frobenius`.
@@ -64,9 +65,10 @@ pub struct FrobeniusArgs {
     /// Heading (precession ψ of cylinder I), rad.
     #[arg(long, allow_hyphen_values = true, default_value = "0.5")]
     pub heading: RotationAngle,
-    /// Where the cylinders touch along their axes, from the centre (m* = n*), metres.
-    #[arg(long, value_parser = parse_finite, allow_hyphen_values = true, default_value_t = 0.3)]
-    pub contact_at: f64,
+    /// Where the cylinders touch along their axes, from the centre (m* = n*), metres
+    /// (default 0.3); for --system pair7 and pair9 only.
+    #[arg(long, value_parser = parse_finite, allow_hyphen_values = true)]
+    pub contact_at: Option<f64>,
     /// Radius r of each cylinder, metres (default: the gas cylinder of §3.6).
     #[arg(long, value_parser = parse_finite, default_value_t = 0.1143, allow_hyphen_values = true)]
     pub r: f64,
@@ -91,6 +93,13 @@ pub(super) fn run(a: &FrobeniusArgs) -> Result<()> {
         theta: a.theta.0,
         heading: a.heading.0,
         contact_at: a.contact_at,
+    })
+    .map_err(|e| match e {
+        CylinderError::ContactOfSingle => anyhow::anyhow!(
+            "--contact-at is where the two cylinders of --system pair7 or pair9 touch; \
+             --system single has one cylinder: leave --contact-at out"
+        ),
+        e => e.into(),
     })?;
     if a.json {
         return print_json(&rep);
