@@ -198,12 +198,28 @@ impl Policy {
     /// The policy of a step from `stepper`'s state at its current Δt, with `halvings`
     /// halvings left; `top`: at the step's own Δt.
     pub(super) fn new<S: System>(stepper: &mut Stepper<S>, halvings: usize, top: bool) -> Self {
+        let enabled = Enabled::new(&stepper.options);
+        let prediction = stepper.prediction();
+        let held = stepper.held_sets_apply();
+        Self::before_any_stage(enabled, halvings, top, prediction, held)
+    }
+
+    /// The policy before any stage has run: the stages `enabled`, `halvings` halvings
+    /// left, `top` at the step's own Δt, the predicted start if any, whether the
+    /// held-sets attempt applies.
+    fn before_any_stage(
+        enabled: Enabled,
+        halvings: usize,
+        top: bool,
+        prediction: Option<Vec<f64>>,
+        held: bool,
+    ) -> Self {
         Self {
-            enabled: Enabled::new(&stepper.options),
+            enabled,
             halvings,
             top,
-            prediction: stepper.prediction(),
-            held: stepper.held_sets_apply(),
+            prediction,
+            held,
             rho_retries: 0,
             converged: None,
             visited: Vec::new(),
@@ -495,21 +511,7 @@ mod tests {
 
     /// The policy of a step at the step's own Δt with these options, before any stage.
     fn policy(o: &Options) -> Policy {
-        Policy {
-            enabled: Enabled::new(o),
-            halvings: o.max_halvings,
-            top: true,
-            prediction: None,
-            held: false,
-            rho_retries: 0,
-            converged: None,
-            visited: Vec::new(),
-            cycling: false,
-            best: None,
-            singular: None,
-            retries: 1,
-            failure: None,
-        }
+        Policy::before_any_stage(Enabled::new(o), o.max_halvings, true, None, false)
     }
 
     fn not_converged(visited: &[IndexSets], cycling: bool) -> AttemptFailure {
