@@ -2,12 +2,13 @@
 //! angle and height (Figure 4.5 (b), (c)), and the sweeps' plots. The frames come from
 //! [`blockstack::record`].
 
+use crate::animation::write_gif;
 use crate::axis::{TickedRange, Ticks};
 use crate::plot::{
     draw_title_reserving, fit_title, with_png, Canvas, LinePlot, Series, Style, BASE_COLOR, FONT,
     GUIDE_COLOR, PALETTE, TITLE_PX,
 };
-use crate::{err, file, write_error, FigureError, Result};
+use crate::{err, FigureError, Result};
 use blockstack::record::{Frame, Recording, TopSample};
 use blockstack::scenarios::Shaking;
 use blockstack::studies::scene_sweep::SceneRow;
@@ -487,21 +488,17 @@ pub fn write_animation(path: &Path, scene: &Scene, frames: &[Frame], title: &str
         .iter()
         .map(|f| format!("{title}, t = {:.2}", f.t))
         .collect();
-    crate::plot::register_font();
-    let tmp = file::temp_sibling(path);
-    {
-        let size = (480, picture_height(480, &views));
-        let root = BitMapBackend::gif(&tmp, size, ANIMATION_FRAME_MS)
-            .map_err(|e| write_error(path, e))?
-            .into_drawing_area();
-        let layout = StackLayout::new(&root, &titles, &views);
-        for ((f, view), t) in good.iter().zip(&views).zip(&titles) {
-            root.fill(&WHITE).map_err(err)?;
-            draw_stack(&root, scene, f, view, t, &layout)?;
-            root.present().map_err(|e| write_error(path, e))?;
-        }
-    }
-    file::commit_temp(path).map_err(|e| write_error(path, e))
+    let size = (480, picture_height(480, &views));
+    // The layout only measures text: a scratch canvas of the frames' size serves.
+    let mut scratch = vec![0; size.0 as usize * size.1 as usize * 3];
+    let layout = StackLayout::new(
+        &BitMapBackend::with_buffer(&mut scratch, size).into_drawing_area(),
+        &titles,
+        &views,
+    );
+    write_gif(path, size, ANIMATION_FRAME_MS, good.len(), |i, root| {
+        draw_stack(root, scene, good[i], &views[i], &titles[i], &layout)
+    })
 }
 
 /// The top block's angle and height against time (Figures 4.5 (b), (c)).
