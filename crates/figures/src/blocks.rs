@@ -901,7 +901,20 @@ pub fn scene_sweep_lines(rows: &[SceneRow]) -> Option<(usize, Vec<SweepLine<'_>>
     Some((x, lines))
 }
 
-/// The picture of a scene sweep: the failure time (runs with a loss of support) and the
+/// 1/T of a scene sweep's run, as in the frequency sweep's plot: 1/T for a run whose
+/// column lost its support at T > 0, 0 for a run that reached its end without failing,
+/// nothing for a run that stopped early without failing (nothing is known).
+#[must_use]
+pub fn inverse_failure_time(row: &SceneRow) -> Option<f64> {
+    match (row.failure_time, &row.error) {
+        (Some(t), _) if t > 0.0 => Some(1.0 / t),
+        (None, None) if row.t_final.is_some() => Some(0.0),
+        _ => None,
+    }
+}
+
+/// The picture of a scene sweep: the inverse failure time 1/T ([`inverse_failure_time`]:
+/// 0 for the runs that did not fail, as in the frequency sweep's plot) and the
 /// top block's angle at the end of each run (at the stop, for runs that stopped early)
 /// against one swept key, one line of markers per combination of the other keys
 /// ([`scene_sweep_lines`]). Left out with a note when no key is swept, there is no row,
@@ -945,10 +958,10 @@ pub fn plot_scene_sweep(path: &Path, rows: &[SceneRow]) -> Result<DrawnRun> {
         )
     };
     let failure = panel(
-        "failure time",
-        "no run lost its support",
-        "failure time (loss of support)",
-        |r| r.failure_time,
+        "1/T (T: first loss of support; 0: no failure by the run's end)",
+        "no run failed or reached its end",
+        "1/T [1 / time unit]",
+        inverse_failure_time,
     );
     let angle = panel(
         "top block's angle at the end",
@@ -1021,6 +1034,25 @@ mod scene_sweep_tests {
         assert_eq!(x, 1);
         assert!(scene_sweep_lines(&rows(&[])).is_none(), "no key");
         assert!(scene_sweep_lines(&[]).is_none());
+    }
+
+    #[test]
+    fn runs_without_failure_are_drawn_at_zero() {
+        let mut r = rows(&["a.x=1,2"]);
+        assert_eq!(r[0].failure_time, Some(1.0));
+        assert_eq!(inverse_failure_time(&r[0]), Some(1.0));
+        // Reached its end without failing: 1/T = 0, as in the frequency sweep's plot.
+        assert_eq!(r[1].failure_time, None);
+        assert_eq!(inverse_failure_time(&r[1]), Some(0.0));
+        // Stopped early without failing, or never started: nothing is known.
+        r[1].error = Some("stopped".to_owned());
+        assert_eq!(inverse_failure_time(&r[1]), None);
+        r[1].error = None;
+        r[1].t_final = None;
+        assert_eq!(inverse_failure_time(&r[1]), None);
+        // A failure at t = 0 has no finite 1/T.
+        r[0].failure_time = Some(0.0);
+        assert_eq!(inverse_failure_time(&r[0]), None);
     }
 
     #[test]
