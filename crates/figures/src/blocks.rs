@@ -217,6 +217,19 @@ pub fn frame_views(scene: &Scene, frames: &[&Frame]) -> Vec<View> {
     }
 }
 
+/// The one view of an animation: every body of every frame, with a margin of
+/// [`VIEW_MARGIN`] of the larger side. Unlike [`frame_views`] (snapshots, which frame
+/// the bodies in play), an animation loses no block out of frame: a block that falls or
+/// flies far stays in the picture, smaller. Non-finite frames should be left out.
+#[must_use]
+pub fn animation_view(scene: &Scene, frames: &[&Frame]) -> View {
+    frames
+        .iter()
+        .flat_map(|f| f.outlines(scene))
+        .fold(Bounds::EMPTY, |b, o| b.union(Bounds::of(o)))
+        .padded()
+}
+
 /// Height of a picture of the stack `width` pixels wide: as high as the views'
 /// proportions ask (the tallest of them), between half and 1.25 times the width.
 pub(crate) fn picture_height(width: u32, views: &[View]) -> u32 {
@@ -473,8 +486,8 @@ pub fn plot_snapshots(scene: &Scene, shots: &[(PathBuf, String, &Frame)]) -> Res
 /// Delay between animation frames (ms).
 const ANIMATION_FRAME_MS: u32 = 80;
 
-/// Writes an animated GIF of `frames`, framed on the bodies ([`frame_views`]),
-/// atomically. Each frame's title is `title` and its time, fitted to the width.
+/// Writes an animated GIF of `frames`, every body of every frame in one view
+/// ([`animation_view`]), atomically. Each frame's title is `title` and its time, fitted to the width.
 ///
 /// # Errors
 /// No finite frame, or an unwritable file.
@@ -483,7 +496,7 @@ pub fn write_animation(path: &Path, scene: &Scene, frames: &[Frame], title: &str
     if good.is_empty() {
         return Err(FigureError::Data("no frame to animate"));
     }
-    let views = frame_views(scene, &good);
+    let views = vec![animation_view(scene, &good); good.len()];
     let titles: Vec<String> = good
         .iter()
         .map(|f| format!("{title}, t = {:.2}", f.t))
@@ -1139,6 +1152,29 @@ mod tests {
         let height = views[0].y.end - views[0].y.start;
         assert!(height <= 3.0 * tower.size(), "{height}");
         assert!(480.0 * 0.2 / height >= 20.0);
+    }
+
+    #[test]
+    fn an_animation_keeps_every_block_in_frame() {
+        // The tower falling off its table: snapshots frame the table, the animation
+        // keeps every block of every frame in its one view, with a margin.
+        let scene = lire(4, Perturbation::Bottom).unwrap();
+        let frames = moved(&scene, |t, k, p| {
+            if k == 0 {
+                p
+            } else {
+                Pose::new(p.x + 0.2 * t, p.y - 0.5 * t * t, p.theta + 0.3 * t)
+            }
+        });
+        let refs: Vec<&Frame> = frames.iter().collect();
+        let view = animation_view(&scene, &refs);
+        let all = frames
+            .iter()
+            .fold(Bounds::EMPTY, |a, f| a.union(extent(&scene, f)));
+        assert!(inside(&view, &all));
+        let margin = VIEW_MARGIN * all.size();
+        assert!((all.y0 - view.y.start - margin).abs() < 1e-9);
+        assert!((view.y.end - all.y1 - margin).abs() < 1e-9);
     }
 
     #[test]
