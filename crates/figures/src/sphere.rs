@@ -161,8 +161,11 @@ fn common_bounds(points: &[(f64, f64)]) -> (Range<f64>, Range<f64>) {
 /// # Errors
 /// When the PNG cannot be written.
 pub fn plot_level_sets(path: &Path, mark: Option<(f64, f64)>) -> Result<()> {
+    // A rectangle outside the window is drawn at its sides modulo 2π: the title says so
+    // (the legend beside the square has no room for it).
+    let note = mark.map_or_else(String::new, |(t, p)| wrap_note(t, p));
     let mut plot = LinePlot::new(
-        "Level sets of ψ(ϑ, φ2), (2.4.11) corrected (Figure 2.5)",
+        format!("Level sets of ψ(ϑ, φ2), (2.4.11) corrected (Figure 2.5){note}"),
         "ϑ [rad]",
         "φ2 [rad]",
     );
@@ -198,6 +201,22 @@ pub fn plot_level_sets(path: &Path, mark: Option<(f64, f64)>) -> Result<()> {
     plot.save(path, (1000, 760))
 }
 
+/// What the title of Figure 2.5 adds when the marked rectangle lies outside the window
+/// [0, 2π)² and is drawn at its sides modulo 2π: e.g. "; this rectangle's φ2 = 8 drawn
+/// at 1.717 (mod 2π)"; empty inside the window.
+fn wrap_note(theta: f64, phi2: f64) -> String {
+    let moved: Vec<String> = [("ϑ", theta), ("φ2", phi2)]
+        .into_iter()
+        .filter(|&(_, v)| !(0.0..TAU).contains(&v))
+        .map(|(name, v)| format!("{name} = {v} drawn at {:.3}", v.rem_euclid(TAU)))
+        .collect();
+    if moved.is_empty() {
+        String::new()
+    } else {
+        format!("; this rectangle's {} (mod 2π)", moved.join(", "))
+    }
+}
+
 /// The integrator study: error of the final orientation against wall time on log–log
 /// axes, a marker per run.
 ///
@@ -231,6 +250,19 @@ mod tests {
     use super::*;
     use holonomy::studies::plan::plan_report;
     use nalgebra::{Rotation3, Vector3};
+
+    #[test]
+    fn a_rectangle_outside_the_window_says_it_is_wrapped() {
+        assert_eq!(wrap_note(3.0, 1.5), "");
+        assert_eq!(
+            wrap_note(3.0, 8.0),
+            "; this rectangle's φ2 = 8 drawn at 1.717 (mod 2π)"
+        );
+        assert_eq!(
+            wrap_note(-1.0, 7.0),
+            "; this rectangle's ϑ = -1 drawn at 5.283, φ2 = 7 drawn at 0.717 (mod 2π)"
+        );
+    }
 
     #[test]
     fn every_rectangle_gets_a_panel() {
