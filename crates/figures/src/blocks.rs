@@ -218,7 +218,7 @@ pub fn frame_views(scene: &Scene, frames: &[&Frame]) -> Vec<View> {
 }
 
 /// The one view of an animation: every body of every frame, with a margin of
-/// [`VIEW_MARGIN`] of the larger side. Unlike [`frame_views`] (snapshots, which frame
+/// 10 % of the larger side. Unlike [`frame_views`] (snapshots, which frame
 /// the bodies in play), an animation loses no block out of frame: a block that falls or
 /// flies far stays in the picture, smaller. Non-finite frames should be left out.
 #[must_use]
