@@ -2,12 +2,13 @@
 //! angle and height (Figure 4.5 (b), (c)), and the sweeps' plots. The frames come from
 //! [`blockstack::record`].
 
+use crate::animation::write_gif;
 use crate::axis::{TickedRange, Ticks};
 use crate::plot::{
     draw_title_reserving, fit_title, with_png, Canvas, LinePlot, Series, Style, BASE_COLOR, FONT,
     GUIDE_COLOR, PALETTE, TITLE_PX,
 };
-use crate::{err, file, write_error, FigureError, Result};
+use crate::{err, FigureError, Result};
 use blockstack::record::{Frame, Recording, TopSample};
 use blockstack::scenarios::Shaking;
 use blockstack::studies::scene_sweep::SceneRow;
@@ -214,6 +215,19 @@ pub fn frame_views(scene: &Scene, frames: &[&Frame]) -> Vec<View> {
         let h = in_play.iter().map(|b| b.y1 - b.y0).fold(0.0, f64::max);
         in_play.iter().map(|b| b.view(w, h)).collect()
     }
+}
+
+/// The one view of an animation: every body of every frame, with a margin of
+/// 10 % of the larger side. Unlike [`frame_views`] (snapshots, which frame
+/// the bodies in play), an animation loses no block out of frame: a block that falls or
+/// flies far stays in the picture, smaller. Non-finite frames should be left out.
+#[must_use]
+pub fn animation_view(scene: &Scene, frames: &[&Frame]) -> View {
+    frames
+        .iter()
+        .flat_map(|f| f.outlines(scene))
+        .fold(Bounds::EMPTY, |b, o| b.union(Bounds::of(o)))
+        .padded()
 }
 
 /// Height of a picture of the stack `width` pixels wide: as high as the views'
@@ -472,8 +486,8 @@ pub fn plot_snapshots(scene: &Scene, shots: &[(PathBuf, String, &Frame)]) -> Res
 /// Delay between animation frames (ms).
 const ANIMATION_FRAME_MS: u32 = 80;
 
-/// Writes an animated GIF of `frames`, framed on the bodies ([`frame_views`]),
-/// atomically. Each frame's title is `title` and its time, fitted to the width.
+/// Writes an animated GIF of `frames`, every body of every frame in one view
+/// ([`animation_view`]), atomically. Each frame's title is `title` and its time, fitted to the width.
 ///
 /// # Errors
 /// No finite frame, or an unwritable file.
@@ -482,26 +496,22 @@ pub fn write_animation(path: &Path, scene: &Scene, frames: &[Frame], title: &str
     if good.is_empty() {
         return Err(FigureError::Data("no frame to animate"));
     }
-    let views = frame_views(scene, &good);
+    let views = vec![animation_view(scene, &good); good.len()];
     let titles: Vec<String> = good
         .iter()
         .map(|f| format!("{title}, t = {:.2}", f.t))
         .collect();
-    crate::plot::register_font();
-    let tmp = file::temp_sibling(path);
-    {
-        let size = (480, picture_height(480, &views));
-        let root = BitMapBackend::gif(&tmp, size, ANIMATION_FRAME_MS)
-            .map_err(|e| write_error(path, e))?
-            .into_drawing_area();
-        let layout = StackLayout::new(&root, &titles, &views);
-        for ((f, view), t) in good.iter().zip(&views).zip(&titles) {
-            root.fill(&WHITE).map_err(err)?;
-            draw_stack(&root, scene, f, view, t, &layout)?;
-            root.present().map_err(|e| write_error(path, e))?;
-        }
-    }
-    file::commit_temp(path).map_err(|e| write_error(path, e))
+    let size = (480, picture_height(480, &views));
+    // The layout only measures text: a scratch canvas of the frames' size serves.
+    let mut scratch = vec![0; size.0 as usize * size.1 as usize * 3];
+    let layout = StackLayout::new(
+        &BitMapBackend::with_buffer(&mut scratch, size).into_drawing_area(),
+        &titles,
+        &views,
+    );
+    write_gif(path, size, ANIMATION_FRAME_MS, good.len(), |i, root| {
+        draw_stack(root, scene, good[i], &views[i], &titles[i], &layout)
+    })
 }
 
 /// The top block's angle and height against time (Figures 4.5 (b), (c)).
@@ -904,7 +914,20 @@ pub fn scene_sweep_lines(rows: &[SceneRow]) -> Option<(usize, Vec<SweepLine<'_>>
     Some((x, lines))
 }
 
-/// The picture of a scene sweep: the failure time (runs with a loss of support) and the
+/// 1/T of a scene sweep's run, as in the frequency sweep's plot: 1/T for a run whose
+/// column lost its support at T > 0, 0 for a run that reached its end without failing,
+/// nothing for a run that stopped early without failing (nothing is known).
+#[must_use]
+pub fn inverse_failure_time(row: &SceneRow) -> Option<f64> {
+    match (row.failure_time, &row.error) {
+        (Some(t), _) if t > 0.0 => Some(1.0 / t),
+        (None, None) if row.t_final.is_some() => Some(0.0),
+        _ => None,
+    }
+}
+
+/// The picture of a scene sweep: the inverse failure time 1/T ([`inverse_failure_time`]:
+/// 0 for the runs that did not fail, as in the frequency sweep's plot) and the
 /// top block's angle at the end of each run (at the stop, for runs that stopped early)
 /// against one swept key, one line of markers per combination of the other keys
 /// ([`scene_sweep_lines`]). Left out with a note when no key is swept, there is no row,
@@ -948,10 +971,10 @@ pub fn plot_scene_sweep(path: &Path, rows: &[SceneRow]) -> Result<DrawnRun> {
         )
     };
     let failure = panel(
-        "failure time",
-        "no run lost its support",
-        "failure time (loss of support)",
-        |r| r.failure_time,
+        "1/T (T: first loss of support; 0: no failure by the run's end)",
+        "no run failed or reached its end",
+        "1/T [1 / time unit]",
+        inverse_failure_time,
     );
     let angle = panel(
         "top block's angle at the end",
@@ -1024,6 +1047,25 @@ mod scene_sweep_tests {
         assert_eq!(x, 1);
         assert!(scene_sweep_lines(&rows(&[])).is_none(), "no key");
         assert!(scene_sweep_lines(&[]).is_none());
+    }
+
+    #[test]
+    fn runs_without_failure_are_drawn_at_zero() {
+        let mut r = rows(&["a.x=1,2"]);
+        assert_eq!(r[0].failure_time, Some(1.0));
+        assert_eq!(inverse_failure_time(&r[0]), Some(1.0));
+        // Reached its end without failing: 1/T = 0, as in the frequency sweep's plot.
+        assert_eq!(r[1].failure_time, None);
+        assert_eq!(inverse_failure_time(&r[1]), Some(0.0));
+        // Stopped early without failing, or never started: nothing is known.
+        r[1].error = Some("stopped".to_owned());
+        assert_eq!(inverse_failure_time(&r[1]), None);
+        r[1].error = None;
+        r[1].t_final = None;
+        assert_eq!(inverse_failure_time(&r[1]), None);
+        // A failure at t = 0 has no finite 1/T.
+        r[0].failure_time = Some(0.0);
+        assert_eq!(inverse_failure_time(&r[0]), None);
     }
 
     #[test]
@@ -1110,6 +1152,29 @@ mod tests {
         let height = views[0].y.end - views[0].y.start;
         assert!(height <= 3.0 * tower.size(), "{height}");
         assert!(480.0 * 0.2 / height >= 20.0);
+    }
+
+    #[test]
+    fn an_animation_keeps_every_block_in_frame() {
+        // The tower falling off its table: snapshots frame the table, the animation
+        // keeps every block of every frame in its one view, with a margin.
+        let scene = lire(4, Perturbation::Bottom).unwrap();
+        let frames = moved(&scene, |t, k, p| {
+            if k == 0 {
+                p
+            } else {
+                Pose::new(p.x + 0.2 * t, p.y - 0.5 * t * t, p.theta + 0.3 * t)
+            }
+        });
+        let refs: Vec<&Frame> = frames.iter().collect();
+        let view = animation_view(&scene, &refs);
+        let all = frames
+            .iter()
+            .fold(Bounds::EMPTY, |a, f| a.union(extent(&scene, f)));
+        assert!(inside(&view, &all));
+        let margin = VIEW_MARGIN * all.size();
+        assert!((all.y0 - view.y.start - margin).abs() < 1e-9);
+        assert!((view.y.end - all.y1 - margin).abs() < 1e-9);
     }
 
     #[test]

@@ -3,14 +3,14 @@
 //! pair (§3.6: its forces, views, animation and Figure 3.14), drawn from the typed
 //! results of [`cylinders::studies`].
 
+use crate::animation::write_gif;
 use crate::plot::{with_png, Dash, Legend, LinePlot, Marker, Series, Style, PALETTE};
-use crate::{file, FigureError, Result};
+use crate::Result;
 use cylinders::kinematics::Cylinder;
 use cylinders::statics::FrictionLimit;
 use cylinders::studies::holonomy::PlanView;
 use cylinders::studies::pair::{pair_outline, PairSample, PairSweepRow, PushRow};
 use cylinders::studies::statics::StaticsFigures;
-use plotters::prelude::{BitMapBackend, IntoDrawingArea, WHITE};
 use std::ops::Range;
 use std::path::Path;
 
@@ -247,31 +247,13 @@ pub fn write_pair_animation(
     frames: &[(f64, Vec<f64>)],
     title: &str,
 ) -> Result<()> {
-    if frames.is_empty() {
-        return Err(FigureError::Data("no frame to animate"));
-    }
-    crate::plot::register_font();
-    let tmp = file::temp_sibling(path);
-    {
-        let root = BitMapBackend::gif(&tmp, (900, 420), 80)
-            .map_err(|e| FigureError::Write {
-                path: path.to_owned(),
-                message: e.to_string(),
-            })?
-            .into_drawing_area();
-        for (t, q) in frames {
-            root.fill(&WHITE).map_err(crate::err)?;
-            let (tb, sb) = pair_bounds(cylinder, q);
-            let [top, side] = pair_views(cylinder, q, &format!("{title}, t = {t:.2} s"), tb, sb);
-            let (left, right) = root.split_horizontally(450);
-            top.draw(&left)?;
-            side.draw(&right)?;
-            root.present().map_err(crate::err)?;
-        }
-    }
-    file::commit_temp(path).map_err(|e| FigureError::Write {
-        path: path.to_owned(),
-        message: e.to_string(),
+    write_gif(path, (900, 420), 80, frames.len(), |i, root| {
+        let (t, q) = &frames[i];
+        let (tb, sb) = pair_bounds(cylinder, q);
+        let [top, side] = pair_views(cylinder, q, &format!("{title}, t = {t:.2} s"), tb, sb);
+        let (left, right) = root.split_horizontally(450);
+        top.draw(&left)?;
+        side.draw(&right)
     })
 }
 

@@ -19,6 +19,7 @@
 //! - [`sphere`]: the rolling sphere: traces (Figure 2.1), rectangles and their panels
 //!   (Figures 2.6–2.9), the level sets of Figure 2.5, the integrator study.
 //! - [`rotations`]: a rotated basis and its axis in an oblique 3D view.
+//! - [`animation`]: animated GIFs, frames drawn in parallel, one palette per animation.
 //! - [`file`](mod@file): every file is written to a temporary sibling and renamed into place.
 //!
 //! ```
@@ -36,6 +37,7 @@
 //! ```
 #![warn(missing_docs)]
 
+pub mod animation;
 pub mod axis;
 pub mod blocks;
 pub mod cylinders;

@@ -6,7 +6,7 @@ use crate::plot::{
 };
 use crate::Result;
 use holonomy::rectangle::holonomy_angle;
-use holonomy::studies::level_sets::{level_set_branches, FIGURE_2_5_LEVELS_DEG};
+use holonomy::studies::level_sets::FIGURE_2_5_LEVELS_DEG;
 use holonomy::studies::plan::RectangleReport;
 use holonomy::studies::roll::{StudyPath, StudyRow};
 use holonomy::{Integrator, Trajectory};
@@ -154,15 +154,18 @@ fn common_bounds(points: &[(f64, f64)]) -> (Range<f64>, Range<f64>) {
     (x0 - pad..x1 + pad, y0 - pad..y1 + pad)
 }
 
-/// Figure 2.5: the level sets of ψ(ϑ, φ2) over [0, 2π]² ([`level_set_branches`],
+/// Figure 2.5: the level sets of ψ(ϑ, φ2) over [0, 2π]², traced on a grid ([`holonomy_angle`],
 /// (2.4.11) with the factor 2 of ERRATA item 1), one colour per level, the legend
 /// beside the square. A marked point shows `mark` if given.
 ///
 /// # Errors
 /// When the PNG cannot be written.
 pub fn plot_level_sets(path: &Path, mark: Option<(f64, f64)>) -> Result<()> {
+    // A rectangle outside the window is drawn at its sides modulo 2π: the title says so
+    // (the legend beside the square has no room for it).
+    let note = mark.map_or_else(String::new, |(t, p)| wrap_note(t, p));
     let mut plot = LinePlot::new(
-        "Level sets of ψ(ϑ, φ2), (2.4.11) corrected (Figure 2.5)",
+        format!("Level sets of ψ(ϑ, φ2), (2.4.11) corrected (Figure 2.5){note}"),
         "ϑ [rad]",
         "φ2 [rad]",
     );
@@ -170,12 +173,7 @@ pub fn plot_level_sets(path: &Path, mark: Option<(f64, f64)>) -> Result<()> {
     plot.legend = Legend::Right;
     plot.bounds = Some((0.0..TAU, 0.0..TAU));
     for deg in FIGURE_2_5_LEVELS_DEG {
-        // The branches as one series, broken between them.
-        let mut points = Vec::new();
-        for branch in level_set_branches(deg.to_radians(), 400) {
-            points.extend(branch.into_iter().map(|[t, p]| (t, p)));
-            points.push((f64::NAN, f64::NAN));
-        }
+        let points = level_set_points(deg.to_radians(), LEVEL_SET_CELLS);
         plot = plot.with(Series::line(format!("ψ = {deg}°"), points));
     }
     if let Some((t, p)) = mark {
@@ -196,6 +194,66 @@ pub fn plot_level_sets(path: &Path, mark: Option<(f64, f64)>) -> Result<()> {
         plot = plot.with(Series::markers(label, vec![(t, p)]).styled(Style::color(BASE_COLOR)));
     }
     plot.save(path, (1000, 760))
+}
+
+/// Grid cells along each side of [0, 2π]² in which Figure 2.5's level sets are traced.
+const LEVEL_SET_CELLS: usize = 300;
+
+/// The level set ψ(ϑ, φ2) = `psi` over [0, 2π]² as one series of segments broken by
+/// NaN points, traced by marching squares on a grid of `cells` × `cells`: every cell
+/// the curve crosses holds a piece of it, so the curve has no gap where it turns
+/// vertical (branches solved as functions of one angle leave gaps there).
+fn level_set_points(psi: f64, cells: usize) -> Vec<(f64, f64)> {
+    #[allow(clippy::cast_precision_loss)]
+    let at = |i: usize| TAU * i as f64 / cells as f64;
+    let value: Vec<Vec<f64>> = (0..=cells)
+        .map(|i| {
+            (0..=cells)
+                .map(|j| holonomy_angle(at(i), at(j)) - psi)
+                .collect()
+        })
+        .collect();
+    let mut points = Vec::new();
+    for i in 0..cells {
+        for j in 0..cells {
+            // Corners counter-clockwise, and where ψ − psi changes sign on each edge.
+            let corners = [(i, j), (i + 1, j), (i + 1, j + 1), (i, j + 1)];
+            let crossings: Vec<(f64, f64)> = (0..4)
+                .filter_map(|k| {
+                    let (a, b) = (corners[k], corners[(k + 1) % 4]);
+                    let (va, vb) = (value[a.0][a.1], value[b.0][b.1]);
+                    ((va < 0.0) != (vb < 0.0)).then(|| {
+                        let f = va / (va - vb);
+                        (
+                            at(a.0) + f * (at(b.0) - at(a.0)),
+                            at(a.1) + f * (at(b.1) - at(a.1)),
+                        )
+                    })
+                })
+                .collect();
+            // Two crossings: one segment; four (a saddle): two, paired along the edges.
+            for pair in crossings.chunks_exact(2) {
+                points.extend([pair[0], pair[1], (f64::NAN, f64::NAN)]);
+            }
+        }
+    }
+    points
+}
+
+/// What the title of Figure 2.5 adds when the marked rectangle lies outside the window
+/// [0, 2π)² and is drawn at its sides modulo 2π: e.g. "; this rectangle's φ2 = 8 drawn
+/// at 1.717 (mod 2π)"; empty inside the window.
+fn wrap_note(theta: f64, phi2: f64) -> String {
+    let moved: Vec<String> = [("ϑ", theta), ("φ2", phi2)]
+        .into_iter()
+        .filter(|&(_, v)| !(0.0..TAU).contains(&v))
+        .map(|(name, v)| format!("{name} = {v} drawn at {:.3}", v.rem_euclid(TAU)))
+        .collect();
+    if moved.is_empty() {
+        String::new()
+    } else {
+        format!("; this rectangle's {} (mod 2π)", moved.join(", "))
+    }
 }
 
 /// The integrator study: error of the final orientation against wall time on log–log
@@ -231,6 +289,47 @@ mod tests {
     use super::*;
     use holonomy::studies::plan::plan_report;
     use nalgebra::{Rotation3, Vector3};
+
+    #[test]
+    fn level_sets_have_no_gap() {
+        // ψ = 5°: sin²(ϑ/2) sin²(φ2/2) = sin²(ψ/4), so along the left side of the square
+        // ϑ = 2 asin(sqrt(s / sin²(φ2/2))); every such point lies within a grid cell of
+        // the drawn curve, where the curve turns vertical too (φ2 near π).
+        let cells = 300;
+        let psi = 5f64.to_radians();
+        let drawn: Vec<(f64, f64)> = level_set_points(psi, cells)
+            .into_iter()
+            .filter(|p| p.0.is_finite())
+            .collect();
+        let s = (psi / 4.0).sin().powi(2);
+        let h = TAU / f64::from(u32::try_from(cells).unwrap());
+        for k in 1..200 {
+            let phi2 = TAU * f64::from(k) / 200.0;
+            let b = (phi2 / 2.0).sin().powi(2);
+            if b < s {
+                continue;
+            }
+            let theta = 2.0 * (s / b).sqrt().asin();
+            let nearest = drawn
+                .iter()
+                .map(|p| (p.0 - theta).hypot(p.1 - phi2))
+                .fold(f64::INFINITY, f64::min);
+            assert!(nearest < h, "gap at φ2 = {phi2}: {nearest}");
+        }
+    }
+
+    #[test]
+    fn a_rectangle_outside_the_window_says_it_is_wrapped() {
+        assert_eq!(wrap_note(3.0, 1.5), "");
+        assert_eq!(
+            wrap_note(3.0, 8.0),
+            "; this rectangle's φ2 = 8 drawn at 1.717 (mod 2π)"
+        );
+        assert_eq!(
+            wrap_note(-1.0, 7.0),
+            "; this rectangle's ϑ = -1 drawn at 5.283, φ2 = 7 drawn at 0.717 (mod 2π)"
+        );
+    }
 
     #[test]
     fn every_rectangle_gets_a_panel() {
