@@ -36,7 +36,9 @@ pub struct PairArgs {
     /// Horizontal push P/mg at each top along e′2 (the applied force F of §3.3).
     #[arg(long, default_value_t = 0.0, value_parser = parse_finite, allow_hyphen_values = true)]
     pub push: f64,
-    /// Floor friction coefficient μ_s.
+    /// Floor friction coefficient μ_s (default 1, not the 0.2 of the other cylinder
+    /// commands: Figure 3.14 rolls both cylinders on the floor without slip, which μ_s = 1
+    /// holds; the 0.2 of Figures 3.3–3.8 may let the rims slip).
     #[arg(long, default_value_t = 1.0, value_parser = parse_finite, allow_hyphen_values = true)]
     pub mu_floor: f64,
     /// Friction coefficient μ_k between the cylinders.
