@@ -237,6 +237,7 @@ impl OutputArgs {
             max_frames: self.max_frames,
             title,
             defaults: blockstack::scene_info::Defaults::default(),
+            progress: !self.json,
         }
     }
 }

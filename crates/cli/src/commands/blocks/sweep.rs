@@ -175,6 +175,11 @@ impl<'a> SweepRun<'a> {
             keep_inputs(dir, id, &self.files)?;
         }
         let rows = resume_rows(out, id, self.output.complete, points, |lacking, record| {
+            let reused = points.len() - lacking.len();
+            // A merge reads every row back by design; only a resumed run says so.
+            if let (Some(dir), false, true) = (out, self.output.complete, reused > 0) {
+                crate::progress::resumed(dir, reused, points.len());
+            }
             par_map_ordered(lacking, self.name, |(i, p)| {
                 let row = f(p);
                 record(*i, &row).map(|()| row)
