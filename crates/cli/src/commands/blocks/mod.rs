@@ -23,6 +23,7 @@ pub mod shake;
 pub mod simulate;
 pub mod sweep;
 pub mod sweep_scene;
+pub mod units;
 pub mod work_precision;
 
 use anyhow::Result;

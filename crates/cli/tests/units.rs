@@ -1,0 +1,104 @@
+//! Physical units of `blocks shake`: `--width`, `--height` and `--gravity` reach the
+//! scene exactly as the keys `blocks.width`, `blocks.height` and `solver.gravity` of a
+//! scene file do, and `--hz f` is `--omega 2πf`.
+
+mod common;
+
+use common::{json, run, run_in, temp_dir};
+use serde_json::Value;
+
+/// The physics of a run's JSON: everything but timings and the scene's defaults list.
+fn physics(v: &Value) -> Vec<(&'static str, Value)> {
+    [
+        "steps",
+        "failure_time",
+        "failure",
+        "final",
+        "min_gap",
+        "events",
+        "t_final",
+        "max_penetration",
+    ]
+    .into_iter()
+    .map(|k| (k, v[k].clone()))
+    .chain(["gravity", "dt", "t_end"].map(|k| (k, v["scene"][k].clone())))
+    .collect()
+}
+
+#[test]
+fn shake_units_reach_the_scene_as_its_keys_do() {
+    let flags = [
+        "blocks",
+        "shake",
+        "--periods",
+        "2",
+        "--width",
+        "0.3",
+        "--height",
+        "0.5",
+        "--gravity",
+        "9.81",
+        "--json",
+    ];
+    let shaken = json(&flags);
+    let dir = temp_dir("units-scene");
+    std::fs::create_dir_all(&dir).unwrap();
+    let (ok, scene, err) = run(&["blocks", "scenes", "shaking"]);
+    assert!(ok, "{err}");
+    let edits = [
+        ("width = 0.2\nheight = 0.4", "width = 0.3\nheight = 0.5"),
+        ("gravity = 1.0", "gravity = 9.81"),
+        ("periods = 10", "periods = 2"),
+    ];
+    let mut scene = scene;
+    for (from, to) in edits {
+        assert_eq!(scene.matches(from).count(), 1, "{from:?} in {scene}");
+        scene = scene.replace(from, to);
+    }
+    std::fs::write(dir.join("scene.toml"), scene).unwrap();
+    let (ok, out, err) = run_in(&dir, &["blocks", "run", "scene.toml", "--json"]);
+    assert!(ok, "{err}");
+    let from_file: Value = serde_json::from_str(&out).unwrap();
+    assert_eq!(physics(&shaken), physics(&from_file));
+    assert_eq!(shaken["scene"]["gravity"], 9.81);
+    // The defaults are the thesis's, unchanged.
+    let thesis = json(&["blocks", "shake", "--periods", "2", "--json"]);
+    assert_ne!(physics(&thesis), physics(&shaken));
+    let _ = std::fs::remove_dir_all(dir);
+}
+
+#[test]
+fn hz_is_omega_over_two_pi() {
+    let by_omega = json(&[
+        "blocks",
+        "shake",
+        "--omega",
+        "pi",
+        "--periods",
+        "2",
+        "--json",
+    ]);
+    let by_hz = json(&["blocks", "shake", "--hz", "0.5", "--periods", "2", "--json"]);
+    assert_eq!(physics(&by_omega), physics(&by_hz));
+}
+
+#[test]
+fn bad_unit_flags_are_refused_by_name() {
+    for (args, names) in [
+        (&["--hz", "1", "--omega", "2"][..], &["--hz", "--omega"][..]),
+        (&["--hz", "0"], &["--hz"]),
+        (&["--hz", "-1"], &["--hz"]),
+        (&["--width", "0"], &["--width"]),
+        (&["--height", "-0.4"], &["--height"]),
+        (&["--gravity", "-9.81"], &["--gravity"]),
+    ] {
+        let mut all = vec!["blocks", "shake", "--periods", "1"];
+        all.extend(args);
+        let (ok, stdout, stderr) = run(&all);
+        assert!(!ok, "{all:?} succeeded: {stdout}");
+        for name in names {
+            assert!(stderr.contains(name), "{all:?}: {stderr}");
+        }
+        assert!(!stderr.contains("panicked"), "{all:?}: {stderr}");
+    }
+}
