@@ -102,3 +102,49 @@ fn bad_unit_flags_are_refused_by_name() {
         assert!(!stderr.contains("panicked"), "{all:?}: {stderr}");
     }
 }
+
+/// The first row of a `blocks sweep frequency` JSON, without its solver time.
+fn first_row(args: &[&str]) -> Value {
+    let mut all = vec!["blocks", "sweep", "frequency", "--json"];
+    all.extend(args);
+    let mut row = json(&all)["rows"][0].clone();
+    row["wall_time_s"] = Value::Null;
+    row
+}
+
+#[test]
+fn the_frequency_sweep_takes_the_units_of_shake() {
+    let column = ["--omega", "4", "--blocks", "3", "--periods", "6"];
+    let units = ["--width", "0.3", "--height", "0.5", "--gravity", "9.81"];
+    let row = first_row(&[&column[..], &units[..]].concat());
+    let shaken = json(&[&["blocks", "shake", "--json"][..], &column, &units].concat());
+    assert!(row["failure_time"].is_f64(), "{row}");
+    assert_eq!(row["failure_time"], shaken["failure_time"]);
+    assert_eq!(row["opening_time"], shaken["opening_time"]);
+    // The thesis's column survives these six periods: the units made the difference.
+    assert!(first_row(&column)["failure_time"].is_null());
+}
+
+#[test]
+fn the_frequency_sweep_takes_hz() {
+    let rest = ["--blocks", "2", "--periods", "2"];
+    let by_hz = first_row(&[&["--hz", "0.5"][..], &rest].concat());
+    let by_omega = first_row(&[&["--omega", "pi"][..], &rest].concat());
+    assert_eq!(by_hz, by_omega);
+    for (args, names) in [
+        (&["--hz", "1", "--omega", "2"][..], &["--hz", "--omega"][..]),
+        (&[][..], &["--hz", "--omega"][..]),
+        (
+            &["--hz", "1,-1"][..],
+            &["--hz must be positive, got -1"][..],
+        ),
+        (&["--omega", "4", "--width", "0"][..], &["--width"][..]),
+    ] {
+        let all = [&["blocks", "sweep", "frequency"][..], &rest, args].concat();
+        let (ok, _, stderr) = run(&all);
+        assert!(!ok, "{all:?} succeeded");
+        for name in names {
+            assert!(stderr.contains(name), "{all:?}: {stderr}");
+        }
+    }
+}
