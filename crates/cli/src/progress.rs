@@ -1,6 +1,6 @@
 //! Progress on stderr, shown only when stderr is a terminal (docs/architecture.md,
-//! Conventions): a bar over the rows of a sweep, a bar over model time for one run, and
-//! the one line a resumed sweep always prints.
+//! Conventions): a bar over the rows of a sweep, a bar over model time for one run, a
+//! spinner for work of unknown length, and the one line a resumed sweep always prints.
 
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use std::io::IsTerminal;
@@ -11,11 +11,23 @@ use std::path::Path;
 #[must_use]
 pub fn bar(len: u64, message: &str) -> ProgressBar {
     styled(
-        len,
+        Some(len),
         message,
         "{msg:>12} [{elapsed_precise}] {wide_bar} {pos}/{len} (eta {eta})",
         true,
     )
+}
+
+/// A line showing that work of unknown length is alive: a spinner, the elapsed time and
+/// `message` (set another with `set_message` as the work moves on); drawn when `wanted`
+/// (not with `--json`) and stderr is a terminal.
+#[must_use]
+pub fn busy(message: &str, wanted: bool) -> ProgressBar {
+    let pb = styled(None, message, "{spinner} [{elapsed_precise}] {msg}", wanted);
+    if !pb.is_hidden() {
+        pb.enable_steady_tick(std::time::Duration::from_millis(200));
+    }
+    pb
 }
 
 /// Units of the bar of one run: its model time in thousandths of `t_end`.
@@ -35,7 +47,7 @@ impl RunProgress {
     pub fn new(message: &str, t_end: f64, wanted: bool) -> Self {
         let template = "{msg:>12} [{elapsed_precise}] {wide_bar} {percent:>3}% of t (eta {eta})";
         Self {
-            bar: styled(RUN_UNITS, message, template, wanted),
+            bar: styled(Some(RUN_UNITS), message, template, wanted),
             t_end,
         }
     }
@@ -68,10 +80,10 @@ pub fn resumed(dir: &Path, reused: usize, total: usize) {
     );
 }
 
-/// A bar of `len` units drawn with `template` when `wanted` and stderr is a terminal,
-/// hidden otherwise.
-fn styled(len: u64, message: &str, template: &str, wanted: bool) -> ProgressBar {
-    let pb = ProgressBar::with_draw_target(Some(len), ProgressDrawTarget::hidden());
+/// A bar of `len` units (None: unknown) drawn with `template` when `wanted` and stderr
+/// is a terminal, hidden otherwise.
+fn styled(len: Option<u64>, message: &str, template: &str, wanted: bool) -> ProgressBar {
+    let pb = ProgressBar::with_draw_target(len, ProgressDrawTarget::hidden());
     if wanted && std::io::stderr().is_terminal() {
         pb.set_draw_target(ProgressDrawTarget::stderr());
         if let Ok(style) = ProgressStyle::with_template(template) {

@@ -103,3 +103,18 @@ fn a_single_run_on_a_terminal_shows_its_progress_but_not_with_json() {
     );
     assert!(json.trim_start().starts_with('{'), "{json:?}");
 }
+
+#[test]
+fn cylinder_pair_shows_it_is_alive_on_a_terminal_only() {
+    let pair = "cylinder pair --theta 30deg --steps 300";
+    let (ok, _, stderr) = run(&pair.split(' ').collect::<Vec<_>>());
+    assert!(ok, "{stderr}");
+    assert!(!has_progress_noise(&stderr), "{stderr:?}");
+    let Some(shown) = on_a_terminal(pair) else {
+        eprintln!("skipped: no `script` to make a terminal");
+        return;
+    };
+    assert!(shown.contains("cylinder pair: solving"), "{shown:?}");
+    let json = on_a_terminal(&format!("{pair} --json")).expect("`script` ran once");
+    assert!(!json.contains('\u{1b}'), "{json:?}");
+}

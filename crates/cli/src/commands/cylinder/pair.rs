@@ -78,9 +78,11 @@ pub(super) fn run(a: &PairArgs) -> Result<()> {
     super::check_steps(a.dt, a.steps)?;
     super::check_theta(settings.theta, &settings.cylinder)?;
     super::guard::check_time_bound(&settings, 1, a.force)?;
+    let busy = crate::progress::busy("cylinder pair: solving", !a.json);
     let mut report = run_pair(&settings, a.out.is_some())?;
     let trajectory = report.trajectory.take();
     if let (Some(dir), Some(samples)) = (&a.out, &trajectory) {
+        busy.set_message("cylinder pair: writing the files and the animation");
         ensure_dir(dir)?;
         write_pair_files(dir, &settings, &report, samples)?;
         write_run_json(
@@ -90,6 +92,7 @@ pub(super) fn run(a: &PairArgs) -> Result<()> {
             &serde_json::json!({"total_s": start.elapsed().as_secs_f64(), "solver_s": report.wall_time_s}),
         )?;
     }
+    busy.finish_and_clear();
     if a.json {
         return print_json(&report);
     }
