@@ -104,17 +104,33 @@ fn a_single_run_on_a_terminal_shows_its_progress_but_not_with_json() {
     assert!(json.trim_start().starts_with('{'), "{json:?}");
 }
 
-#[test]
-fn cylinder_pair_shows_it_is_alive_on_a_terminal_only() {
-    let pair = "cylinder pair --theta 30deg --steps 300";
-    let (ok, _, stderr) = run(&pair.split(' ').collect::<Vec<_>>());
+/// `command` (its words split at spaces) prints no progress when stderr is not a
+/// terminal, shows `stage` on a terminal, and nothing of the kind with `--json`.
+fn alive_on_a_terminal_only(command: &str, stage: &str) {
+    let (ok, _, stderr) = run(&command.split(' ').collect::<Vec<_>>());
     assert!(ok, "{stderr}");
     assert!(!has_progress_noise(&stderr), "{stderr:?}");
-    let Some(shown) = on_a_terminal(pair) else {
+    let Some(shown) = on_a_terminal(command) else {
         eprintln!("skipped: no `script` to make a terminal");
         return;
     };
-    assert!(shown.contains("cylinder pair: solving"), "{shown:?}");
-    let json = on_a_terminal(&format!("{pair} --json")).expect("`script` ran once");
+    assert!(shown.contains(stage), "{shown:?}");
+    let json = on_a_terminal(&format!("{command} --json")).expect("`script` ran once");
     assert!(!json.contains('\u{1b}'), "{json:?}");
+}
+
+#[test]
+fn cylinder_pair_shows_it_is_alive_on_a_terminal_only() {
+    alive_on_a_terminal_only(
+        "cylinder pair --theta 30deg --steps 300",
+        "cylinder pair: solving",
+    );
+}
+
+#[test]
+fn nsga_work_precision_shows_it_is_alive_on_a_terminal_only() {
+    alive_on_a_terminal_only(
+        "nsga work-precision --system oscillator --dts 0.01,0.005",
+        "nsga work-precision: solving",
+    );
 }
