@@ -334,12 +334,22 @@ impl Default for Sliding {
 /// # Errors
 /// Bad parameters (a negative μ, …).
 pub fn sliding_column(p: &Sliding) -> Result<Scene, BlockError> {
+    sliding_column_in(p, &ColumnUnits::default())
+}
+
+/// [`sliding_column`] with free blocks of another size or another gravity (`units`);
+/// the base keeps w = 0.2, h = 0.4.
+///
+/// # Errors
+/// Bad parameters (a negative μ, a block size not positive, g < 0, …).
+pub fn sliding_column_in(p: &Sliding, units: &ColumnUnits) -> Result<Scene, BlockError> {
     let base = Base::new(0.2, 0.4, BaseMotion::constant_velocity(p.v0)?)?;
-    let block = Block::new(0.2, 0.4, 1.0)?;
+    let block = Block::new(units.width, units.height, 1.0)?;
     let stacked = stack_on(&base, &vec![(block, 0.0, 0.0); p.blocks])?;
     let floor = Some(Floor::new(base.bottom()));
     let solver = SolverParams {
         t_end: p.t_end,
+        gravity: units.gravity,
         ..SolverParams::default()
     };
     Scene::new(

@@ -148,3 +148,32 @@ fn the_frequency_sweep_takes_hz() {
         }
     }
 }
+
+#[test]
+fn the_slide_sweep_takes_block_size_and_gravity() {
+    let sweep = [
+        "blocks", "sweep", "slide", "--v0", "1", "--t-end", "1", "--blocks", "2",
+    ];
+    let units = ["--width", "0.3", "--height", "0.5", "--gravity", "9.81"];
+    let dir = temp_dir("units-slide");
+    std::fs::create_dir_all(&dir).unwrap();
+    let d = dir.to_str().unwrap();
+    let (ok, _, err) = run(&[&sweep[..], &units, &["--out", d]].concat());
+    assert!(ok, "{err}");
+    let run_json: Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("run.json")).unwrap()).unwrap();
+    for (key, value) in [("width", 0.3), ("height", 0.5), ("gravity", 9.81)] {
+        assert_eq!(run_json["inputs"][key], value, "{key}");
+    }
+    // The units reach the run: at v0 = 1 the thesis's column has tilted by 0.26 rad at
+    // t = 1, the one in these units has toppled.
+    let thesis = json(&[&sweep[..], &["--json"]].concat())["rows"][0]["top_angle"].clone();
+    let sized = json(&[&sweep[..], &units, &["--json"]].concat())["rows"][0]["top_angle"].clone();
+    assert_ne!(thesis, sized);
+    let (ok, _, stderr) = run(&[&sweep[..], &["--gravity", "-1"]].concat());
+    assert!(
+        !ok && stderr.contains("--gravity must not be negative"),
+        "{stderr}"
+    );
+    let _ = std::fs::remove_dir_all(dir);
+}

@@ -11,10 +11,10 @@ use super::{run_cost, RunCost, SolverArgs};
 use crate::output::{ensure_dir, print_json, write_csv, write_run_json_with};
 use crate::sweep::{par_map_ordered, ShardChoice};
 use anyhow::{Context, Result};
-use blockstack::scenarios::{shaking_column_in, sliding_column, Shaking, Sliding};
+use blockstack::scenarios::{shaking_column_in, sliding_column_in, Shaking, Sliding};
 use blockstack::simulation::RunOptions;
 use blockstack::studies::shaking::{frequency_row_in, periods_for_horizon, FrequencyRow};
-use blockstack::studies::slide::{slide_row, SlideRow};
+use blockstack::studies::slide::{slide_row_in, SlideRow};
 use blockstack::Scene;
 use clap::{Args, Subcommand};
 use figures::blocks::{plot_frequency_sweep, plot_slide_sweep, FrequencySweep, SlideSweep};
@@ -340,6 +340,9 @@ pub struct SlideArgs {
     pub mu: f64,
     #[command(flatten)]
     #[allow(missing_docs)]
+    pub units: UnitArgs,
+    #[command(flatten)]
+    #[allow(missing_docs)]
     pub solver: SolverArgs,
     #[command(flatten)]
     #[allow(missing_docs)]
@@ -483,9 +486,11 @@ pub fn sweep_slide(args: &SlideArgs) -> Result<()> {
     let options = args
         .spread
         .apply(args.solver.run_options(Some(args.t_end), false)?)?;
+    let units = args.units.units()?;
     let all = parse_values(&args.v0).map_err(|e| anyhow::anyhow!("--v0: {e}"))?;
     let inputs = serde_json::json!({
         "v0": args.v0, "t_end": args.t_end, "blocks": args.blocks, "mu": args.mu,
+        "width": units.width, "height": units.height, "gravity": units.gravity,
         "branches": args.spread.branches,
         "branch_rule": args.spread.branch_rule.rule().name(),
     });
@@ -498,9 +503,9 @@ pub fn sweep_slide(args: &SlideArgs) -> Result<()> {
         mu: args.mu,
     };
     check_before_any_run(&speeds, &args.solver, &args.output, &options, |&(_, v0)| {
-        sliding_column(&column(v0)).with_context(|| format!("--v0 {}", input::Short(v0)))
+        sliding_column_in(&column(v0), &units).with_context(|| format!("--v0 {}", input::Short(v0)))
     })?;
-    let rows = sweep.rows(&speeds, |&v0| slide_row(&column(v0), &options))?;
+    let rows = sweep.rows(&speeds, |&v0| slide_row_in(&column(v0), &units, &options))?;
     if let Some(dir) = &args.output.out {
         ensure_dir(dir)?;
         let csv = rows.iter().map(SlideRow::csv_cells);
