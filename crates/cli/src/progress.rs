@@ -10,11 +10,17 @@ use std::path::Path;
 /// so scripts and CI logs stay clean.
 #[must_use]
 pub fn bar(len: u64, message: &str) -> ProgressBar {
+    bar_when(len, message, true)
+}
+
+/// [`bar`], drawn only when `wanted` (not with `--json`).
+#[must_use]
+pub fn bar_when(len: u64, message: &str, wanted: bool) -> ProgressBar {
     styled(
         Some(len),
         message,
         "{msg:>12} [{elapsed_precise}] {wide_bar} {pos}/{len} (eta {eta})",
-        true,
+        wanted,
     )
 }
 

@@ -128,6 +128,14 @@ fn cylinder_pair_shows_it_is_alive_on_a_terminal_only() {
 }
 
 #[test]
+fn blocks_explore_shows_its_branches_on_a_terminal_only() {
+    alive_on_a_terminal_only(
+        "blocks explore shaking --t-end 0.5 --max-branches 4",
+        "branches [",
+    );
+}
+
+#[test]
 fn nsga_work_precision_shows_it_is_alive_on_a_terminal_only() {
     alive_on_a_terminal_only(
         "nsga work-precision --system oscillator --dts 0.01,0.005",
