@@ -235,17 +235,49 @@ impl Default for Shaking {
     }
 }
 
+/// The size of the free blocks of a shaken column and the gravity it falls in. The
+/// thesis's blocks are w = 0.2, h = 0.4 with g = 1 (lengths in any unit L, times in
+/// √(L/g)); blocks in metres with g = 9.81 make the times seconds.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ColumnUnits {
+    /// Width w of each free block.
+    pub width: f64,
+    /// Height h of each free block.
+    pub height: f64,
+    /// Gravity g, along −y.
+    pub gravity: f64,
+}
+
+impl Default for ColumnUnits {
+    fn default() -> Self {
+        Self {
+            width: 0.2,
+            height: 0.4,
+            gravity: 1.0,
+        }
+    }
+}
+
 /// The harmonically shaken column (§4.4): identical blocks w = 0.2, h = 0.4, m = 1,
 /// aligned on a base w = 1, h = 0.1 moving as x⁰ = A sin ωt; floor at the base's bottom.
 ///
 /// # Errors
 /// Bad parameters (ω ≤ 0, negative μ, …).
 pub fn shaking_column(p: &Shaking) -> Result<Scene, BlockError> {
+    shaking_column_in(p, &ColumnUnits::default())
+}
+
+/// [`shaking_column`] with blocks of another size or another gravity (`units`); the
+/// base keeps w = 1, h = 0.1.
+///
+/// # Errors
+/// Bad parameters (ω ≤ 0, negative μ, a block size not positive, g < 0, …).
+pub fn shaking_column_in(p: &Shaking, units: &ColumnUnits) -> Result<Scene, BlockError> {
     input::positive("omega", p.omega)?;
     input::positive("periods", p.periods)?;
     input::positive("steps per period", p.steps_per_period)?;
     let base = Base::new(1.0, 0.1, BaseMotion::harmonic(p.amplitude, p.omega)?)?;
-    let mut block = Block::new(0.2, 0.4, 1.0)?;
+    let mut block = Block::new(units.width, units.height, 1.0)?;
     if p.start_with_base {
         block = block.moving(base.motion.at(0.0).velocity, 0.0, 0.0)?;
     }
@@ -254,6 +286,7 @@ pub fn shaking_column(p: &Shaking) -> Result<Scene, BlockError> {
     let solver = SolverParams {
         dt: p.period() / p.steps_per_period,
         t_end: p.duration(),
+        gravity: units.gravity,
         ..SolverParams::default()
     };
     Scene::new(
@@ -301,12 +334,22 @@ impl Default for Sliding {
 /// # Errors
 /// Bad parameters (a negative μ, …).
 pub fn sliding_column(p: &Sliding) -> Result<Scene, BlockError> {
+    sliding_column_in(p, &ColumnUnits::default())
+}
+
+/// [`sliding_column`] with free blocks of another size or another gravity (`units`);
+/// the base keeps w = 0.2, h = 0.4.
+///
+/// # Errors
+/// Bad parameters (a negative μ, a block size not positive, g < 0, …).
+pub fn sliding_column_in(p: &Sliding, units: &ColumnUnits) -> Result<Scene, BlockError> {
     let base = Base::new(0.2, 0.4, BaseMotion::constant_velocity(p.v0)?)?;
-    let block = Block::new(0.2, 0.4, 1.0)?;
+    let block = Block::new(units.width, units.height, 1.0)?;
     let stacked = stack_on(&base, &vec![(block, 0.0, 0.0); p.blocks])?;
     let floor = Some(Floor::new(base.bottom()));
     let solver = SolverParams {
         t_end: p.t_end,
+        gravity: units.gravity,
         ..SolverParams::default()
     };
     Scene::new(

@@ -445,10 +445,7 @@ fn frequency_sweep_keeps_order_and_refuses_bad_values_before_any_run() {
         d,
     ]);
     assert!(!ok && stdout.is_empty(), "{stdout}");
-    assert_eq!(
-        stderr.trim_end(),
-        "error: --omega -2: omega must be positive, got -2"
-    );
+    assert_eq!(stderr.trim_end(), "error: --omega must be positive, got -2");
     assert!(
         !dir.exists(),
         "nothing is written before the values are checked"

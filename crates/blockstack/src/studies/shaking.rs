@@ -2,7 +2,7 @@
 
 use crate::exploration::{leaf_spread, LeafSpread};
 use crate::record::{finite_text, optional_text};
-use crate::scenarios::{shaking_column, Shaking};
+use crate::scenarios::{shaking_column_in, ColumnUnits, Shaking};
 use crate::simulation::{simulate, RunOptions};
 
 /// How one run of the frequency sweep ended.
@@ -152,6 +152,16 @@ impl std::fmt::Display for FrequencyRow {
 /// failure (a bad parameter, a step that cannot be resolved) goes into the row.
 #[must_use]
 pub fn frequency_row(shaking: &Shaking, options: &RunOptions) -> FrequencyRow {
+    frequency_row_in(shaking, &ColumnUnits::default(), options)
+}
+
+/// [`frequency_row`] for blocks of another size or in another gravity (`units`).
+#[must_use]
+pub fn frequency_row_in(
+    shaking: &Shaking,
+    units: &ColumnUnits,
+    options: &RunOptions,
+) -> FrequencyRow {
     let mut row = FrequencyRow {
         omega: shaking.omega,
         horizon: shaking.duration(),
@@ -174,7 +184,7 @@ pub fn frequency_row(shaking: &Shaking, options: &RunOptions) -> FrequencyRow {
         stop_at_failure: true,
         ..options.clone()
     };
-    let scene = match shaking_column(shaking) {
+    let scene = match shaking_column_in(shaking, units) {
         Ok(s) => s,
         Err(e) => {
             row.error = Some(one_line(&e.to_string()));

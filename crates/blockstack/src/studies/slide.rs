@@ -3,7 +3,7 @@
 
 use crate::exploration::{leaf_spread, LeafSpread};
 use crate::record::{finite_text, optional_text, Frame};
-use crate::scenarios::{sliding_column, Sliding};
+use crate::scenarios::{sliding_column_in, ColumnUnits, Sliding};
 use crate::scene::Scene;
 use crate::simulation::{simulate, RunOptions};
 use crate::studies::shaking::one_line;
@@ -168,9 +168,15 @@ impl std::fmt::Display for SlideRow {
 }
 
 /// Runs the sliding column `p` (its blocks on a base pulled at `p.v0` to `p.t_end`, with
-/// friction `p.mu`, [`sliding_column`]); every failure goes into the row.
+/// friction `p.mu`, [`crate::scenarios::sliding_column`]); every failure goes into the row.
 #[must_use]
 pub fn slide_row(p: &Sliding, options: &RunOptions) -> SlideRow {
+    slide_row_in(p, &ColumnUnits::default(), options)
+}
+
+/// [`slide_row`] for free blocks of another size or in another gravity (`units`).
+#[must_use]
+pub fn slide_row_in(p: &Sliding, units: &ColumnUnits, options: &RunOptions) -> SlideRow {
     let mut row = SlideRow {
         v0: p.v0,
         top_angle: None,
@@ -186,7 +192,7 @@ pub fn slide_row(p: &Sliding, options: &RunOptions) -> SlideRow {
         top_angle_median: None,
         top_angle_max: None,
     };
-    let scene = match sliding_column(p) {
+    let scene = match sliding_column_in(p, units) {
         Ok(s) => s,
         Err(e) => {
             row.error = Some(one_line(&e.to_string()));
@@ -232,6 +238,7 @@ pub fn slide_row(p: &Sliding, options: &RunOptions) -> SlideRow {
 mod tests {
     use super::*;
     use crate::coordinates::Pose;
+    use crate::scenarios::sliding_column;
 
     #[test]
     fn csv_cells_match_the_header_and_name_the_regime() {

@@ -217,9 +217,11 @@ fn work_precision_command(a: &WorkPrecisionArgs) -> Result<()> {
     if !a.force {
         check_time_bound(system, &dts, rhos.len() + 1, repeat)?;
     }
+    let busy = crate::progress::busy("nsga work-precision: solving", !a.json);
     let rows = work_precision(system, &dts, &rhos, repeat)?;
     let csv = a.out.as_ref().map(|dir| dir.join("work_precision.csv"));
     if let Some(dir) = &a.out {
+        busy.set_message("nsga work-precision: writing the files");
         ensure_dir(dir)?;
         write_csv(
             &dir.join("work_precision.csv"),
@@ -238,6 +240,7 @@ fn work_precision_command(a: &WorkPrecisionArgs) -> Result<()> {
             &serde_json::json!({"total_wall_time_s": rows.iter().map(|r| r.wall_time_s).sum::<f64>()}),
         )?;
     }
+    busy.finish_and_clear();
     if a.json {
         print_json(&serde_json::json!({"rows": rows, "csv": csv}))?;
     } else {

@@ -178,7 +178,7 @@ pub fn run(args: &ExploreArgs) -> Result<()> {
         finished: Some(&finished),
         stop_at_failure: false,
     };
-    let bar = crate::progress::bar(args.max_branches as u64, "branches");
+    let bar = crate::progress::bar_when(args.max_branches as u64, "branches", !args.json);
     let done = AtomicBool::new(false);
     let tree = std::thread::scope(|s| {
         s.spawn(|| {

@@ -23,6 +23,7 @@ pub mod shake;
 pub mod simulate;
 pub mod sweep;
 pub mod sweep_scene;
+pub mod units;
 pub mod work_precision;
 
 use anyhow::Result;
@@ -237,6 +238,7 @@ impl OutputArgs {
             max_frames: self.max_frames,
             title,
             defaults: blockstack::scene_info::Defaults::default(),
+            progress: !self.json,
         }
     }
 }

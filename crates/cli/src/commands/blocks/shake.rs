@@ -3,22 +3,27 @@
 //! outputs of `blocks run`.
 
 use super::simulate::{finish_command, print_warnings, simulate_with_output};
+use super::units::{omega_of_hz, UnitArgs};
 use super::{OutputArgs, SolverArgs};
 use anyhow::Result;
-use blockstack::scenarios::{shaking_column, Shaking};
+use blockstack::scenarios::{shaking_column_in, Shaking};
 use clap::Args;
 use input::text::{parse_finite, parse_value};
 
 /// Arguments of `rollstack blocks shake`.
 #[derive(Debug, Args)]
 pub struct ShakeArgs {
-    /// Number of free blocks w = 0.2, h = 0.4, m = 1 in the column (≥ 1).
+    /// Number of free blocks (--width × --height, m = 1) in the column (≥ 1).
     #[arg(long, default_value_t = 4, allow_hyphen_values = true)]
     pub blocks: usize,
     /// Angular frequency ω of the base, x = A sin(ωt) (rad per time unit, > 0; `2pi`
     /// accepted).
     #[arg(long, default_value_t = 4.0, value_parser = parse_value, allow_hyphen_values = true)]
     pub omega: f64,
+    /// Frequency f of the base in cycles per time unit (Hz with lengths in metres and
+    /// --gravity 9.81), instead of --omega: ω = 2πf.
+    #[arg(long, value_parser = parse_finite, allow_hyphen_values = true, conflicts_with = "omega")]
+    pub hz: Option<f64>,
     /// Amplitude A of the base motion (length units).
     #[arg(long, default_value_t = 0.2, value_parser = parse_finite, allow_hyphen_values = true)]
     pub amplitude: f64,
@@ -40,6 +45,9 @@ pub struct ShakeArgs {
     pub t_end: Option<f64>,
     #[command(flatten)]
     #[allow(missing_docs)]
+    pub units: UnitArgs,
+    #[command(flatten)]
+    #[allow(missing_docs)]
     pub solver: SolverArgs,
     #[command(flatten)]
     #[allow(missing_docs)]
@@ -52,18 +60,22 @@ pub struct ShakeArgs {
 /// Bad parameters, a run that could not start or stopped early, or unwritable output.
 pub fn run_shake(args: &ShakeArgs) -> Result<()> {
     blockstack::scene::check_block_count("--blocks", args.blocks)?;
-    input::positive("--omega", args.omega)?;
+    let omega = match args.hz {
+        Some(hz) => omega_of_hz(input::positive("--hz", hz)?),
+        None => input::positive("--omega", args.omega)?,
+    };
     input::non_negative("--mu", args.mu)?;
+    let units = args.units.units()?;
     let p = Shaking {
         blocks: args.blocks,
         amplitude: args.amplitude,
-        omega: args.omega,
+        omega,
         periods: args.periods,
         steps_per_period: args.steps_per_period,
         mu: args.mu,
         start_with_base: args.start_with_base,
     };
-    let scene = shaking_column(&p)?;
+    let scene = shaking_column_in(&p, &units)?;
     let options = args.solver.run_options(args.t_end, false)?;
     args.solver.check_run(&scene, &options)?;
     let t_end = options.t_end.unwrap_or(scene.solver.t_end);
@@ -71,11 +83,13 @@ pub fn run_shake(args: &ShakeArgs) -> Result<()> {
         vec![0.0, 0.5 * t_end, t_end],
         format!(
             "shaken column, x = {} sin({} t)",
-            args.amplitude, args.omega
+            args.amplitude,
+            input::Short(omega)
         ),
     );
     let inputs = serde_json::json!({
-        "blocks": p.blocks, "omega": p.omega, "amplitude": p.amplitude, "mu": p.mu,
+        "blocks": p.blocks, "omega": p.omega, "hz": args.hz, "amplitude": p.amplitude,
+        "mu": p.mu, "width": units.width, "height": units.height, "gravity": units.gravity,
         "steps_per_period": p.steps_per_period, "start_with_base": p.start_with_base,
         "periods": args.t_end.is_none().then_some(p.periods), "t_end": t_end,
         "prox_constant": args.solver.prox_constant,

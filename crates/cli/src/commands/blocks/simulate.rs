@@ -6,6 +6,7 @@ use super::{OutputArgs, SolverArgs};
 use crate::output::{
     commit_temp, discard_temp, ensure_dir, print_json, temp_sibling, write_csv, write_run_json_with,
 };
+use crate::progress::RunProgress;
 use anyhow::{Context, Result};
 use blockstack::record::{RecordPlan, Recorder, Recording, TrajectoryError};
 use blockstack::simulation::{simulate, RunOptions, RunReport, RunSummary, RunWarning};
@@ -77,6 +78,9 @@ pub struct OutputPlan {
     pub title: String,
     /// The scene-file keys that took their defaults (empty for scenes built in code).
     pub defaults: Defaults,
+    /// Draw a progress bar over model time on stderr when it is a terminal (not with
+    /// `--json`).
+    pub progress: bool,
 }
 
 /// Runs one scene, writing the trajectory progressively and, afterwards, the branch
@@ -112,7 +116,12 @@ pub fn simulate_with_output(
         max_frames: plan.max_frames,
     };
     let mut recorder = Recorder::new(scene, t_end, &record_plan, writer)?;
-    let result = simulate(scene, options, |r| recorder.on_step(r));
+    let progress = RunProgress::new(command, t_end, plan.progress);
+    let result = simulate(scene, options, |r| {
+        progress.at(r.t);
+        recorder.on_step(r);
+    });
+    progress.finish();
     let (recording, writer, write_error) = recorder.finish();
     let io_failed = matches!(write_error, Some(TrajectoryError::Io(_)));
     // Keep what was computed even when the run is refused or stops (ERRATA 25).

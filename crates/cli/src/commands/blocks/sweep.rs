@@ -6,14 +6,15 @@
 //! manifest, outputs and exit status), which
 //! `sweep scene` ([`super::sweep_scene`]) uses too.
 
+use super::units::{omega_of_hz, UnitArgs};
 use super::{run_cost, RunCost, SolverArgs};
 use crate::output::{ensure_dir, print_json, write_csv, write_run_json_with};
 use crate::sweep::{par_map_ordered, ShardChoice};
 use anyhow::{Context, Result};
-use blockstack::scenarios::{shaking_column, sliding_column, Shaking, Sliding};
+use blockstack::scenarios::{shaking_column_in, sliding_column_in, Shaking, Sliding};
 use blockstack::simulation::RunOptions;
-use blockstack::studies::shaking::{frequency_row, periods_for_horizon, FrequencyRow};
-use blockstack::studies::slide::{slide_row, SlideRow};
+use blockstack::studies::shaking::{frequency_row_in, periods_for_horizon, FrequencyRow};
+use blockstack::studies::slide::{slide_row_in, SlideRow};
 use blockstack::Scene;
 use clap::{Args, Subcommand};
 use figures::blocks::{plot_frequency_sweep, plot_slide_sweep, FrequencySweep, SlideSweep};
@@ -175,6 +176,11 @@ impl<'a> SweepRun<'a> {
             keep_inputs(dir, id, &self.files)?;
         }
         let rows = resume_rows(out, id, self.output.complete, points, |lacking, record| {
+            let reused = points.len() - lacking.len();
+            // A merge reads every row back by design; only a resumed run says so.
+            if let (Some(dir), false, true) = (out, self.output.complete, reused > 0) {
+                crate::progress::resumed(dir, reused, points.len());
+            }
             par_map_ordered(lacking, self.name, |(i, p)| {
                 let row = f(p);
                 record(*i, &row).map(|()| row)
@@ -271,11 +277,17 @@ impl SpreadArgs {
 
 /// Arguments of `rollstack blocks sweep frequency`.
 #[derive(Debug, Args)]
+#[command(group = clap::ArgGroup::new("frequency").required(true).args(["omega", "hz"]))]
 pub struct FrequencyArgs {
     /// Base angular frequencies ω (rad per time unit), as A:B:STEP, one value or a comma
     /// list of them; each value may be a multiple of π (`2pi:6pi:pi`).
     #[arg(long, allow_hyphen_values = true)]
-    pub omega: String,
+    pub omega: Option<String>,
+    /// Base frequencies f in cycles per time unit (Hz with lengths in metres and
+    /// --gravity 9.81), as A:B:STEP, one value or a comma list, instead of --omega:
+    /// ω = 2πf.
+    #[arg(long, allow_hyphen_values = true)]
+    pub hz: Option<String>,
     /// Number of base periods simulated per run (the run stops at the failure). A fast
     /// base then gets less time than a slow one: prefer --t-max.
     #[arg(long, default_value_t = 10.0, value_parser = parse_finite, allow_hyphen_values = true)]
@@ -296,6 +308,9 @@ pub struct FrequencyArgs {
     /// Friction coefficient μ at every contact (dimensionless).
     #[arg(long, default_value_t = 0.2, value_parser = parse_finite, allow_hyphen_values = true)]
     pub mu: f64,
+    #[command(flatten)]
+    #[allow(missing_docs)]
+    pub units: UnitArgs,
     #[command(flatten)]
     #[allow(missing_docs)]
     pub solver: SolverArgs,
@@ -323,6 +338,9 @@ pub struct SlideArgs {
     /// Friction coefficient μ at every contact (dimensionless; Figure 4.7: 0.2).
     #[arg(long, default_value_t = 0.2, value_parser = parse_finite, allow_hyphen_values = true)]
     pub mu: f64,
+    #[command(flatten)]
+    #[allow(missing_docs)]
+    pub units: UnitArgs,
     #[command(flatten)]
     #[allow(missing_docs)]
     pub solver: SolverArgs,
@@ -367,6 +385,24 @@ pub fn check_before_any_run<P>(
     solver.check_cost(&costs, costliest.as_ref().map(|s| (s, options)))
 }
 
+/// The angular frequencies ω of `--omega`, or of `--hz` as 2πf, and how to name one of
+/// them in an error in the flag and unit the user typed.
+fn base_frequencies(args: &FrequencyArgs) -> Result<(Vec<f64>, impl Fn(f64) -> String)> {
+    let (flag, text, per_omega) = match (&args.omega, &args.hz) {
+        (Some(omega), _) => ("--omega", omega, 1.0),
+        (None, Some(hz)) => ("--hz", hz, omega_of_hz(1.0)),
+        (None, None) => anyhow::bail!("give --omega or --hz"),
+    };
+    let values = parse_values(text).map_err(|e| anyhow::anyhow!("{flag}: {e}"))?;
+    let omegas = values
+        .into_iter()
+        .map(|v| Ok(input::positive(flag, v)? * per_omega))
+        .collect::<Result<_>>()?;
+    Ok((omegas, move |omega: f64| {
+        format!("{flag} {}", input::Short(omega / per_omega))
+    }))
+}
+
 /// Runs `rollstack blocks sweep frequency`.
 ///
 /// # Errors
@@ -384,9 +420,11 @@ pub fn sweep_frequency(args: &FrequencyArgs) -> Result<()> {
     );
     anyhow::ensure!(args.mu >= 0.0, "--mu must not be negative");
     let options = args.spread.apply(args.solver.run_options(None, true)?)?;
-    let all = parse_values(&args.omega).map_err(|e| anyhow::anyhow!("--omega: {e}"))?;
+    let units = args.units.units()?;
+    let (all, typed) = base_frequencies(args)?;
     let inputs = serde_json::json!({
-        "omega": args.omega, "periods": args.t_max.is_none().then_some(args.periods),
+        "omega": args.omega, "hz": args.hz, "width": units.width, "height": units.height,
+        "gravity": units.gravity, "periods": args.t_max.is_none().then_some(args.periods),
         "t_max": args.t_max, "amplitude": args.amplitude,
         "blocks": args.blocks, "steps_per_period": args.steps_per_period, "mu": args.mu,
         "branches": args.spread.branches,
@@ -410,12 +448,11 @@ pub fn sweep_frequency(args: &FrequencyArgs) -> Result<()> {
         &args.solver,
         &args.output,
         &options,
-        |&(_, omega)| {
-            shaking_column(&column(omega))
-                .with_context(|| format!("--omega {}", input::Short(omega)))
-        },
+        |&(_, omega)| shaking_column_in(&column(omega), &units).with_context(|| typed(omega)),
     )?;
-    let rows = sweep.rows(&omegas, |&omega| frequency_row(&column(omega), &options))?;
+    let rows = sweep.rows(&omegas, |&omega| {
+        frequency_row_in(&column(omega), &units, &options)
+    })?;
     if let Some(dir) = &args.output.out {
         ensure_dir(dir)?;
         let csv = rows.iter().map(FrequencyRow::csv_cells);
@@ -449,9 +486,11 @@ pub fn sweep_slide(args: &SlideArgs) -> Result<()> {
     let options = args
         .spread
         .apply(args.solver.run_options(Some(args.t_end), false)?)?;
+    let units = args.units.units()?;
     let all = parse_values(&args.v0).map_err(|e| anyhow::anyhow!("--v0: {e}"))?;
     let inputs = serde_json::json!({
         "v0": args.v0, "t_end": args.t_end, "blocks": args.blocks, "mu": args.mu,
+        "width": units.width, "height": units.height, "gravity": units.gravity,
         "branches": args.spread.branches,
         "branch_rule": args.spread.branch_rule.rule().name(),
     });
@@ -464,9 +503,9 @@ pub fn sweep_slide(args: &SlideArgs) -> Result<()> {
         mu: args.mu,
     };
     check_before_any_run(&speeds, &args.solver, &args.output, &options, |&(_, v0)| {
-        sliding_column(&column(v0)).with_context(|| format!("--v0 {}", input::Short(v0)))
+        sliding_column_in(&column(v0), &units).with_context(|| format!("--v0 {}", input::Short(v0)))
     })?;
-    let rows = sweep.rows(&speeds, |&v0| slide_row(&column(v0), &options))?;
+    let rows = sweep.rows(&speeds, |&v0| slide_row_in(&column(v0), &units, &options))?;
     if let Some(dir) = &args.output.out {
         ensure_dir(dir)?;
         let csv = rows.iter().map(SlideRow::csv_cells);

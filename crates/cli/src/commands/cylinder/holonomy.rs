@@ -84,7 +84,8 @@ pub struct RectangleArgs {
     #[arg(long, allow_hyphen_values = true, default_value = "0")]
     pub psi0: RotationAngle,
     /// Aspect ratio r/h of the cylinder, for the rolled traces only (lengths are in units
-    /// of r; Figure 3.10: 0.12, h = 8.3333 r).
+    /// of r; default 0.12, not the 0.1 of `statics` and `support`: Figure 3.10's
+    /// h = 8.3333 r).
     #[arg(long, default_value_t = 0.12, value_parser = parse_finite, allow_hyphen_values = true)]
     pub r_over_h: f64,
     /// The old form of `--r-over-h`: the height in units of r, h/r = 1/(r/h).

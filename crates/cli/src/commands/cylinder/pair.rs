@@ -36,7 +36,9 @@ pub struct PairArgs {
     /// Horizontal push P/mg at each top along e′2 (the applied force F of §3.3).
     #[arg(long, default_value_t = 0.0, value_parser = parse_finite, allow_hyphen_values = true)]
     pub push: f64,
-    /// Floor friction coefficient μ_s.
+    /// Floor friction coefficient μ_s (default 1, not the 0.2 of the other cylinder
+    /// commands: Figure 3.14 rolls both cylinders on the floor without slip, which μ_s = 1
+    /// holds; the 0.2 of Figures 3.3–3.8 may let the rims slip).
     #[arg(long, default_value_t = 1.0, value_parser = parse_finite, allow_hyphen_values = true)]
     pub mu_floor: f64,
     /// Friction coefficient μ_k between the cylinders.
@@ -76,9 +78,11 @@ pub(super) fn run(a: &PairArgs) -> Result<()> {
     super::check_steps(a.dt, a.steps)?;
     super::check_theta(settings.theta, &settings.cylinder)?;
     super::guard::check_time_bound(&settings, 1, a.force)?;
+    let busy = crate::progress::busy("cylinder pair: solving", !a.json);
     let mut report = run_pair(&settings, a.out.is_some())?;
     let trajectory = report.trajectory.take();
     if let (Some(dir), Some(samples)) = (&a.out, &trajectory) {
+        busy.set_message("cylinder pair: writing the files and the animation");
         ensure_dir(dir)?;
         write_pair_files(dir, &settings, &report, samples)?;
         write_run_json(
@@ -88,6 +92,7 @@ pub(super) fn run(a: &PairArgs) -> Result<()> {
             &serde_json::json!({"total_s": start.elapsed().as_secs_f64(), "solver_s": report.wall_time_s}),
         )?;
     }
+    busy.finish_and_clear();
     if a.json {
         return print_json(&report);
     }

@@ -36,13 +36,15 @@ pub struct PushSweepArgs {
     /// is the onset).
     #[arg(long, default_value = "0:0.5:0.01", allow_hyphen_values = true)]
     pub push: String,
-    /// Floor friction coefficient μ_s.
+    /// Floor friction coefficient μ_s (Figures 3.3–3.8: 0.2, as `--mu` of `cylinder
+    /// statics` and `support`).
     #[arg(long, default_value_t = 0.2, value_parser = parse_finite, allow_hyphen_values = true)]
     pub mu_floor: f64,
     /// Time step Δt, s.
     #[arg(long, default_value_t = 2e-3, value_parser = parse_finite, allow_hyphen_values = true)]
     pub dt: f64,
-    /// Number of steps per run (the push reaches its value after 0.05 s).
+    /// Number of steps per run (fewer than the 2000 of `pair`: the push reaches its value
+    /// after 0.05 s and a rim slips, or not, soon after).
     #[arg(long, default_value_t = 100, allow_hyphen_values = true)]
     pub steps: usize,
     /// Run even when the runs are estimated to take longer than ten minutes.
