@@ -207,10 +207,29 @@ fn endless_runs_are_refused_up_front_with_the_estimate_and_the_flag_that_forces_
 
 #[test]
 fn the_time_guard_is_calibrated_on_the_first_steps() {
-    // 50 blocks for 10⁵ steps: 100 s at the typical 20 µs per block and step, so only
-    // the cost measured on the first steps tells that it is too long (ten minutes and
-    // more, as run).
-    let out = rollstack(&["blocks", "shake", "--blocks", "50", "--periods", "1000"]);
+    // 50 blocks for 5.5·10⁵ steps: 550 s at the typical 20 µs per block and step, under
+    // the bound, so only the cost measured on the first steps (over 100 µs in a test
+    // build, 38 µs in a release build) tells that it is too long. (The 10⁵ steps
+    // are 100 s at 20 µs; their first steps measure 109 µs in a test build on an idle
+    // machine, under the 120 µs that refuses them, and the column's later steps cost
+    // more than its first: a calibration on the first steps cannot see that.)
+    // A guard that lets the run through would hold the suite for ten minutes: the run
+    // gets 120 s (the refusal takes under a second) and is killed after that.
+    let mut child = Command::new(env!("CARGO_BIN_EXE_rollstack"))
+        .args(["blocks", "shake", "--blocks", "50", "--periods", "5500"])
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let deadline = std::time::Instant::now() + std::time::Duration::from_secs(120);
+    while child.try_wait().unwrap().is_none() {
+        if std::time::Instant::now() > deadline {
+            child.kill().unwrap();
+            panic!("the guard let a run estimated at 550 s by block count go on for 120 s");
+        }
+        std::thread::sleep(std::time::Duration::from_millis(50));
+    }
+    let out = child.wait_with_output().unwrap();
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert_eq!(out.status.code(), Some(1), "{stderr}");
     assert!(
