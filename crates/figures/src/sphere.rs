@@ -240,6 +240,13 @@ fn level_set_points(psi: f64, cells: usize) -> Vec<(f64, f64)> {
     points
 }
 
+/// `v` to four decimal places without trailing zeros (3π as 9.4248, 8 as 8), short
+/// enough for a title.
+fn four_places(v: f64) -> String {
+    let text = format!("{v:.4}");
+    text.trim_end_matches('0').trim_end_matches('.').to_owned()
+}
+
 /// What the title of Figure 2.5 adds when the marked rectangle lies outside the window
 /// [0, 2π)² and is drawn at its sides modulo 2π: e.g. "; this rectangle's φ2 = 8 drawn
 /// at 1.717 (mod 2π)"; empty inside the window.
@@ -247,7 +254,13 @@ fn wrap_note(theta: f64, phi2: f64) -> String {
     let moved: Vec<String> = [("ϑ", theta), ("φ2", phi2)]
         .into_iter()
         .filter(|&(_, v)| !(0.0..TAU).contains(&v))
-        .map(|(name, v)| format!("{name} = {v} drawn at {:.3}", v.rem_euclid(TAU)))
+        .map(|(name, v)| {
+            format!(
+                "{name} = {} drawn at {:.3}",
+                four_places(v),
+                v.rem_euclid(TAU)
+            )
+        })
         .collect();
     if moved.is_empty() {
         String::new()
@@ -328,6 +341,11 @@ mod tests {
         assert_eq!(
             wrap_note(-1.0, 7.0),
             "; this rectangle's ϑ = -1 drawn at 5.283, φ2 = 7 drawn at 0.717 (mod 2π)"
+        );
+        // 3π printed whole took 16 digits of the title (the tour's Figure 2.5).
+        assert_eq!(
+            wrap_note(1.0, 3.0 * std::f64::consts::PI),
+            "; this rectangle's φ2 = 9.4248 drawn at 3.142 (mod 2π)"
         );
     }
 
