@@ -42,11 +42,13 @@ WORKLOADS = {
 }
 
 
-def run(binary, name, tmp):
-    """One run of workload `name`: (counts, solver seconds, steps)."""
+def run(binary, name, tmp, repeat):
+    """One run of workload `name`: (counts, solver seconds, worst µs per step)."""
     args = list(WORKLOADS[name])
     if name == "matrix":
-        args += ["--out", f"{tmp}/{name}-{abs(hash(binary))}"]
+        # A directory of its own for each run: a sweep run again into the same --out
+        # resumes from its row log and would report the first run's rows and times.
+        args += ["--out", f"{tmp}/{name}-{abs(hash(binary))}-{repeat}"]
     out = subprocess.run([binary, *args], capture_output=True, text=True, check=False)
     if out.returncode not in (0, 3):
         sys.exit(f"{binary} {' '.join(args)}: exit {out.returncode}\n{out.stderr}")
@@ -92,7 +94,7 @@ def main():
             results = {b: [] for b in a.binaries}
             for i in range(a.repeat):
                 for b in a.binaries:
-                    results[b].append(run(b, name, tmp))
+                    results[b].append(run(b, name, tmp, i))
                     print(f"{name}: {b} run {i + 1}/{a.repeat}", file=sys.stderr)
             for b, rs in results.items():
                 counts = rs[0][0]
