@@ -1125,18 +1125,24 @@ mod tests {
             .collect()
     }
 
-    #[test]
-    fn a_tower_falling_off_its_table_stays_large_in_a_fixed_view() {
-        // The Lire tower without a floor: the blocks slide off and fall for ever, 50
-        // length units in 10 time units; the table stays.
-        let scene = lire(4, Perturbation::Bottom).unwrap();
-        let frames = moved(&scene, |t, k, p| {
+    /// The frames of a tower whose blocks slide off the table and fall, 50 length units
+    /// in 10 time units, turning; the table (body 0) stays.
+    fn falling_off_the_table(scene: &Scene) -> Vec<Frame> {
+        moved(scene, |t, k, p| {
             if k == 0 {
                 p
             } else {
                 Pose::new(p.x + 0.2 * t, p.y - 0.5 * t * t, p.theta + 0.3 * t)
             }
-        });
+        })
+    }
+
+    #[test]
+    fn a_tower_falling_off_its_table_stays_large_in_a_fixed_view() {
+        // The Lire tower without a floor: the blocks slide off and fall for ever, 50
+        // length units in 10 time units; the table stays.
+        let scene = lire(4, Perturbation::Bottom).unwrap();
+        let frames = falling_off_the_table(&scene);
         let refs: Vec<&Frame> = frames.iter().collect();
         let views = frame_views(&scene, &refs);
         assert_eq!(views.len(), frames.len());
@@ -1159,13 +1165,7 @@ mod tests {
         // The tower falling off its table: snapshots frame the table, the animation
         // keeps every block of every frame in its one view, with a margin.
         let scene = lire(4, Perturbation::Bottom).unwrap();
-        let frames = moved(&scene, |t, k, p| {
-            if k == 0 {
-                p
-            } else {
-                Pose::new(p.x + 0.2 * t, p.y - 0.5 * t * t, p.theta + 0.3 * t)
-            }
-        });
+        let frames = falling_off_the_table(&scene);
         let refs: Vec<&Frame> = frames.iter().collect();
         let view = animation_view(&scene, &refs);
         let all = frames
