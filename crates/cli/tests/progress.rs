@@ -3,21 +3,8 @@
 
 mod common;
 
-use common::{run, temp_dir};
+use common::{run, temp_dir, SWEEP};
 use std::path::Path;
-
-/// A frequency sweep of eight rows, a few tens of milliseconds each.
-const SWEEP: &[&str] = &[
-    "blocks",
-    "sweep",
-    "frequency",
-    "--omega",
-    "2:9:1",
-    "--periods",
-    "2",
-    "--blocks",
-    "2",
-];
 
 /// Runs the sweep into `dir`: its stderr.
 fn sweep_into(dir: &Path) -> String {

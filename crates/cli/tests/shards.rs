@@ -3,23 +3,10 @@
 
 mod common;
 
-use common::temp_dir;
+use common::{temp_dir, SWEEP};
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 use std::time::{Duration, Instant};
-
-/// A frequency sweep of eight rows, a few tens of milliseconds each.
-const SWEEP: &[&str] = &[
-    "blocks",
-    "sweep",
-    "frequency",
-    "--omega",
-    "2:9:1",
-    "--periods",
-    "2",
-    "--blocks",
-    "2",
-];
 
 fn command(args: &[&str], threads: &str) -> Command {
     let mut c = Command::new(env!("CARGO_BIN_EXE_rollstack"));

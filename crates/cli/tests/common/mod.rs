@@ -6,6 +6,19 @@ use serde_json::Value;
 use std::path::PathBuf;
 use std::process::{Command, Output};
 
+/// A frequency sweep of eight rows, a few tens of milliseconds each.
+pub const SWEEP: &[&str] = &[
+    "blocks",
+    "sweep",
+    "frequency",
+    "--omega",
+    "2:9:1",
+    "--periods",
+    "2",
+    "--blocks",
+    "2",
+];
+
 /// Runs `rollstack` with `args`.
 pub fn rollstack(args: &[&str]) -> Output {
     Command::new(env!("CARGO_BIN_EXE_rollstack"))
