@@ -345,4 +345,7 @@ fn the_limits_in_the_docs_are_the_program_s() {
             "{said:?} not in docs/cli.md: {paragraph}"
         );
     }
+    let scenes = include_str!("../../../docs/scenes.md");
+    let said = format!("at most {MAX_BLOCKS} blocks in all");
+    assert!(scenes.contains(&said), "{said:?} not in docs/scenes.md");
 }
