@@ -88,14 +88,7 @@ impl<S: System> Stepper<S> {
                     .sum::<f64>()
                     .max(0.0);
             let dirs = active.then(|| {
-                SlidingDirections::new(
-                    rl,
-                    (sets.d[j], sets.e[j]),
-                    &it.xi_v[vs..vs + nc],
-                    &it.p_f[f0..f0 + nc],
-                    (&it.v[vs..vs + nc], &it.acc_v[vs..vs + nc]),
-                    &x[o.lf + f0..o.lf + f0 + nc],
-                )
+                SlidingDirections::of_law(it, x, rl, (sets.d[j], sets.e[j]), (vs, o.lf, f0, nc))
             });
             for m in 0..nc {
                 let c = f0 + m;
@@ -426,14 +419,7 @@ impl Assembly<'_> {
             return;
         }
         let (it, rl) = (&w.it, w.r_law[j]);
-        let dirs = SlidingDirections::new(
-            rl,
-            (sets.d[j], sets.e[j]),
-            &it.xi_v[vs..vs + nc],
-            &it.p_f[f0..f0 + nc],
-            (&it.v[vs..vs + nc], &it.acc_v[vs..vs + nc]),
-            &x[o.lf + f0..o.lf + f0 + nc],
-        );
+        let dirs = SlidingDirections::of_law(it, x, rl, (sets.d[j], sets.e[j]), (vs, o.lf, f0, nc));
         let law_at = LawAt {
             law,
             f0,

@@ -1,6 +1,7 @@
 //! The sliding rows of a friction law (eqs. 139–142): the direction each row takes, and
 //! its derivative, guarded where the law's own vector is round-off (docs/method.md §3).
 
+use super::iterate::Iterate;
 use super::rows::RowMat;
 use crate::linalg::norm;
 
@@ -94,6 +95,26 @@ impl SlidingDirections {
                 None => None,
             },
         }
+    }
+
+    /// [`Self::new`] for the law whose `nc` components start at `f0`, at iterate `it`
+    /// and unknowns `x`: its velocities are rows `vs..` of the iterate, its λ_F the
+    /// unknowns `lf + f0..`.
+    pub(super) fn of_law(
+        it: &Iterate,
+        x: &[f64],
+        r: f64,
+        sets: (bool, bool),
+        (vs, lf, f0, nc): (usize, usize, usize, usize),
+    ) -> Self {
+        Self::new(
+            r,
+            sets,
+            &it.xi_v[vs..vs + nc],
+            &it.p_f[f0..f0 + nc],
+            (&it.v[vs..vs + nc], &it.acc_v[vs..vs + nc]),
+            &x[lf + f0..lf + f0 + nc],
+        )
     }
 }
 
