@@ -10,7 +10,9 @@
 //!   traced by P (radians, ERRATA 8), each checked by rolling along the path, and the
 //!   traces of Figures 3.10 and 3.12;
 //! - [`frobenius`]: the Frobenius test of the single cylinder (App. D) and of the pair
-//!   (§3.5, App. F; rank 9, ERRATA 13).
+//!   (§3.5, App. F; rank 9, ERRATA 13);
+//! - [`pair`]: the transport of two touching cylinders (§3.6) and its sweeps, with
+//!   [`pair_cost`], what their runs will cost before they start.
 //!
 //! Forces are divided by mg, angles are in radians, lengths in any one unit. Each report
 //! also carries its readable text (`Display`, the lines `rollstack cylinder ...` prints
@@ -20,5 +22,6 @@
 pub mod frobenius;
 pub mod holonomy;
 pub mod pair;
+pub mod pair_cost;
 pub mod statics;
 pub mod support;

@@ -387,7 +387,14 @@ impl std::fmt::Display for PairSweepRow {
 /// The row of the sweep at `settings.theta`: a failed run is a row with its error.
 #[must_use]
 pub fn pair_sweep_row(settings: &PairSettings) -> PairSweepRow {
-    match run_pair(settings, false) {
+    pair_sweep_row_until(settings, &AtomicBool::new(false))
+}
+
+/// [`pair_sweep_row`] whose run ends after its current step once `cancel` is set (the
+/// Python module sets it on Ctrl-C); the row then covers the steps taken.
+#[must_use]
+pub fn pair_sweep_row_until(settings: &PairSettings, cancel: &AtomicBool) -> PairSweepRow {
+    match run_pair_until(settings, false, cancel) {
         Ok(r) => PairSweepRow {
             theta: r.theta,
             n_over_mg: r.n_over_mg,
@@ -598,6 +605,19 @@ impl std::fmt::Display for PushRow {
 /// # Errors
 /// Bad settings (before any run); a run that fails is the row's `error`.
 pub fn push_row(base: &PairSettings, pushes: &[f64]) -> Result<PushRow, CylinderError> {
+    push_row_until(base, pushes, &AtomicBool::new(false))
+}
+
+/// [`push_row`] whose runs end after their current step once `cancel` is set (the
+/// Python module sets it on Ctrl-C): the row then holds no verdict worth keeping.
+///
+/// # Errors
+/// As [`push_row`].
+pub fn push_row_until(
+    base: &PairSettings,
+    pushes: &[f64],
+    cancel: &AtomicBool,
+) -> Result<PushRow, CylinderError> {
     base.system()?;
     let rho = base.cylinder.radius() / base.cylinder.height();
     let statics = SupportProblem::new(rho, base.mu_floor)?;
@@ -632,7 +652,7 @@ pub fn push_row(base: &PairSettings, pushes: &[f64]) -> Result<PushRow, Cylinder
             ..*base
         };
         row.runs += 1;
-        let r = match run_pair(&settings, false) {
+        let r = match run_pair_until(&settings, false, cancel) {
             Ok(r) => r,
             Err(e) => {
                 row.error = Some(format!("P/mg = {p}: {e}"));
@@ -660,7 +680,7 @@ pub fn push_row(base: &PairSettings, pushes: &[f64]) -> Result<PushRow, Cylinder
     }
     if row.error.is_none() {
         let delta = if push_step > 0.0 { push_step } else { 0.005 };
-        match minimum_force_check(base, delta) {
+        match minimum_force_check_until(base, delta, cancel) {
             Ok(m) => {
                 row.runs += 3;
                 row.minimum_force = Some(m);
@@ -729,6 +749,18 @@ pub fn minimum_force_check(
     base: &PairSettings,
     delta: f64,
 ) -> Result<MinimumForceCheck, CylinderError> {
+    minimum_force_check_until(base, delta, &AtomicBool::new(false))
+}
+
+/// [`minimum_force_check`] whose runs end after their current step once `cancel` is set.
+///
+/// # Errors
+/// As [`minimum_force_check`].
+pub fn minimum_force_check_until(
+    base: &PairSettings,
+    delta: f64,
+    cancel: &AtomicBool,
+) -> Result<MinimumForceCheck, CylinderError> {
     input::positive("push step δ", delta)?;
     let rho = base.cylinder.radius() / base.cylinder.height();
     let problem = SupportProblem::new(rho, base.mu_floor)?;
@@ -741,12 +773,13 @@ pub fn minimum_force_check(
     };
     // (admissible, ‖(P, F3)‖/mg, F3/mg, slip speed) measured at push p.
     let measure = |p: f64| -> Result<(bool, f64, f64, f64), CylinderError> {
-        let r = run_pair(
+        let r = run_pair_until(
             &PairSettings {
                 push_over_mg: p,
                 ..*base
             },
             false,
+            cancel,
         )?;
         let f3 = r.f3_over_mg[0];
         let admissible = r.max_floor_slip <= SLIP_THRESHOLD && f3 >= -MINIMUM_FORCE_TOLERANCE;
