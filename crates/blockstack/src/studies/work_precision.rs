@@ -25,6 +25,7 @@ use nsga::studies::ball::Scheme;
 use nsga::system::{Evaluation, System};
 use nsga::{MoreauOptions, MoreauStepper, Stepper};
 use std::fmt;
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Instant;
 
 /// The Newton tolerance of every run of the diagram (the scenes' own is 10⁻¹⁰, the
@@ -214,6 +215,28 @@ pub fn stack_work_precision(
     reference_factor: f64,
     repeat: usize,
 ) -> Result<StackWorkPrecision, BlockError> {
+    stack_work_precision_until(
+        bench,
+        dts,
+        reference_factor,
+        repeat,
+        &AtomicBool::new(false),
+    )
+}
+
+/// [`stack_work_precision`] whose runs stop before their next step once `cancel` is set
+/// (the Python module sets it on Ctrl-C): the reference run then fails, or the rows
+/// left carry [`CANCELLED`] as their error.
+///
+/// # Errors
+/// As [`stack_work_precision`].
+pub fn stack_work_precision_until(
+    bench: StackBenchmark,
+    dts: &[f64],
+    reference_factor: f64,
+    repeat: usize,
+    cancel: &AtomicBool,
+) -> Result<StackWorkPrecision, BlockError> {
     input::positive("reference factor", reference_factor)?;
     let smallest = dts.iter().copied().fold(f64::INFINITY, f64::min);
     if dts.is_empty() || !dts.iter().all(|&d| d > 0.0 && d.is_finite()) {
@@ -222,12 +245,12 @@ pub fn stack_work_precision(
         ));
     }
     let reference_dt = smallest / reference_factor;
-    let reference = run(bench, Scheme::Nsga, reference_dt)
+    let reference = run(bench, Scheme::Nsga, reference_dt, cancel)
         .map_err(|e| BlockError::Scene(format!("the reference run failed: {e}")))?;
     let mut rows = Vec::new();
     for scheme in [Scheme::Nsga, Scheme::Moreau] {
         for &dt in dts {
-            rows.push(match fastest_run(bench, scheme, dt, repeat) {
+            rows.push(match fastest_run(bench, scheme, dt, repeat, cancel) {
                 Ok(end) => StackWorkPrecisionRow {
                     scheme,
                     dt,
@@ -266,25 +289,34 @@ fn fastest_run(
     scheme: Scheme,
     dt: f64,
     repeat: usize,
+    cancel: &AtomicBool,
 ) -> Result<RunEnd, String> {
-    let mut end = run(bench, scheme, dt)?;
+    let mut end = run(bench, scheme, dt, cancel)?;
     for _ in 1..repeat {
-        let again = run(bench, scheme, dt)?;
+        let again = run(bench, scheme, dt, cancel)?;
         end.wall_time_s = end.wall_time_s.min(again.wall_time_s);
     }
     Ok(end)
 }
 
+/// The error of a run stopped by its `cancel` flag.
+pub const CANCELLED: &str = "cancelled";
+
 /// Takes `steps` steps of `stepper` and calls `observe` after each; returns the time
-/// spent in the steps alone (solver time, without what `observe` measures).
+/// spent in the steps alone (solver time, without what `observe` measures). Stops with
+/// [`CANCELLED`] before a step once `cancel` is set.
 fn timed_steps<S>(
     stepper: &mut S,
     steps: usize,
+    cancel: &AtomicBool,
     step: impl Fn(&mut S) -> Result<(), nsga::StepError>,
     mut observe: impl FnMut(&S),
 ) -> Result<f64, String> {
     let mut wall_time_s = 0.0;
     for _ in 0..steps {
+        if cancel.load(Ordering::Relaxed) {
+            return Err(CANCELLED.into());
+        }
         let clock = Instant::now();
         step(stepper).map_err(|e| e.to_string())?;
         wall_time_s += clock.elapsed().as_secs_f64();
@@ -294,7 +326,12 @@ fn timed_steps<S>(
 }
 
 /// One run to the benchmark's end time by `scheme` with step `dt`.
-fn run(bench: StackBenchmark, scheme: Scheme, dt: f64) -> Result<RunEnd, String> {
+fn run(
+    bench: StackBenchmark,
+    scheme: Scheme,
+    dt: f64,
+    cancel: &AtomicBool,
+) -> Result<RunEnd, String> {
     let scene = bench.scene(dt).map_err(|e| e.to_string())?;
     let steps = (bench.t_end() / dt).round() as usize;
     let system = StackSystem::new(scene.clone());
@@ -318,6 +355,7 @@ fn run(bench: StackBenchmark, scheme: Scheme, dt: f64) -> Result<RunEnd, String>
             wall_time_s = timed_steps(
                 &mut s,
                 steps,
+                cancel,
                 |s| s.step().map(drop),
                 |s| {
                     observe(s.state().t, &s.state().q, &s.state().u);
@@ -336,6 +374,7 @@ fn run(bench: StackBenchmark, scheme: Scheme, dt: f64) -> Result<RunEnd, String>
             wall_time_s = timed_steps(
                 &mut s,
                 steps,
+                cancel,
                 |s| s.step().map(drop),
                 |s| {
                     observe(s.state().t, &s.state().q, &s.state().u);
@@ -395,6 +434,14 @@ mod tests {
         let rows = [row(1e-2, 3e-4), row(1e-3, 3e-6), row(1e-4, 3e-8)];
         assert!((observed_order(&rows, Scheme::Nsga).unwrap() - 2.0).abs() < 1e-12);
         assert_eq!(observed_order(&rows, Scheme::Moreau), None);
+    }
+
+    #[test]
+    fn a_cancelled_study_stops_before_its_first_step() {
+        let cancel = AtomicBool::new(true);
+        let err = stack_work_precision_until(StackBenchmark::Block, &[1e-2], 4.0, 1, &cancel)
+            .unwrap_err();
+        assert!(err.to_string().contains(CANCELLED), "{err}");
     }
 
     #[test]
