@@ -19,7 +19,6 @@ use numpy::IntoPyArray;
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
-use rayon::prelude::*;
 use std::ops::ControlFlow;
 
 /// A validated block-stack scene: blocks, base and its motion, contact, solver, floor.
@@ -169,8 +168,14 @@ fn at_least_one_block(blocks: usize) -> PyResult<()> {
 }
 
 /// Refuses a run estimated over the ten-minute time guard (`time_guard::Guard`: the
-/// typical cost, then the cost of its first steps), unless `force`.
-fn check_time_bound(scene: &blockstack::Scene, options: &RunOptions, force: bool) -> PyResult<()> {
+/// typical cost, then the cost of its first steps), unless `force`; `advice` says which
+/// parameters to change.
+pub(crate) fn check_time_bound(
+    scene: &blockstack::Scene,
+    options: &RunOptions,
+    force: bool,
+    advice: &str,
+) -> PyResult<()> {
     if force {
         return Ok(());
     }
@@ -181,7 +186,32 @@ fn check_time_bound(scene: &blockstack::Scene, options: &RunOptions, force: bool
     };
     guard
         .check()
-        .map_err(|e| value_error(format!("{e}: shorten t_end, or pass force=True")))
+        .map_err(|e| value_error(format!("{e}: {advice}, or pass force=True")))
+}
+
+/// A branch rule by name: `"self_consistent"` (or the CLI's `"self-consistent"`) or
+/// `"converged"`.
+fn parse_branch_rule(name: &str) -> PyResult<nsga::BranchRule> {
+    match name {
+        "self_consistent" | "self-consistent" => Ok(nsga::BranchRule::SelfConsistent),
+        "converged" => Ok(nsga::BranchRule::Converged),
+        s => Err(value_error(format!(
+            "branch_rule must be 'self_consistent' (or 'self-consistent') or 'converged', got {s:?}"
+        ))),
+    }
+}
+
+/// `options` with the spread of a sweep's rows over `branches` motions of each run,
+/// found by `rule` (the CLI's `--branches`, `--branch-rule`).
+fn with_spread(options: RunOptions, branches: usize, rule: &str) -> PyResult<RunOptions> {
+    if branches == 0 {
+        return Err(value_error("branches must be at least 1, got 0"));
+    }
+    Ok(RunOptions {
+        spread_branches: branches,
+        branch_rule: parse_branch_rule(rule)?,
+        ..options
+    })
 }
 
 /// The Leaning Tower of Lire (§4.3): `scenarios::lire` or `lire_on_floor`.
@@ -398,7 +428,7 @@ fn blocks_simulate<'py>(
             stop_at_failure,
             low_rank_updates,
         )?;
-        check_time_bound(&scene.scene, &options, force)?;
+        check_time_bound(&scene.scene, &options, force, "shorten t_end")?;
         let mut trajectory = Trajectory::default();
         let mut interrupt: Option<PyErr> = None;
         let summary = simulate_until(&scene.scene, &options, |r| {
@@ -469,7 +499,7 @@ fn blocks_simulate<'py>(
 /// Rows of Figure 4.6 (`studies::shaking::frequency_row`), one per ω, in parallel on
 /// rayon with the GIL released; each row as the CLI's `blocks sweep frequency --json`.
 #[pyfunction]
-#[pyo3(signature = (omegas, periods, amplitude, blocks, steps_per_period, mu, prox_constant = None, explore_branches = true, last_resort = true, t_max = None, low_rank_updates = true))]
+#[pyo3(signature = (omegas, periods, amplitude, blocks, steps_per_period, mu, prox_constant = None, explore_branches = true, last_resort = true, t_max = None, low_rank_updates = true, branches = 1, branch_rule = "self_consistent"))]
 #[allow(clippy::too_many_arguments)]
 fn blocks_sweep_frequency<'py>(
     py: Python<'py>,
@@ -484,12 +514,14 @@ fn blocks_sweep_frequency<'py>(
     last_resort: bool,
     t_max: Option<f64>,
     low_rank_updates: bool,
+    branches: usize,
+    branch_rule: &str,
 ) -> PyResult<Bound<'py, PyAny>> {
     guard(|| {
         if let Some(t) = t_max {
             input::positive("t_max", t).map_err(value_error)?;
         }
-        let mut options = run_options(
+        let options = run_options(
             None,
             prox_constant,
             explore_branches,
@@ -497,6 +529,7 @@ fn blocks_sweep_frequency<'py>(
             true,
             low_rank_updates,
         )?;
+        let mut options = with_spread(options, branches, branch_rule)?;
         let columns = omegas
             .iter()
             .map(|&omega| {
@@ -514,7 +547,8 @@ fn blocks_sweep_frequency<'py>(
 /// Rows of Figure 4.7 (`studies::slide::slide_row`), one per v0, in parallel on rayon
 /// with the GIL released; each row as the CLI's `blocks sweep slide --json`.
 #[pyfunction]
-#[pyo3(signature = (speeds, t_end, blocks, mu, prox_constant = None, explore_branches = true, last_resort = true, low_rank_updates = true))]
+#[pyo3(signature = (speeds, t_end, blocks, mu, prox_constant = None, explore_branches = true, last_resort = true, low_rank_updates = true, branches = 1, branch_rule = "self_consistent"))]
+#[allow(clippy::too_many_arguments)]
 fn blocks_sweep_slide<'py>(
     py: Python<'py>,
     speeds: Vec<f64>,
@@ -525,9 +559,11 @@ fn blocks_sweep_slide<'py>(
     explore_branches: bool,
     last_resort: bool,
     low_rank_updates: bool,
+    branches: usize,
+    branch_rule: &str,
 ) -> PyResult<Bound<'py, PyAny>> {
     guard(|| {
-        let mut options = run_options(
+        let options = run_options(
             Some(t_end),
             prox_constant,
             explore_branches,
@@ -535,6 +571,7 @@ fn blocks_sweep_slide<'py>(
             false,
             low_rank_updates,
         )?;
+        let mut options = with_spread(options, branches, branch_rule)?;
         let columns = speeds
             .iter()
             .map(|&v0| {
@@ -598,31 +635,18 @@ fn blocks_sweep_scene<'py>(
     })
 }
 
-/// Runs `row` over `items` in parallel on rayon, in input order, and returns the rows as
-/// `json.loads` makes them of the CLI's JSON. `options` are the runs' options: their
-/// `cancel` flag is set here.
-///
-/// The rows run on a worker thread while this one checks for Ctrl-C
-/// ([`crate::interruptible`]): a `KeyboardInterrupt` sets the flag, which ends every run
-/// after its current step and keeps rows from starting.
+/// [`crate::parallel_rows`] of block-stack runs with `options`, whose `cancel` flag is
+/// set here: a Ctrl-C ends every run after its current step.
 fn parallel_rows<'py, P: Sync, R: Send + serde::Serialize>(
     py: Python<'py>,
     items: &[P],
     options: &mut RunOptions,
     row: impl Fn(&P, &RunOptions) -> R + Sync + Send,
 ) -> PyResult<Bound<'py, PyAny>> {
-    use std::sync::atomic::{AtomicBool, Ordering};
-    let cancel = std::sync::Arc::new(AtomicBool::new(false));
+    let cancel = std::sync::Arc::new(std::sync::atomic::AtomicBool::new(false));
     options.cancel = Some(cancel.clone());
     let options = &*options;
-    let rows = crate::interruptible(py, &cancel, || {
-        Ok(items
-            .par_iter()
-            .map(|p| (!cancel.load(Ordering::Relaxed)).then(|| row(p, options)))
-            .collect::<Vec<_>>())
-    })?;
-    let rows: Vec<R> = rows.into_iter().flatten().collect();
-    json_to_py(py, &rows)
+    crate::parallel_rows(py, items, &cancel, |p| row(p, options))
 }
 
 /// Every continuation of a scene's run (`blockstack::exploration`): the JSON of
@@ -660,15 +684,7 @@ fn blocks_explore<'py>(
                 )))
             }
         };
-        let rule = match branch_rule {
-            "self_consistent" => nsga::BranchRule::SelfConsistent,
-            "converged" => nsga::BranchRule::Converged,
-            s => {
-                return Err(value_error(format!(
-                    "branch_rule must be 'self_consistent' or 'converged', got {s:?}"
-                )))
-            }
-        };
+        let rule = parse_branch_rule(branch_rule)?;
         if max_branches == 0 {
             return Err(value_error("max_branches must be at least 1"));
         }

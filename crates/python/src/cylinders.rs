@@ -16,6 +16,9 @@ use cylinders::studies::frobenius::{
     integrability_report, ConstraintSystem, FrobeniusCase, PairConfiguration,
 };
 use cylinders::studies::holonomy::{circle_report, rectangle_report, RollSettings};
+use cylinders::studies::pair::PairSettings;
+use cylinders::studies::pair_cost::pair_cost;
+use cylinders::studies::statics::statics_figures;
 use cylinders::studies::support::support_report;
 use cylinders::CylinderError;
 use nalgebra::{DMatrix, RealField};
@@ -45,6 +48,64 @@ fn cylinders_support<'py>(
         }
         json_to_py(py, &report)
     })
+}
+
+/// The support-force curves of Figures 3.3, 3.4, 3.5, 3.7 and 3.8
+/// (`studies::statics::statics_figures`): what `cylinder statics` writes to its CSV
+/// files, as one dict.
+#[pyfunction]
+#[pyo3(signature = (r_over_h = 0.1, mu = 0.2, points = 721))]
+fn cylinders_statics<'py>(
+    py: Python<'py>,
+    r_over_h: f64,
+    mu: f64,
+    points: usize,
+) -> PyResult<Bound<'py, PyAny>> {
+    guard(|| {
+        input::non_negative("r_over_h", r_over_h).map_err(value_error)?;
+        input::non_negative("mu", mu).map_err(value_error)?;
+        let figures = statics_figures(r_over_h, mu, points).map_err(value_error)?;
+        json_to_py(py, &figures)
+    })
+}
+
+/// Refuses a time step or step count of the pair's runs under their Python names,
+/// before the runs of each inclination would refuse them under the library's.
+pub(crate) fn check_steps(dt: f64, steps: usize) -> PyResult<()> {
+    input::positive("dt", dt).map_err(value_error)?;
+    if steps == 0 {
+        return Err(PyValueError::new_err("steps must be at least 1, got 0"));
+    }
+    Ok(())
+}
+
+/// Refuses an inclination `theta` (rad) of the pair outside (arctan(2r/h), π/2), naming
+/// the parameter (the library names it "inclination ϑ").
+pub(crate) fn check_pair_theta(theta: f64, cylinder: &Cylinder) -> PyResult<()> {
+    let (lo, hi) = cylinders::transport::inclination_range(cylinder);
+    input::finite("theta", theta).map_err(value_error)?;
+    if theta > lo && theta < hi {
+        return Ok(());
+    }
+    Err(PyValueError::new_err(format!(
+        "theta {} rad is outside ({lo:.4}, {hi:.4}) = (arctan(2r/h), π/2), the inclinations of the pair",
+        input::Short(theta)
+    )))
+}
+
+/// Refuses `runs` runs of `settings` estimated to take longer than the ten-minute time
+/// guard (`studies::pair_cost`, measured on the first steps), unless `force`.
+pub(crate) fn check_pair_time(settings: &PairSettings, runs: usize, force: bool) -> PyResult<()> {
+    use blockstack::time_guard::TIME_BOUND_S;
+    if force {
+        return Ok(());
+    }
+    match pair_cost(settings, runs, rayon::current_num_threads()) {
+        Some(cost) if cost.seconds > TIME_BOUND_S => Err(PyValueError::new_err(format!(
+            "{cost}, more than {TIME_BOUND_S} s: take fewer steps or values, or pass force=True"
+        ))),
+        _ => Ok(()),
+    }
 }
 
 /// The Frobenius test of a bundled constraint system
@@ -327,7 +388,7 @@ fn cylinders_holonomy_circle<'py>(
 /// step), with the GIL released: the report as `cylinder pair --json` and the trajectory
 /// as numpy arrays. A failing step raises `SolverError`.
 #[pyfunction]
-#[pyo3(signature = (theta, dt = 2e-3, steps = 2000, spin = -6.0 * std::f64::consts::PI, ramp = None, mu_floor = 1.0, mu_mutual = 0.4, push_over_mg = 0.0, rho_inf = 0.5))]
+#[pyo3(signature = (theta, dt = 2e-3, steps = 2000, spin = -6.0 * std::f64::consts::PI, ramp = None, mu_floor = 1.0, mu_mutual = 0.4, push_over_mg = 0.0, rho_inf = 0.5, force = false))]
 #[allow(clippy::too_many_arguments)]
 fn cylinders_pair<'py>(
     py: Python<'py>,
@@ -340,8 +401,9 @@ fn cylinders_pair<'py>(
     mu_mutual: f64,
     push_over_mg: f64,
     rho_inf: f64,
+    force: bool,
 ) -> PyResult<Bound<'py, PyDict>> {
-    use cylinders::studies::pair::{run_pair_until, PairSettings};
+    use cylinders::studies::pair::run_pair_until;
     use cylinders::transport::SpinProfile;
     use cylinders::CylinderError;
     use std::sync::atomic::AtomicBool;
@@ -368,6 +430,9 @@ fn cylinders_pair<'py>(
             push_over_mg,
             ..PairSettings::thesis(theta)
         };
+        check_steps(dt, steps)?;
+        check_pair_theta(theta, &settings.cylinder)?;
+        check_pair_time(&settings, 1, force)?;
         // On a worker thread, so that Ctrl-C is seen while it runs: the run stops
         // after its current step.
         let cancel = AtomicBool::new(false);
@@ -414,6 +479,7 @@ fn cylinders_pair<'py>(
 pub(crate) fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(cylinders_pair, m)?)?;
     m.add_function(wrap_pyfunction!(cylinders_support, m)?)?;
+    m.add_function(wrap_pyfunction!(cylinders_statics, m)?)?;
     m.add_function(wrap_pyfunction!(cylinders_frobenius, m)?)?;
     m.add_function(wrap_pyfunction!(cylinders_frobenius_callable, m)?)?;
     m.add_function(wrap_pyfunction!(cylinders_holonomy_rectangle, m)?)?;

@@ -14,7 +14,9 @@
 //! - long runs check for Ctrl-C between steps (`Python::check_signals`) and
 //!   sweeps run on rayon with the GIL released.
 
+mod block_studies;
 mod blocks;
+mod cylinder_sweeps;
 mod cylinders;
 mod nsga_py;
 mod rotations_py;
@@ -72,6 +74,55 @@ pub(crate) fn interruptible<T: Send>(
     })
 }
 
+/// Runs `row` over `items` in parallel on rayon, in input order, and returns the rows as
+/// `json.loads` makes them of the CLI's JSON.
+///
+/// The rows run on a worker thread while this one checks for Ctrl-C ([`interruptible`]):
+/// a `KeyboardInterrupt` sets `cancel`, which keeps rows from starting and which `row`
+/// watches to end the runs already started after their current step.
+pub(crate) fn parallel_rows<'py, P: Sync, R: Send + Serialize>(
+    py: Python<'py>,
+    items: &[P],
+    cancel: &AtomicBool,
+    row: impl Fn(&P) -> R + Sync + Send,
+) -> PyResult<Bound<'py, PyAny>> {
+    use rayon::prelude::*;
+    let rows = interruptible(py, cancel, || {
+        Ok(items
+            .par_iter()
+            .map(|p| (!cancel.load(Ordering::Relaxed)).then(|| row(p)))
+            .collect::<Vec<_>>())
+    })?;
+    let rows: Vec<R> = rows.into_iter().flatten().collect();
+    json_to_py(py, &rows)
+}
+
+/// The values of a sweep parameter `name`: the CLI's text (`"10deg:40deg:10deg"`,
+/// `"0.1,0.2"`, `"pi/6"`; `input::text::parse_values`), one number, or a sequence of
+/// numbers, each finite.
+pub(crate) fn sweep_values(name: &str, given: &Bound<'_, PyAny>) -> PyResult<Vec<f64>> {
+    let values = if let Ok(text) = given.extract::<String>() {
+        input::text::parse_values(&text)
+            .map_err(|e| PyValueError::new_err(format!("{name}: {e}")))?
+    } else if let Ok(one) = given.extract::<f64>() {
+        vec![one]
+    } else {
+        given.extract::<Vec<f64>>().map_err(|_| {
+            PyValueError::new_err(format!(
+                "{name} must be a number, a sequence of numbers or a text like \"0.1:0.5:0.1\", got {}",
+                given.get_type().name().map_or_else(|_| "?".to_owned(), |n| n.to_string())
+            ))
+        })?
+    };
+    if values.is_empty() {
+        return Err(PyValueError::new_err(format!("{name} holds no value")));
+    }
+    for &v in &values {
+        input::finite(name, v).map_err(value_error)?;
+    }
+    Ok(values)
+}
+
 pyo3::create_exception!(
     rollstack,
     SolverError,
@@ -106,9 +157,11 @@ fn _rollstack(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     m.add("SolverError", m.py().get_type::<SolverError>())?;
     blocks::register(m)?;
+    block_studies::register(m)?;
     sphere::register(m)?;
     rotations_py::register(m)?;
     cylinders::register(m)?;
+    cylinder_sweeps::register(m)?;
     nsga_py::register(m)?;
     Ok(())
 }

@@ -29,12 +29,19 @@ def _find_cli() -> str:
 
 
 @pytest.fixture(scope="session")
-def cli():
-    """Runs `rollstack ARGS... --json` and returns the parsed JSON (the exit status is
-    not checked: a run that stops early prints its JSON and exits with 1)."""
+def cli_exe() -> str:
+    """The path of the `rollstack` binary, for the commands without `--json` (their
+    files are compared instead)."""
     if shutil.which("cargo") is None and not os.environ.get("ROLLSTACK_CLI"):
         pytest.skip("no cargo and no ROLLSTACK_CLI: cannot compare with the command line")
-    exe = _find_cli()
+    return _find_cli()
+
+
+@pytest.fixture(scope="session")
+def cli(cli_exe):
+    """Runs `rollstack ARGS... --json` and returns the parsed JSON (the exit status is
+    not checked: a run that stops early prints its JSON and exits with 1)."""
+    exe = cli_exe
 
     def run(*args: str):
         out = subprocess.run([exe, *args, "--json"], capture_output=True, text=True)

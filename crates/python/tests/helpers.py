@@ -58,3 +58,18 @@ def exits_on_sigint(body: str) -> None:
     elapsed = time.monotonic() - sent
     assert code == 3, p.stdout.read()
     assert elapsed < 1.0, elapsed
+
+
+def read_csv(path):
+    """The columns of a CSV file the command line wrote, by header, as text cells."""
+    import csv
+
+    with open(path, newline="", encoding="utf-8") as f:
+        rows = list(csv.DictReader(f))
+    return {key: [row[key] for row in rows] for key in rows[0]} if rows else {}
+
+
+def cells(values):
+    """Numbers as the cells of the command line's CSV: None (no value) as an empty cell,
+    the others as floats to compare exactly (the CSV holds shortest round-trip forms)."""
+    return [None if v in ("", None) else float(v) for v in values]

@@ -105,7 +105,8 @@ def test_pair_bad_input():
 
 
 def test_ctrl_c_interrupts_a_long_pair_run():
-    exits_on_sigint("from rollstack import cylinders; cylinders.pair(0.5, steps=10**8)")
+    # Forced: the time guard would refuse 10⁸ steps up front.
+    exits_on_sigint("from rollstack import cylinders; cylinders.pair(0.5, steps=10**8, force=True)")
 
 
 def test_no_silent_nan():

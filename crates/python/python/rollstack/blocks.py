@@ -24,6 +24,7 @@ from typing import Any, Dict, List, Mapping, Optional, Sequence, Union
 import numpy as np
 
 from . import _rollstack
+from ._args import count, number
 from ._rollstack import SolverError
 
 __all__ = [
@@ -38,6 +39,8 @@ __all__ = [
     "sweep_slide",
     "sweep_scene",
     "explore",
+    "painleve",
+    "work_precision",
 ]
 
 
@@ -382,6 +385,8 @@ def sweep_frequency(
     last_resort: bool = True,
     t_max: Optional[float] = None,
     low_rank_updates: bool = True,
+    branches: int = 1,
+    branch_rule: str = "self_consistent",
 ) -> List[Dict[str, Any]]:
     """Failure time against the shaking frequency (Figure 4.6): one row per ω, each run
     until the first loss of support or the end of its periods, in parallel (rayon, the
@@ -391,7 +396,14 @@ def sweep_frequency(
     --json`` (omega, horizon, outcome, failure_time, inv_failure_time, opening_time,
     steps, error, ...); ``outcome`` is ``failed``, ``no_failure_by_horizon`` or
     ``stopped``, and a run the solver stops has its message in ``error``. Every ω is
-    checked before any run (``ValueError``). ``low_rank_updates`` as in :func:`simulate`."""
+    checked before any run (``ValueError``). ``low_rank_updates`` as in :func:`simulate`.
+
+    ``branches`` > 1 (``--branches``) also explores up to that many motions of each run
+    (:func:`explore`, its forks found by ``branch_rule``: ``"self_consistent"``, also
+    spelled ``"self-consistent"`` as on the command line, or ``"converged"``) and
+    reports the smallest, median and largest failure time over them
+    (``failure_time_min``, ``failure_time_median``, ``failure_time_max``, with
+    ``branches`` and ``failed_branches``). Ctrl-C is seen between the rows' explorations."""
     return _rollstack.blocks_sweep_frequency(
         [float(w) for w in omegas],
         float(periods),
@@ -404,6 +416,8 @@ def sweep_frequency(
         bool(last_resort),
         None if t_max is None else float(t_max),
         bool(low_rank_updates),
+        count("branches", branches),
+        str(branch_rule),
     )
 
 
@@ -417,10 +431,13 @@ def sweep_slide(
     explore_branches: bool = True,
     last_resort: bool = True,
     low_rank_updates: bool = True,
+    branches: int = 1,
+    branch_rule: str = "self_consistent",
 ) -> List[Dict[str, Any]]:
     """The top block's angle against the speed of the pulled base (Figure 4.7): one row
     per v0, in parallel, in input order: the rows of ``rollstack blocks sweep slide
-    --json``."""
+    --json``. ``branches`` and ``branch_rule`` as in :func:`sweep_frequency`, the
+    spread being that of the top block's angle."""
     return _rollstack.blocks_sweep_slide(
         [float(v) for v in speeds],
         float(t_end),
@@ -430,6 +447,8 @@ def sweep_slide(
         bool(explore_branches),
         bool(last_resort),
         bool(low_rank_updates),
+        count("branches", branches),
+        str(branch_rule),
     )
 
 
@@ -497,7 +516,7 @@ def explore(
     blocks explore``). ``strategy`` is ``"breadth"`` (a generation at a time, in
     parallel) or ``"depth"``; ``max_branches``, ``max_depth`` and ``max_wall`` (seconds)
     cap the tree; ``branch_rule`` is ``"self_consistent"`` (solutions of the step's
-    equations) or ``"converged"`` (the thesis's count); ``probe_flips`` also looks for
+    equations; also spelled ``"self-consistent"``, as on the command line) or ``"converged"`` (the thesis's count); ``probe_flips`` also looks for
     solutions Newton does not reveal (Painlevé's); ``classify`` labels each fork real,
     artefact or undecided against Δt/2, Δt/4 and the other prox.
 
@@ -518,4 +537,62 @@ def explore(
         bool(probe_flips),
         bool(classify),
         prox_constant,
+    )
+
+
+def painleve(
+    aspect: float, mu: float = 0.2, mu_max: float = 3.0, grid: int = 121
+) -> Dict[str, Any]:
+    """Painlevé's paradoxes for one block of aspect ratio w/h = ``aspect`` on a rough
+    plane (App. I, ERRATA 18), as ``rollstack blocks painleve``.
+
+    Returns a dict: ``report`` (the dict of ``rollstack blocks painleve --json``: the
+    admissible angles ``theta_min``, ``theta_max`` (I.1.3), the least friction
+    coefficient ``mu_min`` for which b of (I.1.8) can vanish (4/3) and where, per slip
+    direction, and the line-contact LCP (I.2.10) solved for μ_d = ``mu``), and the
+    b-sign grid of Figure I.2(b) (``painleve_b_grid.csv``): ``theta`` (grid,) rad,
+    ``mu`` (grid,) from 0 to ``mu_max``, ``b_slip_positive`` and ``b_slip_negative``
+    (grid, grid), row j at μ_d = ``mu[j]``, and ``admissible`` (grid,) bool.
+
+    Raises ``ValueError`` naming the parameter for an aspect ≤ 0, a negative ``mu``, a
+    ``mu_max`` ≤ 0, a ``grid`` under 2 or over 2000, NaN or a value of the wrong type.
+    """
+    return _rollstack.blocks_painleve(
+        number("aspect", aspect), number("mu", mu), number("mu_max", mu_max), count("grid", grid)
+    )
+
+
+def work_precision(
+    system: str = "block",
+    dts: Sequence[float] = (1e-2, 5e-3, 2e-3, 1e-3, 5e-4),
+    reference_factor: float = 16.0,
+    repeat: int = 3,
+    force: bool = False,
+) -> Dict[str, Any]:
+    """Speed against error for block stacks, as ``rollstack blocks work-precision``: each
+    Δt of ``dts`` run by the nonsmooth generalized-α scheme and by Moreau-Jean, the error
+    at the end time measured against a generalized-α run with Δt = min(dts) /
+    ``reference_factor``, each point the fastest of ``repeat`` runs.
+
+    ``system`` is ``"block"`` (one block sliding and rocking on a shaken base, to t = 2),
+    ``"column"`` (three blocks, to t = 0.8) or ``"lire"`` (the Lire collapse before its
+    first fork, to t = 5). Returns the dict of ``rollstack blocks work-precision --json``:
+    ``rows`` (scheme, dt, error, penetration, wall_time_s, error_message), ``orders``
+    (observed orders of each scheme), ``reference_dt``.
+
+    Runs with the GIL released; Ctrl-C stops it before the next step and raises
+    ``KeyboardInterrupt``. Raises ``ValueError`` naming the parameter for an unknown
+    system, a Δt that is not positive and finite, a ``reference_factor`` under 1,
+    ``repeat`` outside 1..1000, or a reference run estimated to take longer than ten
+    minutes (the time guard of the command line; ``force=True`` runs it anyway);
+    :class:`rollstack.SolverError` when the reference run fails.
+    """
+    if isinstance(dts, (str, bytes)) or not hasattr(dts, "__iter__"):
+        raise ValueError(f"dts must be a sequence of numbers, got {dts!r}")
+    return _rollstack.blocks_work_precision(
+        str(system),
+        [number(f"dts[{i}]", d) for i, d in enumerate(dts)],
+        number("reference_factor", reference_factor),
+        count("repeat", repeat),
+        bool(force),
     )

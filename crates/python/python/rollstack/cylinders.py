@@ -1,16 +1,30 @@
 """Inclined rolling cylinders (Ch. 3, App. D-F), from the ``cylinders`` crate.
 
-With the two-cylinder transport of §3.5–3.6 (`pair`).
+The support statics of §3.3 at one inclination (:func:`support`) and as the curves of
+Figures 3.3-3.8 (:func:`statics`), the holonomy of §3.4, the Frobenius test, and the
+two-cylinder transport of §3.5-3.6 (:func:`pair`), swept over the inclination
+(:func:`sweep_pair`, Figure 3.14) and over a push at the tops (:func:`sweep_push`).
 """
 
 from __future__ import annotations
 
 import math
-from typing import Any, Callable, Dict, Optional, Sequence
+from typing import Any, Callable, Dict, List, Optional, Sequence, Union
 
 from . import _rollstack
+from ._args import count, number, values
 
-__all__ = ["support", "holonomy_rectangle", "holonomy_circle", "frobenius", "frobenius_test", "pair"]
+__all__ = [
+    "support",
+    "statics",
+    "holonomy_rectangle",
+    "holonomy_circle",
+    "frobenius",
+    "frobenius_test",
+    "pair",
+    "sweep_pair",
+    "sweep_push",
+]
 
 
 def support(
@@ -25,6 +39,31 @@ def support(
     --json`` (normal forces at the friction limits, the least force; in newtons when
     ``mass`` is given)."""
     return _rollstack.cylinders_support(float(theta), float(r_over_h), float(mu), mass, float(gravity))
+
+
+def statics(r_over_h: float = 0.1, mu: float = 0.2, points: int = 721) -> Dict[str, Any]:
+    """The support-force curves of Figures 3.3, 3.4, 3.5, 3.7 and 3.8 (§3.3, corrected per
+    ERRATA 9-11) at ``points`` - 1 inclinations ϑ_k = (π/2) k / points: what ``rollstack
+    cylinder statics --r-over-h R --mu M --points N --out DIR`` writes to its CSV files,
+    as one dict.
+
+    ``figure_3_3`` (r/h = ``r_over_h``, μ = ``mu``), each member of ``figure_3_4`` (μ
+    fixed, r/h = 0, 0.05, 0.1, 0.15) and of ``figure_3_5`` (r/h fixed, μ = 0 … 0.6) has
+    ``r_over_h``, ``mu`` and ``rows``: ``theta`` with N/mg at F_f = +μN e′2
+    (``n_over_mg_plus``, (3.3.8)₊), on a smooth plane (``n_over_mg_smooth``, (3.3.10)) and
+    at F_f = −μN e′2 (``n_over_mg_minus``, (3.3.8)₋), None where no positive N exists:
+    the values :func:`support` gives at that ϑ. ``minimum_force`` has per ϑ the
+    unconstrained minimum (3.3.15) on the circle (3.3.20), whether it is ``admissible``
+    and the ``minimum`` over the admissible forces (3.3.15)-(3.3.19) (None without a
+    support); ``circle`` is the circle BC and ``self_balancing_theta`` ϑ of point D,
+    arctan(2r/h).
+
+    Raises ``ValueError`` naming the parameter for a negative or NaN ``r_over_h`` or
+    ``mu``, ``points`` outside [3, 100000], or a value of the wrong type.
+    """
+    return _rollstack.cylinders_statics(
+        number("r_over_h", r_over_h), number("mu", mu), count("points", points)
+    )
 
 
 def holonomy_rectangle(
@@ -117,6 +156,7 @@ def pair(
     mu_mutual: float = 0.4,
     push_over_mg: float = 0.0,
     rho_inf: float = 0.5,
+    force: bool = False,
 ) -> Dict[str, Any]:
     """Two touching gas cylinders rolled together (§3.5-3.6, (3.5.1)-(3.5.13)), both
     inclined at ``theta`` with opposite headings, tops held at their height, cylinder I
@@ -131,7 +171,9 @@ def pair(
     ``contact_normal_force`` (n,), ``gaps`` (n, 3) (floor I, floor II, mutual). Bad
     input raises ``ValueError``; a step the solver cannot take, ``SolverError``. Runs
     with the GIL released (about 8 µs per step); Ctrl-C stops it after the current step
-    and raises ``KeyboardInterrupt``."""
+    and raises ``KeyboardInterrupt``. A run estimated (on its first 100 steps) to take
+    longer than ten minutes raises ``ValueError`` before it starts, as ``rollstack
+    cylinder pair`` refuses it, unless ``force=True``."""
     return _rollstack.cylinders_pair(
         float(theta),
         float(dt),
@@ -142,4 +184,69 @@ def pair(
         float(mu_mutual),
         float(push_over_mg),
         float(rho_inf),
+        bool(force),
+    )
+
+
+def sweep_pair(
+    theta: Union[str, float, Sequence[float]],
+    dt: float = 2e-3,
+    steps: int = 2000,
+    spin: float = -6.0 * math.pi,
+    force: bool = False,
+) -> List[Dict[str, Any]]:
+    """Figure 3.14: the transport of :func:`pair` (the thesis's settings, cylinder I spun
+    at ``spin`` rad/s) at each inclination of ``theta``, in parallel (rayon, the GIL
+    released), rows in input order: the rows of ``rollstack cylinder sweep pair --theta
+    THETA --json`` (``theta``, ``n_over_mg``, ``f3_over_mg``,
+    ``contact_normal_force``, ``n_over_mg_static`` of (3.3.10), ``static_error``,
+    ``drift``, ``min_gap``, ``steps``, ``error``: a run the solver stops is its row's
+    error).
+
+    ``theta`` is in radians: one number, a sequence, or the command line's text
+    (``"10deg:40deg:10deg"``, ``"pi/6,pi/4"``), each in (arctan(2r/h), π/2). Every
+    value is checked before any run; ``ValueError`` names the parameter. Runs estimated
+    (on the first 100 steps) to take longer than ten minutes in all are refused unless
+    ``force=True``. Ctrl-C stops the runs after their current step and raises
+    ``KeyboardInterrupt``.
+    """
+    return _rollstack.cylinders_sweep_pair(
+        values("theta", theta),
+        number("dt", dt),
+        count("steps", steps),
+        number("spin", spin),
+        bool(force),
+    )
+
+
+def sweep_push(
+    theta: Union[str, float, Sequence[float]],
+    push: Union[str, float, Sequence[float]] = "0:0.5:0.01",
+    mu_floor: float = 0.2,
+    dt: float = 2e-3,
+    steps: int = 100,
+    force: bool = False,
+) -> List[Dict[str, Any]]:
+    """The push at which a rim starts to slip, against ϑ: at each inclination of
+    ``theta`` the pushes P/mg of ``push`` are applied along e′2 at each top (floor
+    friction μ_s = ``mu_floor``), moving away from 0, until a rim slips; the onset is
+    compared with the statics μ_s N₋/mg of (3.3.8)₋ (P > 0) or −μ_s N₊/mg of (3.3.8)₊
+    (P < 0), and the minimum applied force (3.3.15)-(3.3.19) is checked by three more
+    runs. The rows of ``rollstack cylinder sweep push --theta THETA --json``
+    (``onset_over_mg``, ``static_onset_over_mg``, ``agrees``, ``minimum_force``, ...),
+    in parallel (the GIL released), in input order.
+
+    ``theta`` and ``push`` take one number, a sequence or the command line's text
+    (``"0:0.5:0.01"``), ``theta`` in radians. Every value is checked before any run;
+    ``ValueError`` names the parameter. Runs estimated to take longer than ten minutes in
+    all (every push of every row counted) are refused unless ``force=True``. Ctrl-C stops
+    the runs after their current step and raises ``KeyboardInterrupt``.
+    """
+    return _rollstack.cylinders_sweep_push(
+        values("theta", theta),
+        values("push", push),
+        number("mu_floor", mu_floor),
+        number("dt", dt),
+        count("steps", steps),
+        bool(force),
     )

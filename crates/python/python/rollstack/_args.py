@@ -1,0 +1,43 @@
+"""The conversion of the arguments of the newer functions: a value of the wrong type or
+sign raises ``ValueError`` naming the parameter, as the command line names its flag."""
+
+from __future__ import annotations
+
+import numbers
+from typing import Any, List, Union
+
+_USIZE_MAX = 2**64 - 1
+
+
+def number(name: str, value: Any) -> float:
+    """``value`` as a float (NaN and infinities are left to the library to refuse)."""
+    if isinstance(value, (bool, str, bytes)) or not isinstance(value, numbers.Real):
+        raise ValueError(f"{name} must be a number, got {value!r}")
+    return float(value)
+
+
+def count(name: str, value: Any) -> int:
+    """``value`` as a non-negative integer that fits the library's counts."""
+    if isinstance(value, bool) or not isinstance(value, numbers.Integral):
+        raise ValueError(f"{name} must be a whole number, got {value!r}")
+    if value < 0:
+        raise ValueError(f"{name} must not be negative, got {value}")
+    if value > _USIZE_MAX:
+        raise ValueError(f"{name} is too large, got {value}")
+    return int(value)
+
+
+def values(name: str, value: Any) -> Union[str, List[float]]:
+    """The values of a swept parameter: the command line's text (``"10deg:40deg:10deg"``,
+    ``"0.1,0.2"``, passed on as it is), one number, or a sequence of numbers."""
+    if isinstance(value, str):
+        return value
+    if isinstance(value, numbers.Real) and not isinstance(value, bool):
+        return [float(value)]
+    try:
+        items = list(value)
+    except TypeError:
+        raise ValueError(
+            f"{name} must be a number, a sequence of numbers or a text like '0.1:0.5:0.1', got {value!r}"
+        ) from None
+    return [number(f"{name}[{i}]", v) for i, v in enumerate(items)]

@@ -1,0 +1,126 @@
+//! `rollstack.blocks.painleve` and `rollstack.blocks.work_precision`: Painlevé's
+//! paradoxes for one block (App. I, ERRATA 18) and speed against error for block
+//! stacks, NSGA beside Moreau–Jean, from `blockstack::studies` (the library functions
+//! of `rollstack blocks painleve` and `rollstack blocks work-precision`).
+
+use crate::blocks::check_time_bound;
+use crate::{guard, json_to_py, value_error};
+use blockstack::painleve::b_grid;
+use blockstack::simulation::RunOptions;
+use blockstack::studies::painleve::painleve_report;
+use blockstack::studies::work_precision::{stack_work_precision_until, StackBenchmark};
+use numpy::ndarray::{Array1, Array2};
+use numpy::IntoPyArray;
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+use std::sync::atomic::AtomicBool;
+
+/// The Painlevé analysis of a block of aspect w/h (`studies::painleve::painleve_report`,
+/// the CLI's `blocks painleve --json`) and the b-sign grid of Figure I.2(b)
+/// (`painleve::b_grid`, the CLI's painleve_b_grid.csv): `theta` (grid,) rad, `mu`
+/// (grid,), `b_slip_positive` and `b_slip_negative` (grid of μ, grid of ϑ), and
+/// `admissible` (grid,) bool.
+#[pyfunction]
+#[pyo3(signature = (aspect, mu = 0.2, mu_max = 3.0, grid = 121))]
+fn blocks_painleve<'py>(
+    py: Python<'py>,
+    aspect: f64,
+    mu: f64,
+    mu_max: f64,
+    grid: usize,
+) -> PyResult<Bound<'py, PyDict>> {
+    guard(|| {
+        input::positive("aspect", aspect).map_err(value_error)?;
+        input::non_negative("mu", mu).map_err(value_error)?;
+        input::positive("mu_max", mu_max).map_err(value_error)?;
+        if grid < 2 {
+            return Err(value_error(format!("grid must be at least 2, got {grid}")));
+        }
+        let report = painleve_report(aspect, mu).map_err(value_error)?;
+        let samples =
+            b_grid(aspect, mu_max, grid, grid).map_err(|e| value_error(format!("grid: {e}")))?;
+        // Samples run over ϑ fastest, then over μ: row j of the arrays is μ_j.
+        let column = |f: fn(&blockstack::painleve::BSample) -> f64| {
+            Array2::from_shape_vec((grid, grid), samples.iter().map(f).collect())
+                .map_err(value_error)
+        };
+        let out = PyDict::new(py);
+        out.set_item("report", json_to_py(py, &report)?)?;
+        let first_row = &samples[..grid];
+        let theta: Vec<f64> = first_row.iter().map(|s| s.theta).collect();
+        let admissible: Vec<bool> = first_row.iter().map(|s| s.admissible).collect();
+        let mu_axis: Vec<f64> = samples.iter().step_by(grid).map(|s| s.mu).collect();
+        out.set_item("theta", Array1::from_vec(theta).into_pyarray(py))?;
+        out.set_item("mu", Array1::from_vec(mu_axis).into_pyarray(py))?;
+        out.set_item("b_slip_positive", column(|s| s.b_plus)?.into_pyarray(py))?;
+        out.set_item("b_slip_negative", column(|s| s.b_minus)?.into_pyarray(py))?;
+        out.set_item("admissible", Array1::from_vec(admissible).into_pyarray(py))?;
+        Ok(out)
+    })
+}
+
+/// Speed against error for a block-stack benchmark
+/// (`studies::work_precision::stack_work_precision`), with the GIL released and Ctrl-C
+/// checked; the CLI's `blocks work-precision --json`. The reference run is checked
+/// against the ten-minute time guard first, unless `force`.
+#[pyfunction]
+#[pyo3(signature = (system = "block", dts = vec![1e-2, 5e-3, 2e-3, 1e-3, 5e-4], reference_factor = 16.0, repeat = 3, force = false))]
+fn blocks_work_precision<'py>(
+    py: Python<'py>,
+    system: &str,
+    dts: Vec<f64>,
+    reference_factor: f64,
+    repeat: usize,
+    force: bool,
+) -> PyResult<Bound<'py, PyAny>> {
+    guard(|| {
+        let bench = StackBenchmark::ALL
+            .into_iter()
+            .find(|b| b.name() == system)
+            .ok_or_else(|| {
+                value_error(format!(
+                    "system must be 'block', 'column' or 'lire', got {system:?}"
+                ))
+            })?;
+        if dts.is_empty() {
+            return Err(value_error("dts must hold at least one time step"));
+        }
+        for &dt in &dts {
+            input::positive("dts", dt).map_err(value_error)?;
+        }
+        input::finite("reference_factor", reference_factor).map_err(value_error)?;
+        if reference_factor < 1.0 {
+            return Err(value_error(format!(
+                "reference_factor must be at least 1, got {}",
+                input::Short(reference_factor)
+            )));
+        }
+        if !(1..=1000).contains(&repeat) {
+            return Err(value_error(format!(
+                "repeat must be in 1..=1000, got {repeat}"
+            )));
+        }
+        let smallest = dts.iter().copied().fold(f64::INFINITY, f64::min);
+        let reference = bench
+            .scene(smallest / reference_factor)
+            .map_err(|e| value_error(format!("dts: {e}")))?;
+        check_time_bound(
+            &reference,
+            &RunOptions::default(),
+            force,
+            "take a smaller reference_factor or larger dts",
+        )?;
+        let cancel = AtomicBool::new(false);
+        let study = crate::interruptible(py, &cancel, || {
+            stack_work_precision_until(bench, &dts, reference_factor, repeat, &cancel)
+                .map_err(|e| crate::solver_error(e.to_string()))
+        })?;
+        json_to_py(py, &study)
+    })
+}
+
+pub(crate) fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_function(wrap_pyfunction!(blocks_painleve, m)?)?;
+    m.add_function(wrap_pyfunction!(blocks_work_precision, m)?)?;
+    Ok(())
+}
