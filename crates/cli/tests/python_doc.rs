@@ -165,6 +165,51 @@ fn every_call_on_the_page_is_a_function_of_its_module() {
     );
 }
 
+/// The names of a Python module's `__all__`.
+fn exported(source: &str) -> Vec<String> {
+    let start = source.find("__all__ = [").expect("the module has __all__") + 11;
+    let end = start + source[start..].find(']').expect("__all__ is closed");
+    source[start..end]
+        .split(',')
+        .map(|n| n.trim().trim_matches('"').to_owned())
+        .filter(|n| !n.is_empty())
+        .collect()
+}
+
+/// The text of each `## `rollstack.MODULE`` section of the page, by module.
+fn sections() -> BTreeMap<String, String> {
+    DOC.split("\n## ")
+        .filter_map(|section| {
+            let module = section.strip_prefix("`rollstack.")?.split('`').next()?;
+            Some((module.to_owned(), section.replace('\n', " ")))
+        })
+        .collect()
+}
+
+#[test]
+fn every_public_name_of_a_module_is_on_its_section() {
+    let sections = sections();
+    assert_eq!(sections.len(), 5, "{:?}", sections.keys());
+    let mut missing = Vec::new();
+    for (module, text) in &sections {
+        let source = std::fs::read_to_string(format!("{PACKAGE}/{module}.py")).unwrap();
+        for name in exported(&source) {
+            let shown = text.split('`').skip(1).step_by(2).any(|span| {
+                let head = span.split('(').next().unwrap_or_default();
+                head.rsplit('.').next() == Some(name.as_str())
+            });
+            if !shown {
+                missing.push(format!("rollstack.{module}.{name}"));
+            }
+        }
+    }
+    assert!(
+        missing.is_empty(),
+        "docs/python.md does not show: {}",
+        missing.join(", ")
+    );
+}
+
 #[test]
 fn every_failure_event_kind_is_named() {
     use blockstack::events::EventKind;
