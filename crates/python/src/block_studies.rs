@@ -105,7 +105,7 @@ fn blocks_work_precision<'py>(
             .scene(smallest / reference_factor)
             .map_err(|e| value_error(format!("dts: {e}")))?;
         check_time_bound(
-            &reference,
+            std::slice::from_ref(&reference),
             &RunOptions::default(),
             force,
             "take a smaller reference_factor or larger dts",

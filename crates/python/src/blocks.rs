@@ -167,11 +167,12 @@ fn at_least_one_block(blocks: usize) -> PyResult<()> {
     Ok(())
 }
 
-/// Refuses a run estimated over the ten-minute time guard (`time_guard::Guard`: the
-/// typical cost, then the cost of its first steps), unless `force`; `advice` says which
-/// parameters to change.
+/// Refuses runs of `scenes` with `options`, shared out over the threads, estimated over
+/// the ten-minute time guard (`time_guard::Guard`: the typical cost, then the cost of
+/// the first steps of the first costliest run, as the CLI's sweeps), unless `force`;
+/// `advice` says which parameters to change.
 pub(crate) fn check_time_bound(
-    scene: &blockstack::Scene,
+    scenes: &[blockstack::Scene],
     options: &RunOptions,
     force: bool,
     advice: &str,
@@ -179,10 +180,18 @@ pub(crate) fn check_time_bound(
     if force {
         return Ok(());
     }
+    let costs: Vec<_> = scenes.iter().map(|s| run_cost(s, options)).collect();
+    let costliest = (0..costs.len()).reduce(|best, i| {
+        if costs[i].block_steps() > costs[best].block_steps() {
+            i
+        } else {
+            best
+        }
+    });
     let guard = Guard {
-        costs: &[run_cost(scene, options)],
-        threads: 1,
-        probe: Some((scene, options)),
+        costs: &costs,
+        threads: rayon::current_num_threads(),
+        probe: costliest.map(|i| (&scenes[i], options)),
     };
     guard
         .check()
@@ -428,7 +437,8 @@ fn blocks_simulate<'py>(
             stop_at_failure,
             low_rank_updates,
         )?;
-        check_time_bound(&scene.scene, &options, force, "shorten t_end")?;
+        let scenes = std::slice::from_ref(&scene.scene);
+        check_time_bound(scenes, &options, force, "shorten t_end")?;
         let mut trajectory = Trajectory::default();
         let mut interrupt: Option<PyErr> = None;
         let summary = simulate_until(&scene.scene, &options, |r| {
@@ -499,7 +509,7 @@ fn blocks_simulate<'py>(
 /// Rows of Figure 4.6 (`studies::shaking::frequency_row`), one per ω, in parallel on
 /// rayon with the GIL released; each row as the CLI's `blocks sweep frequency --json`.
 #[pyfunction]
-#[pyo3(signature = (omegas, periods, amplitude, blocks, steps_per_period, mu, prox_constant = None, explore_branches = true, last_resort = true, t_max = None, low_rank_updates = true, branches = 1, branch_rule = "self_consistent"))]
+#[pyo3(signature = (omegas, periods, amplitude, blocks, steps_per_period, mu, prox_constant = None, explore_branches = true, last_resort = true, t_max = None, low_rank_updates = true, branches = 1, branch_rule = "self_consistent", force = false))]
 #[allow(clippy::too_many_arguments)]
 fn blocks_sweep_frequency<'py>(
     py: Python<'py>,
@@ -516,6 +526,7 @@ fn blocks_sweep_frequency<'py>(
     low_rank_updates: bool,
     branches: usize,
     branch_rule: &str,
+    force: bool,
 ) -> PyResult<Bound<'py, PyAny>> {
     guard(|| {
         if let Some(t) = t_max {
@@ -530,16 +541,21 @@ fn blocks_sweep_frequency<'py>(
             low_rank_updates,
         )?;
         let mut options = with_spread(options, branches, branch_rule)?;
-        let columns = omegas
+        let (columns, scenes): (Vec<_>, Vec<_>) = omegas
             .iter()
             .map(|&omega| {
                 // A horizon in time units, the same at every ω (as `--t-max`).
                 let periods = t_max.map_or(periods, |t| periods_for_horizon(t, omega));
                 let p = shaking_params(blocks, omega, amplitude, mu, steps_per_period, periods)?;
-                shaking_column(&p).map_err(|e| value_error(format!("omega {omega}: {e}")))?;
-                Ok(p)
+                let scene =
+                    shaking_column(&p).map_err(|e| value_error(format!("omega {omega}: {e}")))?;
+                Ok((p, scene))
             })
-            .collect::<PyResult<Vec<_>>>()?;
+            .collect::<PyResult<Vec<_>>>()?
+            .into_iter()
+            .unzip();
+        let advice = "shorten periods or t_max, take fewer values";
+        check_time_bound(&scenes, &options, force, advice)?;
         parallel_rows(py, &columns, &mut options, frequency_row)
     })
 }
@@ -547,7 +563,7 @@ fn blocks_sweep_frequency<'py>(
 /// Rows of Figure 4.7 (`studies::slide::slide_row`), one per v0, in parallel on rayon
 /// with the GIL released; each row as the CLI's `blocks sweep slide --json`.
 #[pyfunction]
-#[pyo3(signature = (speeds, t_end, blocks, mu, prox_constant = None, explore_branches = true, last_resort = true, low_rank_updates = true, branches = 1, branch_rule = "self_consistent"))]
+#[pyo3(signature = (speeds, t_end, blocks, mu, prox_constant = None, explore_branches = true, last_resort = true, low_rank_updates = true, branches = 1, branch_rule = "self_consistent", force = false))]
 #[allow(clippy::too_many_arguments)]
 fn blocks_sweep_slide<'py>(
     py: Python<'py>,
@@ -561,6 +577,7 @@ fn blocks_sweep_slide<'py>(
     low_rank_updates: bool,
     branches: usize,
     branch_rule: &str,
+    force: bool,
 ) -> PyResult<Bound<'py, PyAny>> {
     guard(|| {
         let options = run_options(
@@ -572,14 +589,17 @@ fn blocks_sweep_slide<'py>(
             low_rank_updates,
         )?;
         let mut options = with_spread(options, branches, branch_rule)?;
-        let columns = speeds
+        let (columns, scenes): (Vec<_>, Vec<_>) = speeds
             .iter()
             .map(|&v0| {
                 let p = sliding_params(blocks, v0, t_end, mu)?;
-                sliding_column(&p).map_err(|e| value_error(format!("v0 {v0}: {e}")))?;
-                Ok(p)
+                let scene = sliding_column(&p).map_err(|e| value_error(format!("v0 {v0}: {e}")))?;
+                Ok((p, scene))
             })
-            .collect::<PyResult<Vec<_>>>()?;
+            .collect::<PyResult<Vec<_>>>()?
+            .into_iter()
+            .unzip();
+        check_time_bound(&scenes, &options, force, "shorten t_end, take fewer values")?;
         parallel_rows(py, &columns, &mut options, slide_row)
     })
 }
@@ -590,7 +610,8 @@ fn blocks_sweep_slide<'py>(
 /// (`contact.mu=0.1:0.5:0.1`, `base.omega=2,4,8`); every combination's scene is checked
 /// before any run.
 #[pyfunction]
-#[pyo3(signature = (scene, overrides, t_end = None, stop_at_failure = false, prox_constant = None, explore_branches = true, last_resort = true, low_rank_updates = true))]
+#[pyo3(signature = (scene, overrides, t_end = None, stop_at_failure = false, prox_constant = None, explore_branches = true, last_resort = true, low_rank_updates = true, force = false))]
+#[allow(clippy::too_many_arguments)]
 fn blocks_sweep_scene<'py>(
     py: Python<'py>,
     scene: &PyScene,
@@ -601,6 +622,7 @@ fn blocks_sweep_scene<'py>(
     explore_branches: bool,
     last_resort: bool,
     low_rank_updates: bool,
+    force: bool,
 ) -> PyResult<Bound<'py, PyAny>> {
     guard(|| {
         let text = scene.toml.as_deref().ok_or_else(|| {
@@ -622,15 +644,20 @@ fn blocks_sweep_scene<'py>(
             low_rank_updates,
         )?;
         let points = sweep.points();
-        for point in &points {
-            sweep.scene(point).map_err(|e| {
-                let set: Vec<String> = point
-                    .iter()
-                    .map(|s| format!("{}={}", s.key, s.value))
-                    .collect();
-                value_error(format!("{}: {e}", set.join(", ")))
-            })?;
-        }
+        let scenes = points
+            .iter()
+            .map(|point| {
+                sweep.scene(point).map(|loaded| loaded.scene).map_err(|e| {
+                    let set: Vec<String> = point
+                        .iter()
+                        .map(|s| format!("{}={}", s.key, s.value))
+                        .collect();
+                    value_error(format!("{}: {e}", set.join(", ")))
+                })
+            })
+            .collect::<PyResult<Vec<_>>>()?;
+        let advice = "shorten t_end or solver.t_end, take fewer values";
+        check_time_bound(&scenes, &options, force, advice)?;
         parallel_rows(py, &points, &mut options, |p, o| sweep.row(p, o))
     })
 }

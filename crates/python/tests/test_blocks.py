@@ -222,7 +222,10 @@ def test_ctrl_c_interrupts_a_long_simulation():
 def test_ctrl_c_interrupts_a_long_sweep():
     # Two rows of 100000 periods each: the interrupt must end the runs already started,
     # not only keep new rows from starting.
-    exits_on_sigint("blocks.sweep_frequency([0.5, 0.6], periods=100000.0, amplitude=0.001)")
+    # Forced: the time guard would refuse them up front.
+    exits_on_sigint(
+        "blocks.sweep_frequency([0.5, 0.6], periods=100000.0, amplitude=0.001, force=True)"
+    )
 
 
 def test_help_has_the_docs():
@@ -293,6 +296,23 @@ def test_an_endless_run_is_refused_up_front_unless_forced():
     assert "force=True" in str(e.value)
     # Forced, a short run goes as before.
     assert blocks.simulate(scene, t_end=0.05, force=True).steps == 5
+
+
+@pytest.mark.parametrize(
+    "sweep",
+    [
+        lambda force: blocks.sweep_frequency([4.0, 6.0], periods=1e9, force=force),
+        lambda force: blocks.sweep_slide([0.1, 0.2], t_end=1e12, force=force),
+        lambda force: blocks.sweep_scene(
+            blocks.Scene(**ONE_BLOCK), {"solver.t_end": [0.1, 1e12]}, force=force
+        ),
+    ],
+)
+def test_an_endless_sweep_is_refused_up_front_unless_forced(sweep):
+    # The CLI's sweeps refused these; the module ran them for days.
+    with pytest.raises(ValueError, match="more than 600 s") as e:
+        sweep(False)
+    assert "force=True" in str(e.value) and "2 run(s)" in str(e.value)
 
 
 def test_an_unreachable_wall_limit_is_no_limit():

@@ -59,6 +59,7 @@ def blocks_sweep_frequency(
     low_rank_updates: bool = ...,
     branches: int = ...,
     branch_rule: str = ...,
+    force: bool = ...,
 ) -> List[Dict[str, Any]]: ...
 def blocks_explore(
     scene: Any,
@@ -83,6 +84,7 @@ def blocks_sweep_slide(
     low_rank_updates: bool = ...,
     branches: int = ...,
     branch_rule: str = ...,
+    force: bool = ...,
 ) -> List[Dict[str, Any]]: ...
 def blocks_sweep_scene(
     scene: Scene,
@@ -93,6 +95,7 @@ def blocks_sweep_scene(
     explore_branches: bool = ...,
     last_resort: bool = ...,
     low_rank_updates: bool = ...,
+    force: bool = ...,
 ) -> List[Dict[str, Any]]: ...
 def blocks_painleve(
     aspect: float, mu: float = ..., mu_max: float = ..., grid: int = ...

@@ -387,6 +387,7 @@ def sweep_frequency(
     low_rank_updates: bool = True,
     branches: int = 1,
     branch_rule: str = "self_consistent",
+    force: bool = False,
 ) -> List[Dict[str, Any]]:
     """Failure time against the shaking frequency (Figure 4.6): one row per ω, each run
     until the first loss of support or the end of its periods, in parallel (rayon, the
@@ -403,7 +404,11 @@ def sweep_frequency(
     spelled ``"self-consistent"`` as on the command line, or ``"converged"``) and
     reports the smallest, median and largest failure time over them
     (``failure_time_min``, ``failure_time_median``, ``failure_time_max``, with
-    ``branches`` and ``failed_branches``). Ctrl-C is seen between the rows' explorations."""
+    ``branches`` and ``failed_branches``). Ctrl-C is seen between the rows' explorations.
+
+    Runs estimated to take longer than ten minutes in all (the time guard of the command
+    line, calibrated on the first steps of the costliest run) raise ``ValueError`` before
+    any run unless ``force=True``."""
     return _rollstack.blocks_sweep_frequency(
         [float(w) for w in omegas],
         float(periods),
@@ -418,6 +423,7 @@ def sweep_frequency(
         bool(low_rank_updates),
         count("branches", branches),
         str(branch_rule),
+        bool(force),
     )
 
 
@@ -433,11 +439,12 @@ def sweep_slide(
     low_rank_updates: bool = True,
     branches: int = 1,
     branch_rule: str = "self_consistent",
+    force: bool = False,
 ) -> List[Dict[str, Any]]:
     """The top block's angle against the speed of the pulled base (Figure 4.7): one row
     per v0, in parallel, in input order: the rows of ``rollstack blocks sweep slide
-    --json``. ``branches`` and ``branch_rule`` as in :func:`sweep_frequency`, the
-    spread being that of the top block's angle."""
+    --json``. ``branches``, ``branch_rule`` and ``force`` as in :func:`sweep_frequency`,
+    the spread being that of the top block's angle."""
     return _rollstack.blocks_sweep_slide(
         [float(v) for v in speeds],
         float(t_end),
@@ -449,6 +456,7 @@ def sweep_slide(
         bool(low_rank_updates),
         count("branches", branches),
         str(branch_rule),
+        bool(force),
     )
 
 
@@ -462,6 +470,7 @@ def sweep_scene(
     explore_branches: bool = True,
     last_resort: bool = True,
     low_rank_updates: bool = True,
+    force: bool = False,
 ) -> List[Dict[str, Any]]:
     """Runs ``scene`` once per combination of the values of its swept keys (the
     cartesian product, in order), in parallel (rayon, the GIL released): the rows of
@@ -472,7 +481,9 @@ def sweep_scene(
     list of numbers, one number, or the CLI's text (``"0.1:0.5:0.1"``, ``"2,4,8"``).
     The scene must come from TOML (a file, a dict, keywords or a built-in name). Raises
     ``ValueError`` for an unknown key or a combination the model refuses, before any
-    run; a run the solver stops has its message in its row's ``error``::
+    run, and for runs over the time guard unless ``force=True`` (as
+    :func:`sweep_frequency`); a run the solver stops has its message in its row's
+    ``error``::
 
         blocks.sweep_scene(blocks.Scene.builtin("shaking"),
                            {"contact.mu": [0.1, 0.3], "base.amplitude": "0.1,0.2"})
@@ -495,6 +506,7 @@ def sweep_scene(
         bool(explore_branches),
         bool(last_resort),
         bool(low_rank_updates),
+        bool(force),
     )
 
 
