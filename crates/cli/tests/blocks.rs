@@ -532,6 +532,52 @@ fn frequency_sweep_keeps_order_and_refuses_bad_values_before_any_run() {
 }
 
 #[test]
+fn scene_sweep_refuses_degrees_for_a_key_that_is_not_an_angle() {
+    // `contact.mu=30deg` was read as 0.52 (30° in radians): a friction coefficient is
+    // not an angle.
+    for set in [
+        "contact.mu=30deg",
+        "contact.mu=0.1,30deg",
+        "base.amplitude=0:1deg:0.1",
+    ] {
+        let (ok, _, stderr) = run(&["blocks", "sweep", "scene", "shaking", "--set", set]);
+        let key = set.split('=').next().unwrap();
+        assert!(!ok, "{set}");
+        assert!(
+            stderr.contains(&format!("{key} is not an angle")) && stderr.contains("deg"),
+            "{set}: {stderr}"
+        );
+        // docs/cli.md names the keys that take degrees as the error does.
+        let listed = stderr.split("deg is for ").nth(1).unwrap();
+        let listed = listed.split(')').next().unwrap();
+        let doc = include_str!("../../../docs/cli.md");
+        for k in listed.split(" and ") {
+            assert!(doc.contains(&format!("`{k}`")), "{k} not in docs/cli.md");
+        }
+    }
+    // An angle and an angular rate take degrees.
+    let (ok, stdout, stderr) = run(&[
+        "blocks",
+        "sweep",
+        "scene",
+        "shaking",
+        "--set",
+        "blocks.theta=0deg,1deg",
+        "--set",
+        "base.omega=229.1831deg",
+        "--t-end",
+        "0.05",
+        "--json",
+    ]);
+    assert!(ok, "{stderr}");
+    let v: serde_json::Value = serde_json::from_str(&stdout).unwrap();
+    let theta = v["rows"][1]["set"][0]["value"].as_f64().unwrap();
+    assert!((theta - 1f64.to_radians()).abs() < 1e-15, "{v}");
+    let omega = v["rows"][0]["set"][1]["value"].as_f64().unwrap();
+    assert!((omega - 4.0).abs() < 1e-5, "{v}");
+}
+
+#[test]
 fn scene_sweep_runs_the_product_of_its_keys_in_order() {
     let dir = temp_dir("blocks-sweep-scene");
     let d = dir.to_str().unwrap();

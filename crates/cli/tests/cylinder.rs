@@ -277,3 +277,77 @@ fn frobenius_refuses_a_non_finite_contact_and_one_for_the_single_cylinder() {
     };
     assert_ne!(at("0.1"), at("0.2"));
 }
+
+#[test]
+fn library_checks_reach_the_user_as_the_flag_they_typed() {
+    // Each was refused with the library's symbol (ℓ, φ1, φ2, r/h, μ, μ_s, μ_k, mass).
+    let cases: [(&[&str], &str); 11] = [
+        (
+            &[
+                "holonomy", "circle", "--ell", "0", "--theta", "0.4", "--h", "1",
+            ],
+            "--ell must be positive, got 0",
+        ),
+        (
+            &[
+                "holonomy",
+                "rectangle",
+                "--theta",
+                "0.4",
+                "--phi1",
+                "-1",
+                "--phi2",
+                "1",
+            ],
+            "--phi1 must be positive, got -1",
+        ),
+        (
+            &[
+                "holonomy",
+                "rectangle",
+                "--theta",
+                "0.4",
+                "--phi1",
+                "1",
+                "--phi2",
+                "0",
+            ],
+            "--phi2 must be positive, got 0",
+        ),
+        (
+            &["statics", "--r-over-h", "-1"],
+            "--r-over-h must not be negative",
+        ),
+        (&["statics", "--mu", "-1"], "--mu must not be negative"),
+        (
+            &["support", "--theta", "0.5", "--r-over-h", "-1"],
+            "--r-over-h must not be negative",
+        ),
+        (
+            &["support", "--theta", "0.5", "--mu", "-1"],
+            "--mu must not be negative",
+        ),
+        (
+            &["support", "--theta", "0.5", "--mass", "-2"],
+            "--mass must be positive, got -2",
+        ),
+        (
+            &["pair", "--theta", "0.5", "--mu-floor", "-1"],
+            "--mu-floor must not be negative",
+        ),
+        (
+            &["pair", "--theta", "0.5", "--mu-k", "-1"],
+            "--mu-k must not be negative",
+        ),
+        (
+            &["sweep", "push", "--theta", "0.5", "--mu-floor", "-1"],
+            "--mu-floor must not be negative",
+        ),
+    ];
+    for (args, said) in cases {
+        let (ok, _, stderr) = run(&[&["cylinder"], args].concat());
+        assert!(!ok, "{args:?}");
+        assert!(stderr.starts_with(&format!("error: {said}")), "{args:?}: {stderr}");
+        assert_eq!(stderr.trim().lines().count(), 1, "{args:?}: {stderr}");
+    }
+}

@@ -31,7 +31,7 @@ pub struct Ticks {
 }
 
 /// About how many labelled ticks an axis gets.
-const TARGET_TICKS: f64 = 6.0;
+pub(crate) const TARGET_TICKS: f64 = 6.0;
 
 /// At most this many labelled decades on a logarithmic axis.
 const MAX_DECADES: i32 = 8;
@@ -58,12 +58,20 @@ impl Ticks {
     /// large or very small values).
     #[must_use]
     pub fn linear(lo: f64, hi: f64) -> Self {
+        Self::linear_about(lo, hi, TARGET_TICKS)
+    }
+
+    /// [`Self::linear`] with about `target` labelled ticks (at least one): the step is
+    /// at least the range over `target`, so an axis of `n` pixels asked for at most
+    /// n/d ticks has its labels at least d pixels apart.
+    #[must_use]
+    pub fn linear_about(lo: f64, hi: f64, target: f64) -> Self {
         let (lo, hi) = if hi > lo {
             (lo, hi)
         } else {
             (lo - 0.5, lo + 0.5)
         };
-        let raw = (hi - lo) / TARGET_TICKS;
+        let raw = (hi - lo) / target.max(1.0);
         let exp = raw.log10().floor();
         let mag = 10f64.powf(exp);
         let (mant, minor_parts) = match raw / mag {

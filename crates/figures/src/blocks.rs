@@ -3,7 +3,7 @@
 //! [`blockstack::record`].
 
 use crate::animation::write_gif;
-use crate::axis::{TickedRange, Ticks};
+use crate::axis::{TickedRange, Ticks, TARGET_TICKS};
 use crate::plot::{
     draw_title_reserving, fit_title, with_png, Canvas, LinePlot, Series, Style, BASE_COLOR, FONT,
     GUIDE_COLOR, PALETTE, TITLE_PX,
@@ -318,10 +318,31 @@ impl StackLayout {
         }
     }
 
+    /// The pixels of a frame of `size` pixels left to its plotting area by the title,
+    /// the label areas and the margins of [`draw_stack`].
+    pub(crate) fn plot_px(&self, size: (u32, u32)) -> (u32, u32) {
+        // As draw_title_reserving reserves the title's lines.
+        let lines = u32::try_from(self.title_lines).unwrap_or(1);
+        let title = 6 + self.title_px * 5 / 4 * lines + 4;
+        self.plot_px_below_title((size.0, size.1.saturating_sub(title)))
+    }
+
+    /// The plotting area's pixels in the part of a frame below its title.
+    fn plot_px_below_title(&self, (w, h): (u32, u32)) -> (u32, u32) {
+        (
+            w.saturating_sub(2 * STACK_MARGIN + self.y_area).max(10),
+            h.saturating_sub(2 * STACK_MARGIN + self.x_area).max(10),
+        )
+    }
+
     /// The view widened to the plotting area's proportions (equal scales), about its
     /// centre; when it holds a floor, the added height goes above the floor rather than
     /// below (nothing is below a floor but the margin).
-    fn stretched(view: &View, plot_px: (u32, u32), floor: Option<f64>) -> (Range<f64>, Range<f64>) {
+    pub(crate) fn stretched(
+        view: &View,
+        plot_px: (u32, u32),
+        floor: Option<f64>,
+    ) -> (Range<f64>, Range<f64>) {
         let (w, h) = (f64::from(plot_px.0), f64::from(plot_px.1));
         let scale = ((view.x.end - view.x.start) / w).max((view.y.end - view.y.start) / h);
         let cx = 0.5 * (view.x.start + view.x.end);
@@ -336,6 +357,21 @@ impl StackLayout {
     }
 }
 
+/// Least pixels between the labelled ticks of a stack's axes: labels of 14 pixels with
+/// room between them up the y axis, numbers like `-0.25` along the x axis.
+const TICK_SPACING_PX: (f64, f64) = (60.0, 30.0);
+
+/// The ticks of a stack's axes over `x` and `y` drawn in `plot_px` pixels: about six,
+/// fewer on a short axis (a thumbnail of a column fallen flat), so that no two labels
+/// touch ([`TICK_SPACING_PX`]).
+pub(crate) fn stack_ticks(x: &Range<f64>, y: &Range<f64>, plot_px: (u32, u32)) -> (Ticks, Ticks) {
+    let most = |px: u32, spacing: f64| (f64::from(px) / spacing).min(TARGET_TICKS);
+    (
+        Ticks::linear_about(x.start, x.end, most(plot_px.0, TICK_SPACING_PX.0)),
+        Ticks::linear_about(y.start, y.end, most(plot_px.1, TICK_SPACING_PX.1)),
+    )
+}
+
 /// Draws one frame of the stack onto a canvas: the floor as a line, the base in
 /// [`BASE_COLOR`], the blocks as rotated rectangles in colour, clipped to the view; the
 /// bodies out of view are named in the corner.
@@ -348,20 +384,13 @@ pub(crate) fn draw_stack(
     layout: &StackLayout,
 ) -> Result<()> {
     let area = draw_title_reserving(root, title, layout.title_px, layout.title_lines)?;
-    let (w, h) = area.dim_in_pixel();
-    let plot_px = (
-        w.saturating_sub(2 * STACK_MARGIN + layout.y_area).max(10),
-        h.saturating_sub(2 * STACK_MARGIN + layout.x_area).max(10),
-    );
+    let plot_px = layout.plot_px_below_title(area.dim_in_pixel());
     let (xr, yr) = StackLayout::stretched(view, plot_px, scene.floor().map(|f| f.y));
     let view = View {
         x: xr.clone(),
         y: yr.clone(),
     };
-    let (xt, yt) = (
-        Ticks::linear(xr.start, xr.end),
-        Ticks::linear(yr.start, yr.end),
-    );
+    let (xt, yt) = stack_ticks(&xr, &yr, plot_px);
     let mut chart = ChartBuilder::on(&area)
         .margin(STACK_MARGIN)
         .x_label_area_size(layout.x_area)

@@ -340,6 +340,14 @@ fn range_values(
 /// Largest number of steps a range may take (ten million).
 const MAX_RANGE_POINTS: usize = 10_000_000;
 
+/// Whether any value of `text` (values as [`parse_values`] reads them) is written in
+/// degrees (`30deg`): an angle unit, which a quantity that is not an angle refuses.
+#[must_use]
+pub fn in_degrees(text: &str) -> bool {
+    text.split([',', ':'])
+        .any(|t| Term::read(t).is_ok_and(|t| t.unit == Unit::Degrees && t.value().is_ok()))
+}
+
 /// Parses the values of a sweep: comma-separated items, each an `A:B:STEP` range or one
 /// value ([`parse_range`]), in the order given: `0.1,0.2,0.5`, `0:1:0.25`,
 /// `0.1:0.3:0.1,0.5`, `pi/6,30deg:60deg:15deg`.
@@ -456,6 +464,16 @@ fn decimal(text: &str) -> Option<(i128, u32)> {
 mod tests {
     use super::*;
     use approx::assert_relative_eq;
+
+    #[test]
+    fn degrees_are_seen_in_any_value_of_a_list_or_range() {
+        for text in ["30deg", "0.1,30deg", "0:90deg:10deg", " 5 DEG "] {
+            assert!(in_degrees(text), "{text}");
+        }
+        for text in ["0.5", "pi/6", "0:2pi:pi/4", "1e-3,2", "deg"] {
+            assert!(!in_degrees(text), "{text}");
+        }
+    }
 
     #[test]
     fn forms() {

@@ -75,6 +75,24 @@ pub const NUMERIC_KEYS: [(&str, &[&str]); 5] = [
     ("floor", &["y"]),
 ];
 
+/// The numeric keys that are angles (radians) or angular rates (radians per time unit):
+/// the only ones whose values may be written in degrees (`blocks.theta=5deg`).
+pub const ANGLE_KEYS: [&str; 2] = ["theta", "omega"];
+
+/// The keys of [`NUMERIC_KEYS`] that are [`ANGLE_KEYS`]: `base.omega and blocks.theta`.
+fn angle_keys() -> String {
+    let keys: Vec<String> = NUMERIC_KEYS
+        .iter()
+        .flat_map(|(table, fields)| {
+            fields
+                .iter()
+                .filter(|f| ANGLE_KEYS.contains(f))
+                .map(move |f| format!("{table}.{f}"))
+        })
+        .collect();
+    keys.join(" and ")
+}
+
 /// The keys of a scene file that are not numbers and cannot be swept.
 const OTHER_KEYS: [(&str, &str); 2] = [("base", "motion"), ("base", "samples")];
 
@@ -105,6 +123,15 @@ impl FromStr for Override {
         let key = key.trim();
         if key.is_empty() {
             return Err(format!("'{s}' has no key before '='"));
+        }
+        let field = key.rsplit('.').next().unwrap_or(key);
+        if input::text::in_degrees(values) && !ANGLE_KEYS.contains(&field) {
+            return Err(format!(
+                "{key} is not an angle: '{}' is in degrees (deg is for {}); write {key} \
+                 without deg",
+                values.trim(),
+                angle_keys()
+            ));
         }
         let values = input::text::parse_values(values).map_err(|e| format!("{key}: {e}"))?;
         Ok(Self {

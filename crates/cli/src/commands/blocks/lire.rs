@@ -76,6 +76,7 @@ pub fn run_lire(args: &LireArgs) -> Result<()> {
     let plan = args.output.plan(
         LIRE_SNAPSHOTS.to_vec(),
         format!("Lire tower, perturbation {perturb}"),
+        args.solver.force,
     );
     let inputs = serde_json::json!({
         "blocks": args.blocks,

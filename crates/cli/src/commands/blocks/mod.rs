@@ -126,7 +126,9 @@ pub struct SolverArgs {
     /// paper. Branch exploration (`blocks explore`) never updates.
     #[arg(long, default_value_t = true, action = clap::ArgAction::Set, value_name = "BOOL")]
     pub low_rank_updates: bool,
-    /// Run even when the runs are estimated to take longer than ten minutes.
+    /// Run even when the runs are estimated to take longer than ten minutes, and let
+    /// `run`, `shake` and `lire` go on when they are projected past ten minutes as they
+    /// run (their watchdog).
     #[arg(long)]
     pub force: bool,
 }
@@ -229,9 +231,10 @@ pub struct OutputArgs {
 }
 
 impl OutputArgs {
-    /// The output plan of a run: `default_snapshots` unless `--snapshots` was given.
+    /// The output plan of a run: `default_snapshots` unless `--snapshots` was given;
+    /// `force`: `--force`, no watchdog.
     #[must_use]
-    pub fn plan(&self, default_snapshots: Vec<f64>, title: String) -> OutputPlan {
+    pub fn plan(&self, default_snapshots: Vec<f64>, title: String, force: bool) -> OutputPlan {
         OutputPlan {
             dir: self.out.clone(),
             snapshots: self.snapshots.clone().unwrap_or(default_snapshots),
@@ -239,6 +242,7 @@ impl OutputArgs {
             title,
             defaults: blockstack::scene_info::Defaults::default(),
             progress: !self.json,
+            force,
         }
     }
 }

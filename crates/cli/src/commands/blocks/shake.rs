@@ -86,6 +86,7 @@ pub fn run_shake(args: &ShakeArgs) -> Result<()> {
             args.amplitude,
             input::Short(omega)
         ),
+        args.solver.force,
     );
     let inputs = serde_json::json!({
         "blocks": p.blocks, "omega": p.omega, "hz": args.hz, "amplitude": p.amplitude,

@@ -9,7 +9,8 @@ use crate::output::{
 use crate::progress::RunProgress;
 use anyhow::{Context, Result};
 use blockstack::record::{RecordPlan, Recorder, Recording, TrajectoryError};
-use blockstack::simulation::{simulate, RunOptions, RunReport, RunSummary, RunWarning};
+use blockstack::simulation::{simulate_until, RunOptions, RunReport, RunSummary, RunWarning};
+use blockstack::time_guard::{Clock, Watchdog};
 use blockstack::{Defaults, Scene};
 use clap::Args;
 use figures::blocks::draw_run;
@@ -81,22 +82,40 @@ pub struct OutputPlan {
     /// Draw a progress bar over model time on stderr when it is a terminal (not with
     /// `--json`).
     pub progress: bool,
+    /// `--force`: no watchdog stops the run when it is projected past the time bound.
+    pub force: bool,
 }
 
 /// Runs one scene, writing the trajectory progressively and, afterwards, the branch
-/// points, snapshots, animation, top-block plots and run.json into `plan.dir`.
+/// points, snapshots, animation, top-block plots and run.json into `plan.dir`; unless
+/// `plan.force`, a [`Watchdog`] stops the run when it is projected past the time bound.
 ///
 /// # Errors
 /// A bad scene or options, or an output directory that cannot be created or a run.json
-/// that cannot be written. A run that cannot start or stops mid-run is not an Err: it is
-/// in `summary.error`, with run.json and the files up to then; a picture with nothing to
-/// draw is left out with a note; another failure to write a file is in `write_error`.
+/// that cannot be written. A run that cannot start, stops mid-run or is stopped by the
+/// watchdog is not an Err: it is in the report's `error`, with run.json and the files up
+/// to then; a picture with nothing to draw is left out with a note; another failure to
+/// write a file is in `write_error`.
 pub fn simulate_with_output(
     scene: &Scene,
     options: &RunOptions,
     plan: &OutputPlan,
     command: &str,
     inputs: &serde_json::Value,
+) -> Result<SimulationOutput> {
+    let t_end = options.t_end.unwrap_or(scene.solver.t_end);
+    let watchdog = Watchdog::unless_forced(plan.force, 0.0, t_end);
+    simulate_watched(scene, options, plan, command, inputs, watchdog)
+}
+
+/// [`simulate_with_output`] watched by `watchdog`.
+fn simulate_watched(
+    scene: &Scene,
+    options: &RunOptions,
+    plan: &OutputPlan,
+    command: &str,
+    inputs: &serde_json::Value,
+    mut watchdog: Watchdog<impl Clock>,
 ) -> Result<SimulationOutput> {
     let start = Instant::now();
     let t_end = options.t_end.unwrap_or(scene.solver.t_end);
@@ -117,9 +136,10 @@ pub fn simulate_with_output(
     };
     let mut recorder = Recorder::new(scene, t_end, &record_plan, writer)?;
     let progress = RunProgress::new(command, t_end, plan.progress);
-    let result = simulate(scene, options, |r| {
+    let result = simulate_until(scene, options, |r| {
         progress.at(r.t);
         recorder.on_step(r);
+        watchdog.check(r.t)
     });
     progress.finish();
     let (recording, writer, write_error) = recorder.finish();
@@ -139,7 +159,12 @@ pub fn simulate_with_output(
         write_error.get_or_insert(format!("{e:#}"));
     }
     let t_final = recording.last.as_ref().map_or(0.0, |f| f.t);
-    let report = RunReport::new(&summary, scene, options, &plan.defaults, t_final);
+    let mut report = RunReport::new(&summary, scene, options, &plan.defaults, t_final);
+    if let Some(overrun) = watchdog.overrun() {
+        report.error = Some(format!(
+            "{overrun}: shorten --t-end or --periods, or pass --force"
+        ));
+    }
     let (mut files, mut notes) = (Vec::new(), Vec::new());
     if let Some(dir) = &plan.dir {
         files.push("trajectory.csv".to_owned());
@@ -293,6 +318,7 @@ pub fn run_scene_file(args: &RunArgs) -> Result<()> {
     let mut plan = args.output.plan(
         vec![0.0, 0.5 * t_end, t_end],
         title.unwrap_or_else(|| "scene".into()),
+        args.solver.force,
     );
     plan.defaults = loaded.defaults.clone();
     let inputs = serde_json::json!({
@@ -307,4 +333,70 @@ pub fn run_scene_file(args: &RunArgs) -> Result<()> {
     print_warnings(scene);
     let out = simulate_with_output(scene, &options, &plan, "blocks run", &inputs)?;
     finish_command(&out, args.output.json, plan.dir.as_deref())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use blockstack::scenarios::{shaking_column, Shaking};
+    use blockstack::time_guard::{TIME_BOUND_S, WATCHDOG_GRACE_S};
+    use std::cell::Cell;
+
+    /// A clock one second further on at every reading: the watchdog's checks come one
+    /// second apart, whatever the machine.
+    struct Ticking(Cell<f64>);
+
+    impl Clock for Ticking {
+        fn seconds(&self) -> f64 {
+            self.0.set(self.0.get() + 1.0);
+            self.0.get()
+        }
+    }
+
+    #[test]
+    fn the_watchdog_stops_a_run_projected_past_the_bound_and_says_so() {
+        // 1000 steps at a second each: projected at 1.2e3 s once the grace time is over.
+        let scene = shaking_column(&Shaking::default()).unwrap();
+        let options = RunOptions::default();
+        let dir = std::env::temp_dir().join(format!("rollstack-watchdog-{}", std::process::id()));
+        let plan = OutputPlan {
+            dir: Some(dir.clone()),
+            title: "watched".into(),
+            ..OutputPlan::default()
+        };
+        let t_end = scene.solver.t_end;
+        let watchdog = Watchdog::new(Ticking(Cell::new(0.0)), 0.0, t_end, TIME_BOUND_S);
+        let inputs = serde_json::json!({});
+        let out = simulate_watched(&scene, &options, &plan, "test", &inputs, watchdog).unwrap();
+        // The initial state and each step are checked: the first check past the grace
+        // time stops the run, after the step it follows.
+        #[allow(clippy::cast_possible_truncation, clippy::cast_sign_loss)]
+        let steps = WATCHDOG_GRACE_S as usize - 1;
+        assert_eq!(out.report.steps, steps);
+        let error = out.report.error.clone().unwrap();
+        assert!(error.contains("projected to take about 1.2e3 s"), "{error}");
+        assert!(
+            error.contains("more than 600 s") && error.contains("--force"),
+            "{error}"
+        );
+        // The files hold the run up to there, and run.json says why it stopped.
+        let csv = std::fs::read_to_string(dir.join("trajectory.csv")).unwrap();
+        assert_eq!(
+            csv.lines().count(),
+            1 + 1 + steps,
+            "header, t = 0, the steps"
+        );
+        let json = std::fs::read_to_string(dir.join("run.json")).unwrap();
+        assert!(json.contains("projected to take about"), "{json}");
+        let said = finish_command(&out, false, Some(&dir))
+            .unwrap_err()
+            .to_string();
+        assert!(said.starts_with("the simulation stopped at t = "), "{said}");
+        assert!(
+            said.contains("--force") && said.contains("results up to then"),
+            "{said}"
+        );
+        assert!(!said.contains('\n'), "{said}");
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
 }

@@ -114,7 +114,12 @@ fn settings(max_step: f64) -> Result<RollSettings> {
 pub(super) fn run_rectangle(a: &RectangleArgs) -> Result<()> {
     let start = Instant::now();
     let theta = check_point_contact(a.theta.0)?;
-    let path = RectanglePath::new(a.phi1.0, a.phi2.0, a.s, a.case.into(), direction(a.cw))?;
+    // Checked here so that the errors name the flags, not the library's φ1 and φ2.
+    let (phi1, phi2) = (
+        input::positive("--phi1", a.phi1.0)?,
+        input::positive("--phi2", a.phi2.0)?,
+    );
+    let path = RectanglePath::new(phi1, phi2, a.s, a.case.into(), direction(a.cw))?;
     let psi0 = a.psi0.0;
     let h_over_r = super::height(1.0, a.h_over_r, Some(a.r_over_h))?;
     let cylinder = Cylinder::new(1.0, h_over_r)?;
@@ -182,7 +187,9 @@ pub(super) fn run_circle(a: &CircleArgs) -> Result<()> {
     let h = super::height(a.r, a.h, a.r_over_h)?;
     let cylinder = Cylinder::new(a.r, h)?;
     let theta = a.theta.0;
-    let path = CirclePath::new(a.ell, a.case.into(), direction(a.cw))?;
+    // Checked here so that the error names the flag, not the library's ℓ.
+    let ell = input::positive("--ell", a.ell)?;
+    let path = CirclePath::new(ell, a.case.into(), direction(a.cw))?;
     let (rep, trace) = circle_report(&cylinder, theta, &path, settings(a.max_step)?)?;
     if let Some(dir) = &a.out {
         ensure_dir(dir)?;

@@ -76,6 +76,9 @@ pub(super) fn run(a: &PairArgs) -> Result<()> {
     let start = Instant::now();
     let settings = a.settings();
     super::check_steps(a.dt, a.steps)?;
+    // Checked here so that the errors name the flags, not the library's μ_s and μ_k.
+    input::non_negative("--mu-floor", a.mu_floor)?;
+    input::non_negative("--mu-k", a.mu_k)?;
     super::check_theta(settings.theta, &settings.cylinder)?;
     super::guard::check_time_bound(&settings, 1, a.force)?;
     let busy = crate::progress::busy("cylinder pair: solving", !a.json);

@@ -33,6 +33,9 @@ pub struct StaticsArgs {
 pub(super) fn run(a: &StaticsArgs) -> Result<()> {
     let start = Instant::now();
     anyhow::ensure!(a.points >= 3, "--points must be at least 3");
+    // Checked here so that the errors name the flags, not the library's r/h and μ.
+    input::non_negative("--r-over-h", a.r_over_h)?;
+    input::non_negative("--mu", a.mu)?;
     let fig = statics_figures(a.r_over_h, a.mu, a.points)?;
     println!(
         "computed Figures 3.3, 3.4, 3.5, 3.7 and 3.8 at {} inclinations (r/h = {}, μ = {}); \

@@ -32,6 +32,13 @@ pub struct SupportArgs {
 }
 
 pub(super) fn run(a: &SupportArgs) -> Result<()> {
+    // Checked here so that the errors name the flags, not the library's r/h, μ, mass.
+    input::non_negative("--r-over-h", a.r_over_h)?;
+    input::non_negative("--mu", a.mu)?;
+    if let Some(mass) = a.mass {
+        input::positive("--mass", mass)?;
+        input::positive("--gravity", a.gravity)?;
+    }
     let mut rep = support_report(a.theta.0, a.r_over_h, a.mu)?;
     if let Some(mass) = a.mass {
         rep = rep.with_weight(mass, a.gravity)?;

@@ -158,6 +158,8 @@ fn sweep_push(a: &PushSweepArgs) -> Result<()> {
         ..PairSettings::thesis(theta)
     };
     super::check_steps(a.dt, a.steps)?;
+    // Checked here so that the error names the flag, not the library's μ_s.
+    input::non_negative("--mu-floor", a.mu_floor)?;
     for &theta in &all {
         let s = settings(theta);
         super::check_theta(theta, &s.cylinder)?;
