@@ -163,7 +163,7 @@ pub(crate) struct CoulombSolution {
     pub residual: f64,
 }
 
-/// Σ_m d[m] x[m] over a direction's components: ±x for a planar law, exactly.
+/// Σ_m d_m x_m over a direction's components d: ±x for a planar law, exactly.
 fn along(d: &[f64], x: impl Fn(usize) -> f64) -> f64 {
     d.iter()
         .enumerate()

@@ -1,5 +1,5 @@
 //! The directions a friction percussion is spanned by in the last resort's linear
-//! complementarity problem ([`crate::coulomb_lcp`]).
+//! complementarity problem (docs/method.md §8.2, "The last resort").
 //!
 //! A planar law (one component) has the two directions ±1, and its LCP is Coulomb's law
 //! exactly. A disk law (two components, ‖P_F‖ ≤ μ ΣP_N) is not polyhedral, so an LCP
