@@ -17,6 +17,8 @@
 //! unknowns of its own). The LCP's matrix is then no longer symmetric in its normal
 //! block, which Lemke's method does not need.
 
+use crate::constrained_mass::InverseMass;
+use crate::friction_polygon;
 use crate::lcp::{lemke_regularized, LcpFailure};
 use crate::mass_inverse::MassInverse;
 use crate::system::{Evaluation, Layout};
@@ -95,19 +97,54 @@ impl SparseColumns {
     }
 }
 
-/// One planar Coulomb problem: its rows, the force directions of its unknowns, and the
-/// friction bounds. The normal unknowns come first, then one per sticking friction law.
+/// Whether a layout has planar friction laws only and no bilateral constraints: what the
+/// consistent start's Lemke stage takes ([`crate::start`]). The last resort's step takes
+/// every layout ([`crate::fallback`]).
+///
+/// # Errors
+/// What the layout has beyond that.
+pub(crate) fn planar_without_bilateral(l: &Layout) -> Result<(), String> {
+    if l.n_bilateral_position + l.n_bilateral_velocity > 0
+        || l.friction.iter().any(|f| f.components != 1)
+    {
+        return Err("the start's LCP covers planar friction without bilateral constraints".into());
+    }
+    Ok(())
+}
+
+/// The bound of one friction law in a [`CoulombLcp`].
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) struct FrictionBound {
+    /// μ.
+    pub mu: f64,
+    /// The normal unknowns whose sum it bounds (positions among the normal unknowns).
+    pub normals: Vec<usize>,
+    /// The directions its percussion is spanned by ([`crate::friction_polygon`]).
+    pub directions: Vec<Vec<f64>>,
+}
+
+impl FrictionBound {
+    /// The law's number of tangential components.
+    fn components(&self) -> usize {
+        self.directions[0].len()
+    }
+}
+
+/// One Coulomb problem: its rows, the force directions of its unknowns, and the
+/// friction bounds. The normal unknowns come first, then the components of each
+/// sticking friction law in turn.
 #[derive(Debug, Clone, Default)]
 pub(crate) struct CoulombLcp {
-    /// Per unknown, its constraint's W column (w_N, then w_F).
+    /// Per row, its constraint's W column (w_N, then each law's w_F components).
     pub rows: Vec<DVector<f64>>,
-    /// Per unknown, the generalized force direction it acts along (f_i, then w_F).
+    /// Per row, the generalized force direction its percussion acts along (f_i, then
+    /// w_F).
     pub forces: Vec<DVector<f64>>,
-    /// How many of the unknowns are normal ones.
+    /// How many of the rows are normal ones.
     pub normals: usize,
-    /// Per sticking law: μ and the normal unknowns whose sum it bounds.
-    pub bounds: Vec<(f64, Vec<usize>)>,
-    /// The rows at the free motion, wᵀv_free + c, in the order of the unknowns.
+    /// Per sticking law, its bound.
+    pub bounds: Vec<FrictionBound>,
+    /// The rows at the free motion, wᵀv_free + c, in the order of the rows.
     pub free: Vec<f64>,
 }
 
@@ -116,9 +153,9 @@ pub(crate) struct CoulombLcp {
 pub(crate) struct CoulombSolution {
     /// The normal unknowns z_i.
     pub normal: Vec<f64>,
-    /// Per sticking law, β⁺ − β⁻.
+    /// Per sticking law, its percussion's components (β⁺ − β⁻ for a planar law).
     pub friction: Vec<f64>,
-    /// M⁻¹(Σ f_i z_i + Σ w_F (β⁺ − β⁻)): what the unknowns add to v_free.
+    /// M⁻¹(Σ f_i z_i + Σ w_F P_F): what the unknowns add to v_free.
     pub change: DVector<f64>,
     /// Lemke's pivots.
     pub pivots: usize,
@@ -126,25 +163,62 @@ pub(crate) struct CoulombSolution {
     pub residual: f64,
 }
 
+/// Σ_m d_m x_m over a direction's components d: ±x for a planar law, exactly.
+fn along(d: &[f64], x: impl Fn(usize) -> f64) -> f64 {
+    d.iter()
+        .enumerate()
+        .map(|(m, dm)| dm * x(m))
+        .reduce(|a, b| a + b)
+        .unwrap_or(0.0)
+}
+
 impl CoulombLcp {
-    /// The rows of the contacts `normals` and of the friction laws `laws`, in that
-    /// order: their W columns.
-    pub fn rows_of(d: &ContactMatrices, normals: &[usize], laws: &[usize]) -> Vec<DVector<f64>> {
+    /// The rows of the contacts `normals` and of the components of the friction laws
+    /// `laws`, in that order: their W columns (normal k is position constraint ng + k,
+    /// law j's components follow nγ and the laws before it).
+    pub fn rows_of(
+        layout: &Layout,
+        d: &ContactMatrices,
+        normals: &[usize],
+        laws: &[usize],
+    ) -> Vec<DVector<f64>> {
+        let (ng, nga) = (layout.n_bilateral_position, layout.n_bilateral_velocity);
+        let offsets = layout.friction_offsets();
         normals
             .iter()
-            .map(|&k| d.w_p.dense(k))
-            .chain(laws.iter().map(|&j| d.w_v.dense(j)))
+            .map(|&k| d.w_p.dense(ng + k))
+            .chain(laws.iter().flat_map(|&j| {
+                let first = nga + offsets[j];
+                (0..layout.friction[j].components).map(move |m| d.w_v.dense(first + m))
+            }))
             .collect()
     }
 
-    /// The bounds of the friction laws `laws`: per law, μ and the positions in
-    /// `normals` (sorted) of its normal contacts among them.
-    pub fn bounds_of(layout: &Layout, normals: &[usize], laws: &[usize]) -> Vec<(f64, Vec<usize>)> {
+    /// The bounds of the friction laws `laws`: per law, μ, the positions in `normals`
+    /// (sorted) of its normal contacts among them, and its directions.
+    pub fn bounds_of(layout: &Layout, normals: &[usize], laws: &[usize]) -> Vec<FrictionBound> {
         laws.iter()
             .map(|&j| {
                 let law = &layout.friction[j];
                 let among = |k: &usize| normals.binary_search(k).ok();
-                (law.mu, law.normals.iter().filter_map(among).collect())
+                FrictionBound {
+                    mu: law.mu,
+                    normals: law.normals.iter().filter_map(among).collect(),
+                    directions: friction_polygon::directions(law.components),
+                }
+            })
+            .collect()
+    }
+
+    /// The friction unknowns β, as (law, direction): direction 0 of every law, then
+    /// direction 1, and so on (for planar laws: every β⁺, then every β⁻).
+    fn directional_unknowns(&self) -> Vec<(usize, usize)> {
+        let most = self.bounds.iter().map(|b| b.directions.len()).max();
+        (0..most.unwrap_or(0))
+            .flat_map(|i| {
+                (0..self.bounds.len())
+                    .filter(move |&l| i < self.bounds[l].directions.len())
+                    .map(move |l| (l, i))
             })
             .collect()
     }
@@ -152,65 +226,79 @@ impl CoulombLcp {
     /// Solves the problem by Lemke's method (regularized where the tableau is rank
     /// deficient), accepting a complementarity residual up to `accept`.
     ///
+    /// The unknowns are the normal ones z, the β of [`Self::directional_unknowns`] and
+    /// one λ per law; a β row is λ + dᵀ(W_Fᵀv + c), a λ row μ Σ z − Σ β.
+    ///
     /// # Errors
     /// Lemke's failure: a ray (no solution) or bad data.
-    pub fn solve(&self, m_inv: &MassInverse, accept: f64) -> Result<CoulombSolution, LcpFailure> {
-        let (a, b) = (self.normals, self.bounds.len());
-        let n = a + 3 * b;
-        // A row has the few entries of the bodies its contact touches: the products below
-        // run over those only.
-        let support: Vec<Vec<(usize, f64)>> = self
-            .rows
-            .iter()
-            .map(|c| {
-                c.iter()
-                    .copied()
-                    .enumerate()
-                    .filter(|e| e.1 != 0.0)
-                    .collect()
-            })
-            .collect();
-        let g_cols: Vec<DVector<f64>> = self
-            .forces
-            .iter()
-            .map(|f| m_inv.apply(f.as_slice()))
-            .collect();
+    pub fn solve(
+        &self,
+        m_inv: &impl InverseMass,
+        accept: f64,
+    ) -> Result<CoulombSolution, LcpFailure> {
+        let a = self.normals;
+        let b = self.bounds.len();
+        let betas = self.directional_unknowns();
+        let n = a + betas.len() + b;
+        // Each law's first row among the rows (normals first).
+        let mut first = Vec::with_capacity(b);
+        let mut next = a;
+        for bound in &self.bounds {
+            first.push(next);
+            next += bound.components();
+        }
+        let g_cols = self.force_columns(m_inv);
+        let v = self.row_products(&g_cols);
+        // Row or column i of the LCP as a combination of the problem's rows: a normal
+        // row itself, a β the law's rows along its direction.
+        let along_row = |i: usize, x: &dyn Fn(usize) -> f64| -> f64 {
+            if i < a {
+                x(i)
+            } else {
+                let (l, dir) = betas[i - a];
+                along(&self.bounds[l].directions[dir], |m| x(first[l] + m))
+            }
+        };
         let mut m = vec![0.0; n * n];
         let mut rhs = vec![0.0; n];
-        // The level's rows: ±(row r)ᵀ M⁻¹ times the unknowns, β⁺ − β⁻ for friction.
-        for (r, row_r) in support.iter().enumerate() {
-            let rows: &[(usize, f64)] = if r < a {
-                &[(r, 1.0)]
-            } else {
-                &[(r, 1.0), (r + b, -1.0)]
-            };
-            for (c, g_c) in g_cols.iter().enumerate() {
-                let v: f64 = row_r.iter().map(|&(i, w)| w * g_c[i]).sum();
-                for &(row, sign) in rows {
-                    m[row * n + c] = sign * v;
-                    if c >= a {
-                        m[row * n + c + b] = -sign * v;
-                    }
-                }
+        let unknowns = a + betas.len();
+        for r in 0..unknowns {
+            for c in 0..unknowns {
+                m[r * n + c] = along_row(r, &|row| along_row(c, &|col| v[row][col]));
             }
+            rhs[r] = along_row(r, &|row| self.free[row]);
         }
-        rhs[..a].copy_from_slice(&self.free[..a]);
-        for (i, (mu, normals)) in self.bounds.iter().enumerate() {
-            let c = self.free[a + i];
-            rhs[a + i] = c;
-            rhs[a + b + i] = -c;
-            // λ enters both slip rows; the friction bound row closes the system.
-            m[(a + i) * n + a + 2 * b + i] = 1.0;
-            m[(a + b + i) * n + a + 2 * b + i] = 1.0;
-            let row = a + 2 * b + i;
-            for &p in normals {
-                m[row * n + p] = *mu;
+        for (i, &(l, _)) in betas.iter().enumerate() {
+            // λ enters every direction's row of its law; the law's bound row closes
+            // the system.
+            m[(a + i) * n + unknowns + l] = 1.0;
+            m[(unknowns + l) * n + a + i] = -1.0;
+        }
+        for (l, bound) in self.bounds.iter().enumerate() {
+            for &p in &bound.normals {
+                m[(unknowns + l) * n + p] = bound.mu;
             }
-            m[row * n + a + i] = -1.0;
-            m[row * n + a + b + i] = -1.0;
         }
         let (sol, _) = lemke_regularized(&m, &rhs, 50 * n + 50, accept)?;
-        let friction: Vec<f64> = (0..b).map(|i| sol.z[a + i] - sol.z[a + b + i]).collect();
+        let friction: Vec<f64> = self
+            .bounds
+            .iter()
+            .enumerate()
+            .flat_map(|(l, bound)| {
+                let z = &sol.z;
+                let of_law: Vec<(usize, &Vec<f64>)> = (0..betas.len())
+                    .filter(|&i| betas[i].0 == l)
+                    .map(|i| (a + i, &bound.directions[betas[i].1]))
+                    .collect();
+                (0..bound.components()).map(move |m| {
+                    of_law
+                        .iter()
+                        .map(|&(i, d)| z[i] * d[m])
+                        .reduce(|x, y| x + y)
+                        .unwrap_or(0.0)
+                })
+            })
+            .collect();
         let mut change = DVector::zeros(m_inv.dim());
         for (g_c, &z) in g_cols.iter().zip(sol.z[..a].iter().chain(&friction)) {
             change += g_c * z;
@@ -222,6 +310,35 @@ impl CoulombLcp {
             pivots: sol.pivots,
             residual: sol.residual,
         })
+    }
+
+    /// M⁻¹ times each row's force direction.
+    fn force_columns(&self, m_inv: &impl InverseMass) -> Vec<DVector<f64>> {
+        self.forces
+            .iter()
+            .map(|f| m_inv.apply(f.as_slice()))
+            .collect()
+    }
+
+    /// The products w_rᵀ g_c of every row r with every column `g_cols` (M⁻¹f_c).
+    fn row_products(&self, g_cols: &[DVector<f64>]) -> Vec<Vec<f64>> {
+        // A row has the few entries of the bodies its contact touches: the products run
+        // over those only.
+        self.rows
+            .iter()
+            .map(|row| {
+                let support: Vec<(usize, f64)> = row
+                    .iter()
+                    .copied()
+                    .enumerate()
+                    .filter(|e| e.1 != 0.0)
+                    .collect();
+                g_cols
+                    .iter()
+                    .map(|g_c| support.iter().map(|&(i, w)| w * g_c[i]).sum())
+                    .collect()
+            })
+            .collect()
     }
 }
 

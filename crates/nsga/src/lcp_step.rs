@@ -1,21 +1,28 @@
 //! One Moreau–Jean step whose contact problem is a linear complementarity problem solved
-//! by Lemke's method ([`crate::lcp`]), which terminates (docs/method.md §6 and §8, step
-//! 7). It serves the generalized-α stepper's last resort and the Moreau–Jean baseline
-//! when its Newton iteration does not converge.
+//! by Lemke's method ([`crate::lcp`]), which terminates (docs/method.md §6 and §8.2). It
+//! serves the generalized-α stepper's last resort ([`crate::fallback`]) and the
+//! Moreau–Jean baseline when its Newton iteration does not converge. It takes every
+//! contact law nsga offers: disk friction through a polygon, approximately
+//! ([`crate::friction_polygon`]), everything else exactly.
 //!
 //! The velocity-level problem, in the form of Anitescu and Potra (1997): with
 //! ũ = u_n + Δt M⁻¹h at the midpoint q_M,
 //!
-//! u⁺ = ũ + M⁻¹(W_N P_N + W_F (β⁺ − β⁻)),
+//! u⁺ = ũ + M⁻¹(W_B P_B + W_N P_N + W_F Σᵢ βᵢ dᵢ),
+//! W_Bᵀu⁺ + χ_B = 0 (the bilateral constraints' rates g and γ, P_B free),
 //! 0 ≤ P_N ⟂ ξ_N = W_Nᵀu⁺ + χ_N + e_N ġ_N(u_n) ≥ 0,
-//! 0 ≤ β⁺ ⟂ λ + ξ_F ≥ 0,  0 ≤ β⁻ ⟂ λ − ξ_F ≥ 0,  0 ≤ λ ⟂ μ Σ P_N − β⁺ − β⁻ ≥ 0,
+//! 0 ≤ βᵢ ⟂ λ + dᵢᵀξ_F ≥ 0,  0 ≤ λ ⟂ μ Σ P_N − Σᵢ βᵢ ≥ 0,
 //!
-//! with ξ_F = W_Fᵀu⁺ + χ_F + e_F γ_F(u_n): Coulomb's law of a planar contact exactly (λ
-//! is the slip speed). Which contacts take part is the [`Activation`]. Then
-//! q_{n+1} = q_M + ½Δt B u⁺, and, if asked, gaps that end below zero are closed by the
-//! least M-norm displacement, itself an LCP: 0 ≤ δ ⟂ g + W_Nᵀ M⁻¹ W_N δ ≥ 0.
+//! with ξ_F = W_Fᵀu⁺ + χ_F + e_F γ_F(u_n) and the directions dᵢ of each friction law (±1
+//! for a planar law: Coulomb's law exactly, λ the slip speed). The bilateral block is
+//! eliminated first ([`crate::constrained_mass`]). Which contacts take part is the
+//! [`Activation`]. Then q_{n+1} = q_M + ½Δt B u⁺, and, if asked, the positions are
+//! projected back: the least M-norm displacement that closes the bilateral position
+//! constraints g(q) = 0 and the gaps that end below zero, itself an LCP with an
+//! equality block, 0 ≤ δ ⟂ g_N + W_Nᵀ du ≥ 0, g + W_gᵀ du = 0, du = M⁻¹(W_g z + W_N δ).
 
-use crate::coulomb_lcp::{ContactMatrices, CoulombLcp};
+use crate::constrained_mass::{ConstrainedInverse, InverseMass};
+use crate::coulomb_lcp::{ContactMatrices, CoulombLcp, SparseColumns};
 use crate::lcp::{lemke, LcpFailure};
 use crate::linalg::max_norm;
 use crate::moreau::advance;
@@ -39,7 +46,8 @@ pub(crate) enum Activation {
     ClosedAtMidpoint,
     /// Every contact (posed first over those within reach of the step, see [`lcp_step`]);
     /// one still open at q_M has ξ_N = W_Nᵀu⁺ + χ_N + g_N/(½Δt), so that it is pushed
-    /// only if its gap would close by the end of the step. (With the contacts
+    /// only if its gap would close by the end of the step (with e_N > 0 and a gap that
+    /// the free motion closes, Newton's restitution instead, bounded by that term). (With the contacts
     /// closed at q_M only, a column resting on gaps of 1e-9 sinks by ½Δt‖u‖ in a step.)
     GapAware,
 }
@@ -57,37 +65,49 @@ pub(crate) struct LcpStep {
     pub projection: f64,
 }
 
-/// Why a step could not be taken.
-#[derive(Debug, Clone)]
-pub(crate) enum LcpStepError {
-    /// The system has what this step does not cover (bilateral constraints, spatial
-    /// friction).
-    Unsupported(String),
-    /// The contact problem has no solution (Lemke's method ended on a ray), or the data
-    /// or the result are not finite.
-    NoSolution(String),
-}
-
-impl LcpStepError {
-    /// The message of either kind of failure.
-    pub(crate) fn into_message(self) -> String {
-        match self {
-            Self::Unsupported(m) | Self::NoSolution(m) => m,
+/// The bilateral constraints of an evaluation eliminated from M⁻¹ (position
+/// constraints 0..ng of W_p, velocity constraints 0..nγ of W_v where `velocity`).
+///
+/// # Errors
+/// The first redundant constraint, by its kind and index.
+fn eliminated<'a>(
+    l: &Layout,
+    d: &'a ContactMatrices,
+    velocity: bool,
+) -> Result<ConstrainedInverse<'a>, String> {
+    let (ng, nga) = (
+        l.n_bilateral_position,
+        if velocity { l.n_bilateral_velocity } else { 0 },
+    );
+    let columns = (0..ng)
+        .map(|i| d.w_p.dense(i))
+        .chain((0..nga).map(|i| d.w_v.dense(i)))
+        .collect();
+    ConstrainedInverse::new(&d.m_inv, columns, |i| {
+        if i < ng {
+            format!("bilateral position constraint {i}")
+        } else {
+            format!("bilateral velocity constraint {}", i - ng)
         }
-    }
+    })
 }
 
-/// Whether [`lcp_step`] covers a system of this layout: planar friction laws and no
-/// bilateral constraints.
-pub(crate) fn covers(l: &Layout) -> Result<(), LcpStepError> {
-    if l.n_bilateral_position + l.n_bilateral_velocity > 0
-        || l.friction.iter().any(|f| f.components != 1)
-    {
-        return Err(LcpStepError::Unsupported(
-            "the LCP step covers planar friction without bilateral constraints".into(),
-        ));
+/// Why the step cannot take the system at (t, q, u), if it cannot: its bilateral
+/// constraints are redundant there. (A singular M is left to the step, which reports
+/// it.)
+pub(crate) fn refusal<S: System>(
+    system: &S,
+    l: &Layout,
+    t: f64,
+    (q, u): (&[f64], &[f64]),
+) -> Option<String> {
+    if l.n_bilateral_position + l.n_bilateral_velocity == 0 {
+        return None;
     }
-    Ok(())
+    let mut eval = Evaluation::new(l);
+    system.evaluate(t, q, u, &mut eval);
+    let d = ContactMatrices::of(&eval, l.nu, l.n_bilateral_position, l.n_bilateral_velocity)?;
+    eliminated(l, &d, true).err()
 }
 
 /// The free acceleration M⁻¹h at (t, q, u), zero if M is singular.
@@ -124,21 +144,20 @@ pub(crate) fn lcp_step<S: System>(
     dt: f64,
     activation: Activation,
     project: bool,
-) -> Result<LcpStep, LcpStepError> {
-    covers(l)?;
-    let (nu, nn, nf) = (l.nu, l.n_normal(), l.n_friction());
+) -> Result<LcpStep, String> {
+    let (nu, ng, nn, nf) = (l.nu, l.n_bilateral_position, l.n_normal(), l.n_friction());
     let q_m = advance(system, t, q, u, 0.5 * dt);
     let t_m = t + 0.5 * dt;
     let mut eval = Evaluation::new(l);
     system.evaluate(t_m, &q_m, u, &mut eval);
-    let no_solution = |m: &str| LcpStepError::NoSolution(m.to_owned());
-    let d = ContactMatrices::of(&eval, nu, nn, nf)
-        .ok_or_else(|| no_solution("the mass matrix is singular"))?;
-    let problem = ContactProblem::new(l, &eval, &d, u, dt);
+    let d = ContactMatrices::of(&eval, nu, l.n_position(), l.n_velocity())
+        .ok_or("the mass matrix is singular")?;
+    let inertia = eliminated(l, &d, true)?;
+    let problem = ContactProblem::new(l, &eval, &d, &inertia, u, dt);
     let (closed, solved) = match activation {
         Activation::GapAware => problem.solve_growing(problem.within_reach())?,
         Activation::ClosedAtMidpoint => {
-            let closed: Vec<usize> = (0..nn).filter(|&k| eval.position[k] <= 0.0).collect();
+            let closed: Vec<usize> = (0..nn).filter(|&k| eval.position[ng + k] <= 0.0).collect();
             let solved = problem.solve(&closed)?;
             (closed, solved)
         }
@@ -154,12 +173,12 @@ pub(crate) fn lcp_step<S: System>(
     let u1: Vec<f64> = solved.u1.iter().copied().collect();
     let mut q1 = advance(system, t_m, &q_m, &u1, 0.5 * dt);
     let projection = if project {
-        project_onto_gaps(system, l, t1, &mut q1, &u1)
+        project_positions(system, l, t1, &mut q1, &u1)
     } else {
         0.0
     };
     if q1.iter().chain(&u1).any(|x| !x.is_finite()) {
-        return Err(no_solution("the LCP step gave a non-finite state"));
+        return Err("the LCP step gave a non-finite state".into());
     }
     Ok(LcpStep {
         q: q1,
@@ -172,18 +191,24 @@ pub(crate) fn lcp_step<S: System>(
     })
 }
 
-/// The step's contact problem at q_M, to be solved over a set of its contacts.
+/// The step's contact problem at q_M, to be solved over a set of its contacts, with the
+/// bilateral constraints eliminated.
 struct ContactProblem<'a> {
     l: &'a Layout,
     eval: &'a Evaluation<f64>,
     d: &'a ContactMatrices,
+    /// M̃⁻¹: M⁻¹ on the motions the bilateral constraints allow.
+    inertia: &'a ConstrainedInverse<'a>,
     dt: f64,
     u_n: DVector<f64>,
-    /// ũ = u_n + Δt M⁻¹h.
+    /// Π(ũ), ũ = u_n + Δt M⁻¹h: the free motion with the bilateral constraints kept.
     u_free: DVector<f64>,
     /// Per contact, what its normal row adds to ξ_N(u): Newton's restitution e_N ξ_N(u_n)
-    /// of a closed gap, the gap-aware term g/(½Δt) of an open one.
+    /// of a closed gap or of an open one with e_N > 0 that the free motion closes within
+    /// the step, the gap-aware term g/(½Δt) of any other open one.
     closing_term: Vec<f64>,
+    /// The first component of each friction law among γ_F.
+    offsets: Vec<usize>,
 }
 
 /// The solution of [`ContactProblem::solve`].
@@ -191,7 +216,7 @@ struct ContactSolution {
     u1: DVector<f64>,
     /// P_N of the contacts solved over, in their order.
     p_n: Vec<f64>,
-    /// (friction law, β⁺ − β⁻) of the active laws.
+    /// (friction component, its percussion) of the active laws.
     p_f: Vec<(usize, f64)>,
     pivots: usize,
     residual: f64,
@@ -203,30 +228,47 @@ struct ContactSolution {
 
 impl<'a> ContactProblem<'a> {
     /// The problem of a step of `dt` from the velocities `u`, with M, W and the gaps of
-    /// `eval` (at q_M).
+    /// `eval` (at q_M) and the bilateral constraints eliminated by `inertia`.
     fn new(
         l: &'a Layout,
         eval: &'a Evaluation<f64>,
         d: &'a ContactMatrices,
+        inertia: &'a ConstrainedInverse<'a>,
         u: &[f64],
         dt: f64,
     ) -> Self {
+        let (ng, nga) = (l.n_bilateral_position, l.n_bilateral_velocity);
         let u_n = DVector::from_column_slice(u);
         let kick = DVector::from_iterator(l.nu, eval.forces.iter().map(|h| h * dt));
+        let u_tilde = &u_n + d.m_inv.apply(kick.as_slice());
+        let chi_b: Vec<f64> = eval.position_chi[..ng]
+            .iter()
+            .chain(&eval.velocity_chi[..nga])
+            .copied()
+            .collect();
         let mut problem = Self {
             l,
             eval,
             d,
+            inertia,
             dt,
-            u_free: &u_n + d.m_inv.apply(kick.as_slice()),
+            u_free: inertia.project(&u_tilde, &chi_b),
             u_n,
             closing_term: Vec::new(),
+            offsets: l.friction_offsets(),
         };
         let closing_term = (0..l.n_normal())
             .map(|k| {
-                let g = eval.position[k];
+                let (g, e_n) = (eval.position[ng + k], l.e_n[k]);
+                let restitution = e_n * problem.xi_n(k, &problem.u_n);
                 if g <= 0.0 {
-                    l.e_n[k] * problem.xi_n(k, &problem.u_n)
+                    restitution
+                } else if e_n > 0.0 && g + 0.5 * dt * problem.xi_n(k, &problem.u_free) < 0.0 {
+                    // The free motion strikes the contact within the step: Newton's law
+                    // on the approach speed, the mass leaving at most ½Δt‖u‖ early (with
+                    // the gap-aware term alone it would land plastically, its e_N lost),
+                    // and never below the gap-aware bound.
+                    restitution.min(g / (0.5 * dt))
                 } else {
                     g / (0.5 * dt)
                 }
@@ -236,12 +278,16 @@ impl<'a> ContactProblem<'a> {
         problem
     }
 
+    /// ġ_N of contact k at u.
     fn xi_n(&self, k: usize, u: &DVector<f64>) -> f64 {
-        self.d.w_p.dot(k, u.as_slice()) + self.eval.position_chi[k]
+        let c = self.l.n_bilateral_position + k;
+        self.d.w_p.dot(c, u.as_slice()) + self.eval.position_chi[c]
     }
 
+    /// γ_F of friction component j at u.
     fn xi_f(&self, j: usize, u: &DVector<f64>) -> f64 {
-        self.d.w_v.dot(j, u.as_slice()) + self.eval.velocity_chi[j]
+        let c = self.l.n_bilateral_velocity + j;
+        self.d.w_v.dot(c, u.as_slice()) + self.eval.velocity_chi[c]
     }
 
     /// The normal row of contact k at u: ξ_N with Newton's restitution of a closed gap,
@@ -256,13 +302,13 @@ impl<'a> ContactProblem<'a> {
     /// nearly zero: taking the rates alone, the contacts of a kicked column were added
     /// one interface per solve.)
     fn within_reach(&self) -> Vec<usize> {
-        let nn = self.l.n_normal();
+        let (ng, nn) = (self.l.n_bilateral_position, self.l.n_normal());
         let fastest = (0..nn)
             .map(|k| self.xi_n(k, &self.u_free).abs())
             .fold(0.0, f64::max);
         let reach = 2.0 * self.dt * fastest;
         (0..nn)
-            .filter(|&k| self.eval.position[k] <= reach || self.rate(k, &self.u_free) <= 0.0)
+            .filter(|&k| self.eval.position[ng + k] <= reach || self.rate(k, &self.u_free) <= 0.0)
             .collect()
     }
 
@@ -272,7 +318,7 @@ impl<'a> ContactProblem<'a> {
     fn solve_growing(
         &self,
         mut closed: Vec<usize>,
-    ) -> Result<(Vec<usize>, ContactSolution), LcpStepError> {
+    ) -> Result<(Vec<usize>, ContactSolution), String> {
         let (mut pivots, mut solves) = (0, 0);
         loop {
             let mut solved = self.solve(&closed)?;
@@ -292,9 +338,17 @@ impl<'a> ContactProblem<'a> {
         }
     }
 
+    /// The friction components of the laws `active`, with their laws' e_F.
+    fn components<'b>(&'b self, active: &'b [usize]) -> impl Iterator<Item = (usize, f64)> + 'b {
+        active.iter().flat_map(move |&j| {
+            let law = &self.l.friction[j];
+            (0..law.components).map(move |m| (self.offsets[j] + m, law.e_f))
+        })
+    }
+
     /// Solves the LCP of the module docs over the contacts `closed` (sorted) and the
     /// friction laws of a contact among them, by Lemke's method.
-    fn solve(&self, closed: &[usize]) -> Result<ContactSolution, LcpStepError> {
+    fn solve(&self, closed: &[usize]) -> Result<ContactSolution, String> {
         let (l, d) = (self.l, self.d);
         let active: Vec<usize> = (0..l.friction.len())
             .filter(|&j| {
@@ -305,15 +359,15 @@ impl<'a> ContactProblem<'a> {
             })
             .collect();
         // The percussions act along the rows' own W columns.
-        let rows = CoulombLcp::rows_of(d, closed, &active);
-        let free =
-            closed
-                .iter()
-                .map(|&k| self.rate(k, &self.u_free))
-                .chain(active.iter().map(|&j| {
-                    self.xi_f(j, &self.u_free) + l.friction[j].e_f * self.xi_f(j, &self.u_n)
-                }))
-                .collect::<Vec<_>>();
+        let rows = CoulombLcp::rows_of(l, d, closed, &active);
+        let free = closed
+            .iter()
+            .map(|&k| self.rate(k, &self.u_free))
+            .chain(
+                self.components(&active)
+                    .map(|(j, e_f)| self.xi_f(j, &self.u_free) + e_f * self.xi_f(j, &self.u_n)),
+            )
+            .collect::<Vec<_>>();
         let bounds = CoulombLcp::bounds_of(l, closed, &active);
         let accept = ACCEPT * (1.0 + max_norm(&free));
         let problem = CoulombLcp {
@@ -323,16 +377,20 @@ impl<'a> ContactProblem<'a> {
             bounds,
             free,
         };
-        let sol = problem.solve(&d.m_inv, accept).map_err(|e| match e {
-            LcpFailure::Ray { .. } => LcpStepError::NoSolution(format!(
+        let sol = problem.solve(self.inertia, accept).map_err(|e| match e {
+            LcpFailure::Ray { .. } => format!(
                 "the step's contact problem has no solution: {e} (a Painlevé-type inconsistency)"
-            )),
-            e => LcpStepError::NoSolution(e.to_string()),
+            ),
+            e => e.to_string(),
         })?;
         Ok(ContactSolution {
             u1: &self.u_free + sol.change,
             p_n: sol.normal,
-            p_f: active.into_iter().zip(sol.friction).collect(),
+            p_f: self
+                .components(&active)
+                .map(|(j, _)| j)
+                .zip(sol.friction)
+                .collect(),
             pivots: sol.pivots,
             residual: sol.residual,
             accept,
@@ -341,28 +399,33 @@ impl<'a> ContactProblem<'a> {
     }
 }
 
-/// Moves `q` by the least M-norm displacement that closes every negative gap (to
-/// round-off, five linearizations at most); returns the size of the displacement in the
-/// coordinates (∞-norm).
-fn project_onto_gaps<S: System>(
+/// Moves `q` by the least M-norm displacement that closes the bilateral position
+/// constraints and every negative gap (to round-off, five linearizations at most);
+/// returns the size of the displacement in the coordinates (∞-norm).
+fn project_positions<S: System>(
     system: &S,
     l: &Layout,
     t: f64,
     q: &mut Vec<f64>,
     u: &[f64],
 ) -> f64 {
-    let (nu, nn) = (l.nu, l.n_normal());
+    let (nu, ng, nn) = (l.nu, l.n_bilateral_position, l.n_normal());
     let mut moved = 0.0_f64;
     for _ in 0..5 {
         let mut eval = Evaluation::new(l);
         system.evaluate(t, q, u, &mut eval);
-        if (0..nn).all(|k| eval.position[k] >= -PROJECTION_TOL) {
+        let (g, gaps) = eval.position[..ng + nn].split_at(ng);
+        if g.iter().all(|x| x.abs() <= PROJECTION_TOL) && gaps.iter().all(|&x| x >= -PROJECTION_TOL)
+        {
             break;
         }
-        let Some(d) = ContactMatrices::of(&eval, nu, nn, 0) else {
+        let Some(d) = ContactMatrices::of(&eval, nu, ng + nn, 0) else {
             break;
         };
-        let Some(du) = closing_displacement(&d, &eval.position[..nn]) else {
+        let Ok(inertia) = eliminated(l, &d, false) else {
+            break;
+        };
+        let Some(du) = displacement(&inertia, &d.w_p, g, gaps) else {
             break;
         };
         let before = q.clone();
@@ -376,25 +439,52 @@ fn project_onto_gaps<S: System>(
     moved
 }
 
-/// The least M-norm displacement du = M⁻¹ W_p z, z ≥ 0, after which the linearized gaps
-/// g + W_pᵀ du are nonnegative, complementary to z (None: Lemke's method failed).
+/// The least M-norm displacement after which the linearized bilateral constraints `g`
+/// are zero and the linearized `gaps` nonnegative (None: Lemke's method failed): the
+/// part Π(0) = −M⁻¹W_g G⁻¹g that closes g, then the closing displacement of the gaps
+/// it leaves, with M̃⁻¹ (`inertia`). `w` holds W_g, then W_N.
+fn displacement(
+    inertia: &ConstrainedInverse,
+    w: &SparseColumns,
+    g: &[f64],
+    gaps: &[f64],
+) -> Option<DVector<f64>> {
+    if g.is_empty() {
+        return closing_displacement(inertia, w, 0, gaps);
+    }
+    let ng = g.len();
+    let closing_g = inertia.project(&DVector::zeros(inertia.dim()), g);
+    let left: Vec<f64> = (0..gaps.len())
+        .map(|k| gaps[k] + w.dot(ng + k, closing_g.as_slice()))
+        .collect();
+    Some(closing_g + closing_displacement(inertia, w, ng, &left)?)
+}
+
+/// The least M-norm displacement du = M⁻¹ W_N z, z ≥ 0, after which the linearized gaps
+/// g + W_Nᵀ du are nonnegative, complementary to z (None: Lemke's method failed); contact
+/// k's column is `first` + k of `w`.
 ///
 /// Closing one gap must not open another below zero, so the problem is over every
 /// contact; but one that no displacement reaches keeps z = 0. It is solved over the
 /// gaps below −[`PROJECTION_TOL`] first, then again with the contacts the displacement
 /// pushes below that, until none: a contact left out has z = 0 and its gap stays above
-/// the tolerance that [`project_onto_gaps`] accepts, as [`ContactProblem::solve_growing`]
+/// the tolerance that [`project_positions`] accepts, as [`ContactProblem::solve_growing`]
 /// does for the step. Posed over all 6000 contacts of a 1000-block column on a floor at
 /// once, with dense products, it was still running after 9 minutes.
-fn closing_displacement(d: &ContactMatrices, gaps: &[f64]) -> Option<DVector<f64>> {
+fn closing_displacement(
+    inertia: &impl InverseMass,
+    w: &SparseColumns,
+    first: usize,
+    gaps: &[f64],
+) -> Option<DVector<f64>> {
     let mut set: Vec<usize> = (0..gaps.len())
         .filter(|&k| gaps[k] < -PROJECTION_TOL)
         .collect();
     loop {
-        let du = displacement_over(d, gaps, &set)?;
+        let du = displacement_over(inertia, w, first, gaps, &set)?;
         let missing: Vec<usize> = (0..gaps.len())
             .filter(|k| set.binary_search(k).is_err())
-            .filter(|&k| gaps[k] + d.w_p.dot(k, du.as_slice()) < -PROJECTION_TOL)
+            .filter(|&k| gaps[k] + w.dot(first + k, du.as_slice()) < -PROJECTION_TOL)
             .collect();
         if missing.is_empty() {
             return Some(du);
@@ -406,21 +496,27 @@ fn closing_displacement(d: &ContactMatrices, gaps: &[f64]) -> Option<DVector<f64
 
 /// The displacement of [`closing_displacement`] with the contacts `set` alone taking
 /// part: 0 ≤ z ⟂ g_S + W_Sᵀ M⁻¹ W_S z ≥ 0, du = M⁻¹ W_S z (None: Lemke's method failed).
-fn displacement_over(d: &ContactMatrices, gaps: &[f64], set: &[usize]) -> Option<DVector<f64>> {
+fn displacement_over(
+    inertia: &impl InverseMass,
+    w: &SparseColumns,
+    first: usize,
+    gaps: &[f64],
+    set: &[usize],
+) -> Option<DVector<f64>> {
     let n = set.len();
     let g_cols: Vec<DVector<f64>> = set
         .iter()
-        .map(|&k| d.m_inv.apply(d.w_p.dense(k).as_slice()))
+        .map(|&k| inertia.apply(w.dense(first + k).as_slice()))
         .collect();
     let mut m = vec![0.0; n * n];
     for (r, &k) in set.iter().enumerate() {
         for (c, g_c) in g_cols.iter().enumerate() {
-            m[r * n + c] = d.w_p.dot(k, g_c.as_slice());
+            m[r * n + c] = w.dot(first + k, g_c.as_slice());
         }
     }
     let q: Vec<f64> = set.iter().map(|&k| gaps[k]).collect();
     let sol = lemke(&m, &q, 50 * n + 50).ok()?;
-    let mut du = DVector::zeros(d.m_inv.dim());
+    let mut du = DVector::zeros(inertia.dim());
     for (g_c, delta) in g_cols.iter().zip(&sol.z) {
         du.axpy(*delta, g_c, 1.0);
     }
@@ -451,7 +547,8 @@ mod tests {
     fn the_contacts_within_reach_solve_the_step_at_once() {
         let (chain, l, eval, u) = hovering_chain();
         let d = ContactMatrices::of(&eval, l.nu, l.n_normal(), l.n_friction()).expect("M regular");
-        let problem = ContactProblem::new(&l, &eval, &d, &u, 1e-3);
+        let inertia = eliminated(&l, &d, true).expect("no bilateral constraints");
+        let problem = ContactProblem::new(&l, &eval, &d, &inertia, &u, 1e-3);
         let reach = problem.within_reach();
         // Every interface but the top one, 1 m up.
         assert_eq!(reach, (0..chain.n - 1).collect::<Vec<_>>());
@@ -490,14 +587,14 @@ mod tests {
         let nn = l.n_normal();
         let gaps = &eval.position[..nn];
         let d = ContactMatrices::of(&eval, l.nu, nn, 0).expect("M regular");
-        let du = closing_displacement(&d, gaps).expect("solved");
+        let du = closing_displacement(&d.m_inv, &d.w_p, 0, gaps).expect("solved");
         for (k, g) in gaps.iter().enumerate() {
             let after = g + d.w_p.dot(k, du.as_slice());
             assert!(after >= -PROJECTION_TOL, "gap {k}: {after}");
         }
         // The same displacement as the problem over every contact at once.
         let every: Vec<usize> = (0..nn).collect();
-        let full = displacement_over(&d, gaps, &every).expect("solved");
+        let full = displacement_over(&d.m_inv, &d.w_p, 0, gaps, &every).expect("solved");
         assert!((&du - &full).amax() < 1e-15, "{}", (&du - &full).amax());
         // Block 1 (y at index 3) rises by the depth; block 0 stays on the ground.
         assert!((du[3] - 1e-6).abs() < 1e-15 && du[1].abs() < 1e-15, "{du}");

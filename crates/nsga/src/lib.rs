@@ -95,9 +95,12 @@
 #![warn(missing_docs)]
 
 pub mod attempt;
+mod constrained_mass;
 mod coulomb_lcp;
 pub mod error;
 pub mod explore;
+mod fallback;
+pub mod friction_polygon;
 pub mod lcp;
 mod lcp_step;
 mod level;

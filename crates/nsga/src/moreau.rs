@@ -2,6 +2,7 @@
 //! solved by the crate's one semismooth Newton engine ([`crate::newton`]).
 
 use crate::error::StepError;
+use crate::fallback::{FallbackStep, MoreauLemke};
 use crate::level::{by_constraint, LevelProblem, LevelRows};
 use crate::linalg::{AutoSolver, LinearSolver};
 use crate::newton::{self, GiveUp, NewtonProblem, NewtonScratch, NewtonSettings, Outcome};
@@ -221,26 +222,19 @@ impl<S: System> MoreauStepper<S> {
         let st = &self.state;
         let k = st.k + 1;
         let t1 = self.t0 + k as f64 * self.options.dt;
-        let step = crate::lcp_step::lcp_step(
-            &self.system,
-            &self.layout,
-            (st.t, t1),
-            (&st.q, &st.u),
-            self.options.dt,
-            crate::lcp_step::Activation::ClosedAtMidpoint,
-            false,
-        )
-        .map_err(|e| {
-            let why = match e {
-                crate::lcp_step::LcpStepError::Unsupported(m)
-                | crate::lcp_step::LcpStepError::NoSolution(m) => m,
-            };
-            StepError::Linear {
+        let step = MoreauLemke::BASELINE
+            .step(
+                &self.system,
+                &self.layout,
+                (st.t, t1),
+                (&st.q, &st.u),
+                self.options.dt,
+            )
+            .map_err(|why| StepError::Linear {
                 t: st.t,
                 message: format!("{newton}; by Lemke's method: {why}"),
                 state: Box::new(st.as_state()),
-            }
-        })?;
+            })?;
         self.state = MoreauState {
             k,
             t: t1,

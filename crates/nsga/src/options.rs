@@ -263,8 +263,11 @@ pub struct Options {
     pub boundary_resolves: bool,
     /// When every attempt above fails, take the step by the last resort: a Moreau–Jean
     /// step whose contact problem Lemke's method solves (it terminates, with a solution
-    /// wherever one exists; docs/method.md §8). Planar friction without bilateral
-    /// constraints only; other systems keep the error. On by default.
+    /// wherever one exists; docs/method.md §8.2). It takes every contact law: bilateral
+    /// constraints exactly, disk friction approximately (a polygon of
+    /// [`DISK_DIRECTIONS`](crate::friction_polygon::DISK_DIRECTIONS) sides inscribed in
+    /// the disk). A system whose bilateral constraints are redundant at the initial state
+    /// is refused when the stepper is set up ([`crate::Stepper::new`]). On by default.
     #[serde(default = "yes")]
     pub last_resort: bool,
 }

@@ -335,8 +335,8 @@ fn describe(outcome: &Outcome<Vec<usize>>) -> String {
 /// The acceleration-level problem at t0 as a planar Coulomb LCP (`crate::coulomb_lcp`),
 /// solved by Lemke's method, which ends on a solution wherever its matrix is
 /// copositive-plus and the problem has one. Returns the unknowns y = (a, λ_N, λ_F) of
-/// [`consistent_start`] (no bilateral constraints: the LCP covers what the last-resort
-/// step covers).
+/// [`consistent_start`] (planar friction and no bilateral constraints only:
+/// [`crate::coulomb_lcp::planar_without_bilateral`]).
 ///
 /// The rows are g̈_N = W_Nᵀa + ζ_N of the closed contacts and γ̇_F = W_Fᵀa + ζ_F of their
 /// sticking friction laws. A law whose contact slides at t0 has no unknown of its own:
@@ -348,7 +348,7 @@ fn lcp_start(
     closed: &[bool],
     fixed_slip: &[Option<Vec<f64>>],
 ) -> Result<Vec<f64>, String> {
-    crate::lcp_step::covers(layout).map_err(crate::lcp_step::LcpStepError::into_message)?;
+    crate::coulomb_lcp::planar_without_bilateral(layout)?;
     let (nu, nn, nf) = (layout.nu, layout.n_normal(), layout.n_friction());
     let normals: Vec<usize> = (0..nn).filter(|&k| closed[k]).collect();
     let touching = |j: usize| layout.friction[j].normals.iter().any(|&k| closed[k]);
@@ -366,7 +366,7 @@ fn lcp_start(
     // The sign of a sliding law's slip (planar laws: one component).
     let slide = |j: usize| fixed_slip[j].as_ref().map(|s| s[0].signum());
     let forces = force_directions(layout, &d, &normals, &sticking, slide);
-    let rows = CoulombLcp::rows_of(&d, &normals, &sticking);
+    let rows = CoulombLcp::rows_of(layout, &d, &normals, &sticking);
     let zeta = normals
         .iter()
         .map(|&k| e.position_zeta[k])

@@ -27,7 +27,6 @@
 
 use crate::attempt::Trial;
 use crate::error::StepError;
-use crate::lcp_step::covers;
 use crate::linalg::{AutoSolver, DenseLu, LinearSolver, SparseLu};
 use crate::newton::NewtonScratch;
 use crate::options::{Options, SolverChoice};
@@ -288,15 +287,17 @@ impl<S: System> Stepper<S> {
     /// A stepper at t0 = `t0`, q0, u0, with consistent initial accelerations and forces
     /// (docs/method.md §5).
     ///
-    /// Where the consistent start fails and [`Options::last_resort`] covers the system,
-    /// the stepper starts anyway: [`Stepper::start_failure`] says why, and its first step
+    /// Where the consistent start fails and [`Options::last_resort`] is on, the stepper
+    /// starts anyway: [`Stepper::start_failure`] says why, and its first step
     /// is taken by the last resort, a Moreau–Jean step, which needs no accelerations and
     /// after which the generalized-α state restarts from a consistent start there.
     ///
     /// # Errors
-    /// [`StepError::InvalidInput`] for bad sizes, options or non-finite input;
+    /// [`StepError::InvalidInput`] for bad sizes, options or non-finite input, and where
+    /// [`Options::last_resort`] is on for a system the last resort cannot take (bilateral
+    /// constraints redundant at t0; the message says which);
     /// [`StepError::Start`] when the acceleration-level start problem is not solved and
-    /// the last resort is off or does not cover the system.
+    /// the last resort is off.
     pub fn new(
         system: S,
         t0: f64,
@@ -321,13 +322,12 @@ impl<S: System> Stepper<S> {
                 "t0, q0 and u0 must be finite".into(),
             ));
         }
+        last_resort::check_coverage(&system, &layout, options.last_resort, t0, (q0, u0))?;
         let off = Offsets::new(&layout);
         let (start, start_failure) = match consistent_start(&system, &layout, t0, q0, u0, &options)
         {
             Ok(start) => (start, None),
-            Err(failed @ StepError::Start { .. })
-                if options.last_resort && covers(&layout).is_ok() =>
-            {
+            Err(failed @ StepError::Start { .. }) if options.last_resort => {
                 let unforced = Start::unforced(&system, &layout, t0, q0, u0);
                 (unforced, Some(failed.to_string()))
             }
@@ -430,9 +430,14 @@ impl<S: System> Stepper<S> {
     /// Changes the options (for example Δt or the prox parameter) mid-run.
     ///
     /// # Errors
-    /// [`StepError::InvalidInput`] when they are invalid; nothing changes then.
+    /// [`StepError::InvalidInput`] when they are invalid, or switch the last resort on
+    /// for a system it cannot take at the current state; nothing changes then.
     pub fn set_options(&mut self, options: Options) -> Result<(), StepError> {
         options.validate()?;
+        if options.last_resort && !self.options.last_resort {
+            let st = &self.state;
+            last_resort::check_coverage(&self.system, &self.layout, true, st.t, (&st.q, &st.u))?;
+        }
         if options.dt != self.options.dt {
             self.time_base = (self.state.t, self.state.k);
         }
@@ -595,8 +600,7 @@ impl<S: System> Stepper<S> {
     ///
     /// # Errors
     /// [`StepError::NoSolution`] when the last resort finds that the step's contact
-    /// problem has no solution. Without the last resort (or for a system it does not
-    /// cover): [`StepError::NotConverged`] carrying t and the last good state;
+    /// problem has no solution. Without the last resort: [`StepError::NotConverged`] carrying t and the last good state;
     /// [`StepError::Linear`] when the Newton matrix was singular on every attempt. The
     /// stepper stays at the last good state, so the run can continue from it (for
     /// example after changing the options).

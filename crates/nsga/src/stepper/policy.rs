@@ -366,11 +366,9 @@ impl Policy {
                         Some(StepError::NotConverged { cycling: true, .. })
                     )
             }
-            Stage::LastResort => {
-                self.top
-                    && e.last_resort
-                    && !matches!(self.failure, Some(StepError::InvalidInput(_)))
-            }
+            // The stepper was refused at setup where the last resort cannot take the
+            // system, so the option says whether the stage exists.
+            Stage::LastResort => self.top && e.last_resort,
             _ => false,
         }
     }
@@ -390,18 +388,6 @@ impl Policy {
             visited_sets: self.visited.clone(),
             cycling: self.cycling,
             state: Box::new(state.clone()),
-        }
-    }
-
-    /// The error a failed last resort leaves: its own, except where it does not cover
-    /// the system (then the step's failure before it).
-    pub(super) fn last_resort_failed(&mut self, e: StepError, state: &State) -> StepError {
-        match e {
-            StepError::InvalidInput(_) => match self.failure.take() {
-                Some(failure) => failure,
-                None => self.attempts_failed(state),
-            },
-            e => e,
         }
     }
 }
@@ -437,11 +423,7 @@ impl<S: System> Stepper<S> {
                     Err(_) => policy.next(stage, Err(None), &self.state),
                 },
                 // Only at the step's own Δt, so it ends the step.
-                Stage::LastResort => {
-                    return self
-                        .last_resort()
-                        .map_err(|e| policy.last_resort_failed(e, &self.state));
-                }
+                Stage::LastResort => return self.last_resort(),
                 _ => {
                     let outcome = self.run_stage(stage, &mut policy);
                     policy.next(stage, outcome, &self.state)
