@@ -16,7 +16,7 @@ import sys
 import pytest
 
 SEED = 61
-CASES = 24  # per function
+CASES = 96  # per function
 TIMEOUT_S = 20  # per function, for all its cases
 
 # Values that break naive code: non-finite, zero, negative, tiny, huge, too big for an
@@ -168,14 +168,7 @@ def cases(function, base, params, rng):
 
 # Found by this file and not yet fixed (issue 61), each with what fails; a fixed one makes
 # its test pass, which strict xfail reports, so that the entry is removed.
-KNOWN = {
-    ("safe", "blocks.explore"): "no time guard from Python: t_end=2**63 runs on (the CLI refuses it)",
-    ("safe", "blocks.shaking"): "blocks=-1 or 10**30 raises OverflowError, not ValueError",
-    ("safe", "blocks.lire"): "blocks=-2**63 raises OverflowError, not ValueError",
-    ("safe", "blocks.sweep_frequency"): "blocks=1e20 raises OverflowError, not ValueError",
-    ("safe", "nsga.ball"): "case=10**9 raises OverflowError, not ValueError",
-    ("safe", "nsga.work_precision"): "repeat=-2**63 raises OverflowError, not ValueError",
-}
+KNOWN: dict = {}
 # The functions whose errors name the parameter for every hostile value drawn here.
 NAMED = {
     "blocks.painleve",
@@ -258,3 +251,48 @@ def test_hostile_values_are_refused_naming_the_parameter(row):
         if outcome.startswith("raised") and param not in outcome
     ]
     assert not failures, "\n".join(failures)
+
+
+def test_an_endless_exploration_is_refused_up_front_unless_forced():
+    """Found by the fuzzing above: explore(t_end=2**63) ran on, with no time guard."""
+    from rollstack import blocks
+
+    scene = blocks.shaking(blocks=2, periods=0.05)
+    with pytest.raises(ValueError, match="more than 600 s.*force=True"):
+        blocks.explore(scene, t_end=2.0**63, max_branches=1)
+    assert blocks.explore(scene, t_end=0.01, max_branches=1, force=True)["branches"]
+
+
+@pytest.mark.parametrize(
+    "function, args, kwargs, param",
+    [
+        ("blocks.shaking", (), {"blocks": -1}, "blocks"),
+        ("blocks.lire", (), {"blocks": 10**30}, "blocks"),
+        ("blocks.sweep_frequency", ([4.0],), {"blocks": -(2**63)}, "blocks"),
+        ("blocks.explore", (None,), {"max_depth": -math.inf}, "max_depth"),
+        ("nsga.ball", (), {"case": 10**9}, "case"),
+        ("nsga.work_precision", ("ball",), {"repeat": -1}, "repeat"),
+        ("cylinders.pair", (0.5,), {"steps": -1.0}, "steps"),
+    ],
+)
+def test_counts_out_of_range_are_value_errors_naming_the_parameter(function, args, kwargs, param):
+    """Found by the fuzzing above: these raised OverflowError naming nothing."""
+    import rollstack
+    from rollstack import blocks
+
+    module, name = function.split(".")
+    f = getattr(getattr(rollstack, module), name)
+    if args == (None,):  # the functions of a scene
+        args = (blocks.shaking(blocks=2, periods=0.05),)
+    with pytest.raises(ValueError, match=param):
+        f(*args, **kwargs)
+
+
+@pytest.mark.parametrize("theta", [5e-324, 1e-300])
+def test_an_inclination_a_few_ulps_from_zero_is_refused_not_returned_as_nan(theta):
+    """Found by the fuzzing above: holonomy_rectangle(5e-324, 1, 2) returned an infinite
+    centre of mass without a word."""
+    from rollstack import cylinders
+
+    with pytest.raises(ValueError, match="not finite"):
+        cylinders.holonomy_rectangle(theta, 1.0, 2.0)

@@ -338,7 +338,7 @@ def lire(blocks: int = 4, perturb: str = "none", floor: bool = False) -> Scene:
     by 0.01 at the ``"bottom"`` block (the whole column collapses) or the ``"top"`` one
     (it topples), or not (``"none"``: an unstable equilibrium). ``floor=True`` stands the
     table on a floor where the blocks land. Simulate with ``t_end=10`` as the CLI."""
-    return Scene(_rollstack.blocks_lire(int(blocks), perturb, bool(floor)))
+    return Scene(_rollstack.blocks_lire(count("blocks", blocks), perturb, bool(floor)))
 
 
 def shaking(
@@ -356,7 +356,7 @@ def shaking(
     (Figure 4.6), or with ``start_with_base=True`` moving with the base (velocity Aω)."""
     return Scene(
         _rollstack.blocks_shaking(
-            int(blocks),
+            count("blocks", blocks),
             float(omega),
             float(amplitude),
             float(mu),
@@ -369,7 +369,9 @@ def shaking(
 
 def sliding(blocks: int = 4, v0: float = 1.0, t_end: float = 3.0, mu: float = 0.2) -> Scene:
     """A column on a base pulled at speed ``v0`` (§4.5, Figure 4.7)."""
-    return Scene(_rollstack.blocks_sliding(int(blocks), float(v0), float(t_end), float(mu)))
+    return Scene(
+        _rollstack.blocks_sliding(count("blocks", blocks), float(v0), float(t_end), float(mu))
+    )
 
 
 def sweep_frequency(
@@ -413,7 +415,7 @@ def sweep_frequency(
         [float(w) for w in omegas],
         float(periods),
         float(amplitude),
-        int(blocks),
+        count("blocks", blocks),
         float(steps_per_period),
         float(mu),
         prox_constant,
@@ -448,7 +450,7 @@ def sweep_slide(
     return _rollstack.blocks_sweep_slide(
         [float(v) for v in speeds],
         float(t_end),
-        int(blocks),
+        count("blocks", blocks),
         float(mu),
         prox_constant,
         bool(explore_branches),
@@ -522,6 +524,7 @@ def explore(
     probe_flips: bool = False,
     classify: bool = False,
     prox_constant: Optional[float] = None,
+    force: bool = False,
 ) -> Dict[str, Any]:
     """Every continuation of ``scene``'s run (thesis §4.4, Figure 4.5): at a step with
     several solutions each becomes a branch, followed from the fork on (``rollstack
@@ -530,7 +533,8 @@ def explore(
     cap the tree; ``branch_rule`` is ``"self_consistent"`` (solutions of the step's
     equations; also spelled ``"self-consistent"``, as on the command line) or ``"converged"`` (the thesis's count); ``probe_flips`` also looks for
     solutions Newton does not reveal (Painlevé's); ``classify`` labels each fork real,
-    artefact or undecided against Δt/2, Δt/4 and the other prox.
+    artefact or undecided against Δt/2, Δt/4 and the other prox. A root run estimated
+    to take more than ten minutes is refused (ValueError) unless ``force``.
 
     Returns the JSON of ``rollstack blocks explore --json`` (branches, leaves, forks,
     labels, outcomes, ...) with ``branch_rows`` (the rows of branches.csv) and
@@ -542,13 +546,14 @@ def explore(
         scene._inner,
         None if t_end is None else float(t_end),
         str(strategy),
-        int(max_branches),
-        None if max_depth is None else int(max_depth),
+        count("max_branches", max_branches),
+        None if max_depth is None else count("max_depth", max_depth),
         None if max_wall is None else float(max_wall),
         str(branch_rule),
         bool(probe_flips),
         bool(classify),
         prox_constant,
+        bool(force),
     )
 
 

@@ -177,7 +177,7 @@ def pair(
     return _rollstack.cylinders_pair(
         float(theta),
         float(dt),
-        int(steps),
+        count("steps", steps),
         float(spin),
         None if ramp is None else float(ramp),
         float(mu_floor),
