@@ -242,13 +242,18 @@ def test_hostile_values_never_crash_hang_or_return_non_finite_results(row):
     assert not failures, "\n".join(failures)
 
 
+def time_guard(message):
+    """The time guard's refusal, which names ``force=True`` rather than one parameter."""
+    return "more than 600 s" in message and "force=True" in message
+
+
 @pytest.mark.parametrize("row", [mark("named", r) for r in range(len(TABLE))])
 def test_hostile_values_are_refused_naming_the_parameter(row):
     """A ValueError or TypeError names the parameter given."""
     failures = [
         f"{shown}: the error does not name {param!r}: {outcome[7:]}"
         for shown, param, outcome in outcomes(row)
-        if outcome.startswith("raised") and param not in outcome
+        if outcome.startswith("raised") and param not in outcome and not time_guard(outcome)
     ]
     assert not failures, "\n".join(failures)
 

@@ -285,6 +285,9 @@ mod tests {
                 matches!(got, Err(CylinderError::NotFinite(t)) if t == theta),
                 "{theta}: {got:?}"
             );
+            // Printed short, as typed, not as 324 digits.
+            let message = got.unwrap_err().to_string();
+            assert!(message.contains(&format!("ϑ = {theta:e} rad")), "{message}");
         }
     }
 
