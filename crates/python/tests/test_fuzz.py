@@ -171,14 +171,18 @@ def cases(function, base, params, rng):
 KNOWN: dict = {}
 # The functions whose errors name the parameter for every hostile value drawn here.
 NAMED = {
+    "blocks.lire",
+    "blocks.simulate",
+    "blocks.explore",
+    "nsga.ball",
     "blocks.painleve",
     "blocks.work_precision",
     "cylinders.statics",
     "cylinders.sweep_pair",
     "cylinders.sweep_push",
 }
-NAMING = "wrong types and many domain errors name no parameter ('float() argument must be "
-NAMING += "a string or a real number', 'φ2 must be positive', 'ρ∞ must lie in [0, 1]')"
+NAMING = "domain errors name the library's parameter ('φ2 must be positive', 'ρ∞ must lie "
+NAMING += "in [0, 1]', 'dt is not finite' for omega), not the function's"
 
 
 @functools.lru_cache(maxsize=None)

@@ -24,7 +24,7 @@ from typing import Any, Dict, List, Mapping, Optional, Sequence, Union
 import numpy as np
 
 from . import _rollstack
-from ._args import count, number
+from ._args import count, number, number_list, optional_number
 from ._rollstack import SolverError
 
 __all__ = [
@@ -307,8 +307,8 @@ def simulate(
         raise TypeError(f"simulate needs a rollstack.blocks.Scene, got {type(scene).__name__}")
     raw = _rollstack.blocks_simulate(
         scene._inner,
-        None if t_end is None else float(t_end),
-        None if prox_constant is None else float(prox_constant),
+        None if t_end is None else number("t_end", t_end),
+        None if prox_constant is None else number("prox_constant", prox_constant),
         bool(explore_branches),
         bool(last_resort),
         bool(stop_at_failure),
@@ -338,6 +338,8 @@ def lire(blocks: int = 4, perturb: str = "none", floor: bool = False) -> Scene:
     by 0.01 at the ``"bottom"`` block (the whole column collapses) or the ``"top"`` one
     (it topples), or not (``"none"``: an unstable equilibrium). ``floor=True`` stands the
     table on a floor where the blocks land. Simulate with ``t_end=10`` as the CLI."""
+    if perturb not in _PERTURBATIONS:
+        raise ValueError(f"perturb must be one of {', '.join(_PERTURBATIONS)}, got {perturb!r}")
     return Scene(_rollstack.blocks_lire(count("blocks", blocks), perturb, bool(floor)))
 
 
@@ -357,11 +359,11 @@ def shaking(
     return Scene(
         _rollstack.blocks_shaking(
             count("blocks", blocks),
-            float(omega),
-            float(amplitude),
-            float(mu),
-            float(steps_per_period),
-            float(periods),
+            number("omega", omega),
+            number("amplitude", amplitude),
+            number("mu", mu),
+            number("steps_per_period", steps_per_period),
+            number("periods", periods),
             bool(start_with_base),
         )
     )
@@ -370,7 +372,9 @@ def shaking(
 def sliding(blocks: int = 4, v0: float = 1.0, t_end: float = 3.0, mu: float = 0.2) -> Scene:
     """A column on a base pulled at speed ``v0`` (§4.5, Figure 4.7)."""
     return Scene(
-        _rollstack.blocks_sliding(count("blocks", blocks), float(v0), float(t_end), float(mu))
+        _rollstack.blocks_sliding(
+            count("blocks", blocks), number("v0", v0), number("t_end", t_end), number("mu", mu)
+        )
     )
 
 
@@ -412,16 +416,16 @@ def sweep_frequency(
     line, calibrated on the first steps of the costliest run) raise ``ValueError`` before
     any run unless ``force=True``."""
     return _rollstack.blocks_sweep_frequency(
-        [float(w) for w in omegas],
-        float(periods),
-        float(amplitude),
+        number_list("omegas", omegas),
+        number("periods", periods),
+        number("amplitude", amplitude),
         count("blocks", blocks),
-        float(steps_per_period),
-        float(mu),
-        prox_constant,
+        number("steps_per_period", steps_per_period),
+        number("mu", mu),
+        optional_number("prox_constant", prox_constant),
         bool(explore_branches),
         bool(last_resort),
-        None if t_max is None else float(t_max),
+        None if t_max is None else number("t_max", t_max),
         bool(low_rank_updates),
         count("branches", branches),
         str(branch_rule),
@@ -448,11 +452,11 @@ def sweep_slide(
     --json``. ``branches``, ``branch_rule`` and ``force`` as in :func:`sweep_frequency`,
     the spread being that of the top block's angle."""
     return _rollstack.blocks_sweep_slide(
-        [float(v) for v in speeds],
-        float(t_end),
+        number_list("speeds", speeds),
+        number("t_end", t_end),
         count("blocks", blocks),
-        float(mu),
-        prox_constant,
+        number("mu", mu),
+        optional_number("prox_constant", prox_constant),
         bool(explore_branches),
         bool(last_resort),
         bool(low_rank_updates),
@@ -502,9 +506,9 @@ def sweep_scene(
     return _rollstack.blocks_sweep_scene(
         scene._inner,
         texts,
-        None if t_end is None else float(t_end),
+        None if t_end is None else number("t_end", t_end),
         bool(stop_at_failure),
-        prox_constant,
+        optional_number("prox_constant", prox_constant),
         bool(explore_branches),
         bool(last_resort),
         bool(low_rank_updates),
@@ -544,15 +548,15 @@ def explore(
         raise TypeError(f"explore needs a rollstack.blocks.Scene, got {type(scene).__name__}")
     return _rollstack.blocks_explore(
         scene._inner,
-        None if t_end is None else float(t_end),
+        None if t_end is None else number("t_end", t_end),
         str(strategy),
         count("max_branches", max_branches),
         None if max_depth is None else count("max_depth", max_depth),
-        None if max_wall is None else float(max_wall),
+        None if max_wall is None else number("max_wall", max_wall),
         str(branch_rule),
         bool(probe_flips),
         bool(classify),
-        prox_constant,
+        optional_number("prox_constant", prox_constant),
         bool(force),
     )
 
