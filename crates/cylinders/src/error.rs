@@ -44,6 +44,10 @@ pub enum CylinderError {
     /// (E.2.5) do not exist (line contact, H singular).
     #[error("the cylinder axes are parallel (|e3_I · e3_II| = {0}): H in (E.2.4) is singular")]
     ParallelAxes(f64),
+    /// A rolled trace that is not finite: an inclination within a few ulps of 0 or π/2
+    /// passes the open interval of [`CylinderError::NotPointContact`] but overflows.
+    #[error("the rolled trace is not finite at ϑ = {} rad: the inclination is too close to 0 or π/2 for double precision", input::Short(*.0))]
+    NotFinite(f64),
     /// The time stepper (nsga) failed on a step or at the start.
     #[error("the time stepper failed: {0}")]
     Solver(String),

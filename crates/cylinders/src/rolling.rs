@@ -109,6 +109,18 @@ impl RollingTrace {
         }
     }
 
+    /// Whether every sample (time, centre, contact, rim point, spin) is finite.
+    #[must_use]
+    pub fn is_finite(&self) -> bool {
+        self.samples.iter().all(|s| {
+            s.t.is_finite()
+                && s.phi.is_finite()
+                && [s.center, s.contact, s.rim_point]
+                    .iter()
+                    .all(|v| v.iter().all(|x| x.is_finite()))
+        })
+    }
+
     /// ‖x̄_end − x̄_0‖: zero when the centre returns.
     #[must_use]
     pub fn closure_error(&self) -> f64 {

@@ -679,9 +679,10 @@ fn parallel_rows<'py, P: Sync, R: Send + serde::Serialize>(
 /// Every continuation of a scene's run (`blockstack::exploration`): the JSON of
 /// `rollstack blocks explore --json`, with `branch_rows` (the rows of `branches.csv`, as
 /// objects) and `fork_rows` (one object per fork: its contact states and evidence). The
-/// exploration runs with the GIL released.
+/// exploration runs with the GIL released, after the time guard of its root run (as the
+/// CLI's), unless `force`.
 #[pyfunction]
-#[pyo3(signature = (scene, t_end = None, strategy = "breadth", max_branches = 1000, max_depth = None, max_wall = None, branch_rule = "self_consistent", probe_flips = false, classify = false, prox_constant = None))]
+#[pyo3(signature = (scene, t_end = None, strategy = "breadth", max_branches = 1000, max_depth = None, max_wall = None, branch_rule = "self_consistent", probe_flips = false, classify = false, prox_constant = None, force = false))]
 #[allow(clippy::too_many_arguments)]
 fn blocks_explore<'py>(
     py: Python<'py>,
@@ -695,6 +696,7 @@ fn blocks_explore<'py>(
     probe_flips: bool,
     classify: bool,
     prox_constant: Option<f64>,
+    force: bool,
 ) -> PyResult<Bound<'py, PyAny>> {
     use blockstack::exploration::{
         branch_cells, explore_scene, fork_records, outcome_groups, ExplorationReport, WalkSettings,
@@ -736,6 +738,12 @@ fn blocks_explore<'py>(
             ..WalkSettings::default()
         };
         let scene = &scene.scene;
+        check_time_bound(
+            std::slice::from_ref(scene),
+            &options,
+            force,
+            "shorten t_end",
+        )?;
         let tree = py
             .detach(|| explore_scene(scene, &options, &explore_options, settings))
             .map_err(value_error)?;

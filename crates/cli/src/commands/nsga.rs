@@ -205,11 +205,12 @@ fn write_ball_files(dir: &Path, r: &BallRun, a: &BallArgs) -> Result<()> {
 
 fn work_precision_command(a: &WorkPrecisionArgs) -> Result<()> {
     let system: WorkPrecisionSystem = a.system.into();
-    let dts = input::text::parse_number_list(&a.dts).map_err(anyhow::Error::msg)?;
+    let dts = input::text::parse_number_list(&a.dts).map_err(|e| anyhow::anyhow!("--dts: {e}"))?;
     if dts.iter().any(|&d| !(d > 0.0 && d <= 0.1)) {
         bail!("every --dts value must be in (0, 0.1] s");
     }
-    let rhos = input::text::parse_number_list(&a.rho_inf).map_err(anyhow::Error::msg)?;
+    let rhos = input::text::parse_number_list(&a.rho_inf)
+        .map_err(|e| anyhow::anyhow!("--rho-inf: {e}"))?;
     if rhos.iter().any(|r| !(0.0..=1.0).contains(r)) {
         bail!("every --rho-inf value must be in [0, 1]");
     }

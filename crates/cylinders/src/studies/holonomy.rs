@@ -98,7 +98,8 @@ impl fmt::Display for RectangleSummary<'_> {
 ///
 /// # Errors
 /// ϑ outside (0, π/2) ([`CylinderError::NotPointContact`]), a `psi0` that is not finite
-/// (every rotation would be NaN), a `settings.max_step` that is not positive.
+/// (every rotation would be NaN), a `settings.max_step` that is not positive, a ϑ so
+/// close to 0 or π/2 that the trace overflows ([`CylinderError::NotFinite`]).
 pub fn rectangle_report(
     cylinder: &Cylinder,
     theta: f64,
@@ -119,6 +120,9 @@ pub fn rectangle_report(
         settings.max_step,
         settings.record_every,
     )?;
+    if !trace.is_finite() {
+        return Err(CylinderError::NotFinite(theta));
+    }
     let axis = initial_axis(theta, psi0);
     let report = RectangleReport {
         delta_phi: path.delta_phi(),
@@ -269,6 +273,23 @@ mod tests {
         max_step: 2e-3,
         record_every: 10,
     };
+
+    #[test]
+    fn an_inclination_a_few_ulps_from_zero_is_refused_not_returned_as_nan() {
+        let cylinder = Cylinder::new(1.0, 1.0 / 0.12).unwrap();
+        let path =
+            RectanglePath::new(1.0, 2.0, 0.0, PathCase::I, Direction::CounterClockwise).unwrap();
+        for theta in [5e-324, 1e-300] {
+            let got = rectangle_report(&cylinder, theta, &path, 0.0, COARSE);
+            assert!(
+                matches!(got, Err(CylinderError::NotFinite(t)) if t == theta),
+                "{theta}: {got:?}"
+            );
+            // Printed short, as typed, not as 324 digits.
+            let message = got.unwrap_err().to_string();
+            assert!(message.contains(&format!("ϑ = {theta:e} rad")), "{message}");
+        }
+    }
 
     #[test]
     fn figure_3_10_in_radians() {

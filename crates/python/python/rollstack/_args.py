@@ -4,7 +4,7 @@ sign raises ``ValueError`` naming the parameter, as the command line names its f
 from __future__ import annotations
 
 import numbers
-from typing import Any, List, Union
+from typing import Any, Iterable, List, Optional, Union
 
 _USIZE_MAX = 2**64 - 1
 
@@ -16,6 +16,11 @@ def number(name: str, value: Any) -> float:
     return float(value)
 
 
+def optional_number(name: str, value: Any) -> Optional[float]:
+    """``None``, or ``value`` as a float (:func:`number`)."""
+    return None if value is None else number(name, value)
+
+
 def count(name: str, value: Any) -> int:
     """``value`` as a non-negative integer that fits the library's counts."""
     if isinstance(value, bool) or not isinstance(value, numbers.Integral):
@@ -25,6 +30,13 @@ def count(name: str, value: Any) -> int:
     if value > _USIZE_MAX:
         raise ValueError(f"{name} is too large, got {value}")
     return int(value)
+
+
+def number_list(name: str, value: Any) -> List[float]:
+    """``value``, a sequence of numbers, as floats; each wrong one named ``name[i]``."""
+    if isinstance(value, (str, bytes)) or not isinstance(value, Iterable):
+        raise ValueError(f"{name} must be a sequence of numbers, got {value!r}")
+    return [number(f"{name}[{i}]", v) for i, v in enumerate(value)]
 
 
 def values(name: str, value: Any) -> Union[str, List[float]]:

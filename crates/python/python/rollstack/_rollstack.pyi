@@ -72,6 +72,7 @@ def blocks_explore(
     probe_flips: bool = ...,
     classify: bool = ...,
     prox_constant: Optional[float] = ...,
+    force: bool = ...,
 ) -> Dict[str, Any]: ...
 def blocks_sweep_slide(
     speeds: Sequence[float],

@@ -24,7 +24,7 @@ from typing import Any, Dict, List, Mapping, Optional, Sequence, Union
 import numpy as np
 
 from . import _rollstack
-from ._args import count, number
+from ._args import count, number, number_list, optional_number
 from ._rollstack import SolverError
 
 __all__ = [
@@ -307,8 +307,8 @@ def simulate(
         raise TypeError(f"simulate needs a rollstack.blocks.Scene, got {type(scene).__name__}")
     raw = _rollstack.blocks_simulate(
         scene._inner,
-        None if t_end is None else float(t_end),
-        None if prox_constant is None else float(prox_constant),
+        None if t_end is None else number("t_end", t_end),
+        None if prox_constant is None else number("prox_constant", prox_constant),
         bool(explore_branches),
         bool(last_resort),
         bool(stop_at_failure),
@@ -338,7 +338,9 @@ def lire(blocks: int = 4, perturb: str = "none", floor: bool = False) -> Scene:
     by 0.01 at the ``"bottom"`` block (the whole column collapses) or the ``"top"`` one
     (it topples), or not (``"none"``: an unstable equilibrium). ``floor=True`` stands the
     table on a floor where the blocks land. Simulate with ``t_end=10`` as the CLI."""
-    return Scene(_rollstack.blocks_lire(int(blocks), perturb, bool(floor)))
+    if perturb not in _PERTURBATIONS:
+        raise ValueError(f"perturb must be one of {', '.join(_PERTURBATIONS)}, got {perturb!r}")
+    return Scene(_rollstack.blocks_lire(count("blocks", blocks), perturb, bool(floor)))
 
 
 def shaking(
@@ -356,12 +358,12 @@ def shaking(
     (Figure 4.6), or with ``start_with_base=True`` moving with the base (velocity Aω)."""
     return Scene(
         _rollstack.blocks_shaking(
-            int(blocks),
-            float(omega),
-            float(amplitude),
-            float(mu),
-            float(steps_per_period),
-            float(periods),
+            count("blocks", blocks),
+            number("omega", omega),
+            number("amplitude", amplitude),
+            number("mu", mu),
+            number("steps_per_period", steps_per_period),
+            number("periods", periods),
             bool(start_with_base),
         )
     )
@@ -369,7 +371,11 @@ def shaking(
 
 def sliding(blocks: int = 4, v0: float = 1.0, t_end: float = 3.0, mu: float = 0.2) -> Scene:
     """A column on a base pulled at speed ``v0`` (§4.5, Figure 4.7)."""
-    return Scene(_rollstack.blocks_sliding(int(blocks), float(v0), float(t_end), float(mu)))
+    return Scene(
+        _rollstack.blocks_sliding(
+            count("blocks", blocks), number("v0", v0), number("t_end", t_end), number("mu", mu)
+        )
+    )
 
 
 def sweep_frequency(
@@ -410,16 +416,16 @@ def sweep_frequency(
     line, calibrated on the first steps of the costliest run) raise ``ValueError`` before
     any run unless ``force=True``."""
     return _rollstack.blocks_sweep_frequency(
-        [float(w) for w in omegas],
-        float(periods),
-        float(amplitude),
-        int(blocks),
-        float(steps_per_period),
-        float(mu),
-        prox_constant,
+        number_list("omegas", omegas),
+        number("periods", periods),
+        number("amplitude", amplitude),
+        count("blocks", blocks),
+        number("steps_per_period", steps_per_period),
+        number("mu", mu),
+        optional_number("prox_constant", prox_constant),
         bool(explore_branches),
         bool(last_resort),
-        None if t_max is None else float(t_max),
+        None if t_max is None else number("t_max", t_max),
         bool(low_rank_updates),
         count("branches", branches),
         str(branch_rule),
@@ -446,11 +452,11 @@ def sweep_slide(
     --json``. ``branches``, ``branch_rule`` and ``force`` as in :func:`sweep_frequency`,
     the spread being that of the top block's angle."""
     return _rollstack.blocks_sweep_slide(
-        [float(v) for v in speeds],
-        float(t_end),
-        int(blocks),
-        float(mu),
-        prox_constant,
+        number_list("speeds", speeds),
+        number("t_end", t_end),
+        count("blocks", blocks),
+        number("mu", mu),
+        optional_number("prox_constant", prox_constant),
         bool(explore_branches),
         bool(last_resort),
         bool(low_rank_updates),
@@ -500,9 +506,9 @@ def sweep_scene(
     return _rollstack.blocks_sweep_scene(
         scene._inner,
         texts,
-        None if t_end is None else float(t_end),
+        None if t_end is None else number("t_end", t_end),
         bool(stop_at_failure),
-        prox_constant,
+        optional_number("prox_constant", prox_constant),
         bool(explore_branches),
         bool(last_resort),
         bool(low_rank_updates),
@@ -522,6 +528,7 @@ def explore(
     probe_flips: bool = False,
     classify: bool = False,
     prox_constant: Optional[float] = None,
+    force: bool = False,
 ) -> Dict[str, Any]:
     """Every continuation of ``scene``'s run (thesis §4.4, Figure 4.5): at a step with
     several solutions each becomes a branch, followed from the fork on (``rollstack
@@ -530,7 +537,8 @@ def explore(
     cap the tree; ``branch_rule`` is ``"self_consistent"`` (solutions of the step's
     equations; also spelled ``"self-consistent"``, as on the command line) or ``"converged"`` (the thesis's count); ``probe_flips`` also looks for
     solutions Newton does not reveal (Painlevé's); ``classify`` labels each fork real,
-    artefact or undecided against Δt/2, Δt/4 and the other prox.
+    artefact or undecided against Δt/2, Δt/4 and the other prox. A root run estimated
+    to take more than ten minutes is refused (ValueError) unless ``force``.
 
     Returns the JSON of ``rollstack blocks explore --json`` (branches, leaves, forks,
     labels, outcomes, ...) with ``branch_rows`` (the rows of branches.csv) and
@@ -540,15 +548,16 @@ def explore(
         raise TypeError(f"explore needs a rollstack.blocks.Scene, got {type(scene).__name__}")
     return _rollstack.blocks_explore(
         scene._inner,
-        None if t_end is None else float(t_end),
+        None if t_end is None else number("t_end", t_end),
         str(strategy),
-        int(max_branches),
-        None if max_depth is None else int(max_depth),
-        None if max_wall is None else float(max_wall),
+        count("max_branches", max_branches),
+        None if max_depth is None else count("max_depth", max_depth),
+        None if max_wall is None else number("max_wall", max_wall),
         str(branch_rule),
         bool(probe_flips),
         bool(classify),
-        prox_constant,
+        optional_number("prox_constant", prox_constant),
+        bool(force),
     )
 
 

@@ -12,7 +12,7 @@ import math
 from typing import Any, Callable, Dict, List, Optional, Sequence, Union
 
 from . import _rollstack
-from ._args import count, number, values
+from ._args import count, number, number_list, values
 
 __all__ = [
     "support",
@@ -38,7 +38,13 @@ def support(
     (3.3.8)-(3.3.20) (μ in (3.3.8), ERRATA): the dict of ``rollstack cylinder support
     --json`` (normal forces at the friction limits, the least force; in newtons when
     ``mass`` is given)."""
-    return _rollstack.cylinders_support(float(theta), float(r_over_h), float(mu), mass, float(gravity))
+    return _rollstack.cylinders_support(
+        number("theta", theta),
+        number("r_over_h", r_over_h),
+        number("mu", mu),
+        mass,
+        number("gravity", gravity),
+    )
 
 
 def statics(r_over_h: float = 0.1, mu: float = 0.2, points: int = 721) -> Dict[str, Any]:
@@ -86,8 +92,15 @@ def holonomy_rectangle(
     (N, 3). ``case`` is ``"I"`` (e'2 outward) or ``"II"`` (inward).
     """
     return _rollstack.cylinders_holonomy_rectangle(
-        float(theta), float(phi1), float(phi2), float(s), case, bool(cw), float(psi0),
-        float(r_over_h), float(max_step),
+        number("theta", theta),
+        number("phi1", phi1),
+        number("phi2", phi2),
+        number("s", s),
+        case,
+        bool(cw),
+        number("psi0", psi0),
+        number("r_over_h", r_over_h),
+        number("max_step", max_step),
     )
 
 
@@ -106,7 +119,14 @@ def holonomy_circle(
     ``r / r_over_h``. Returns ``report`` (as ``rollstack cylinder holonomy circle
     --json``) and the rolled trace, as :func:`holonomy_rectangle`."""
     return _rollstack.cylinders_holonomy_circle(
-        float(ell), float(theta), h, r_over_h, float(r), case, bool(cw), float(max_step)
+        number("ell", ell),
+        number("theta", theta),
+        h,
+        r_over_h,
+        number("r", r),
+        case,
+        bool(cw),
+        number("max_step", max_step),
     )
 
 
@@ -126,8 +146,10 @@ def frobenius(
     default 0.3) is where the two cylinders touch along their axes; a NaN or infinite
     value, or one given for ``"single"``, raises ``ValueError``."""
     return _rollstack.cylinders_frobenius(
-        system, config, float(theta), float(heading),
-        None if contact_at is None else float(contact_at), float(r), float(h)
+        system, config, number("theta", theta), number("heading", heading),
+        None if contact_at is None else number("contact_at", contact_at),
+        number("r", r),
+        number("h", h),
     )
 
 
@@ -143,7 +165,9 @@ def frobenius_test(
     ``cylinders::frobenius::report_from``: rank, nullity, singular values, the largest
     |aᵀ S^Γ b| per constraint over the null space, and ``integrable`` per constraint.
     """
-    return _rollstack.cylinders_frobenius_callable(constraint_matrix, [float(v) for v in q], float(step))
+    return _rollstack.cylinders_frobenius_callable(
+        constraint_matrix, number_list("q", q), number("step", step)
+    )
 
 
 def pair(
@@ -175,15 +199,15 @@ def pair(
     longer than ten minutes raises ``ValueError`` before it starts, as ``rollstack
     cylinder pair`` refuses it, unless ``force=True``."""
     return _rollstack.cylinders_pair(
-        float(theta),
-        float(dt),
-        int(steps),
-        float(spin),
-        None if ramp is None else float(ramp),
-        float(mu_floor),
-        float(mu_mutual),
-        float(push_over_mg),
-        float(rho_inf),
+        number("theta", theta),
+        number("dt", dt),
+        count("steps", steps),
+        number("spin", spin),
+        None if ramp is None else number("ramp", ramp),
+        number("mu_floor", mu_floor),
+        number("mu_mutual", mu_mutual),
+        number("push_over_mg", push_over_mg),
+        number("rho_inf", rho_inf),
         bool(force),
     )
 

@@ -6,6 +6,7 @@ from __future__ import annotations
 from typing import Any, Dict, List, Optional, Sequence
 
 from . import _rollstack
+from ._args import count, number, number_list, optional_number
 
 __all__ = ["ball", "work_precision"]
 
@@ -26,7 +27,16 @@ def ball(
     Raises ``ValueError`` for a case outside 1-4, dt outside (0, 0.1], ρ∞ outside
     [0, 1]; :class:`rollstack.SolverError` when a step fails.
     """
-    return _rollstack.nsga_ball(int(case), float(dt), scheme, float(rho_inf), prox_constant)
+    case = count("case", case)
+    if not 1 <= case <= 4:
+        raise ValueError(f"case must be 1, 2, 3 or 4, got {case}")
+    return _rollstack.nsga_ball(
+        case,
+        number("dt", dt),
+        scheme,
+        number("rho_inf", rho_inf),
+        optional_number("prox_constant", prox_constant),
+    )
 
 
 def work_precision(
@@ -41,5 +51,5 @@ def work_precision(
     ``KeyboardInterrupt`` on Ctrl-C (checked every 20 ms, the study stopping between two
     of its runs)."""
     return _rollstack.nsga_work_precision(
-        system, [float(d) for d in dts], [float(r) for r in rho_inf], int(repeat)
+        system, number_list("dts", dts), number_list("rho_inf", rho_inf), count("repeat", repeat)
     )

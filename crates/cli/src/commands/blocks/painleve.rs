@@ -3,7 +3,7 @@
 
 use crate::output::{ensure_dir, print_json, write_csv, write_run_json};
 use anyhow::{Context, Result};
-use blockstack::painleve::{b_grid, BSample};
+use blockstack::painleve::{b_grid, BSample, MAX_GRID_NODES};
 use blockstack::studies::painleve::{painleve_report, PainleveReport};
 use clap::Args;
 use figures::painleve::plot_painleve;
@@ -40,11 +40,15 @@ pub struct PainleveArgs {
 /// Bad input or an unwritable output directory.
 pub fn run(args: &PainleveArgs) -> Result<()> {
     let start = Instant::now();
+    // Checked here so that each refusal names its flag, not the library's parameter.
     anyhow::ensure!(
-        args.grid >= 2,
-        "--grid must be at least 2, got {}",
+        (2..=MAX_GRID_NODES).contains(&args.grid),
+        "--grid must lie in [2, {MAX_GRID_NODES}], got {}",
         args.grid
     );
+    input::positive("--aspect", args.aspect)?;
+    input::non_negative("--mu", args.mu)?;
+    input::positive("--mu-max", args.mu_max)?;
     let report = painleve_report(args.aspect, args.mu)?;
     if let Some(dir) = &args.out {
         write_painleve_files(dir, args.aspect, args.mu_max, args.grid, &report)?;

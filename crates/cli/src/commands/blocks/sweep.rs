@@ -47,7 +47,7 @@ pub struct SweepOutputArgs {
     /// concatenate in input order), or `auto`: the task of a Slurm job array,
     /// SLURM_ARRAY_TASK_ID of SLURM_ARRAY_TASK_COUNT. A K/N given here wins over the
     /// job array's variables, which only `auto` reads.
-    #[arg(long, default_value = "1/1")]
+    #[arg(long, default_value = "1/1", allow_hyphen_values = true)]
     pub shard: ShardChoice,
     /// Directory for the CSV, the PNG, run.json, manifest.json and the row log rows.log
     /// (created if missing); the same command with the same `--out` resumes a killed

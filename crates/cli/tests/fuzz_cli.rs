@@ -1,0 +1,775 @@
+//! Hostile values for every numeric flag, every range, every `--set` key and every
+//! `rollstack slurm` value, picked at random: the program never panics, never hangs, and
+//! either runs (briefly: each command carries a tiny t_end or step count) or refuses with
+//! the status docs/cli.md ("Exit status") gives: 1 with one line `error: …` that names the
+//! flag or key typed (or the time guard's `--force`), 2 with clap's usage after a first
+//! line naming the flag. A refusal leaves nothing in `--out`.
+
+mod common;
+
+use common::temp_dir;
+use proptest::prelude::*;
+use proptest::test_runner::TestCaseError;
+use std::path::Path;
+use std::process::{Command, Stdio};
+use std::time::{Duration, Instant};
+
+/// A run longer than this is a hang: every accepted run here takes well under a second.
+const HANG: Duration = Duration::from_secs(20);
+
+/// A command of the table: its words, flags that keep an accepted run short (dropped when
+/// they are the fuzzed flag or one it replaces), and the flags to fuzz.
+struct Cmd {
+    words: &'static [&'static str],
+    quick: &'static [(&'static str, &'static str)],
+    flags: &'static [&'static str],
+    /// Whether the command takes `--out` (then a refusal must leave it empty).
+    out: bool,
+}
+
+/// Flags that replace one another (clap refuses both): the quick one is dropped.
+const REPLACES: &[(&str, &str)] = &[
+    ("--t-end", "--periods"),
+    ("--periods", "--t-end"),
+    ("--hz", "--omega"),
+    ("--omega", "--hz"),
+];
+
+const BLOCK_FLAGS: &[&str] = &[
+    "--blocks",
+    "--omega",
+    "--hz",
+    "--amplitude",
+    "--mu",
+    "--periods",
+    "--t-end",
+    "--width",
+    "--height",
+    "--gravity",
+    "--steps-per-period",
+    "--prox-constant",
+    "--snapshots",
+    "--max-frames",
+];
+
+const COMMANDS: &[Cmd] = &[
+    Cmd {
+        words: &["blocks", "shake"],
+        quick: &[
+            ("--blocks", "2"),
+            ("--periods", "0.05"),
+            ("--max-frames", "0"),
+        ],
+        flags: BLOCK_FLAGS,
+        out: true,
+    },
+    Cmd {
+        words: &["blocks", "lire"],
+        quick: &[
+            ("--blocks", "2"),
+            ("--t-end", "0.01"),
+            ("--max-frames", "0"),
+        ],
+        flags: &[
+            "--blocks",
+            "--t-end",
+            "--prox-constant",
+            "--snapshots",
+            "--max-frames",
+            "--perturb",
+        ],
+        out: true,
+    },
+    Cmd {
+        words: &["blocks", "run", "shaking"],
+        quick: &[("--t-end", "0.01"), ("--max-frames", "0")],
+        flags: &["--t-end", "--prox-constant", "--snapshots", "--max-frames"],
+        out: true,
+    },
+    Cmd {
+        words: &["blocks", "explore", "shaking"],
+        quick: &[("--t-end", "0.01"), ("--max-branches", "1")],
+        flags: &[
+            "--t-end",
+            "--max-branches",
+            "--max-depth",
+            "--max-wall",
+            "--prox-constant",
+        ],
+        out: true,
+    },
+    Cmd {
+        words: &["blocks", "sweep", "frequency"],
+        quick: &[("--omega", "4"), ("--periods", "0.05"), ("--blocks", "2")],
+        flags: &[
+            "--omega",
+            "--hz",
+            "--periods",
+            "--t-max",
+            "--amplitude",
+            "--blocks",
+            "--steps-per-period",
+            "--mu",
+            "--width",
+            "--height",
+            "--gravity",
+            "--branches",
+            "--shard",
+        ],
+        out: true,
+    },
+    Cmd {
+        words: &["blocks", "sweep", "slide"],
+        quick: &[("--v0", "1"), ("--t-end", "0.01"), ("--blocks", "2")],
+        flags: &[
+            "--v0",
+            "--t-end",
+            "--blocks",
+            "--mu",
+            "--width",
+            "--height",
+            "--gravity",
+        ],
+        out: true,
+    },
+    Cmd {
+        words: &["blocks", "painleve"],
+        quick: &[("--aspect", "0.5"), ("--grid", "5")],
+        flags: &["--aspect", "--mu", "--mu-max", "--grid"],
+        out: true,
+    },
+    Cmd {
+        words: &["blocks", "work-precision"],
+        quick: &[("--dts", "0.01"), ("--repeat", "1")],
+        flags: &["--dts", "--reference-factor", "--repeat"],
+        out: true,
+    },
+    Cmd {
+        words: &["cylinder", "pair"],
+        quick: &[("--theta", "0.5"), ("--steps", "2")],
+        flags: &[
+            "--theta",
+            "--dt",
+            "--steps",
+            "--spin",
+            "--ramp",
+            "--push",
+            "--mu-floor",
+            "--mu-k",
+        ],
+        out: true,
+    },
+    Cmd {
+        words: &["cylinder", "sweep", "pair"],
+        quick: &[("--theta", "0.5"), ("--steps", "2")],
+        flags: &["--theta", "--dt", "--steps", "--spin", "--shard"],
+        out: true,
+    },
+    Cmd {
+        words: &["cylinder", "sweep", "push"],
+        quick: &[("--theta", "0.5"), ("--steps", "2")],
+        flags: &[
+            "--theta",
+            "--push",
+            "--mu-floor",
+            "--dt",
+            "--steps",
+            "--shard",
+        ],
+        out: true,
+    },
+    Cmd {
+        words: &["cylinder", "statics"],
+        quick: &[("--points", "5")],
+        flags: &["--r-over-h", "--mu", "--points"],
+        out: true,
+    },
+    Cmd {
+        words: &["cylinder", "support"],
+        quick: &[("--theta", "0.5"), ("--mass", "1")],
+        flags: &["--theta", "--r-over-h", "--mu", "--mass", "--gravity"],
+        out: false,
+    },
+    Cmd {
+        words: &["cylinder", "frobenius"],
+        quick: &[],
+        flags: &[
+            "--theta",
+            "--heading",
+            "--contact-at",
+            "--r",
+            "--h",
+            "--r-over-h",
+        ],
+        out: false,
+    },
+    Cmd {
+        words: &["cylinder", "frobenius", "--system", "pair9"],
+        quick: &[],
+        flags: &["--theta", "--contact-at"],
+        out: false,
+    },
+    Cmd {
+        words: &["cylinder", "holonomy", "rectangle"],
+        quick: &[("--theta", "0.5"), ("--phi1", "1"), ("--phi2", "2")],
+        flags: &[
+            "--theta",
+            "--phi1",
+            "--phi2",
+            "--s",
+            "--psi0",
+            "--r-over-h",
+            "--max-step",
+        ],
+        out: true,
+    },
+    Cmd {
+        words: &["nsga", "ball"],
+        quick: &[("--case", "1")],
+        flags: &["--case", "--dt", "--rho-inf", "--prox-constant"],
+        out: true,
+    },
+    Cmd {
+        words: &["nsga", "work-precision", "--system", "ball"],
+        quick: &[("--dts", "0.01")],
+        flags: &["--dts", "--rho-inf", "--repeat"],
+        out: true,
+    },
+];
+
+/// Values that break naive code: non-finite, zero, negative, tiny, huge, too big for an
+/// integer, empty, text, units where none belong, ranges with bad steps, control characters.
+const HOSTILE: &[&str] = &[
+    "nan",
+    "NaN",
+    "inf",
+    "-inf",
+    "+inf",
+    "infinity",
+    "0",
+    "-0",
+    "-1",
+    "-1e-300",
+    "1e-300",
+    "5e-324",
+    "1e300",
+    "-1e300",
+    "1e20",
+    "1e9",
+    "1000000000",
+    "4294967296",
+    "9223372036854775807",
+    "18446744073709551616",
+    "99999999999999999999999",
+    "",
+    " ",
+    "abc",
+    "1,2",
+    "0x10",
+    "1e",
+    "--",
+    "-",
+    "30deg",
+    "-30deg",
+    "1e300deg",
+    "nandeg",
+    "infdeg",
+    "pi/0",
+    "0pi",
+    "2pi",
+    "-6pi",
+    "pi/6",
+    "1e300pi",
+    "pi/1e-300",
+    "4:2:1",
+    "2:9:0",
+    "2:9:-1",
+    "0:1e300:1e-300",
+    "0:1:1e-300",
+    "nan:1:1",
+    "1:2:inf",
+    "10deg:40deg:10deg",
+    "1:2",
+    "1:2:3:4",
+    "a\nb",
+    "1\n2",
+    "1\r",
+    "\t",
+    "\u{7}",
+    "\u{1b}[31m1",
+    "1/1/1",
+    "auto",
+    "0/0",
+    "1/0",
+    "2/1",
+    "0/1",
+    "99999999999/2",
+];
+
+/// A hostile value: one of the table, a float of any bits, an integer of any size, or a
+/// short printable text.
+fn hostile() -> impl Strategy<Value = String> {
+    prop_oneof![
+        8 => prop::sample::select(HOSTILE).prop_map(str::to_owned),
+        1 => any::<f64>().prop_map(|v| format!("{v:e}")),
+        1 => any::<i64>().prop_map(|v| v.to_string()),
+        1 => "[ -~]{0,6}",
+    ]
+}
+
+/// What one run did.
+struct Outcome {
+    line: String,
+    status: Option<i32>,
+    stdout: String,
+    stderr: String,
+}
+
+/// Runs the binary with `args`, killing it after [`HANG`] (a failure).
+fn run(args: &[String]) -> Result<Outcome, TestCaseError> {
+    let line = format!("rollstack {args:?}");
+    let mut child = Command::new(env!("CARGO_BIN_EXE_rollstack"))
+        .args(args)
+        .stdin(Stdio::null())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .map_err(|e| TestCaseError::fail(format!("{line}: cannot start: {e}")))?;
+    // The outputs are read on threads so that a chatty child cannot block on a full pipe.
+    let mut out_pipe = child.stdout.take().unwrap();
+    let mut err_pipe = child.stderr.take().unwrap();
+    let read_out = std::thread::spawn(move || read_all(&mut out_pipe));
+    let read_err = std::thread::spawn(move || read_all(&mut err_pipe));
+    let start = Instant::now();
+    let status = loop {
+        if let Some(s) = child.try_wait().unwrap() {
+            break s;
+        }
+        if start.elapsed() > HANG {
+            let _ = child.kill();
+            let _ = child.wait();
+            return Err(TestCaseError::fail(format!(
+                "{line}: still running after {HANG:?} (a hang)"
+            )));
+        }
+        std::thread::sleep(Duration::from_millis(5));
+    };
+    Ok(Outcome {
+        line,
+        status: status.code(),
+        stdout: read_out.join().unwrap(),
+        stderr: read_err.join().unwrap(),
+    })
+}
+
+fn read_all(r: &mut impl std::io::Read) -> String {
+    let mut v = Vec::new();
+    let _ = r.read_to_end(&mut v);
+    String::from_utf8_lossy(&v).into_owned()
+}
+
+/// The time guard's refusal, which names `--force` rather than one flag.
+fn is_time_guard(error: &str) -> bool {
+    error.contains("more than 600 s") && error.contains("--force")
+}
+
+/// A run that started and stopped on a step the solver could not resolve.
+fn is_solver_failure(error: &str) -> bool {
+    [
+        "step from t = ",
+        "consistent start at t = ",
+        "the time stepper failed",
+    ]
+    .iter()
+    .any(|w| error.contains(w))
+}
+
+/// Refusals that name the library's parameter ("aspect w/h", "φ1", "μ") instead of the
+/// flag typed (issue 61, "flag names not internal names"), found by this file and not yet
+/// fixed: (command words, flag). Only the naming is excused; every other invariant holds.
+/// Remove an entry when its refusal names the flag.
+const NAMES_NOT_FLAGS: &[(&str, &str)] = &[
+    ("blocks shake", "--periods"),
+    ("blocks shake", "--steps-per-period"),
+    ("blocks work-precision", "--dts"),
+    ("cylinder pair", "--ramp"),
+    ("cylinder pair", "--mu-floor"),
+    ("cylinder pair", "--mu-k"),
+    ("cylinder sweep push", "--mu-floor"),
+    ("cylinder statics", "--r-over-h"),
+    ("cylinder statics", "--mu"),
+    ("cylinder statics", "--points"),
+    ("cylinder support", "--theta"),
+    ("cylinder support", "--r-over-h"),
+    ("cylinder support", "--mu"),
+    ("cylinder support", "--mass"),
+    ("cylinder support", "--gravity"),
+    ("cylinder frobenius", "--theta"),
+    ("cylinder frobenius", "--r"),
+    ("cylinder frobenius", "--h"),
+    ("cylinder frobenius", "--contact-at"),
+    ("cylinder frobenius --system pair9", "--theta"),
+    ("cylinder frobenius --system pair9", "--contact-at"),
+    ("cylinder holonomy rectangle", "--theta"),
+    ("cylinder holonomy rectangle", "--phi1"),
+    ("cylinder holonomy rectangle", "--phi2"),
+    ("cylinder holonomy rectangle", "--s"),
+    ("cylinder holonomy rectangle", "--max-step"),
+    ("nsga ball", "--case"),
+    ("nsga ball", "--dt"),
+];
+
+/// Whether the refusals of `flag` in `cmd` are excused from naming it.
+fn names_not_flag(cmd: &Cmd, flag: &str) -> bool {
+    NAMES_NOT_FLAGS.contains(&(cmd.words.join(" ").as_str(), flag))
+}
+
+/// The invariants of every run: no panic, no signal, an exit status of docs/cli.md, and a
+/// refusal in one line `error: …` (status 1; `warning: …` lines of a run may come before
+/// it) or clap's usage (status 2) that names one of `names` (unless `excused`); no NaN
+/// printed by a run that succeeded. `typed` is the hostile value, which an error may quote
+/// verbatim, newlines and all: it counts as one word.
+fn check(o: &Outcome, names: &[&str], typed: &str, excused: bool) -> Result<(), TestCaseError> {
+    let line = &o.line;
+    let stderr = &o.stderr;
+    prop_assert!(
+        !stderr.contains("panicked") && !stderr.contains("RUST_BACKTRACE"),
+        "{line}: a panic: {stderr}"
+    );
+    let quoted = if typed.contains(['\n', '\r']) {
+        stderr.replace(typed, "VALUE")
+    } else {
+        stderr.clone()
+    };
+    let errors: Vec<&str> = quoted
+        .lines()
+        .filter(|l| !l.starts_with("warning: "))
+        .collect();
+    let error = errors.first().copied().unwrap_or("");
+    let named = excused || names.iter().any(|n| error.contains(n));
+    match o.status {
+        Some(0) => prop_assert!(
+            !o.stdout.contains("NaN") && !stderr.contains("NaN"),
+            "{line}: NaN in a result: {}",
+            o.stdout
+        ),
+        Some(1) => {
+            prop_assert_eq!(errors.len(), 1, "{}: not one line: {}", line, stderr);
+            prop_assert!(error.starts_with("error: "), "{line}: {stderr}");
+            // A run that started and stopped on a step it could not resolve (after its
+            // JSON, for the block runs) fails in the solver, not in a flag (docs/cli.md).
+            let run_error = !o.stdout.is_empty() || is_solver_failure(error);
+            prop_assert!(
+                named || run_error || is_time_guard(error),
+                "{line}: the error names none of {names:?}: {stderr}"
+            );
+        }
+        Some(2) => {
+            prop_assert!(error.starts_with("error: "), "{line}: {stderr}");
+            prop_assert!(named, "{line}: the error names none of {names:?}: {stderr}");
+            prop_assert!(o.stdout.is_empty(), "{line}: {}", o.stdout);
+        }
+        Some(3) => prop_assert!(
+            stderr.lines().any(|l| l.contains("rows failed")),
+            "{line}: status 3 without the rows' count: {stderr}"
+        ),
+        other => prop_assert!(false, "{line}: exit status {other:?}: {stderr}"),
+    }
+    Ok(())
+}
+
+/// A refusal (status 1 or 2 with nothing on stdout) leaves `out` absent or empty.
+fn nothing_left(o: &Outcome, out: &Path) -> Result<(), TestCaseError> {
+    let refused = matches!(o.status, Some(1 | 2)) && o.stdout.is_empty();
+    if refused && out.exists() {
+        let left: Vec<_> = std::fs::read_dir(out)
+            .unwrap()
+            .map(|e| e.unwrap().file_name())
+            .collect();
+        prop_assert!(
+            left.is_empty(),
+            "{}: refused and left {left:?} in --out",
+            o.line
+        );
+    }
+    Ok(())
+}
+
+/// The words of `cmd` with `flag` set to `value`: `--flag value` or `--flag=value`.
+fn invocation(cmd: &Cmd, flag: &str, value: &str, joined: bool, out: Option<&Path>) -> Vec<String> {
+    let mut args: Vec<String> = cmd.words.iter().map(ToString::to_string).collect();
+    for (f, v) in cmd.quick {
+        if *f != flag && !REPLACES.contains(&(flag, *f)) {
+            args.extend([f.to_string(), v.to_string()]);
+        }
+    }
+    if joined {
+        args.push(format!("{flag}={value}"));
+    } else {
+        args.extend([flag.to_owned(), value.to_owned()]);
+    }
+    if let Some(out) = out {
+        args.extend(["--out".to_owned(), out.display().to_string()]);
+    }
+    args
+}
+
+/// A fresh directory name for one case's `--out`.
+fn out_dir(tag: &str) -> std::path::PathBuf {
+    use std::sync::atomic::{AtomicUsize, Ordering};
+    static N: AtomicUsize = AtomicUsize::new(0);
+    temp_dir(&format!("fuzz-{tag}-{}", N.fetch_add(1, Ordering::Relaxed)))
+}
+
+/// A command of the table and one of its flags.
+fn command_and_flag() -> impl Strategy<Value = (usize, usize)> {
+    (0..COMMANDS.len()).prop_flat_map(|c| (Just(c), 0..COMMANDS[c].flags.len()))
+}
+
+/// A range `A:B:STEP` of hostile or plausible parts.
+fn range() -> impl Strategy<Value = String> {
+    let part = prop_oneof![
+        3 => prop::sample::select(&[
+            "1", "2", "4", "0.5", "0", "-1", "nan", "inf", "1e300", "1e-300", "30deg", "pi/6",
+            "2pi", "-6pi", "1e300deg", "", "x",
+        ][..]).prop_map(str::to_owned),
+        1 => any::<f64>().prop_map(|v| format!("{v:e}")),
+    ];
+    (part.clone(), part.clone(), part).prop_map(|(a, b, s)| format!("{a}:{b}:{s}"))
+}
+
+/// The sweeps' range flags: (command, flag).
+const RANGE_FLAGS: &[(usize, &str)] = &[
+    (4, "--omega"),
+    (4, "--hz"),
+    (5, "--v0"),
+    (9, "--theta"),
+    (9, "--spin"),
+    (10, "--theta"),
+    (10, "--push"),
+    (10, "--mu-floor"),
+];
+
+/// Keys for `--set`: the scene's own, unknown ones, and malformed ones.
+const SET_KEYS: &[&str] = &[
+    "base.width",
+    "base.height",
+    "base.amplitude",
+    "base.omega",
+    "base.motion",
+    "blocks.width",
+    "blocks.height",
+    "blocks.mass",
+    "blocks.count",
+    "blocks.0.count",
+    "blocks.7.width",
+    "contact.mu",
+    "contact.e_n",
+    "contact.e_f",
+    "solver.steps_per_period",
+    "solver.periods",
+    "solver.rho_inf",
+    "solver.tol",
+    "solver.gravity",
+    "solver.dt",
+    "solver.t_end",
+    "floor.height",
+    "base.nosuch",
+    "nosuch.omega",
+    "omega",
+    "",
+    ".",
+    "base.",
+    "blocks.-1.width",
+    "blocks.99999999999999999999.width",
+];
+
+/// `rollstack slurm`'s flags and hostile values for them and for the sweep's `--out`.
+const SLURM_FLAGS: &[&str] = &[
+    "--tasks",
+    "--cpus-per-task",
+    "--time",
+    "--mem",
+    "--partition",
+];
+const SLURM_TEXT: &[&str] = &[
+    "o $(touch INJECTED)",
+    "o`touch INJECTED`",
+    "o\"q",
+    "o'q",
+    "o\nq",
+    "o\n#SBATCH --x",
+    "o;touch INJECTED",
+    "o\\",
+    "o\r",
+    "o\u{1}",
+    "-o",
+    "o o",
+];
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 96, ..ProptestConfig::default() })]
+
+    /// Any hostile value for any numeric flag of any command.
+    #[test]
+    fn any_flag_with_any_value_runs_briefly_or_is_refused_naming_it(
+        (c, f) in command_and_flag(),
+        value in hostile(),
+        joined in any::<bool>(),
+    ) {
+        let cmd = &COMMANDS[c];
+        let flag = cmd.flags[f];
+        let out = cmd.out.then(|| out_dir("flag"));
+        let args = invocation(cmd, flag, &value, joined, out.as_deref());
+        let o = run(&args)?;
+        check(&o, &[flag], &value, names_not_flag(cmd, flag))?;
+        if let Some(out) = out {
+            nothing_left(&o, &out)?;
+            let _ = std::fs::remove_dir_all(&out);
+        }
+    }
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 64, ..ProptestConfig::default() })]
+
+    /// Ranges `A:B:STEP` with hostile ends and steps, in units or not.
+    #[test]
+    fn any_range_runs_briefly_or_is_refused_naming_the_flag(
+        i in 0..RANGE_FLAGS.len(),
+        r in range(),
+    ) {
+        let (c, flag) = RANGE_FLAGS[i];
+        let out = out_dir("range");
+        let cmd = &COMMANDS[c];
+        let args = invocation(cmd, flag, &r, true, Some(&out));
+        let o = run(&args)?;
+        check(&o, &[flag], &r, names_not_flag(cmd, flag))?;
+        nothing_left(&o, &out)?;
+        let _ = std::fs::remove_dir_all(&out);
+    }
+
+    /// `blocks sweep scene --set KEY=VALUES` with any key and hostile values.
+    #[test]
+    fn any_set_runs_briefly_or_is_refused_naming_the_key(
+        key in prop::sample::select(SET_KEYS),
+        values in prop::collection::vec(hostile(), 1..3),
+    ) {
+        let out = out_dir("set");
+        let set = format!("{key}={}", values.join(","));
+        let args: Vec<String> = [
+            "blocks", "sweep", "scene", "shaking", "--t-end", "0.01", "--set", &set,
+            "--out", &out.display().to_string(),
+        ].iter().map(ToString::to_string).collect();
+        let o = run(&args)?;
+        // An empty key is named by the option itself.
+        let name = if key.is_empty() { "--set" } else { key };
+        check(&o, &[name, "--set"], &set, false)?;
+        nothing_left(&o, &out)?;
+        let _ = std::fs::remove_dir_all(&out);
+    }
+
+    /// `rollstack slurm` with hostile values: refused naming the flag, or scripts a shell
+    /// parses that inject nothing.
+    #[test]
+    fn any_slurm_value_is_refused_naming_it_or_written_safely(
+        f in 0..SLURM_FLAGS.len() + 1,
+        value in prop_oneof![hostile(), prop::sample::select(SLURM_TEXT).prop_map(str::to_owned)],
+        sweep_value in prop_oneof![Just("2:3:1".to_owned()), hostile()],
+    ) {
+        let dir = out_dir("slurm");
+        std::fs::create_dir_all(&dir).unwrap();
+        // The last choice puts the value in the sweep's --out.
+        let (flag, out_name) = match SLURM_FLAGS.get(f) {
+            Some(flag) => (*flag, "o".to_owned()),
+            None => ("--out", value.clone()),
+        };
+        let out = dir.join(&out_name);
+        let mut args: Vec<String> = vec!["slurm".into()];
+        if flag != "--tasks" {
+            args.extend(["--tasks".to_owned(), "2".to_owned()]);
+        }
+        if flag != "--out" {
+            args.extend([flag.to_owned(), value.clone()]);
+        }
+        args.extend(
+            ["blocks", "sweep", "frequency", "--periods", "0.05", "--omega"]
+                .iter()
+                .map(ToString::to_string),
+        );
+        args.extend([sweep_value, "--out".to_owned(), out.display().to_string()]);
+        let o = run(&args)?;
+        // slurm reads the sweep's words as opaque: a refused one is quoted, not named.
+        check(&o, &[flag, "--omega", "the sweep's argument"], &value, false)?;
+        if o.status == Some(0) {
+            for script in ["shards.sbatch", "merge.sbatch", "submit.sh"] {
+                let path = out.join("slurm").join(script);
+                let parsed = Command::new("bash").arg("-n").arg(&path).output().unwrap();
+                prop_assert!(
+                    parsed.status.success(),
+                    "{}: {script} does not parse: {}",
+                    o.line,
+                    String::from_utf8_lossy(&parsed.stderr)
+                );
+                let text = std::fs::read_to_string(&path).unwrap();
+                prop_assert!(
+                    !text.contains('\r') && !text.contains('\u{1}'),
+                    "{}: a control character in {script}",
+                    o.line
+                );
+            }
+        } else {
+            let scripts = out.join("slurm");
+            prop_assert!(!scripts.exists(), "{}: refused and wrote {}", o.line, scripts.display());
+        }
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+}
+
+/// Found by the fuzzing above: these refusals named the library's parameter ("aspect w/h",
+/// "mu_max") or no flag at all ("'nan' is not a finite number").
+#[test]
+fn painleve_and_nsga_work_precision_refusals_name_the_flag() {
+    for (words, flag, value) in [
+        (&["blocks", "painleve"][..], "--aspect", "0"),
+        (&["blocks", "painleve", "--aspect", "1"], "--mu", "-1"),
+        (&["blocks", "painleve", "--aspect", "1"], "--mu-max", "0"),
+        (&["blocks", "painleve", "--aspect", "1"], "--grid", "100000"),
+        (
+            &["nsga", "work-precision", "--system", "ball"],
+            "--dts",
+            "nan",
+        ),
+        (
+            &["nsga", "work-precision", "--system", "ball"],
+            "--rho-inf",
+            "abc",
+        ),
+    ] {
+        let mut args: Vec<String> = words.iter().map(ToString::to_string).collect();
+        args.extend([flag.to_owned(), value.to_owned()]);
+        let o = run(&args).unwrap();
+        assert_eq!(o.status, Some(1), "{}: {}", o.line, o.stderr);
+        assert_eq!(o.stderr.lines().count(), 1, "{}: {}", o.line, o.stderr);
+        assert!(o.stderr.contains(flag), "{}: {}", o.line, o.stderr);
+    }
+}
+
+/// Found by the fuzzing above: `--shard -1` was clap's "unexpected argument '-1'", which
+/// names no flag; a negative shard is a value of `--shard`, refused as such.
+#[test]
+fn a_negative_shard_is_refused_naming_the_flag() {
+    for words in [
+        &["blocks", "sweep", "frequency", "--omega", "4"][..],
+        &["cylinder", "sweep", "pair", "--theta", "0.5"],
+    ] {
+        for shard in ["-1", "-0", "-1/2"] {
+            let mut args: Vec<String> = words.iter().map(ToString::to_string).collect();
+            args.extend(["--shard".to_owned(), shard.to_owned()]);
+            let o = run(&args).unwrap();
+            assert!(matches!(o.status, Some(1 | 2)), "{}: {}", o.line, o.stderr);
+            let first = o.stderr.lines().next().unwrap_or("");
+            assert!(first.contains("--shard"), "{}: {}", o.line, o.stderr);
+        }
+    }
+}
