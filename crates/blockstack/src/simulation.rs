@@ -17,11 +17,12 @@
 //!   [`stepper_options`]: other ρ∞ only after a singular Newton matrix
 //!   ([`RHO_INF_RETRY`]); when the index sets alternate, re-solves with each distinct set
 //!   fixed, continuing with the first self-consistent candidate (a branch point,
-//!   ERRATA 22), recorded with the number of sets tried and of distinct converged
-//!   states; then the step as two half steps with this same policy (up to
-//!   [`MAX_HALVINGS`] times); with branch exploration on, finally re-solves that accept
-//!   friction laws sitting exactly on their stick–slip bound
-//!   ([`nsga::Options::boundary_resolves`]).
+//!   ERRATA 22); then the step as two half steps with this same policy (up to
+//!   [`MAX_HALVINGS`] times); finally re-solves that accept friction laws sitting
+//!   exactly on their stick–slip bound ([`nsga::Options::boundary_resolves`]). These
+//!   re-solves are part of every run's solver: [`RunOptions::explore_branches`] and
+//!   [`RunOptions::branch_rule`] only decide which branch points are recorded, so a
+//!   run's trajectory is the same whatever they are.
 //! - **Redundant contacts**: a toppled column resting on the table edge and on the floor
 //!   with several corners touches at more points than it has degrees of freedom; nsga's
 //!   regularized Newton update ([`nsga::Options::regularization`]) carries it.
@@ -122,17 +123,25 @@ pub const MAX_NEWTON_ITERATIONS: usize = 40;
 /// error either way and 2.9 against 2.7 steps per run needing a fallback.
 pub const RHO_INF_RETRY: RhoInfRetry = RhoInfRetry::SingularMatrix;
 
-/// Choices of a run that are not part of the scene.
-#[derive(Debug, Clone, Default)]
+/// Choices of a run that are not part of the scene. The defaults are those of the
+/// command line and of the Python module (a test of the command line checks it).
+#[derive(Debug, Clone)]
 pub struct RunOptions {
     /// End time; overrides the scene's `solver.t_end`.
     pub t_end: Option<f64>,
     /// Prox parameter; overrides the scene's choice.
     pub prox: Option<Prox>,
-    /// Record branch points (re-solve with fixed sets when Newton cycles).
+    /// Record branch points ([`RunSummary::branch_points`]): the steps whose Newton
+    /// iterates cycled and that fixed-set re-solves resolved, with the candidates found.
+    /// Only the record: those re-solves, and the re-solves at a friction bound, are
+    /// stages of every run's solver (the module docs), so the trajectory is the same with
+    /// this on or off. On by default.
     pub explore_branches: bool,
-    /// Which fixed-set solutions count as a branch point's candidates (default: the
-    /// self-consistent ones; [`nsga::BranchRule::Converged`] is the thesis's count).
+    /// Which fixed-set solutions a branch point records as candidates (default: the
+    /// self-consistent ones; [`nsga::BranchRule::Converged`] adds the other converged
+    /// solves, the thesis's count). Only the record: the run continues with a
+    /// self-consistent candidate under either rule, and an exploration
+    /// ([`crate::exploration`]) follows every recorded one.
     pub branch_rule: nsga::BranchRule,
     /// Probe every converged step for other solutions by flipping one touching contact
     /// ([`nsga::Options::probe_flips`]; costly, for exploring).
@@ -160,6 +169,24 @@ pub struct RunOptions {
     /// `ControlFlow::Break` of [`simulate_until`] would (a sweep that is interrupted
     /// stops every run it has started this way).
     pub cancel: Option<std::sync::Arc<std::sync::atomic::AtomicBool>>,
+}
+
+impl Default for RunOptions {
+    fn default() -> Self {
+        Self {
+            t_end: None,
+            prox: None,
+            explore_branches: true,
+            branch_rule: nsga::BranchRule::default(),
+            probe_flips: false,
+            spread_branches: 0,
+            stop_at_failure: false,
+            skip_last_resort: false,
+            skip_low_rank_updates: false,
+            skip_predicted_start: false,
+            cancel: None,
+        }
+    }
 }
 
 /// The pose of one block.
@@ -246,7 +273,7 @@ pub struct RunSummary {
     pub wall_time_s: f64,
     /// Steps whose first Newton attempt did not converge.
     pub failed_steps: usize,
-    /// Steps resolved by fixed-set re-solves.
+    /// The branch points met ([`RunOptions::explore_branches`]; empty with it off).
     pub branch_points: Vec<BranchRecord>,
     /// Steps that went through only as substeps (halved Δt, [`MAX_HALVINGS`]).
     pub split_steps: usize,
@@ -362,7 +389,8 @@ pub fn stepper_options(scene: &Scene, options: &RunOptions) -> Result<Options, B
         tol: s.tol,
         max_iter: MAX_NEWTON_ITERATIONS,
         max_iter_per_contact: 1,
-        explore_branches: options.explore_branches,
+        // Solver stages of every run; `RunOptions::explore_branches` only records.
+        explore_branches: true,
         branch_rule: options.branch_rule,
         probe_flips: options.probe_flips,
         // Markowitz LU for the small scenes of the thesis, faer's sparse LU for tall
@@ -376,7 +404,7 @@ pub fn stepper_options(scene: &Scene, options: &RunOptions) -> Result<Options, B
         line_search: LINE_SEARCH_HALVINGS,
         rho_inf_retry: RHO_INF_RETRY,
         max_halvings: MAX_HALVINGS,
-        boundary_resolves: options.explore_branches,
+        boundary_resolves: true,
         last_resort: !options.skip_last_resort,
         max_openings_per_update: MAX_OPENINGS_PER_UPDATE,
         ..Options::default()
@@ -593,7 +621,9 @@ pub fn simulate_until(
         if retries > 0 {
             summary.failed_steps += 1;
         }
-        summary.branch_points.extend(branch);
+        if options.explore_branches {
+            summary.branch_points.extend(branch);
+        }
         if stepper.last_step().is_some_and(|s| s.substeps > 1) {
             summary.split_steps += 1;
         }
