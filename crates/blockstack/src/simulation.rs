@@ -33,15 +33,14 @@
 use crate::coordinates::Pose;
 use crate::error::BlockError;
 use crate::events::{EventKind, EventWatch, FailureEvent};
+use crate::exploration::{StackWalker, WalkSettings};
 use crate::overlap::{deepest_penetration, Penetration};
 use crate::scene::Scene;
 use crate::scene_info::{Defaults, SceneReport, SceneWarning};
 use crate::stack::StackContacts;
-use crate::stepping::CornerStepping;
-use crate::system::StackSystem;
-use nsga::{Options, RhoInfRetry, SolverChoice, StepError, Stepper};
+use nsga::explore::Walker;
+use nsga::{Options, RhoInfRetry, SolverChoice, StepError};
 use std::ops::ControlFlow;
-use std::time::Instant;
 
 pub use crate::time_guard::{run_cost, RunCost, SECONDS_PER_BLOCK_STEP, TIME_BOUND_S};
 pub use nsga::Prox;
@@ -525,6 +524,8 @@ pub fn simulate(
 /// [`simulate`] with a caller that may stop the run: when `on_step` returns
 /// `ControlFlow::Break`, no further step is taken and the summary covers the run up to
 /// that record (its `error` stays `None`). The Python bindings stop on Ctrl-C this way.
+/// The run is stepped by the loop of an exploration's branches
+/// ([`crate::exploration::StackWalker`]), so both count the same statistics.
 ///
 /// # Errors
 /// Only bad scenes or options, as [`simulate`].
@@ -536,130 +537,114 @@ pub fn simulate_until(
     let t_end = options.t_end.unwrap_or(scene.solver.t_end);
     input::positive("t_end", t_end)?;
     let opts = stepper_options(scene, options)?;
-    let dt = opts.dt;
-    let steps_wanted = step_count(t_end, dt);
-    let q0 = scene.initial_coordinates();
-    let u0 = scene.initial_velocities();
-    let height = scene.smallest_block_height();
-    let mut rec = Recorder::new(scene, &q0);
-    let mut summary = RunSummary {
-        steps: 0,
-        failure_time: None,
-        opening_time: None,
-        final_poses: Vec::new(),
-        min_gap: f64::INFINITY,
-        newton_iterations_mean: 0.0,
-        wall_time_s: 0.0,
-        failed_steps: 0,
-        branch_points: Vec::new(),
-        split_steps: 0,
-        fallback_steps: 0,
-        fallback_residual: 0.0,
-        unshifted_steps: 0,
-        start_failure: None,
-        linear_solves: 0,
-        linear_solves_by_stage: nsga::SolvesByStage::default(),
-        newton_work: nsga::NewtonWork::default(),
-        max_energy_increase: f64::NEG_INFINITY,
-        deepest: rec.deepest,
-        penetration_tol: PENETRATION_TOL * height,
-        events: Vec::new(),
-        corner_contacts: 0,
-        redone_steps: 0,
-        error: None,
+    let steps = step_count(t_end, opts.dt) as u64;
+    let settings = WalkSettings {
+        sample_every: u64::MAX,
+        stop_at_failure: options.stop_at_failure,
+        ..WalkSettings::default()
     };
-    let clock = Instant::now();
-    let mut system = StackSystem::new(scene.clone());
-    let mut corners = CornerStepping::default();
-    corners.start(&mut system, &q0, &u0, dt);
-    let started = Stepper::new(system, 0.0, &q0, &u0, opts);
-    let mut solver_time = clock.elapsed().as_secs_f64();
-    let mut stepper = match started {
-        Ok(s) => {
-            summary.start_failure = s.start_failure().map(str::to_owned);
-            s
-        }
-        Err(e) => {
-            summary.error = Some(RunError::Start(e));
-            summary.final_poses = (0..scene.n_blocks())
-                .map(|k| Pose::from_slice(&q0[3 * k..]).into())
-                .collect();
-            summary.max_energy_increase = 0.0;
-            summary.wall_time_s = solver_time;
-            return Ok(summary);
-        }
-    };
-    let first = rec.record(0.0, stepper.state(), 0);
-    let mut energy = first.energy;
-    summary.min_gap = first.min_gap;
-    check_failure(&rec, 0.0, &mut summary);
-    let mut stop = on_step(&first).is_break();
-    let mut iterations = 0usize;
-    for _ in 0..steps_wanted {
-        let cancelled = options
+    let mut walker =
+        match StackWalker::start(scene, opts, steps, settings, options.explore_branches) {
+            Ok(w) => w,
+            Err((e, solver_time)) => return Ok(RunSummary::failed_start(scene, e, solver_time)),
+        };
+    let cancelled = || {
+        options
             .cancel
             .as_ref()
-            .is_some_and(|c| c.load(std::sync::atomic::Ordering::Relaxed));
-        if stop || cancelled || (options.stop_at_failure && summary.failure_time.is_some()) {
+            .is_some_and(|c| c.load(std::sync::atomic::Ordering::Relaxed))
+    };
+    let mut stop = on_step(&walker.record_state()).is_break();
+    let mut error = None;
+    while !(stop || cancelled() || walker.done()) {
+        if let Err(e) = walker.step() {
+            error = Some(RunError::Step(e));
             break;
         }
-        let clock = Instant::now();
-        let result = corners
-            .step(scene, &mut stepper, summary.penetration_tol)
-            .map(|()| accepted(stepper.last_step().expect("a step was taken")));
-        solver_time += clock.elapsed().as_secs_f64();
-        let (t, its, retries, branch) = match result {
-            Ok(r) => r,
-            Err(e) => {
-                summary.failed_steps += 1;
-                summary.error = Some(RunError::Step(e));
-                break;
-            }
-        };
-        summary.steps += 1;
-        iterations += its;
-        if retries > 0 {
-            summary.failed_steps += 1;
-        }
-        if options.explore_branches {
-            summary.branch_points.extend(branch);
-        }
-        if stepper.last_step().is_some_and(|s| s.substeps > 1) {
-            summary.split_steps += 1;
-        }
-        if stepper.last_step().is_some_and(|s| s.unshifted) {
-            summary.unshifted_steps += 1;
-        }
-        if let Some(last) = stepper.last_step().and_then(|s| s.last_resort.as_ref()) {
-            summary.fallback_steps += 1;
-            summary.fallback_residual = summary.fallback_residual.max(last.residual);
-        }
-        let r = rec.record(t, stepper.state(), its);
-        summary.min_gap = summary.min_gap.min(r.min_gap);
-        summary.max_energy_increase = summary.max_energy_increase.max(r.energy - energy);
-        energy = r.energy;
-        check_failure(&rec, t, &mut summary);
-        stop = on_step(&r).is_break();
+        stop = on_step(&walker.record_state()).is_break();
     }
-    summary.linear_solves = stepper.linear_solves();
-    summary.linear_solves_by_stage = stepper.solves_by_stage();
-    summary.newton_work = stepper.newton_work();
-    summary.corner_contacts = corners.most_contacts;
-    summary.redone_steps = corners.redone_steps;
-    summary.deepest = rec.deepest;
-    summary.events = rec.watch.into_events();
-    let q = &stepper.state().q;
-    summary.final_poses = (0..scene.n_blocks())
-        .map(|k| Pose::from_slice(&q[3 * k..3 * k + 3]).into())
-        .collect();
-    if summary.steps > 0 {
-        summary.newton_iterations_mean = iterations as f64 / summary.steps as f64;
-    }
-    if !summary.max_energy_increase.is_finite() {
-        summary.max_energy_increase = 0.0;
-    }
-    summary.wall_time_s = solver_time;
+    let mut summary = walker.into_summary();
+    summary.error = error;
     Ok(summary)
+}
+
+impl RunSummary {
+    /// The summary of a run of `scene` before its first state is recorded by `rec`.
+    pub(crate) fn before_the_run(scene: &Scene, rec: &Recorder<'_>) -> Self {
+        Self {
+            steps: 0,
+            failure_time: None,
+            opening_time: None,
+            final_poses: Vec::new(),
+            min_gap: f64::INFINITY,
+            newton_iterations_mean: 0.0,
+            wall_time_s: 0.0,
+            failed_steps: 0,
+            branch_points: Vec::new(),
+            split_steps: 0,
+            fallback_steps: 0,
+            fallback_residual: 0.0,
+            unshifted_steps: 0,
+            start_failure: None,
+            linear_solves: 0,
+            linear_solves_by_stage: nsga::SolvesByStage::default(),
+            newton_work: nsga::NewtonWork::default(),
+            max_energy_increase: f64::NEG_INFINITY,
+            deepest: rec.deepest,
+            penetration_tol: PENETRATION_TOL * scene.smallest_block_height(),
+            events: Vec::new(),
+            corner_contacts: 0,
+            redone_steps: 0,
+            error: None,
+        }
+    }
+
+    /// The summary of a run whose consistent start failed with `e` after `solver_time`
+    /// seconds: the blocks where they started.
+    fn failed_start(scene: &Scene, e: StepError, solver_time: f64) -> Self {
+        let q0 = scene.initial_coordinates();
+        Self {
+            error: Some(RunError::Start(e)),
+            final_poses: final_poses(scene, &q0),
+            max_energy_increase: 0.0,
+            wall_time_s: solver_time,
+            ..Self::before_the_run(scene, &Recorder::new(scene, &q0))
+        }
+    }
+
+    /// Counts an accepted step with statistics `stats`; `record_branches`: list its
+    /// branch point, if any.
+    pub(crate) fn count_step(&mut self, stats: &nsga::StepStats, record_branches: bool) {
+        self.steps += 1;
+        if stats.retries > 0 {
+            self.failed_steps += 1;
+        }
+        if record_branches {
+            self.branch_points
+                .extend(stats.branch.as_ref().map(|b| BranchRecord {
+                    t: b.t,
+                    candidates: b.tried,
+                    distinct: b.candidates.len(),
+                }));
+        }
+        if stats.substeps > 1 {
+            self.split_steps += 1;
+        }
+        if stats.unshifted {
+            self.unshifted_steps += 1;
+        }
+        if let Some(last) = &stats.last_resort {
+            self.fallback_steps += 1;
+            self.fallback_residual = self.fallback_residual.max(last.residual);
+        }
+    }
+}
+
+/// The poses of the blocks at coordinates `q`, bottom to top.
+pub(crate) fn final_poses(scene: &Scene, q: &[f64]) -> Vec<BlockPose> {
+    (0..scene.n_blocks())
+        .map(|k| Pose::from_slice(&q[3 * k..3 * k + 3]).into())
+        .collect()
 }
 
 /// One line per kind of failure event: the blocks in the order they were affected,
@@ -695,24 +680,8 @@ fn write_events(f: &mut std::fmt::Formatter<'_>, events: &[FailureEvent]) -> std
     Ok(())
 }
 
-/// (t, iterations, retries, branch point) of an accepted step.
-type Accepted = (f64, usize, usize, Option<BranchRecord>);
-
-fn accepted(s: &nsga::StepStats) -> Accepted {
-    (
-        s.t,
-        s.iterations,
-        s.retries,
-        s.branch.as_ref().map(|b| BranchRecord {
-            t: b.t,
-            candidates: b.tried,
-            distinct: b.candidates.len(),
-        }),
-    )
-}
-
 /// Updates the failure and opening times from the contacts last recorded at t.
-fn check_failure(rec: &Recorder<'_>, t: f64, summary: &mut RunSummary) {
+pub(crate) fn check_failure(rec: &Recorder<'_>, t: f64, summary: &mut RunSummary) {
     summary.failure_time = rec.watch.first_time(EventKind::SupportLost);
     if summary.opening_time.is_none() && rec.contacts.first_open(rec.open_tol).is_some() {
         summary.opening_time = Some(t);
