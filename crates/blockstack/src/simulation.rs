@@ -253,7 +253,9 @@ pub struct BranchRecord {
     pub distinct: usize,
 }
 
-/// What a run did.
+/// What a run did: the one summary of a run, which the JSON report of
+/// `rollstack blocks run` holds ([`RunReport`], docs/cli.md: the keys are those named by
+/// the `serde` attributes).
 #[derive(Debug, Clone, serde::Serialize)]
 pub struct RunSummary {
     /// Steps taken.
@@ -263,8 +265,11 @@ pub struct RunSummary {
     /// First time any interface opened completely.
     pub opening_time: Option<f64>,
     /// Poses at the end, bottom to top.
+    #[serde(rename = "final")]
     pub final_poses: Vec<BlockPose>,
-    /// Smallest gap over the run.
+    /// Smallest gap over the run (+∞, JSON null, when no contact could close or the run
+    /// could not start).
+    #[serde(serialize_with = "finite_or_null")]
     pub min_gap: f64,
     /// Mean Newton iterations per step.
     pub newton_iterations_mean: f64,
@@ -272,7 +277,9 @@ pub struct RunSummary {
     pub wall_time_s: f64,
     /// Steps whose first Newton attempt did not converge.
     pub failed_steps: usize,
-    /// The branch points met ([`RunOptions::explore_branches`]; empty with it off).
+    /// The branch points met ([`RunOptions::explore_branches`]; empty with it off). JSON:
+    /// their number.
+    #[serde(serialize_with = "count")]
     pub branch_points: Vec<BranchRecord>,
     /// Steps that went through only as substeps (halved Δt, [`MAX_HALVINGS`]).
     pub split_steps: usize,
@@ -304,8 +311,10 @@ pub struct RunSummary {
     pub max_energy_increase: f64,
     /// The deepest penetration between any two bodies over the run (base, blocks,
     /// floor), with its time: the overlap check of every recorded state.
+    #[serde(rename = "penetration")]
     pub deepest: TimedPenetration,
     /// [`PENETRATION_TOL`] times the smallest block height: deeper is warned about.
+    #[serde(skip)]
     pub penetration_tol: f64,
     /// Failure events in the order they happened ([`crate::events`]).
     pub events: Vec<FailureEvent>,
@@ -689,69 +698,20 @@ pub(crate) fn check_failure(rec: &Recorder<'_>, t: f64, summary: &mut RunSummary
 }
 
 /// The JSON report of one run (`rollstack blocks run` and `lire`; docs/cli.md): the
-/// summary's headline numbers, the time reached and the prox parameter used.
+/// run's summary (its keys inline), what follows from it, the time reached and the prox
+/// parameter used.
 #[derive(Debug, Clone, serde::Serialize)]
 pub struct RunReport {
-    /// Number of time steps taken.
-    pub steps: usize,
-    /// First time any block loses support on the block beneath it (§4.4), or null.
-    pub failure_time: Option<f64>,
+    /// What the run did.
+    #[serde(flatten)]
+    pub summary: RunSummary,
     /// The run's failure ([`crate::events::failure`]): its first event (support lost,
     /// tipped, reached the floor, height dropped), with its kind, time and block; null
     /// while the column stands.
     pub failure: Option<FailureEvent>,
-    /// Final poses of the free blocks, bottom to top.
-    #[serde(rename = "final")]
-    pub final_poses: Vec<BlockPose>,
-    /// Smallest normal gap seen among the closed contacts (negative: penetration), or
-    /// null when no contact was ever closed (or the run could not start).
-    pub min_gap: Option<f64>,
-    /// Mean number of Newton iterations per step.
-    pub newton_iterations_mean: f64,
-    /// Solver time (s), without I/O.
-    pub wall_time_s: f64,
-    /// First time any interface opens completely, or null.
-    pub opening_time: Option<f64>,
-    /// Steps whose first Newton attempt did not converge.
-    pub failed_steps: usize,
-    /// Number of branch points recorded.
-    pub branch_points: usize,
-    /// Steps that went through only as substeps (halved Δt).
-    pub split_steps: usize,
-    /// Steps taken by the last resort (a Moreau–Jean step solved by Lemke's method).
-    pub fallback_steps: usize,
-    /// The largest complementarity residual of those steps (0 when none).
-    pub fallback_residual: f64,
-    /// Steps taken without the friction percussions' half-step shift.
-    pub unshifted_steps: usize,
-    /// Why the consistent start failed, where the first step was taken by the last
-    /// resort instead; null after a consistent start.
-    pub start_failure: Option<String>,
-    /// Linear solves of the Newton iterations in every attempt (the run's work).
-    pub linear_solves: u64,
-    /// The same by the stage of the step's policy that made them.
-    pub linear_solves_by_stage: nsga::SolvesByStage,
-    /// Where the Newton work went: operations by kind, why exact updates were made,
-    /// seconds by kind.
-    pub newton_work: nsga::NewtonWork,
-    /// Largest energy increase between two steps (≤ ~0 in unforced runs).
-    pub max_energy_increase: f64,
     /// The deepest penetration between any two bodies over the run (0 when they only
     /// touch); above `PENETRATION_TOL` of the smallest block height it is also a warning.
     pub max_penetration: f64,
-    /// When and where it was measured.
-    pub penetration: TimedPenetration,
-    /// The most corner contacts beyond the stack's neighbours in use at once
-    /// ([`crate::pairs`]; 0 while the column stands).
-    pub corner_contacts: usize,
-    /// Steps taken again because the broad phase had missed a contact
-    /// ([`crate::stepping`]).
-    pub redone_steps: usize,
-    /// Failure events in the order they happened: a block lost its support, tipped past
-    /// its tipping angle or touched the floor; the column's height dropped by a block.
-    pub events: Vec<FailureEvent>,
-    /// Why the run stopped early, or null.
-    pub error: Option<String>,
     /// Time reached.
     pub t_final: f64,
     /// The prox parameter used: text `scaled, alpha = 1` or `constant r = 0.3`, JSON
@@ -777,37 +737,25 @@ impl RunReport {
         t_final: f64,
     ) -> Self {
         Self {
-            steps: summary.steps,
-            failure_time: summary.failure_time,
+            summary: summary.clone(),
             failure: crate::events::failure(&summary.events),
-            final_poses: summary.final_poses.clone(),
-            min_gap: Some(summary.min_gap).filter(|g| g.is_finite()),
-            newton_iterations_mean: summary.newton_iterations_mean,
-            wall_time_s: summary.wall_time_s,
-            opening_time: summary.opening_time,
-            failed_steps: summary.failed_steps,
-            branch_points: summary.branch_points.len(),
-            split_steps: summary.split_steps,
-            fallback_steps: summary.fallback_steps,
-            fallback_residual: summary.fallback_residual,
-            unshifted_steps: summary.unshifted_steps,
-            start_failure: summary.start_failure.clone(),
-            linear_solves: summary.linear_solves,
-            linear_solves_by_stage: summary.linear_solves_by_stage,
-            newton_work: summary.newton_work,
-            max_energy_increase: summary.max_energy_increase,
             max_penetration: summary.deepest.depth(),
-            penetration: summary.deepest,
-            corner_contacts: summary.corner_contacts,
-            redone_steps: summary.redone_steps,
-            events: summary.events.clone(),
-            error: summary.error.as_ref().map(ToString::to_string),
             t_final,
             prox: options.prox.unwrap_or(scene.solver.prox),
             warnings: RunWarning::of(scene, summary),
             scene: SceneReport::new(scene, options, defaults),
         }
     }
+}
+
+/// A gap that may be +∞ as JSON: null when it is not finite.
+fn finite_or_null<S: serde::Serializer>(x: &f64, serializer: S) -> Result<S::Ok, S::Error> {
+    serde::Serialize::serialize(&Some(*x).filter(|x| x.is_finite()), serializer)
+}
+
+/// A list as JSON: its length.
+fn count<T, S: serde::Serializer>(v: &[T], serializer: S) -> Result<S::Ok, S::Error> {
+    serializer.serialize_u64(v.len() as u64)
 }
 
 /// Something the reader of a run should know.
@@ -876,7 +824,8 @@ impl std::fmt::Display for RunReport {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         let time =
             |t: Option<f64>| t.map_or_else(|| "never".to_owned(), |t| format!("at t = {t:.4}"));
-        let min_gap = self.min_gap.map_or_else(
+        let s = &self.summary;
+        let min_gap = Some(s.min_gap).filter(|g| g.is_finite()).map_or_else(
             || "none (no contact could close)".to_owned(),
             |g| format!("{g:.3e}"),
         );
@@ -884,18 +833,18 @@ impl std::fmt::Display for RunReport {
         writeln!(
             f,
             "{} steps to t = {:.4} (solver {:.3} s, {:.2} Newton iterations per step, prox {})",
-            self.steps, self.t_final, self.wall_time_s, self.newton_iterations_mean, self.prox
+            s.steps, self.t_final, s.wall_time_s, s.newton_iterations_mean, self.prox
         )?;
         writeln!(
             f,
             "failure (loss of support) {}, first full opening {}",
-            time(self.failure_time),
-            time(self.opening_time)
+            time(s.failure_time),
+            time(s.opening_time)
         )?;
         write!(
             f,
             "min gap {min_gap}, failed Newton steps {}, branch points {}, split steps {}, linear solves {}, largest energy increase {:.3e}",
-            self.failed_steps, self.branch_points, self.split_steps, self.linear_solves, self.max_energy_increase
+            s.failed_steps, s.branch_points.len(), s.split_steps, s.linear_solves, s.max_energy_increase
         )?;
         write!(
             f,
@@ -903,34 +852,34 @@ impl std::fmt::Display for RunReport {
             self.max_penetration
         )?;
         if self.max_penetration > 0.0 {
-            let p = &self.penetration;
+            let p = &s.deepest;
             write!(
                 f,
                 " ({} and {} at t = {:.4})",
                 p.penetration.first, p.penetration.second, p.t
             )?;
         }
-        if self.corner_contacts > 0 {
+        if s.corner_contacts > 0 {
             write!(
                 f,
                 "\ncorner contacts between bodies beyond the stack's neighbours: up to {} at once, steps redone for a missed contact {}",
-                self.corner_contacts, self.redone_steps
+                s.corner_contacts, s.redone_steps
             )?;
         }
-        write_events(f, &self.events)?;
+        write_events(f, &s.events)?;
         write!(
             f,
             "\n{}",
-            crate::events::Verdict::new(self.failure, self.t_final, self.error.is_some())
+            crate::events::Verdict::new(self.failure, self.t_final, s.error.is_some())
         )?;
-        if self.fallback_steps > 0 {
+        if s.fallback_steps > 0 {
             write!(
                 f,
                 "\nlast-resort steps {} (Moreau–Jean, Lemke), largest residual {:.1e}",
-                self.fallback_steps, self.fallback_residual
+                s.fallback_steps, s.fallback_residual
             )?;
         }
-        for (k, p) in self.final_poses.iter().enumerate() {
+        for (k, p) in s.final_poses.iter().enumerate() {
             write!(
                 f,
                 "\nblock {}: x = {:.6}, y = {:.6}, theta = {:.6}",
