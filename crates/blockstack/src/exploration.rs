@@ -610,8 +610,9 @@ pub fn spread_of(mut v: Vec<f64>) -> Option<[f64; 3]> {
     Some([v[0], median, v[n - 1]])
 }
 
-/// Explores every continuation of `scene` to its end time (or `options.t_end`): the
-/// stepper runs with branch re-solves on, and each branch is a [`StackWalker`].
+/// Explores every continuation of `scene` to its end time (or `options.t_end`): each
+/// branch is a [`StackWalker`], and every branch point the stepper meets (its candidates
+/// those of `options.branch_rule`) is a fork.
 ///
 /// # Errors
 /// Bad run options; a failed consistent start.
@@ -623,12 +624,8 @@ pub fn explore_scene(
 ) -> Result<Exploration<BranchSummary>, BlockError> {
     let t_end = options.t_end.unwrap_or(scene.solver.t_end);
     input::positive("t_end", t_end)?;
-    let run = RunOptions {
-        explore_branches: true,
-        ..options.clone()
-    };
     let steps = step_count(t_end, scene.solver.dt) as u64;
-    let root = StackWalker::new(scene, &run, steps, settings)?;
+    let root = StackWalker::new(scene, options, steps, settings)?;
     Ok(explore(root, explore_options))
 }
 
