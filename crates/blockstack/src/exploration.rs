@@ -3,8 +3,9 @@
 //! the outcomes a user reads (which blocks fell, in what order, which reached the floor),
 //! and the test of each fork against refinement ([`crate::fork_check`]).
 //!
-//! A branch is stepped as [`crate::simulate`] steps a run (corner contacts kept current,
-//! the same fallback policy with branch re-solves on), and records the same events. Its
+//! A branch is stepped by the loop that steps a plain run ([`StackWalker`], which
+//! [`crate::simulate`] drives too: corner contacts kept current, the same fallback
+//! policy), and records the same events. Its
 //! trajectory can be streamed to `branch_<id>.csv` in a directory, so no trajectory is
 //! held in memory; what each branch keeps is its [`BranchSummary`]: final poses, events,
 //! and the top block's (t, y, θ) sampled for the figure.
@@ -16,7 +17,8 @@ use crate::fork_check::{check_fork, ForkEvidence, ForkLabel};
 use crate::record::{number_text, optional_text, trajectory_header, write_trajectory_row};
 use crate::scene::Scene;
 use crate::simulation::{
-    step_count, stepper_options, BlockPose, Recorder, RunOptions, TimedPenetration, PENETRATION_TOL,
+    check_failure, final_poses, step_count, stepper_options, BlockPose, Recorder, RunOptions,
+    RunSummary, StepRecord, TimedPenetration,
 };
 use crate::stepping::CornerStepping;
 use crate::system::StackSystem;
@@ -27,6 +29,7 @@ use std::fs::File;
 use std::io::{BufWriter, Write};
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicUsize, Ordering};
+use std::time::Instant;
 
 /// One sample of the top block for the figure: (t, y, θ).
 pub type TopSample = [f64; 3];
@@ -85,7 +88,10 @@ pub struct WalkSettings<'a> {
     pub stop_at_failure: bool,
 }
 
-/// Walks one branch of a scene (see the module docs).
+/// Walks one branch of a scene (see the module docs): the one run loop of the crate.
+/// [`crate::simulate_until`] drives it over a plain run, [`explore_scene`] over every
+/// branch; either way a step is taken, counted into the run's [`RunSummary`] and
+/// recorded here.
 #[derive(Debug)]
 pub struct StackWalker<'a> {
     scene: &'a Scene,
@@ -93,22 +99,32 @@ pub struct StackWalker<'a> {
     corners: CornerStepping,
     rec: Recorder<'a>,
     horizon: u64,
-    penetration_tol: f64,
-    failure_time: Option<f64>,
-    fallback_steps: usize,
-    unshifted_steps: usize,
+    /// The run's statistics so far; the counts of last-resort and unshifted steps are
+    /// this branch's own (a fork starts them again).
+    summary: RunSummary,
+    /// Energy of the last recorded state (+∞ before the first).
+    energy: f64,
+    /// Newton iterations of the last step, and of every step.
+    iterations: usize,
+    total_iterations: usize,
+    /// Seconds spent in the consistent start and in the steps.
+    solver_time: f64,
+    /// Whether the summary lists the branch points met.
+    record_branches: bool,
     sample_every: u64,
     top: Vec<TopSample>,
     trajectories: Option<&'a Path>,
     csv: Option<BufWriter<File>>,
     trajectory_error: Option<String>,
-    iterations: usize,
     classify: bool,
     keep_end_state: bool,
     checks: Vec<CheckedFork>,
     finished: Option<&'a AtomicUsize>,
     stop_at_failure: bool,
 }
+
+/// A consistent start that failed, with the seconds it took.
+pub(crate) type FailedStart = (StepError, f64);
 
 impl<'a> StackWalker<'a> {
     /// A walker at the scene's initial state, to `steps` steps of its Δt.
@@ -127,28 +143,50 @@ impl<'a> StackWalker<'a> {
             low_rank_updates: false,
             ..stepper_options(scene, options)?
         };
+        Self::start(scene, opts, steps, settings, false)
+            .map_err(|(e, _)| BlockError::Scene(format!("consistent start failed: {e}")))
+    }
+
+    /// A walker at the scene's initial state with nsga's `options`, to `steps` steps;
+    /// `record_branches`: list the branch points met in the summary.
+    ///
+    /// # Errors
+    /// The consistent start's failure.
+    pub(crate) fn start(
+        scene: &'a Scene,
+        options: nsga::Options,
+        steps: u64,
+        settings: WalkSettings<'a>,
+        record_branches: bool,
+    ) -> Result<Self, FailedStart> {
+        let clock = Instant::now();
         let (q0, u0) = (scene.initial_coordinates(), scene.initial_velocities());
         let mut system = StackSystem::new(scene.clone());
         let mut corners = CornerStepping::default();
-        corners.start(&mut system, &q0, &u0, opts.dt);
-        let stepper = Stepper::new(system, 0.0, &q0, &u0, opts)
-            .map_err(|e| BlockError::Scene(format!("consistent start failed: {e}")))?;
+        corners.start(&mut system, &q0, &u0, options.dt);
+        let started = Stepper::new(system, 0.0, &q0, &u0, options);
+        let solver_time = clock.elapsed().as_secs_f64();
+        let stepper = started.map_err(|e| (e, solver_time))?;
+        let rec = Recorder::new(scene, &q0);
+        let mut summary = RunSummary::before_the_run(scene, &rec);
+        summary.start_failure = stepper.start_failure().map(str::to_owned);
         Ok(Self {
             scene,
             stepper,
             corners,
-            rec: Recorder::new(scene, &q0),
+            rec,
             horizon: steps,
-            penetration_tol: PENETRATION_TOL * scene.smallest_block_height(),
-            failure_time: None,
-            fallback_steps: 0,
-            unshifted_steps: 0,
+            summary,
+            energy: f64::INFINITY,
+            iterations: 0,
+            total_iterations: 0,
+            solver_time,
+            record_branches,
             sample_every: settings.sample_every.max(1),
             top: Vec::new(),
             trajectories: settings.trajectories,
             csv: None,
             trajectory_error: None,
-            iterations: 0,
             classify: settings.classify,
             keep_end_state: false,
             checks: Vec::new(),
@@ -176,27 +214,82 @@ impl<'a> StackWalker<'a> {
         let mut stepper = self.stepper.branch_from(before.clone());
         stepper.set_options(options).ok()?;
         Some(Self {
+            horizon,
+            sample_every: u64::MAX,
+            trajectories: None,
+            classify: false,
+            keep_end_state: true,
+            finished: None,
+            stop_at_failure: false,
+            ..self.branch(stepper)
+        })
+    }
+
+    /// This walker continuing with `stepper` as a new branch: the past it records
+    /// carried over, the branch's own counts, samples and files not.
+    fn branch(&self, stepper: Stepper<StackSystem>) -> Self {
+        Self {
             scene: self.scene,
             stepper,
             corners: self.corners.for_branch(),
             rec: self.rec.clone(),
-            horizon,
-            penetration_tol: self.penetration_tol,
-            failure_time: self.failure_time,
-            fallback_steps: 0,
-            unshifted_steps: 0,
-            sample_every: u64::MAX,
+            horizon: self.horizon,
+            summary: RunSummary {
+                fallback_steps: 0,
+                unshifted_steps: 0,
+                ..self.summary.clone()
+            },
+            energy: self.energy,
+            iterations: self.iterations,
+            total_iterations: self.total_iterations,
+            solver_time: self.solver_time,
+            record_branches: self.record_branches,
+            sample_every: self.sample_every,
             top: Vec::new(),
-            trajectories: None,
+            trajectories: self.trajectories,
             csv: None,
             trajectory_error: None,
-            iterations: 0,
-            classify: false,
-            keep_end_state: true,
+            classify: self.classify,
+            keep_end_state: self.keep_end_state,
             checks: Vec::new(),
-            finished: None,
-            stop_at_failure: false,
-        })
+            finished: self.finished,
+            stop_at_failure: self.stop_at_failure,
+        }
+    }
+
+    /// Records the current state: its record, the failure events, and the statistics of
+    /// the states (smallest gap, energy increase, failure and opening times).
+    pub(crate) fn record_state(&mut self) -> StepRecord {
+        let st = self.stepper.state();
+        let t = st.t;
+        let r = self.rec.record(t, st, self.iterations);
+        let s = &mut self.summary;
+        s.min_gap = s.min_gap.min(r.min_gap);
+        s.max_energy_increase = s.max_energy_increase.max(r.energy - self.energy);
+        self.energy = r.energy;
+        check_failure(&self.rec, t, s);
+        r
+    }
+
+    /// The run's summary, up to the current state.
+    pub(crate) fn into_summary(self) -> RunSummary {
+        let mut s = self.summary;
+        s.linear_solves = self.stepper.linear_solves();
+        s.linear_solves_by_stage = self.stepper.solves_by_stage();
+        s.newton_work = self.stepper.newton_work();
+        s.corner_contacts = self.corners.most_contacts;
+        s.redone_steps = self.corners.redone_steps;
+        s.deepest = self.rec.deepest;
+        s.events = self.rec.watch.into_events();
+        s.final_poses = final_poses(self.scene, &self.stepper.state().q);
+        if s.steps > 0 {
+            s.newton_iterations_mean = self.total_iterations as f64 / s.steps as f64;
+        }
+        if !s.max_energy_increase.is_finite() {
+            s.max_energy_increase = 0.0;
+        }
+        s.wall_time_s = self.solver_time;
+        s
     }
 
     fn sample(&mut self) {
@@ -241,16 +334,19 @@ impl Walker for StackWalker<'_> {
 
     fn step(&mut self) -> Result<Option<BranchPoint>, StepError> {
         let before = self.classify.then(|| self.stepper.state().clone());
-        self.corners
-            .step(self.scene, &mut self.stepper, self.penetration_tol)?;
+        let clock = Instant::now();
+        let stepped =
+            self.corners
+                .step(self.scene, &mut self.stepper, self.summary.penetration_tol);
+        self.solver_time += clock.elapsed().as_secs_f64();
+        if let Err(e) = stepped {
+            self.summary.failed_steps += 1;
+            return Err(e);
+        }
         let stats = self.stepper.last_step().expect("a step was taken");
         self.iterations = stats.iterations;
-        if stats.last_resort.is_some() {
-            self.fallback_steps += 1;
-        }
-        if stats.unshifted {
-            self.unshifted_steps += 1;
-        }
+        self.total_iterations += stats.iterations;
+        self.summary.count_step(stats, self.record_branches);
         let point = forkable(stats);
         if let (Some(p), Some(before)) = (&point, before) {
             let evidence = check_fork(self, &before, p);
@@ -263,12 +359,9 @@ impl Walker for StackWalker<'_> {
     }
 
     fn observe(&mut self) {
-        let st = self.stepper.state();
-        let (t, k) = (st.t, st.k);
-        let rec = self.rec.record(t, st, self.iterations);
-        self.failure_time = self.rec.watch.first_time(EventKind::SupportLost);
+        let rec = self.record_state();
         self.write_row(&rec);
-        if self.top.is_empty() || k.is_multiple_of(self.sample_every) {
+        if self.top.is_empty() || self.stepper.state().k.is_multiple_of(self.sample_every) {
             self.sample();
         }
     }
@@ -279,32 +372,11 @@ impl Walker for StackWalker<'_> {
 
     fn done(&self) -> bool {
         self.stepper.state().k >= self.horizon
-            || (self.stop_at_failure && self.failure_time.is_some())
+            || (self.stop_at_failure && self.summary.failure_time.is_some())
     }
 
     fn fork(&self, candidate: State) -> Self {
-        Self {
-            scene: self.scene,
-            stepper: self.stepper.branch_from(candidate),
-            corners: self.corners.for_branch(),
-            rec: self.rec.clone(),
-            horizon: self.horizon,
-            penetration_tol: self.penetration_tol,
-            failure_time: self.failure_time,
-            fallback_steps: 0,
-            unshifted_steps: 0,
-            sample_every: self.sample_every,
-            top: Vec::new(),
-            trajectories: self.trajectories,
-            csv: None,
-            trajectory_error: None,
-            iterations: self.iterations,
-            classify: self.classify,
-            keep_end_state: self.keep_end_state,
-            checks: Vec::new(),
-            finished: self.finished,
-            stop_at_failure: self.stop_at_failure,
-        }
+        self.branch(self.stepper.branch_from(candidate))
     }
 
     fn park(&mut self) {
@@ -326,15 +398,12 @@ impl Walker for StackWalker<'_> {
                 self.trajectory_error = Some(e.to_string());
             }
         }
-        let q = &self.stepper.state().q;
         BranchSummary {
-            final_poses: (0..self.scene.n_blocks())
-                .map(|k| Pose::from_slice(&q[3 * k..3 * k + 3]).into())
-                .collect(),
-            failure_time: self.failure_time,
+            final_poses: final_poses(self.scene, &self.stepper.state().q),
+            failure_time: self.summary.failure_time,
             events: self.rec.watch.events().to_vec(),
-            fallback_steps: self.fallback_steps,
-            unshifted_steps: self.unshifted_steps,
+            fallback_steps: self.summary.fallback_steps,
+            unshifted_steps: self.summary.unshifted_steps,
             deepest: self.rec.deepest,
             top: std::mem::take(&mut self.top),
             trajectory_error: self.trajectory_error.take(),
@@ -541,8 +610,9 @@ pub fn spread_of(mut v: Vec<f64>) -> Option<[f64; 3]> {
     Some([v[0], median, v[n - 1]])
 }
 
-/// Explores every continuation of `scene` to its end time (or `options.t_end`): the
-/// stepper runs with branch re-solves on, and each branch is a [`StackWalker`].
+/// Explores every continuation of `scene` to its end time (or `options.t_end`): each
+/// branch is a [`StackWalker`], and every branch point the stepper meets (its candidates
+/// those of `options.branch_rule`) is a fork.
 ///
 /// # Errors
 /// Bad run options; a failed consistent start.
@@ -554,12 +624,8 @@ pub fn explore_scene(
 ) -> Result<Exploration<BranchSummary>, BlockError> {
     let t_end = options.t_end.unwrap_or(scene.solver.t_end);
     input::positive("t_end", t_end)?;
-    let run = RunOptions {
-        explore_branches: true,
-        ..options.clone()
-    };
     let steps = step_count(t_end, scene.solver.dt) as u64;
-    let root = StackWalker::new(scene, &run, steps, settings)?;
+    let root = StackWalker::new(scene, options, steps, settings)?;
     Ok(explore(root, explore_options))
 }
 

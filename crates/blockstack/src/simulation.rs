@@ -17,11 +17,12 @@
 //!   [`stepper_options`]: other ρ∞ only after a singular Newton matrix
 //!   ([`RHO_INF_RETRY`]); when the index sets alternate, re-solves with each distinct set
 //!   fixed, continuing with the first self-consistent candidate (a branch point,
-//!   ERRATA 22), recorded with the number of sets tried and of distinct converged
-//!   states; then the step as two half steps with this same policy (up to
-//!   [`MAX_HALVINGS`] times); with branch exploration on, finally re-solves that accept
-//!   friction laws sitting exactly on their stick–slip bound
-//!   ([`nsga::Options::boundary_resolves`]).
+//!   ERRATA 22); then the step as two half steps with this same policy (up to
+//!   [`MAX_HALVINGS`] times); finally re-solves that accept friction laws sitting
+//!   exactly on their stick–slip bound ([`nsga::Options::boundary_resolves`]). These
+//!   re-solves are part of every run's solver: [`RunOptions::explore_branches`] and
+//!   [`RunOptions::branch_rule`] only decide which branch points are recorded, so a
+//!   run's trajectory is the same whatever they are.
 //! - **Redundant contacts**: a toppled column resting on the table edge and on the floor
 //!   with several corners touches at more points than it has degrees of freedom; nsga's
 //!   regularized Newton update ([`nsga::Options::regularization`]) carries it.
@@ -32,15 +33,14 @@
 use crate::coordinates::Pose;
 use crate::error::BlockError;
 use crate::events::{EventKind, EventWatch, FailureEvent};
+use crate::exploration::{StackWalker, WalkSettings};
 use crate::overlap::{deepest_penetration, Penetration};
 use crate::scene::Scene;
 use crate::scene_info::{Defaults, SceneReport, SceneWarning};
 use crate::stack::StackContacts;
-use crate::stepping::CornerStepping;
-use crate::system::StackSystem;
-use nsga::{Options, RhoInfRetry, SolverChoice, StepError, Stepper};
+use nsga::explore::Walker;
+use nsga::{Options, RhoInfRetry, SolverChoice, StepError};
 use std::ops::ControlFlow;
-use std::time::Instant;
 
 pub use crate::time_guard::{run_cost, RunCost, SECONDS_PER_BLOCK_STEP, TIME_BOUND_S};
 pub use nsga::Prox;
@@ -122,17 +122,25 @@ pub const MAX_NEWTON_ITERATIONS: usize = 40;
 /// error either way and 2.9 against 2.7 steps per run needing a fallback.
 pub const RHO_INF_RETRY: RhoInfRetry = RhoInfRetry::SingularMatrix;
 
-/// Choices of a run that are not part of the scene.
-#[derive(Debug, Clone, Default)]
+/// Choices of a run that are not part of the scene. The defaults are those of the
+/// command line and of the Python module (a test of the command line checks it).
+#[derive(Debug, Clone)]
 pub struct RunOptions {
     /// End time; overrides the scene's `solver.t_end`.
     pub t_end: Option<f64>,
     /// Prox parameter; overrides the scene's choice.
     pub prox: Option<Prox>,
-    /// Record branch points (re-solve with fixed sets when Newton cycles).
+    /// Record branch points ([`RunSummary::branch_points`]): the steps whose Newton
+    /// iterates cycled and that fixed-set re-solves resolved, with the candidates found.
+    /// Only the record: those re-solves, and the re-solves at a friction bound, are
+    /// stages of every run's solver (the module docs), so the trajectory is the same with
+    /// this on or off. On by default.
     pub explore_branches: bool,
-    /// Which fixed-set solutions count as a branch point's candidates (default: the
-    /// self-consistent ones; [`nsga::BranchRule::Converged`] is the thesis's count).
+    /// Which fixed-set solutions a branch point records as candidates (default: the
+    /// self-consistent ones; [`nsga::BranchRule::Converged`] adds the other converged
+    /// solves, the thesis's count). Only the record: the run continues with a
+    /// self-consistent candidate under either rule, and an exploration
+    /// ([`crate::exploration`]) follows every recorded one.
     pub branch_rule: nsga::BranchRule,
     /// Probe every converged step for other solutions by flipping one touching contact
     /// ([`nsga::Options::probe_flips`]; costly, for exploring).
@@ -160,6 +168,24 @@ pub struct RunOptions {
     /// `ControlFlow::Break` of [`simulate_until`] would (a sweep that is interrupted
     /// stops every run it has started this way).
     pub cancel: Option<std::sync::Arc<std::sync::atomic::AtomicBool>>,
+}
+
+impl Default for RunOptions {
+    fn default() -> Self {
+        Self {
+            t_end: None,
+            prox: None,
+            explore_branches: true,
+            branch_rule: nsga::BranchRule::default(),
+            probe_flips: false,
+            spread_branches: 0,
+            stop_at_failure: false,
+            skip_last_resort: false,
+            skip_low_rank_updates: false,
+            skip_predicted_start: false,
+            cancel: None,
+        }
+    }
 }
 
 /// The pose of one block.
@@ -227,7 +253,9 @@ pub struct BranchRecord {
     pub distinct: usize,
 }
 
-/// What a run did.
+/// What a run did: the one summary of a run, which the JSON report of
+/// `rollstack blocks run` holds ([`RunReport`], docs/cli.md: the keys are those named by
+/// the `serde` attributes).
 #[derive(Debug, Clone, serde::Serialize)]
 pub struct RunSummary {
     /// Steps taken.
@@ -237,8 +265,11 @@ pub struct RunSummary {
     /// First time any interface opened completely.
     pub opening_time: Option<f64>,
     /// Poses at the end, bottom to top.
+    #[serde(rename = "final")]
     pub final_poses: Vec<BlockPose>,
-    /// Smallest gap over the run.
+    /// Smallest gap over the run (+∞, JSON null, when no contact could close or the run
+    /// could not start).
+    #[serde(serialize_with = "finite_or_null")]
     pub min_gap: f64,
     /// Mean Newton iterations per step.
     pub newton_iterations_mean: f64,
@@ -246,7 +277,9 @@ pub struct RunSummary {
     pub wall_time_s: f64,
     /// Steps whose first Newton attempt did not converge.
     pub failed_steps: usize,
-    /// Steps resolved by fixed-set re-solves.
+    /// The branch points met ([`RunOptions::explore_branches`]; empty with it off). JSON:
+    /// their number.
+    #[serde(serialize_with = "count")]
     pub branch_points: Vec<BranchRecord>,
     /// Steps that went through only as substeps (halved Δt, [`MAX_HALVINGS`]).
     pub split_steps: usize,
@@ -278,8 +311,10 @@ pub struct RunSummary {
     pub max_energy_increase: f64,
     /// The deepest penetration between any two bodies over the run (base, blocks,
     /// floor), with its time: the overlap check of every recorded state.
+    #[serde(rename = "penetration")]
     pub deepest: TimedPenetration,
     /// [`PENETRATION_TOL`] times the smallest block height: deeper is warned about.
+    #[serde(skip)]
     pub penetration_tol: f64,
     /// Failure events in the order they happened ([`crate::events`]).
     pub events: Vec<FailureEvent>,
@@ -362,7 +397,8 @@ pub fn stepper_options(scene: &Scene, options: &RunOptions) -> Result<Options, B
         tol: s.tol,
         max_iter: MAX_NEWTON_ITERATIONS,
         max_iter_per_contact: 1,
-        explore_branches: options.explore_branches,
+        // Solver stages of every run; `RunOptions::explore_branches` only records.
+        explore_branches: true,
         branch_rule: options.branch_rule,
         probe_flips: options.probe_flips,
         // Markowitz LU for the small scenes of the thesis, faer's sparse LU for tall
@@ -376,7 +412,7 @@ pub fn stepper_options(scene: &Scene, options: &RunOptions) -> Result<Options, B
         line_search: LINE_SEARCH_HALVINGS,
         rho_inf_retry: RHO_INF_RETRY,
         max_halvings: MAX_HALVINGS,
-        boundary_resolves: options.explore_branches,
+        boundary_resolves: true,
         last_resort: !options.skip_last_resort,
         max_openings_per_update: MAX_OPENINGS_PER_UPDATE,
         ..Options::default()
@@ -497,6 +533,8 @@ pub fn simulate(
 /// [`simulate`] with a caller that may stop the run: when `on_step` returns
 /// `ControlFlow::Break`, no further step is taken and the summary covers the run up to
 /// that record (its `error` stays `None`). The Python bindings stop on Ctrl-C this way.
+/// The run is stepped by the loop of an exploration's branches
+/// ([`crate::exploration::StackWalker`]), so both count the same statistics.
 ///
 /// # Errors
 /// Only bad scenes or options, as [`simulate`].
@@ -508,128 +546,114 @@ pub fn simulate_until(
     let t_end = options.t_end.unwrap_or(scene.solver.t_end);
     input::positive("t_end", t_end)?;
     let opts = stepper_options(scene, options)?;
-    let dt = opts.dt;
-    let steps_wanted = step_count(t_end, dt);
-    let q0 = scene.initial_coordinates();
-    let u0 = scene.initial_velocities();
-    let height = scene.smallest_block_height();
-    let mut rec = Recorder::new(scene, &q0);
-    let mut summary = RunSummary {
-        steps: 0,
-        failure_time: None,
-        opening_time: None,
-        final_poses: Vec::new(),
-        min_gap: f64::INFINITY,
-        newton_iterations_mean: 0.0,
-        wall_time_s: 0.0,
-        failed_steps: 0,
-        branch_points: Vec::new(),
-        split_steps: 0,
-        fallback_steps: 0,
-        fallback_residual: 0.0,
-        unshifted_steps: 0,
-        start_failure: None,
-        linear_solves: 0,
-        linear_solves_by_stage: nsga::SolvesByStage::default(),
-        newton_work: nsga::NewtonWork::default(),
-        max_energy_increase: f64::NEG_INFINITY,
-        deepest: rec.deepest,
-        penetration_tol: PENETRATION_TOL * height,
-        events: Vec::new(),
-        corner_contacts: 0,
-        redone_steps: 0,
-        error: None,
+    let steps = step_count(t_end, opts.dt) as u64;
+    let settings = WalkSettings {
+        sample_every: u64::MAX,
+        stop_at_failure: options.stop_at_failure,
+        ..WalkSettings::default()
     };
-    let clock = Instant::now();
-    let mut system = StackSystem::new(scene.clone());
-    let mut corners = CornerStepping::default();
-    corners.start(&mut system, &q0, &u0, dt);
-    let started = Stepper::new(system, 0.0, &q0, &u0, opts);
-    let mut solver_time = clock.elapsed().as_secs_f64();
-    let mut stepper = match started {
-        Ok(s) => {
-            summary.start_failure = s.start_failure().map(str::to_owned);
-            s
-        }
-        Err(e) => {
-            summary.error = Some(RunError::Start(e));
-            summary.final_poses = (0..scene.n_blocks())
-                .map(|k| Pose::from_slice(&q0[3 * k..]).into())
-                .collect();
-            summary.max_energy_increase = 0.0;
-            summary.wall_time_s = solver_time;
-            return Ok(summary);
-        }
-    };
-    let first = rec.record(0.0, stepper.state(), 0);
-    let mut energy = first.energy;
-    summary.min_gap = first.min_gap;
-    check_failure(&rec, 0.0, &mut summary);
-    let mut stop = on_step(&first).is_break();
-    let mut iterations = 0usize;
-    for _ in 0..steps_wanted {
-        let cancelled = options
+    let mut walker =
+        match StackWalker::start(scene, opts, steps, settings, options.explore_branches) {
+            Ok(w) => w,
+            Err((e, solver_time)) => return Ok(RunSummary::failed_start(scene, e, solver_time)),
+        };
+    let cancelled = || {
+        options
             .cancel
             .as_ref()
-            .is_some_and(|c| c.load(std::sync::atomic::Ordering::Relaxed));
-        if stop || cancelled || (options.stop_at_failure && summary.failure_time.is_some()) {
+            .is_some_and(|c| c.load(std::sync::atomic::Ordering::Relaxed))
+    };
+    let mut stop = on_step(&walker.record_state()).is_break();
+    let mut error = None;
+    while !(stop || cancelled() || walker.done()) {
+        if let Err(e) = walker.step() {
+            error = Some(RunError::Step(e));
             break;
         }
-        let clock = Instant::now();
-        let result = corners
-            .step(scene, &mut stepper, summary.penetration_tol)
-            .map(|()| accepted(stepper.last_step().expect("a step was taken")));
-        solver_time += clock.elapsed().as_secs_f64();
-        let (t, its, retries, branch) = match result {
-            Ok(r) => r,
-            Err(e) => {
-                summary.failed_steps += 1;
-                summary.error = Some(RunError::Step(e));
-                break;
-            }
-        };
-        summary.steps += 1;
-        iterations += its;
-        if retries > 0 {
-            summary.failed_steps += 1;
-        }
-        summary.branch_points.extend(branch);
-        if stepper.last_step().is_some_and(|s| s.substeps > 1) {
-            summary.split_steps += 1;
-        }
-        if stepper.last_step().is_some_and(|s| s.unshifted) {
-            summary.unshifted_steps += 1;
-        }
-        if let Some(last) = stepper.last_step().and_then(|s| s.last_resort.as_ref()) {
-            summary.fallback_steps += 1;
-            summary.fallback_residual = summary.fallback_residual.max(last.residual);
-        }
-        let r = rec.record(t, stepper.state(), its);
-        summary.min_gap = summary.min_gap.min(r.min_gap);
-        summary.max_energy_increase = summary.max_energy_increase.max(r.energy - energy);
-        energy = r.energy;
-        check_failure(&rec, t, &mut summary);
-        stop = on_step(&r).is_break();
+        stop = on_step(&walker.record_state()).is_break();
     }
-    summary.linear_solves = stepper.linear_solves();
-    summary.linear_solves_by_stage = stepper.solves_by_stage();
-    summary.newton_work = stepper.newton_work();
-    summary.corner_contacts = corners.most_contacts;
-    summary.redone_steps = corners.redone_steps;
-    summary.deepest = rec.deepest;
-    summary.events = rec.watch.into_events();
-    let q = &stepper.state().q;
-    summary.final_poses = (0..scene.n_blocks())
-        .map(|k| Pose::from_slice(&q[3 * k..3 * k + 3]).into())
-        .collect();
-    if summary.steps > 0 {
-        summary.newton_iterations_mean = iterations as f64 / summary.steps as f64;
-    }
-    if !summary.max_energy_increase.is_finite() {
-        summary.max_energy_increase = 0.0;
-    }
-    summary.wall_time_s = solver_time;
+    let mut summary = walker.into_summary();
+    summary.error = error;
     Ok(summary)
+}
+
+impl RunSummary {
+    /// The summary of a run of `scene` before its first state is recorded by `rec`.
+    pub(crate) fn before_the_run(scene: &Scene, rec: &Recorder<'_>) -> Self {
+        Self {
+            steps: 0,
+            failure_time: None,
+            opening_time: None,
+            final_poses: Vec::new(),
+            min_gap: f64::INFINITY,
+            newton_iterations_mean: 0.0,
+            wall_time_s: 0.0,
+            failed_steps: 0,
+            branch_points: Vec::new(),
+            split_steps: 0,
+            fallback_steps: 0,
+            fallback_residual: 0.0,
+            unshifted_steps: 0,
+            start_failure: None,
+            linear_solves: 0,
+            linear_solves_by_stage: nsga::SolvesByStage::default(),
+            newton_work: nsga::NewtonWork::default(),
+            max_energy_increase: f64::NEG_INFINITY,
+            deepest: rec.deepest,
+            penetration_tol: PENETRATION_TOL * scene.smallest_block_height(),
+            events: Vec::new(),
+            corner_contacts: 0,
+            redone_steps: 0,
+            error: None,
+        }
+    }
+
+    /// The summary of a run whose consistent start failed with `e` after `solver_time`
+    /// seconds: the blocks where they started.
+    fn failed_start(scene: &Scene, e: StepError, solver_time: f64) -> Self {
+        let q0 = scene.initial_coordinates();
+        Self {
+            error: Some(RunError::Start(e)),
+            final_poses: final_poses(scene, &q0),
+            max_energy_increase: 0.0,
+            wall_time_s: solver_time,
+            ..Self::before_the_run(scene, &Recorder::new(scene, &q0))
+        }
+    }
+
+    /// Counts an accepted step with statistics `stats`; `record_branches`: list its
+    /// branch point, if any.
+    pub(crate) fn count_step(&mut self, stats: &nsga::StepStats, record_branches: bool) {
+        self.steps += 1;
+        if stats.retries > 0 {
+            self.failed_steps += 1;
+        }
+        if record_branches {
+            self.branch_points
+                .extend(stats.branch.as_ref().map(|b| BranchRecord {
+                    t: b.t,
+                    candidates: b.tried,
+                    distinct: b.candidates.len(),
+                }));
+        }
+        if stats.substeps > 1 {
+            self.split_steps += 1;
+        }
+        if stats.unshifted {
+            self.unshifted_steps += 1;
+        }
+        if let Some(last) = &stats.last_resort {
+            self.fallback_steps += 1;
+            self.fallback_residual = self.fallback_residual.max(last.residual);
+        }
+    }
+}
+
+/// The poses of the blocks at coordinates `q`, bottom to top.
+pub(crate) fn final_poses(scene: &Scene, q: &[f64]) -> Vec<BlockPose> {
+    (0..scene.n_blocks())
+        .map(|k| Pose::from_slice(&q[3 * k..3 * k + 3]).into())
+        .collect()
 }
 
 /// One line per kind of failure event: the blocks in the order they were affected,
@@ -665,24 +689,8 @@ fn write_events(f: &mut std::fmt::Formatter<'_>, events: &[FailureEvent]) -> std
     Ok(())
 }
 
-/// (t, iterations, retries, branch point) of an accepted step.
-type Accepted = (f64, usize, usize, Option<BranchRecord>);
-
-fn accepted(s: &nsga::StepStats) -> Accepted {
-    (
-        s.t,
-        s.iterations,
-        s.retries,
-        s.branch.as_ref().map(|b| BranchRecord {
-            t: b.t,
-            candidates: b.tried,
-            distinct: b.candidates.len(),
-        }),
-    )
-}
-
 /// Updates the failure and opening times from the contacts last recorded at t.
-fn check_failure(rec: &Recorder<'_>, t: f64, summary: &mut RunSummary) {
+pub(crate) fn check_failure(rec: &Recorder<'_>, t: f64, summary: &mut RunSummary) {
     summary.failure_time = rec.watch.first_time(EventKind::SupportLost);
     if summary.opening_time.is_none() && rec.contacts.first_open(rec.open_tol).is_some() {
         summary.opening_time = Some(t);
@@ -690,69 +698,20 @@ fn check_failure(rec: &Recorder<'_>, t: f64, summary: &mut RunSummary) {
 }
 
 /// The JSON report of one run (`rollstack blocks run` and `lire`; docs/cli.md): the
-/// summary's headline numbers, the time reached and the prox parameter used.
+/// run's summary (its keys inline), what follows from it, the time reached and the prox
+/// parameter used.
 #[derive(Debug, Clone, serde::Serialize)]
 pub struct RunReport {
-    /// Number of time steps taken.
-    pub steps: usize,
-    /// First time any block loses support on the block beneath it (§4.4), or null.
-    pub failure_time: Option<f64>,
+    /// What the run did.
+    #[serde(flatten)]
+    pub summary: RunSummary,
     /// The run's failure ([`crate::events::failure`]): its first event (support lost,
     /// tipped, reached the floor, height dropped), with its kind, time and block; null
     /// while the column stands.
     pub failure: Option<FailureEvent>,
-    /// Final poses of the free blocks, bottom to top.
-    #[serde(rename = "final")]
-    pub final_poses: Vec<BlockPose>,
-    /// Smallest normal gap seen among the closed contacts (negative: penetration), or
-    /// null when no contact was ever closed (or the run could not start).
-    pub min_gap: Option<f64>,
-    /// Mean number of Newton iterations per step.
-    pub newton_iterations_mean: f64,
-    /// Solver time (s), without I/O.
-    pub wall_time_s: f64,
-    /// First time any interface opens completely, or null.
-    pub opening_time: Option<f64>,
-    /// Steps whose first Newton attempt did not converge.
-    pub failed_steps: usize,
-    /// Number of branch points recorded.
-    pub branch_points: usize,
-    /// Steps that went through only as substeps (halved Δt).
-    pub split_steps: usize,
-    /// Steps taken by the last resort (a Moreau–Jean step solved by Lemke's method).
-    pub fallback_steps: usize,
-    /// The largest complementarity residual of those steps (0 when none).
-    pub fallback_residual: f64,
-    /// Steps taken without the friction percussions' half-step shift.
-    pub unshifted_steps: usize,
-    /// Why the consistent start failed, where the first step was taken by the last
-    /// resort instead; null after a consistent start.
-    pub start_failure: Option<String>,
-    /// Linear solves of the Newton iterations in every attempt (the run's work).
-    pub linear_solves: u64,
-    /// The same by the stage of the step's policy that made them.
-    pub linear_solves_by_stage: nsga::SolvesByStage,
-    /// Where the Newton work went: operations by kind, why exact updates were made,
-    /// seconds by kind.
-    pub newton_work: nsga::NewtonWork,
-    /// Largest energy increase between two steps (≤ ~0 in unforced runs).
-    pub max_energy_increase: f64,
     /// The deepest penetration between any two bodies over the run (0 when they only
     /// touch); above `PENETRATION_TOL` of the smallest block height it is also a warning.
     pub max_penetration: f64,
-    /// When and where it was measured.
-    pub penetration: TimedPenetration,
-    /// The most corner contacts beyond the stack's neighbours in use at once
-    /// ([`crate::pairs`]; 0 while the column stands).
-    pub corner_contacts: usize,
-    /// Steps taken again because the broad phase had missed a contact
-    /// ([`crate::stepping`]).
-    pub redone_steps: usize,
-    /// Failure events in the order they happened: a block lost its support, tipped past
-    /// its tipping angle or touched the floor; the column's height dropped by a block.
-    pub events: Vec<FailureEvent>,
-    /// Why the run stopped early, or null.
-    pub error: Option<String>,
     /// Time reached.
     pub t_final: f64,
     /// The prox parameter used: text `scaled, alpha = 1` or `constant r = 0.3`, JSON
@@ -778,37 +737,25 @@ impl RunReport {
         t_final: f64,
     ) -> Self {
         Self {
-            steps: summary.steps,
-            failure_time: summary.failure_time,
+            summary: summary.clone(),
             failure: crate::events::failure(&summary.events),
-            final_poses: summary.final_poses.clone(),
-            min_gap: Some(summary.min_gap).filter(|g| g.is_finite()),
-            newton_iterations_mean: summary.newton_iterations_mean,
-            wall_time_s: summary.wall_time_s,
-            opening_time: summary.opening_time,
-            failed_steps: summary.failed_steps,
-            branch_points: summary.branch_points.len(),
-            split_steps: summary.split_steps,
-            fallback_steps: summary.fallback_steps,
-            fallback_residual: summary.fallback_residual,
-            unshifted_steps: summary.unshifted_steps,
-            start_failure: summary.start_failure.clone(),
-            linear_solves: summary.linear_solves,
-            linear_solves_by_stage: summary.linear_solves_by_stage,
-            newton_work: summary.newton_work,
-            max_energy_increase: summary.max_energy_increase,
             max_penetration: summary.deepest.depth(),
-            penetration: summary.deepest,
-            corner_contacts: summary.corner_contacts,
-            redone_steps: summary.redone_steps,
-            events: summary.events.clone(),
-            error: summary.error.as_ref().map(ToString::to_string),
             t_final,
             prox: options.prox.unwrap_or(scene.solver.prox),
             warnings: RunWarning::of(scene, summary),
             scene: SceneReport::new(scene, options, defaults),
         }
     }
+}
+
+/// A gap that may be +∞ as JSON: null when it is not finite.
+fn finite_or_null<S: serde::Serializer>(x: &f64, serializer: S) -> Result<S::Ok, S::Error> {
+    serde::Serialize::serialize(&Some(*x).filter(|x| x.is_finite()), serializer)
+}
+
+/// A list as JSON: its length.
+fn count<T, S: serde::Serializer>(v: &[T], serializer: S) -> Result<S::Ok, S::Error> {
+    serializer.serialize_u64(v.len() as u64)
 }
 
 /// Something the reader of a run should know.
@@ -877,7 +824,8 @@ impl std::fmt::Display for RunReport {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         let time =
             |t: Option<f64>| t.map_or_else(|| "never".to_owned(), |t| format!("at t = {t:.4}"));
-        let min_gap = self.min_gap.map_or_else(
+        let s = &self.summary;
+        let min_gap = Some(s.min_gap).filter(|g| g.is_finite()).map_or_else(
             || "none (no contact could close)".to_owned(),
             |g| format!("{g:.3e}"),
         );
@@ -885,18 +833,18 @@ impl std::fmt::Display for RunReport {
         writeln!(
             f,
             "{} steps to t = {:.4} (solver {:.3} s, {:.2} Newton iterations per step, prox {})",
-            self.steps, self.t_final, self.wall_time_s, self.newton_iterations_mean, self.prox
+            s.steps, self.t_final, s.wall_time_s, s.newton_iterations_mean, self.prox
         )?;
         writeln!(
             f,
             "failure (loss of support) {}, first full opening {}",
-            time(self.failure_time),
-            time(self.opening_time)
+            time(s.failure_time),
+            time(s.opening_time)
         )?;
         write!(
             f,
             "min gap {min_gap}, failed Newton steps {}, branch points {}, split steps {}, linear solves {}, largest energy increase {:.3e}",
-            self.failed_steps, self.branch_points, self.split_steps, self.linear_solves, self.max_energy_increase
+            s.failed_steps, s.branch_points.len(), s.split_steps, s.linear_solves, s.max_energy_increase
         )?;
         write!(
             f,
@@ -904,34 +852,34 @@ impl std::fmt::Display for RunReport {
             self.max_penetration
         )?;
         if self.max_penetration > 0.0 {
-            let p = &self.penetration;
+            let p = &s.deepest;
             write!(
                 f,
                 " ({} and {} at t = {:.4})",
                 p.penetration.first, p.penetration.second, p.t
             )?;
         }
-        if self.corner_contacts > 0 {
+        if s.corner_contacts > 0 {
             write!(
                 f,
                 "\ncorner contacts between bodies beyond the stack's neighbours: up to {} at once, steps redone for a missed contact {}",
-                self.corner_contacts, self.redone_steps
+                s.corner_contacts, s.redone_steps
             )?;
         }
-        write_events(f, &self.events)?;
+        write_events(f, &s.events)?;
         write!(
             f,
             "\n{}",
-            crate::events::Verdict::new(self.failure, self.t_final, self.error.is_some())
+            crate::events::Verdict::new(self.failure, self.t_final, s.error.is_some())
         )?;
-        if self.fallback_steps > 0 {
+        if s.fallback_steps > 0 {
             write!(
                 f,
                 "\nlast-resort steps {} (Moreau–Jean, Lemke), largest residual {:.1e}",
-                self.fallback_steps, self.fallback_residual
+                s.fallback_steps, s.fallback_residual
             )?;
         }
-        for (k, p) in self.final_poses.iter().enumerate() {
+        for (k, p) in s.final_poses.iter().enumerate() {
             write!(
                 f,
                 "\nblock {}: x = {:.6}, y = {:.6}, theta = {:.6}",

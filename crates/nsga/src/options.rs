@@ -272,8 +272,9 @@ pub struct Options {
     pub last_resort: bool,
 }
 
-/// Which fixed-set solutions of a cycling step count as its continuations (branch
-/// candidates, docs/method.md §8).
+/// Which fixed-set solutions of a cycling step its branch point records as
+/// continuations (branch candidates, docs/method.md §8). Only the record: the step
+/// continues with a self-consistent one under either rule.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum BranchRule {

@@ -2,10 +2,16 @@
 //! ERRATA 22).
 //!
 //! When the Newton iterates alternate between index sets, the step is re-solved once per
-//! set seen, with the sets fixed. A solution counts only when it is self-consistent (the
-//! sets recomputed from it are the ones it was solved with); distinct solutions
-//! (deduplicated by state, [`State::same_motion`]) are distinct continuations, and the
-//! step continues with the one [`System::choose_branch`] picks.
+//! set seen, with the sets fixed. A solution the step may continue with is
+//! self-consistent (the sets recomputed from it are the ones it was solved with);
+//! distinct solutions (deduplicated by state, [`State::same_motion`]) are distinct
+//! continuations, and the step continues with the one [`System::choose_branch`] picks.
+//! The [`BranchRule`] only decides what the branch point *records*: under
+//! [`BranchRule::Converged`] the converged solves that are not self-consistent follow the
+//! self-consistent candidates in it, and a step with none of the latter goes on to the
+//! policy's later stages, as under [`BranchRule::SelfConsistent`], carrying the recorded
+//! point to the trial they commit ([`record_unfollowed`]). So the run's trajectory is the
+//! same under either rule.
 //!
 //! Where a friction law sits exactly on its stick–slip bound, round-off decides its set,
 //! so no candidate may pass the strict test although several solve the step; the
@@ -41,11 +47,7 @@ impl Candidates {
     /// Keeps `trial` (solved with `sets`, self-consistent or not) unless its state repeats
     /// one already kept; a repeat that is self-consistent marks the kept one so.
     fn offer(&mut self, sets: &IndexSets, trial: Trial, consistent: bool) {
-        match self
-            .found
-            .iter()
-            .position(|(_, s)| s.same_motion(&trial.state))
-        {
+        match self.position(&trial.state) {
             Some(i) => self.consistent[i] |= consistent,
             None => {
                 self.found.push((sets.clone(), trial.state.clone()));
@@ -54,26 +56,58 @@ impl Candidates {
             }
         }
     }
+
+    /// The kept candidate whose state is the same motion as `state`.
+    fn position(&self, state: &State) -> Option<usize> {
+        self.found.iter().position(|(_, s)| s.same_motion(state))
+    }
 }
+
+/// Converged fixed-set solutions that are not self-consistent, in the order they were
+/// found: recorded under [`BranchRule::Converged`], never continued with.
+type Unfollowed = Vec<(IndexSets, State)>;
 
 impl<S: System> Stepper<S> {
     /// The fixed-set re-solves of a cycling step: one per visited set, in first-visit
-    /// order; the self-consistent ones, deduplicated by state, make the branch point, and
-    /// the one the system chooses is returned.
-    pub(super) fn branch_trial(&mut self, visited: &[IndexSets], rho0: f64) -> Option<Trial> {
+    /// order. The self-consistent ones, deduplicated by state, are the candidates, and
+    /// the one the system chooses is returned with the branch point; under
+    /// [`BranchRule::Converged`] the point also records the converged solves that are not
+    /// self-consistent, after the candidates. With no self-consistent candidate the
+    /// stage fails, with the point of those others when the rule records any (see the
+    /// module docs).
+    pub(super) fn branch_trial(
+        &mut self,
+        visited: &[IndexSets],
+        rho0: f64,
+    ) -> Result<Trial, Option<BranchPoint>> {
         let mut candidates = Candidates::default();
+        let mut others = Unfollowed::new();
         for sets in visited {
             let Ok(t) = self.attempt(&self.retry_spec(SetRule::Fixed(sets.clone()), rho0)) else {
                 continue;
             };
-            // Self-consistency: the sets recomputed from the converged x (the thesis's
-            // rule keeps every converged solve).
-            let consistent = &self.sets_of(&t.state.x, rho0) == sets;
-            if consistent || self.options.branch_rule == BranchRule::Converged {
-                candidates.offer(sets, t, consistent);
+            // Self-consistency: the sets recomputed from the converged x.
+            if &self.sets_of(&t.state.x, rho0) == sets {
+                candidates.offer(sets, t, true);
+            } else if self.options.branch_rule == BranchRule::Converged {
+                others.push((sets.clone(), t.state));
             }
         }
-        self.chosen(candidates, visited.len())
+        let tried = visited.len();
+        let Some(mut trial) = self.chosen(candidates, tried) else {
+            let point = BranchPoint {
+                t: self.state.t,
+                candidates: Vec::new(),
+                consistent: Vec::new(),
+                tried,
+                chosen: 0,
+            };
+            return Err(Some(with_unfollowed(point, others)).filter(|p| !p.candidates.is_empty()));
+        };
+        if let Some(point) = trial.stats.branch.take() {
+            trial.stats.branch = Some(with_unfollowed(point, others));
+        }
+        Ok(trial)
     }
 
     /// The candidate [`System::choose_branch`] picks, carrying the branch point.
@@ -256,6 +290,48 @@ impl<S: System> Stepper<S> {
             velocity_ok && acceleration_ok
         })
     }
+}
+
+/// `point` with the converged solves that are not self-consistent appended to its
+/// candidates, each unless its state repeats one already there.
+fn with_unfollowed(mut point: BranchPoint, others: Unfollowed) -> BranchPoint {
+    for (sets, state) in others {
+        if !point.candidates.iter().any(|(_, s)| s.same_motion(&state)) {
+            point.candidates.push((sets, state));
+            point.consistent.push(false);
+        }
+    }
+    point
+}
+
+/// Records on `trial`, which a later stage of a step found, the branch point `point` whose
+/// fixed-set solves were none self-consistent ([`Stepper::branch_trial`] under
+/// [`BranchRule::Converged`]): the trial's own state is a candidate of the point (in
+/// place of one of the same motion), the one continued. A trial that carries a branch
+/// point of its own keeps it.
+pub(super) fn record_unfollowed(mut point: BranchPoint, trial: &mut Trial) {
+    if trial.stats.branch.is_some() {
+        return;
+    }
+    let continued = (trial.stats.sets.clone(), trial.state.clone());
+    let consistent = trial.stats.converged && trial.stats.last_resort.is_none();
+    let same = point
+        .candidates
+        .iter()
+        .position(|(_, s)| s.same_motion(&trial.state));
+    point.chosen = match same {
+        Some(i) => {
+            point.candidates[i] = continued;
+            point.consistent[i] = consistent;
+            i
+        }
+        None => {
+            point.candidates.push(continued);
+            point.consistent.push(consistent);
+            point.candidates.len() - 1
+        }
+    };
+    trial.stats.branch = Some(point);
 }
 
 /// |v| of a one-component law, ‖v‖ of a two-component one.

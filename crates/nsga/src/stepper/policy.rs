@@ -3,11 +3,13 @@
 //! step halving is an outer Δt controller: a halved step runs the whole policy again on
 //! each half, one level of halving down ([`super::halving`]).
 
+use super::branch::record_unfollowed;
 use super::halving::Halves;
 use super::Stepper;
 use crate::attempt::{AttemptFailure, Trial};
 use crate::error::StepError;
 use crate::options::{FailurePolicy, Options, RhoInfRetry};
+use crate::report::BranchPoint;
 use crate::sets::IndexSets;
 use crate::state::State;
 use crate::system::System;
@@ -53,7 +55,8 @@ pub(crate) enum Stage {
     RhoRetry(usize),
     /// With [`Options::explore_branches`], when the first attempt's index sets cycled:
     /// one re-solve per distinct set seen with the sets fixed; the self-consistent
-    /// candidates, deduplicated by state, make a branch point.
+    /// candidates, deduplicated by state, make a branch point, and the step continues
+    /// with one of them whatever [`Options::branch_rule`] records.
     BranchTrials,
     /// With [`Options::retry_without_friction_shift`]: the step without the friction
     /// percussions' half-step shift.
@@ -186,6 +189,10 @@ pub(super) struct Policy {
     cycling: bool,
     /// The best iterate of the failed attempts.
     pub(super) best: Option<Box<Trial>>,
+    /// The branch point of fixed-set re-solves that converged but were none
+    /// self-consistent ([`crate::BranchRule::Converged`]), recorded on the step a later
+    /// stage finds.
+    pub(super) unfollowed: Option<BranchPoint>,
     /// A singular first attempt, while no later attempt iterated.
     singular: Option<AttemptFailure>,
     /// Failed attempts before the current stage (`StepStats::retries`), from the first.
@@ -225,6 +232,7 @@ impl Policy {
             visited: Vec::new(),
             cycling: false,
             best: None,
+            unfollowed: None,
             singular: None,
             retries: 1,
             failure: None,
@@ -266,6 +274,9 @@ impl Policy {
                 t.stats.retries = self.retries;
                 if stage == AcceptBest {
                     t.stats.converged = false;
+                }
+                if let Some(point) = self.unfollowed.take() {
+                    record_unfollowed(point, &mut t);
                 }
                 Next::Commit(t)
             }

@@ -55,7 +55,10 @@ impl<S: System> Stepper<S> {
                 self.attempt(&self.retry_spec(SetRule::Free, rho))
                     .map_err(Some)
             }
-            Stage::BranchTrials => self.branch_trial(&policy.visited, rho0).ok_or(None),
+            Stage::BranchTrials => self.branch_trial(&policy.visited, rho0).map_err(|point| {
+                policy.unfollowed = point;
+                None
+            }),
             Stage::Unshifted => self.solve_unshifted(rho0).map_err(Some),
             Stage::AcceptBest => {
                 let best = policy.best.take().ok_or(None)?;

@@ -280,8 +280,9 @@ def simulate(
 
     - ``prox_constant``: one constant prox parameter r > 0 for every contact (the
       thesis: 0.3) instead of the scene's choice (default: scaled per constraint);
-    - ``explore_branches``: resolve and record branch points (re-solves with fixed index
-      sets when Newton cycles);
+    - ``explore_branches``: record branch points (the steps that re-solves with fixed
+      index sets resolved when Newton cycled; those re-solves are part of every run, so
+      the motion is the same either way);
     - ``last_resort``: take a step nothing else resolves as a Moreau-Jean step solved by
       Lemke's method (docs/method.md §8);
     - ``stop_at_failure``: stop at the first loss of support (as the sweeps do);

@@ -78,7 +78,8 @@ pub struct ExploreArgs {
     #[arg(long, value_parser = parse_finite, allow_hyphen_values = true)]
     pub max_wall: Option<f64>,
     /// Which fixed-set solutions are a fork's candidates: `self-consistent` (solutions
-    /// of the step's equations) or `converged` (the thesis's count).
+    /// of the step's equations) or `converged` (the thesis's count). A branch that does
+    /// not follow a fork goes on as the plain run does, under either rule.
     #[arg(long, value_enum, default_value = "self-consistent")]
     pub branch_rule: RuleArg,
     /// Also probe every converged step by flipping one touching contact (finds

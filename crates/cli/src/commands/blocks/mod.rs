@@ -108,12 +108,11 @@ pub struct SolverArgs {
     /// constraint, r_k = 1/(w_kᵀM⁻¹w_k), docs/method.md §4).
     #[arg(long, value_parser = parse_finite, allow_hyphen_values = true)]
     pub prox_constant: Option<f64>,
-    /// Resolve and record branch points: on a step whose contact states alternate,
-    /// re-solve with each set of index sets seen and keep the self-consistent candidates
-    /// (docs/method.md §8). On by default; `--explore-branches false` skips these
-    /// re-solves: such a step is then only retried with other ρ∞ and as halved steps,
-    /// and the run ends there if those fail too.
-    #[arg(long, default_value_t = true, action = clap::ArgAction::Set, value_name = "BOOL")]
+    /// Record branch points: the steps whose contact states alternated and that
+    /// re-solves with each set seen held fixed resolved (docs/method.md §8), counted in
+    /// the summary and listed in branch_points.csv. Only the record: those re-solves are
+    /// part of every run, so `--explore-branches false` leaves the motion as it is.
+    #[arg(long, default_value_t = RunOptions::default().explore_branches, action = clap::ArgAction::Set, value_name = "BOOL")]
     pub explore_branches: bool,
     /// Take a step that nothing else resolves by the last resort, a Moreau–Jean step
     /// whose contact problem Lemke's method solves (docs/method.md §8), and go on; with

@@ -179,7 +179,7 @@ fn simulate_watched(
             "scene": report.scene,
             "warnings": report.warnings,
             "notes": notes,
-            "error": report.error,
+            "error": report.summary.error,
         });
         write_run_json_with(
             dir,
@@ -280,14 +280,14 @@ pub fn finish_command(out: &SimulationOutput, json: bool, dir: Option<&Path>) ->
             println!("wrote {} files into {}", out.files.len(), dir.display());
         }
     }
-    if let Some(e) = &r.error {
+    if let Some(e) = &r.summary.error {
         let (what, kept) = if out.recording.last.is_none() {
             ("the simulation could not start".to_owned(), "run.json is")
         } else {
             (
                 format!(
                     "the simulation stopped at t = {:.6} after {} steps",
-                    r.t_final, r.steps
+                    r.t_final, r.summary.steps
                 ),
                 "results up to then are",
             )

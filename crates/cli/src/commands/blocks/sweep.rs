@@ -258,7 +258,8 @@ pub struct SpreadArgs {
     #[arg(long, default_value_t = 1, allow_hyphen_values = true)]
     pub branches: usize,
     /// Which solutions of a cycling step are a fork's candidates when exploring:
-    /// `self-consistent` or `converged` (the thesis's count).
+    /// `self-consistent` or `converged` (the thesis's count). The plain run of each row
+    /// is the same under either rule.
     #[arg(long, value_enum, default_value = "self-consistent")]
     pub branch_rule: super::explore::RuleArg,
 }
