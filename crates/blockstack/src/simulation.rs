@@ -358,6 +358,10 @@ pub enum RunError {
     /// good state ([`StepError::state`]).
     #[error("{0}")]
     Step(StepError),
+    /// The caller stopped the run before its end time, for the reason given (the time
+    /// guard's watchdog: the run was projected past its time bound).
+    #[error("{0}")]
+    Stopped(String),
 }
 
 /// The message of a failed start: nsga's own when it already says "consistent start".
@@ -369,11 +373,12 @@ fn start_message(e: &StepError) -> String {
 }
 
 impl RunError {
-    /// The step error.
+    /// The step error, unless the run was stopped by its caller.
     #[must_use]
-    pub fn step_error(&self) -> &StepError {
+    pub fn step_error(&self) -> Option<&StepError> {
         match self {
-            Self::Start(e) | Self::Step(e) => e,
+            Self::Start(e) | Self::Step(e) => Some(e),
+            Self::Stopped(_) => None,
         }
     }
 }

@@ -9,7 +9,9 @@ use crate::output::{
 use crate::progress::RunProgress;
 use anyhow::{Context, Result};
 use blockstack::record::{RecordPlan, Recorder, Recording, TrajectoryError};
-use blockstack::simulation::{simulate_until, RunOptions, RunReport, RunSummary, RunWarning};
+use blockstack::simulation::{
+    simulate_until, RunError, RunOptions, RunReport, RunSummary, RunWarning,
+};
 use blockstack::time_guard::{Clock, Watchdog};
 use blockstack::{Defaults, Scene};
 use clap::Args;
@@ -161,9 +163,9 @@ fn simulate_watched(
     let t_final = recording.last.as_ref().map_or(0.0, |f| f.t);
     let mut report = RunReport::new(&summary, scene, options, &plan.defaults, t_final);
     if let Some(overrun) = watchdog.overrun() {
-        report.error = Some(format!(
+        report.summary.error = Some(RunError::Stopped(format!(
             "{overrun}: shorten --t-end or --periods, or pass --force"
-        ));
+        )));
     }
     let (mut files, mut notes) = (Vec::new(), Vec::new());
     if let Some(dir) = &plan.dir {
@@ -372,8 +374,8 @@ mod tests {
         // time stops the run, after the step it follows.
         #[allow(clippy::cast_possible_truncation, clippy::cast_sign_loss)]
         let steps = WATCHDOG_GRACE_S as usize - 1;
-        assert_eq!(out.report.steps, steps);
-        let error = out.report.error.clone().unwrap();
+        assert_eq!(out.report.summary.steps, steps);
+        let error = out.report.summary.error.clone().unwrap().to_string();
         assert!(error.contains("projected to take about 1.2e3 s"), "{error}");
         assert!(
             error.contains("more than 600 s") && error.contains("--force"),
