@@ -65,6 +65,9 @@ pub fn run_shake(args: &ShakeArgs) -> Result<()> {
         None => input::positive("--omega", args.omega)?,
     };
     input::non_negative("--mu", args.mu)?;
+    // Checked here so that the errors name the flags, not the scenario's "periods".
+    input::positive("--periods", args.periods)?;
+    input::positive("--steps-per-period", args.steps_per_period)?;
     let units = args.units.units()?;
     let p = Shaking {
         blocks: args.blocks,

@@ -57,6 +57,10 @@ pub fn run(a: &WorkPrecisionArgs) -> Result<()> {
     let dts = parse_number_list(&a.dts)
         .map_err(anyhow::Error::msg)
         .context("--dts")?;
+    // Checked here so that the error names the flag, not the scene's dt.
+    for &dt in &dts {
+        input::positive("--dts", dt)?;
+    }
     anyhow::ensure!(
         a.reference_factor >= 1.0,
         "--reference-factor must be at least 1"
