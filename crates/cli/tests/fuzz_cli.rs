@@ -388,6 +388,8 @@ fn is_solver_failure(error: &str) -> bool {
 /// positive", "mutual friction μ_k…", "dt must be positive") instead of the flag typed
 /// (issue 61, "flag names not internal names"): tried deterministically below.
 const FORMERLY_UNNAMED: &[(&str, &str)] = &[
+    ("blocks shake", "--omega"),
+    ("blocks shake", "--hz"),
     ("blocks shake", "--periods"),
     ("blocks shake", "--steps-per-period"),
     ("blocks work-precision", "--dts"),
@@ -730,7 +732,7 @@ fn formerly_unnamed_refusals_name_the_flag() {
             .iter()
             .find(|c| c.words.join(" ") == *words)
             .expect("a command of the table");
-        for value in ["0", "-1", "nan", "inf", "1e300", "1e-300"] {
+        for value in ["0", "-1", "nan", "inf", "1e300", "1e-300", "5e-324"] {
             let out = cmd.out.then(|| out_dir("unnamed"));
             let args = invocation(cmd, flag, value, true, out.as_deref());
             let o = run(&args).unwrap();

@@ -66,7 +66,15 @@ pub fn run(a: &WorkPrecisionArgs) -> Result<()> {
         "--reference-factor must be at least 1"
     );
     let smallest = dts.iter().copied().fold(f64::INFINITY, f64::min);
-    let reference = bench.scene(smallest / a.reference_factor)?;
+    let reference_dt = smallest / a.reference_factor;
+    anyhow::ensure!(
+        reference_dt > 0.0,
+        "the smallest --dts {} over --reference-factor {} gives a reference Δt of 0 in \
+         double precision: take larger --dts or a smaller --reference-factor",
+        input::Short(smallest),
+        input::Short(a.reference_factor)
+    );
+    let reference = bench.scene(reference_dt)?;
     let options = RunOptions::default();
     check_time_bound(
         &[run_cost(&reference, &options)],
