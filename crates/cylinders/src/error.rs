@@ -11,7 +11,7 @@ pub enum CylinderError {
     Input(#[from] InputError),
     /// The inclination is outside the range where the cylinder touches the plane at
     /// one rim point (§3.2: ϑ ∈ (0, π/2)).
-    #[error("the inclination ϑ = {0} rad is outside (0, π/2): the point-contact assumption of §3.2 fails (at ϑ = 0 the base lies flat, at π/2 the side does)")]
+    #[error("the inclination ϑ = {} rad is outside (0, π/2): the point-contact assumption of §3.2 fails (at ϑ = 0 the base lies flat, at π/2 the side does)", input::Short(*.0))]
     NotPointContact(f64),
     /// A construction for two identical cylinders was given two different ones.
     #[error("cylinder II (r, h) = {second:?} must be identical to cylinder I (r, h) = {first:?} for this construction")]
@@ -96,6 +96,9 @@ mod tests {
     fn cylinder_specific_checks_keep_their_words() {
         let e = crate::kinematics::check_point_contact(0.0).unwrap_err();
         assert!(e.to_string().contains("outside (0, π/2)"), "{e}");
+        // A huge ϑ is printed short, not as three hundred digits.
+        let huge = crate::kinematics::check_point_contact(1e300).unwrap_err();
+        assert!(huge.to_string().contains("ϑ = 1e300 rad"), "{huge}");
         let pair = crate::pair::CylinderPair {
             first: Cylinder::new(1.0, 2.0).unwrap(),
             second: Cylinder::new(0.5, 2.0).unwrap(),

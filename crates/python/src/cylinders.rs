@@ -42,6 +42,9 @@ fn cylinders_support<'py>(
     gravity: f64,
 ) -> PyResult<Bound<'py, PyAny>> {
     guard(|| {
+        let theta = check_inclination(theta)?;
+        input::non_negative("r_over_h", r_over_h).map_err(value_error)?;
+        input::non_negative("mu", mu).map_err(value_error)?;
         let mut report = support_report(theta, r_over_h, mu).map_err(value_error)?;
         if let Some(mass) = mass {
             report = report.with_weight(mass, gravity).map_err(value_error)?;
@@ -77,6 +80,46 @@ pub(crate) fn check_steps(dt: f64, steps: usize) -> PyResult<()> {
         return Err(PyValueError::new_err("steps must be at least 1, got 0"));
     }
     Ok(())
+}
+
+/// Refuses an inclination `theta` (rad) outside (0, π/2), where the cylinder touches the
+/// plane at one rim point (§3.2), naming the parameter (the library names its ϑ).
+fn check_inclination(theta: f64) -> PyResult<f64> {
+    input::finite("theta", theta).map_err(value_error)?;
+    if theta > 0.0 && theta < std::f64::consts::FRAC_PI_2 {
+        return Ok(theta);
+    }
+    Err(PyValueError::new_err(format!(
+        "theta = {} rad is outside (0, π/2): the point-contact assumption of §3.2 fails \
+         (at 0 the base lies flat, at π/2 the side does)",
+        input::Short(theta)
+    )))
+}
+
+/// The library's refusals of a rolled path that name its own parameters, under the
+/// function's: a path too long for `max_step` (the library names its max_step, but the
+/// path's length comes from `path_params` as much) and a trace that overflows at a
+/// `theta` a few ulps from 0 or π/2 (the library names its ϑ).
+fn name_roll_params(e: CylinderError, path_params: &str) -> PyErr {
+    match e {
+        CylinderError::Input(input::InputError::TooLarge {
+            value,
+            needed,
+            what,
+            limit,
+            ..
+        }) => PyValueError::new_err(format!(
+            "{path_params} with max_step = {} need {needed:.1e} {what}, more than the \
+             {limit:.0e} allowed: take a shorter path or a larger max_step",
+            input::Short(value)
+        )),
+        CylinderError::NotFinite(theta) => PyValueError::new_err(format!(
+            "theta = {} rad is too close to 0 or π/2 for double precision: the rolled trace \
+             is not finite",
+            input::Short(theta)
+        )),
+        e => value_error(e),
+    }
 }
 
 /// Refuses an inclination `theta` (rad) of the pair outside (arctan(2r/h), π/2), naming
@@ -142,6 +185,22 @@ fn cylinders_frobenius<'py>(
                 )))
             }
         };
+        // Checked here so that the errors name the parameters, not the library's ϑ, r,
+        // h and contact position.
+        let theta = check_inclination(theta)?;
+        input::positive("r", r).map_err(value_error)?;
+        input::positive("h", h).map_err(value_error)?;
+        if let (Some(at), false) = (contact_at, system == ConstraintSystem::Single) {
+            if input::finite("contact_at", at).map_err(value_error)?.abs() >= 0.5 * h {
+                return Err(PyValueError::new_err(format!(
+                    "contact_at = {} is outside (−h/2, h/2) = ({}, {}): the cylinders touch \
+                     along their length",
+                    input::Short(at),
+                    input::Short(-0.5 * h),
+                    input::Short(0.5 * h)
+                )));
+            }
+        }
         let report = integrability_report(&FrobeniusCase {
             system,
             configuration,
@@ -337,14 +396,26 @@ fn cylinders_holonomy_rectangle<'py>(
     max_step: f64,
 ) -> PyResult<Bound<'py, PyDict>> {
     guard(|| {
-        let theta = check_point_contact(theta).map_err(value_error)?;
+        // Checked here so that the errors name the parameters, not the library's ϑ, φ1,
+        // φ2, s, max_angle_step and h.
+        let theta = check_point_contact(check_inclination(theta)?).map_err(value_error)?;
+        let phi1 = input::positive("phi1", phi1).map_err(value_error)?;
+        let phi2 = input::positive("phi2", phi2).map_err(value_error)?;
+        let s = input::in_range("s", s, 0.0..=1.0, "[0, 1]").map_err(value_error)?;
+        let max_step = input::positive("max_step", max_step).map_err(value_error)?;
         let path = RectanglePath::new(phi1, phi2, s, path_case(case)?, path_direction(cw))
             .map_err(value_error)?;
         let ratio = input::positive("r_over_h", r_over_h).map_err(value_error)?;
+        if !(1.0 / ratio).is_finite() {
+            return Err(PyValueError::new_err(format!(
+                "r_over_h = {} makes the height 1/(r/h) overflow",
+                input::Short(ratio)
+            )));
+        }
         let cylinder = Cylinder::new(1.0, 1.0 / ratio).map_err(value_error)?;
         let (report, trace) =
             rectangle_report(&cylinder, theta, &path, psi0, roll_settings(max_step))
-                .map_err(value_error)?;
+                .map_err(|e| name_roll_params(e, "phi1 and phi2"))?;
         report_and_trace(py, &report, &trace)
     })
 }
@@ -376,10 +447,13 @@ fn cylinders_holonomy_circle<'py>(
             }
         };
         let cylinder = Cylinder::new(r, h).map_err(value_error)?;
+        let theta = check_inclination(theta)?;
+        let ell = input::positive("ell", ell).map_err(value_error)?;
+        let max_step = input::positive("max_step", max_step).map_err(value_error)?;
         let path =
             CirclePath::new(ell, path_case(case)?, path_direction(cw)).map_err(value_error)?;
-        let (report, trace) =
-            circle_report(&cylinder, theta, &path, roll_settings(max_step)).map_err(value_error)?;
+        let (report, trace) = circle_report(&cylinder, theta, &path, roll_settings(max_step))
+            .map_err(|e| name_roll_params(e, "ell"))?;
         report_and_trace(py, &report, &trace)
     })
 }
@@ -420,6 +494,12 @@ fn cylinders_pair<'py>(
                 )));
             }
         }
+        // Checked here so that the errors name the parameters, not the library's ρ∞, μ_s,
+        // μ_k and P/mg.
+        input::in_range("rho_inf", rho_inf, 0.0..=1.0, "[0, 1]").map_err(value_error)?;
+        input::non_negative("mu_floor", mu_floor).map_err(value_error)?;
+        input::non_negative("mu_mutual", mu_mutual).map_err(value_error)?;
+        input::finite("push_over_mg", push_over_mg).map_err(value_error)?;
         let settings = PairSettings {
             dt,
             steps,

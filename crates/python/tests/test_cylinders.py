@@ -118,7 +118,7 @@ def test_no_silent_nan():
     with pytest.raises(ValueError, match="derivative of W"):
         cylinders.frobenius_test(lambda q: [[math.sqrt(q[0]) if q[0] >= 0 else math.nan, 0.0]], [0.0, 0.2])
     for bad in (math.nan, math.inf):
-        with pytest.raises(ValueError, match="contact position is not finite"):
+        with pytest.raises(ValueError, match="contact_at is not finite"):
             cylinders.frobenius(system="pair9", contact_at=bad)
         with pytest.raises(ValueError, match="contact_at"):
             cylinders.frobenius(contact_at=bad)

@@ -169,20 +169,6 @@ def cases(function, base, params, rng):
 # Found by this file and not yet fixed (issue 61), each with what fails; a fixed one makes
 # its test pass, which strict xfail reports, so that the entry is removed.
 KNOWN: dict = {}
-# The functions whose errors name the parameter for every hostile value drawn here.
-NAMED = {
-    "blocks.lire",
-    "blocks.simulate",
-    "blocks.explore",
-    "nsga.ball",
-    "blocks.painleve",
-    "blocks.work_precision",
-    "cylinders.statics",
-    "cylinders.sweep_pair",
-    "cylinders.sweep_push",
-}
-NAMING = "domain errors name the library's parameter ('φ2 must be positive', 'ρ∞ must lie "
-NAMING += "in [0, 1]', 'dt is not finite' for omega), not the function's"
 
 
 @functools.lru_cache(maxsize=None)
@@ -220,13 +206,9 @@ def outcomes(row):
 
 def mark(kind, row):
     """The row's parameter, xfail where KNOWN lists it."""
-    name = TABLE[row][0]
-    if kind == "named":
-        reason = None if name in NAMED else NAMING
-    else:
-        reason = KNOWN.get((kind, name))
+    reason = KNOWN.get((kind, TABLE[row][0]))
     marks = [pytest.mark.xfail(reason=f"issue 61: {reason}", strict=True)] if reason else []
-    return pytest.param(row, id=name, marks=marks)
+    return pytest.param(row, id=TABLE[row][0], marks=marks)
 
 
 @pytest.mark.parametrize("row", [mark("safe", r) for r in range(len(TABLE))])
@@ -305,3 +287,34 @@ def test_an_inclination_a_few_ulps_from_zero_is_refused_not_returned_as_nan(thet
 
     with pytest.raises(ValueError, match="not finite"):
         cylinders.holonomy_rectangle(theta, 1.0, 2.0)
+
+
+@pytest.mark.parametrize(
+    "function, args, kwargs, param",
+    [
+        ("blocks.shaking", (), {"omega": 5e-324}, "omega"),
+        ("blocks.shaking", (), {"steps_per_period": 5e-324}, "steps_per_period"),
+        ("blocks.sweep_frequency", ([math.inf],), {}, "omegas"),
+        ("blocks.sweep_frequency", ([4.0],), {"steps_per_period": 5e-324}, "steps_per_period"),
+        ("cylinders.pair", (0.5,), {"rho_inf": 2.0}, "rho_inf"),
+        ("cylinders.pair", (0.5,), {"mu_mutual": -1.0}, "mu_mutual"),
+        ("cylinders.holonomy_rectangle", (0.5, 1.0, -1.0), {}, "phi2"),
+        ("cylinders.holonomy_rectangle", (0.5, 1e30, 2.0), {}, "phi1"),
+        ("cylinders.holonomy_rectangle", (1e300, 1.0, 2.0), {}, "theta = 1e300 rad"),
+        ("cylinders.holonomy_rectangle", (5e-324, 1.0, 2.0), {}, "theta"),
+        ("cylinders.frobenius", (), {"theta": 0.0}, "theta"),
+        ("cylinders.frobenius", (), {"system": "pair9", "contact_at": 1e300}, "contact_at"),
+        ("nsga.work_precision", ("ball",), {"dts": [1.0]}, "dts"),
+    ],
+)
+def test_domain_errors_name_the_parameter_not_the_library_s(function, args, kwargs, param):
+    """Found by the fuzzing above (issue 61): these named the library's parameter ('dt is
+    not finite' for omega, 'φ2 must be positive', 'ρ∞ must lie in [0, 1]', 'contact
+    position…', 'dt must be in (0, 0.1]') or printed a huge ϑ in full."""
+    import rollstack
+
+    module, name = function.split(".")
+    f = getattr(getattr(rollstack, module), name)
+    with pytest.raises(ValueError, match=param.replace("[", r"\[")) as e:
+        f(*args, **kwargs)
+    assert len(str(e.value)) < 300, str(e.value)

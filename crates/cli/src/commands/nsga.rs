@@ -8,7 +8,7 @@ use crate::output::{ensure_dir, print_json, require_finite, write_csv, write_run
 use anyhow::{bail, Result};
 use clap::{Args, Subcommand, ValueEnum};
 use figures::nsga::{plot_ball, plot_work_precision};
-use nsga::studies::ball::{ball_report, BallRun, BallSample, Scheme};
+use nsga::studies::ball::{ball_report, BallRun, BallSample, Scheme, MAX_BALL_STEPS};
 use nsga::studies::work_precision::{
     work_precision, work_precision_point, WorkPrecisionRow, WorkPrecisionSystem,
 };
@@ -163,6 +163,7 @@ fn ball(a: &BallArgs) -> Result<()> {
         Some(r) => Prox::Constant(r),
         None => Prox::Scaled(1.0),
     };
+    check_ball_case(a.case, dt)?;
     let (out, r) =
         ball_report(a.case, a.scheme.into(), dt, a.rho_inf, prox).map_err(|e| match e {
             nsga::StepError::InvalidInput(m) => anyhow::anyhow!(m),
@@ -183,6 +184,28 @@ fn ball(a: &BallArgs) -> Result<()> {
     } else {
         println!("{out}");
     }
+    Ok(())
+}
+
+/// Refuses a `--case` that does not exist and a `--dt` too small for its time span,
+/// naming the flags (the library names its case and dt).
+///
+/// # Errors
+/// A case other than 1–4; more than [`MAX_BALL_STEPS`] steps.
+fn check_ball_case(case: u8, dt: f64) -> Result<()> {
+    let c = BallCase::new(case)
+        .map_err(|_| anyhow::anyhow!("--case {case} does not exist: give 1, 2, 3 or 4"))?;
+    #[allow(clippy::cast_precision_loss)]
+    let most = MAX_BALL_STEPS as f64;
+    let steps = c.t_end / dt;
+    anyhow::ensure!(
+        steps <= most,
+        "--dt {} s needs {steps:.1e} steps to reach t = {} s, more than the {most:.0e} \
+         allowed: give --dt ≥ {:.1e} s",
+        input::Short(dt),
+        c.t_end,
+        c.t_end / most
+    );
     Ok(())
 }
 

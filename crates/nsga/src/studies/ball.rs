@@ -130,12 +130,12 @@ pub fn run_ball(
 ) -> Result<BallRun, StepError> {
     if !(dt > 0.0 && dt.is_finite()) {
         return Err(StepError::InvalidInput(format!(
-            "dt = {dt} must be positive"
+            "dt = {dt:e} must be positive"
         )));
     }
     if case.t_end / dt > MAX_BALL_STEPS as f64 {
         return Err(StepError::InvalidInput(format!(
-            "dt = {dt} s needs {:.1e} steps to reach t = {} s; at most {MAX_BALL_STEPS} (dt ≥ {:.1e} s)",
+            "dt = {dt:e} s needs {:.1e} steps to reach t = {} s; at most {MAX_BALL_STEPS} (dt ≥ {:.1e} s)",
             case.t_end / dt,
             case.t_end,
             case.t_end / MAX_BALL_STEPS as f64
@@ -305,7 +305,7 @@ pub fn ball_report(
 ) -> Result<(BallReport, BallRun), StepError> {
     if !(dt > 0.0 && dt <= 0.1) {
         return Err(StepError::InvalidInput(format!(
-            "dt must be in (0, 0.1] s, got {dt}"
+            "dt must be in (0, 0.1] s, got {dt:e}"
         )));
     }
     let c = BallCase::new(case).map_err(StepError::InvalidInput)?;
@@ -338,6 +338,8 @@ mod tests {
     fn a_step_too_small_to_store_is_refused_before_any_work() {
         let err = ball_report(2, Scheme::Nsga, 1e-300, 0.5, Prox::Scaled(1.0)).unwrap_err();
         assert!(err.to_string().contains("at most 2000000"), "{err}");
+        // Δt printed short, not as three hundred digits.
+        assert!(err.to_string().contains("dt = 1e-300 s needs"), "{err}");
     }
 
     #[test]

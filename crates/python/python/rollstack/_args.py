@@ -3,6 +3,7 @@ sign raises ``ValueError`` naming the parameter, as the command line names its f
 
 from __future__ import annotations
 
+import math
 import numbers
 from typing import Any, Iterable, List, Optional, Union
 
@@ -14,6 +15,23 @@ def number(name: str, value: Any) -> float:
     if isinstance(value, (bool, str, bytes)) or not isinstance(value, numbers.Real):
         raise ValueError(f"{name} must be a number, got {value!r}")
     return float(value)
+
+
+def positive(name: str, value: Any) -> float:
+    """``value`` as a finite float > 0 (:func:`number`), else ``ValueError`` naming it."""
+    v = number(name, value)
+    if not (math.isfinite(v) and v > 0):
+        raise ValueError(f"{name} must be a positive finite number, got {v!r}")
+    return v
+
+
+def in_range(name: str, value: Any, low: float, high: float) -> float:
+    """``value`` as a float in [``low``, ``high``] (:func:`number`), else ``ValueError``
+    naming it."""
+    v = number(name, value)
+    if not low <= v <= high:
+        raise ValueError(f"{name} must lie in [{low!r}, {high!r}], got {v!r}")
+    return v
 
 
 def optional_number(name: str, value: Any) -> Optional[float]:

@@ -18,13 +18,14 @@ normal forces of its left and right gaps (G.2.2) and the friction force (G.3.1).
 from __future__ import annotations
 
 import json
+import math
 import os
 from typing import Any, Dict, List, Mapping, Optional, Sequence, Union
 
 import numpy as np
 
 from . import _rollstack
-from ._args import count, number, number_list, optional_number
+from ._args import count, number, number_list, optional_number, positive
 from ._rollstack import SolverError
 
 __all__ = [
@@ -344,6 +345,24 @@ def lire(blocks: int = 4, perturb: str = "none", floor: bool = False) -> Scene:
     return Scene(_rollstack.blocks_lire(count("blocks", blocks), perturb, bool(floor)))
 
 
+def _base_periods(omega_name: str, omega: Any, steps_per_period: Any, periods: Any) -> float:
+    """``omega`` checked, with the time step 2π/(Nω) and the span P·2π/ω it gives: each
+    a positive finite number, else ``ValueError`` naming the parameters (the library
+    names its ``dt``)."""
+    omega = positive(omega_name, omega)
+    steps_per_period = positive("steps_per_period", steps_per_period)
+    periods = positive("periods", periods)
+    period = 2.0 * math.pi / omega
+    for what, value in (("time step 2π/(Nω)", period / steps_per_period),
+                        ("span P·2π/ω", periods * period)):
+        if not (math.isfinite(value) and value > 0):
+            raise ValueError(
+                f"{omega_name} = {omega!r} with steps_per_period = {steps_per_period!r} and "
+                f"periods = {periods!r} gives a {what} of {value!r}, which cannot be stepped"
+            )
+    return omega
+
+
 def shaking(
     blocks: int = 4,
     omega: float = 4.0,
@@ -360,7 +379,7 @@ def shaking(
     return Scene(
         _rollstack.blocks_shaking(
             count("blocks", blocks),
-            number("omega", omega),
+            _base_periods("omega", omega, steps_per_period, periods),
             number("amplitude", amplitude),
             number("mu", mu),
             number("steps_per_period", steps_per_period),
@@ -416,8 +435,11 @@ def sweep_frequency(
     Runs estimated to take longer than ten minutes in all (the time guard of the command
     line, calibrated on the first steps of the costliest run) raise ``ValueError`` before
     any run unless ``force=True``."""
+    omegas = number_list("omegas", omegas)
+    for i, omega in enumerate(omegas):
+        _base_periods(f"omegas[{i}]", omega, steps_per_period, 1.0 if t_max is not None else periods)
     return _rollstack.blocks_sweep_frequency(
-        number_list("omegas", omegas),
+        omegas,
         number("periods", periods),
         number("amplitude", amplitude),
         count("blocks", blocks),

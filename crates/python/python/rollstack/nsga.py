@@ -6,7 +6,7 @@ from __future__ import annotations
 from typing import Any, Dict, List, Optional, Sequence
 
 from . import _rollstack
-from ._args import count, number, number_list, optional_number
+from ._args import count, in_range, number, number_list, optional_number, positive
 
 __all__ = ["ball", "work_precision"]
 
@@ -50,6 +50,10 @@ def work_precision(
     ``rollstack nsga work-precision --json``. Runs with the GIL released; raises
     ``KeyboardInterrupt`` on Ctrl-C (checked every 20 ms, the study stopping between two
     of its runs)."""
-    return _rollstack.nsga_work_precision(
-        system, number_list("dts", dts), number_list("rho_inf", rho_inf), count("repeat", repeat)
-    )
+    # Checked here so that the errors name the parameters, not the library's dt and ρ∞.
+    dts = [positive(f"dts[{i}]", dt) for i, dt in enumerate(number_list("dts", dts))]
+    for i, dt in enumerate(dts):
+        in_range(f"dts[{i}]", dt, 0.0, 0.1)
+    rhos = [in_range(f"rho_inf[{i}]", r, 0.0, 1.0)
+            for i, r in enumerate(number_list("rho_inf", rho_inf))]
+    return _rollstack.nsga_work_precision(system, dts, rhos, count("repeat", repeat))

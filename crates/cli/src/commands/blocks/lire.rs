@@ -36,7 +36,7 @@ pub struct LireArgs {
     #[arg(long, default_value_t = 4, allow_hyphen_values = true)]
     pub blocks: usize,
     /// Which block is shifted outward by 1 % of its width.
-    #[arg(long, value_enum, default_value_t = PerturbArg::None)]
+    #[arg(long, value_enum, default_value_t = PerturbArg::None, allow_hyphen_values = true)]
     pub perturb: PerturbArg,
     /// Put a floor at the bottom of the table so that the blocks that fall land (beyond
     /// the thesis, whose blocks fall freely).

@@ -54,6 +54,32 @@ pub struct ShakeArgs {
     pub output: OutputArgs,
 }
 
+/// Refuses a base frequency whose time step 2π/(Nω) or span P·2π/ω cannot be stepped
+/// (infinite, or zero), naming the flags that make them in the units typed: the scenario
+/// names only its "dt".
+///
+/// # Errors
+/// A time step or span that is not a positive finite number.
+fn check_stepping(p: &Shaking, args: &ShakeArgs) -> Result<()> {
+    let frequency = match args.hz {
+        Some(hz) => format!("--hz {}", input::Short(hz)),
+        None => format!("--omega {}", input::Short(p.omega)),
+    };
+    let dt = p.period() / p.steps_per_period;
+    let span = args.t_end.unwrap_or_else(|| p.duration());
+    for (what, value) in [("time step 2π/(Nω)", dt), ("span P·2π/ω", span)] {
+        anyhow::ensure!(
+            value.is_finite() && value > 0.0,
+            "{frequency} with --steps-per-period {} and --periods {} gives a {what} of {}, \
+             which cannot be stepped",
+            input::Short(p.steps_per_period),
+            input::Short(p.periods),
+            input::Short(value)
+        );
+    }
+    Ok(())
+}
+
 /// Runs `rollstack blocks shake`.
 ///
 /// # Errors
@@ -65,6 +91,9 @@ pub fn run_shake(args: &ShakeArgs) -> Result<()> {
         None => input::positive("--omega", args.omega)?,
     };
     input::non_negative("--mu", args.mu)?;
+    // Checked here so that the errors name the flags, not the scenario's "periods".
+    input::positive("--periods", args.periods)?;
+    input::positive("--steps-per-period", args.steps_per_period)?;
     let units = args.units.units()?;
     let p = Shaking {
         blocks: args.blocks,
@@ -75,6 +104,7 @@ pub fn run_shake(args: &ShakeArgs) -> Result<()> {
         mu: args.mu,
         start_with_base: args.start_with_base,
     };
+    check_stepping(&p, args)?;
     let scene = shaking_column_in(&p, &units)?;
     let options = args.solver.run_options(args.t_end, false)?;
     args.solver.check_run(&scene, &options)?;

@@ -57,12 +57,24 @@ pub fn run(a: &WorkPrecisionArgs) -> Result<()> {
     let dts = parse_number_list(&a.dts)
         .map_err(anyhow::Error::msg)
         .context("--dts")?;
+    // Checked here so that the error names the flag, not the scene's dt.
+    for &dt in &dts {
+        input::positive("--dts", dt)?;
+    }
     anyhow::ensure!(
         a.reference_factor >= 1.0,
         "--reference-factor must be at least 1"
     );
     let smallest = dts.iter().copied().fold(f64::INFINITY, f64::min);
-    let reference = bench.scene(smallest / a.reference_factor)?;
+    let reference_dt = smallest / a.reference_factor;
+    anyhow::ensure!(
+        reference_dt > 0.0,
+        "the smallest --dts {} over --reference-factor {} gives a reference Δt of 0 in \
+         double precision: take larger --dts or a smaller --reference-factor",
+        input::Short(smallest),
+        input::Short(a.reference_factor)
+    );
+    let reference = bench.scene(reference_dt)?;
     let options = RunOptions::default();
     check_time_bound(
         &[run_cost(&reference, &options)],

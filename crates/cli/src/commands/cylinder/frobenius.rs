@@ -83,9 +83,36 @@ pub struct FrobeniusArgs {
     pub json: bool,
 }
 
+/// Refuses a `--contact-at` off the cylinders' length: they touch within (−h/2, h/2) of
+/// their centres, given in metres as the flag is.
+///
+/// # Errors
+/// |`at`| ≥ h/2.
+fn check_contact_at(at: f64, h: f64) -> Result<()> {
+    anyhow::ensure!(
+        at.abs() < 0.5 * h,
+        "--contact-at {} m is outside (−h/2, h/2) = ({}, {}) m: the cylinders touch along \
+         their length",
+        super::short(at),
+        super::short(-0.5 * h),
+        super::short(0.5 * h)
+    );
+    Ok(())
+}
+
 pub(super) fn run(a: &FrobeniusArgs) -> Result<()> {
     let system = a.system.into();
+    // Checked here so that the errors name the flags, not the library's ϑ, r, h and
+    // contact position.
+    super::check_inclination(a.theta.0)?;
+    input::positive("--r", a.r)?;
+    if a.r_over_h.is_none() {
+        input::positive("--h", a.h)?;
+    }
     let h = super::height(a.r, a.r_over_h.is_none().then_some(a.h), a.r_over_h)?;
+    if let (Some(at), false) = (a.contact_at, a.system == SystemArg::Single) {
+        check_contact_at(at, h)?;
+    }
     let rep = integrability_report(&FrobeniusCase {
         system,
         configuration: a.config.into(),

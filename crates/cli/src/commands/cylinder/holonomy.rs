@@ -8,8 +8,10 @@ use cylinders::holonomy::{CirclePath, Direction, PathCase, RectanglePath};
 use cylinders::kinematics::{check_point_contact, Cylinder};
 use cylinders::rolling::{RollingTrace, Sample};
 use cylinders::studies::holonomy::{circle_report, plan_view, rectangle_report, RollSettings};
+use cylinders::CylinderError;
 use figures::cylinders::plot_trace;
 use input::text::{parse_finite, Angle, RotationAngle};
+use input::InputError;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
@@ -111,19 +113,48 @@ fn settings(max_step: f64) -> Result<RollSettings> {
     })
 }
 
+/// The library's refusals that name its own parameters, under the flags: a path too long
+/// for `--max-step` (the library names its `max_step`, but the path's length comes from
+/// `path_flags` as much) and a trace that overflows at a `--theta` a few ulps from 0 or
+/// 90° (the library names its ϑ).
+fn name_flags(e: CylinderError, path_flags: &str) -> anyhow::Error {
+    match e {
+        CylinderError::Input(InputError::TooLarge {
+            value,
+            needed,
+            what,
+            limit,
+            ..
+        }) => anyhow::anyhow!(
+            "{path_flags} with --max-step {} need {needed:.1e} {what}, more than the \
+             {limit:.0e} allowed: take a shorter path or a larger --max-step",
+            input::Short(value)
+        ),
+        CylinderError::NotFinite(theta) => anyhow::anyhow!(
+            "--theta {}° ({} rad) is too close to 0° or 90° for double precision: the \
+             rolled trace is not finite",
+            super::short(theta.to_degrees()),
+            super::short(theta)
+        ),
+        e => e.into(),
+    }
+}
+
 pub(super) fn run_rectangle(a: &RectangleArgs) -> Result<()> {
     let start = Instant::now();
-    let theta = check_point_contact(a.theta.0)?;
-    // Checked here so that the errors name the flags, not the library's φ1 and φ2.
+    // Checked here so that the errors name the flags, not the library's ϑ, φ1, φ2, s.
+    let theta = check_point_contact(super::check_inclination(a.theta.0)?)?;
     let (phi1, phi2) = (
         input::positive("--phi1", a.phi1.0)?,
         input::positive("--phi2", a.phi2.0)?,
     );
-    let path = RectanglePath::new(phi1, phi2, a.s, a.case.into(), direction(a.cw))?;
+    let s = input::in_range("--s", a.s, 0.0..=1.0, "[0, 1]")?;
+    let path = RectanglePath::new(phi1, phi2, s, a.case.into(), direction(a.cw))?;
     let psi0 = a.psi0.0;
     let h_over_r = super::height(1.0, a.h_over_r, Some(a.r_over_h))?;
     let cylinder = Cylinder::new(1.0, h_over_r)?;
-    let (rep, trace) = rectangle_report(&cylinder, theta, &path, psi0, settings(a.max_step)?)?;
+    let (rep, trace) = rectangle_report(&cylinder, theta, &path, psi0, settings(a.max_step)?)
+        .map_err(|e| name_flags(e, "--phi1 and --phi2"))?;
     if let Some(dir) = &a.out {
         ensure_dir(dir)?;
         let title = format!(
@@ -186,11 +217,12 @@ pub(super) fn run_circle(a: &CircleArgs) -> Result<()> {
     let start = Instant::now();
     let h = super::height(a.r, a.h, a.r_over_h)?;
     let cylinder = Cylinder::new(a.r, h)?;
-    let theta = a.theta.0;
+    let theta = super::check_inclination(a.theta.0)?;
     // Checked here so that the error names the flag, not the library's ℓ.
     let ell = input::positive("--ell", a.ell)?;
     let path = CirclePath::new(ell, a.case.into(), direction(a.cw))?;
-    let (rep, trace) = circle_report(&cylinder, theta, &path, settings(a.max_step)?)?;
+    let (rep, trace) = circle_report(&cylinder, theta, &path, settings(a.max_step)?)
+        .map_err(|e| name_flags(e, "--ell"))?;
     if let Some(dir) = &a.out {
         ensure_dir(dir)?;
         let title = format!(

@@ -105,6 +105,23 @@ fn check_theta(theta: f64, cylinder: &cylinders::kinematics::Cylinder) -> Result
     Ok(())
 }
 
+/// Refuses a `--theta` outside (0, π/2), where the cylinder touches the plane at one rim
+/// point (§3.2), naming the flag and the value in degrees and radians since the user may
+/// have typed either: the library names its ϑ, in radians only.
+///
+/// # Errors
+/// ϑ outside (0, π/2).
+fn check_inclination(theta: f64) -> Result<f64> {
+    anyhow::ensure!(
+        theta > 0.0 && theta < std::f64::consts::FRAC_PI_2,
+        "--theta {}° ({} rad) is outside (0°, 90°): the point-contact assumption of §3.2 \
+         fails (at 0° the base lies flat, at 90° the side does)",
+        short(theta.to_degrees()),
+        short(theta)
+    );
+    Ok(theta)
+}
+
 /// Refuses a pair's time step or number of steps under its flag, before the runs of each
 /// inclination would refuse it under `--theta`.
 ///

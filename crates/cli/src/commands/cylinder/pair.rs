@@ -76,7 +76,10 @@ pub(super) fn run(a: &PairArgs) -> Result<()> {
     let start = Instant::now();
     let settings = a.settings();
     super::check_steps(a.dt, a.steps)?;
-    // Checked here so that the errors name the flags, not the library's μ_s and μ_k.
+    // Checked here so that the errors name the flags, not the library's ramp, μ_s, μ_k.
+    if let Some(ramp) = a.ramp {
+        input::positive("--ramp", ramp)?;
+    }
     input::non_negative("--mu-floor", a.mu_floor)?;
     input::non_negative("--mu-k", a.mu_k)?;
     super::check_theta(settings.theta, &settings.cylinder)?;

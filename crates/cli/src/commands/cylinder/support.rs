@@ -32,7 +32,8 @@ pub struct SupportArgs {
 }
 
 pub(super) fn run(a: &SupportArgs) -> Result<()> {
-    // Checked here so that the errors name the flags, not the library's r/h, μ, mass.
+    // Checked here so that the errors name the flags, not the library's ϑ, r/h, μ, mass.
+    super::check_inclination(a.theta.0)?;
     input::non_negative("--r-over-h", a.r_over_h)?;
     input::non_negative("--mu", a.mu)?;
     if let Some(mass) = a.mass {
