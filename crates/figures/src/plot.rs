@@ -551,7 +551,16 @@ impl LinePlot {
             for run in pts.split(Option::is_none) {
                 let px: Vec<(i32, i32)> = run.iter().flatten().map(|&p| to_px(p)).collect();
                 if s.line {
-                    draw_polyline(&plot_area, &px, st)?;
+                    let fractions: Vec<(f64, f64)> = run
+                        .iter()
+                        .flatten()
+                        .map(|&p| layout.to_fraction(p))
+                        .collect();
+                    for line in clipped_runs(&fractions) {
+                        let line: Vec<(i32, i32)> =
+                            line.into_iter().map(|f| layout.fraction_to_px(f)).collect();
+                        draw_polyline(&plot_area, &line, st)?;
+                    }
                 }
                 if s.arrows {
                     draw_arrows(&plot_area, &px, st.color)?;
@@ -704,16 +713,36 @@ struct Layout {
 }
 
 impl Layout {
-    /// Pixel position of a display point within the plotting area.
-    fn to_px(&self, p: (f64, f64)) -> (i32, i32) {
+    /// Where a display point lies in the plotting area, as fractions of its width and
+    /// height (0 to 1 inside, y up).
+    fn to_fraction(&self, p: (f64, f64)) -> (f64, f64) {
+        (
+            (p.0 - self.xr.start) / (self.xr.end - self.xr.start),
+            (p.1 - self.yr.start) / (self.yr.end - self.yr.start),
+        )
+    }
+
+    /// Pixel position of a point given as fractions of the plotting area, held within
+    /// [`FAR`] plot sizes of it: a point far outside (a run that drifted by 10⁴ units in a
+    /// plot of 1) would otherwise become a pixel coordinate whose offsets overflow in
+    /// plotters. Lines are clipped before they get here ([`clipped_runs`]), so the hold
+    /// moves only markers and arrows that are not seen anyway.
+    fn fraction_to_px(&self, (fx, fy): (f64, f64)) -> (i32, i32) {
         let (w, h) = (
             f64::from(self.plot_px.0.max(2) - 1),
             f64::from(self.plot_px.1.max(2) - 1),
         );
-        let fx = (p.0 - self.xr.start) / (self.xr.end - self.xr.start);
-        let fy = (p.1 - self.yr.start) / (self.yr.end - self.yr.start);
+        let hold = |f: f64| f.clamp(-FAR, 1.0 + FAR);
         #[allow(clippy::cast_possible_truncation)]
-        ((fx * w).round() as i32, ((1.0 - fy) * h).round() as i32)
+        (
+            (hold(fx) * w).round() as i32,
+            ((1.0 - hold(fy)) * h).round() as i32,
+        )
+    }
+
+    /// Pixel position of a display point within the plotting area.
+    fn to_px(&self, p: (f64, f64)) -> (i32, i32) {
+        self.fraction_to_px(self.to_fraction(p))
     }
 
     /// Draws the mesh, ticks and axis labels on `area` and returns the plotting area
@@ -865,6 +894,77 @@ pub fn dash_pieces(px: &[(i32, i32)], on: f64, off: f64) -> Vec<((i32, i32), (i3
 /// next. Each segment is drawn left to right (top to bottom when vertical): plotters'
 /// bitmap backend leaves out the end pixel of a horizontal line drawn leftwards, which
 /// breaks a dense polyline into dashes.
+/// How far outside the plotting area, in plot sizes, a point keeps its own pixel
+/// position; lines are clipped to this margin, markers held at it.
+const FAR: f64 = 1.0;
+
+/// The parts of a polyline (points as fractions of the plotting area) that lie within
+/// [`FAR`] plot sizes of it, each segment clipped there (Liang–Barsky), so that a line
+/// running far outside keeps its direction where it is seen.
+fn clipped_runs(points: &[(f64, f64)]) -> Vec<Vec<(f64, f64)>> {
+    let mut runs: Vec<Vec<(f64, f64)>> = Vec::new();
+    let mut open = false;
+    for pair in points.windows(2) {
+        let Some((a, b)) = clip_segment(pair[0], pair[1], -FAR, 1.0 + FAR) else {
+            open = false;
+            continue;
+        };
+        match runs.last_mut() {
+            Some(run) if open && run.last() == Some(&a) => run.push(b),
+            _ => runs.push(vec![a, b]),
+        }
+        // The run goes on only while the segment ends where the polyline does.
+        open = b == pair[1];
+    }
+    runs
+}
+
+/// The part of the segment a–b inside the square [lo, hi]², if any (Liang–Barsky).
+fn clip_segment(
+    a: (f64, f64),
+    b: (f64, f64),
+    lo: f64,
+    hi: f64,
+) -> Option<((f64, f64), (f64, f64))> {
+    if ![a.0, a.1, b.0, b.1].iter().all(|v| v.is_finite()) {
+        return None;
+    }
+    let (dx, dy) = (b.0 - a.0, b.1 - a.1);
+    let (mut t0, mut t1) = (0.0_f64, 1.0_f64);
+    for (p, q) in [
+        (-dx, a.0 - lo),
+        (dx, hi - a.0),
+        (-dy, a.1 - lo),
+        (dy, hi - a.1),
+    ] {
+        if p == 0.0 {
+            if q < 0.0 {
+                return None;
+            }
+        } else {
+            let t = q / p;
+            if p < 0.0 {
+                t0 = t0.max(t);
+            } else {
+                t1 = t1.min(t);
+            }
+        }
+    }
+    if t0 > t1 {
+        return None;
+    }
+    let at = |t: f64| {
+        if t == 0.0 {
+            a
+        } else if t == 1.0 {
+            b
+        } else {
+            (a.0 + t * dx, a.1 + t * dy)
+        }
+    };
+    Some((at(t0), at(t1)))
+}
+
 fn draw_polyline(area: &Canvas<'_>, px: &[(i32, i32)], st: &Style) -> Result<()> {
     if px.len() < 2 {
         return Ok(());
@@ -1067,6 +1167,48 @@ pub fn draw_legend(area: &Canvas<'_>, at: (i32, i32), entries: &[LegendEntry]) -
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_segment_is_clipped_to_the_square_keeping_its_direction() {
+        // Inside: unchanged.
+        let inside = clip_segment((0.2, 0.3), (0.8, 0.9), -1.0, 2.0);
+        assert_eq!(inside, Some(((0.2, 0.3), (0.8, 0.9))));
+        // From inside to far away: cut at the edge, on the same line.
+        let (a, b) = clip_segment((0.5, 0.5), (2.0e4, 0.5), -1.0, 2.0).unwrap();
+        assert_eq!(a, (0.5, 0.5));
+        assert!((b.0 - 2.0).abs() < 1e-12 && (b.1 - 0.5).abs() < 1e-12);
+        // Through the square from both sides far out: the chord.
+        let (a, b) = clip_segment((-1e9, -1e9), (1e9, 1e9), -1.0, 2.0).unwrap();
+        assert!((a.0 + 1.0).abs() < 1e-6 && (b.1 - 2.0).abs() < 1e-6);
+        // Wholly outside, or not finite: nothing.
+        assert_eq!(clip_segment((5.0, 5.0), (9.0, 5.0), -1.0, 2.0), None);
+        assert_eq!(clip_segment((0.5, 0.5), (f64::NAN, 0.5), -1.0, 2.0), None);
+    }
+
+    #[test]
+    fn a_polyline_that_leaves_and_comes_back_is_two_runs() {
+        let runs = clipped_runs(&[(0.1, 0.5), (0.5, 0.5), (1e6, 0.5), (0.9, 0.5), (0.9, 0.1)]);
+        assert_eq!(runs.len(), 2, "{runs:?}");
+        assert_eq!(runs[0][..2], [(0.1, 0.5), (0.5, 0.5)]);
+        assert_eq!(*runs[1].last().unwrap(), (0.9, 0.1));
+    }
+
+    /// `cylinder pair --theta 0.5 --steps 2 --dt 7662315786 --out DIR` drifted by 2·10⁴ in
+    /// a view of about 1 and panicked in plotters ("attempt to add with overflow").
+    #[test]
+    fn points_far_outside_a_fixed_view_are_drawn_without_overflow() {
+        let dir = std::env::temp_dir().join(format!("figures-far-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let mut plot = LinePlot::new("far", "x", "y")
+            .with(Series::line(
+                "drifted",
+                vec![(0.0, 0.0), (2.2e4, 1e9), (0.5, 0.5)],
+            ))
+            .with(Series::markers("far", vec![(1e300, -1e300), (0.5, 0.5)]).with_arrows());
+        plot.bounds = Some((0.0..1.0, 0.0..1.0));
+        plot.save(&dir.join("far.png"), (400, 300)).unwrap();
+        std::fs::remove_dir_all(&dir).ok();
+    }
 
     fn distance(a: RGBColor, b: RGBColor) -> f64 {
         let d = |x: u8, y: u8| f64::from(x) - f64::from(y);
