@@ -123,10 +123,8 @@ impl<'a> StackWalker<'a> {
     ) -> Result<Self, BlockError> {
         // Forks are found where a first attempt fails: the low-rank updates, which make
         // more first attempts converge, would pass some of them unnoticed.
-        let opts = nsga::Options {
-            low_rank_updates: false,
-            ..stepper_options(scene, options)?
-        };
+        let mut opts = stepper_options(scene, options)?;
+        opts.linear.low_rank_updates = false;
         let (q0, u0) = (scene.initial_coordinates(), scene.initial_velocities());
         let mut system = StackSystem::new(scene.clone());
         let mut corners = CornerStepping::default();

@@ -21,10 +21,10 @@
 //!   states; then the step as two half steps with this same policy (up to
 //!   [`MAX_HALVINGS`] times); with branch exploration on, finally re-solves that accept
 //!   friction laws sitting exactly on their stick–slip bound
-//!   ([`nsga::Options::boundary_resolves`]).
+//!   ([`nsga::PolicyOptions::boundary_resolves`]).
 //! - **Redundant contacts**: a toppled column resting on the table edge and on the floor
 //!   with several corners touches at more points than it has degrees of freedom; nsga's
-//!   regularized Newton update ([`nsga::Options::regularization`]) carries it.
+//!   regularized Newton update ([`nsga::LinearOptions::regularization`]) carries it.
 //! - **Errors**: a step that fails after every fallback ends the run; the summary up to
 //!   it carries the typed error ([`RunError`], with the state it failed at), it is not
 //!   an `Err`.
@@ -38,7 +38,10 @@ use crate::scene_info::{Defaults, SceneReport, SceneWarning};
 use crate::stack::StackContacts;
 use crate::stepping::CornerStepping;
 use crate::system::StackSystem;
-use nsga::{Options, RhoInfRetry, SolverChoice, StepError, Stepper};
+use nsga::{
+    LinearOptions, NewtonOptions, Options, PolicyOptions, RhoInfRetry, SolverChoice, StepError,
+    Stepper,
+};
 use std::ops::ControlFlow;
 use std::time::Instant;
 
@@ -73,7 +76,7 @@ pub const PENETRATION_TOL: f64 = 1e-6;
 /// blocks collapsing into piles (docs/method.md §7, "Crossovers") take 14.0 s of solver
 /// time instead of 20.0 s. Above it, the banded matrix of a tall column needs the sparse
 /// solver. Both small solvers detect the singular matrices of redundant contacts by their
-/// pivots (see `nsga::Options::regularization`).
+/// pivots (see `nsga::LinearOptions::regularization`).
 pub const SMALL_LU_UP_TO: usize = 384;
 
 /// How often a step that fails after every retry and re-solve may be halved (a
@@ -92,7 +95,7 @@ pub const SMALL_LU_UP_TO: usize = 384;
 /// that contains it is split again), not 2^level substeps.
 pub const MAX_HALVINGS: usize = 10;
 
-/// Halvings allowed in the line search of each Newton update (`nsga::Options::line_search`).
+/// Halvings allowed in the line search of each Newton update (`nsga::NewtonOptions::line_search`).
 /// Measured on the Lire collapse on a floor and 29 neighbours (`cargo run --release -p
 /// blockstack --example lire_nearby 30 --floor`): with 3, failed steps fall from 6.5 to
 /// 3.3 per run and linear solves by 5 %; more halvings change nothing. The held-sets
@@ -101,7 +104,7 @@ pub const MAX_HALVINGS: usize = 10;
 pub const LINE_SEARCH_HALVINGS: usize = 3;
 
 /// Openings per Newton update in nsga's held-sets attempt
-/// (`nsga::Options::max_openings_per_update`), the first attempt at each step of a
+/// (`nsga::NewtonOptions::max_openings_per_update`), the first attempt at each step of a
 /// column with more contacts than [`MAX_NEWTON_ITERATIONS`]. With one opening per
 /// update, a 300-block column moving with its base tips as one body: to t = 0.5 it
 /// takes 13 linear solves instead of 5393.
@@ -135,7 +138,7 @@ pub struct RunOptions {
     /// self-consistent ones; [`nsga::BranchRule::Converged`] is the thesis's count).
     pub branch_rule: nsga::BranchRule,
     /// Probe every converged step for other solutions by flipping one touching contact
-    /// ([`nsga::Options::probe_flips`]; costly, for exploring).
+    /// ([`nsga::PolicyOptions::probe_flips`]; costly, for exploring).
     pub probe_flips: bool,
     /// For the sweeps' rows: explore up to this many branches of each run
     /// ([`crate::exploration`]) and report the spread of the row's value over them
@@ -143,17 +146,17 @@ pub struct RunOptions {
     pub spread_branches: usize,
     /// Stop as soon as `failure_time` is known (sweeps).
     pub stop_at_failure: bool,
-    /// Leave out the last resort ([`nsga::Options::last_resort`]): a step nothing else
+    /// Leave out the last resort ([`nsga::PolicyOptions::last_resort`]): a step nothing else
     /// resolves then ends the run (to see what the generalized-α scheme alone does).
     pub skip_last_resort: bool,
     /// Factorize the Newton matrix whenever the index sets differ from those of its kept
     /// factors, as the paper does, instead of updating the kept factors for the changed
-    /// rows ([`nsga::Options::low_rank_updates`]). The exploration of branches
+    /// rows ([`nsga::LinearOptions::low_rank_updates`]). The exploration of branches
     /// ([`crate::exploration`]) always does: it finds forks where a first attempt fails,
     /// and the updates converge through some of them unnoticed.
     pub skip_low_rank_updates: bool,
     /// Start every step's Newton iteration from the last solution, never from the
-    /// extrapolated one ([`nsga::Options::predict_start`]): the paper's start, to compare
+    /// extrapolated one ([`nsga::NewtonOptions::predict_start`]): the paper's start, to compare
     /// with.
     pub skip_predicted_start: bool,
     /// A flag another thread may set to end the run after its current step, as a
@@ -257,7 +260,7 @@ pub struct RunSummary {
     pub fallback_residual: f64,
     /// Steps taken without the friction percussions' half-step shift, where the
     /// paper's step had no self-consistent index sets
-    /// ([`nsga::Options::retry_without_friction_shift`]).
+    /// ([`nsga::PolicyOptions::retry_without_friction_shift`]).
     pub unshifted_steps: usize,
     /// Why the consistent start failed, where the run started without it and took its
     /// first step by the last resort ([`nsga::Stepper::start_failure`]); `None` after a
@@ -360,25 +363,33 @@ pub fn stepper_options(scene: &Scene, options: &RunOptions) -> Result<Options, B
         rho_inf: s.rho_inf,
         prox: options.prox.unwrap_or(s.prox),
         tol: s.tol,
-        max_iter: MAX_NEWTON_ITERATIONS,
-        max_iter_per_contact: 1,
-        explore_branches: options.explore_branches,
-        branch_rule: options.branch_rule,
-        probe_flips: options.probe_flips,
-        // Markowitz LU for the small scenes of the thesis, faer's sparse LU for tall
-        // columns (the Newton matrix of a chain is banded).
-        solver: SolverChoice::Markowitz(SMALL_LU_UP_TO),
-        prune_open_contacts: true,
-        reuse_factorization: true,
-        low_rank_updates: !options.skip_low_rank_updates,
-        retry_without_friction_shift: true,
-        predict_start: !options.skip_predicted_start,
-        line_search: LINE_SEARCH_HALVINGS,
-        rho_inf_retry: RHO_INF_RETRY,
-        max_halvings: MAX_HALVINGS,
-        boundary_resolves: options.explore_branches,
-        last_resort: !options.skip_last_resort,
-        max_openings_per_update: MAX_OPENINGS_PER_UPDATE,
+        newton: NewtonOptions {
+            max_iter: MAX_NEWTON_ITERATIONS,
+            max_iter_per_contact: 1,
+            prune_open_contacts: true,
+            predict_start: !options.skip_predicted_start,
+            line_search: LINE_SEARCH_HALVINGS,
+            max_openings_per_update: MAX_OPENINGS_PER_UPDATE,
+        },
+        linear: LinearOptions {
+            // Markowitz LU for the small scenes of the thesis, faer's sparse LU for tall
+            // columns (the Newton matrix of a chain is banded).
+            solver: SolverChoice::Markowitz(SMALL_LU_UP_TO),
+            reuse_factorization: true,
+            low_rank_updates: !options.skip_low_rank_updates,
+            ..LinearOptions::default()
+        },
+        policy: PolicyOptions {
+            explore_branches: options.explore_branches,
+            branch_rule: options.branch_rule,
+            probe_flips: options.probe_flips,
+            retry_without_friction_shift: true,
+            rho_inf_retry: RHO_INF_RETRY,
+            max_halvings: MAX_HALVINGS,
+            boundary_resolves: options.explore_branches,
+            last_resort: !options.skip_last_resort,
+            ..PolicyOptions::default()
+        },
         ..Options::default()
     };
     opts.validate()

@@ -83,7 +83,7 @@ fn a_block_at_the_limit_of_its_interface_costs_no_deep_halvings() {
     assert!(s.min_gap >= -1e-8, "gap {}", s.min_gap);
 }
 
-/// The low-rank updates of the kept factors (`nsga::Options::low_rank_updates`,
+/// The low-rank updates of the kept factors (`nsga::LinearOptions::low_rank_updates`,
 /// docs/method.md §7): where a Newton iterate's index sets differ from the kept factors'
 /// in a few rows, those rows are replaced by the Sherman–Morrison–Woodbury formula
 /// instead of factorizing the matrix anew. Over the first 382 steps of n = 6, ω = 24,
@@ -643,7 +643,7 @@ fn a_tall_column_moving_with_its_base_tips_as_one_body_at_the_static_limit() {
 /// At Δt ≈ 0.01 the tipping step also has a solution in which a band of interfaces in
 /// the middle of the column opens, and free Newton reaches it after hundreds of updates
 /// (docs/method.md §8.2, "The tipping step has two solutions"). The held-sets attempt
-/// (`nsga::Options::max_openings_per_update`) keeps the previous step's sets and opens
+/// (`nsga::NewtonOptions::max_openings_per_update`) keeps the previous step's sets and opens
 /// the base corner alone: the column tips as one body, as at Δt ≈ 0.001, in a handful
 /// of factorizations for the whole run (free Newton: 1744 to t = 0.3).
 #[test]

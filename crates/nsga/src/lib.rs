@@ -13,8 +13,8 @@
 //!   semismooth Newton eq. 143), with a consistent start ([`start`]), retries with
 //!   other ρ∞, typed errors ([`StepError`]), statistics, readable and fixable index
 //!   sets ([`IndexSets`]) and branch-point reports ([`BranchPoint`]); optionally
-//!   simplified Newton updates from kept factors ([`Options::reuse_factorization`])
-//!   and a line search ([`Options::line_search`]);
+//!   simplified Newton updates from kept factors ([`LinearOptions::reuse_factorization`](crate::LinearOptions::reuse_factorization))
+//!   and a line search ([`NewtonOptions::line_search`](crate::NewtonOptions::line_search));
 //! * [`moreau`]: the Moreau–Jean midpoint baseline on the same trait;
 //! * [`linalg`]: dense LU, Markowitz LU and sparse LU behind [`LinearSolver`];
 //! * [`systems`]: benchmark systems with known answers (free fall, oscillator,
@@ -126,8 +126,8 @@ pub use linalg::{AutoSolver, DenseLu, LinalgError, LinearSolver, MarkowitzLu, Sp
 pub use moreau::{MoreauOptions, MoreauState, MoreauStepper};
 pub use newton::{MAX_REUSES, REUSE_CONTRACTION};
 pub use options::{
-    BranchRule, FailurePolicy, Options, Prox, RhoInfRetry, SolverChoice, DEFAULT_REGULARIZATION,
-    DEFAULT_RETRY_MAX_ITER,
+    BranchRule, FailurePolicy, LinearOptions, NewtonOptions, Options, PolicyOptions, Prox,
+    RhoInfRetry, SolverChoice, DEFAULT_REGULARIZATION, DEFAULT_RETRY_MAX_ITER,
 };
 pub use params::GenAlpha;
 pub use report::{

@@ -25,11 +25,11 @@
 const ARMIJO: f64 = 1e-4;
 
 /// Residual reduction a simplified Newton update must reach; below it the next update
-/// is exact (see [`crate::Options::reuse_factorization`]).
+/// is exact (see [`crate::LinearOptions::reuse_factorization`]).
 pub const REUSE_CONTRACTION: f64 = 0.1;
 
 /// Simplified Newton updates in a row before an exact one (see
-/// [`crate::Options::reuse_factorization`]).
+/// [`crate::LinearOptions::reuse_factorization`]).
 pub const MAX_REUSES: usize = 4;
 
 /// Periods (in Newton iterations) of set cycles that [`settled_cycle`] recognizes. The

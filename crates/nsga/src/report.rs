@@ -61,7 +61,7 @@ pub struct StepStats {
     pub last_resort: Option<LastResort>,
     /// Whether the step (or one of its substeps) was taken without the friction
     /// percussions' half-step shift, by stage 3b of the policy
-    /// ([`Options::retry_without_friction_shift`](crate::Options::retry_without_friction_shift)).
+    /// ([`PolicyOptions::retry_without_friction_shift`](crate::PolicyOptions::retry_without_friction_shift)).
     #[serde(default)]
     pub unshifted: bool,
 }
@@ -102,7 +102,7 @@ pub struct SolvesByStage {
     /// The re-solves at a friction bound, after the halvings (stage `Boundary`).
     pub boundary: u64,
     /// Everything else: the flip probes of converged steps
-    /// ([`Options::probe_flips`](crate::Options::probe_flips)).
+    /// ([`PolicyOptions::probe_flips`](crate::PolicyOptions::probe_flips)).
     pub other: u64,
 }
 
@@ -175,7 +175,7 @@ pub struct ExactBecause {
     pub sets_changed: u64,
     /// The Newton engine asked for none: the last simplified update did not contract
     /// the residual enough, the most in a row were taken, or the stepper takes none
-    /// (`Options::reuse_factorization` off).
+    /// (`LinearOptions::reuse_factorization` off).
     pub not_asked: u64,
 }
 

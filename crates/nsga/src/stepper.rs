@@ -79,7 +79,7 @@ pub use predict::PREDICTED_START_ITERATIONS;
 pub use slip::NEGLIGIBLE_SLIP;
 
 /// How many index sets found to have a singular plain Newton matrix are remembered
-/// (see [`Options::regularization`]). Redundancy is a property of which contacts are
+/// (see [`LinearOptions::regularization`](crate::LinearOptions::regularization)). Redundancy is a property of which contacts are
 /// closed, so the normal sets (A, B, C) of such a matrix stay singular while the bodies
 /// keep their arrangement, whatever the friction laws do. After the Lire collapse
 /// lands on a floor, Newton moves among a handful of normal sets and dozens of stick–slip
@@ -154,7 +154,7 @@ pub struct Stepper<S: System> {
     /// accelerations and forces (docs/method.md §5).
     start_failure: Option<String>,
     /// The last steps' solutions, for a predicted Newton start
-    /// ([`Options::predict_start`]).
+    /// ([`NewtonOptions::predict_start`](crate::NewtonOptions::predict_start)).
     predictor: predict::StartPredictor,
 }
 
@@ -221,7 +221,7 @@ struct Work {
 impl Work {
     /// Buffers for a system of this layout, with the linear solver the options choose.
     fn new(layout: &Layout, options: &Options) -> Self {
-        let solver: Box<dyn LinearSolver> = match options.solver {
+        let solver: Box<dyn LinearSolver> = match options.linear.solver {
             SolverChoice::Auto(t) => Box::new(AutoSolver::new(t)),
             SolverChoice::Dense => Box::new(DenseLu::default()),
             SolverChoice::Sparse => Box::new(SparseLu::default()),
@@ -288,7 +288,7 @@ impl<S: System> Stepper<S> {
     /// A stepper at t0 = `t0`, q0, u0, with consistent initial accelerations and forces
     /// (docs/method.md §5).
     ///
-    /// Where the consistent start fails and [`Options::last_resort`] covers the system,
+    /// Where the consistent start fails and [`PolicyOptions::last_resort`](crate::PolicyOptions::last_resort) covers the system,
     /// the stepper starts anyway: [`Stepper::start_failure`] says why, and its first step
     /// is taken by the last resort, a Moreau–Jean step, which needs no accelerations and
     /// after which the generalized-α state restarts from a consistent start there.
@@ -326,7 +326,7 @@ impl<S: System> Stepper<S> {
         {
             Ok(start) => (start, None),
             Err(failed @ StepError::Start { .. })
-                if options.last_resort && covers(&layout).is_ok() =>
+                if options.policy.last_resort && covers(&layout).is_ok() =>
             {
                 let unforced = Start::unforced(&system, &layout, t0, q0, u0);
                 (unforced, Some(failed.to_string()))

@@ -9,7 +9,7 @@ use crate::error::CylinderError;
 use crate::kinematics::Cylinder;
 use crate::statics::{FrictionLimit, MinForceCase, SupportProblem};
 use crate::transport::{check_inclination, top_height, PairTransport, SpinProfile};
-use nsga::{Options, Stepper, System};
+use nsga::{Options, PolicyOptions, Stepper, System};
 use serde::{Deserialize, Serialize};
 use std::f64::consts::PI;
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -194,8 +194,11 @@ pub fn run_pair_until(
     let options = Options {
         dt: settings.dt,
         rho_inf: settings.rho_inf,
-        max_halvings: 4,
-        boundary_resolves: true,
+        policy: PolicyOptions {
+            max_halvings: 4,
+            boundary_resolves: true,
+            ..PolicyOptions::default()
+        },
         ..Options::default()
     };
     let mg = sys.mass * sys.gravity;

@@ -9,9 +9,9 @@
 //!
 //! Where a friction law sits exactly on its stick–slip bound, round-off decides its set,
 //! so no candidate may pass the strict test although several solve the step; the
-//! boundary re-solves ([`Options::boundary_resolves`]) accept such laws on either side.
+//! boundary re-solves ([`PolicyOptions::boundary_resolves`]) accept such laws on either side.
 //!
-//! [`Options::boundary_resolves`]: crate::Options::boundary_resolves
+//! [`PolicyOptions::boundary_resolves`]: crate::PolicyOptions::boundary_resolves
 
 use super::spec::{AttemptSpec, SetRule, StartAt};
 use super::Stepper;
@@ -24,9 +24,9 @@ use crate::state::State;
 use crate::system::{FrictionLaw, System};
 
 /// Newton iterations allowed when checking that a fixed-set solution also solves the
-/// free step (it converges at once when it does; see [`Options::boundary_resolves`]).
+/// free step (it converges at once when it does; see [`PolicyOptions::boundary_resolves`]).
 ///
-/// [`Options::boundary_resolves`]: crate::Options::boundary_resolves
+/// [`PolicyOptions::boundary_resolves`]: crate::PolicyOptions::boundary_resolves
 pub const QUICK_CHECK_ITERATIONS: usize = 8;
 
 /// Self-consistent, distinct solutions of one step, in the order they were found.
@@ -69,7 +69,7 @@ impl<S: System> Stepper<S> {
             // Self-consistency: the sets recomputed from the converged x (the thesis's
             // rule keeps every converged solve).
             let consistent = &self.sets_of(&t.state.x, rho0) == sets;
-            if consistent || self.options.branch_rule == BranchRule::Converged {
+            if consistent || self.options.policy.branch_rule == BranchRule::Converged {
                 candidates.offer(sets, t, consistent);
             }
         }
@@ -101,12 +101,12 @@ impl<S: System> Stepper<S> {
         Some(t)
     }
 
-    /// The flip probe of a converged step ([`Options::probe_flips`]): the step re-solved
+    /// The flip probe of a converged step ([`PolicyOptions::probe_flips`]): the step re-solved
     /// with one touching normal contact's state flipped ([`flipped_sets`]); the
     /// self-consistent solutions that differ from `converged` make a branch point whose
     /// first candidate is `converged` (the one continued).
     ///
-    /// [`Options::probe_flips`]: crate::Options::probe_flips
+    /// [`PolicyOptions::probe_flips`]: crate::PolicyOptions::probe_flips
     pub(super) fn probe_flips(&mut self, converged: Trial, rho0: f64) -> Trial {
         let touching = self.touching_contacts(&converged.stats.sets);
         let flips = flipped_sets(&converged.stats.sets, &touching, &self.layout.friction);
@@ -191,13 +191,13 @@ impl<S: System> Stepper<S> {
             candidates.offer(&sets, candidate, true);
         }
         let mut trial = self.chosen(candidates, tried)?;
-        trial.stats.retries = 1 + self.options.rho_inf_retries.len();
+        trial.stats.retries = 1 + self.options.policy.rho_inf_retries.len();
         Some(trial)
     }
 
     /// Does a free Newton attempt started from the unknowns `x` of a fixed-set solution
     /// converge within [`QUICK_CHECK_ITERATIONS`] updates (or a free attempt's budget of
-    /// [`Options::max_iter_per_contact`](crate::Options::max_iter_per_contact), when that
+    /// [`NewtonOptions::max_iter_per_contact`](crate::NewtonOptions::max_iter_per_contact), when that
     /// is larger)? The time grid is counted from the step's start from then on, and what
     /// the last solutions left for the next steps is forgotten, as after any restart
     /// from a state ([`Stepper::set_state`]).

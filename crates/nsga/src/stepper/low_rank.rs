@@ -290,7 +290,7 @@ impl<S: System> Stepper<S> {
 mod tests {
     use super::*;
     use crate::systems::chain::Chain;
-    use crate::Options;
+    use crate::{LinearOptions, Options};
 
     fn max_difference(a: &[f64], b: &[f64]) -> f64 {
         a.iter()
@@ -306,8 +306,11 @@ mod tests {
         let (q0, u0) = chain.resting(0.3);
         let options = Options {
             dt: 1e-3,
-            reuse_factorization: true,
-            low_rank_updates: true,
+            linear: LinearOptions {
+                reuse_factorization: true,
+                low_rank_updates: true,
+                ..LinearOptions::default()
+            },
             ..Options::default()
         };
         let mut s = Stepper::new(chain, 0.0, &q0, &u0, options).unwrap();
