@@ -116,6 +116,7 @@ pub mod stepper;
 pub mod studies;
 pub mod system;
 pub mod systems;
+pub mod tuning;
 
 pub use attempt::{AttemptFailure, AttemptOutcome, RefusedBecause, Trial};
 pub use error::StepError;
@@ -124,7 +125,6 @@ pub use explore::{
 };
 pub use linalg::{AutoSolver, DenseLu, LinalgError, LinearSolver, MarkowitzLu, SparseLu};
 pub use moreau::{MoreauOptions, MoreauState, MoreauStepper};
-pub use newton::{MAX_REUSES, REUSE_CONTRACTION};
 pub use options::{
     BranchRule, FailurePolicy, LinearOptions, NewtonOptions, Options, PolicyOptions, Prox,
     RhoInfRetry, SolverChoice, DEFAULT_REGULARIZATION, DEFAULT_RETRY_MAX_ITER,
@@ -136,8 +136,6 @@ pub use report::{
 };
 pub use sets::IndexSets;
 pub use state::{State, SAME_MOTION};
-pub use stepper::{
-    Stepper, FAR_CORRECTION, MAX_HELD_EVALUATIONS, NEGLIGIBLE_SLIP, PREDICTED_START_ITERATIONS,
-    QUICK_CHECK_ITERATIONS, SET_TIE, SINGULAR_SETS_KEPT, WILD_UPDATE,
-};
+pub use stepper::{Stepper, NEGLIGIBLE_SLIP, SET_TIE, WILD_UPDATE};
 pub use system::{Derivatives, Evaluation, FrictionLaw, Layout, Probes, Scalar, System, Triplets};
+pub use tuning::Tuning;

@@ -4,10 +4,9 @@
 
 use crate::error::StepError;
 use crate::linalg::MARKOWITZ_SPARSE_THRESHOLD;
+use crate::tuning::Tuning;
 #[cfg(doc)]
-use crate::newton::{MAX_REUSES, REUSE_CONTRACTION};
-#[cfg(doc)]
-use crate::{Stepper, SINGULAR_SETS_KEPT};
+use crate::Stepper;
 
 /// How the prox parameter r is chosen (docs/method.md §4).
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
@@ -141,6 +140,10 @@ pub struct Options {
     /// What a step does when its first attempt fails.
     #[serde(default)]
     pub policy: PolicyOptions,
+    /// The measured constants: budgets, factors and thresholds (docs/method.md,
+    /// appendix).
+    #[serde(default)]
+    pub tuning: Tuning,
 }
 
 /// Options of the Newton iteration of one attempt ([`Options::newton`]).
@@ -184,8 +187,8 @@ pub struct NewtonOptions {
     /// and λ over the last steps, while their index sets stayed the same (quadratic
     /// through three solutions, linear through two; docs/method.md §4). An attempt from
     /// the prediction that has not converged after
-    /// [`PREDICTED_START_ITERATIONS`](crate::PREDICTED_START_ITERATIONS) updates, and
-    /// whose last update did not contract the residual by [`REUSE_CONTRACTION`] at
+    /// [`Tuning::predicted_start_iterations`](crate::Tuning::predicted_start_iterations) updates, and
+    /// whose last update did not contract the residual by [`Tuning::reuse_contraction`](crate::Tuning::reuse_contraction) at
     /// unchanged index sets, gives way to the usual one from the last solution. Off by
     /// default: the paper starts from the last solution.
     pub predict_start: bool,
@@ -212,14 +215,14 @@ pub struct LinearOptions {
     /// least-norm share, while the residual, and hence the converged solution, stays
     /// exact. 0 turns this off (a singular matrix then fails the attempt). Index sets
     /// whose normal contacts (A, B, C) are those of one of the last
-    /// [`SINGULAR_SETS_KEPT`] plain matrices found singular go straight to the
+    /// [`Tuning::singular_sets_kept`](crate::Tuning::singular_sets_kept) plain matrices found singular go straight to the
     /// regularized one, whatever their friction sets (D, E).
     pub regularization: f64,
     /// Simplified Newton: while the index sets (and pruned contacts, Δt, ρ∞) are those of
     /// the last factorized Newton matrix (or, for the same sets, more contacts are pruned
     /// than were then: docs/method.md §7), solve with its kept factors instead of
     /// assembling and factorizing a new one, as long as each such update at least
-    /// [`REUSE_CONTRACTION`]-fold reduces the residual, and at most [`MAX_REUSES`] times
+    /// [`Tuning::reuse_contraction`](crate::Tuning::reuse_contraction)-fold reduces the residual, and at most [`Tuning::max_reuses`](crate::Tuning::max_reuses) times
     /// in a row. The iterates converge to the same tolerance; a quiet contact phase then
     /// costs residual evaluations and triangular solves, not factorizations.
     pub reuse_factorization: bool,
@@ -339,6 +342,7 @@ impl Default for Options {
             newton: NewtonOptions::default(),
             linear: LinearOptions::default(),
             policy: PolicyOptions::default(),
+            tuning: Tuning::default(),
         }
     }
 }
@@ -426,6 +430,6 @@ impl Options {
         {
             return bad("tol must be > 0, and max_iter and retry_max_iter >= 1".into());
         }
-        Ok(())
+        self.tuning.check().map_err(StepError::InvalidInput)
     }
 }

@@ -152,7 +152,7 @@ pub struct NewtonWork {
     /// Why the exact updates were made; the four add up to `exact_updates`.
     pub exact_because: ExactBecause,
     /// Attempts that converged to a far solution and were refused (docs/method.md §8.1,
-    /// "Far solutions"; [`FAR_CORRECTION`](crate::FAR_CORRECTION)).
+    /// "Far solutions"; [`Tuning::far_correction`](crate::Tuning::far_correction)).
     #[serde(default)]
     pub far_solutions: u64,
     /// The seconds spent in each kind of work.

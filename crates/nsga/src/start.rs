@@ -260,6 +260,7 @@ pub fn consistent_start<S: System>(
         resume_reuse: false,
         give_up: GiveUp::Never,
         contracting_extra: 0,
+        tuning: options.tuning,
     };
     let mut y = vec![0.0; problem.level.n()];
     let failed = |message: String| StepError::Start { t: t0, message };

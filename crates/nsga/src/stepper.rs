@@ -69,26 +69,10 @@ mod state_levels;
 mod trial;
 mod unknowns;
 
-pub use branch::QUICK_CHECK_ITERATIONS;
 pub use direction::WILD_UPDATE;
-pub use far::FAR_CORRECTION;
-pub use held::MAX_HELD_EVALUATIONS;
 pub use iterate::SET_TIE;
 pub use low_rank::LOW_RANK_ROWS;
-pub use predict::PREDICTED_START_ITERATIONS;
 pub use slip::NEGLIGIBLE_SLIP;
-
-/// How many index sets found to have a singular plain Newton matrix are remembered
-/// (see [`LinearOptions::regularization`](crate::LinearOptions::regularization)). Redundancy is a property of which contacts are
-/// closed, so the normal sets (A, B, C) of such a matrix stay singular while the bodies
-/// keep their arrangement, whatever the friction laws do. After the Lire collapse
-/// lands on a floor, Newton moves among a handful of normal sets and dozens of stick–slip
-/// combinations; remembering only the last singular set made it rediscover each at the
-/// cost of a failed plain factorization and a dense LU. Over the Lire collapse on a floor
-/// and 99 neighbours (`cargo run --release -p blockstack --example lire_nearby 100
-/// --floor`) that took
-/// 938 linear solves per run, against 810 remembering the normal sets of the last 16.
-pub const SINGULAR_SETS_KEPT: usize = 16;
 
 /// Spent index sets kept for their buffers: a step evaluates a few iterates, each of
 /// which decides its sets anew (five vectors of flags), and most of them are dropped by
@@ -200,7 +184,7 @@ struct Work {
     solver: Box<dyn LinearSolver>,
     /// Linear solves since the stepper was built, failed attempts included.
     linear_solves: u64,
-    /// The last index sets (at most [`SINGULAR_SETS_KEPT`], oldest first) whose Newton
+    /// The last index sets (at most [`Tuning::singular_sets_kept`](crate::Tuning::singular_sets_kept), oldest first) whose Newton
     /// matrix was found singular without regularization.
     singular_sets: Vec<IndexSets>,
     /// Constraints pruned from the current attempt's Newton matrix (empty when none).

@@ -23,12 +23,6 @@ use crate::sets::IndexSets;
 use crate::state::State;
 use crate::system::{FrictionLaw, System};
 
-/// Newton iterations allowed when checking that a fixed-set solution also solves the
-/// free step (it converges at once when it does; see [`PolicyOptions::boundary_resolves`]).
-///
-/// [`PolicyOptions::boundary_resolves`]: crate::PolicyOptions::boundary_resolves
-pub const QUICK_CHECK_ITERATIONS: usize = 8;
-
 /// Self-consistent, distinct solutions of one step, in the order they were found.
 #[derive(Debug, Default)]
 struct Candidates {
@@ -159,7 +153,7 @@ impl<S: System> Stepper<S> {
     /// solve the step. Here a fixed-set solution is kept when its recomputed sets differ
     /// from the fixed ones only in laws on their bound ([`Stepper::at_friction_bounds`]),
     /// or else when a Newton solve with free sets started from it converges within
-    /// [`QUICK_CHECK_ITERATIONS`] (then that free solution is kept). When no visited set
+    /// [`Tuning::quick_check_iterations`](crate::Tuning::quick_check_iterations) (then that free solution is kept). When no visited set
     /// gives a solution, the sets one friction-law switch away ([`neighbour_sets`]) are
     /// tried the same way until the first solution. The step is reported as a branch
     /// point (sets tried, distinct solutions), not yet committed, after the first
@@ -196,7 +190,7 @@ impl<S: System> Stepper<S> {
     }
 
     /// Does a free Newton attempt started from the unknowns `x` of a fixed-set solution
-    /// converge within [`QUICK_CHECK_ITERATIONS`] updates (or a free attempt's budget of
+    /// converge within [`Tuning::quick_check_iterations`](crate::Tuning::quick_check_iterations) updates (or a free attempt's budget of
     /// [`NewtonOptions::max_iter_per_contact`](crate::NewtonOptions::max_iter_per_contact), when that
     /// is larger)? The time grid is counted from the step's start from then on, and what
     /// the last solutions left for the next steps is forgotten, as after any restart
@@ -206,7 +200,7 @@ impl<S: System> Stepper<S> {
         self.forget_solutions();
         let check = AttemptSpec {
             start: StartAt::Unknowns(x),
-            budget: self.free_budget_over(QUICK_CHECK_ITERATIONS),
+            budget: self.free_budget_over(self.options.tuning.quick_check_iterations),
             ..self.spec(SetRule::Free, rho)
         };
         let free = self.attempt(&check);

@@ -5,7 +5,7 @@
 use super::kinematic::KinematicColumns;
 use super::prune::{expand, keeps_all_of, restrict, Pruning};
 use super::scheme::Scheme;
-use super::{FactoredFor, Stepper, SINGULAR_SETS_KEPT};
+use super::{FactoredFor, Stepper};
 use crate::linalg::{equilibrate_rows, max_norm};
 use crate::sets::IndexSets;
 use crate::system::System;
@@ -95,8 +95,9 @@ impl<S: System> Stepper<S> {
         }
         // Redundant closed contacts: solve the regularized linearization.
         let known = &mut self.work.singular_sets;
-        if !known.iter().any(redundant) {
-            if known.len() == SINGULAR_SETS_KEPT {
+        let kept = self.options.tuning.singular_sets_kept;
+        if kept > 0 && !known.iter().any(redundant) {
+            if known.len() >= kept {
                 known.remove(0);
             }
             known.push(sets.clone());

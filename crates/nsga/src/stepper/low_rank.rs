@@ -33,9 +33,6 @@ use crate::system::System;
 /// factorized anew.
 pub const LOW_RANK_ROWS: usize = 8;
 
-/// Columns of Z = J₀⁻¹ E kept per factorization.
-const KEPT_COLUMNS: usize = 32;
-
 /// The kept matrix and the scratch of low-rank updates.
 #[derive(Debug, Clone, Default)]
 pub(super) struct LowRank {
@@ -236,7 +233,7 @@ impl<S: System> Stepper<S> {
             return false;
         }
         // The columns of Z, kept from earlier updates on these factors where they can be.
-        if lr.z_rows.len() + k > KEPT_COLUMNS {
+        if lr.z_rows.len() + k > self.options.tuning.kept_columns {
             lr.z_rows.clear();
         }
         let mut z = [0; LOW_RANK_ROWS];

@@ -32,7 +32,7 @@ use crate::system::System;
 pub(crate) enum Stage {
     /// Free Newton from the unknowns the last steps' solutions extrapolate to
     /// ([`NewtonOptions::predict_start`](crate::NewtonOptions::predict_start)), with at most
-    /// [`PREDICTED_START_ITERATIONS`](crate::PREDICTED_START_ITERATIONS) updates, more
+    /// [`Tuning::predicted_start_iterations`](crate::Tuning::predicted_start_iterations) updates, more
     /// while they converge. Where it fails, the first attempt starts again from the
     /// last solution.
     Predicted,

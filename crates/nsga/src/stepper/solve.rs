@@ -194,6 +194,7 @@ impl<S: System> Stepper<S> {
                 GiveUp::SettledCycle
             },
             contracting_extra: spec.contracting_extra,
+            tuning: self.options.tuning,
         };
         self.prepare_step();
         let mut scratch = std::mem::take(&mut self.work.newton);

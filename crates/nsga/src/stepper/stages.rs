@@ -3,7 +3,6 @@
 //! friction shift, the best iterate; the fixed-set re-solves are in [`super::branch`].
 
 use super::policy::{Policy, Stage, StageOutcome};
-use super::predict::PREDICTED_START_ITERATIONS;
 use super::spec::{AttemptSpec, SetRule, StartAt};
 use super::Stepper;
 use crate::attempt::AttemptOutcome;
@@ -28,7 +27,8 @@ impl<S: System> Stepper<S> {
         match stage {
             Stage::Predicted => {
                 let x = policy.prediction.take().ok_or(None)?;
-                let budget = PREDICTED_START_ITERATIONS.min(self.options.newton.max_iter);
+                let budget = (self.options.tuning.predicted_start_iterations)
+                    .min(self.options.newton.max_iter);
                 let from_prediction = AttemptSpec {
                     start: StartAt::Unknowns(x),
                     budget,
