@@ -159,6 +159,11 @@ pub struct RunOptions {
     /// extrapolated one ([`nsga::NewtonOptions::predict_start`]): the paper's start, to compare
     /// with.
     pub skip_predicted_start: bool,
+    /// nsga options set by name after all of the above, each `NAME=VALUE`
+    /// ([`nsga::Options::set`]: `tuning.held_evaluations=4`, `policy.max_halvings=0`):
+    /// to measure what one constant or one stage of the step's policy is worth
+    /// (`scripts/reference_workload.py --variant`).
+    pub tuning: Vec<String>,
     /// A flag another thread may set to end the run after its current step, as a
     /// `ControlFlow::Break` of [`simulate_until`] would (a sweep that is interrupted
     /// stops every run it has started this way).
@@ -358,7 +363,7 @@ impl serde::Serialize for RunError {
 /// Bad run options (t_end, prox).
 pub fn stepper_options(scene: &Scene, options: &RunOptions) -> Result<Options, BlockstackError> {
     let s = &scene.solver;
-    let opts = Options {
+    let mut opts = Options {
         dt: s.dt,
         rho_inf: s.rho_inf,
         prox: options.prox.unwrap_or(s.prox),
@@ -392,6 +397,10 @@ pub fn stepper_options(scene: &Scene, options: &RunOptions) -> Result<Options, B
         },
         ..Options::default()
     };
+    for assignment in &options.tuning {
+        opts.set(assignment)
+            .map_err(|e| BlockError::Scene(format!("solver options: {e}")))?;
+    }
     opts.validate()
         .map_err(|e| BlockError::Scene(format!("solver options: {e}")))?;
     Ok(opts)

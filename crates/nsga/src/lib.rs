@@ -94,6 +94,7 @@
 
 #![warn(missing_docs)]
 
+mod assign;
 pub mod attempt;
 mod coulomb_lcp;
 pub mod error;
