@@ -14,8 +14,8 @@
 //!   `max_energy_increase`).
 //! - **A step that does not converge** goes through nsga's fallback policy
 //!   ([`nsga::Stepper::step`], docs/method.md §8), configured here by
-//!   [`stepper_options`]: other ρ∞ only after a singular Newton matrix
-//!   ([`RHO_INF_RETRY`]); when the index sets alternate, re-solves with each distinct set
+//!   [`stepper_options`]: no retries with other ρ∞ (they did not pay); when the index
+//!   sets alternate, re-solves with each distinct set
 //!   fixed, continuing with the first self-consistent candidate (a branch point,
 //!   ERRATA 22), recorded with the number of sets tried and of distinct converged
 //!   states; then the step as two half steps with this same policy (up to
@@ -39,8 +39,7 @@ use crate::stack::StackContacts;
 use crate::stepping::CornerStepping;
 use crate::system::StackSystem;
 use nsga::{
-    LinearOptions, NewtonOptions, Options, PolicyOptions, RhoInfRetry, SolverChoice, StepError,
-    Stepper,
+    LinearOptions, NewtonOptions, Options, PolicyOptions, SolverChoice, StepError, Stepper,
 };
 use std::ops::ControlFlow;
 use std::time::Instant;
@@ -112,18 +111,6 @@ pub const MAX_OPENINGS_PER_UPDATE: usize = 1;
 
 /// Newton iterations per attempt before nsga gives it up.
 pub const MAX_NEWTON_ITERATIONS: usize = 40;
-
-/// Which failed attempts nsga retries with other ρ∞ (thesis §4.2): only those stopped by
-/// a singular Newton matrix, the case the thesis introduces the retries for. A step
-/// whose index sets cycle goes straight to the fixed-set re-solves, then to halving.
-///
-/// Retried after every failure (`RhoInfRetry::AnyFailure`), the four other ρ∞ of
-/// `nsga::Options` seldom converge: their attempts mostly retrace the first attempt's
-/// cycle of sets to the same residuals. Over the Lire collapse on a floor and 99
-/// neighbours (`cargo run --release -p blockstack --example lire_nearby 100 --floor`)
-/// they cost 14 % of the linear solves: 1037 per run against 893 with this choice, with no run stopped by an
-/// error either way and 2.9 against 2.7 steps per run needing a fallback.
-pub const RHO_INF_RETRY: RhoInfRetry = RhoInfRetry::SingularMatrix;
 
 /// Choices of a run that are not part of the scene.
 #[derive(Debug, Clone, Default)]
@@ -389,7 +376,9 @@ pub fn stepper_options(scene: &Scene, options: &RunOptions) -> Result<Options, B
             branch_rule: options.branch_rule,
             probe_flips: options.probe_flips,
             retry_without_friction_shift: true,
-            rho_inf_retry: RHO_INF_RETRY,
+            // No ρ∞ retries (thesis §4.2): they paid less than 1 % on the reference
+            // workload (docs/method.md §8.3, "The stages measured").
+            rho_inf_retries: Vec::new(),
             max_halvings: MAX_HALVINGS,
             boundary_resolves: options.explore_branches,
             last_resort: !options.skip_last_resort,

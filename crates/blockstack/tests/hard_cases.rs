@@ -668,13 +668,12 @@ fn a_tall_column_moving_with_its_base_tips_as_one_body_at_the_coarse_step() {
 }
 
 /// The linear solves of a run add up by the stage of the step's policy that made them.
-/// The matrix's worst column (n = 6, ω = 2, μ = 0.3) to its end, t = 20, fails eight
-/// steps, one of which goes through only as halves; on the way, ρ∞ retries (after a
-/// singular first attempt), fixed-set re-solves and steps without the friction shift
-/// make linear solves of their own. (To t = 10 it used to halve two steps; since the
-/// first attempts keep regularized factors, docs/method.md §7, it halves none there.
-/// Its first 5 time units had a ρ∞ retry until the held sets' release was judged
-/// against the laws' residual, docs/method.md §8.2, stage 1.)
+/// The matrix's worst column (n = 6, ω = 2, μ = 0.3) to its end, t = 20, fails steps,
+/// one of which goes through only as halves; on the way, fixed-set re-solves and steps
+/// without the friction shift make linear solves of their own. blockstack runs no ρ∞
+/// retries: they paid less than 1 % on the reference workload (docs/method.md §8.3).
+/// (To t = 10 it used to halve two steps; since the first attempts keep regularized
+/// factors, docs/method.md §7, it halves none there.)
 #[test]
 fn linear_solves_are_counted_by_the_stage_that_made_them() {
     let s = shaken(6, 2.0, 0.3, 20.0);
@@ -683,7 +682,7 @@ fn linear_solves_are_counted_by_the_stage_that_made_them() {
     assert_eq!(by_stage.total(), s.linear_solves, "{by_stage:?}");
     assert!(s.failed_steps > 0 && s.split_steps > 0);
     assert!(by_stage.first_attempt > 0, "{by_stage:?}");
-    assert!(by_stage.rho_retries > 0, "{by_stage:?}");
+    assert_eq!(by_stage.rho_retries, 0, "{by_stage:?}");
     assert!(by_stage.unshifted > 0, "{by_stage:?}");
     assert!(by_stage.first_attempt < s.linear_solves, "{by_stage:?}");
 }
