@@ -20,7 +20,10 @@
 pub struct Tuning {
     /// Residual reduction a simplified Newton update must reach; below it the next
     /// update is exact (see [`crate::LinearOptions::reuse_factorization`]). A callgrind
-    /// sweep of 0.1–0.5 on the Lire collapse: none 3 % better.
+    /// sweep of 0.1–0.5 on the Lire collapse: none 3 % better. With the harness
+    /// (`scripts/reference_workload.py target/release/rollstack --repeat 1 --variant tuning.reuse_contraction=0.2`): the 135-run matrix takes 344 099 linear solves
+    /// against 367 717 (−6.4 %), the Lire collapse 56 against 71, but on a floor 1147
+    /// against 567.
     pub reuse_contraction: f64,
     /// Simplified Newton updates in a row before an exact one (see
     /// [`crate::LinearOptions::reuse_factorization`]). 4 or 8 on the Lire collapse: none
@@ -58,7 +61,9 @@ pub struct Tuning {
     /// in the held-sets attempt (a held solve that converges does so within a few
     /// quadratic updates). Measured with the harness
     /// (`scripts/reference_workload.py target/release/rollstack --repeat 1 --variant tuning.held_evaluations=4`): the matrix takes 364 629 linear solves against
-    /// 369 344 (−1.3 %), the other workloads the same: under 5 % either way.
+    /// 369 344 (−1.3 %), the other workloads the same: under 5 % either way. With 16
+    /// (after the ρ∞ retries left blockstack): 367 707 against 367 717, the rest the
+    /// same.
     pub held_evaluations: usize,
     /// The held-sets attempt releases the held sets when an update reduces their
     /// residual by less than this factor. With the harness
@@ -84,7 +89,9 @@ pub struct Tuning {
     /// 10 --omega 2 --amplitude 0.001 --mu 0.2 --steps-per-period 314 --t-end 1 --json
     /// --force`), whose corners rock, 6 updates cost 113 linear solves against 77
     /// without prediction, 2 updates cost 91; with 1, 95 586 evaluations over 40 Lire
-    /// collapses against 78 929.
+    /// collapses against 78 929. With the harness
+    /// (`scripts/reference_workload.py target/release/rollstack --repeat 1 --variant tuning.predicted_start_iterations=4`): the matrix 359 137 linear solves against
+    /// 367 717 (−2.3 %), but the floor landing 1269 against 567.
     pub predicted_start_iterations: usize,
     /// Largest ratio of the position correction to the step's motion,
     ///
@@ -109,7 +116,9 @@ pub struct Tuning {
     /// rediscover each at the cost of a failed plain factorization and a dense LU. Over
     /// the Lire collapse on a floor and 99 neighbours (`cargo run --release -p blockstack
     /// --example lire_nearby 100 --floor`) that took 938 linear solves per run, against
-    /// 810 remembering the normal sets of the last 16; 64 and 1024 cost more.
+    /// 810 remembering the normal sets of the last 16; 64 and 1024 cost more. With the
+    /// harness (`scripts/reference_workload.py target/release/rollstack --repeat 1 --variant tuning.singular_sets_kept=8`): the matrix 366 523 linear solves against
+    /// 367 717, the other workloads the same.
     pub singular_sets_kept: usize,
     /// Open contacts are pruned when their gap exceeds this many Δt times their gap
     /// rate (plus Δt² times their gap acceleration): they cannot close within the step,
