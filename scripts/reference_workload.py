@@ -1,20 +1,28 @@
 #!/usr/bin/env python3
-"""The solver's reference workload, measured with one or more `rollstack` binaries.
+"""The solver's reference workload, measured with one binary's variants or several binaries.
 
+    scripts/reference_workload.py [--repeat N] [--only NAME,...] BIN [--variant "NAME=VALUE ..."]...
     scripts/reference_workload.py [--repeat N] [--only NAME,...] BIN [BIN ...]
 
 The workload every change of the step's policy or of a tuning constant is judged on
-(docs/method.md §8): the 135-run shaken-column matrix, the Lire collapse and its landing
-on a floor, a 30-block column kicked by its moving base, and the cylinder pair. To
-measure a constant's effect, build the binary twice (with the constant's two values,
-`cargo build --release -p rollstack` and a copy of target/release/rollstack), then pass
-both binaries: the runs alternate between them, and the table gives, per workload and
-binary, the machine-independent work (linear solves, failed steps, last-resort steps)
-and the solver time (median over the repeats, with its range).
+(docs/method.md, appendix): the 135-run shaken-column matrix, the Lire collapse and its
+landing on a floor, a 30-block column kicked by its moving base, and the cylinder pair.
+
+To measure a constant or a stage, give one binary and a variant per value: each variant
+is one or more `NAME=VALUE` assignments of nsga's options (separated by spaces), passed
+to every command as the hidden `--tuning NAME=VALUE` flag (`nsga::Options::set`):
+`--variant tuning.held_evaluations=4`, `--variant policy.max_halvings=0`,
+`--variant "policy.explore_branches=false policy.boundary_resolves=false"`. Or give
+several binaries (a change that is not an option). The runs alternate between the
+configurations, the first (the binary as it is) being the reference; the table gives,
+per workload and configuration, the machine-independent work (linear solves, failed
+steps, last-resort steps, unresolved runs: those a step nothing resolved ended), the
+solver time per step (median over the repeats, with its range), and the ratios of the
+linear solves and of the median time to the reference's.
 
 Counts are deterministic; times are not (a shared machine is noisy: quote medians and
-ratios). Needs only Python 3 and the binaries; writes its sweep directories under a
-temporary directory that it removes.
+ratios, and judge on the counts first). Needs only Python 3 and the binaries; writes
+its sweep directories under a temporary directory that it removes.
 """
 import argparse
 import json
@@ -42,17 +50,28 @@ WORKLOADS = {
 }
 
 
-def run(binary, name, tmp, repeat):
+def run(config, name, tmp, repeat):
     """One run of workload `name`: (counts, solver seconds, worst µs per step)."""
+    binary, tuning = config["binary"], config["tuning"]
     args = list(WORKLOADS[name])
     if name == "matrix":
         # A directory of its own for each run: a sweep run again into the same --out
         # resumes from its row log and would report the first run's rows and times.
-        args += ["--out", f"{tmp}/{name}-{abs(hash(binary))}-{repeat}"]
+        args += ["--out", f"{tmp}/{name}-{config['index']}-{repeat}"]
+    for assignment in tuning:
+        args += ["--tuning", assignment]
     out = subprocess.run([binary, *args], capture_output=True, text=True, check=False)
-    if out.returncode not in (0, 3):
+    try:
+        report = json.loads(out.stdout)
+    except json.JSONDecodeError:
+        report = None
+    if report is None or out.returncode not in (0, 3):
+        # A run that a step nothing resolves ends without its report (the cylinder pair):
+        # one unresolved run, no counts.
+        if tuning and "--tuning:" not in out.stderr:
+            print(f"{name} {config['label']}: {out.stderr.strip()}", file=sys.stderr)
+            return {"runs": 1, "unresolved": 1}, 0.0, 0.0
         sys.exit(f"{binary} {' '.join(args)}: exit {out.returncode}\n{out.stderr}")
-    report = json.loads(out.stdout)
     rows = report["rows"] if name == "matrix" else [report]
     def total(key):
         # "–" where the command does not report the count (the cylinder pair's JSON has
@@ -62,7 +81,7 @@ def run(binary, name, tmp, repeat):
         return sum((r.get(key) or 0) for r in rows)
     counts = {
         "runs": len(rows),
-        "errors": sum(1 for r in rows if r.get("error")),
+        "unresolved": sum(1 for r in rows if r.get("error")),
         "linear_solves": total("linear_solves"),
         "failed_steps": total("failed_steps"),
         "fallback_steps": total("fallback_steps"),
@@ -74,10 +93,28 @@ def run(binary, name, tmp, repeat):
     return counts, sum(seconds), worst
 
 
+def configurations(binaries, variants):
+    """The binaries as they are, then the first binary with each variant."""
+    configs = [{"binary": b, "tuning": [], "label": b} for b in binaries]
+    configs += [{"binary": binaries[0], "tuning": v.split(), "label": v} for v in variants]
+    for i, c in enumerate(configs):
+        c["index"] = i
+    return configs
+
+
+def ratio(value, reference):
+    """value / reference as text, "–" where either is not a positive number."""
+    if not (isinstance(value, (int, float)) and isinstance(reference, (int, float))) or reference <= 0:
+        return "–"
+    return f"{value / reference:.3f}"
+
+
 def main():
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     p.add_argument("binaries", nargs="+", metavar="BIN")
-    p.add_argument("--repeat", type=int, default=3, help="runs per workload and binary (3)")
+    p.add_argument("--variant", action="append", default=[], metavar="'NAME=VALUE ...'",
+                   help="run the first binary with these --tuning assignments too (repeatable)")
+    p.add_argument("--repeat", type=int, default=3, help="runs per workload and configuration (3)")
     p.add_argument("--only", default=",".join(WORKLOADS),
                    help=f"comma list of workloads (default all: {','.join(WORKLOADS)})")
     p.add_argument("--json", action="store_true", help="print the table as JSON")
@@ -88,37 +125,48 @@ def main():
             p.error(f"--only: unknown workload {n!r}; the workloads are {', '.join(WORKLOADS)}")
     if a.repeat < 1:
         p.error("--repeat must be at least 1")
+    for v in a.variant:
+        if not v.split() or any("=" not in x for x in v.split()):
+            p.error(f"--variant {v!r}: expected NAME=VALUE assignments separated by spaces")
+    configs = configurations(a.binaries, a.variant)
     table = []
     with tempfile.TemporaryDirectory() as tmp:
         for name in names:
-            results = {b: [] for b in a.binaries}
+            results = [[] for _ in configs]
             for i in range(a.repeat):
-                for b in a.binaries:
-                    results[b].append(run(b, name, tmp, i))
-                    print(f"{name}: {b} run {i + 1}/{a.repeat}", file=sys.stderr)
-            for b, rs in results.items():
+                for c in configs:
+                    results[c["index"]].append(run(c, name, tmp, i))
+                    print(f"{name}: {c['label']} run {i + 1}/{a.repeat}", file=sys.stderr)
+            reference = None
+            for c, rs in zip(configs, results):
                 counts = rs[0][0]
                 if any(r[0] != counts for r in rs):
-                    print(f"warning: {name} with {b}: counts differ between repeats", file=sys.stderr)
-                steps = counts["steps"] if isinstance(counts["steps"], int) else 1
+                    print(f"warning: {name} with {c['label']}: counts differ between repeats",
+                          file=sys.stderr)
+                steps = counts.get("steps") if isinstance(counts.get("steps"), int) else 1
                 us = [1e6 * r[1] / max(steps, 1) for r in rs]
-                table.append({"workload": name, "binary": b, **counts,
-                              "us_per_step_median": statistics.median(us),
-                              "us_per_step_min": min(us), "us_per_step_max": max(us),
-                              "worst_run_us_per_step": statistics.median(1e6 * r[2] for r in rs)})
+                row = {"workload": name, "config": c["label"], **counts,
+                       "us_per_step_median": statistics.median(us),
+                       "us_per_step_min": min(us), "us_per_step_max": max(us),
+                       "worst_run_us_per_step": statistics.median(1e6 * r[2] for r in rs)}
+                reference = reference or row
+                row["solves_ratio"] = ratio(row.get("linear_solves"), reference.get("linear_solves"))
+                row["time_ratio"] = ratio(row["us_per_step_median"], reference["us_per_step_median"])
+                table.append(row)
     if a.json:
         print(json.dumps(table, indent=1))
         return
-    head = ("workload", "binary", "runs", "errors", "linear_solves", "failed_steps",
-            "fallback_steps", "steps", "newton_iterations", "µs/step median (range)",
-            "worst run µs/step")
+    head = ("workload", "configuration", "runs", "unresolved", "linear_solves", "failed_steps",
+            "last-resort steps", "steps", "newton_iterations", "µs/step median (range)",
+            "worst run µs/step", "solves ratio", "time ratio")
     print(" | ".join(head))
     for r in table:
         print(" | ".join(str(x) for x in (
-            r["workload"], r["binary"], r["runs"], r["errors"], r["linear_solves"],
-            r["failed_steps"], r["fallback_steps"], r["steps"], r["newton_iterations"],
+            r["workload"], r["config"], r["runs"], r["unresolved"], r.get("linear_solves", "–"),
+            r.get("failed_steps", "–"), r.get("fallback_steps", "–"), r.get("steps", "–"),
+            r.get("newton_iterations", "–"),
             f"{r['us_per_step_median']:.1f} ({r['us_per_step_min']:.1f}–{r['us_per_step_max']:.1f})",
-            f"{r['worst_run_us_per_step']:.0f}")))
+            f"{r['worst_run_us_per_step']:.0f}", r["solves_ratio"], r["time_ratio"])))
 
 
 if __name__ == "__main__":

@@ -139,10 +139,8 @@ impl<'a> StackWalker<'a> {
     ) -> Result<Self, BlockError> {
         // Forks are found where a first attempt fails: the low-rank updates, which make
         // more first attempts converge, would pass some of them unnoticed.
-        let opts = nsga::Options {
-            low_rank_updates: false,
-            ..stepper_options(scene, options)?
-        };
+        let mut opts = stepper_options(scene, options)?;
+        opts.linear.low_rank_updates = false;
         Self::start(scene, opts, steps, settings, false)
             .map_err(|(e, _)| BlockError::Scene(format!("consistent start failed: {e}")))
     }

@@ -115,7 +115,7 @@ fn window_continuations(
 ) -> Option<usize> {
     let mut options = walker.options().clone();
     options.dt /= f64::from(parts);
-    options.branch_rule = BranchRule::SelfConsistent;
+    options.policy.branch_rule = BranchRule::SelfConsistent;
     if let Some(p) = prox {
         options.prox = p;
     }

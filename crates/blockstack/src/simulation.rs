@@ -14,18 +14,18 @@
 //!   `max_energy_increase`).
 //! - **A step that does not converge** goes through nsga's fallback policy
 //!   ([`nsga::Stepper::step`], docs/method.md §8), configured here by
-//!   [`stepper_options`]: other ρ∞ only after a singular Newton matrix
-//!   ([`RHO_INF_RETRY`]); when the index sets alternate, re-solves with each distinct set
+//!   [`stepper_options`]: no retries with other ρ∞ (they did not pay); when the index
+//!   sets alternate, re-solves with each distinct set
 //!   fixed, continuing with the first self-consistent candidate (a branch point,
 //!   ERRATA 22); then the step as two half steps with this same policy (up to
 //!   [`MAX_HALVINGS`] times); finally re-solves that accept friction laws sitting
-//!   exactly on their stick–slip bound ([`nsga::Options::boundary_resolves`]). These
+//!   exactly on their stick–slip bound ([`nsga::PolicyOptions::boundary_resolves`]). These
 //!   re-solves are part of every run's solver: [`RunOptions::explore_branches`] and
 //!   [`RunOptions::branch_rule`] only decide which branch points are recorded, so a
 //!   run's trajectory is the same whatever they are.
 //! - **Redundant contacts**: a toppled column resting on the table edge and on the floor
 //!   with several corners touches at more points than it has degrees of freedom; nsga's
-//!   regularized Newton update ([`nsga::Options::regularization`]) carries it.
+//!   regularized Newton update ([`nsga::LinearOptions::regularization`]) carries it.
 //! - **Errors**: a step that fails after every fallback ends the run; the summary up to
 //!   it carries the typed error ([`RunError`], with the state it failed at), it is not
 //!   an `Err`.
@@ -39,7 +39,7 @@ use crate::scene::Scene;
 use crate::scene_info::{Defaults, SceneReport, SceneWarning};
 use crate::stack::StackContacts;
 use nsga::explore::Walker;
-use nsga::{Options, RhoInfRetry, SolverChoice, StepError};
+use nsga::{LinearOptions, NewtonOptions, Options, PolicyOptions, SolverChoice, StepError};
 use std::ops::ControlFlow;
 
 pub use crate::time_guard::{run_cost, RunCost, SECONDS_PER_BLOCK_STEP, TIME_BOUND_S};
@@ -73,7 +73,7 @@ pub const PENETRATION_TOL: f64 = 1e-6;
 /// blocks collapsing into piles (docs/method.md §7, "Crossovers") take 14.0 s of solver
 /// time instead of 20.0 s. Above it, the banded matrix of a tall column needs the sparse
 /// solver. Both small solvers detect the singular matrices of redundant contacts by their
-/// pivots (see `nsga::Options::regularization`).
+/// pivots (see `nsga::LinearOptions::regularization`).
 pub const SMALL_LU_UP_TO: usize = 384;
 
 /// How often a step that fails after every retry and re-solve may be halved (a
@@ -92,7 +92,7 @@ pub const SMALL_LU_UP_TO: usize = 384;
 /// that contains it is split again), not 2^level substeps.
 pub const MAX_HALVINGS: usize = 10;
 
-/// Halvings allowed in the line search of each Newton update (`nsga::Options::line_search`).
+/// Halvings allowed in the line search of each Newton update (`nsga::NewtonOptions::line_search`).
 /// Measured on the Lire collapse on a floor and 29 neighbours (`cargo run --release -p
 /// blockstack --example lire_nearby 30 --floor`): with 3, failed steps fall from 6.5 to
 /// 3.3 per run and linear solves by 5 %; more halvings change nothing. The held-sets
@@ -101,7 +101,7 @@ pub const MAX_HALVINGS: usize = 10;
 pub const LINE_SEARCH_HALVINGS: usize = 3;
 
 /// Openings per Newton update in nsga's held-sets attempt
-/// (`nsga::Options::max_openings_per_update`), the first attempt at each step of a
+/// (`nsga::NewtonOptions::max_openings_per_update`), the first attempt at each step of a
 /// column with more contacts than [`MAX_NEWTON_ITERATIONS`]. With one opening per
 /// update, a 300-block column moving with its base tips as one body: to t = 0.5 it
 /// takes 13 linear solves instead of 5393.
@@ -109,18 +109,6 @@ pub const MAX_OPENINGS_PER_UPDATE: usize = 1;
 
 /// Newton iterations per attempt before nsga gives it up.
 pub const MAX_NEWTON_ITERATIONS: usize = 40;
-
-/// Which failed attempts nsga retries with other ρ∞ (thesis §4.2): only those stopped by
-/// a singular Newton matrix, the case the thesis introduces the retries for. A step
-/// whose index sets cycle goes straight to the fixed-set re-solves, then to halving.
-///
-/// Retried after every failure (`RhoInfRetry::AnyFailure`), the four other ρ∞ of
-/// `nsga::Options` seldom converge: their attempts mostly retrace the first attempt's
-/// cycle of sets to the same residuals. Over the Lire collapse on a floor and 99
-/// neighbours (`cargo run --release -p blockstack --example lire_nearby 100 --floor`)
-/// they cost 14 % of the linear solves: 1037 per run against 893 with this choice, with no run stopped by an
-/// error either way and 2.9 against 2.7 steps per run needing a fallback.
-pub const RHO_INF_RETRY: RhoInfRetry = RhoInfRetry::SingularMatrix;
 
 /// Choices of a run that are not part of the scene. The defaults are those of the
 /// command line and of the Python module (a test of the command line checks it).
@@ -143,7 +131,7 @@ pub struct RunOptions {
     /// ([`crate::exploration`]) follows every recorded one.
     pub branch_rule: nsga::BranchRule,
     /// Probe every converged step for other solutions by flipping one touching contact
-    /// ([`nsga::Options::probe_flips`]; costly, for exploring).
+    /// ([`nsga::PolicyOptions::probe_flips`]; costly, for exploring).
     pub probe_flips: bool,
     /// For the sweeps' rows: explore up to this many branches of each run
     /// ([`crate::exploration`]) and report the spread of the row's value over them
@@ -151,19 +139,24 @@ pub struct RunOptions {
     pub spread_branches: usize,
     /// Stop as soon as `failure_time` is known (sweeps).
     pub stop_at_failure: bool,
-    /// Leave out the last resort ([`nsga::Options::last_resort`]): a step nothing else
+    /// Leave out the last resort ([`nsga::PolicyOptions::last_resort`]): a step nothing else
     /// resolves then ends the run (to see what the generalized-α scheme alone does).
     pub skip_last_resort: bool,
     /// Factorize the Newton matrix whenever the index sets differ from those of its kept
     /// factors, as the paper does, instead of updating the kept factors for the changed
-    /// rows ([`nsga::Options::low_rank_updates`]). The exploration of branches
+    /// rows ([`nsga::LinearOptions::low_rank_updates`]). The exploration of branches
     /// ([`crate::exploration`]) always does: it finds forks where a first attempt fails,
     /// and the updates converge through some of them unnoticed.
     pub skip_low_rank_updates: bool,
     /// Start every step's Newton iteration from the last solution, never from the
-    /// extrapolated one ([`nsga::Options::predict_start`]): the paper's start, to compare
+    /// extrapolated one ([`nsga::NewtonOptions::predict_start`]): the paper's start, to compare
     /// with.
     pub skip_predicted_start: bool,
+    /// nsga options set by name after all of the above, each `NAME=VALUE`
+    /// ([`nsga::Options::set`]: `tuning.held_evaluations=4`, `policy.max_halvings=0`):
+    /// to measure what one constant or one stage of the step's policy is worth
+    /// (`scripts/reference_workload.py --variant`).
+    pub tuning: Vec<String>,
     /// A flag another thread may set to end the run after its current step, as a
     /// `ControlFlow::Break` of [`simulate_until`] would (a sweep that is interrupted
     /// stops every run it has started this way).
@@ -184,6 +177,7 @@ impl Default for RunOptions {
             skip_low_rank_updates: false,
             skip_predicted_start: false,
             cancel: None,
+            tuning: Vec::new(),
         }
     }
 }
@@ -290,7 +284,7 @@ pub struct RunSummary {
     pub fallback_residual: f64,
     /// Steps taken without the friction percussions' half-step shift, where the
     /// paper's step had no self-consistent index sets
-    /// ([`nsga::Options::retry_without_friction_shift`]).
+    /// ([`nsga::PolicyOptions::retry_without_friction_shift`]).
     pub unshifted_steps: usize,
     /// Why the consistent start failed, where the run started without it and took its
     /// first step by the last resort ([`nsga::Stepper::start_failure`]); `None` after a
@@ -395,33 +389,47 @@ impl serde::Serialize for RunError {
 /// Bad run options (t_end, prox).
 pub fn stepper_options(scene: &Scene, options: &RunOptions) -> Result<Options, BlockstackError> {
     let s = &scene.solver;
-    let opts = Options {
+    let mut opts = Options {
         dt: s.dt,
         rho_inf: s.rho_inf,
         prox: options.prox.unwrap_or(s.prox),
         tol: s.tol,
-        max_iter: MAX_NEWTON_ITERATIONS,
-        max_iter_per_contact: 1,
-        // Solver stages of every run; `RunOptions::explore_branches` only records.
-        explore_branches: true,
-        branch_rule: options.branch_rule,
-        probe_flips: options.probe_flips,
-        // Markowitz LU for the small scenes of the thesis, faer's sparse LU for tall
-        // columns (the Newton matrix of a chain is banded).
-        solver: SolverChoice::Markowitz(SMALL_LU_UP_TO),
-        prune_open_contacts: true,
-        reuse_factorization: true,
-        low_rank_updates: !options.skip_low_rank_updates,
-        retry_without_friction_shift: true,
-        predict_start: !options.skip_predicted_start,
-        line_search: LINE_SEARCH_HALVINGS,
-        rho_inf_retry: RHO_INF_RETRY,
-        max_halvings: MAX_HALVINGS,
-        boundary_resolves: true,
-        last_resort: !options.skip_last_resort,
-        max_openings_per_update: MAX_OPENINGS_PER_UPDATE,
+        newton: NewtonOptions {
+            max_iter: MAX_NEWTON_ITERATIONS,
+            max_iter_per_contact: 1,
+            prune_open_contacts: true,
+            predict_start: !options.skip_predicted_start,
+            line_search: LINE_SEARCH_HALVINGS,
+            max_openings_per_update: MAX_OPENINGS_PER_UPDATE,
+        },
+        linear: LinearOptions {
+            // Markowitz LU for the small scenes of the thesis, faer's sparse LU for tall
+            // columns (the Newton matrix of a chain is banded).
+            solver: SolverChoice::Markowitz(SMALL_LU_UP_TO),
+            reuse_factorization: true,
+            low_rank_updates: !options.skip_low_rank_updates,
+            ..LinearOptions::default()
+        },
+        policy: PolicyOptions {
+            // Solver stages of every run; `RunOptions::explore_branches` only records.
+            explore_branches: true,
+            branch_rule: options.branch_rule,
+            probe_flips: options.probe_flips,
+            retry_without_friction_shift: true,
+            // No ρ∞ retries (thesis §4.2): they paid less than 1 % on the reference
+            // workload (docs/method.md §8.3, "The stages measured").
+            rho_inf_retries: Vec::new(),
+            max_halvings: MAX_HALVINGS,
+            boundary_resolves: true,
+            last_resort: !options.skip_last_resort,
+            ..PolicyOptions::default()
+        },
         ..Options::default()
     };
+    for assignment in &options.tuning {
+        opts.set(assignment)
+            .map_err(|e| BlockError::Scene(format!("solver options: {e}")))?;
+    }
     opts.validate()
         .map_err(|e| BlockError::Scene(format!("solver options: {e}")))?;
     Ok(opts)

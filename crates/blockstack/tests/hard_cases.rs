@@ -83,7 +83,7 @@ fn a_block_at_the_limit_of_its_interface_costs_no_deep_halvings() {
     assert!(s.min_gap >= -1e-8, "gap {}", s.min_gap);
 }
 
-/// The low-rank updates of the kept factors (`nsga::Options::low_rank_updates`,
+/// The low-rank updates of the kept factors (`nsga::LinearOptions::low_rank_updates`,
 /// docs/method.md §7): where a Newton iterate's index sets differ from the kept factors'
 /// in a few rows, those rows are replaced by the Sherman–Morrison–Woodbury formula
 /// instead of factorizing the matrix anew. Over the first 382 steps of n = 6, ω = 24,
@@ -643,7 +643,7 @@ fn a_tall_column_moving_with_its_base_tips_as_one_body_at_the_static_limit() {
 /// At Δt ≈ 0.01 the tipping step also has a solution in which a band of interfaces in
 /// the middle of the column opens, and free Newton reaches it after hundreds of updates
 /// (docs/method.md §8.2, "The tipping step has two solutions"). The held-sets attempt
-/// (`nsga::Options::max_openings_per_update`) keeps the previous step's sets and opens
+/// (`nsga::NewtonOptions::max_openings_per_update`) keeps the previous step's sets and opens
 /// the base corner alone: the column tips as one body, as at Δt ≈ 0.001, in a handful
 /// of factorizations for the whole run (free Newton: 1744 to t = 0.3).
 #[test]
@@ -668,13 +668,12 @@ fn a_tall_column_moving_with_its_base_tips_as_one_body_at_the_coarse_step() {
 }
 
 /// The linear solves of a run add up by the stage of the step's policy that made them.
-/// The matrix's worst column (n = 6, ω = 2, μ = 0.3) to its end, t = 20, fails eight
-/// steps, one of which goes through only as halves; on the way, ρ∞ retries (after a
-/// singular first attempt), fixed-set re-solves and steps without the friction shift
-/// make linear solves of their own. (To t = 10 it used to halve two steps; since the
-/// first attempts keep regularized factors, docs/method.md §7, it halves none there.
-/// Its first 5 time units had a ρ∞ retry until the held sets' release was judged
-/// against the laws' residual, docs/method.md §8.2, stage 1.)
+/// The matrix's worst column (n = 6, ω = 2, μ = 0.3) to its end, t = 20, fails steps,
+/// one of which goes through only as halves; on the way, fixed-set re-solves and steps
+/// without the friction shift make linear solves of their own. blockstack runs no ρ∞
+/// retries: they paid less than 1 % on the reference workload (docs/method.md §8.3).
+/// (To t = 10 it used to halve two steps; since the first attempts keep regularized
+/// factors, docs/method.md §7, it halves none there.)
 #[test]
 fn linear_solves_are_counted_by_the_stage_that_made_them() {
     let s = shaken(6, 2.0, 0.3, 20.0);
@@ -683,7 +682,7 @@ fn linear_solves_are_counted_by_the_stage_that_made_them() {
     assert_eq!(by_stage.total(), s.linear_solves, "{by_stage:?}");
     assert!(s.failed_steps > 0 && s.split_steps > 0);
     assert!(by_stage.first_attempt > 0, "{by_stage:?}");
-    assert!(by_stage.rho_retries > 0, "{by_stage:?}");
+    assert_eq!(by_stage.rho_retries, 0, "{by_stage:?}");
     assert!(by_stage.unshifted > 0, "{by_stage:?}");
     assert!(by_stage.first_attempt < s.linear_solves, "{by_stage:?}");
 }

@@ -382,7 +382,7 @@ fn a_cancelled_run_stops_after_its_current_step() {
     assert!(s.error.is_none());
 }
 
-/// The predicted Newton start ([`nsga::Options::predict_start`]) halves the updates of
+/// The predicted Newton start ([`nsga::NewtonOptions::predict_start`]) halves the updates of
 /// the Lire collapse's smooth phases and leaves its motion as it was: up to t = 5, before
 /// its first fork, the poses agree to far below the scheme's error at this Δt.
 #[test]

@@ -128,7 +128,7 @@ fn bad_inputs_are_rejected_with_one_line() {
 #[test]
 fn the_contact_opens_and_closes_again() {
     use cylinders::transport::PairTransport;
-    use nsga::{Options, Stepper, System};
+    use nsga::{Options, PolicyOptions, Stepper, System};
     let theta = 0.5;
     let mut sys = PairTransport::thesis(theta);
     sys.spin = SpinProfile {
@@ -139,8 +139,11 @@ fn the_contact_opens_and_closes_again() {
     };
     let (q0, u0) = sys.initial_state(theta).unwrap();
     let options = Options {
-        max_halvings: 2,
-        boundary_resolves: true,
+        policy: PolicyOptions {
+            max_halvings: 2,
+            boundary_resolves: true,
+            ..PolicyOptions::default()
+        },
         ..Options::default()
     };
     let layout = sys.layout();

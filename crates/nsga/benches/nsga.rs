@@ -10,7 +10,8 @@ use nsga::studies::ball::{run_ball, Scheme};
 use nsga::systems::ball::BallCase;
 use nsga::systems::chain::Chain;
 use nsga::{
-    DenseLu, IndexSets, LinearSolver, MarkowitzLu, Options, Prox, SolverChoice, SparseLu, Stepper,
+    DenseLu, IndexSets, LinearOptions, LinearSolver, MarkowitzLu, Options, Prox, SolverChoice,
+    SparseLu, Stepper,
 };
 use std::hint::black_box;
 
@@ -82,7 +83,10 @@ fn linear_solve(c: &mut Criterion) {
         let chain = Chain::benchmark(n);
         let (q0, u0) = chain.resting(1.0);
         let opts = Options {
-            solver: SolverChoice::Dense,
+            linear: LinearOptions {
+                solver: SolverChoice::Dense,
+                ..LinearOptions::default()
+            },
             ..Options::default()
         };
         let mut s = Stepper::new(chain, 0.0, &q0, &u0, opts).unwrap();

@@ -3,7 +3,7 @@
 //! `cargo run -p nsga --release --example chain_scaling`
 
 use nsga::systems::chain::Chain;
-use nsga::{Options, SolverChoice, Stepper};
+use nsga::{LinearOptions, NewtonOptions, Options, SolverChoice, Stepper};
 use std::time::Instant;
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
@@ -23,7 +23,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                 &q0,
                 &u0,
                 Options {
-                    solver,
+                    linear: LinearOptions {
+                        solver,
+                        ..LinearOptions::default()
+                    },
                     ..Options::default()
                 },
             )?;
@@ -57,7 +60,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             let chain = Chain::benchmark(n);
             let (q0, u0) = chain.spread(0.05, 1.0);
             let opts = Options {
-                prune_open_contacts: prune,
+                newton: NewtonOptions {
+                    prune_open_contacts: prune,
+                    ..NewtonOptions::default()
+                },
                 ..Options::default()
             };
             let mut s = Stepper::new(chain, 0.0, &q0, &u0, opts)?;

@@ -32,7 +32,7 @@ pub type AttemptOutcome = Result<Trial, AttemptFailure>;
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum RefusedBecause {
     /// Its position correction moves the bodies much farther than their motion over the
-    /// step could ([`FAR_CORRECTION`](crate::FAR_CORRECTION), docs/method.md §8.1).
+    /// step could ([`Tuning::far_correction`](crate::Tuning::far_correction), docs/method.md §8.1).
     FarSolution,
 }
 

@@ -13,8 +13,8 @@
 //!   semismooth Newton eq. 143), with a consistent start ([`start`]), retries with
 //!   other ρ∞, typed errors ([`StepError`]), statistics, readable and fixable index
 //!   sets ([`IndexSets`]) and branch-point reports ([`BranchPoint`]); optionally
-//!   simplified Newton updates from kept factors ([`Options::reuse_factorization`])
-//!   and a line search ([`Options::line_search`]);
+//!   simplified Newton updates from kept factors ([`LinearOptions::reuse_factorization`](crate::LinearOptions::reuse_factorization))
+//!   and a line search ([`NewtonOptions::line_search`](crate::NewtonOptions::line_search));
 //! * [`moreau`]: the Moreau–Jean midpoint baseline on the same trait;
 //! * [`linalg`]: dense LU, Markowitz LU and sparse LU behind [`LinearSolver`];
 //! * [`systems`]: benchmark systems with known answers (free fall, oscillator,
@@ -94,6 +94,7 @@
 
 #![warn(missing_docs)]
 
+mod assign;
 pub mod attempt;
 mod constrained_mass;
 mod coulomb_lcp;
@@ -119,6 +120,7 @@ pub mod stepper;
 pub mod studies;
 pub mod system;
 pub mod systems;
+pub mod tuning;
 
 pub use attempt::{AttemptFailure, AttemptOutcome, RefusedBecause, Trial};
 pub use error::StepError;
@@ -127,10 +129,9 @@ pub use explore::{
 };
 pub use linalg::{AutoSolver, DenseLu, LinalgError, LinearSolver, MarkowitzLu, SparseLu};
 pub use moreau::{MoreauOptions, MoreauState, MoreauStepper};
-pub use newton::{MAX_REUSES, REUSE_CONTRACTION};
 pub use options::{
-    BranchRule, FailurePolicy, Options, Prox, RhoInfRetry, SolverChoice, DEFAULT_REGULARIZATION,
-    DEFAULT_RETRY_MAX_ITER,
+    BranchRule, FailurePolicy, LinearOptions, NewtonOptions, Options, PolicyOptions, Prox,
+    RhoInfRetry, SolverChoice, DEFAULT_REGULARIZATION, DEFAULT_RETRY_MAX_ITER,
 };
 pub use params::GenAlpha;
 pub use report::{
@@ -139,8 +140,6 @@ pub use report::{
 };
 pub use sets::IndexSets;
 pub use state::{State, SAME_MOTION};
-pub use stepper::{
-    Stepper, FAR_CORRECTION, MAX_HELD_EVALUATIONS, NEGLIGIBLE_SLIP, PREDICTED_START_ITERATIONS,
-    QUICK_CHECK_ITERATIONS, SET_TIE, SINGULAR_SETS_KEPT, WILD_UPDATE,
-};
+pub use stepper::{Stepper, NEGLIGIBLE_SLIP, SET_TIE, WILD_UPDATE};
 pub use system::{Derivatives, Evaluation, FrictionLaw, Layout, Probes, Scalar, System, Triplets};
+pub use tuning::Tuning;

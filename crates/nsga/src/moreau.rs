@@ -196,6 +196,7 @@ impl<S: System> MoreauStepper<S> {
             resume_reuse: false,
             give_up: GiveUp::Never,
             contracting_extra: 0,
+            tuning: crate::Tuning::default(),
         };
         match newton::solve(
             &mut problem,

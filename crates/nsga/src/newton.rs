@@ -12,7 +12,7 @@
 //!   halvings where the full one overshoots;
 //! - **simplified Newton updates** ([`NewtonSettings::reuse_factorization`]): the kept
 //!   factors of the last Newton matrix serve while the index sets stay the same and the
-//!   residual contracts by [`REUSE_CONTRACTION`], at most [`MAX_REUSES`] times in a row;
+//!   residual contracts by [`Tuning::reuse_contraction`](crate::Tuning::reuse_contraction), at most [`Tuning::max_reuses`](crate::Tuning::max_reuses) times in a row;
 //! - the **give-up rules** ([`GiveUp`]): an attempt whose index sets settle into a cycle
 //!   without progress, or whose residual stalls with fixed sets, stops before the
 //!   iteration limit, since running on only repeats it; and the other way round, an
@@ -21,32 +21,10 @@
 //! - the **bookkeeping** a fallback policy needs: the index sets visited in first-visit
 //!   order, whether they cycled, and the best iterate.
 
+use crate::tuning::Tuning;
+
 /// Sufficient-decrease constant of the line search (see [`NewtonSettings::line_search`]).
 const ARMIJO: f64 = 1e-4;
-
-/// Residual reduction a simplified Newton update must reach; below it the next update
-/// is exact (see [`crate::Options::reuse_factorization`]).
-pub const REUSE_CONTRACTION: f64 = 0.1;
-
-/// Simplified Newton updates in a row before an exact one (see
-/// [`crate::Options::reuse_factorization`]).
-pub const MAX_REUSES: usize = 4;
-
-/// Periods (in Newton iterations) of set cycles that [`settled_cycle`] recognizes. The
-/// landings of the Lire collapse cycle with periods of 7 to 9 iterations, which with
-/// periods only up to 4 ran on to the iteration limit, and its fork with a period of 12.
-pub const CYCLE_PERIODS: std::ops::RangeInclusive<usize> = 2..=12;
-
-/// Periods from which [`settled_cycle`] takes two repetitions as evidence instead of
-/// three: two periods of 6 iterations or more span as many iterates as three of 4. The
-/// fork of the Lire collapse (t = 5.04) cycles with a period of 12, whose third period
-/// ended just at the 40 iterations of blockstack's first attempts: 8 exact updates and
-/// 29 evaluations that repeated the first two periods, after which the fixed-set
-/// re-solves found the same branch point from the same visited sets.
-pub const LONG_CYCLE: usize = 6;
-
-/// Iterations without progress after which a fixed-set solve is given up.
-pub const STALL_ITERATIONS: usize = 3;
 
 /// When an attempt stops before its iteration limit.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -78,8 +56,10 @@ pub struct NewtonSettings {
     pub give_up: GiveUp,
     /// Updates allowed beyond `max_iter` while the iterates converge: each of them at
     /// the same index sets as the iterate before and with its residual at most
-    /// [`REUSE_CONTRACTION`] times that iterate's (0: none).
+    /// [`Tuning::reuse_contraction`](crate::Tuning::reuse_contraction) times that iterate's (0: none).
     pub contracting_extra: usize,
+    /// The measured limits: reuse contraction and count, cycle periods, stall length.
+    pub tuning: Tuning,
 }
 
 /// A nonsmooth problem solved by semismooth Newton: R(x) = 0 with index sets decided at
@@ -220,6 +200,7 @@ pub fn solve<P: NewtonProblem>(
     // many in a row did, and the residual before the last update.
     let (mut reused, mut reuses, mut last_res) = (false, 0, f64::INFINITY);
     let mut may_reuse = settings.reuse_factorization;
+    let t = &settings.tuning;
     for iter in 0..=settings.max_iter + settings.contracting_extra {
         let (sets, res) = match pending.take() {
             Some(e) => e,
@@ -259,22 +240,22 @@ pub fn solve<P: NewtonProblem>(
         scratch.residuals.push(res);
         let hopeless = match settings.give_up {
             GiveUp::Never => false,
-            GiveUp::SettledCycle => settled_cycle(&scratch.history, &scratch.residuals),
-            GiveUp::Stall => stalled(&scratch.residuals),
+            GiveUp::SettledCycle => settled_cycle(&scratch.history, &scratch.residuals, t),
+            GiveUp::Stall => stalled(&scratch.residuals, t),
         };
         let converging = iter > 0
-            && res <= REUSE_CONTRACTION * last_res
+            && res <= t.reuse_contraction * last_res
             && scratch.history[scratch.history.len() - 2] == id;
         let extended = converging && iter < settings.max_iter + settings.contracting_extra;
         if (iter >= settings.max_iter && !extended) || hopeless {
             break;
         }
         // Simplified Newton while it contracts.
-        if reused && res > REUSE_CONTRACTION * last_res {
+        if reused && res > t.reuse_contraction * last_res {
             may_reuse = false;
         }
         reused =
-            may_reuse && reuses < MAX_REUSES && problem.kept_direction(x, sets, &mut scratch.dx);
+            may_reuse && reuses < t.max_reuses && problem.kept_direction(x, sets, &mut scratch.dx);
         if reused {
             reuses += 1;
         } else {
@@ -341,36 +322,38 @@ fn step_along(x: &mut [f64], scratch: &NewtonScratch, alpha: f64) {
 }
 
 /// Whether the Newton iterates have settled into a cycle of index sets that makes no
-/// progress: the last three periods (two, for periods of [`LONG_CYCLE`] or more) visit
+/// progress: the last three periods (two, for periods of [`Tuning::long_cycle`](crate::Tuning::long_cycle) or more) visit
 /// the same sets in the same order, and the smallest residual of the last period is no
-/// smaller than half that of the period before. Newton's iterates are then a discrete
+/// smaller than [`Tuning::progress`](crate::Tuning::progress) times that of the period before. Newton's iterates are then a discrete
 /// map caught in an attractor; running on to the iteration limit only repeats it.
 #[must_use]
-pub fn settled_cycle(history: &[usize], residuals: &[f64]) -> bool {
+pub fn settled_cycle(history: &[usize], residuals: &[f64], tuning: &Tuning) -> bool {
     let n = history.len();
-    CYCLE_PERIODS.into_iter().any(|p| {
-        let periods = if p >= LONG_CYCLE { 2 } else { 3 };
+    (2..=tuning.longest_cycle).any(|p| {
+        let periods = if p >= tuning.long_cycle { 2 } else { 3 };
         n >= periods * p
             && (0..(periods - 1) * p).all(|i| history[n - 1 - i] == history[n - 1 - i - p])
             && history[n - p..].iter().any(|&id| id != history[n - 1])
             && {
                 let min = |r: &[f64]| r.iter().copied().fold(f64::INFINITY, f64::min);
-                min(&residuals[n - p..]) >= 0.5 * min(&residuals[n - 2 * p..n - p])
+                min(&residuals[n - p..]) >= tuning.progress * min(&residuals[n - 2 * p..n - p])
             }
     })
 }
 
 /// Whether a Newton solve with fixed index sets has stalled: none of its last
-/// [`STALL_ITERATIONS`] residuals is below half the smallest one before them. With the
+/// [`Tuning::stall_iterations`](crate::Tuning::stall_iterations) residuals is below [`Tuning::progress`](crate::Tuning::progress) times the smallest one
+/// before them. With the
 /// sets fixed the residual is smooth and Newton converges quadratically near a solution;
 /// a residual that stops shrinking means these sets have no solution near the iterates.
 #[must_use]
-pub fn stalled(residuals: &[f64]) -> bool {
+pub fn stalled(residuals: &[f64], tuning: &Tuning) -> bool {
     let n = residuals.len();
-    n > STALL_ITERATIONS && {
-        let (before, last) = residuals.split_at(n - STALL_ITERATIONS);
+    let last_n = tuning.stall_iterations;
+    n > last_n && {
+        let (before, last) = residuals.split_at(n - last_n);
         let floor = before.iter().copied().fold(f64::INFINITY, f64::min);
-        last.iter().all(|&r| r >= 0.5 * floor)
+        last.iter().all(|&r| r >= tuning.progress * floor)
     }
 }
 
@@ -385,9 +368,13 @@ mod tests {
         let residuals = [
             1e-3, 2e-2, 1e-2, 4.7e-4, 2e-2, 1e-2, 4.7e-4, 2e-2, 1e-2, 4.7e-4,
         ];
-        assert!(settled_cycle(&history, &residuals));
+        assert!(settled_cycle(&history, &residuals, &Tuning::default()));
         // Two periods are not enough evidence.
-        assert!(!settled_cycle(&history[3..], &residuals[3..]));
+        assert!(!settled_cycle(
+            &history[3..],
+            &residuals[3..],
+            &Tuning::default()
+        ));
     }
 
     #[test]
@@ -398,29 +385,34 @@ mod tests {
         let r = [2.0e-2, 1.0e-2, 4.7e-4, 2.3e-4, 1.2e-4, 8.8e-5, 6.6e-5];
         let history: Vec<usize> = period.iter().cycle().take(14).copied().collect();
         let residuals: Vec<f64> = r.iter().cycle().take(14).copied().collect();
-        // A period of 7 is long (`LONG_CYCLE`): two repetitions settle it.
-        assert!(settled_cycle(&history, &residuals));
-        assert!(!settled_cycle(&history[..13], &residuals[..13]));
+        // A period of 7 is long (`Tuning::long_cycle`): two repetitions settle it.
+        assert!(settled_cycle(&history, &residuals, &Tuning::default()));
+        assert!(!settled_cycle(
+            &history[..13],
+            &residuals[..13],
+            &Tuning::default()
+        ));
     }
 
     #[test]
     fn short_periods_need_three_repetitions_and_long_ones_two() {
         let run = |p: usize, len: usize| {
             let history: Vec<usize> = (0..len).map(|i| i % p).collect();
-            settled_cycle(&history, &vec![1e-3; len])
+            settled_cycle(&history, &vec![1e-3; len], &Tuning::default())
         };
-        let short = LONG_CYCLE - 1;
+        let long = Tuning::default().long_cycle;
+        let short = long - 1;
         assert!(!run(short, 2 * short) && !run(short, 3 * short - 1));
         assert!(run(short, 3 * short));
-        assert!(!run(LONG_CYCLE, 2 * LONG_CYCLE - 1));
-        assert!(run(LONG_CYCLE, 2 * LONG_CYCLE));
+        assert!(!run(long, 2 * long - 1));
+        assert!(run(long, 2 * long));
     }
 
     #[test]
     fn a_cycle_that_still_makes_progress_goes_on() {
         let history = [0, 1, 0, 1, 0, 1];
         let residuals = [1e-2, 1e-2, 1e-3, 1e-3, 1e-4, 1e-4];
-        assert!(!settled_cycle(&history, &residuals));
+        assert!(!settled_cycle(&history, &residuals, &Tuning::default()));
     }
 
     #[test]
@@ -428,23 +420,23 @@ mod tests {
         // Slow convergence within one set is left to max_iter.
         let history = [3; 12];
         let residuals = [1e-3; 12];
-        assert!(!settled_cycle(&history, &residuals));
+        assert!(!settled_cycle(&history, &residuals, &Tuning::default()));
     }
 
     #[test]
     fn a_broken_pattern_is_not_a_cycle() {
         let history = [0, 1, 2, 0, 1, 2, 0, 1, 3];
         let residuals = [1e-2; 9];
-        assert!(!settled_cycle(&history, &residuals));
+        assert!(!settled_cycle(&history, &residuals, &Tuning::default()));
     }
 
     #[test]
     fn fixed_set_solves_stall_only_without_progress() {
-        assert!(!stalled(&[1.0, 0.1, 0.01, 1e-4]));
-        assert!(!stalled(&[1.0, 0.9, 0.8]));
-        assert!(stalled(&[1.0, 0.1, 0.09, 0.2, 0.06]));
+        assert!(!stalled(&[1.0, 0.1, 0.01, 1e-4], &Tuning::default()));
+        assert!(!stalled(&[1.0, 0.9, 0.8], &Tuning::default()));
+        assert!(stalled(&[1.0, 0.1, 0.09, 0.2, 0.06], &Tuning::default()));
         // Quadratic convergence after a slow start.
-        assert!(!stalled(&[1.0, 0.1, 0.09, 0.2, 0.04]));
+        assert!(!stalled(&[1.0, 0.1, 0.09, 0.2, 0.04], &Tuning::default()));
     }
 
     /// |x| − 1 = 0 written as a two-piece problem: the sign of x is its index set.
@@ -475,6 +467,7 @@ mod tests {
             resume_reuse: false,
             give_up: GiveUp::Never,
             contracting_extra: 0,
+            tuning: Tuning::default(),
         };
         let mut x = [3.0];
         let out = solve(
@@ -516,6 +509,7 @@ mod tests {
             resume_reuse: false,
             give_up: GiveUp::Never,
             contracting_extra,
+            tuning: Tuning::default(),
         };
         let mut scratch = NewtonScratch::default();
         solve(&mut Linear { rate }, &mut [1.0], &settings, &mut scratch)

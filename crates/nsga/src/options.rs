@@ -4,10 +4,9 @@
 
 use crate::error::StepError;
 use crate::linalg::MARKOWITZ_SPARSE_THRESHOLD;
+use crate::tuning::Tuning;
 #[cfg(doc)]
-use crate::newton::{MAX_REUSES, REUSE_CONTRACTION};
-#[cfg(doc)]
-use crate::{Stepper, SINGULAR_SETS_KEPT};
+use crate::Stepper;
 
 /// How the prox parameter r is chosen (docs/method.md §4).
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
@@ -90,7 +89,7 @@ pub enum FailurePolicy {
     AcceptBest,
 }
 
-/// Which failed attempts the ρ∞ retries ([`Options::rho_inf_retries`]) follow.
+/// Which failed attempts the ρ∞ retries ([`PolicyOptions::rho_inf_retries`]) follow.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize)]
 pub enum RhoInfRetry {
     /// Any attempt that fails: a singular Newton matrix, a non-finite iterate, or
@@ -106,7 +105,8 @@ pub enum RhoInfRetry {
     SingularMatrix,
 }
 
-/// Options of the stepper.
+/// Options of the stepper: the scheme (Δt, ρ∞, prox, tolerances), then one group each
+/// for the Newton iteration, its linear algebra and the policy of a step that fails.
 #[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Options {
     /// Time step Δt > 0.
@@ -117,84 +117,8 @@ pub struct Options {
     pub prox: Prox,
     /// Newton tolerance on ‖R‖∞, rows scaled to impulse units (thesis 1e-10).
     pub tol: f64,
-    /// Maximum Newton iterations per attempt. An attempt ends sooner when it cannot
-    /// converge: its iterates settle into a cycle of index sets without progress, or,
-    /// with fixed sets, its residual stalls (see `settled_cycle` and `stalled`).
-    pub max_iter: usize,
-    /// Free attempts (index sets not fixed) may take up to max(`max_iter`,
-    /// `max_iter_per_contact` × number of normal contacts) updates; 0 leaves `max_iter`
-    /// alone. Newton changes the index sets of a few contacts per update, so a system
-    /// whose contacts change state by the dozen in one step (a tall column whose
-    /// interfaces rock) needs updates in proportion to its contacts (docs/method.md
-    /// §8.2).
-    #[serde(default)]
-    pub max_iter_per_contact: usize,
-    /// Other ρ∞ values tried, in order, when a step does not converge (thesis §4.2).
-    pub rho_inf_retries: Vec<f64>,
-    /// Which failed attempts are retried with `rho_inf_retries`.
-    #[serde(default)]
-    pub rho_inf_retry: RhoInfRetry,
-    /// Maximum Newton iterations of each ρ∞ retry and fixed-set re-solve (at most
-    /// `max_iter`). A retry that converges does so within a few iterations; a failing
-    /// one would otherwise spend all of `max_iter` cycling.
-    #[serde(default = "default_retry_max_iter")]
-    pub retry_max_iter: usize,
-    /// Re-solve with fixed index sets when the sets cycle (branch exploration).
-    pub explore_branches: bool,
-    /// Which fixed-set solutions count as continuations of a cycling step.
-    #[serde(default)]
-    pub branch_rule: BranchRule,
-    /// After a step converges, re-solve it with the state of one normal contact flipped
-    /// (a closed contact opened, a touching open one closed with each friction state) and
-    /// report the self-consistent solutions that differ as a branch point: the
-    /// non-uniqueness that Newton's iterates need not reveal by cycling (Painlevé's
-    /// indeterminacy, docs/method.md §8). Costs up to four fixed-set solves per touching
-    /// contact and step; off by default.
-    #[serde(default)]
-    pub probe_flips: bool,
-    /// Linear solver.
-    pub solver: SolverChoice,
-    /// What to do when every retry fails.
-    pub on_failure: FailurePolicy,
     /// Gap and gap-rate tolerance deciding which contacts are closed at t0 (§5).
     pub start_tol: f64,
-    /// Leave out of the linear solve the normal contacts (and their friction laws) that
-    /// are open, carry no force and cannot close within the step
-    /// (g_N > 2Δt|ġ_N| + Δt²|g̈_N|); if one of them closes at an iterate, the attempt
-    /// goes on from that iterate with that contact kept, which is where the unpruned
-    /// attempt would be (docs/method.md §8.1). Fixed-set re-solves prune only the
-    /// contacts their sets leave open.
-    pub prune_open_contacts: bool,
-    /// ε ≥ 0 added to the Newton matrix (not to the residual) on the multiplier diagonal
-    /// of every closed contact row, scaled like the row's open form, when the Newton
-    /// matrix is singular. Redundant closed contacts (a body resting on more points than
-    /// it has degrees of freedom, as a toppled column on the floor) make it singular;
-    /// with ε the update solves a compliant linearization whose redundant forces take a
-    /// least-norm share, while the residual, and hence the converged solution, stays
-    /// exact. 0 turns this off (a singular matrix then fails the attempt). Index sets
-    /// whose normal contacts (A, B, C) are those of one of the last
-    /// [`SINGULAR_SETS_KEPT`] plain matrices found singular go straight to the
-    /// regularized one, whatever their friction sets (D, E).
-    #[serde(default = "default_regularization")]
-    pub regularization: f64,
-    /// Simplified Newton: while the index sets (and pruned contacts, Δt, ρ∞) are those of
-    /// the last factorized Newton matrix (or, for the same sets, more contacts are pruned
-    /// than were then: docs/method.md §7), solve with its kept factors instead of
-    /// assembling and factorizing a new one, as long as each such update at least
-    /// [`REUSE_CONTRACTION`]-fold reduces the residual, and at most [`MAX_REUSES`] times
-    /// in a row. The iterates converge to the same tolerance; a quiet contact phase then
-    /// costs residual evaluations and triangular solves, not factorizations.
-    #[serde(default)]
-    pub reuse_factorization: bool,
-    /// With [`Options::reuse_factorization`], in the first attempt at each step:
-    /// where the index sets differ from those of the kept factors in at most
-    /// [`LOW_RANK_ROWS`](crate::stepper::LOW_RANK_ROWS) rows of the Newton matrix, the
-    /// simplified update solves the kept matrix with those rows replaced, from the kept
-    /// factors (a low-rank update, docs/method.md §7); and after a simplified update that
-    /// did not contract, they are tried again once the matrix has been factorized anew.
-    /// The retries, re-solves and halvings of a failed step factorize as before.
-    #[serde(default)]
-    pub low_rank_updates: bool,
     /// Whether the position correction carries half a step of the friction
     /// percussions: M Q = W_N κ_N + ½Δt W_F Λ_F, as in the paper (eq. 127, rows of Q).
     /// Without it, M Q = W_N κ_N: a friction percussion changes u_{n+1} and moves the
@@ -207,29 +131,42 @@ pub struct Options {
     /// impact. The percussions of bilateral velocity constraints keep their shift.
     #[serde(default = "yes")]
     pub friction_percussion_shift: bool,
-    /// With [`Options::friction_percussion_shift`]: a step whose fixed-set re-solves
-    /// found no self-consistent solution is tried once more, from the start, without
-    /// the shift (docs/method.md §8.2, stage 3b), before the best iterate, halving and
-    /// the last resort.
+    /// The Newton iteration of one attempt.
     #[serde(default)]
-    pub retry_without_friction_shift: bool,
-    /// Start the first attempt at a step from the unknowns predicted by extrapolating a
-    /// and λ over the last steps, while their index sets stayed the same (quadratic
-    /// through three solutions, linear through two; docs/method.md §4). An attempt from
-    /// the prediction that has not converged after
-    /// [`PREDICTED_START_ITERATIONS`](crate::PREDICTED_START_ITERATIONS) updates, and
-    /// whose last update did not contract the residual by [`REUSE_CONTRACTION`] at
-    /// unchanged index sets, gives way to the usual one from the last solution. Off by
-    /// default: the paper starts from the last solution.
+    pub newton: NewtonOptions,
+    /// The linear solves of the Newton updates.
     #[serde(default)]
-    pub predict_start: bool,
+    pub linear: LinearOptions,
+    /// What a step does when its first attempt fails.
+    #[serde(default)]
+    pub policy: PolicyOptions,
+    /// The measured constants: budgets, factors and thresholds (docs/method.md,
+    /// appendix).
+    #[serde(default)]
+    pub tuning: Tuning,
+}
+
+/// Options of the Newton iteration of one attempt ([`Options::newton`]).
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(default)]
+pub struct NewtonOptions {
+    /// Maximum Newton iterations per attempt. An attempt ends sooner when it cannot
+    /// converge: its iterates settle into a cycle of index sets without progress, or,
+    /// with fixed sets, its residual stalls (see `settled_cycle` and `stalled`).
+    pub max_iter: usize,
+    /// Free attempts (index sets not fixed) may take up to max(`max_iter`,
+    /// `max_iter_per_contact` × number of normal contacts) updates; 0 leaves `max_iter`
+    /// alone. Newton changes the index sets of a few contacts per update, so a system
+    /// whose contacts change state by the dozen in one step (a tall column whose
+    /// interfaces rock) needs updates in proportion to its contacts (docs/method.md
+    /// §8.2).
+    pub max_iter_per_contact: usize,
     /// Halvings of the Newton update allowed in its line search (0: full updates, as in
     /// the paper). With n > 0 the update is scaled by the first α = 1, ½, …, 2⁻ⁿ that
     /// reduces ‖R‖∞ by the factor 1 − 10⁻⁴α, or taken whole when none does. Damping
     /// the updates that overshoot keeps Newton from jumping between distant index sets
     /// when several contacts close at once. The held-sets attempt
     /// (`max_openings_per_update`) takes its updates whole regardless.
-    #[serde(default)]
     pub line_search: usize,
     /// Openings per Newton update in the held-sets attempt (0: no such attempt). In a
     /// system whose free attempts may take more than `max_iter` updates (more normal
@@ -245,21 +182,100 @@ pub struct Options {
     /// per update (docs/method.md §8.2). The attempt takes its updates whole, without
     /// the line search of `line_search`: its updates change the sets of a contact or a
     /// few each, and halving them only delayed the next change.
-    #[serde(default)]
     pub max_openings_per_update: usize,
+    /// Start the first attempt at a step from the unknowns predicted by extrapolating a
+    /// and λ over the last steps, while their index sets stayed the same (quadratic
+    /// through three solutions, linear through two; docs/method.md §4). An attempt from
+    /// the prediction that has not converged after
+    /// [`Tuning::predicted_start_iterations`](crate::Tuning::predicted_start_iterations) updates, and
+    /// whose last update did not contract the residual by [`Tuning::reuse_contraction`](crate::Tuning::reuse_contraction) at
+    /// unchanged index sets, gives way to the usual one from the last solution. Off by
+    /// default: the paper starts from the last solution.
+    pub predict_start: bool,
+    /// Leave out of the linear solve the normal contacts (and their friction laws) that
+    /// are open, carry no force and cannot close within the step
+    /// (g_N > 2Δt|ġ_N| + Δt²|g̈_N|); if one of them closes at an iterate, the attempt
+    /// goes on from that iterate with that contact kept, which is where the unpruned
+    /// attempt would be (docs/method.md §8.1). Fixed-set re-solves prune only the
+    /// contacts their sets leave open.
+    pub prune_open_contacts: bool,
+}
+
+/// Options of the linear solves of the Newton updates ([`Options::linear`]).
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(default)]
+pub struct LinearOptions {
+    /// Linear solver.
+    pub solver: SolverChoice,
+    /// ε ≥ 0 added to the Newton matrix (not to the residual) on the multiplier diagonal
+    /// of every closed contact row, scaled like the row's open form, when the Newton
+    /// matrix is singular. Redundant closed contacts (a body resting on more points than
+    /// it has degrees of freedom, as a toppled column on the floor) make it singular;
+    /// with ε the update solves a compliant linearization whose redundant forces take a
+    /// least-norm share, while the residual, and hence the converged solution, stays
+    /// exact. 0 turns this off (a singular matrix then fails the attempt). Index sets
+    /// whose normal contacts (A, B, C) are those of one of the last
+    /// [`Tuning::singular_sets_kept`](crate::Tuning::singular_sets_kept) plain matrices found singular go straight to the
+    /// regularized one, whatever their friction sets (D, E).
+    pub regularization: f64,
+    /// Simplified Newton: while the index sets (and pruned contacts, Δt, ρ∞) are those of
+    /// the last factorized Newton matrix (or, for the same sets, more contacts are pruned
+    /// than were then: docs/method.md §7), solve with its kept factors instead of
+    /// assembling and factorizing a new one, as long as each such update at least
+    /// [`Tuning::reuse_contraction`](crate::Tuning::reuse_contraction)-fold reduces the residual, and at most [`Tuning::max_reuses`](crate::Tuning::max_reuses) times
+    /// in a row. The iterates converge to the same tolerance; a quiet contact phase then
+    /// costs residual evaluations and triangular solves, not factorizations.
+    pub reuse_factorization: bool,
+    /// With [`LinearOptions::reuse_factorization`], in the first attempt at each step:
+    /// where the index sets differ from those of the kept factors in at most
+    /// [`LOW_RANK_ROWS`](crate::stepper::LOW_RANK_ROWS) rows of the Newton matrix, the
+    /// simplified update solves the kept matrix with those rows replaced, from the kept
+    /// factors (a low-rank update, docs/method.md §7); and after a simplified update that
+    /// did not contract, they are tried again once the matrix has been factorized anew.
+    /// The retries, re-solves and halvings of a failed step factorize as before.
+    pub low_rank_updates: bool,
+}
+
+/// The policy of a step whose first attempt fails ([`Options::policy`]): retries,
+/// re-solves, halving and the last resort.
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(default)]
+pub struct PolicyOptions {
+    /// Other ρ∞ values tried, in order, when a step does not converge (thesis §4.2).
+    pub rho_inf_retries: Vec<f64>,
+    /// Which failed attempts are retried with `rho_inf_retries`.
+    pub rho_inf_retry: RhoInfRetry,
+    /// Maximum Newton iterations of each ρ∞ retry and fixed-set re-solve (at most
+    /// `max_iter`). A retry that converges does so within a few iterations; a failing
+    /// one would otherwise spend all of `max_iter` cycling.
+    pub retry_max_iter: usize,
+    /// Re-solve with fixed index sets when the sets cycle (branch exploration).
+    pub explore_branches: bool,
+    /// Which fixed-set solutions count as continuations of a cycling step.
+    pub branch_rule: BranchRule,
+    /// After a step converges, re-solve it with the state of one normal contact flipped
+    /// (a closed contact opened, a touching open one closed with each friction state) and
+    /// report the self-consistent solutions that differ as a branch point: the
+    /// non-uniqueness that Newton's iterates need not reveal by cycling (Painlevé's
+    /// indeterminacy, docs/method.md §8). Costs up to four fixed-set solves per touching
+    /// contact and step; off by default.
+    pub probe_flips: bool,
+    /// With [`Options::friction_percussion_shift`]: a step whose fixed-set re-solves
+    /// found no self-consistent solution is tried once more, from the start, without
+    /// the shift (docs/method.md §8.2, stage 3b), before the best iterate, halving and
+    /// the last resort.
+    pub retry_without_friction_shift: bool,
     /// How often a step that fails after every retry and fixed-set re-solve may be
     /// halved: it is then taken as two substeps of Δt/2 with this same policy, each of
     /// which may be halved again, down to Δt/2^`max_halvings` ([`Stepper::split_step`]).
     /// 0 (the default) turns halving off. A failure at one instant costs a bounded
     /// amount of work per level (only the half that contains it is split again), not
     /// 2^level substeps.
-    #[serde(default)]
     pub max_halvings: usize,
     /// After halving fails too, repeat the fixed-set re-solves with a consistency test
     /// that accepts friction laws sitting exactly on their stick–slip bound, and with
     /// the sets one friction switch away from the visited ones (docs/method.md §8). Off
     /// by default.
-    #[serde(default)]
     pub boundary_resolves: bool,
     /// When every attempt above fails, take the step by the last resort: a Moreau–Jean
     /// step whose contact problem Lemke's method solves (it terminates, with a solution
@@ -268,8 +284,9 @@ pub struct Options {
     /// [`DISK_DIRECTIONS`](crate::friction_polygon::DISK_DIRECTIONS) sides inscribed in
     /// the disk). A system whose bilateral constraints are redundant at the initial state
     /// is refused when the stepper is set up ([`crate::Stepper::new`]). On by default.
-    #[serde(default = "yes")]
     pub last_resort: bool,
+    /// What to do when every retry fails.
+    pub on_failure: FailurePolicy,
 }
 
 /// Which fixed-set solutions of a cycling step its branch point records as
@@ -305,25 +322,17 @@ fn yes() -> bool {
     true
 }
 
-/// Default [`Options::retry_max_iter`]. Measured with the Lire collapse and the two
+/// Default [`PolicyOptions::retry_max_iter`]. Measured with the Lire collapse and the two
 /// block sweeps (`rollstack blocks lire --perturb bottom`, `blocks sweep frequency
 /// --omega 1:12:1`, `blocks sweep slide --v0 0.05:5:0.35`): the same steps succeed and
 /// fail as with 40, and the solver time drops by 40–50 %.
 pub const DEFAULT_RETRY_MAX_ITER: usize = 12;
 
-fn default_retry_max_iter() -> usize {
-    DEFAULT_RETRY_MAX_ITER
-}
-
-/// Default [`Options::regularization`]: small against the O(1) entries of the scaled
+/// Default [`LinearOptions::regularization`]: small against the O(1) entries of the scaled
 /// Newton rows, large against round-off. Measured on the Lire collapse (`cargo run
 /// --release -p blockstack --example measure`): 1e-10 to 1e-6 all carry the toppled
 /// column resting on the table edge and the floor.
 pub const DEFAULT_REGULARIZATION: f64 = 1e-8;
-
-fn default_regularization() -> f64 {
-    DEFAULT_REGULARIZATION
-}
 
 impl Default for Options {
     fn default() -> Self {
@@ -332,29 +341,54 @@ impl Default for Options {
             rho_inf: 0.5,
             prox: Prox::Scaled(1.0),
             tol: 1e-10,
+            start_tol: 1e-9,
+            friction_percussion_shift: true,
+            newton: NewtonOptions::default(),
+            linear: LinearOptions::default(),
+            policy: PolicyOptions::default(),
+            tuning: Tuning::default(),
+        }
+    }
+}
+
+impl Default for NewtonOptions {
+    fn default() -> Self {
+        Self {
             max_iter: 40,
             max_iter_per_contact: 0,
+            line_search: 0,
+            max_openings_per_update: 0,
+            predict_start: false,
+            prune_open_contacts: false,
+        }
+    }
+}
+
+impl Default for LinearOptions {
+    fn default() -> Self {
+        Self {
+            solver: SolverChoice::Markowitz(MARKOWITZ_SPARSE_THRESHOLD),
+            regularization: DEFAULT_REGULARIZATION,
+            reuse_factorization: false,
+            low_rank_updates: false,
+        }
+    }
+}
+
+impl Default for PolicyOptions {
+    fn default() -> Self {
+        Self {
             rho_inf_retries: vec![0.8, 0.2, 1.0, 0.0],
             rho_inf_retry: RhoInfRetry::AnyFailure,
             retry_max_iter: DEFAULT_RETRY_MAX_ITER,
             explore_branches: true,
             branch_rule: BranchRule::SelfConsistent,
             probe_flips: false,
-            solver: SolverChoice::Markowitz(MARKOWITZ_SPARSE_THRESHOLD),
-            on_failure: FailurePolicy::Error,
-            start_tol: 1e-9,
-            prune_open_contacts: false,
-            regularization: DEFAULT_REGULARIZATION,
-            reuse_factorization: false,
-            low_rank_updates: false,
-            friction_percussion_shift: true,
             retry_without_friction_shift: false,
-            predict_start: false,
-            line_search: 0,
             max_halvings: 0,
-            max_openings_per_update: 0,
             boundary_resolves: false,
             last_resort: true,
+            on_failure: FailurePolicy::Error,
         }
     }
 }
@@ -373,6 +407,7 @@ impl Options {
             return bad(format!("rho_inf = {} must be in [0, 1]", self.rho_inf));
         }
         if self
+            .policy
             .rho_inf_retries
             .iter()
             .any(|r| !(0.0..=1.0).contains(r))
@@ -388,15 +423,17 @@ impl Options {
             }
             _ => {}
         }
-        if !(self.regularization >= 0.0 && self.regularization.is_finite()) {
-            return bad(format!(
-                "regularization = {} must be finite and >= 0",
-                self.regularization
-            ));
+        let eps = self.linear.regularization;
+        if !(eps >= 0.0 && eps.is_finite()) {
+            return bad(format!("regularization = {eps} must be finite and >= 0"));
         }
-        if self.tol.is_nan() || self.tol <= 0.0 || self.max_iter == 0 || self.retry_max_iter == 0 {
+        if self.tol.is_nan()
+            || self.tol <= 0.0
+            || self.newton.max_iter == 0
+            || self.policy.retry_max_iter == 0
+        {
             return bad("tol must be > 0, and max_iter and retry_max_iter >= 1".into());
         }
-        Ok(())
+        self.tuning.check().map_err(StepError::InvalidInput)
     }
 }

@@ -61,7 +61,7 @@ pub struct StepStats {
     pub last_resort: Option<LastResort>,
     /// Whether the step (or one of its substeps) was taken without the friction
     /// percussions' half-step shift, by stage 3b of the policy
-    /// ([`Options::retry_without_friction_shift`](crate::Options::retry_without_friction_shift)).
+    /// ([`PolicyOptions::retry_without_friction_shift`](crate::PolicyOptions::retry_without_friction_shift)).
     #[serde(default)]
     pub unshifted: bool,
 }
@@ -102,7 +102,7 @@ pub struct SolvesByStage {
     /// The re-solves at a friction bound, after the halvings (stage `Boundary`).
     pub boundary: u64,
     /// Everything else: the flip probes of converged steps
-    /// ([`Options::probe_flips`](crate::Options::probe_flips)).
+    /// ([`PolicyOptions::probe_flips`](crate::PolicyOptions::probe_flips)).
     pub other: u64,
 }
 
@@ -152,7 +152,7 @@ pub struct NewtonWork {
     /// Why the exact updates were made; the four add up to `exact_updates`.
     pub exact_because: ExactBecause,
     /// Attempts that converged to a far solution and were refused (docs/method.md §8.1,
-    /// "Far solutions"; [`FAR_CORRECTION`](crate::FAR_CORRECTION)).
+    /// "Far solutions"; [`Tuning::far_correction`](crate::Tuning::far_correction)).
     #[serde(default)]
     pub far_solutions: u64,
     /// The seconds spent in each kind of work.
@@ -175,7 +175,7 @@ pub struct ExactBecause {
     pub sets_changed: u64,
     /// The Newton engine asked for none: the last simplified update did not contract
     /// the residual enough, the most in a row were taken, or the stepper takes none
-    /// (`Options::reuse_factorization` off).
+    /// (`LinearOptions::reuse_factorization` off).
     pub not_asked: u64,
 }
 

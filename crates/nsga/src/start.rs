@@ -158,7 +158,7 @@ impl NewtonProblem for StartProblem<'_> {
         let mut solved = self.solver.solve(n, &rows.jac, dy);
         let eps = self.regularization;
         if solved.is_err() && eps > 0.0 {
-            // Redundant closed contacts (see `Options::regularization`): ε on the
+            // Redundant closed contacts (see `LinearOptions::regularization`): ε on the
             // multiplier diagonal of every closed row.
             rows.jac
                 .extend(rows.closed_rows.iter().map(|&r| (r, r, eps)));
@@ -244,7 +244,7 @@ pub fn consistent_start<S: System>(
         acc_p: Vec::new(),
         acc_v: Vec::new(),
         solver: AutoSolver::default(),
-        regularization: options.regularization,
+        regularization: options.linear.regularization,
         was_contact: Vec::new(),
         was_stick: Vec::new(),
         force_scale: max_norm(&e.forces),
@@ -254,12 +254,13 @@ pub fn consistent_start<S: System>(
     // with the number of contacts.
     let settings = NewtonSettings {
         tol: START_TOL,
-        max_iter: options.max_iter.max(nn),
+        max_iter: options.newton.max_iter.max(nn),
         line_search: 0,
         reuse_factorization: false,
         resume_reuse: false,
         give_up: GiveUp::Never,
         contracting_extra: 0,
+        tuning: options.tuning,
     };
     let mut y = vec![0.0; problem.level.n()];
     let failed = |message: String| StepError::Start { t: t0, message };

@@ -68,26 +68,10 @@ mod state_levels;
 mod trial;
 mod unknowns;
 
-pub use branch::QUICK_CHECK_ITERATIONS;
 pub use direction::WILD_UPDATE;
-pub use far::FAR_CORRECTION;
-pub use held::MAX_HELD_EVALUATIONS;
 pub use iterate::SET_TIE;
 pub use low_rank::LOW_RANK_ROWS;
-pub use predict::PREDICTED_START_ITERATIONS;
 pub use slip::NEGLIGIBLE_SLIP;
-
-/// How many index sets found to have a singular plain Newton matrix are remembered
-/// (see [`Options::regularization`]). Redundancy is a property of which contacts are
-/// closed, so the normal sets (A, B, C) of such a matrix stay singular while the bodies
-/// keep their arrangement, whatever the friction laws do. After the Lire collapse
-/// lands on a floor, Newton moves among a handful of normal sets and dozens of stick–slip
-/// combinations; remembering only the last singular set made it rediscover each at the
-/// cost of a failed plain factorization and a dense LU. Over the Lire collapse on a floor
-/// and 99 neighbours (`cargo run --release -p blockstack --example lire_nearby 100
-/// --floor`) that took
-/// 938 linear solves per run, against 810 remembering the normal sets of the last 16.
-pub const SINGULAR_SETS_KEPT: usize = 16;
 
 /// Spent index sets kept for their buffers: a step evaluates a few iterates, each of
 /// which decides its sets anew (five vectors of flags), and most of them are dropped by
@@ -153,7 +137,7 @@ pub struct Stepper<S: System> {
     /// accelerations and forces (docs/method.md §5).
     start_failure: Option<String>,
     /// The last steps' solutions, for a predicted Newton start
-    /// ([`Options::predict_start`]).
+    /// ([`NewtonOptions::predict_start`](crate::NewtonOptions::predict_start)).
     predictor: predict::StartPredictor,
 }
 
@@ -199,7 +183,7 @@ struct Work {
     solver: Box<dyn LinearSolver>,
     /// Linear solves since the stepper was built, failed attempts included.
     linear_solves: u64,
-    /// The last index sets (at most [`SINGULAR_SETS_KEPT`], oldest first) whose Newton
+    /// The last index sets (at most [`Tuning::singular_sets_kept`](crate::Tuning::singular_sets_kept), oldest first) whose Newton
     /// matrix was found singular without regularization.
     singular_sets: Vec<IndexSets>,
     /// Constraints pruned from the current attempt's Newton matrix (empty when none).
@@ -220,7 +204,7 @@ struct Work {
 impl Work {
     /// Buffers for a system of this layout, with the linear solver the options choose.
     fn new(layout: &Layout, options: &Options) -> Self {
-        let solver: Box<dyn LinearSolver> = match options.solver {
+        let solver: Box<dyn LinearSolver> = match options.linear.solver {
             SolverChoice::Auto(t) => Box::new(AutoSolver::new(t)),
             SolverChoice::Dense => Box::new(DenseLu::default()),
             SolverChoice::Sparse => Box::new(SparseLu::default()),
@@ -287,7 +271,8 @@ impl<S: System> Stepper<S> {
     /// A stepper at t0 = `t0`, q0, u0, with consistent initial accelerations and forces
     /// (docs/method.md §5).
     ///
-    /// Where the consistent start fails and [`Options::last_resort`] is on, the stepper
+    /// Where the consistent start fails and
+    /// [`PolicyOptions::last_resort`](crate::PolicyOptions::last_resort) is on, the stepper
     /// starts anyway: [`Stepper::start_failure`] says why, and its first step
     /// is taken by the last resort, a Moreau–Jean step, which needs no accelerations and
     /// after which the generalized-α state restarts from a consistent start there.
@@ -322,12 +307,12 @@ impl<S: System> Stepper<S> {
                 "t0, q0 and u0 must be finite".into(),
             ));
         }
-        last_resort::check_coverage(&system, &layout, options.last_resort, t0, (q0, u0))?;
+        last_resort::check_coverage(&system, &layout, options.policy.last_resort, t0, (q0, u0))?;
         let off = Offsets::new(&layout);
         let (start, start_failure) = match consistent_start(&system, &layout, t0, q0, u0, &options)
         {
             Ok(start) => (start, None),
-            Err(failed @ StepError::Start { .. }) if options.last_resort => {
+            Err(failed @ StepError::Start { .. }) if options.policy.last_resort => {
                 let unforced = Start::unforced(&system, &layout, t0, q0, u0);
                 (unforced, Some(failed.to_string()))
             }
@@ -434,7 +419,7 @@ impl<S: System> Stepper<S> {
     /// for a system it cannot take at the current state; nothing changes then.
     pub fn set_options(&mut self, options: Options) -> Result<(), StepError> {
         options.validate()?;
-        if options.last_resort && !self.options.last_resort {
+        if options.policy.last_resort && !self.options.policy.last_resort {
             let st = &self.state;
             last_resort::check_coverage(&self.system, &self.layout, true, st.t, (&st.q, &st.u))?;
         }

@@ -276,7 +276,7 @@ pub struct Probes<'a> {
     /// Three (v, μ_p, μ_v) triples for ∂/∂q [M(q) v − W_p(q) μ_p − W_v(q) μ_v].
     pub dynamics: [(&'a [f64], &'a [f64], &'a [f64]); 3],
     /// Position-level constraints the stepper leaves out of this Newton matrix (pruned
-    /// open contacts, `Options::prune_open_contacts`); empty when none. Their multipliers
+    /// open contacts, `NewtonOptions::prune_open_contacts`); empty when none. Their multipliers
     /// in `dynamics` are zero, so a system may leave their rows out of every list.
     pub unused_position: &'a [bool],
     /// Velocity-level constraints left out likewise; empty when none.

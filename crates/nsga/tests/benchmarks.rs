@@ -7,7 +7,10 @@ use nsga::systems::free_fall::FreeFall;
 use nsga::systems::incline::Incline;
 use nsga::systems::oscillator::Oscillator;
 use nsga::systems::rocking::RockingBlock;
-use nsga::{MoreauOptions, MoreauStepper, Options, Prox, SolverChoice, Stepper};
+use nsga::{
+    LinearOptions, MoreauOptions, MoreauStepper, NewtonOptions, Options, Prox, SolverChoice,
+    Stepper,
+};
 
 const DT: f64 = 2e-3;
 
@@ -378,7 +381,10 @@ fn resting_chain_starts_consistently_dense_equals_sparse() {
             &q0,
             &u0,
             Options {
-                solver,
+                linear: LinearOptions {
+                    solver,
+                    ..LinearOptions::default()
+                },
                 ..Options::default()
             },
         )
@@ -450,7 +456,10 @@ fn pruning_open_contacts_changes_nothing() {
     u0[2 * 5 + 1] = -1.0;
     let run = |prune| {
         let opts = Options {
-            prune_open_contacts: prune,
+            newton: NewtonOptions {
+                prune_open_contacts: prune,
+                ..NewtonOptions::default()
+            },
             ..Options::default()
         };
         let mut s = Stepper::new(chain, 0.0, &q0, &u0, opts).unwrap();

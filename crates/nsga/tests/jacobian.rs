@@ -5,7 +5,8 @@ use nsga::system::forward_derivatives;
 use nsga::systems::ball::Ball;
 use nsga::systems::rocking::RockingBlock;
 use nsga::{
-    Derivatives, Evaluation, IndexSets, Layout, Options, Probes, Scalar, StepError, Stepper, System,
+    Derivatives, Evaluation, IndexSets, Layout, NewtonOptions, Options, PolicyOptions, Probes,
+    Scalar, StepError, Stepper, System,
 };
 
 /// A point on a circle x² + y² = L² (bilateral position constraint, GGL-stabilised)
@@ -293,7 +294,10 @@ fn failed_step_carries_state_and_run_can_continue() {
     };
     let opts = Options {
         prox: nsga::Prox::Constant(0.3),
-        last_resort: false,
+        policy: PolicyOptions {
+            last_resort: false,
+            ..PolicyOptions::default()
+        },
         ..Options::default()
     };
     let mut s = Stepper::new(ball, 0.0, &[0.0, 1.0, 0.0], &[0.0, 0.0, 50.0], opts.clone()).unwrap();
@@ -335,8 +339,14 @@ fn fixed_set_resolves_report_branch_points() {
         e_f: 0.0,
     };
     let opts = Options {
-        max_iter: 1,
-        rho_inf_retries: vec![],
+        newton: NewtonOptions {
+            max_iter: 1,
+            ..NewtonOptions::default()
+        },
+        policy: PolicyOptions {
+            rho_inf_retries: vec![],
+            ..PolicyOptions::default()
+        },
         ..Options::default()
     };
     let mut s = Stepper::new(ball, 0.0, &[0.0, 1.0, 0.0], &[0.0, 0.0, 10.0], opts).unwrap();

@@ -8,21 +8,27 @@
 use nsga::systems::ball::{Ball, BallCase};
 use nsga::systems::rocking::RockingBlock;
 use nsga::System;
-use nsga::{FailurePolicy, Options, StepError, Stepper};
+use nsga::{FailurePolicy, NewtonOptions, Options, PolicyOptions, StepError, Stepper};
 
 /// Options under which a step with a contact event cannot converge: one Newton
 /// iteration, no ρ∞ retries, no re-solves, no halving.
 fn starved(dt: f64, last_resort: bool) -> Options {
     Options {
         dt,
-        max_iter: 1,
-        retry_max_iter: 1,
-        rho_inf_retries: Vec::new(),
-        explore_branches: false,
-        on_failure: FailurePolicy::Error,
-        max_halvings: 0,
-        boundary_resolves: false,
-        last_resort,
+        newton: NewtonOptions {
+            max_iter: 1,
+            ..NewtonOptions::default()
+        },
+        policy: PolicyOptions {
+            retry_max_iter: 1,
+            rho_inf_retries: Vec::new(),
+            explore_branches: false,
+            on_failure: FailurePolicy::Error,
+            max_halvings: 0,
+            boundary_resolves: false,
+            last_resort,
+            ..PolicyOptions::default()
+        },
         ..Options::default()
     }
 }
@@ -103,7 +109,10 @@ fn a_failed_start_is_followed_by_a_last_resort_step() {
     let (q0, u0) = ([0.0, 0.2, 0.0], [1.0, 0.0, 0.0]);
     let options = |last_resort| Options {
         dt: 1e-3,
-        last_resort,
+        policy: PolicyOptions {
+            last_resort,
+            ..PolicyOptions::default()
+        },
         ..Options::default()
     };
     let strict = Stepper::new(block, 0.0, &q0, &u0, options(false));

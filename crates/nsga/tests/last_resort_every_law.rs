@@ -9,7 +9,7 @@
 #[allow(dead_code)]
 mod pendulum_wall;
 
-use nsga::{Evaluation, Layout, Options, Scalar, StepError, Stepper, System};
+use nsga::{Evaluation, Layout, Options, PolicyOptions, Scalar, StepError, Stepper, System};
 use pendulum_wall::PendulumWall;
 
 /// What the pendulum did over a run by the last resort alone.
@@ -153,7 +153,10 @@ fn a_system_the_last_resort_cannot_take_is_refused_at_setup() {
     // With the option off, the refusal is not asked for: the stepper then fails as the
     // generalized-α start does, on the same redundancy (a singular Newton matrix).
     let off = Options {
-        last_resort: false,
+        policy: PolicyOptions {
+            last_resort: false,
+            ..PolicyOptions::default()
+        },
         ..Options::default()
     };
     let plain = Stepper::new(TwoRods, 0.0, &q0, &u0, off);

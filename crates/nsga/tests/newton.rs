@@ -1,11 +1,13 @@
 //! Newton variants of the stepper reach the converged steps of the paper's exact,
 //! full-step Newton (eq. 143): simplified updates from kept factors
-//! (`Options::reuse_factorization`) and damped updates (`Options::line_search`); and
+//! (`LinearOptions::reuse_factorization`) and damped updates (`NewtonOptions::line_search`); and
 //! the sparse Markowitz LU takes the steps of dense LU.
 
 use nsga::systems::chain::Chain;
 use nsga::systems::rocking::RockingBlock;
-use nsga::{Options, SolverChoice, State, Stepper, System};
+use nsga::{
+    LinearOptions, NewtonOptions, Options, PolicyOptions, SolverChoice, State, Stepper, System,
+};
 
 /// The states of `steps` steps and the number of factorizations they took.
 fn run<S: System>(
@@ -55,11 +57,17 @@ fn variants<S: System + Copy>(sys: S, q0: &[f64], u0: &[f64], steps: usize) -> V
         ..Options::default()
     };
     let reuse = Options {
-        reuse_factorization: true,
+        linear: LinearOptions {
+            reuse_factorization: true,
+            ..exact.linear.clone()
+        },
         ..exact.clone()
     };
     let damped = Options {
-        line_search: 3,
+        newton: NewtonOptions {
+            line_search: 3,
+            ..reuse.newton.clone()
+        },
         ..reuse.clone()
     };
     let (a, exact_solves) = run(sys, q0, u0, exact, steps);
@@ -108,11 +116,17 @@ fn markowitz_difference<S: System + Copy>(sys: S, q0: &[f64], u0: &[f64], steps:
     let dense = Options {
         dt: 1e-3,
         tol: 1e-13,
-        solver: SolverChoice::Dense,
+        linear: LinearOptions {
+            solver: SolverChoice::Dense,
+            ..LinearOptions::default()
+        },
         ..Options::default()
     };
     let markowitz = Options {
-        solver: SolverChoice::Markowitz(usize::MAX),
+        linear: LinearOptions {
+            solver: SolverChoice::Markowitz(usize::MAX),
+            ..dense.linear.clone()
+        },
         ..dense.clone()
     };
     let (a, _) = run(sys, q0, u0, dense, steps);
@@ -164,13 +178,22 @@ fn the_line_search_carries_newton_where_full_updates_diverge() {
     // Without the last resort, which would take the failing steps.
     let full = Options {
         dt: 0.1,
-        max_iter: 60,
-        rho_inf_retries: Vec::new(),
-        last_resort: false,
+        newton: NewtonOptions {
+            max_iter: 60,
+            ..NewtonOptions::default()
+        },
+        policy: PolicyOptions {
+            rho_inf_retries: Vec::new(),
+            last_resort: false,
+            ..PolicyOptions::default()
+        },
         ..Options::default()
     };
     let damped = Options {
-        line_search: 8,
+        newton: NewtonOptions {
+            line_search: 8,
+            ..full.newton.clone()
+        },
         ..full.clone()
     };
     let mut s = Stepper::new(spring(), 0.0, &[0.3], &[0.0], full).unwrap();
@@ -203,21 +226,27 @@ fn falling_chain(dt: f64) -> (Chain, Vec<f64>, Vec<f64>, Options) {
     let options = Options {
         dt,
         tol: 1e-11,
-        max_iter: 8,
-        max_iter_per_contact: 3,
+        newton: NewtonOptions {
+            max_iter: 8,
+            max_iter_per_contact: 3,
+            ..NewtonOptions::default()
+        },
         ..Options::default()
     };
     (chain, q0, u0, options)
 }
 
-/// The held-sets attempt (`Options::max_openings_per_update`) holds the previous step's
+/// The held-sets attempt (`NewtonOptions::max_openings_per_update`) holds the previous step's
 /// index sets, then opens contacts one per update, but judges convergence on the contact
 /// laws' own sets: on the falling chain its steps are those of free Newton.
 #[test]
 fn the_held_sets_attempt_takes_the_steps_of_free_newton() {
     let (chain, q0, u0, free) = falling_chain(1e-3);
     let held = Options {
-        max_openings_per_update: 1,
+        newton: NewtonOptions {
+            max_openings_per_update: 1,
+            ..free.newton.clone()
+        },
         ..free.clone()
     };
     let (a, _) = run(chain, &q0, &u0, free, 300);
@@ -232,7 +261,7 @@ fn the_held_sets_attempt_takes_the_steps_of_free_newton() {
     assert!(d < 1e-8, "held sets and free Newton differ by {d}");
 }
 
-/// The held-sets attempt takes its updates whole, whatever `Options::line_search` says:
+/// The held-sets attempt takes its updates whole, whatever `NewtonOptions::line_search` says:
 /// after the release each update changes the sets of a contact or a few, and halving
 /// those updates only delayed the next change (docs/method.md §8.2, stage 1). On the
 /// falling chain at Δt = 2·10⁻³, the first 150 steps converge within that attempt, so a
@@ -242,11 +271,17 @@ fn the_held_sets_attempt_takes_the_steps_of_free_newton() {
 fn the_held_sets_attempt_takes_its_updates_whole() {
     let (chain, q0, u0, options) = falling_chain(2e-3);
     let whole = Options {
-        max_openings_per_update: 1,
+        newton: NewtonOptions {
+            max_openings_per_update: 1,
+            ..options.newton
+        },
         ..options
     };
     let damped = Options {
-        line_search: 3,
+        newton: NewtonOptions {
+            line_search: 3,
+            ..whole.newton.clone()
+        },
         ..whole.clone()
     };
     let steps = 150;

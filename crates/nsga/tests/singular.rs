@@ -4,7 +4,7 @@
 //! was taken as closed).
 
 use nsga::system::{Evaluation, Layout, Scalar, System};
-use nsga::{Options, StepError, Stepper};
+use nsga::{Options, PolicyOptions, StepError, Stepper};
 
 /// A point mass with one normal contact whose gap g = ½ − t does not depend on q
 /// (W = 0, χ = −1): open at the start, closed from t = ½ on, with zero rows in the
@@ -32,7 +32,10 @@ impl System for StuckContact {
 #[test]
 fn a_singular_newton_matrix_is_reported_as_such() {
     let options = Options {
-        last_resort: false,
+        policy: PolicyOptions {
+            last_resort: false,
+            ..PolicyOptions::default()
+        },
         ..Options::default()
     };
     let mut s = Stepper::new(StuckContact, 0.0, &[0.0], &[0.0], options).unwrap();

@@ -1,13 +1,13 @@
 //! Robustness fallbacks of the stepper: a step taken as substeps lands back on the time
 //! grid (`Stepper::split_step`), and redundant closed contacts
 //! (a singular Newton matrix) are carried by the regularized update
-//! (`Options::regularization`); the ρ∞ retries follow the failures
-//! `Options::rho_inf_retry` names.
+//! (`LinearOptions::regularization`); the ρ∞ retries follow the failures
+//! `PolicyOptions::rho_inf_retry` names.
 
 use nsga::system::{Evaluation, Layout, Scalar, System};
 use nsga::systems::free_fall::FreeFall;
 use nsga::systems::rocking::RockingBlock;
-use nsga::{Options, RhoInfRetry, StepError, Stepper};
+use nsga::{LinearOptions, NewtonOptions, Options, PolicyOptions, RhoInfRetry, StepError, Stepper};
 
 fn free_fall() -> (FreeFall, Stepper<FreeFall>) {
     let sys = FreeFall {
@@ -112,8 +112,14 @@ fn resting_with(
 ) -> Result<Stepper<TwoCoincidentSupports>, StepError> {
     let opts = Options {
         dt: 0.01,
-        regularization,
-        last_resort,
+        linear: LinearOptions {
+            regularization,
+            ..LinearOptions::default()
+        },
+        policy: PolicyOptions {
+            last_resort,
+            ..PolicyOptions::default()
+        },
         ..Options::default()
     };
     Stepper::new(TwoCoincidentSupports { pulse }, 0.0, &[0.0], &[0.0], opts)
@@ -151,7 +157,7 @@ fn known_singular_sets_go_straight_to_the_regularized_update() {
     assert!((st.lambda_n[0] + st.lambda_n[1] - load).abs() < 1e-9);
 }
 
-/// With simplified updates (`Options::reuse_factorization`), the factors of the
+/// With simplified updates (`LinearOptions::reuse_factorization`), the factors of the
 /// regularized matrix serve the later updates of the same sets, as plain factors do:
 /// the redundant supports' steps then cost fewer factorizations than updates, and the
 /// forces still carry the load.
@@ -159,7 +165,10 @@ fn known_singular_sets_go_straight_to_the_regularized_update() {
 fn regularized_factors_serve_simplified_updates() {
     let opts = Options {
         dt: 0.01,
-        reuse_factorization: true,
+        linear: LinearOptions {
+            reuse_factorization: true,
+            ..LinearOptions::default()
+        },
         ..Options::default()
     };
     let sys = TwoCoincidentSupports { pulse: 0.5 };
@@ -248,10 +257,16 @@ fn solves_of_a_failing_step(rho_inf_retry: RhoInfRetry) -> u64 {
     let (q0, u0) = block.tilted(0.08);
     let opts = Options {
         dt: 0.1,
-        max_iter: 1,
-        rho_inf_retry,
-        explore_branches: false,
-        last_resort: false,
+        newton: NewtonOptions {
+            max_iter: 1,
+            ..NewtonOptions::default()
+        },
+        policy: PolicyOptions {
+            rho_inf_retry,
+            explore_branches: false,
+            last_resort: false,
+            ..PolicyOptions::default()
+        },
         ..Options::default()
     };
     let mut s = Stepper::new(block, 0.0, &q0, &u0, opts).unwrap();
@@ -262,7 +277,7 @@ fn solves_of_a_failing_step(rho_inf_retry: RhoInfRetry) -> u64 {
 
 #[test]
 fn rho_inf_retries_follow_the_failures_they_are_asked_for() {
-    let retries = Options::default().rho_inf_retries.len() as u64;
+    let retries = Options::default().policy.rho_inf_retries.len() as u64;
     // Iterates that do not converge: the first attempt and every retry take one update.
     assert_eq!(
         solves_of_a_failing_step(RhoInfRetry::AnyFailure),
@@ -275,9 +290,15 @@ fn rho_inf_retries_follow_the_failures_they_are_asked_for() {
         // Started with regularization (the consistent start needs it), stepped without.
         let mut s = resting(nsga::DEFAULT_REGULARIZATION, 0.5).unwrap();
         s.set_options(Options {
-            regularization: 0.0,
-            rho_inf_retry: choice,
-            last_resort: false,
+            linear: LinearOptions {
+                regularization: 0.0,
+                ..s.options().linear.clone()
+            },
+            policy: PolicyOptions {
+                rho_inf_retry: choice,
+                last_resort: false,
+                ..s.options().policy.clone()
+            },
             ..s.options().clone()
         })
         .unwrap();

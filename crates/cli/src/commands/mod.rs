@@ -6,3 +6,4 @@ pub mod cylinder;
 pub mod nsga;
 pub mod rotation;
 pub mod sphere;
+pub mod tuning;

@@ -9,7 +9,7 @@ use crate::error::CylinderError;
 use crate::kinematics::Cylinder;
 use crate::statics::{FrictionLimit, MinForceCase, SupportProblem};
 use crate::transport::{check_inclination, top_height, PairTransport, SpinProfile};
-use nsga::{Options, Stepper, System};
+use nsga::{Options, PolicyOptions, Stepper, System};
 use serde::{Deserialize, Serialize};
 use std::f64::consts::PI;
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -52,6 +52,22 @@ impl PairSettings {
             mu_floor: 1.0,
             mu_mutual: 0.4,
             push_over_mg: 0.0,
+        }
+    }
+
+    /// nsga's options for these settings: Δt, ρ∞, up to four halvings and the
+    /// boundary re-solves.
+    #[must_use]
+    pub fn stepper_options(&self) -> Options {
+        Options {
+            dt: self.dt,
+            rho_inf: self.rho_inf,
+            policy: PolicyOptions {
+                max_halvings: 4,
+                boundary_resolves: true,
+                ..PolicyOptions::default()
+            },
+            ..Options::default()
         }
     }
 
@@ -189,15 +205,22 @@ pub fn run_pair_until(
     record: bool,
     cancel: &AtomicBool,
 ) -> Result<PairReport, CylinderError> {
+    run_pair_with(settings, settings.stepper_options(), record, cancel)
+}
+
+/// [`run_pair_until`] with other nsga `options` than [`PairSettings::stepper_options`]
+/// (to measure what a constant or a stage of the step's policy is worth).
+///
+/// # Errors
+/// As [`run_pair`].
+pub fn run_pair_with(
+    settings: &PairSettings,
+    options: Options,
+    record: bool,
+    cancel: &AtomicBool,
+) -> Result<PairReport, CylinderError> {
     let sys = settings.system()?;
     let (q0, u0) = sys.initial_state(settings.theta)?;
-    let options = Options {
-        dt: settings.dt,
-        rho_inf: settings.rho_inf,
-        max_halvings: 4,
-        boundary_resolves: true,
-        ..Options::default()
-    };
     let mg = sys.mass * sys.gravity;
     let layout = sys.layout();
     let mut stepper = Stepper::new(sys, 0.0, &q0, &u0, options)

@@ -44,7 +44,7 @@ const MAX_WORDS: usize = 6;
 /// --amplitude 0.1`) on 222 of 247 (the partial pivots passed the singularity test on
 /// 24 that dense LU called singular, and failed on 1 it called regular), at 63 µs
 /// against 598 µs. Either verdict then sends a singular matrix to the regularized
-/// solve (`Options::regularization`), which converges from both. Below this size,
+/// solve (`LinearOptions::regularization`), which converges from both. Below this size,
 /// where the Lire collapses' matrices are, dense LU costs little and keeps deciding.
 pub const DENSE_VERDICT_UP_TO: usize = 200;
 
@@ -108,7 +108,7 @@ pub struct MarkowitzLu {
     /// Newton matrix of redundant contacts) they can leave a column that cancels to zero
     /// or a pivot below the singularity test where partial pivoting finds usable ones.
     /// Deferring to it makes the singular/regular decision that of dense LU, which the
-    /// regularization of redundant contacts (`Options::regularization`) is tuned
+    /// regularization of redundant contacts (`LinearOptions::regularization`) is tuned
     /// against. Without it, 2 of 60 neighbouring Lire collapses that run through with
     /// dense LU stopped with an error, one of them at a matrix it called singular.
     ///

@@ -117,7 +117,7 @@ impl<S: System> Stepper<S> {
     ///
     /// The closed contact rows get an explicit zero entry where
     /// [`Self::regularize`] puts ε times the diagonal entry the row has when open (see
-    /// `Options::regularization`); `work.regularized` lists their positions in `work.jac`.
+    /// `LinearOptions::regularization`); `work.regularized` lists their positions in `work.jac`.
     pub(super) fn jacobian(&mut self, x: &[f64], sets: &IndexSets, p: &Scheme) {
         self.derivative_rows(x);
         self.assemble_jacobian(x, sets, p, None);

@@ -15,9 +15,9 @@
 //!
 //! Where a friction law sits exactly on its stick–slip bound, round-off decides its set,
 //! so no candidate may pass the strict test although several solve the step; the
-//! boundary re-solves ([`Options::boundary_resolves`]) accept such laws on either side.
+//! boundary re-solves ([`PolicyOptions::boundary_resolves`]) accept such laws on either side.
 //!
-//! [`Options::boundary_resolves`]: crate::Options::boundary_resolves
+//! [`PolicyOptions::boundary_resolves`]: crate::PolicyOptions::boundary_resolves
 
 use super::spec::{AttemptSpec, SetRule, StartAt};
 use super::Stepper;
@@ -28,12 +28,6 @@ use crate::report::BranchPoint;
 use crate::sets::IndexSets;
 use crate::state::State;
 use crate::system::{FrictionLaw, System};
-
-/// Newton iterations allowed when checking that a fixed-set solution also solves the
-/// free step (it converges at once when it does; see [`Options::boundary_resolves`]).
-///
-/// [`Options::boundary_resolves`]: crate::Options::boundary_resolves
-pub const QUICK_CHECK_ITERATIONS: usize = 8;
 
 /// Self-consistent, distinct solutions of one step, in the order they were found.
 #[derive(Debug, Default)]
@@ -89,7 +83,7 @@ impl<S: System> Stepper<S> {
             // Self-consistency: the sets recomputed from the converged x.
             if &self.sets_of(&t.state.x, rho0) == sets {
                 candidates.offer(sets, t, true);
-            } else if self.options.branch_rule == BranchRule::Converged {
+            } else if self.options.policy.branch_rule == BranchRule::Converged {
                 others.push((sets.clone(), t.state));
             }
         }
@@ -135,12 +129,12 @@ impl<S: System> Stepper<S> {
         Some(t)
     }
 
-    /// The flip probe of a converged step ([`Options::probe_flips`]): the step re-solved
+    /// The flip probe of a converged step ([`PolicyOptions::probe_flips`]): the step re-solved
     /// with one touching normal contact's state flipped ([`flipped_sets`]); the
     /// self-consistent solutions that differ from `converged` make a branch point whose
     /// first candidate is `converged` (the one continued).
     ///
-    /// [`Options::probe_flips`]: crate::Options::probe_flips
+    /// [`PolicyOptions::probe_flips`]: crate::PolicyOptions::probe_flips
     pub(super) fn probe_flips(&mut self, converged: Trial, rho0: f64) -> Trial {
         let touching = self.touching_contacts(&converged.stats.sets);
         let flips = flipped_sets(&converged.stats.sets, &touching, &self.layout.friction);
@@ -193,7 +187,7 @@ impl<S: System> Stepper<S> {
     /// solve the step. Here a fixed-set solution is kept when its recomputed sets differ
     /// from the fixed ones only in laws on their bound ([`Stepper::at_friction_bounds`]),
     /// or else when a Newton solve with free sets started from it converges within
-    /// [`QUICK_CHECK_ITERATIONS`] (then that free solution is kept). When no visited set
+    /// [`Tuning::quick_check_iterations`](crate::Tuning::quick_check_iterations) (then that free solution is kept). When no visited set
     /// gives a solution, the sets one friction-law switch away ([`neighbour_sets`]) are
     /// tried the same way until the first solution. The step is reported as a branch
     /// point (sets tried, distinct solutions), not yet committed, after the first
@@ -225,13 +219,13 @@ impl<S: System> Stepper<S> {
             candidates.offer(&sets, candidate, true);
         }
         let mut trial = self.chosen(candidates, tried)?;
-        trial.stats.retries = 1 + self.options.rho_inf_retries.len();
+        trial.stats.retries = 1 + self.options.policy.rho_inf_retries.len();
         Some(trial)
     }
 
     /// Does a free Newton attempt started from the unknowns `x` of a fixed-set solution
-    /// converge within [`QUICK_CHECK_ITERATIONS`] updates (or a free attempt's budget of
-    /// [`Options::max_iter_per_contact`](crate::Options::max_iter_per_contact), when that
+    /// converge within [`Tuning::quick_check_iterations`](crate::Tuning::quick_check_iterations) updates (or a free attempt's budget of
+    /// [`NewtonOptions::max_iter_per_contact`](crate::NewtonOptions::max_iter_per_contact), when that
     /// is larger)? The time grid is counted from the step's start from then on, and what
     /// the last solutions left for the next steps is forgotten, as after any restart
     /// from a state ([`Stepper::set_state`]).
@@ -240,7 +234,7 @@ impl<S: System> Stepper<S> {
         self.forget_solutions();
         let check = AttemptSpec {
             start: StartAt::Unknowns(x),
-            budget: self.free_budget_over(QUICK_CHECK_ITERATIONS),
+            budget: self.free_budget_over(self.options.tuning.quick_check_iterations),
             ..self.spec(SetRule::Free, rho)
         };
         let free = self.attempt(&check);

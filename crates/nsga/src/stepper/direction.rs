@@ -5,7 +5,7 @@
 use super::kinematic::KinematicColumns;
 use super::prune::{expand, keeps_all_of, restrict, Pruning};
 use super::scheme::Scheme;
-use super::{FactoredFor, Stepper, SINGULAR_SETS_KEPT};
+use super::{FactoredFor, Stepper};
 use crate::linalg::{equilibrate_rows, max_norm};
 use crate::sets::IndexSets;
 use crate::system::System;
@@ -42,7 +42,7 @@ pub(super) enum Refusal {
 
 impl<S: System> Stepper<S> {
     /// The exact Newton update at `x` (eq. 143) into `dx`: assembles and factors the
-    /// Jacobian, regularized ([`Options::regularization`](crate::Options::regularization))
+    /// Jacobian, regularized ([`LinearOptions::regularization`](crate::LinearOptions::regularization))
     /// when it is singular.
     pub(super) fn exact_direction(
         &mut self,
@@ -52,7 +52,7 @@ impl<S: System> Stepper<S> {
         prune: Option<&Pruning>,
         dx: &mut [f64],
     ) -> Result<(), crate::linalg::LinalgError> {
-        let eps = self.options.regularization;
+        let eps = self.options.linear.regularization;
         // The factors made below replace the kept ones; a regularized matrix's serve the
         // same sets only, and only in a step's first attempt (docs/method.md §7).
         self.work.factored = None;
@@ -69,7 +69,7 @@ impl<S: System> Stepper<S> {
                 .and_then(|()| numerically_regular(x, dx))
             {
                 Ok(()) => {
-                    if self.options.low_rank_updates {
+                    if self.options.linear.low_rank_updates {
                         let w = &mut self.work;
                         let factored = if prune.is_some() {
                             &mut w.jac_pruned
@@ -95,15 +95,16 @@ impl<S: System> Stepper<S> {
         }
         // Redundant closed contacts: solve the regularized linearization.
         let known = &mut self.work.singular_sets;
-        if !known.iter().any(redundant) {
-            if known.len() == SINGULAR_SETS_KEPT {
+        let kept = self.options.tuning.singular_sets_kept;
+        if kept > 0 && !known.iter().any(redundant) {
+            if known.len() >= kept {
                 known.remove(0);
             }
             known.push(sets.clone());
         }
         self.regularize(eps);
         self.newton_direction(prune, Factor::Equilibrated, p, dx)?;
-        if self.options.reuse_factorization && p.quick_updates {
+        if self.options.linear.reuse_factorization && p.quick_updates {
             self.work.factored = Some(FactoredFor {
                 sets: sets.clone(),
                 prune: prune.cloned(),
@@ -269,7 +270,7 @@ mod tests {
     use super::super::prune::number_kept;
     use super::*;
     use crate::systems::chain::Chain;
-    use crate::Options;
+    use crate::{LinearOptions, Options};
 
     /// Kept factors made with a contact in the linear solve serve an attempt that
     /// prunes it (open, force-free, at the same sets): the contact's rows are those of an
@@ -283,7 +284,10 @@ mod tests {
         q0[7] += 0.05;
         let options = Options {
             dt: 1e-3,
-            reuse_factorization: true,
+            linear: LinearOptions {
+                reuse_factorization: true,
+                ..LinearOptions::default()
+            },
             ..Options::default()
         };
         let mut s = Stepper::new(chain, 0.0, &q0, &u0, options).unwrap();

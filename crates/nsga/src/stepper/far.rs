@@ -15,18 +15,6 @@
 use super::Stepper;
 use crate::system::System;
 
-/// Largest ratio of the position correction to the step's motion,
-///
-/// ‖Q‖ / (Δt(‖u_n‖ + ‖u_{n+1}‖) + Δt²(‖ā_n‖ + ‖ā_{n+1}‖ + ‖M⁻¹h‖)),   ‖v‖ = maxᵢ √Mᵢᵢ |vᵢ|,
-///
-/// of a solution that is taken. The steps taken in the 135-run shaken-column matrix,
-/// the Lire collapse with and without a floor, the thesis's scenes and the kicked tall
-/// columns stay at or below 1.4, and fixed-set candidates of their branch points at or
-/// below 2.1; the far solutions start at 6.95, and the one that turned block 25 of a
-/// kicked 30-block column by 0.83 rad in one step had 325 (docs/method.md §8.1, "Far
-/// solutions").
-pub const FAR_CORRECTION: f64 = 4.0;
-
 impl<S: System> Stepper<S> {
     /// The size of the position correction Q of the evaluated iterate `x` relative to
     /// the motion of the step,
@@ -75,8 +63,8 @@ impl<S: System> Stepper<S> {
     }
 
     /// Whether the evaluated iterate `x` is a far solution: its position correction is
-    /// more than [`FAR_CORRECTION`] times the step's motion.
+    /// more than [`Tuning::far_correction`](crate::Tuning::far_correction) times the step's motion.
     pub(super) fn is_far(&mut self, x: &[f64]) -> bool {
-        self.correction_ratio(x) > FAR_CORRECTION
+        self.correction_ratio(x) > self.options.tuning.far_correction
     }
 }

@@ -19,10 +19,6 @@ use crate::linalg::max_norm;
 use crate::sets::IndexSets;
 use crate::system::System;
 
-/// Evaluations with the previous step's sets held before they are released anyway (a
-/// held solve that converges does so within a few quadratic updates).
-pub const MAX_HELD_EVALUATIONS: usize = 8;
-
 /// The progress of one held-sets attempt.
 #[derive(Debug, Clone)]
 pub(super) struct HeldSets {
@@ -62,7 +58,7 @@ impl<S: System> Stepper<S> {
     ///
     /// While the previous sets are held, the update solves the step with them. They are
     /// released once that solve has converged, stalled (its residual no longer halves)
-    /// or had [`MAX_HELD_EVALUATIONS`] evaluations. From then on, the sets of an update
+    /// or had [`Tuning::held_evaluations`](crate::Tuning::held_evaluations) evaluations. From then on, the sets of an update
     /// are the laws' sets with at most `most` contacts opened since the last update.
     /// While the sets are held, the returned norm is the held solve's, so that the
     /// give-up rules judge the solve the update belongs to; it is above the tolerance,
@@ -90,8 +86,10 @@ impl<S: System> Stepper<S> {
         self.residual(x, &held, p);
         let held_res = max_norm(&self.work.res);
         progress.evaluations += 1;
-        let stalled = progress.evaluations > 1 && held_res > 0.5 * progress.last_residual;
-        let spent = progress.evaluations >= MAX_HELD_EVALUATIONS;
+        let tuning = &self.options.tuning;
+        let stalled =
+            progress.evaluations > 1 && held_res > tuning.held_contraction * progress.last_residual;
+        let spent = progress.evaluations >= tuning.held_evaluations;
         if held_res <= self.options.tol || stalled || spent {
             progress.held = None;
             self.work.res = laws;

@@ -324,9 +324,9 @@ impl<S: System> Stepper<S> {
     /// argument r g_N − κ̂_N is largest. The others stay in A. Likewise at most k of the
     /// contacts that stay in A leave B or C (by their prox arguments r ξ_N − P_N and
     /// (r g̈_N − λ_N)Δt, both impulses); the others keep the levels of the last update.
-    /// The friction sets follow (see [`Options::max_openings_per_update`]).
+    /// The friction sets follow (see [`NewtonOptions::max_openings_per_update`]).
     ///
-    /// [`Options::max_openings_per_update`]: crate::Options::max_openings_per_update
+    /// [`NewtonOptions::max_openings_per_update`]: crate::NewtonOptions::max_openings_per_update
     pub(super) fn compute_sets(
         &mut self,
         x: &[f64],

@@ -33,9 +33,6 @@ use crate::system::System;
 /// factorized anew.
 pub const LOW_RANK_ROWS: usize = 8;
 
-/// Columns of Z = J₀⁻¹ E kept per factorization.
-const KEPT_COLUMNS: usize = 32;
-
 /// The kept matrix and the scratch of low-rank updates.
 #[derive(Debug, Clone, Default)]
 pub(super) struct LowRank {
@@ -236,7 +233,7 @@ impl<S: System> Stepper<S> {
             return false;
         }
         // The columns of Z, kept from earlier updates on these factors where they can be.
-        if lr.z_rows.len() + k > KEPT_COLUMNS {
+        if lr.z_rows.len() + k > self.options.tuning.kept_columns {
             lr.z_rows.clear();
         }
         let mut z = [0; LOW_RANK_ROWS];
@@ -290,7 +287,7 @@ impl<S: System> Stepper<S> {
 mod tests {
     use super::*;
     use crate::systems::chain::Chain;
-    use crate::Options;
+    use crate::{LinearOptions, Options};
 
     fn max_difference(a: &[f64], b: &[f64]) -> f64 {
         a.iter()
@@ -306,8 +303,11 @@ mod tests {
         let (q0, u0) = chain.resting(0.3);
         let options = Options {
             dt: 1e-3,
-            reuse_factorization: true,
-            low_rank_updates: true,
+            linear: LinearOptions {
+                reuse_factorization: true,
+                low_rank_updates: true,
+                ..LinearOptions::default()
+            },
             ..Options::default()
         };
         let mut s = Stepper::new(chain, 0.0, &q0, &u0, options).unwrap();

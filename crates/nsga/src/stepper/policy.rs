@@ -33,44 +33,44 @@ use crate::system::System;
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub(crate) enum Stage {
     /// Free Newton from the unknowns the last steps' solutions extrapolate to
-    /// ([`Options::predict_start`]), with at most
-    /// [`PREDICTED_START_ITERATIONS`](crate::PREDICTED_START_ITERATIONS) updates, more
+    /// ([`NewtonOptions::predict_start`](crate::NewtonOptions::predict_start)), with at most
+    /// [`Tuning::predicted_start_iterations`](crate::Tuning::predicted_start_iterations) updates, more
     /// while they converge. Where it fails, the first attempt starts again from the
     /// last solution.
     Predicted,
-    /// The held-sets attempt ([`Options::max_openings_per_update`]), in a system with
-    /// more normal contacts than [`Options::max_iter`]: the previous step's sets held,
+    /// The held-sets attempt ([`NewtonOptions::max_openings_per_update`](crate::NewtonOptions::max_openings_per_update)), in a system with
+    /// more normal contacts than [`NewtonOptions::max_iter`]: the previous step's sets held,
     /// then released a few openings per update (docs/method.md §8.2).
     HeldSets,
     /// Free Newton from the last step's solution, with a free attempt's budget
-    /// ([`Options::max_iter_per_contact`]). Its failure is the step's first failure,
+    /// ([`NewtonOptions::max_iter_per_contact`](crate::NewtonOptions::max_iter_per_contact)). Its failure is the step's first failure,
     /// which the later stages read.
     Free,
-    /// The flip probe of a converged first attempt ([`Options::probe_flips`]): the step
+    /// The flip probe of a converged first attempt ([`PolicyOptions::probe_flips`]): the step
     /// re-solved with each touching contact's state flipped; it commits the converged
     /// step, with a branch point when a flip gives another self-consistent solution.
     FlipProbe,
-    /// The `i`th ρ∞ of [`Options::rho_inf_retries`] (after the failures that
-    /// [`Options::rho_inf_retry`] names; thesis §4.2).
+    /// The `i`th ρ∞ of [`PolicyOptions::rho_inf_retries`] (after the failures that
+    /// [`PolicyOptions::rho_inf_retry`] names; thesis §4.2).
     RhoRetry(usize),
-    /// With [`Options::explore_branches`], when the first attempt's index sets cycled:
+    /// With [`PolicyOptions::explore_branches`], when the first attempt's index sets cycled:
     /// one re-solve per distinct set seen with the sets fixed; the self-consistent
     /// candidates, deduplicated by state, make a branch point, and the step continues
     /// with one of them whatever [`Options::branch_rule`] records.
     BranchTrials,
-    /// With [`Options::retry_without_friction_shift`]: the step without the friction
+    /// With [`PolicyOptions::retry_without_friction_shift`]: the step without the friction
     /// percussions' half-step shift.
     Unshifted,
     /// With [`FailurePolicy::AcceptBest`]: the best iterate, marked not converged.
     AcceptBest,
-    /// Up to [`Options::max_halvings`] times: the step as two halves, each with this
+    /// Up to [`PolicyOptions::max_halvings`] times: the step as two halves, each with this
     /// whole policy.
     Halving,
-    /// With [`Options::boundary_resolves`], when the first attempt's sets cycled:
+    /// With [`PolicyOptions::boundary_resolves`], when the first attempt's sets cycled:
     /// fixed-set re-solves that accept friction laws sitting exactly on their stick–slip
     /// bound.
     Boundary,
-    /// With [`Options::last_resort`], at the step's own Δt: a Moreau–Jean step whose
+    /// With [`PolicyOptions::last_resort`], at the step's own Δt: a Moreau–Jean step whose
     /// contact problem is solved by Lemke's method, which terminates.
     LastResort,
 }
@@ -153,15 +153,16 @@ struct Enabled {
 
 impl Enabled {
     fn new(o: &Options) -> Self {
+        let p = &o.policy;
         Self {
-            probe_flips: o.probe_flips,
-            rho_retries: o.rho_inf_retries.len(),
-            rho_after_iterates: o.rho_inf_retry != RhoInfRetry::SingularMatrix,
-            explore_branches: o.explore_branches,
-            unshifted: o.retry_without_friction_shift && o.friction_percussion_shift,
-            accept_best: o.on_failure == FailurePolicy::AcceptBest,
-            boundary_resolves: o.boundary_resolves,
-            last_resort: o.last_resort,
+            probe_flips: p.probe_flips,
+            rho_retries: p.rho_inf_retries.len(),
+            rho_after_iterates: p.rho_inf_retry != RhoInfRetry::SingularMatrix,
+            explore_branches: p.explore_branches,
+            unshifted: p.retry_without_friction_shift && o.friction_percussion_shift,
+            accept_best: p.on_failure == FailurePolicy::AcceptBest,
+            boundary_resolves: p.boundary_resolves,
+            last_resort: p.last_resort,
         }
     }
 }
@@ -420,7 +421,7 @@ impl<S: System> Stepper<S> {
     /// of halving above the current Δt.
     pub(super) fn run_policy(&mut self) -> Result<(), StepError> {
         let mut above: Vec<(Policy, Halves)> = Vec::new();
-        let mut policy = Policy::new(self, self.options.max_halvings, true);
+        let mut policy = Policy::new(self, self.options.policy.max_halvings, true);
         let mut stage = policy.first();
         loop {
             let next = match stage {
@@ -498,13 +499,13 @@ mod tests {
     use super::{Enabled, Next, Policy, Stage};
     use crate::attempt::{AttemptFailure, RefusedBecause};
     use crate::error::StepError;
-    use crate::options::{FailurePolicy, Options, RhoInfRetry};
+    use crate::options::{FailurePolicy, Options, PolicyOptions, RhoInfRetry};
     use crate::sets::IndexSets;
     use crate::state::State;
 
     /// The policy of a step at the step's own Δt with these options, before any stage.
     fn policy(o: &Options) -> Policy {
-        Policy::before_any_stage(Enabled::new(o), o.max_halvings, true, None, false)
+        Policy::before_any_stage(Enabled::new(o), o.policy.max_halvings, true, None, false)
     }
 
     fn not_converged(visited: &[IndexSets], cycling: bool) -> AttemptFailure {
@@ -528,13 +529,16 @@ mod tests {
     #[test]
     fn a_refused_solution_is_a_failure_with_iterates_and_no_best() {
         let o = Options {
-            rho_inf_retry: RhoInfRetry::SingularMatrix,
-            rho_inf_retries: vec![0.8, 0.9],
-            explore_branches: false,
-            retry_without_friction_shift: false,
-            boundary_resolves: false,
-            last_resort: false,
-            max_halvings: 0,
+            policy: PolicyOptions {
+                rho_inf_retry: RhoInfRetry::SingularMatrix,
+                rho_inf_retries: vec![0.8, 0.9],
+                explore_branches: false,
+                retry_without_friction_shift: false,
+                boundary_resolves: false,
+                last_resort: false,
+                max_halvings: 0,
+                ..PolicyOptions::default()
+            },
             ..Options::default()
         };
         let sets = vec![IndexSets::empty(1, 0)];
@@ -564,14 +568,17 @@ mod tests {
     #[test]
     fn failing_stages_follow_one_another_in_order() {
         let o = Options {
-            rho_inf_retries: vec![0.8],
-            explore_branches: true,
-            retry_without_friction_shift: true,
             friction_percussion_shift: true,
-            on_failure: FailurePolicy::AcceptBest,
-            boundary_resolves: true,
-            last_resort: true,
-            max_halvings: 1,
+            policy: PolicyOptions {
+                rho_inf_retries: vec![0.8],
+                explore_branches: true,
+                retry_without_friction_shift: true,
+                on_failure: FailurePolicy::AcceptBest,
+                boundary_resolves: true,
+                last_resort: true,
+                max_halvings: 1,
+                ..PolicyOptions::default()
+            },
             ..Options::default()
         };
         let (mut p, state) = (policy(&o), State::default());

@@ -11,26 +11,10 @@
 //!
 //! Measured on the Lire collapse (`rollstack blocks lire --perturb bottom --t-end 9.99
 //! --json`, `newton_iterations_mean`): 1.92 Newton updates per step from x_n, 0.89 with
-//! the prediction (where it applies, see [`PREDICTED_START_ITERATIONS`] and
+//! the prediction (where it applies, see [`Tuning::predicted_start_iterations`](crate::Tuning::predicted_start_iterations) and
 //! docs/method.md §4).
 
 use super::unknowns::Offsets;
-
-/// Newton updates allowed from a predicted start before the step is solved again from
-/// the last solution with its full budget. A good prediction converges in one update;
-/// one that needs more is mostly a step where a contact changes state, for which the
-/// extrapolation says nothing. An attempt still converging goes on: while its updates
-/// keep the index sets and contract the residual by
-/// [`REUSE_CONTRACTION`](crate::newton::REUSE_CONTRACTION), it may use the step's whole
-/// budget (`NewtonSettings::contracting_extra`). Without that, a prediction followed by
-/// simplified updates on aging factors (contraction 0.02–0.06 per update in the Lire
-/// collapse at t ≈ 5.6) missed the tolerance after two updates by a factor of 1.3 and
-/// started again from the last solution, 10⁵ times farther off (docs/method.md §4).
-/// On the at-rest columns of 10 and 30 blocks (`rollstack blocks shake --blocks 10
-/// --omega 2 --amplitude 0.001 --mu 0.2 --steps-per-period 314 --t-end 1 --json
-/// --force`), whose corners rock, 6 updates cost 113 linear solves against 77 without
-/// prediction, 2 updates cost 91.
-pub const PREDICTED_START_ITERATIONS: usize = 2;
 
 /// Solutions of the last steps whose index sets were all equal: (k, Δt, x) of steps k,
 /// oldest first, at most two besides the current state's.

@@ -48,7 +48,8 @@ impl<S: System> Stepper<S> {
         let mut pruned_n = vec![false; o.nn];
         for (k, pr) in pruned_n.iter_mut().enumerate() {
             let pk = o.ng + k;
-            let margin = 2.0 * dt * rate[pk].abs() + dt * dt * acc[pk].abs();
+            let margin =
+                self.options.tuning.prune_margin * dt * rate[pk].abs() + dt * dt * acc[pk].abs();
             *pr = !keep[k]
                 && gap[pk] > margin
                 && gap[pk] > 0.0

@@ -16,7 +16,7 @@ pub(super) struct Scheme {
     /// ([`Options::friction_percussion_shift`](crate::Options::friction_percussion_shift)).
     pub friction_shift: bool,
     /// Whether the updates may be low-rank updates of kept factors
-    /// ([`Options::low_rank_updates`](crate::Options::low_rank_updates)) and kept
+    /// ([`LinearOptions::low_rank_updates`](crate::LinearOptions::low_rank_updates)) and kept
     /// factors of a regularized matrix: in a step's first attempt only.
     pub quick_updates: bool,
 }

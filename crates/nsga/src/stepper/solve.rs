@@ -131,13 +131,13 @@ impl<S: System> NewtonProblem for StepProblem<'_, S> {
 impl<S: System> Stepper<S> {
     /// One Newton attempt at the step as `spec` describes it (docs/method.md §4). Open
     /// contacts are pruned from its linear solve when
-    /// [`Options::prune_open_contacts`](crate::Options::prune_open_contacts) asks for it
+    /// [`NewtonOptions::prune_open_contacts`](crate::NewtonOptions::prune_open_contacts) asks for it
     /// (with fixed sets, only those the sets leave open); a pruned contact that closes
     /// restarts the run from its iterate with that contact kept ([`Resumed`]).
     pub(super) fn attempt(&mut self, spec: &AttemptSpec) -> AttemptOutcome {
         let mut x = spec.start_unknowns(&self.state);
         let fixed = spec.sets.fixed();
-        let mut keep: Option<Vec<bool>> = self.options.prune_open_contacts.then(|| {
+        let mut keep: Option<Vec<bool>> = self.options.newton.prune_open_contacts.then(|| {
             (0..self.off.nn)
                 .map(|k| fixed.is_some_and(|f| f.a[k]))
                 .collect()
@@ -161,10 +161,10 @@ impl<S: System> Stepper<S> {
     }
 
     /// Whether an attempt with `scheme` takes the updates of
-    /// [`Options::low_rank_updates`](crate::Options::low_rank_updates): a step's first
+    /// [`LinearOptions::low_rank_updates`](crate::LinearOptions::low_rank_updates): a step's first
     /// attempt, when they are asked for.
     pub(super) fn quick_updates(&self, scheme: &Scheme) -> bool {
-        self.options.low_rank_updates && scheme.quick_updates
+        self.options.linear.low_rank_updates && scheme.quick_updates
     }
 
     /// One run of the Newton engine for the attempt `spec` from the iterate `x`, with
@@ -186,7 +186,7 @@ impl<S: System> Stepper<S> {
             tol: self.options.tol,
             max_iter: spec.budget.saturating_sub(updates_before),
             line_search: spec.line_search,
-            reuse_factorization: self.options.reuse_factorization,
+            reuse_factorization: self.options.linear.reuse_factorization,
             resume_reuse: self.quick_updates(&scheme),
             give_up: if fixed.is_some() {
                 GiveUp::Stall
@@ -194,6 +194,7 @@ impl<S: System> Stepper<S> {
                 GiveUp::SettledCycle
             },
             contracting_extra: spec.contracting_extra,
+            tuning: self.options.tuning,
         };
         self.prepare_step();
         let mut scratch = std::mem::take(&mut self.work.newton);

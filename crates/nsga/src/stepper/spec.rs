@@ -101,18 +101,18 @@ impl AttemptSpec {
 impl<S: System> Stepper<S> {
     /// The attempt with `sets` at ρ∞ = `rho_inf` that the options describe: from the last
     /// solution, with a free attempt's budget ([`Stepper::free_budget`]) or, with fixed
-    /// sets, [`Options::max_iter`](crate::Options::max_iter) updates; a held-sets
+    /// sets, [`NewtonOptions::max_iter`](crate::NewtonOptions::max_iter) updates; a held-sets
     /// attempt takes its updates whole (after the release each update changes the sets
     /// of a contact or a few, and halving such updates only delayed the next change;
     /// docs/method.md §8.2, stage 1).
     pub(super) fn spec(&self, sets: SetRule, rho_inf: f64) -> AttemptSpec {
         let budget = match sets {
-            SetRule::Fixed(_) => self.options.max_iter,
+            SetRule::Fixed(_) => self.options.newton.max_iter,
             SetRule::Free | SetRule::Held { .. } => self.free_budget(),
         };
         let line_search = match sets {
             SetRule::Held { .. } => 0,
-            SetRule::Free | SetRule::Fixed(_) => self.options.line_search,
+            SetRule::Free | SetRule::Fixed(_) => self.options.newton.line_search,
         };
         AttemptSpec {
             start: StartAt::LastSolution,
@@ -127,23 +127,27 @@ impl<S: System> Stepper<S> {
     }
 
     /// A retry or fixed-set re-solve: [`Stepper::spec`] with at most
-    /// [`Options::retry_max_iter`](crate::Options::retry_max_iter) updates, free retries
+    /// [`PolicyOptions::retry_max_iter`](crate::PolicyOptions::retry_max_iter) updates, free retries
     /// too (their budget would otherwise grow with the contacts).
     pub(super) fn retry_spec(&self, sets: SetRule, rho_inf: f64) -> AttemptSpec {
         AttemptSpec {
-            budget: self.options.retry_max_iter.min(self.options.max_iter),
+            budget: self
+                .options
+                .policy
+                .retry_max_iter
+                .min(self.options.newton.max_iter),
             ..self.spec(sets, rho_inf)
         }
     }
 
     /// Largest number of updates of a free attempt: see
-    /// [`Options::max_iter_per_contact`](crate::Options::max_iter_per_contact).
+    /// [`NewtonOptions::max_iter_per_contact`](crate::NewtonOptions::max_iter_per_contact).
     pub(super) fn free_budget(&self) -> usize {
-        self.free_budget_over(self.options.max_iter)
+        self.free_budget_over(self.options.newton.max_iter)
     }
 
     /// [`Stepper::free_budget`] with `max_iter` in place of the options'.
     pub(super) fn free_budget_over(&self, max_iter: usize) -> usize {
-        (self.options.max_iter_per_contact * self.off.nn).max(max_iter)
+        (self.options.newton.max_iter_per_contact * self.off.nn).max(max_iter)
     }
 }

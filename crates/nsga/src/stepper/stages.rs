@@ -3,7 +3,6 @@
 //! friction shift, the best iterate; the fixed-set re-solves are in [`super::branch`].
 
 use super::policy::{Policy, Stage, StageOutcome};
-use super::predict::PREDICTED_START_ITERATIONS;
 use super::spec::{AttemptSpec, SetRule, StartAt};
 use super::Stepper;
 use crate::attempt::AttemptOutcome;
@@ -28,18 +27,19 @@ impl<S: System> Stepper<S> {
         match stage {
             Stage::Predicted => {
                 let x = policy.prediction.take().ok_or(None)?;
-                let budget = PREDICTED_START_ITERATIONS.min(self.options.max_iter);
+                let budget = (self.options.tuning.predicted_start_iterations)
+                    .min(self.options.newton.max_iter);
                 let from_prediction = AttemptSpec {
                     start: StartAt::Unknowns(x),
                     budget,
-                    contracting_extra: self.options.max_iter - budget,
+                    contracting_extra: self.options.newton.max_iter - budget,
                     ..self.first_spec(SetRule::Free, rho0)
                 };
                 self.attempt(&from_prediction).map_err(Some)
             }
             Stage::HeldSets => {
                 let previous = self.last.as_ref().ok_or(None)?.sets.clone();
-                let most = self.options.max_openings_per_update;
+                let most = self.options.newton.max_openings_per_update;
                 let held = self.first_spec(SetRule::Held { previous, most }, rho0);
                 self.attempt(&held).map_err(Some)
             }
@@ -51,7 +51,7 @@ impl<S: System> Stepper<S> {
                 Ok(self.probe_flips(converged, rho0))
             }
             Stage::RhoRetry(i) => {
-                let rho = *self.options.rho_inf_retries.get(i).ok_or(None)?;
+                let rho = *self.options.policy.rho_inf_retries.get(i).ok_or(None)?;
                 self.attempt(&self.retry_spec(SetRule::Free, rho))
                     .map_err(Some)
             }
@@ -92,13 +92,13 @@ impl<S: System> Stepper<S> {
 
     /// Whether the step starts with the held-sets attempt ([`Stage::HeldSets`]): in a
     /// system with more normal contacts than `max_iter` (whose free attempts get more
-    /// updates, see [`Options::max_iter_per_contact`](crate::Options::max_iter_per_contact)),
-    /// with [`Options::max_openings_per_update`](crate::Options::max_openings_per_update)
+    /// updates, see [`NewtonOptions::max_iter_per_contact`](crate::NewtonOptions::max_iter_per_contact)),
+    /// with [`NewtonOptions::max_openings_per_update`](crate::NewtonOptions::max_openings_per_update)
     /// set and the previous step's sets at hand.
     pub(super) fn held_sets_apply(&self) -> bool {
-        let most = self.options.max_openings_per_update;
+        let most = self.options.newton.max_openings_per_update;
         most > 0
-            && self.free_budget() > self.options.max_iter
+            && self.free_budget() > self.options.newton.max_iter
             && self.last.as_ref().is_some_and(|s| {
                 s.sets
                     .is_consistent(self.off.nn, self.layout.friction.len())
@@ -106,13 +106,13 @@ impl<S: System> Stepper<S> {
     }
 
     /// The predicted start of the step ([`Stage::Predicted`]), with
-    /// [`Options::predict_start`](crate::Options::predict_start) and a prediction at hand.
+    /// [`NewtonOptions::predict_start`](crate::NewtonOptions::predict_start) and a prediction at hand.
     pub(super) fn prediction(&mut self) -> Option<Vec<f64>> {
         // A step that converged without an update from its start is followed by another
         // one (a body at rest or in free flight): there the extrapolation would only
         // add round-off to a start that is already a solution.
         let moving = self.last.as_ref().is_some_and(|l| l.iterations > 0);
-        if !(self.options.predict_start && moving) {
+        if !(self.options.newton.predict_start && moving) {
             return None;
         }
         self.predictor
@@ -121,11 +121,11 @@ impl<S: System> Stepper<S> {
 
     /// [`Stage::Unshifted`]: the step from the state's unknowns,
     /// with a free attempt's budget, without the friction percussions' half-step shift
-    /// ([`Options::retry_without_friction_shift`]). Where the paper's step has no
+    /// ([`PolicyOptions::retry_without_friction_shift`]). Where the paper's step has no
     /// self-consistent index sets because that shift turns a body against its own
     /// closed contacts, this one usually has (docs/method.md §8.2).
     ///
-    /// [`Options::retry_without_friction_shift`]: crate::Options::retry_without_friction_shift
+    /// [`PolicyOptions::retry_without_friction_shift`]: crate::PolicyOptions::retry_without_friction_shift
     fn solve_unshifted(&mut self, rho0: f64) -> AttemptOutcome {
         let unshifted = AttemptSpec {
             friction_shift: false,

@@ -75,7 +75,7 @@ mod tests {
     use super::*;
     use crate::system::System;
     use crate::systems::chain::Chain;
-    use crate::{Options, Stepper};
+    use crate::{NewtonOptions, Options, Stepper};
 
     /// The levels a step keeps are those a fresh evaluation of the committed state gives,
     /// to the bit; `system_mut` forgets them.
@@ -86,7 +86,10 @@ mod tests {
         // landings.
         let (q0, u0) = chain.spread(0.01, 0.3);
         let options = Options {
-            prune_open_contacts: true,
+            newton: NewtonOptions {
+                prune_open_contacts: true,
+                ..NewtonOptions::default()
+            },
             ..Options::default()
         };
         let mut s = Stepper::new(chain, 0.0, &q0, &u0, options).unwrap();

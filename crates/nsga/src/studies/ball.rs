@@ -4,7 +4,7 @@
 
 use crate::error::StepError;
 use crate::moreau::{MoreauOptions, MoreauStepper};
-use crate::options::{Options, Prox};
+use crate::options::{Options, PolicyOptions, Prox};
 use crate::stepper::Stepper;
 use crate::systems::ball::BallCase;
 use std::fmt;
@@ -160,7 +160,10 @@ pub fn run_ball(
                 dt,
                 rho_inf,
                 prox,
-                last_resort: false,
+                policy: PolicyOptions {
+                    last_resort: false,
+                    ..PolicyOptions::default()
+                },
                 ..Options::default()
             };
             let mut s = Stepper::new(case.ball, 0.0, &case.q0, &case.u0, opts)?;

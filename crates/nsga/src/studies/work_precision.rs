@@ -5,7 +5,7 @@
 use super::ball::{run_ball, Scheme};
 use crate::error::StepError;
 use crate::moreau::{MoreauOptions, MoreauStepper};
-use crate::options::{Options, Prox};
+use crate::options::{Options, PolicyOptions, Prox};
 use crate::stepper::Stepper;
 use crate::systems::ball::BallCase;
 use std::fmt;
@@ -107,7 +107,10 @@ fn run_generic<S: crate::system::System>(
                 Options {
                     dt,
                     rho_inf,
-                    last_resort: false,
+                    policy: PolicyOptions {
+                        last_resort: false,
+                        ..PolicyOptions::default()
+                    },
                     ..Options::default()
                 },
             )?;

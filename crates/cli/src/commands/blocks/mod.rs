@@ -130,6 +130,9 @@ pub struct SolverArgs {
     /// run (their watchdog).
     #[arg(long)]
     pub force: bool,
+    #[command(flatten)]
+    #[allow(missing_docs)]
+    pub tuning: crate::commands::tuning::TuningArgs,
 }
 
 impl SolverArgs {
@@ -144,6 +147,8 @@ impl SolverArgs {
         if let Some(r) = self.prox_constant {
             input::positive("--prox-constant", r)?;
         }
+        // Each assignment checked here, so that its error names the flag.
+        self.tuning.apply(&mut ::nsga::Options::default())?;
         Ok(RunOptions {
             t_end,
             prox: self.prox_constant.map(Prox::Constant),
@@ -151,6 +156,7 @@ impl SolverArgs {
             stop_at_failure,
             skip_last_resort: !self.last_resort,
             skip_low_rank_updates: !self.low_rank_updates,
+            tuning: self.tuning.assignments.clone(),
             ..RunOptions::default()
         })
     }

@@ -1,10 +1,11 @@
 //! `rollstack cylinder pair`: the transport of two touching cylinders at one
 //! inclination (§3.6), stepped by nsga ([`cylinders::studies::pair`]).
 
+use crate::commands::tuning::TuningArgs;
 use crate::output::{ensure_dir, print_json, write_csv, write_run_json};
 use anyhow::Result;
 use clap::Args;
-use cylinders::studies::pair::{run_pair, PairReport, PairSample, PairSettings};
+use cylinders::studies::pair::{run_pair_with, PairReport, PairSample, PairSettings};
 use cylinders::transport::SpinProfile;
 use figures::cylinders::{plot_pair_forces, plot_pair_view, write_pair_animation};
 use input::text::{parse_finite, parse_value, RotationAngle};
@@ -54,6 +55,9 @@ pub struct PairArgs {
     /// Run even when the run is estimated to take longer than ten minutes.
     #[arg(long)]
     pub force: bool,
+    #[command(flatten)]
+    #[allow(missing_docs)]
+    pub tuning: TuningArgs,
 }
 
 impl PairArgs {
@@ -85,7 +89,10 @@ pub(super) fn run(a: &PairArgs) -> Result<()> {
     super::check_theta(settings.theta, &settings.cylinder)?;
     super::guard::check_time_bound(&settings, 1, a.force)?;
     let busy = crate::progress::busy("cylinder pair: solving", !a.json);
-    let mut report = run_pair(&settings, a.out.is_some())?;
+    let mut options = settings.stepper_options();
+    a.tuning.apply(&mut options)?;
+    let never = std::sync::atomic::AtomicBool::new(false);
+    let mut report = run_pair_with(&settings, options, a.out.is_some(), &never)?;
     let trajectory = report.trajectory.take();
     if let (Some(dir), Some(samples)) = (&a.out, &trajectory) {
         busy.set_message("cylinder pair: writing the files and the animation");

@@ -1,0 +1,170 @@
+//! The measured constants of the stepper, in one structure ([`Options::tuning`]).
+//!
+//! Each field is a value that a measurement can change: an iteration budget, a
+//! contraction factor, a cycle or stall limit, a threshold. Its doc comment gives the
+//! measurement or the argument behind its default. Round-off bounds and algorithmic
+//! invariants are not tuning and stay constants where they are used.
+//!
+//! Any field can be set at run time by name ([`Options::set`], the hidden `--tuning
+//! NAME=VALUE` flag of the block and cylinder commands), so that
+//! `scripts/reference_workload.py BIN --variant tuning.NAME=VALUE` re-measures its
+//! effect on the reference workload with one binary.
+//!
+//! [`Options::tuning`]: crate::Options::tuning
+//! [`Options::set`]: crate::Options::set
+
+/// The measured constants of the stepper (docs/method.md, appendix "constants at a
+/// glance").
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(default)]
+pub struct Tuning {
+    /// Residual reduction a simplified Newton update must reach; below it the next
+    /// update is exact (see [`crate::LinearOptions::reuse_factorization`]). A callgrind
+    /// sweep of 0.1–0.5 on the Lire collapse: none 3 % better. With the harness
+    /// (`scripts/reference_workload.py target/release/rollstack --repeat 1 --variant tuning.reuse_contraction=0.2`): the 135-run matrix takes 344 099 linear solves
+    /// against 367 717 (−6.4 %), the Lire collapse 56 against 71, but on a floor 1147
+    /// against 567.
+    pub reuse_contraction: f64,
+    /// Simplified Newton updates in a row before an exact one (see
+    /// [`crate::LinearOptions::reuse_factorization`]). 4 or 8 on the Lire collapse: none
+    /// 3 % better. With the harness (`scripts/reference_workload.py target/release/rollstack --repeat 1 --variant tuning.max_reuses=8`): the 135-run matrix takes
+    /// 362 370 linear solves against 367 717 (−1.5 %), the Lire collapse on a floor 1352
+    /// against 567.
+    pub max_reuses: usize,
+    /// Longest period (in Newton iterations) of the set cycles that
+    /// [`crate::newton::settled_cycle`] recognizes (from period 2). The landings of the
+    /// Lire collapse cycle with periods of 7 to 9 iterations, which with periods only up
+    /// to 4 ran on to the iteration limit, and its fork with a period of 12.
+    pub longest_cycle: usize,
+    /// Periods from which [`crate::newton::settled_cycle`] takes two repetitions as
+    /// evidence instead of three: two periods of 6 iterations or more span as many
+    /// iterates as three of 4. The fork of the Lire collapse (t = 5.04) cycles with a
+    /// period of 12, whose third period ended just at the 40 iterations of blockstack's
+    /// first attempts: 8 exact updates and 29 evaluations that repeated the first two
+    /// periods (80 linear solves instead of 88). With the harness
+    /// (`scripts/reference_workload.py target/release/rollstack --repeat 1 --variant tuning.long_cycle=12`): the matrix 363 135 linear solves against 367 717
+    /// (−1.2 %), the floor landing 571 against 567.
+    pub long_cycle: usize,
+    /// Iterations without progress after which a fixed-set solve is given up
+    /// ([`crate::newton::stalled`]). Measured with the harness
+    /// (`scripts/reference_workload.py target/release/rollstack --repeat 1 --variant tuning.stall_iterations=2`, then `=6`): the 135-run matrix takes 377 242 and 377 532
+    /// linear solves against 369 344 with 3, the Lire collapse 70 and 75 against 71, on a
+    /// floor 563 and 574 against 567.
+    pub stall_iterations: usize,
+    /// The progress the give-up rules ask for: a cycle's last period, or a fixed-set
+    /// solve's last [`Tuning::stall_iterations`] residuals, must reach this fraction of
+    /// the smallest residual before them, or the attempt is given up. With the harness
+    /// (`scripts/reference_workload.py target/release/rollstack --repeat 1 --variant tuning.progress=0.25`): the matrix 362 321 linear solves against 367 717
+    /// (−1.5 %), the Lire collapse 69 against 71, on a floor 565 against 567.
+    pub progress: f64,
+    /// Evaluations with the previous step's sets held before they are released anyway,
+    /// in the held-sets attempt (a held solve that converges does so within a few
+    /// quadratic updates). Measured with the harness
+    /// (`scripts/reference_workload.py target/release/rollstack --repeat 1 --variant tuning.held_evaluations=4`): the matrix takes 364 629 linear solves against
+    /// 369 344 (−1.3 %), the other workloads the same: under 5 % either way. With 16
+    /// (after the ρ∞ retries left blockstack): 367 707 against 367 717, the rest the
+    /// same.
+    pub held_evaluations: usize,
+    /// The held-sets attempt releases the held sets when an update reduces their
+    /// residual by less than this factor. With the harness
+    /// (`scripts/reference_workload.py target/release/rollstack --repeat 1 --variant tuning.held_contraction=0.25`): the matrix 365 193 linear solves against 367 717
+    /// (−0.7 %), the other workloads the same.
+    pub held_contraction: f64,
+    /// Newton iterations allowed when checking that a fixed-set solution also solves
+    /// the free step, in the boundary re-solves (it converges at once when it does).
+    /// Measured with the harness (`scripts/reference_workload.py target/release/rollstack --repeat 1 --variant tuning.quick_check_iterations=4`): no count of the
+    /// workload changes.
+    pub quick_check_iterations: usize,
+    /// Newton updates allowed from a predicted start before the step is solved again
+    /// from the last solution with its full budget. A good prediction converges in one
+    /// update; one that needs more is mostly a step where a contact changes state, for
+    /// which the extrapolation says nothing. An attempt still converging goes on: while
+    /// its updates keep the index sets and contract the residual by
+    /// [`Tuning::reuse_contraction`], it may use the step's whole budget
+    /// (`NewtonSettings::contracting_extra`). Without that, a prediction followed by
+    /// simplified updates on aging factors (contraction 0.02–0.06 per update in the Lire
+    /// collapse at t ≈ 5.6) missed the tolerance after two updates by a factor of 1.3
+    /// and started again from the last solution, 10⁵ times farther off (docs/method.md
+    /// §4). On the at-rest columns of 10 and 30 blocks (`rollstack blocks shake --blocks
+    /// 10 --omega 2 --amplitude 0.001 --mu 0.2 --steps-per-period 314 --t-end 1 --json
+    /// --force`), whose corners rock, 6 updates cost 113 linear solves against 77
+    /// without prediction, 2 updates cost 91; with 1, 95 586 evaluations over 40 Lire
+    /// collapses against 78 929. With the harness
+    /// (`scripts/reference_workload.py target/release/rollstack --repeat 1 --variant tuning.predicted_start_iterations=4`): the matrix 359 137 linear solves against
+    /// 367 717 (−2.3 %), but the floor landing 1269 against 567.
+    pub predicted_start_iterations: usize,
+    /// Largest ratio of the position correction to the step's motion,
+    ///
+    /// ‖Q‖ / (Δt(‖u_n‖ + ‖u_{n+1}‖) + Δt²(‖ā_n‖ + ‖ā_{n+1}‖ + ‖M⁻¹h‖)),   ‖v‖ = maxᵢ √Mᵢᵢ |vᵢ|,
+    ///
+    /// of a solution that is taken. The steps taken in the 135-run shaken-column
+    /// matrix, the Lire collapse with and without a floor, the thesis's scenes and the
+    /// kicked tall columns stay at or below 1.4, and fixed-set candidates of their branch
+    /// points at or below 2.1; the far solutions start at 6.95, and the one that turned
+    /// block 25 of a kicked 30-block column by 0.83 rad in one step had 325
+    /// (docs/method.md §8.1, "Far solutions"). With the harness
+    /// (`scripts/reference_workload.py target/release/rollstack --repeat 1 --variant tuning.far_correction=8`): no count of the workload changes.
+    pub far_correction: f64,
+    /// Columns of Z = J₀⁻¹ E kept per factorization for the low-rank updates. Measured
+    /// with the harness (`scripts/reference_workload.py target/release/rollstack --repeat 1 --variant tuning.kept_columns=16`): no count of the workload changes;
+    /// the kept columns save triangular solves, whose time is unmeasured.
+    pub kept_columns: usize,
+    /// Normal sets of the last plain Newton matrices found singular that are
+    /// remembered, to go straight to the regularized matrix. When a collapsing column
+    /// lands on a floor, Newton moves among a handful of normal sets and dozens of
+    /// stick–slip combinations; remembering only the last singular set made it
+    /// rediscover each at the cost of a failed plain factorization and a dense LU. Over
+    /// the Lire collapse on a floor and 99 neighbours (`cargo run --release -p blockstack
+    /// --example lire_nearby 100 --floor`) that took 938 linear solves per run, against
+    /// 810 remembering the normal sets of the last 16; 64 and 1024 cost more. With the
+    /// harness (`scripts/reference_workload.py target/release/rollstack --repeat 1 --variant tuning.singular_sets_kept=8`): the matrix 366 523 linear solves against
+    /// 367 717, the other workloads the same.
+    pub singular_sets_kept: usize,
+    /// Open contacts are pruned when their gap exceeds this many Δt times their gap
+    /// rate (plus Δt² times their gap acceleration): they cannot close within the step,
+    /// with a margin of one more step for the rate. With the harness
+    /// (`scripts/reference_workload.py target/release/rollstack --repeat 1 --variant tuning.prune_margin=1`): the matrix takes 340 474 linear solves against 367 717
+    /// (−7.4 %), but the Lire collapse on a floor 905 against 567 and the kicked 30-block
+    /// column 171 against 143.
+    pub prune_margin: f64,
+}
+
+impl Default for Tuning {
+    fn default() -> Self {
+        Self {
+            reuse_contraction: 0.1,
+            max_reuses: 4,
+            longest_cycle: 12,
+            long_cycle: 6,
+            stall_iterations: 3,
+            progress: 0.5,
+            held_evaluations: 8,
+            held_contraction: 0.5,
+            quick_check_iterations: 8,
+            predicted_start_iterations: 2,
+            far_correction: 4.0,
+            kept_columns: 32,
+            singular_sets_kept: 16,
+            prune_margin: 2.0,
+        }
+    }
+}
+
+impl Tuning {
+    /// The first of the factors and thresholds that is negative or not finite, as a
+    /// message naming it; the counts may be any whole number (0 switches a rule off or
+    /// makes it give up at once).
+    pub(crate) fn check(&self) -> Result<(), String> {
+        let factors = [
+            ("reuse_contraction", self.reuse_contraction),
+            ("progress", self.progress),
+            ("held_contraction", self.held_contraction),
+            ("far_correction", self.far_correction),
+            ("prune_margin", self.prune_margin),
+        ];
+        match factors.iter().find(|(_, v)| !(v.is_finite() && *v >= 0.0)) {
+            Some((name, v)) => Err(format!("tuning.{name} = {v} must be finite and >= 0")),
+            None => Ok(()),
+        }
+    }
+}
