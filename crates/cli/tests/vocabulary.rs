@@ -330,6 +330,10 @@ const NAMED_VALUES: &[(&str, &str)] = &[
     ("tour", "only"),
 ];
 
+/// Options whose value starts with a name in every command that has them: the hidden
+/// `--tuning NAME=VALUE` of the measurement harness.
+const NAMED_EVERYWHERE: &[&str] = &["tuning"];
+
 /// Every option of every command, with its command path.
 fn options() -> Vec<(String, clap::Arg)> {
     fn walk(path: &str, cmd: &clap::Command, out: &mut Vec<(String, clap::Arg)>) {
@@ -368,7 +372,7 @@ fn every_option_that_may_be_negative_takes_a_leading_minus() {
         let id = arg.get_id().as_str();
         let parser = arg.get_value_parser();
         let words = !arg.get_possible_values().is_empty();
-        let named = NAMED_VALUES.contains(&(path.as_str(), id));
+        let named = NAMED_VALUES.contains(&(path.as_str(), id)) || NAMED_EVERYWHERE.contains(&id);
         if words || named || not_numbers.iter().any(|t| parser.type_id() == *t) {
             continue;
         }
