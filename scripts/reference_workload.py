@@ -11,7 +11,7 @@ landing on a floor, a 30-block column kicked by its moving base, and the cylinde
 To measure a constant or a stage, give one binary and a variant per value: each variant
 is one or more `NAME=VALUE` assignments of nsga's options (separated by spaces), passed
 to every command as the hidden `--tuning NAME=VALUE` flag (`nsga::Options::set`):
-`--variant tuning.held_evaluations=4`, `--variant policy.max_halvings=0`,
+`--variant tuning.stall_iterations=4`, `--variant policy.max_halvings=0`,
 `--variant "policy.explore_branches=false policy.boundary_resolves=false"`. Or give
 several binaries (a change that is not an option). The runs alternate between the
 configurations, the first (the binary as it is) being the reference; the table gives,

@@ -153,7 +153,7 @@ pub struct RunOptions {
     /// with.
     pub skip_predicted_start: bool,
     /// nsga options set by name after all of the above, each `NAME=VALUE`
-    /// ([`nsga::Options::set`]: `tuning.held_evaluations=4`, `policy.max_halvings=0`):
+    /// ([`nsga::Options::set`]: `tuning.stall_iterations=4`, `policy.max_halvings=0`):
     /// to measure what one constant or one stage of the step's policy is worth
     /// (`scripts/reference_workload.py --variant`).
     pub tuning: Vec<String>,

@@ -35,7 +35,7 @@ fn a_tuning_assignment_changes_the_solver_of_a_block_run() {
     let work = |v: &serde_json::Value| (v["linear_solves"].clone(), v["failed_steps"].clone());
     assert_ne!(work(&starved), work(&plain));
     // The default's value set by name is the default run, to the linear solve.
-    let same = json(&with(SHAKE, &["--tuning", "tuning.held_evaluations=8"]));
+    let same = json(&with(SHAKE, &["--tuning", "tuning.stall_iterations=3"]));
     assert_eq!(same["linear_solves"], plain["linear_solves"]);
 }
 

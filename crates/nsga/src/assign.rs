@@ -13,12 +13,12 @@ impl Options {
     ///
     /// ```
     /// let mut o = nsga::Options::default();
-    /// o.set("tuning.held_evaluations=4").unwrap();
+    /// o.set("tuning.stall_iterations=4").unwrap();
     /// o.set("policy.rho_inf_retries=[]").unwrap();
-    /// assert_eq!(o.tuning.held_evaluations, 4);
+    /// assert_eq!(o.tuning.stall_iterations, 4);
     /// assert!(o.policy.rho_inf_retries.is_empty());
-    /// let e = o.set("tuning.held_evaluation=4").unwrap_err().to_string();
-    /// assert!(e.contains("held_evaluations"), "{e}");
+    /// let e = o.set("tuning.stall_iteration=4").unwrap_err().to_string();
+    /// assert!(e.contains("stall_iterations"), "{e}");
     /// ```
     ///
     /// # Errors

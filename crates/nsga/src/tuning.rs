@@ -57,14 +57,6 @@ pub struct Tuning {
     /// (`scripts/reference_workload.py target/release/rollstack --repeat 1 --variant tuning.progress=0.25`): the matrix 362 321 linear solves against 367 717
     /// (−1.5 %), the Lire collapse 69 against 71, on a floor 565 against 567.
     pub progress: f64,
-    /// Evaluations with the previous step's sets held before they are released anyway,
-    /// in the held-sets attempt (a held solve that converges does so within a few
-    /// quadratic updates). Measured with the harness
-    /// (`scripts/reference_workload.py target/release/rollstack --repeat 1 --variant tuning.held_evaluations=4`): the matrix takes 364 629 linear solves against
-    /// 369 344 (−1.3 %), the other workloads the same: under 5 % either way. With 16
-    /// (after the ρ∞ retries left blockstack): 367 707 against 367 717, the rest the
-    /// same.
-    pub held_evaluations: usize,
     /// The held-sets attempt releases the held sets when an update reduces their
     /// residual by less than this factor. With the harness
     /// (`scripts/reference_workload.py target/release/rollstack --repeat 1 --variant tuning.held_contraction=0.25`): the matrix 365 193 linear solves against 367 717
@@ -138,7 +130,6 @@ impl Default for Tuning {
             long_cycle: 6,
             stall_iterations: 3,
             progress: 0.5,
-            held_evaluations: 8,
             held_contraction: 0.5,
             quick_check_iterations: 8,
             predicted_start_iterations: 2,

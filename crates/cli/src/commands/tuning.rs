@@ -10,7 +10,7 @@ use clap::Args;
 #[derive(Debug, Clone, Default, Args)]
 pub struct TuningArgs {
     /// Set one of nsga's options by its name, `NAME=VALUE` (repeatable): a measured
-    /// constant (`tuning.held_evaluations=4`), a stage (`policy.max_halvings=0`,
+    /// constant (`tuning.stall_iterations=4`), a stage (`policy.max_halvings=0`,
     /// `newton.predict_start=false`) or any other option (`newton.max_iter=20`). For
     /// measuring (scripts/reference_workload.py); the names are those of
     /// `nsga::Options` and its groups.

@@ -57,8 +57,10 @@ impl<S: System> Stepper<S> {
     /// sets, on which convergence is judged.
     ///
     /// While the previous sets are held, the update solves the step with them. They are
-    /// released once that solve has converged, stalled (its residual no longer halves)
-    /// or had [`Tuning::held_evaluations`](crate::Tuning::held_evaluations) evaluations. From then on, the sets of an update
+    /// released once that solve has converged or stalled (its residual no longer falls
+    /// below [`Tuning::held_contraction`](crate::Tuning::held_contraction) times the last;
+    /// a cap on its evaluations paid nothing on the reference workload, docs/method.md
+    /// §8.2). From then on, the sets of an update
     /// are the laws' sets with at most `most` contacts opened since the last update.
     /// While the sets are held, the returned norm is the held solve's, so that the
     /// give-up rules judge the solve the update belongs to; it is above the tolerance,
@@ -89,8 +91,7 @@ impl<S: System> Stepper<S> {
         let tuning = &self.options.tuning;
         let stalled =
             progress.evaluations > 1 && held_res > tuning.held_contraction * progress.last_residual;
-        let spent = progress.evaluations >= tuning.held_evaluations;
-        if held_res <= self.options.tol || stalled || spent {
+        if held_res <= self.options.tol || stalled {
             progress.held = None;
             self.work.res = laws;
             return (sets, res);
