@@ -16,7 +16,10 @@
 //! (a shaken column of 50 blocks, once collapsed, costs 20 times its standing steps). So a
 //! run that starts is also watched: a [`Watchdog`], consulted by the run's `on_step`
 //! callback, projects the run's wall time from the wall time spent and the model time
-//! reached, and stops the run when the projection passes [`TIME_BOUND_S`].
+//! reached, and stops the run when the projection passes [`TIME_BOUND_S`]. The library
+//! runs it: [`simulate_until`] watches every run whose [`RunOptions::time_bound`] is set
+//! (the CLI's and Python's runs unless forced, so a sweep's rows and an exploration's root
+//! run too) and ends a run it stops with [`crate::RunError::Stopped`].
 
 use crate::scene::Scene;
 use crate::simulation::{simulate_until, RunOptions};
@@ -100,6 +103,7 @@ pub fn measured_rate(scene: &Scene, options: &RunOptions) -> Option<f64> {
     let cancel = Arc::new(AtomicBool::new(false));
     let trial = RunOptions {
         cancel: Some(cancel.clone()),
+        time_bound: None,
         ..options.clone()
     };
     let scene = scene.clone();
@@ -236,8 +240,10 @@ impl Guard<'_> {
     }
 }
 
-/// Seconds of a run before its [`Watchdog`] projects anything: the solver's start and
-/// the first steps cost more per step than the rest, and would stop runs that fit.
+/// Seconds of a run before its [`Watchdog`] projects anything at the bound
+/// [`TIME_BOUND_S`]: the solver's start and the first steps cost more per step than the
+/// rest, and would stop runs that fit. A smaller bound has a grace of the same share of
+/// it (a test's bound of a millisecond, a few microseconds).
 pub const WATCHDOG_GRACE_S: f64 = 5.0;
 
 /// The wall time since some start, s: the [`Watchdog`]'s clock.
@@ -275,6 +281,8 @@ pub struct Overrun {
     pub t: f64,
     /// The share of the run's model time done, t − t0 over t_end − t0.
     pub done: f64,
+    /// The bound it was projected past, s.
+    pub bound_s: f64,
 }
 
 impl fmt::Display for Overrun {
@@ -284,10 +292,11 @@ impl fmt::Display for Overrun {
         write!(
             f,
             "the run was projected to take about {:.1e} s ({:.0} s for {:.2} % of its model \
-             time), more than {TIME_BOUND_S} s",
+             time), more than {} s",
             self.projected_s,
             self.elapsed_s,
             100.0 * self.done,
+            self.bound_s,
         )
     }
 }
@@ -305,16 +314,21 @@ pub struct Watchdog<C = WallClock> {
     t0: f64,
     t_end: f64,
     bound_s: f64,
+    grace_s: f64,
     overrun: Option<Overrun>,
 }
 
 impl Watchdog {
-    /// A watchdog of a run from `t0` to `t_end` starting now, at [`TIME_BOUND_S`], or
-    /// one that never stops it when `force` (`--force`).
+    /// A watchdog of a run from `t0` to `t_end` starting now, at `bound_s`
+    /// ([`RunOptions::time_bound`]), or one that never stops it when `None` (forced).
     #[must_use]
-    pub fn unless_forced(force: bool, t0: f64, t_end: f64) -> Self {
-        let bound = if force { f64::INFINITY } else { TIME_BOUND_S };
-        Self::new(WallClock::start(), t0, t_end, bound)
+    pub fn for_run(bound_s: Option<f64>, t0: f64, t_end: f64) -> Self {
+        Self::new(
+            WallClock::start(),
+            t0,
+            t_end,
+            bound_s.unwrap_or(f64::INFINITY),
+        )
     }
 }
 
@@ -327,6 +341,7 @@ impl<C: Clock> Watchdog<C> {
             t0,
             t_end,
             bound_s,
+            grace_s: WATCHDOG_GRACE_S * (bound_s / TIME_BOUND_S).min(1.0),
             overrun: None,
         }
     }
@@ -353,7 +368,7 @@ impl<C: Clock> Watchdog<C> {
             return ControlFlow::Continue(());
         }
         let elapsed = self.clock.seconds();
-        if elapsed < WATCHDOG_GRACE_S {
+        if elapsed < self.grace_s {
             return ControlFlow::Continue(());
         }
         let projected = self.projection(t, elapsed);
@@ -363,6 +378,7 @@ impl<C: Clock> Watchdog<C> {
                 elapsed_s: elapsed,
                 t,
                 done: (t - self.t0) / (self.t_end - self.t0),
+                bound_s: self.bound_s,
             });
             return ControlFlow::Break(());
         }
@@ -433,6 +449,21 @@ mod tests {
         assert!(!Estimate::new(&runs, 10, 10.0 * SECONDS_PER_BLOCK_STEP, true).over_bound());
     }
 
+    #[test]
+    fn a_smaller_bound_has_a_shorter_grace() {
+        let now = std::rc::Rc::new(std::cell::Cell::new(0.0));
+        // At a bound of 6 s, the grace is 0.05 s: 0.1 s for a hundredth of the run is
+        // projected at 10 s and stops it.
+        let mut dog = Watchdog::new(FakeClock(now.clone()), 0.0, 1.0, 6.0);
+        now.set(0.1);
+        assert!(dog.check(0.01).is_break());
+        let said = dog.overrun().unwrap().to_string();
+        assert!(
+            said.contains("1.0e1 s") && said.ends_with("more than 6 s"),
+            "{said}"
+        );
+    }
+
     /// A clock the test sets.
     struct FakeClock(std::rc::Rc<std::cell::Cell<f64>>);
 
@@ -475,7 +506,7 @@ mod tests {
 
     #[test]
     fn a_forced_watchdog_never_stops_a_run() {
-        let mut dog = Watchdog::unless_forced(true, 0.0, 1e300);
+        let mut dog = Watchdog::for_run(None, 0.0, 1e300);
         assert!(dog.check(1e-300).is_continue());
         assert!(dog.overrun().is_none());
     }

@@ -347,7 +347,10 @@ fn library_checks_reach_the_user_as_the_flag_they_typed() {
     for (args, said) in cases {
         let (ok, _, stderr) = run(&[&["cylinder"], args].concat());
         assert!(!ok, "{args:?}");
-        assert!(stderr.starts_with(&format!("error: {said}")), "{args:?}: {stderr}");
+        assert!(
+            stderr.starts_with(&format!("error: {said}")),
+            "{args:?}: {stderr}"
+        );
         assert_eq!(stderr.trim().lines().count(), 1, "{args:?}: {stderr}");
     }
 }

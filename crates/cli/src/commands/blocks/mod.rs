@@ -151,6 +151,7 @@ impl SolverArgs {
             stop_at_failure,
             skip_last_resort: !self.last_resort,
             skip_low_rank_updates: !self.low_rank_updates,
+            time_bound: (!self.force).then_some(TIME_BOUND_S),
             ..RunOptions::default()
         })
     }
