@@ -126,8 +126,8 @@ pub struct SolverArgs {
     #[arg(long, default_value_t = true, action = clap::ArgAction::Set, value_name = "BOOL")]
     pub low_rank_updates: bool,
     /// Run even when the runs are estimated to take longer than ten minutes, and let
-    /// `run`, `shake` and `lire` go on when they are projected past ten minutes as they
-    /// run (their watchdog).
+    /// `run`, `shake`, `lire` and the sweeps' rows go on when they are projected past
+    /// ten minutes as they run (their watchdog).
     #[arg(long)]
     pub force: bool,
 }
