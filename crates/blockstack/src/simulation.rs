@@ -38,6 +38,7 @@ use crate::overlap::{deepest_penetration, Penetration};
 use crate::scene::Scene;
 use crate::scene_info::{Defaults, SceneReport, SceneWarning};
 use crate::stack::StackContacts;
+pub use crate::time_guard::STOPPED_BY_WATCHDOG;
 use crate::time_guard::{Clock, Overrun, WallClock, Watchdog};
 use nsga::explore::Walker;
 use nsga::{Options, RhoInfRetry, SolverChoice, StepError};
@@ -367,12 +368,9 @@ pub enum RunError {
     Step(StepError),
     /// The watchdog ([`RunOptions::time_bound`]) stopped the run: it was projected to
     /// take longer than the bound.
-    #[error("{STOPPED_BY_WATCHDOG}: {0}; a forced run is not watched (--force, force=True)")]
+    #[error("{}", .0.message())]
     Stopped(Overrun),
 }
-
-/// How the message of [`RunError::Stopped`] starts (a sweep's row error says so).
-pub const STOPPED_BY_WATCHDOG: &str = "stopped by the watchdog";
 
 /// The message of a failed start: nsga's own when it already says "consistent start".
 fn start_message(e: &StepError) -> String {
