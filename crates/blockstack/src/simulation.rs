@@ -38,6 +38,8 @@ use crate::overlap::{deepest_penetration, Penetration};
 use crate::scene::Scene;
 use crate::scene_info::{Defaults, SceneReport, SceneWarning};
 use crate::stack::StackContacts;
+pub use crate::time_guard::STOPPED_BY_WATCHDOG;
+use crate::time_guard::{Clock, Overrun, WallClock, Watchdog};
 use nsga::explore::Walker;
 use nsga::{LinearOptions, NewtonOptions, Options, PolicyOptions, SolverChoice, StepError};
 use std::ops::ControlFlow;
@@ -161,6 +163,11 @@ pub struct RunOptions {
     /// `ControlFlow::Break` of [`simulate_until`] would (a sweep that is interrupted
     /// stops every run it has started this way).
     pub cancel: Option<std::sync::Arc<std::sync::atomic::AtomicBool>>,
+    /// The run-time watchdog's bound, s ([`crate::time_guard::Watchdog`]): a run
+    /// projected, as it goes, to take longer is stopped with [`RunError::Stopped`].
+    /// `None` (the default, and a forced run): not watched. The CLI sets
+    /// [`TIME_BOUND_S`] unless `--force`, Python unless `force=True`.
+    pub time_bound: Option<f64>,
 }
 
 impl Default for RunOptions {
@@ -178,6 +185,7 @@ impl Default for RunOptions {
             skip_predicted_start: false,
             cancel: None,
             tuning: Vec::new(),
+            time_bound: None,
         }
     }
 }
@@ -352,10 +360,10 @@ pub enum RunError {
     /// good state ([`StepError::state`]).
     #[error("{0}")]
     Step(StepError),
-    /// The caller stopped the run before its end time, for the reason given (the time
-    /// guard's watchdog: the run was projected past its time bound).
-    #[error("{0}")]
-    Stopped(String),
+    /// The watchdog ([`RunOptions::time_bound`]) stopped the run: it was projected to
+    /// take longer than the bound.
+    #[error("{}", .0.message())]
+    Stopped(Overrun),
 }
 
 /// The message of a failed start: nsga's own when it already says "consistent start".
@@ -367,7 +375,7 @@ fn start_message(e: &StepError) -> String {
 }
 
 impl RunError {
-    /// The step error, unless the run was stopped by its caller.
+    /// The step error (none for a run the watchdog stopped).
     #[must_use]
     pub fn step_error(&self) -> Option<&StepError> {
         match self {
@@ -554,6 +562,23 @@ pub fn simulate(
 pub fn simulate_until(
     scene: &Scene,
     options: &RunOptions,
+    on_step: impl FnMut(&StepRecord) -> ControlFlow<()>,
+) -> Result<RunSummary, BlockstackError> {
+    let t_end = options.t_end.unwrap_or(scene.solver.t_end);
+    let bound = options.time_bound.unwrap_or(f64::INFINITY);
+    let watchdog = Watchdog::new(WallClock::start(), 0.0, t_end, bound);
+    simulate_watched(scene, options, watchdog, on_step)
+}
+
+/// [`simulate_until`] watched by `watchdog` instead of one at
+/// [`RunOptions::time_bound`], on any clock (a test's).
+///
+/// # Errors
+/// Only bad scenes or options, as [`simulate`].
+pub fn simulate_watched(
+    scene: &Scene,
+    options: &RunOptions,
+    mut watchdog: Watchdog<impl Clock>,
     mut on_step: impl FnMut(&StepRecord) -> ControlFlow<()>,
 ) -> Result<RunSummary, BlockstackError> {
     let t_end = options.t_end.unwrap_or(scene.solver.t_end);
@@ -583,10 +608,11 @@ pub fn simulate_until(
             error = Some(RunError::Step(e));
             break;
         }
-        stop = on_step(&walker.record_state()).is_break();
+        let record = walker.record_state();
+        stop = on_step(&record).is_break() || watchdog.check(record.t).is_break();
     }
     let mut summary = walker.into_summary();
-    summary.error = error;
+    summary.error = error.or(watchdog.overrun().map(RunError::Stopped));
     Ok(summary)
 }
 
@@ -903,5 +929,75 @@ impl std::fmt::Display for RunReport {
             )?;
         }
         Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scenarios::{shaking_column, Shaking};
+    use crate::time_guard::WATCHDOG_GRACE_S;
+    use std::cell::Cell;
+
+    /// A clock one second further on at every reading.
+    struct Ticking(Cell<f64>);
+
+    impl Clock for Ticking {
+        fn seconds(&self) -> f64 {
+            self.0.set(self.0.get() + 1.0);
+            self.0.get()
+        }
+    }
+
+    #[test]
+    fn the_watchdog_stops_a_run_with_a_typed_error() {
+        // A second a step: once past the grace time, projected at a second per step.
+        let scene = shaking_column(&Shaking::default()).unwrap();
+        let options = RunOptions::default();
+        let t_end = scene.solver.t_end;
+        let dog = Watchdog::new(Ticking(Cell::new(0.0)), 0.0, t_end, TIME_BOUND_S);
+        let s = simulate_watched(&scene, &options, dog, |_| ControlFlow::Continue(())).unwrap();
+        #[allow(clippy::cast_possible_truncation, clippy::cast_sign_loss)]
+        let grace = WATCHDOG_GRACE_S as usize;
+        assert_eq!(s.steps, grace);
+        let Some(RunError::Stopped(o)) = &s.error else {
+            panic!("{:?}", s.error)
+        };
+        #[allow(clippy::cast_precision_loss)]
+        let steps = step_count(t_end, scene.solver.dt) as f64;
+        assert!((o.projected_s - steps).abs() < 1e-6 * steps, "{o:?}");
+        let said = s.error.as_ref().unwrap().to_string();
+        assert!(
+            said.starts_with("stopped by the watchdog: the run was projected"),
+            "{said}"
+        );
+        assert!(
+            said.contains("more than 600 s") && said.contains("--force"),
+            "{said}"
+        );
+    }
+
+    #[test]
+    fn a_run_options_time_bound_watches_the_run_and_none_does_not() {
+        let scene = shaking_column(&Shaking::default()).unwrap();
+        // A bound of a microsecond: any run of 1000 steps is projected past it.
+        let bounded = RunOptions {
+            t_end: Some(100.0 * scene.solver.dt),
+            time_bound: Some(1e-6),
+            ..RunOptions::default()
+        };
+        let s = simulate(&scene, &bounded, |_| {}).unwrap();
+        assert!(
+            matches!(s.error, Some(RunError::Stopped(_))),
+            "{:?}",
+            s.error
+        );
+        assert!(s.steps < 100, "{}", s.steps);
+        let free = RunOptions {
+            time_bound: None,
+            ..bounded
+        };
+        let s = simulate(&scene, &free, |_| {}).unwrap();
+        assert!(s.error.is_none() && s.steps == 100, "{:?}", s.error);
     }
 }

@@ -16,7 +16,10 @@
 //! (a shaken column of 50 blocks, once collapsed, costs 20 times its standing steps). So a
 //! run that starts is also watched: a [`Watchdog`], consulted by the run's `on_step`
 //! callback, projects the run's wall time from the wall time spent and the model time
-//! reached, and stops the run when the projection passes [`TIME_BOUND_S`].
+//! reached, and stops the run when the projection passes [`TIME_BOUND_S`]. The library
+//! runs it: [`simulate_until`] watches every run whose [`RunOptions::time_bound`] is set
+//! (the CLI's and Python's runs unless forced, so a sweep's rows and an exploration's root
+//! run too) and ends a run it stops with [`crate::RunError::Stopped`].
 
 use crate::scene::Scene;
 use crate::simulation::{simulate_until, RunOptions};
@@ -32,8 +35,9 @@ use std::time::{Duration, Instant};
 /// 10–30 times slower.
 pub const SECONDS_PER_BLOCK_STEP: f64 = 2e-5;
 
-/// The longest estimated wall time a run starts without being forced, s (ten minutes).
-pub const TIME_BOUND_S: f64 = 600.0;
+pub use input::watchdog::{
+    Clock, Overrun, WallClock, Watchdog, STOPPED_BY_WATCHDOG, TIME_BOUND_S, WATCHDOG_GRACE_S,
+};
 
 /// The most steps of a run's start that [`Guard::check`] runs to measure its cost.
 pub const CALIBRATION_STEPS: usize = 20;
@@ -100,6 +104,7 @@ pub fn measured_rate(scene: &Scene, options: &RunOptions) -> Option<f64> {
     let cancel = Arc::new(AtomicBool::new(false));
     let trial = RunOptions {
         cancel: Some(cancel.clone()),
+        time_bound: None,
         ..options.clone()
     };
     let scene = scene.clone();
@@ -236,146 +241,6 @@ impl Guard<'_> {
     }
 }
 
-/// Seconds of a run before its [`Watchdog`] projects anything: the solver's start and
-/// the first steps cost more per step than the rest, and would stop runs that fit.
-pub const WATCHDOG_GRACE_S: f64 = 5.0;
-
-/// The wall time since some start, s: the [`Watchdog`]'s clock.
-pub trait Clock {
-    /// Seconds since the start.
-    fn seconds(&self) -> f64;
-}
-
-/// The wall clock, from its creation on.
-#[derive(Debug, Clone, Copy)]
-pub struct WallClock(Instant);
-
-impl WallClock {
-    /// A clock that starts now.
-    #[must_use]
-    pub fn start() -> Self {
-        Self(Instant::now())
-    }
-}
-
-impl Clock for WallClock {
-    fn seconds(&self) -> f64 {
-        self.0.elapsed().as_secs_f64()
-    }
-}
-
-/// Where a watched run was stopped and what it was projected to take.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Overrun {
-    /// The projected wall time of the whole run, s.
-    pub projected_s: f64,
-    /// The wall time spent when it was stopped, s.
-    pub elapsed_s: f64,
-    /// The model time reached.
-    pub t: f64,
-    /// The share of the run's model time done, t − t0 over t_end − t0.
-    pub done: f64,
-}
-
-impl fmt::Display for Overrun {
-    /// `the run was projected to take about 2.1e3 s (6 s for 0.29 % of its model time),
-    /// more than 600 s`
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        write!(
-            f,
-            "the run was projected to take about {:.1e} s ({:.0} s for {:.2} % of its model \
-             time), more than {TIME_BOUND_S} s",
-            self.projected_s,
-            self.elapsed_s,
-            100.0 * self.done,
-        )
-    }
-}
-
-/// Watches a run as it goes: its projected wall time is the wall time spent over the
-/// model time reached, times the model time of the whole run,
-/// elapsed / (t − t0) × (t_end − t0), and once [`WATCHDOG_GRACE_S`] have passed, a
-/// projection over the bound stops the run ([`Self::check`] breaks). A run's cost per
-/// step only grows on average as a column collapses, so the projection errs short; but
-/// it never errs past the bound itself, since it is at least the time spent: no watched
-/// run goes on for more than [`TIME_BOUND_S`] and a step.
-#[derive(Debug, Clone)]
-pub struct Watchdog<C = WallClock> {
-    clock: C,
-    t0: f64,
-    t_end: f64,
-    bound_s: f64,
-    overrun: Option<Overrun>,
-}
-
-impl Watchdog {
-    /// A watchdog of a run from `t0` to `t_end` starting now, at [`TIME_BOUND_S`], or
-    /// one that never stops it when `force` (`--force`).
-    #[must_use]
-    pub fn unless_forced(force: bool, t0: f64, t_end: f64) -> Self {
-        let bound = if force { f64::INFINITY } else { TIME_BOUND_S };
-        Self::new(WallClock::start(), t0, t_end, bound)
-    }
-}
-
-impl<C: Clock> Watchdog<C> {
-    /// A watchdog of a run from `t0` to `t_end` on `clock`, stopping it over `bound_s`.
-    #[must_use]
-    pub fn new(clock: C, t0: f64, t_end: f64, bound_s: f64) -> Self {
-        Self {
-            clock,
-            t0,
-            t_end,
-            bound_s,
-            overrun: None,
-        }
-    }
-
-    /// The projected wall time of the whole run, s, once the run has reached model time
-    /// `t` after `elapsed` s; infinite while the model time has not moved.
-    #[must_use]
-    pub fn projection(&self, t: f64, elapsed: f64) -> f64 {
-        let done = t - self.t0;
-        if done > 0.0 {
-            elapsed / done * (self.t_end - self.t0)
-        } else {
-            f64::INFINITY
-        }
-    }
-
-    /// Whether the run, now at model time `t`, may go on: `Break` (and [`Self::overrun`]
-    /// set) when its projection passes the bound after the grace time.
-    pub fn check(&mut self, t: f64) -> ControlFlow<()> {
-        if self.overrun.is_some() {
-            return ControlFlow::Break(());
-        }
-        if self.bound_s.is_infinite() {
-            return ControlFlow::Continue(());
-        }
-        let elapsed = self.clock.seconds();
-        if elapsed < WATCHDOG_GRACE_S {
-            return ControlFlow::Continue(());
-        }
-        let projected = self.projection(t, elapsed);
-        if projected > self.bound_s {
-            self.overrun = Some(Overrun {
-                projected_s: projected,
-                elapsed_s: elapsed,
-                t,
-                done: (t - self.t0) / (self.t_end - self.t0),
-            });
-            return ControlFlow::Break(());
-        }
-        ControlFlow::Continue(())
-    }
-
-    /// Why the run was stopped, if it was.
-    #[must_use]
-    pub fn overrun(&self) -> Option<Overrun> {
-        self.overrun
-    }
-}
-
 /// A wall-time limit of `seconds` (≥ 0, as an exploration's `max_wall`), or `None` (no
 /// limit) for a time too long for the clock to reach: 1e20 s is beyond what a
 /// [`Duration`] or a deadline of [`Instant`] can hold, and beyond any run.
@@ -431,53 +296,6 @@ mod tests {
         assert!(slow.to_string().contains("measured on the first"), "{slow}");
         // Shared out over threads.
         assert!(!Estimate::new(&runs, 10, 10.0 * SECONDS_PER_BLOCK_STEP, true).over_bound());
-    }
-
-    /// A clock the test sets.
-    struct FakeClock(std::rc::Rc<std::cell::Cell<f64>>);
-
-    impl Clock for FakeClock {
-        fn seconds(&self) -> f64 {
-            self.0.get()
-        }
-    }
-
-    #[test]
-    fn the_watchdog_projects_from_the_time_spent_and_reached() {
-        let now = std::rc::Rc::new(std::cell::Cell::new(0.0));
-        // A run from t = 2 to t = 12 (10 time units), watched at a 600 s bound.
-        let mut dog = Watchdog::new(FakeClock(now.clone()), 2.0, 12.0, TIME_BOUND_S);
-        // Before the grace time, even a projection of hours goes on.
-        now.set(WATCHDOG_GRACE_S / 2.0);
-        assert!(dog.check(2.0 + 1e-6).is_continue());
-        // 60 s for a tenth of the run: 600 s in all, not over the bound.
-        assert_eq!(dog.projection(3.0, 60.0), 600.0);
-        now.set(60.0);
-        assert!(dog.check(3.0).is_continue());
-        assert!(dog.overrun().is_none());
-        // After it, a projection over the bound stops the run, and it stays stopped.
-        now.set(61.0);
-        assert!(dog.check(3.0).is_break());
-        let o = dog.overrun().unwrap();
-        assert!((o.projected_s - 610.0).abs() < 1e-9, "{o:?}");
-        assert_eq!((o.elapsed_s, o.t, o.done), (61.0, 3.0, 0.1));
-        assert!(dog.check(12.0).is_break());
-        let said = o.to_string();
-        assert!(
-            said.contains("6.1e2 s (61 s for 10.00 % of its model time), more than 600 s"),
-            "{said}"
-        );
-        // A run that has not moved after the grace time is projected endless.
-        let mut stuck = Watchdog::new(FakeClock(now.clone()), 0.0, 1.0, TIME_BOUND_S);
-        assert!(stuck.check(0.0).is_break());
-        assert_eq!(stuck.overrun().unwrap().projected_s, f64::INFINITY);
-    }
-
-    #[test]
-    fn a_forced_watchdog_never_stops_a_run() {
-        let mut dog = Watchdog::unless_forced(true, 0.0, 1e300);
-        assert!(dog.check(1e-300).is_continue());
-        assert!(dog.overrun().is_none());
     }
 
     #[test]

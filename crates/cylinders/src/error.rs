@@ -5,6 +5,10 @@ use input::InputError;
 /// Why an input does not describe a valid cylinder problem.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum CylinderError {
+    /// The run-time watchdog stopped a run projected past its bound
+    /// ([`crate::studies::pair::PairSettings::time_bound`]).
+    #[error("{}", .0.message())]
+    Stopped(input::watchdog::Overrun),
     /// A value that is not finite, positive, non-negative or within its range (the
     /// checks every rollstack crate shares, [`input`]).
     #[error(transparent)]

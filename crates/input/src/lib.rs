@@ -24,6 +24,7 @@
 #![warn(missing_docs)]
 
 pub mod text;
+pub mod watchdog;
 
 use std::ops::RangeInclusive;
 

@@ -854,6 +854,26 @@ mod tests {
     }
 
     #[test]
+    fn a_row_projected_past_the_time_bound_is_stopped_naming_force() {
+        let sweep = SceneSweep::new(shaking(), vec![over("contact.mu=0.2,0.3")]).unwrap();
+        // A bound of a microsecond: every row of 100 steps is projected past it.
+        let options = RunOptions {
+            t_end: Some(0.5),
+            time_bound: Some(1e-6),
+            ..RunOptions::default()
+        };
+        for p in sweep.points() {
+            let row = sweep.row(&p, &options);
+            let e = row.error.as_deref().unwrap_or_default();
+            assert!(
+                e.starts_with(crate::simulation::STOPPED_BY_WATCHDOG),
+                "{row:?}"
+            );
+            assert!(e.contains("--force") && !e.contains('\n'), "{e}");
+        }
+    }
+
+    #[test]
     fn the_header_puts_the_keys_first() {
         let sweep = SceneSweep::new(
             shaking(),

@@ -9,6 +9,7 @@ use crate::error::CylinderError;
 use crate::kinematics::Cylinder;
 use crate::statics::{FrictionLimit, MinForceCase, SupportProblem};
 use crate::transport::{check_inclination, top_height, PairTransport, SpinProfile};
+use input::watchdog::{Clock, WallClock, Watchdog};
 use nsga::{Options, PolicyOptions, Stepper, System};
 use serde::{Deserialize, Serialize};
 use std::f64::consts::PI;
@@ -36,6 +37,12 @@ pub struct PairSettings {
     pub mu_mutual: f64,
     /// Horizontal push P/mg at each top along e′2 (default 0).
     pub push_over_mg: f64,
+    /// The run-time watchdog's bound, s ([`input::watchdog`], over steps done): a run
+    /// projected past it is stopped with [`CylinderError::Stopped`]. `None` (the
+    /// default, and a forced run): not watched. Not a setting of the motion: left out
+    /// of the JSON.
+    #[serde(skip)]
+    pub time_bound: Option<f64>,
 }
 
 impl PairSettings {
@@ -52,6 +59,7 @@ impl PairSettings {
             mu_floor: 1.0,
             mu_mutual: 0.4,
             push_over_mg: 0.0,
+            time_bound: None,
         }
     }
 
@@ -219,6 +227,25 @@ pub fn run_pair_with(
     record: bool,
     cancel: &AtomicBool,
 ) -> Result<PairReport, CylinderError> {
+    #[allow(clippy::cast_precision_loss)]
+    let steps = settings.steps as f64;
+    let bound = settings.time_bound.unwrap_or(f64::INFINITY);
+    let watchdog = Watchdog::new(WallClock::start(), 0.0, steps, bound);
+    run_pair_watched(settings, options, record, cancel, watchdog)
+}
+
+/// [`run_pair_with`] watched by `watchdog` over the steps done instead of one at
+/// [`PairSettings::time_bound`], on any clock (a test's).
+///
+/// # Errors
+/// As [`run_pair`]; [`CylinderError::Stopped`] when the watchdog stops the run.
+pub fn run_pair_watched(
+    settings: &PairSettings,
+    options: Options,
+    record: bool,
+    cancel: &AtomicBool,
+    mut watchdog: Watchdog<impl Clock>,
+) -> Result<PairReport, CylinderError> {
     let sys = settings.system()?;
     let (q0, u0) = sys.initial_state(settings.theta)?;
     let mg = sys.mass * sys.gravity;
@@ -276,6 +303,12 @@ pub fn run_pair_with(
             .map_err(|e| CylinderError::Solver(e.to_string()))?;
         observe(&stepper, k);
         steps = k;
+        // The steps done are the run's progress: every step costs about the same.
+        #[allow(clippy::cast_precision_loss)]
+        let done = k as f64;
+        if watchdog.check(done).is_break() {
+            return Err(CylinderError::Stopped(watchdog.overrun().expect("stopped")));
+        }
     }
     let wall_time_s = clock.elapsed().as_secs_f64();
     let last = last.expect("observed at least the start");
@@ -890,6 +923,52 @@ mod tests {
         assert_eq!(r.steps, 0);
         assert_eq!(r.trajectory.map(|t| t.len()), Some(1));
         assert_eq!(run_pair(&short(0.5), false).unwrap().steps, 200);
+    }
+
+    /// A clock one second further on at every reading.
+    struct Ticking(std::cell::Cell<f64>);
+
+    impl Clock for Ticking {
+        fn seconds(&self) -> f64 {
+            self.0.set(self.0.get() + 1.0);
+            self.0.get()
+        }
+    }
+
+    /// The watchdog projects over the steps done: a second a step for 200 steps is
+    /// 200 s, under the bound at 600 s and over it at 100 s, where the run stops once
+    /// the grace time is over, naming --force.
+    #[test]
+    fn the_watchdog_stops_a_pair_run_projected_past_its_bound() {
+        let watched = |bound| {
+            let dog = Watchdog::new(Ticking(std::cell::Cell::new(0.0)), 0.0, 200.0, bound);
+            run_pair_watched(
+                &short(0.5),
+                short(0.5).stepper_options(),
+                false,
+                &AtomicBool::new(false),
+                dog,
+            )
+        };
+        assert_eq!(watched(600.0).unwrap().steps, 200);
+        let e = watched(100.0).unwrap_err();
+        let CylinderError::Stopped(o) = &e else {
+            panic!("{e}")
+        };
+        assert!((o.projected_s - 200.0).abs() < 1e-9, "{o:?}");
+        let said = e.to_string();
+        assert!(said.starts_with("stopped by the watchdog") && said.contains("--force"));
+        // Through the settings, on the wall clock: a microsecond is always passed.
+        let bounded = PairSettings {
+            time_bound: Some(1e-6),
+            ..short(0.5)
+        };
+        let e = run_pair(&bounded, false).unwrap_err();
+        assert!(matches!(e, CylinderError::Stopped(_)), "{e}");
+        let row = pair_sweep_row(&bounded);
+        assert!(row
+            .error
+            .is_some_and(|e| e.starts_with("stopped by the watchdog")));
     }
 
     /// A push along e′2 makes a rim slip within one grid step above μ_s N₋ of

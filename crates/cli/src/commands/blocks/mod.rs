@@ -126,8 +126,8 @@ pub struct SolverArgs {
     #[arg(long, default_value_t = true, action = clap::ArgAction::Set, value_name = "BOOL")]
     pub low_rank_updates: bool,
     /// Run even when the runs are estimated to take longer than ten minutes, and let
-    /// `run`, `shake` and `lire` go on when they are projected past ten minutes as they
-    /// run (their watchdog).
+    /// `run`, `shake`, `lire` and the sweeps' rows go on when they are projected past
+    /// ten minutes as they run (their watchdog).
     #[arg(long)]
     pub force: bool,
     #[command(flatten)]
@@ -157,6 +157,7 @@ impl SolverArgs {
             skip_last_resort: !self.last_resort,
             skip_low_rank_updates: !self.low_rank_updates,
             tuning: self.tuning.assignments.clone(),
+            time_bound: (!self.force).then_some(TIME_BOUND_S),
             ..RunOptions::default()
         })
     }

@@ -9,9 +9,7 @@ use crate::output::{
 use crate::progress::RunProgress;
 use anyhow::{Context, Result};
 use blockstack::record::{RecordPlan, Recorder, Recording, TrajectoryError};
-use blockstack::simulation::{
-    simulate_until, RunError, RunOptions, RunReport, RunSummary, RunWarning,
-};
+use blockstack::simulation::{self as library, RunOptions, RunReport, RunSummary, RunWarning};
 use blockstack::time_guard::{Clock, Watchdog};
 use blockstack::{Defaults, Scene};
 use clap::Args;
@@ -20,6 +18,7 @@ use input::text::parse_finite;
 use serde::Serialize;
 use std::fs::File;
 use std::io::{BufWriter, Write};
+use std::ops::ControlFlow;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
@@ -84,13 +83,15 @@ pub struct OutputPlan {
     /// Draw a progress bar over model time on stderr when it is a terminal (not with
     /// `--json`).
     pub progress: bool,
-    /// `--force`: no watchdog stops the run when it is projected past the time bound.
+    /// `--force`: no time guard refuses the run up front (the watchdog's bound is
+    /// [`RunOptions::time_bound`]).
     pub force: bool,
 }
 
 /// Runs one scene, writing the trajectory progressively and, afterwards, the branch
-/// points, snapshots, animation, top-block plots and run.json into `plan.dir`; unless
-/// `plan.force`, a [`Watchdog`] stops the run when it is projected past the time bound.
+/// points, snapshots, animation, top-block plots and run.json into `plan.dir`; the
+/// library's [`Watchdog`] stops the run when it is projected past
+/// [`RunOptions::time_bound`].
 ///
 /// # Errors
 /// A bad scene or options, or an output directory that cannot be created or a run.json
@@ -106,7 +107,7 @@ pub fn simulate_with_output(
     inputs: &serde_json::Value,
 ) -> Result<SimulationOutput> {
     let t_end = options.t_end.unwrap_or(scene.solver.t_end);
-    let watchdog = Watchdog::unless_forced(plan.force, 0.0, t_end);
+    let watchdog = Watchdog::for_run(options.time_bound, 0.0, t_end);
     simulate_watched(scene, options, plan, command, inputs, watchdog)
 }
 
@@ -117,7 +118,7 @@ fn simulate_watched(
     plan: &OutputPlan,
     command: &str,
     inputs: &serde_json::Value,
-    mut watchdog: Watchdog<impl Clock>,
+    watchdog: Watchdog<impl Clock>,
 ) -> Result<SimulationOutput> {
     let start = Instant::now();
     let t_end = options.t_end.unwrap_or(scene.solver.t_end);
@@ -138,10 +139,10 @@ fn simulate_watched(
     };
     let mut recorder = Recorder::new(scene, t_end, &record_plan, writer)?;
     let progress = RunProgress::new(command, t_end, plan.progress);
-    let result = simulate_until(scene, options, |r| {
+    let result = library::simulate_watched(scene, options, watchdog, |r| {
         progress.at(r.t);
         recorder.on_step(r);
-        watchdog.check(r.t)
+        ControlFlow::Continue(())
     });
     progress.finish();
     let (recording, writer, write_error) = recorder.finish();
@@ -161,12 +162,8 @@ fn simulate_watched(
         write_error.get_or_insert(format!("{e:#}"));
     }
     let t_final = recording.last.as_ref().map_or(0.0, |f| f.t);
-    let mut report = RunReport::new(&summary, scene, options, &plan.defaults, t_final);
-    if let Some(overrun) = watchdog.overrun() {
-        report.summary.error = Some(RunError::Stopped(format!(
-            "{overrun}: shorten --t-end or --periods, or pass --force"
-        )));
-    }
+    // A run the watchdog stopped says so in its error, naming --force.
+    let report = RunReport::new(&summary, scene, options, &plan.defaults, t_final);
     let (mut files, mut notes) = (Vec::new(), Vec::new());
     if let Some(dir) = &plan.dir {
         files.push("trajectory.csv".to_owned());
@@ -357,7 +354,7 @@ mod tests {
 
     #[test]
     fn the_watchdog_stops_a_run_projected_past_the_bound_and_says_so() {
-        // 1000 steps at a second each: projected at 1.2e3 s once the grace time is over.
+        // 1000 steps at a second each: projected at 1.0e3 s once the grace time is over.
         let scene = shaking_column(&Shaking::default()).unwrap();
         let options = RunOptions::default();
         let dir = std::env::temp_dir().join(format!("rollstack-watchdog-{}", std::process::id()));
@@ -370,13 +367,13 @@ mod tests {
         let watchdog = Watchdog::new(Ticking(Cell::new(0.0)), 0.0, t_end, TIME_BOUND_S);
         let inputs = serde_json::json!({});
         let out = simulate_watched(&scene, &options, &plan, "test", &inputs, watchdog).unwrap();
-        // The initial state and each step are checked: the first check past the grace
-        // time stops the run, after the step it follows.
+        // Each step is checked: the first check past the grace time stops the run,
+        // after the step it follows.
         #[allow(clippy::cast_possible_truncation, clippy::cast_sign_loss)]
-        let steps = WATCHDOG_GRACE_S as usize - 1;
+        let steps = WATCHDOG_GRACE_S as usize;
         assert_eq!(out.report.summary.steps, steps);
         let error = out.report.summary.error.clone().unwrap().to_string();
-        assert!(error.contains("projected to take about 1.2e3 s"), "{error}");
+        assert!(error.contains("projected to take about 1.0e3 s"), "{error}");
         assert!(
             error.contains("more than 600 s") && error.contains("--force"),
             "{error}"

@@ -12,7 +12,7 @@ use crate::output::{ensure_dir, print_json, write_csv, write_run_json_with};
 use crate::sweep::{par_map_ordered, ShardChoice};
 use anyhow::{Context, Result};
 use blockstack::scenarios::{shaking_column_in, sliding_column_in, Shaking, Sliding};
-use blockstack::simulation::RunOptions;
+use blockstack::simulation::{RunOptions, STOPPED_BY_WATCHDOG};
 use blockstack::studies::shaking::{frequency_row_in, periods_for_horizon, FrequencyRow};
 use blockstack::studies::slide::{slide_row_in, SlideRow};
 use blockstack::Scene;
@@ -78,6 +78,26 @@ impl SweepOutputArgs {
     pub fn time_guarded(&self) -> bool {
         !self.complete && !matches!(self.shard, ShardChoice::Auto)
     }
+
+    /// `options` whose rows are watched ([`RunOptions::time_bound`]) only where the
+    /// sweep is [`Self::time_guarded`].
+    #[must_use]
+    pub fn watched(&self, options: RunOptions) -> RunOptions {
+        RunOptions {
+            time_bound: options.time_bound.filter(|_| self.time_guarded()),
+            ..options
+        }
+    }
+}
+
+/// Whether `row`'s `error` says the watchdog stopped its run
+/// ([`blockstack::RunError::Stopped`]).
+fn stopped_by_watchdog(row: &impl Serialize) -> bool {
+    serde_json::to_value(row).is_ok_and(|v| {
+        v["error"]
+            .as_str()
+            .is_some_and(|e| e.starts_with(STOPPED_BY_WATCHDOG))
+    })
 }
 
 /// How a sweep run with [`SweepOutputArgs::check_only`] ends once its values are
@@ -183,6 +203,11 @@ impl<'a> SweepRun<'a> {
             }
             par_map_ordered(lacking, self.name, |(i, p)| {
                 let row = f(p);
+                // A row the watchdog stopped is not logged: a rerun (with --force)
+                // computes it rather than resuming its error.
+                if stopped_by_watchdog(&row) {
+                    return Ok(row);
+                }
                 record(*i, &row).map(|()| row)
             })
         })?;
@@ -420,7 +445,9 @@ pub fn sweep_frequency(args: &FrequencyArgs) -> Result<()> {
         "--steps-per-period must be positive"
     );
     anyhow::ensure!(args.mu >= 0.0, "--mu must not be negative");
-    let options = args.spread.apply(args.solver.run_options(None, true)?)?;
+    let options = args
+        .output
+        .watched(args.spread.apply(args.solver.run_options(None, true)?)?);
     let units = args.units.units()?;
     let (all, typed) = base_frequencies(args)?;
     let inputs = serde_json::json!({
@@ -487,6 +514,7 @@ pub fn sweep_slide(args: &SlideArgs) -> Result<()> {
     let options = args
         .spread
         .apply(args.solver.run_options(Some(args.t_end), false)?)?;
+    let options = args.output.watched(options);
     let units = args.units.units()?;
     let all = parse_values(&args.v0).map_err(|e| anyhow::anyhow!("--v0: {e}"))?;
     let inputs = serde_json::json!({
@@ -525,4 +553,56 @@ pub fn sweep_slide(args: &SlideArgs) -> Result<()> {
         rows.iter().map(|r| r.wall_time_s).sum(),
         ToString::to_string,
     )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use blockstack::time_guard::TIME_BOUND_S;
+    use serde_json::{json, Value};
+    use std::sync::atomic::{AtomicUsize, Ordering};
+
+    #[test]
+    fn a_row_the_watchdog_stopped_is_not_resumed_and_forced_sweeps_are_not_watched() {
+        let dir = std::env::temp_dir().join(format!("rollstack-watched-{}", std::process::id()));
+        let output = SweepOutputArgs {
+            shard: ShardChoice::default(),
+            out: Some(dir.clone()),
+            json: false,
+            argv: vec!["test".into()],
+            complete: false,
+            check_only: false,
+        };
+        let sweep = SweepRun::of_command("test".into(), "test", &output, json!({}), 2).unwrap();
+        let points = [(0, false), (1, true)];
+        let computed = AtomicUsize::new(0);
+        let row = |&stopped: &bool| {
+            computed.fetch_add(1, Ordering::Relaxed);
+            let error = stopped.then(|| format!("{STOPPED_BY_WATCHDOG}: projected"));
+            json!({ "error": error })
+        };
+        let rows: Vec<Value> = sweep.rows(&points, row).unwrap();
+        assert!(rows[1]["error"]
+            .as_str()
+            .unwrap()
+            .starts_with(STOPPED_BY_WATCHDOG));
+        // Rerun: the finished row is resumed, the stopped one computed again.
+        let again: Vec<Value> = sweep.rows(&points, row).unwrap();
+        assert_eq!((again, computed.load(Ordering::Relaxed)), (rows, 3));
+        std::fs::remove_dir_all(&dir).unwrap();
+        // Rows are watched only where the time guard applies.
+        let bounded = RunOptions {
+            time_bound: Some(TIME_BOUND_S),
+            ..RunOptions::default()
+        };
+        assert_eq!(
+            output.watched(bounded.clone()).time_bound,
+            Some(TIME_BOUND_S)
+        );
+        let task = SweepOutputArgs {
+            shard: ShardChoice::Auto,
+            ..output
+        };
+        assert_eq!(task.watched(bounded).time_bound, None);
+    }
 }

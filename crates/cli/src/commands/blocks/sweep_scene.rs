@@ -58,7 +58,9 @@ pub fn sweep_scene(args: &SceneArgs) -> Result<()> {
         .map(|s| s.parse::<Override>().map_err(anyhow::Error::msg))
         .collect::<Result<Vec<_>>>()?;
     let sweep = SceneSweep::new(&text, overrides).with_context(|| what.clone())?;
-    let options = args.solver.run_options(args.t_end, args.stop_at_failure)?;
+    let options = args
+        .output
+        .watched(args.solver.run_options(args.t_end, args.stop_at_failure)?);
     let inputs = serde_json::json!({
         "set": args.set,
         "t_end": args.t_end,

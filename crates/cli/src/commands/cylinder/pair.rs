@@ -52,7 +52,8 @@ pub struct PairArgs {
     /// Print one JSON object on stdout.
     #[arg(long)]
     pub json: bool,
-    /// Run even when the run is estimated to take longer than ten minutes.
+    /// Run even when the run is estimated to take longer than ten minutes, and go on
+    /// when it is projected past ten minutes as it runs (its watchdog).
     #[arg(long)]
     pub force: bool,
     #[command(flatten)]
@@ -71,6 +72,7 @@ impl PairArgs {
             push_over_mg: self.push,
             mu_floor: self.mu_floor,
             mu_mutual: self.mu_k,
+            time_bound: super::guard::time_bound(self.force),
             ..PairSettings::thesis(self.theta.0)
         }
     }

@@ -47,7 +47,8 @@ pub struct PushSweepArgs {
     /// after 0.05 s and a rim slips, or not, soon after).
     #[arg(long, default_value_t = 100, allow_hyphen_values = true)]
     pub steps: usize,
-    /// Run even when the runs are estimated to take longer than ten minutes.
+    /// Run even when the runs are estimated to take longer than ten minutes, and let
+    /// each run go on when it is projected past ten minutes (its watchdog).
     #[arg(long)]
     pub force: bool,
     #[command(flatten)]
@@ -69,7 +70,8 @@ pub struct PairSweepArgs {
     /// Number of steps per run.
     #[arg(long, default_value_t = 2000, allow_hyphen_values = true)]
     pub steps: usize,
-    /// Run even when the runs are estimated to take longer than ten minutes.
+    /// Run even when the runs are estimated to take longer than ten minutes, and let
+    /// each run go on when it is projected past ten minutes (its watchdog).
     #[arg(long)]
     pub force: bool,
     /// Prescribed spin φ̇10 of cylinder I, rad/s (the thesis: −6π, written `-6pi`).
@@ -97,6 +99,7 @@ fn sweep_pair(a: &PairSweepArgs) -> Result<()> {
         dt: a.dt,
         steps: a.steps,
         spin: SpinProfile::constant(a.spin),
+        time_bound: super::guard::time_bound(a.force || !a.output.time_guarded()),
         ..PairSettings::thesis(theta)
     };
     super::check_steps(a.dt, a.steps)?;
@@ -155,6 +158,7 @@ fn sweep_push(a: &PushSweepArgs) -> Result<()> {
         dt: a.dt,
         steps: a.steps,
         mu_floor: a.mu_floor,
+        time_bound: super::guard::time_bound(a.force || !a.output.time_guarded()),
         ..PairSettings::thesis(theta)
     };
     super::check_steps(a.dt, a.steps)?;
