@@ -372,7 +372,10 @@ fn every_option_that_may_be_negative_takes_a_leading_minus() {
         let id = arg.get_id().as_str();
         let parser = arg.get_value_parser();
         let words = !arg.get_possible_values().is_empty();
-        let named = NAMED_VALUES.contains(&(path.as_str(), id)) || NAMED_EVERYWHERE.contains(&id);
+        let named = NAMED_VALUES.contains(&(path.as_str(), id))
+            || arg
+                .get_long()
+                .is_some_and(|l| NAMED_EVERYWHERE.contains(&l));
         if words || named || not_numbers.iter().any(|t| parser.type_id() == *t) {
             continue;
         }

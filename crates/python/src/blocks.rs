@@ -12,7 +12,7 @@ use blockstack::simulation::{simulate_until, Prox, RunOptions, RunReport, StepRe
 use blockstack::studies::scene_sweep::{Override, SceneSweep};
 use blockstack::studies::shaking::{frequency_row, periods_for_horizon};
 use blockstack::studies::slide::slide_row;
-use blockstack::time_guard::{run_cost, wall_limit, Guard};
+use blockstack::time_guard::{run_cost, wall_limit, Guard, TIME_BOUND_S};
 use blockstack::{scenes, Defaults};
 use numpy::ndarray::{Array1, Array2, Array3};
 use numpy::IntoPyArray;
@@ -324,6 +324,7 @@ fn run_options(
     last_resort: bool,
     stop_at_failure: bool,
     low_rank_updates: bool,
+    force: bool,
 ) -> PyResult<RunOptions> {
     if let Some(t) = t_end {
         input::positive("t_end", t).map_err(value_error)?;
@@ -338,6 +339,9 @@ fn run_options(
         stop_at_failure,
         skip_last_resort: !last_resort,
         skip_low_rank_updates: !low_rank_updates,
+        // The watchdog stops a run projected past the time bound as it runs, unless
+        // forced (the CLI's --force).
+        time_bound: (!force).then_some(TIME_BOUND_S),
         ..RunOptions::default()
     })
 }
@@ -436,6 +440,7 @@ fn blocks_simulate<'py>(
             last_resort,
             stop_at_failure,
             low_rank_updates,
+            force,
         )?;
         let scenes = std::slice::from_ref(&scene.scene);
         check_time_bound(scenes, &options, force, "shorten t_end")?;
@@ -539,6 +544,7 @@ fn blocks_sweep_frequency<'py>(
             last_resort,
             true,
             low_rank_updates,
+            force,
         )?;
         let mut options = with_spread(options, branches, branch_rule)?;
         let (columns, scenes): (Vec<_>, Vec<_>) = omegas
@@ -587,6 +593,7 @@ fn blocks_sweep_slide<'py>(
             last_resort,
             false,
             low_rank_updates,
+            force,
         )?;
         let mut options = with_spread(options, branches, branch_rule)?;
         let (columns, scenes): (Vec<_>, Vec<_>) = speeds
@@ -642,6 +649,7 @@ fn blocks_sweep_scene<'py>(
             last_resort,
             stop_at_failure,
             low_rank_updates,
+            force,
         )?;
         let points = sweep.points();
         let scenes = points
@@ -724,7 +732,7 @@ fn blocks_explore<'py>(
             branch_rule: rule,
             probe_flips,
             // The exploration turns the low-rank updates off itself.
-            ..run_options(t_end, prox_constant, true, true, false, false)?
+            ..run_options(t_end, prox_constant, true, true, false, false, force)?
         };
         let explore_options = ExploreOptions {
             strategy,

@@ -5,6 +5,7 @@
 //! callable q ↦ W(q).
 
 use crate::{guard, json_to_py, value_error};
+use blockstack::time_guard::TIME_BOUND_S;
 use cylinders::frobenius::{
     report_from, skew_matrices_central_difference, PfaffianSystem, INTEGRABILITY_TOLERANCE,
     RANK_TOLERANCE,
@@ -139,7 +140,6 @@ pub(crate) fn check_pair_theta(theta: f64, cylinder: &Cylinder) -> PyResult<()> 
 /// Refuses `runs` runs of `settings` estimated to take longer than the ten-minute time
 /// guard (`studies::pair_cost`, measured on the first steps), unless `force`.
 pub(crate) fn check_pair_time(settings: &PairSettings, runs: usize, force: bool) -> PyResult<()> {
-    use blockstack::time_guard::TIME_BOUND_S;
     if force {
         return Ok(());
     }
@@ -508,6 +508,8 @@ fn cylinders_pair<'py>(
             mu_floor,
             mu_mutual,
             push_over_mg,
+            // The watchdog of the run, as the command line's: unless forced.
+            time_bound: (!force).then_some(TIME_BOUND_S),
             ..PairSettings::thesis(theta)
         };
         check_steps(dt, steps)?;
