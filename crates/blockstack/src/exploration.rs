@@ -89,7 +89,7 @@ pub struct WalkSettings<'a> {
 }
 
 /// Walks one branch of a scene (see the module docs): the one run loop of the crate.
-/// [`crate::simulate_until`] drives it over a plain run, [`explore_scene`] over every
+/// [`crate::simulation::simulate_until`] drives it over a plain run, [`explore_scene`] over every
 /// branch; either way a step is taken, counted into the run's [`RunSummary`] and
 /// recorded here.
 #[derive(Debug)]

@@ -279,7 +279,7 @@ impl<S: System> Stepper<S> {
     ///
     /// # Errors
     /// [`StepError::InvalidInput`] for bad sizes, options or non-finite input, and where
-    /// [`Options::last_resort`] is on for a system the last resort cannot take (bilateral
+    /// [`PolicyOptions::last_resort`](crate::PolicyOptions::last_resort) is on for a system the last resort cannot take (bilateral
     /// constraints redundant at t0; the message says which);
     /// [`StepError::Start`] when the acceleration-level start problem is not solved and
     /// the last resort is off.

@@ -7,7 +7,7 @@
 //!
 //! Whether the last resort takes the system is decided when the stepper is set up
 //! ([`Stepper::new`], [`Stepper::set_options`]): a system it cannot take, with
-//! [`Options::last_resort`](crate::Options::last_resort) on, is refused there.
+//! [`PolicyOptions::last_resort`](crate::PolicyOptions::last_resort) on, is refused there.
 
 use super::Stepper;
 use crate::error::StepError;
@@ -40,7 +40,7 @@ impl<S: System> Stepper<S> {
     /// Takes the next step by the last resort alone, skipping the generalized-α
     /// attempts: a diagnostic, to see what the last resort makes of a system (its
     /// statistics are those of a last-resort step, [`StepStats::last_resort`]). It
-    /// runs whatever [`Options::last_resort`](crate::Options::last_resort) says.
+    /// runs whatever [`PolicyOptions::last_resort`](crate::PolicyOptions::last_resort) says.
     ///
     /// # Errors
     /// [`StepError::InvalidInput`] where the last resort cannot take the system at the

@@ -56,7 +56,7 @@ pub(crate) enum Stage {
     /// With [`PolicyOptions::explore_branches`], when the first attempt's index sets cycled:
     /// one re-solve per distinct set seen with the sets fixed; the self-consistent
     /// candidates, deduplicated by state, make a branch point, and the step continues
-    /// with one of them whatever [`Options::branch_rule`] records.
+    /// with one of them whatever [`PolicyOptions::branch_rule`] records.
     BranchTrials,
     /// With [`PolicyOptions::retry_without_friction_shift`]: the step without the friction
     /// percussions' half-step shift.
