@@ -937,17 +937,7 @@ mod tests {
     use super::*;
     use crate::scenarios::{shaking_column, Shaking};
     use crate::time_guard::WATCHDOG_GRACE_S;
-    use std::cell::Cell;
-
-    /// A clock one second further on at every reading.
-    struct Ticking(Cell<f64>);
-
-    impl Clock for Ticking {
-        fn seconds(&self) -> f64 {
-            self.0.set(self.0.get() + 1.0);
-            self.0.get()
-        }
-    }
+    use input::watchdog::TickingClock;
 
     #[test]
     fn the_watchdog_stops_a_run_with_a_typed_error() {
@@ -955,7 +945,7 @@ mod tests {
         let scene = shaking_column(&Shaking::default()).unwrap();
         let options = RunOptions::default();
         let t_end = scene.solver.t_end;
-        let dog = Watchdog::new(Ticking(Cell::new(0.0)), 0.0, t_end, TIME_BOUND_S);
+        let dog = Watchdog::new(TickingClock::default(), 0.0, t_end, TIME_BOUND_S);
         let s = simulate_watched(&scene, &options, dog, |_| ControlFlow::Continue(())).unwrap();
         #[allow(clippy::cast_possible_truncation, clippy::cast_sign_loss)]
         let grace = WATCHDOG_GRACE_S as usize;

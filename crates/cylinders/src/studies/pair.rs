@@ -925,23 +925,13 @@ mod tests {
         assert_eq!(run_pair(&short(0.5), false).unwrap().steps, 200);
     }
 
-    /// A clock one second further on at every reading.
-    struct Ticking(std::cell::Cell<f64>);
-
-    impl Clock for Ticking {
-        fn seconds(&self) -> f64 {
-            self.0.set(self.0.get() + 1.0);
-            self.0.get()
-        }
-    }
-
     /// The watchdog projects over the steps done: a second a step for 200 steps is
     /// 200 s, under the bound at 600 s and over it at 100 s, where the run stops once
     /// the grace time is over, naming --force.
     #[test]
     fn the_watchdog_stops_a_pair_run_projected_past_its_bound() {
         let watched = |bound| {
-            let dog = Watchdog::new(Ticking(std::cell::Cell::new(0.0)), 0.0, 200.0, bound);
+            let dog = Watchdog::new(input::watchdog::TickingClock::default(), 0.0, 200.0, bound);
             run_pair_watched(
                 &short(0.5),
                 short(0.5).stepper_options(),

@@ -339,18 +339,7 @@ mod tests {
     use super::*;
     use blockstack::scenarios::{shaking_column, Shaking};
     use blockstack::time_guard::{TIME_BOUND_S, WATCHDOG_GRACE_S};
-    use std::cell::Cell;
-
-    /// A clock one second further on at every reading: the watchdog's checks come one
-    /// second apart, whatever the machine.
-    struct Ticking(Cell<f64>);
-
-    impl Clock for Ticking {
-        fn seconds(&self) -> f64 {
-            self.0.set(self.0.get() + 1.0);
-            self.0.get()
-        }
-    }
+    use input::watchdog::TickingClock;
 
     #[test]
     fn the_watchdog_stops_a_run_projected_past_the_bound_and_says_so() {
@@ -364,7 +353,7 @@ mod tests {
             ..OutputPlan::default()
         };
         let t_end = scene.solver.t_end;
-        let watchdog = Watchdog::new(Ticking(Cell::new(0.0)), 0.0, t_end, TIME_BOUND_S);
+        let watchdog = Watchdog::new(TickingClock::default(), 0.0, t_end, TIME_BOUND_S);
         let inputs = serde_json::json!({});
         let out = simulate_watched(&scene, &options, &plan, "test", &inputs, watchdog).unwrap();
         // Each step is checked: the first check past the grace time stops the run,
