@@ -36,10 +36,15 @@ static OUTPUT_DIRS: Mutex<Vec<PathBuf>> = Mutex::new(Vec::new());
 /// none behind, whichever library was writing. Call it only once the command has
 /// ended. Best effort: a file that cannot be removed is left.
 pub fn remove_own_temps() {
-    let prefix = format!(".tmp-{}-", std::process::id());
     let dirs = OUTPUT_DIRS.lock().map(|d| d.clone()).unwrap_or_default();
+    remove_own_temps_in(&dirs);
+}
+
+/// [`remove_own_temps`] in `dirs` only.
+fn remove_own_temps_in(dirs: &[PathBuf]) {
+    let prefix = format!(".tmp-{}-", std::process::id());
     for dir in dirs {
-        let Ok(entries) = fs::read_dir(&dir) else {
+        let Ok(entries) = fs::read_dir(dir) else {
             continue;
         };
         for entry in entries.flatten() {
@@ -266,7 +271,11 @@ mod tests {
         for f in [&ours, &other, &kept] {
             fs::write(f, "x").unwrap();
         }
-        remove_own_temps();
+        // The directory is one of this process's output directories; only its own
+        // temporaries go. (Not `remove_own_temps` itself: tests run in one process, and
+        // it would remove the temporaries that other tests are writing.)
+        assert!(OUTPUT_DIRS.lock().unwrap().contains(&dir));
+        remove_own_temps_in(std::slice::from_ref(&dir));
         assert!(!ours.exists() && other.exists() && kept.exists());
         fs::remove_dir_all(dir).unwrap();
     }
