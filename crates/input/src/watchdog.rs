@@ -11,6 +11,13 @@ use std::time::Instant;
 /// The longest estimated wall time a run starts without being forced, s (ten minutes).
 pub const TIME_BOUND_S: f64 = 600.0;
 
+/// The bound of a watched run ([`Watchdog`]): [`TIME_BOUND_S`], or none when the run is
+/// forced (`--force`, `force=True`, a merge or a task of a Slurm job array).
+#[must_use]
+pub fn time_bound(force: bool) -> Option<f64> {
+    (!force).then_some(TIME_BOUND_S)
+}
+
 /// How the message of a stopped run starts ([`Overrun::message`]): a sweep's row error
 /// that starts so was stopped, not failed.
 pub const STOPPED_BY_WATCHDOG: &str = "stopped by the watchdog";

@@ -12,7 +12,7 @@ use blockstack::simulation::{simulate_until, Prox, RunOptions, RunReport, StepRe
 use blockstack::studies::scene_sweep::{Override, SceneSweep};
 use blockstack::studies::shaking::{frequency_row, periods_for_horizon};
 use blockstack::studies::slide::slide_row;
-use blockstack::time_guard::{run_cost, wall_limit, Guard, TIME_BOUND_S};
+use blockstack::time_guard::{run_cost, wall_limit, Guard};
 use blockstack::{scenes, Defaults};
 use numpy::ndarray::{Array1, Array2, Array3};
 use numpy::IntoPyArray;
@@ -341,7 +341,7 @@ fn run_options(
         skip_low_rank_updates: !low_rank_updates,
         // The watchdog stops a run projected past the time bound as it runs, unless
         // forced (the CLI's --force).
-        time_bound: (!force).then_some(TIME_BOUND_S),
+        time_bound: input::watchdog::time_bound(force),
         ..RunOptions::default()
     })
 }

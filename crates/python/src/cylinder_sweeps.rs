@@ -5,7 +5,6 @@
 
 use crate::cylinders::{check_pair_theta, check_pair_time, check_steps};
 use crate::{guard, sweep_values, value_error};
-use blockstack::time_guard::TIME_BOUND_S;
 use cylinders::studies::pair::{pair_sweep_row_until, push_row_until, PairSettings, PushRow};
 use cylinders::transport::SpinProfile;
 use pyo3::exceptions::PyValueError;
@@ -56,7 +55,7 @@ fn cylinders_sweep_pair<'py>(
             dt,
             steps,
             spin: SpinProfile::constant(spin),
-            time_bound: (!force).then_some(TIME_BOUND_S),
+            time_bound: input::watchdog::time_bound(force),
             ..PairSettings::thesis(theta)
         };
         pair_rows(py, &thetas, settings, 1, force, pair_sweep_row_until)
@@ -92,7 +91,7 @@ fn cylinders_sweep_push<'py>(
             dt,
             steps,
             mu_floor,
-            time_bound: (!force).then_some(TIME_BOUND_S),
+            time_bound: input::watchdog::time_bound(force),
             ..PairSettings::thesis(theta)
         };
         // Every push of a row may be run: a bound.

@@ -509,7 +509,7 @@ fn cylinders_pair<'py>(
             mu_mutual,
             push_over_mg,
             // The watchdog of the run, as the command line's: unless forced.
-            time_bound: (!force).then_some(TIME_BOUND_S),
+            time_bound: input::watchdog::time_bound(force),
             ..PairSettings::thesis(theta)
         };
         check_steps(dt, steps)?;

@@ -157,7 +157,7 @@ impl SolverArgs {
             skip_last_resort: !self.last_resort,
             skip_low_rank_updates: !self.low_rank_updates,
             tuning: self.tuning.assignments.clone(),
-            time_bound: (!self.force).then_some(TIME_BOUND_S),
+            time_bound: input::watchdog::time_bound(self.force),
             ..RunOptions::default()
         })
     }

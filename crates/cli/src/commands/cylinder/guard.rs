@@ -29,9 +29,4 @@ pub fn check_time_bound(settings: &PairSettings, runs: usize, force: bool) -> Re
     Ok(())
 }
 
-/// The run-time watchdog's bound of the runs ([`PairSettings::time_bound`]): none when
-/// `force` (`--force`, a merge or a task of a Slurm job array).
-#[must_use]
-pub fn time_bound(force: bool) -> Option<f64> {
-    (!force).then_some(TIME_BOUND_S)
-}
+pub use input::watchdog::time_bound;
