@@ -5,14 +5,14 @@
     scripts/reference_workload.py [--repeat N] [--only NAME,...] BIN [BIN ...]
 
 The workload every change of the step's policy or of a tuning constant is judged on
-(docs/method.md, appendix): the 135-run shaken-column matrix, the Lire collapse and its
+(docs/tuning.md): the 135-run shaken-column matrix, the Lire collapse and its
 landing on a floor, a 30-block column kicked by its moving base, and the cylinder pair.
 
 To measure a constant or a stage, give one binary and a variant per value: each variant
 is one or more `NAME=VALUE` assignments of nsga's options (separated by spaces), passed
 to every command as the hidden `--tuning NAME=VALUE` flag (`nsga::Options::set`):
 `--variant tuning.stall_iterations=4`, `--variant policy.max_halvings=0`,
-`--variant "policy.explore_branches=false policy.boundary_resolves=false"`. Or give
+`--variant "policy.branch_trials=false policy.boundary_resolves=false"`. Or give
 several binaries (a change that is not an option). The runs alternate between the
 configurations, the first (the binary as it is) being the reference; the table gives,
 per workload and configuration, the machine-independent work (linear solves, failed

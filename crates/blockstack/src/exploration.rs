@@ -47,7 +47,7 @@ pub struct BranchSummary {
     /// Steps taken by the last resort on this branch.
     pub fallback_steps: usize,
     /// Steps taken without the friction percussions' half-step shift on this branch
-    /// (`nsga::StepStats::unshifted`, docs/method.md §8.2, stage 3b).
+    /// (`nsga::StepStats::unshifted`, docs/method.md §8.2, `Stage::Unshifted`).
     #[serde(default)]
     pub unshifted_steps: usize,
     /// The deepest penetration from t = 0 to the branch's end.

@@ -99,7 +99,7 @@ pub const MAX_HALVINGS: usize = 10;
 /// blockstack --example lire_nearby 30 --floor`): with 3, failed steps fall from 6.5 to
 /// 3.3 per run and linear solves by 5 %; more halvings change nothing. The held-sets
 /// attempt of columns with many contacts ([`MAX_OPENINGS_PER_UPDATE`]) takes its updates
-/// whole regardless (docs/method.md §8.2, stage 1).
+/// whole regardless (docs/method.md §8.2, `Stage::HeldSets` and `Stage::Free`).
 pub const LINE_SEARCH_HALVINGS: usize = 3;
 
 /// Openings per Newton update in nsga's held-sets attempt
@@ -420,7 +420,7 @@ pub fn stepper_options(scene: &Scene, options: &RunOptions) -> Result<Options, B
         },
         policy: PolicyOptions {
             // Solver stages of every run; `RunOptions::explore_branches` only records.
-            explore_branches: true,
+            branch_trials: true,
             branch_rule: options.branch_rule,
             probe_flips: options.probe_flips,
             retry_without_friction_shift: true,

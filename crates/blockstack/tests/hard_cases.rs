@@ -426,7 +426,7 @@ fn a_kicked_tall_column_takes_no_far_solution() {
 /// step. The held-sets attempt opens at most one corner per update on position level,
 /// and also on velocity and acceleration level: opened freely there, a band of
 /// right-hand corners opened at every update and closed at the next, travelling up the
-/// column, 1270 linear solves to t = 1 against 114 (docs/method.md §8.2, stage 1).
+/// column, 1270 linear solves to t = 1 against 114 (docs/method.md §8.2, `Stage::HeldSets` and `Stage::Free`).
 #[test]
 fn a_kicked_tall_column_opens_one_corner_per_update_on_every_level() {
     let scene = kicked_column(50);
@@ -444,7 +444,7 @@ fn a_kicked_tall_column_opens_one_corner_per_update_on_every_level() {
 /// down at 0.5 rad/s while that corner slides at 0.02 (μ = 0.5, Δt = 0.01). Its landing
 /// step has no self-consistent index sets with the paper's half-step shift of the
 /// friction percussion, which turns the block against its own closed corners
-/// (docs/method.md §8.2): it is taken by stage 3b, the step without the shift, instead
+/// (docs/method.md §8.2): it is taken by `Stage::Unshifted`, the step without the shift, instead
 /// of halving, and the block comes to rest flat.
 #[test]
 fn a_block_landing_flat_while_it_slides_is_taken_without_the_shift() {

@@ -132,7 +132,7 @@ fn collapse_on_a_floor_lands_and_comes_to_rest() {
 /// halvings they stopped with an error at t = 6.03, 7.52 and 6.21. Their landings are
 /// steps without self-consistent index sets in the paper's form, and the step without
 /// the friction percussions' half-step shift now takes them (docs/method.md §8.2,
-/// stage 3b), with a halving left in two of them.
+/// `Stage::Unshifted`), with a halving left in two of them.
 #[test]
 fn collapses_whose_landings_needed_fine_substeps_run_through() {
     let scenes = nearby_lire_landings(4, 60).unwrap();

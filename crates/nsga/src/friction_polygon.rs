@@ -1,5 +1,5 @@
 //! The directions a friction percussion is spanned by in the last resort's linear
-//! complementarity problem (docs/method.md §8.2, "The last resort").
+//! complementarity problem (docs/last-resort.md).
 //!
 //! A planar law (one component) has the two directions ±1, and its LCP is Coulomb's law
 //! exactly. A disk law (two components, ‖P_F‖ ≤ μ ΣP_N) is not polyhedral, so an LCP
@@ -59,17 +59,23 @@ mod tests {
         assert_eq!(directions(1), vec![vec![1.0], vec![-1.0]]);
     }
 
-    /// docs/method.md §8.2 states k and the bound's ratio as the program has them.
+    /// docs/method.md §8.2 and docs/last-resort.md state k and the bound's ratio as the
+    /// program has them.
     #[test]
     fn the_docs_state_the_polygon_s_size_and_error() {
-        let method = include_str!("../../../docs/method.md").replace('\n', " ");
         let k = DISK_DIRECTIONS;
-        for stated in [
-            format!("`nsga::friction_polygon::DISK_DIRECTIONS` = {k}"),
-            format!("cos(π/{k}) = {:.3}", disk_bound_ratio()),
-            format!("up to π/{k} off"),
+        for doc in [
+            include_str!("../../../docs/method.md"),
+            include_str!("../../../docs/last-resort.md"),
         ] {
-            assert!(method.contains(&stated), "{stated}");
+            let doc = doc.replace('\n', " ");
+            for stated in [
+                format!("`nsga::friction_polygon::DISK_DIRECTIONS` = {k}"),
+                format!("cos(π/{k}) = {:.3}", disk_bound_ratio()),
+                format!("up to π/{k} off"),
+            ] {
+                assert!(doc.contains(&stated), "{stated}");
+            }
         }
     }
 }

@@ -55,6 +55,12 @@ pub enum LcpFailure {
 
 /// Pivot entries below this, relative to the largest entry of their column, count as
 /// zero.
+///
+/// Why 10⁻¹²: after k pivots an entry of the tableau that should be zero holds
+/// round-off of about k ε relative to its column (ε ≈ 2.2·10⁻¹⁶); 10⁻¹² covers the
+/// pivots of the largest contact problems the last resort meets (a few thousand) with a
+/// margin. Taking such an entry as the pivot would divide by round-off: the basis that
+/// follows describes no solution, and the method ends on a false ray.
 const PIVOT_TOL: f64 = 1e-12;
 
 /// How Lemke's method carries its basis from pivot to pivot.
@@ -134,6 +140,15 @@ pub fn lemke_with(
 
 /// The regularizations ε that [`lemke_regularized`] adds to the diagonal of M, in turn,
 /// relative to the largest diagonal entry.
+///
+/// Why these: a regularized solution's residual on the original problem is at most
+/// ε‖z‖∞ (see [`lemke_regularized`]), so the smallest ε that removes the false ray is
+/// the most accurate and is tried first; 10⁻¹⁰ is a thousand times round-off of the
+/// diagonal, enough to make M + εI strictly copositive in floating point. Each next
+/// value is a hundred times larger, so that three solves span the range up to 10⁻⁶,
+/// beyond which even impulses of the size of the problem's scale would miss the
+/// acceptance test of the step's contact problem (10⁻⁸, `lcp_step`). The tries are
+/// work only in the last resort, which no step of the reference workload reaches.
 pub const REGULARIZATIONS: [f64; 3] = [1e-10, 1e-8, 1e-6];
 
 /// Lemke's method that survives round-off on rank-deficient M: solves LCP(M, q) and, if

@@ -101,8 +101,16 @@ fn grow_scratch(scratch: &mut Vec<std::mem::MaybeUninit<u8>>, bytes: usize) {
     }
 }
 
-/// Relative pivot size below which dense LU reports the matrix as singular: a solve
+/// Relative pivot size below which an LU reports the matrix as singular: a solve
 /// through such a pivot returns round-off amplified by 1/pivot, not a Newton step.
+///
+/// Why 10⁻¹³: the eliminated entries carry round-off of ε ≈ 2.2·10⁻¹⁶ relative to the
+/// largest, which a pivot of relative size p amplifies by 1/p: at 10⁻¹³ the update's
+/// relative error is about 2·10⁻³, still a direction that contracts the residual (the
+/// convergence test is on the residual, so an inexact update costs iterations, not
+/// accuracy); much below, the update is round-off. The rows are equilibrated first
+/// ([`equilibrate_rows`]), so the ratio measures the conditioning, not the units of
+/// impulses against velocities.
 pub const SINGULAR_PIVOT: f64 = 1e-13;
 
 /// Equilibrates the rows of an n × n matrix (triplets) whose entries at the positions
@@ -322,6 +330,22 @@ impl AutoSolver {
             small: SmallLu::Markowitz(Box::default()),
             ..Self::new(threshold.min(MARKOWITZ_MAX_UNKNOWNS))
         }
+    }
+    /// The same solver with [`MarkowitzLu`]'s pivot test at `threshold` (see
+    /// [`MarkowitzLu::with_threshold`]; no effect on dense LU).
+    #[must_use]
+    pub fn with_pivot_threshold(mut self, threshold: f64) -> Self {
+        if let SmallLu::Markowitz(_) = self.small {
+            self.small = SmallLu::Markowitz(Box::new(MarkowitzLu::with_threshold(threshold)));
+        }
+        self
+    }
+    /// The same solver with sparse LU keeping `sizes` matrix sizes (see
+    /// [`SparseLu::keeping`]).
+    #[must_use]
+    pub fn keeping(mut self, sizes: usize) -> Self {
+        self.sparse = SparseLu::keeping(sizes);
+        self
     }
 }
 

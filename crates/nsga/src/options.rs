@@ -3,7 +3,7 @@
 //! (docs/method.md §4, §7, §8).
 
 use crate::error::StepError;
-use crate::linalg::MARKOWITZ_SPARSE_THRESHOLD;
+use crate::linalg::{MARKOWITZ_SPARSE_THRESHOLD, PIVOT_THRESHOLD, SYMBOLIC_CACHE};
 use crate::tuning::Tuning;
 #[cfg(doc)]
 use crate::Stepper;
@@ -140,8 +140,7 @@ pub struct Options {
     /// What a step does when its first attempt fails.
     #[serde(default)]
     pub policy: PolicyOptions,
-    /// The measured constants: budgets, factors and thresholds (docs/method.md,
-    /// appendix).
+    /// The measured constants: budgets, factors and thresholds (docs/tuning.md).
     #[serde(default)]
     pub tuning: Tuning,
 }
@@ -234,6 +233,15 @@ pub struct LinearOptions {
     /// did not contract, they are tried again once the matrix has been factorized anew.
     /// The retries, re-solves and halvings of a failed step factorize as before.
     pub low_rank_updates: bool,
+    /// The threshold of [`MarkowitzLu`](crate::linalg::MarkowitzLu)'s pivot test, in
+    /// (0, 1]: a pivot is at least this fraction of the largest active entry of its
+    /// column (1 is partial pivoting). Default
+    /// [`PIVOT_THRESHOLD`], where it is justified.
+    pub pivot_threshold: f64,
+    /// Matrix sizes whose sparsity pattern and symbolic analysis sparse LU keeps
+    /// (at least 1). Default [`SYMBOLIC_CACHE`], where it
+    /// is justified.
+    pub symbolic_cache: usize,
 }
 
 /// The policy of a step whose first attempt fails ([`Options::policy`]): retries,
@@ -249,8 +257,11 @@ pub struct PolicyOptions {
     /// `max_iter`). A retry that converges does so within a few iterations; a failing
     /// one would otherwise spend all of `max_iter` cycling.
     pub retry_max_iter: usize,
-    /// Re-solve with fixed index sets when the sets cycle (branch exploration).
-    pub explore_branches: bool,
+    /// The branch trials (`Stage::BranchTrials`, docs/method.md §8.2): when the first
+    /// attempt's index sets cycle, re-solve the step once per distinct set seen, with the
+    /// sets fixed. The step continues with one of the candidates; which ones are branch
+    /// points is only recorded ([`PolicyOptions::branch_rule`]).
+    pub branch_trials: bool,
     /// Which fixed-set solutions count as continuations of a cycling step.
     pub branch_rule: BranchRule,
     /// After a step converges, re-solve it with the state of one normal contact flipped
@@ -262,7 +273,7 @@ pub struct PolicyOptions {
     pub probe_flips: bool,
     /// With [`Options::friction_percussion_shift`]: a step whose fixed-set re-solves
     /// found no self-consistent solution is tried once more, from the start, without
-    /// the shift (docs/method.md §8.2, stage 3b), before the best iterate, halving and
+    /// the shift (docs/method.md §8.2, `Stage::Unshifted`), before the best iterate, halving and
     /// the last resort.
     pub retry_without_friction_shift: bool,
     /// How often a step that fails after every retry and fixed-set re-solve may be
@@ -371,6 +382,8 @@ impl Default for LinearOptions {
             regularization: DEFAULT_REGULARIZATION,
             reuse_factorization: false,
             low_rank_updates: false,
+            pivot_threshold: PIVOT_THRESHOLD,
+            symbolic_cache: SYMBOLIC_CACHE,
         }
     }
 }
@@ -381,7 +394,7 @@ impl Default for PolicyOptions {
             rho_inf_retries: vec![0.8, 0.2, 1.0, 0.0],
             rho_inf_retry: RhoInfRetry::AnyFailure,
             retry_max_iter: DEFAULT_RETRY_MAX_ITER,
-            explore_branches: true,
+            branch_trials: true,
             branch_rule: BranchRule::SelfConsistent,
             probe_flips: false,
             retry_without_friction_shift: false,
@@ -422,6 +435,13 @@ impl Options {
                 return bad(format!("prox r = {r} must be positive"));
             }
             _ => {}
+        }
+        let threshold = self.linear.pivot_threshold;
+        if !(threshold > 0.0 && threshold <= 1.0) {
+            return bad(format!("pivot_threshold = {threshold} must be in (0, 1]"));
+        }
+        if self.linear.symbolic_cache == 0 {
+            return bad("symbolic_cache must be at least 1".into());
         }
         let eps = self.linear.regularization;
         if !(eps >= 0.0 && eps.is_finite()) {

@@ -60,7 +60,7 @@ pub struct StepStats {
     #[serde(default)]
     pub last_resort: Option<LastResort>,
     /// Whether the step (or one of its substeps) was taken without the friction
-    /// percussions' half-step shift, by stage 3b of the policy
+    /// percussions' half-step shift, by `Stage::Unshifted` of the policy
     /// ([`PolicyOptions::retry_without_friction_shift`](crate::PolicyOptions::retry_without_friction_shift)).
     #[serde(default)]
     pub unshifted: bool,

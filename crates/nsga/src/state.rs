@@ -3,7 +3,16 @@
 use crate::linalg::norm;
 
 /// Two states closer than this ([`State::relative_distance`]) are the same continuation
-/// (how branch candidates are deduplicated, docs/method.md §8.4).
+/// (how branch candidates are deduplicated, docs/exploration.md).
+///
+/// Why 10⁻⁸: two Newton solves that reach the same solution of a step's equations from
+/// different starts agree to about the Newton tolerance (10⁻¹⁰ by default, on residual
+/// rows scaled to impulses), so the bound sits two orders above it and the same solution
+/// found twice is one candidate. Distinct solutions differ in a contact's state (open
+/// against closed, stick against slip), which changes an impulse by a finite amount:
+/// the closest distinct candidates in the tests are kept apart by this bound
+/// (`stepper::branch`'s tests assert it). A run with a looser `tol` than 10⁻¹⁰ can count
+/// one solution twice.
 pub const SAME_MOTION: f64 = 1e-8;
 
 /// The state carried from step to step (docs/method.md §3 "Carried over").

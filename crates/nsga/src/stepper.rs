@@ -204,11 +204,16 @@ struct Work {
 impl Work {
     /// Buffers for a system of this layout, with the linear solver the options choose.
     fn new(layout: &Layout, options: &Options) -> Self {
-        let solver: Box<dyn LinearSolver> = match options.linear.solver {
-            SolverChoice::Auto(t) => Box::new(AutoSolver::new(t)),
+        let linear = &options.linear;
+        let solver: Box<dyn LinearSolver> = match linear.solver {
+            SolverChoice::Auto(t) => Box::new(AutoSolver::new(t).keeping(linear.symbolic_cache)),
             SolverChoice::Dense => Box::new(DenseLu::default()),
-            SolverChoice::Sparse => Box::new(SparseLu::default()),
-            SolverChoice::Markowitz(t) => Box::new(AutoSolver::markowitz(t)),
+            SolverChoice::Sparse => Box::new(SparseLu::keeping(linear.symbolic_cache)),
+            SolverChoice::Markowitz(t) => Box::new(
+                AutoSolver::markowitz(t)
+                    .with_pivot_threshold(linear.pivot_threshold)
+                    .keeping(linear.symbolic_cache),
+            ),
         };
         Self {
             eval: Evaluation::new(layout),

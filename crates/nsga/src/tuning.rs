@@ -13,8 +13,7 @@
 //! [`Options::tuning`]: crate::Options::tuning
 //! [`Options::set`]: crate::Options::set
 
-/// The measured constants of the stepper (docs/method.md, appendix "constants at a
-/// glance").
+/// The measured constants of the stepper (docs/tuning.md, "The constants").
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
 #[serde(default)]
 pub struct Tuning {

@@ -22,7 +22,7 @@ fn starved(dt: f64, last_resort: bool) -> Options {
         policy: PolicyOptions {
             retry_max_iter: 1,
             rho_inf_retries: Vec::new(),
-            explore_branches: false,
+            branch_trials: false,
             on_failure: FailurePolicy::Error,
             max_halvings: 0,
             boundary_resolves: false,

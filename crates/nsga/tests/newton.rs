@@ -263,7 +263,7 @@ fn the_held_sets_attempt_takes_the_steps_of_free_newton() {
 
 /// The held-sets attempt takes its updates whole, whatever `NewtonOptions::line_search` says:
 /// after the release each update changes the sets of a contact or a few, and halving
-/// those updates only delayed the next change (docs/method.md §8.2, stage 1). On the
+/// those updates only delayed the next change (docs/method.md §8.2, `Stage::HeldSets` and `Stage::Free`). On the
 /// falling chain at Δt = 2·10⁻³, the first 150 steps converge within that attempt, so a
 /// line search of three halvings changes nothing, to the last bit, and makes no damped
 /// trial (when the attempt still took the line search, it made 5, from step 95).

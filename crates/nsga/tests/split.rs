@@ -263,7 +263,7 @@ fn solves_of_a_failing_step(rho_inf_retry: RhoInfRetry) -> u64 {
         },
         policy: PolicyOptions {
             rho_inf_retry,
-            explore_branches: false,
+            branch_trials: false,
             last_resort: false,
             ..PolicyOptions::default()
         },

@@ -519,7 +519,7 @@ pub struct SceneRow {
     pub branch_points: usize,
     /// Steps taken by the last resort (Moreau–Jean solved by Lemke's method).
     pub fallback_steps: usize,
-    /// Steps taken without the friction percussions' half-step shift (stage 3b of the
+    /// Steps taken without the friction percussions' half-step shift (`Stage::Unshifted` of the
     /// step policy, docs/method.md §8.2).
     #[serde(default)]
     pub unshifted_steps: usize,

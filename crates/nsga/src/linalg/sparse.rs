@@ -34,7 +34,18 @@ use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
 use std::mem::MaybeUninit;
 
 /// Number of matrix sizes whose pattern and symbolic analysis are kept (pruning open
-/// contacts changes the size of the Newton matrix).
+/// contacts changes the size of the Newton matrix). Set at run time by
+/// [`LinearOptions::symbolic_cache`](crate::LinearOptions::symbolic_cache).
+///
+/// Why more than one: a step's attempts prune different contacts (a fixed-set re-solve
+/// prunes only what its sets leave open, §7 of docs/method.md), so consecutive matrices
+/// alternate between sizes, and a cache of one size would redo the symbolic analysis at
+/// each switch. Only matrices above the block stack's Markowitz crossover reach sparse LU:
+/// with the harness (`scripts/reference_workload.py target/release/rollstack --repeat 1
+/// --variant linear.symbolic_cache=1`) the 135-run matrix does not change, and the kicked
+/// 30-block column takes 146 linear solves against 143 (the union patterns' explicit
+/// zeros move pivots at round-off); the time saved was not measured on a quiet machine,
+/// so 8 is an argument: a few sizes per step, with room.
 pub const SYMBOLIC_CACHE: usize = 8;
 
 /// The matrices of one size: the union of their sparsity patterns in compressed
@@ -182,15 +193,39 @@ pub struct SparseLu {
     /// Whether `numeric` holds the factors of the most recent size's matrix.
     factored: bool,
     scratch: Vec<MaybeUninit<u8>>,
+    /// How many sizes are kept.
+    kept: KeptSizes,
+}
+
+/// How many matrix sizes a [`SparseLu`] keeps: [`SYMBOLIC_CACHE`] unless
+/// [`SparseLu::keeping`] says otherwise.
+#[derive(Debug, Clone, Copy)]
+struct KeptSizes(usize);
+
+impl Default for KeptSizes {
+    fn default() -> Self {
+        Self(SYMBOLIC_CACHE)
+    }
 }
 
 impl SparseLu {
+    /// A solver that keeps the patterns and symbolic analyses of the last `sizes`
+    /// matrix sizes (at least 1) instead of [`SYMBOLIC_CACHE`]
+    /// ([`LinearOptions::symbolic_cache`](crate::LinearOptions::symbolic_cache)).
+    #[must_use]
+    pub fn keeping(sizes: usize) -> Self {
+        Self {
+            kept: KeptSizes(sizes.max(1)),
+            ..Self::default()
+        }
+    }
+
     /// The assembly of size n, moved to the end (created when new).
     fn assembly(&mut self, n: usize) -> &mut Assembly {
         let entry = match self.sizes.iter().position(|a| a.n == n) {
             Some(i) => self.sizes.remove(i),
             None => {
-                if self.sizes.len() == SYMBOLIC_CACHE {
+                if self.sizes.len() >= self.kept.0 {
                     self.sizes.remove(0);
                 }
                 Assembly::new(n)

@@ -53,7 +53,7 @@ pub(crate) enum Stage {
     /// The `i`th ρ∞ of [`PolicyOptions::rho_inf_retries`] (after the failures that
     /// [`PolicyOptions::rho_inf_retry`] names; thesis §4.2).
     RhoRetry(usize),
-    /// With [`PolicyOptions::explore_branches`], when the first attempt's index sets cycled:
+    /// With [`PolicyOptions::branch_trials`], when the first attempt's index sets cycled:
     /// one re-solve per distinct set seen with the sets fixed; the self-consistent
     /// candidates, deduplicated by state, make a branch point, and the step continues
     /// with one of them whatever [`PolicyOptions::branch_rule`] records.
@@ -144,7 +144,7 @@ struct Enabled {
     /// The number of ρ∞ retries, and whether they follow a first attempt that iterated.
     rho_retries: usize,
     rho_after_iterates: bool,
-    explore_branches: bool,
+    branch_trials: bool,
     unshifted: bool,
     accept_best: bool,
     boundary_resolves: bool,
@@ -158,7 +158,7 @@ impl Enabled {
             probe_flips: p.probe_flips,
             rho_retries: p.rho_inf_retries.len(),
             rho_after_iterates: p.rho_inf_retry != RhoInfRetry::SingularMatrix,
-            explore_branches: p.explore_branches,
+            branch_trials: p.branch_trials,
             unshifted: p.retry_without_friction_shift && o.friction_percussion_shift,
             accept_best: p.on_failure == FailurePolicy::AcceptBest,
             boundary_resolves: p.boundary_resolves,
@@ -367,7 +367,7 @@ impl Policy {
     fn switched_on(&self, stage: Stage) -> bool {
         let e = &self.enabled;
         match stage {
-            Stage::BranchTrials => self.cycling && e.explore_branches,
+            Stage::BranchTrials => self.cycling && e.branch_trials,
             Stage::Unshifted => e.unshifted,
             Stage::AcceptBest => e.accept_best,
             Stage::Halving => self.halvings > 0,
@@ -532,7 +532,7 @@ mod tests {
             policy: PolicyOptions {
                 rho_inf_retry: RhoInfRetry::SingularMatrix,
                 rho_inf_retries: vec![0.8, 0.9],
-                explore_branches: false,
+                branch_trials: false,
                 retry_without_friction_shift: false,
                 boundary_resolves: false,
                 last_resort: false,
@@ -571,7 +571,7 @@ mod tests {
             friction_percussion_shift: true,
             policy: PolicyOptions {
                 rho_inf_retries: vec![0.8],
-                explore_branches: true,
+                branch_trials: true,
                 retry_without_friction_shift: true,
                 on_failure: FailurePolicy::AcceptBest,
                 boundary_resolves: true,

@@ -104,7 +104,7 @@ impl<S: System> Stepper<S> {
     /// sets, [`NewtonOptions::max_iter`](crate::NewtonOptions::max_iter) updates; a held-sets
     /// attempt takes its updates whole (after the release each update changes the sets
     /// of a contact or a few, and halving such updates only delayed the next change;
-    /// docs/method.md §8.2, stage 1).
+    /// docs/method.md §8.2, `Stage::HeldSets` and `Stage::Free`).
     pub(super) fn spec(&self, sets: SetRule, rho_inf: f64) -> AttemptSpec {
         let budget = match sets {
             SetRule::Fixed(_) => self.options.newton.max_iter,
