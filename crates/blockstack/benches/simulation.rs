@@ -103,6 +103,35 @@ fn resting_columns(c: &mut Criterion) {
     g.finish();
 }
 
+/// Six blocks lying at rest on the floor in two piles (`examples/scenes/pile-at-rest.toml`),
+/// 100 steps, time per step: nothing moves, so a step should cost about one evaluation of
+/// its equations. The target of a cost that grows with what moves is 1 µs per block and
+/// step.
+fn islands_pile_at_rest(c: &mut Criterion) {
+    let scene = Scene::from_toml(include_str!("../../../examples/scenes/pile-at-rest.toml"))
+        .expect("the example scene loads");
+    let options = stepper_options(&scene, &RunOptions::default()).unwrap();
+    let q0 = scene.initial_coordinates();
+    let u0 = vec![0.0; q0.len()];
+    let mut g = c.benchmark_group("islands_pile_at_rest");
+    g.sample_size(20).measurement_time(Duration::from_secs(4));
+    g.bench_function("n=6/100_steps", |b| {
+        b.iter_batched(
+            || {
+                let system = StackSystem::new(scene.clone());
+                Stepper::new(system, 0.0, &q0, &u0, options.clone()).unwrap()
+            },
+            |mut stepper| {
+                for _ in 0..100 {
+                    black_box(stepper.step().unwrap().iterations);
+                }
+            },
+            BatchSize::LargeInput,
+        );
+    });
+    g.finish();
+}
+
 /// Hard runs of the shaken-column matrix (docs/method.md §8.2): n = 6 blocks,
 /// Δt = 2π/(200ω), to t = 5, solver time per run. ω = 32 and 40 were the matrix's worst
 /// in µs per step when this group was made (many failed steps and branch points); ω = 2,
@@ -237,6 +266,7 @@ criterion_group!(
     benches,
     lire_collapse,
     resting_columns,
+    islands_pile_at_rest,
     shaken_matrix_worst,
     tall_column_moving_base,
     explore
