@@ -78,7 +78,9 @@ pub mod studies;
 pub mod system;
 pub mod time_guard;
 
-pub use base::{Base, BaseKinematics, BaseMotion, CubicSpline};
+pub use base::{
+    Accelerogram, Base, BaseKinematics, BaseMotion, Baseline, CubicSpline, Pulse, PulseShape,
+};
 pub use block::Block;
 pub use coordinates::{BodyState, Pose, Twist, Vec2};
 pub use corners::Corner;
