@@ -180,7 +180,8 @@ impl Accelerogram {
                 acceleration: 0.0,
             };
         }
-        let i = self.t.partition_point(|&ti| ti <= s) - 1;
+        // t₀ < s < t_end: at least the first sample lies at or before s.
+        let i = self.t.partition_point(|&ti| ti <= s).saturating_sub(1);
         let (h, tau) = (self.t[i + 1] - self.t[i], s - self.t[i]);
         let (a0, slope) = (self.a[i], (self.a[i + 1] - self.a[i]) / h);
         BaseKinematics {
