@@ -193,7 +193,7 @@ impl MotionFile {
                     BlockError::Scene(format!("{what} motion \"pulse\" needs 'shape'"))
                 })?;
                 let pulse = Pulse::new(
-                    PulseShape::from_name(shape).map_err(named)?,
+                    PulseShape::from_name(shape).map_err(|e| named(BlockError::Scene(e)))?,
                     need("amplitude", self.amplitude)?,
                     need("period", self.period)?,
                     self.start.unwrap_or(0.0),

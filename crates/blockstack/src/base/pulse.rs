@@ -53,7 +53,7 @@ impl PulseShape {
     ///
     /// # Errors
     /// An unknown name: the error lists the names.
-    pub fn from_name(name: &str) -> Result<Self, BlockError> {
+    pub fn from_name(name: &str) -> Result<Self, String> {
         Self::ALL
             .iter()
             .find(|(_, n)| *n == name)
@@ -61,10 +61,10 @@ impl PulseShape {
             .ok_or_else(|| {
                 let names: Vec<String> =
                     Self::ALL.iter().map(|(_, n)| format!("\"{n}\"")).collect();
-                BlockError::Scene(format!(
+                format!(
                     "unknown pulse shape \"{name}\" (expected {})",
                     names.join(", ")
-                ))
+                )
             })
     }
 }
@@ -230,7 +230,7 @@ mod tests {
     fn bad_pulses_are_refused() {
         assert!(Pulse::new(PulseShape::Ricker, 1.0, 0.0, 0.0).is_err());
         assert!(Pulse::new(PulseShape::OneSine, f64::NAN, 1.0, 0.0).is_err());
-        let e = PulseShape::from_name("square").unwrap_err().to_string();
+        let e = PulseShape::from_name("square").unwrap_err();
         assert!(
             e.contains("\"one-sine\", \"one-cosine\", \"ricker\""),
             "{e}"

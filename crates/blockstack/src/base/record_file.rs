@@ -308,6 +308,46 @@ mod tests {
         assert!(at2_error("one\ntwo\n").contains("line 3: an .AT2 file has four header lines"));
     }
 
+    /// The synthetic record of the repository (scripts/synthetic_record.py).
+    fn synthetic() -> std::path::PathBuf {
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("../../tests/data/synthetic.AT2")
+    }
+
+    #[test]
+    fn the_synthetic_record_loads_scaled_to_its_peak() {
+        let raw = read_record(&synthetic(), None).unwrap();
+        assert_eq!(raw.len(), 1000);
+        assert_eq!(raw[999].0, 9.99);
+        let peak = raw.iter().fold(0.0f64, |m, s| m.max(s.1.abs()));
+        assert!((peak - 0.25).abs() < 1e-7, "{peak}");
+        let options = RecordOptions {
+            unit: 9.81,
+            scale_to_pga: Some(0.4),
+            scale: 0.5,
+            ..RecordOptions::default()
+        };
+        let r = load_record(&synthetic(), &options).unwrap();
+        // scale_to_pga, then scale, in g; times g: the peak is exactly 0.2 g.
+        assert!((r.peak() - 0.2 * 9.81).abs() < 1e-12, "{}", r.peak());
+        let end = r.at(r.end());
+        assert!(end.velocity.abs() < 1e-12 && end.displacement.abs() < 1e-12);
+        let zero = std::env::temp_dir().join(format!("rollstack-zero-{}.csv", std::process::id()));
+        std::fs::write(&zero, "t,a\n0,0\n1,0\n").unwrap();
+        let to_pga = RecordOptions {
+            scale_to_pga: Some(1.0),
+            ..RecordOptions::default()
+        };
+        let e = load_record(&zero, &to_pga).unwrap_err().to_string();
+        std::fs::remove_file(&zero).unwrap();
+        assert!(e.contains("no acceleration to scale"), "{e}");
+        let e = load_record(Path::new("/no/such.AT2"), &RecordOptions::default()).unwrap_err();
+        assert!(
+            e.to_string()
+                .starts_with("cannot read record /no/such.AT2: "),
+            "{e}"
+        );
+    }
+
     #[test]
     fn csv_has_times_or_a_step() {
         let s = parse_csv("t,a\n0,0.1\n0.5,0.2\n# end\n", "r.csv", None).unwrap();
