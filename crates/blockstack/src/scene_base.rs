@@ -176,11 +176,18 @@ impl MotionFile {
             other => other,
         };
         match name {
+            // Checked here too, to name the component (`base.y omega is not finite`).
             "harmonic" => BaseMotion::harmonic(
-                need("amplitude", self.amplitude)?,
-                need("omega", self.omega)?,
+                input::finite(
+                    &format!("{what} amplitude"),
+                    need("amplitude", self.amplitude)?,
+                )?,
+                input::finite(&format!("{what} omega"), need("omega", self.omega)?)?,
             ),
-            "constant-velocity" => BaseMotion::constant_velocity(need("v0", self.v0)?),
+            "constant-velocity" => BaseMotion::constant_velocity(input::finite(
+                &format!("{what} v0"),
+                need("v0", self.v0)?,
+            )?),
             "displacement" => {
                 let s = self.samples.as_ref().ok_or_else(|| {
                     BlockError::Scene(format!("{what} motion \"displacement\" needs 'samples'"))
@@ -324,6 +331,12 @@ mod tests {
         )
         .unwrap_err();
         assert_eq!(e, "base.y pulse period must be positive, got 0");
+        let e = motion(
+            "motion = \"harmonic\"\namplitude = 1\nomega = nan\n",
+            Component::Y,
+        )
+        .unwrap_err();
+        assert_eq!(e, "base.y omega is not finite");
         let e = motion("motion = \"quake\"\n", Component::Y).unwrap_err();
         assert!(
             e.contains(

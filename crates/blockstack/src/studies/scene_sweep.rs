@@ -123,6 +123,9 @@ const OTHER_KEYS: [(&str, &str); 6] = [
 /// `base.y.KEY` and `base.rotation.KEY` the others'.
 const BASE_OWN_KEYS: [&str; 2] = ["width", "height"];
 
+/// The keys of `[base]` itself that give the x motion (the thesis's motions).
+const BASE_X_KEYS: [&str; 5] = ["motion", "amplitude", "omega", "v0", "samples"];
+
 /// The components of the base's motion with a table of their own.
 const BASE_COMPONENTS: [&str; 3] = ["x", "y", "rotation"];
 
@@ -334,6 +337,15 @@ impl SceneKey {
             // The x component's keys go where the file gives its x motion.
             Place::Table("base") if !BASE_OWN_KEYS.contains(&field) => {
                 let base = table_in(file, "base")?;
+                if !base.contains_key("x") && !BASE_X_KEYS.contains(&field) {
+                    // A key only [base.x] takes (a record's scale): the x motion moves
+                    // there, so that the loader judges the key against it.
+                    let x: toml::Table = BASE_X_KEYS
+                        .iter()
+                        .filter_map(|k| base.remove(*k).map(|v| ((*k).to_owned(), v)))
+                        .collect();
+                    base.insert("x".to_owned(), toml::Value::Table(x));
+                }
                 if base.contains_key("x") {
                     set_in(table_in(base, "x")?);
                 } else {
@@ -828,6 +840,15 @@ mod tests {
             .base()
             .clone();
         assert!(matches!(base.motion, BaseMotion::Pulse(p) if p.amplitude == 0.3));
+        // A record's key on a harmonic base given by the keys of [base] is judged
+        // against that motion.
+        let shaking = scenes::find("shaking").unwrap().toml;
+        let scaled = SceneSweep::new(shaking, vec![over("base.scale=2")]).unwrap();
+        let e = scaled.scene(&scaled.points()[0]).unwrap_err().to_string();
+        assert!(
+            e.contains("base.x key 'scale' does not apply to motion \"harmonic\""),
+            "{e}"
+        );
         assert!(key_error(&["base.z.amplitude"]).contains("not a component"));
         assert!(key_error(&["base.y.width"]).contains("the base's own"));
         assert!(key_error(&["base.amplitude", "base.x.amplitude"]).contains("same number"));
