@@ -19,6 +19,10 @@ pub enum BlockError {
     /// A scene file or a scene description is malformed.
     #[error("invalid scene: {0}")]
     Scene(String),
+    /// A recorded acceleration that cannot be read or used ([`crate::base::record_file`]);
+    /// the message names the file (and the line).
+    #[error("{0}")]
+    Record(String),
     /// A scene key (`contact.mu`, `blocks.0.width`) that names no number of the scene
     /// ([`crate::studies::scene_sweep`]); the message names the keys that exist.
     #[error("{0}")]

@@ -1,7 +1,8 @@
 //! A 2D stack of rigid blocks on a driven base (Honein 2024, Ch. 4, App. G, H, I): the
 //! model and the contact geometry, ready for a nonsmooth time stepper.
 //!
-//! - [`Block`], [`Base`] with its prescribed [`BaseMotion`], coordinates [`Pose`] /
+//! - [`Block`], [`Base`] with its prescribed [`BaseMotion`] in x, y and rotation
+//!   (harmonic, pulses, recorded accelerations: [`base`]), coordinates [`Pose`] /
 //!   [`Twist`] (4.2.1)–(4.2.2);
 //! - the contact geometry of App. G: corners ([`Corner`], (G.1.1)), the two gaps and one
 //!   slip speed of each interface ([`Interface`], (G.2.2)–(G.3.2)), loss of support
@@ -67,6 +68,7 @@ pub mod pairs;
 pub mod record;
 pub mod scenarios;
 pub mod scene;
+pub mod scene_base;
 pub mod scene_file;
 pub mod scene_info;
 pub mod scenes;
@@ -78,7 +80,9 @@ pub mod studies;
 pub mod system;
 pub mod time_guard;
 
-pub use base::{Base, BaseKinematics, BaseMotion, CubicSpline};
+pub use base::{
+    Accelerogram, Base, BaseKinematics, BaseMotion, Baseline, CubicSpline, Pulse, PulseShape,
+};
 pub use block::Block;
 pub use coordinates::{BodyState, Pose, Twist, Vec2};
 pub use corners::Corner;

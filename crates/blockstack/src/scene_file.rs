@@ -46,13 +46,15 @@
 //! values they took; [`Scene::warnings`] says what the scene may do unexpectedly (no
 //! floor).
 
-use crate::base::{Base, BaseMotion, CubicSpline};
+use crate::base::{Base, BaseMotion};
 use crate::block::Block;
 use crate::error::BlockError;
 use crate::floor::Floor;
 use crate::scene::{check_block_count, stack_on_top, ContactParams, Prox, Scene, SolverParams};
+use crate::scene_base::{Component, MotionContext, MotionFile};
 use crate::scene_info::Defaults;
 use serde::{Deserialize, Serialize};
+use std::path::Path;
 
 /// The largest scene file a reader takes, bytes (16 MiB): a scene is a few hundred bytes
 /// (one `[[blocks]]` entry with every key for each of the most blocks,
@@ -83,6 +85,15 @@ pub struct BaseFile {
     /// Displacement samples [t, x].
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub samples: Option<Vec<[f64; 2]>>,
+    /// The motion along E₁ as a table of its own (any motion), instead of the keys above.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub x: Option<MotionFile>,
+    /// The motion along E₂ (absent: fixed).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub y: Option<MotionFile>,
+    /// The rotation about the base's centre (absent: fixed).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub rotation: Option<MotionFile>,
 }
 
 fn fixed() -> String {
@@ -264,62 +275,50 @@ impl SceneFile {
         })
     }
 
-    fn base_motion(&self) -> Result<BaseMotion, BlockError> {
+    /// The base: its size and the motions of its three components.
+    fn base(&self, dir: &Path) -> Result<Base, BlockError> {
         let b = &self.base;
-        let unexpected = |key: &str| {
-            BlockError::Scene(format!(
-                "base key '{key}' does not apply to motion \"{}\"",
-                b.motion
-            ))
+        let context = MotionContext {
+            dir,
+            gravity: self
+                .solver
+                .gravity
+                .unwrap_or(SolverParams::default().gravity),
         };
-        let need = |key: &str, v: Option<f64>| {
-            v.ok_or_else(|| {
-                BlockError::Scene(format!("base motion \"{}\" needs '{key}'", b.motion))
+        let old = MotionFile {
+            motion: Some(b.motion.clone()),
+            amplitude: b.amplitude,
+            omega: b.omega,
+            v0: b.v0,
+            samples: b.samples.clone(),
+            ..MotionFile::default()
+        };
+        let x = match &b.x {
+            Some(table) if old.name() != "fixed" || old.given_any() => {
+                let _ = table;
+                return Err(BlockError::Scene(
+                    "the base's x motion is given both by the keys of [base] and by [base.x]: give one of them".into(),
+                ));
+            }
+            Some(table) => table.to_motion("base.x", Component::X, context)?,
+            None => {
+                if matches!(old.name(), "pulse" | "record") {
+                    return Err(BlockError::Scene(format!(
+                        "base motion \"{}\" goes in a table of its own with its keys: [base.x] (or [base.y], [base.rotation])",
+                        old.name()
+                    )));
+                }
+                old.to_motion("base", Component::X, context)?
+            }
+        };
+        let of = |table: &Option<MotionFile>, c: Component| {
+            table.as_ref().map_or(Ok(BaseMotion::Fixed), |m| {
+                m.to_motion(&format!("base.{}", c.key()), c, context)
             })
         };
-        let (amp, om, v0, samples) = (
-            b.amplitude.is_some(),
-            b.omega.is_some(),
-            b.v0.is_some(),
-            b.samples.is_some(),
-        );
-        match b.motion.as_str() {
-            "fixed" => match () {
-                () if amp => Err(unexpected("amplitude")),
-                () if om => Err(unexpected("omega")),
-                () if v0 => Err(unexpected("v0")),
-                () if samples => Err(unexpected("samples")),
-                () => Ok(BaseMotion::Fixed),
-            },
-            "harmonic" => {
-                if v0 {
-                    return Err(unexpected("v0"));
-                }
-                if samples {
-                    return Err(unexpected("samples"));
-                }
-                BaseMotion::harmonic(need("amplitude", b.amplitude)?, need("omega", b.omega)?)
-            }
-            "constant-velocity" => {
-                if amp || om || samples {
-                    return Err(unexpected(if amp { "amplitude" } else if om { "omega" } else { "samples" }));
-                }
-                BaseMotion::constant_velocity(need("v0", b.v0)?)
-            }
-            "displacement" => {
-                if amp || om || v0 {
-                    return Err(unexpected(if amp { "amplitude" } else if om { "omega" } else { "v0" }));
-                }
-                let s = b.samples.as_ref().ok_or_else(|| {
-                    BlockError::Scene("base motion \"displacement\" needs 'samples'".into())
-                })?;
-                let pairs: Vec<(f64, f64)> = s.iter().map(|p| (p[0], p[1])).collect();
-                Ok(BaseMotion::Displacement(CubicSpline::new(&pairs)?))
-            }
-            other => Err(BlockError::Scene(format!(
-                "unknown base motion \"{other}\" (expected fixed, harmonic, constant-velocity or displacement)"
-            ))),
-        }
+        let y = of(&b.y, Component::Y)?;
+        let rotation = of(&b.rotation, Component::Rotation)?;
+        Ok(Base::new(b.width, b.height, x)?.moving_also(y, rotation))
     }
 
     /// Builds and validates the scene.
@@ -338,7 +337,17 @@ impl SceneFile {
     /// `steps_per_period` (or `t_end` with `periods`), or either of those two for a
     /// base motion that is not harmonic: one line each.
     pub fn build(&self) -> Result<LoadedScene, BlockError> {
-        let base = Base::new(self.base.width, self.base.height, self.base_motion()?)?;
+        self.build_at(Path::new(""))
+    }
+
+    /// [`SceneFile::build`] for a scene file in the directory `dir`, where the paths of
+    /// its records start (`""`: the working directory).
+    ///
+    /// # Errors
+    /// As [`SceneFile::build`], and a record that cannot be read or used (naming the
+    /// file, and the line of a malformed one).
+    pub fn build_at(&self, dir: &Path) -> Result<LoadedScene, BlockError> {
+        let base = self.base(dir)?;
         let mut column = Vec::with_capacity(self.block_count()?);
         let mut k = 0;
         for entry in &self.blocks {
@@ -478,6 +487,15 @@ impl LoadedScene {
     /// Any syntax or validation error, as one line.
     pub fn from_toml(text: &str) -> Result<Self, BlockError> {
         SceneFile::parse(text)?.build()
+    }
+
+    /// [`LoadedScene::from_toml`] for a scene file in the directory `dir`, where the
+    /// paths of its records start.
+    ///
+    /// # Errors
+    /// Any syntax or validation error, as one line.
+    pub fn from_toml_at(text: &str, dir: &Path) -> Result<Self, BlockError> {
+        SceneFile::parse(text)?.build_at(dir)
     }
 }
 

@@ -25,6 +25,7 @@ use crate::scene::{Prox, Scene};
 use crate::simulation::{step_count, RunOptions};
 use serde::ser::{SerializeMap, Serializer};
 use serde::Serialize;
+use std::collections::BTreeMap;
 use std::fmt;
 
 /// The optional keys a scene file left out (`solver.dt`, `contact.e_n`, `floor.y`, …) and
@@ -174,8 +175,13 @@ impl Scene {
 pub struct SceneReport {
     /// Number of free blocks.
     pub blocks: usize,
-    /// The base motion: `fixed`, `harmonic`, `constant-velocity` or `displacement`.
+    /// The base's motion along x: `fixed`, `harmonic`, `constant-velocity`,
+    /// `displacement`, `pulse` or `record`.
     pub motion: &'static str,
+    /// The motions of the base's other components that move, `y` and `rotation`, by
+    /// component (absent from the JSON when the base moves along x only).
+    #[serde(skip_serializing_if = "BTreeMap::is_empty")]
+    pub other_motions: BTreeMap<&'static str, &'static str>,
     /// Height of the floor (length units), or null without a floor.
     pub floor: Option<f64>,
     /// Friction coefficient μ (dimensionless).
@@ -248,6 +254,7 @@ impl SceneReport {
         Self {
             blocks: scene.n_blocks(),
             motion: scene.base().motion.name(),
+            other_motions: scene.base().other_motions().into_iter().collect(),
             floor: scene.floor().map(|f| f.y),
             mu: scene.contact.mu,
             e_n: scene.contact.e_n,
@@ -276,12 +283,22 @@ impl fmt::Display for SceneReport {
         let floor = self
             .floor
             .map_or_else(|| "no floor".to_owned(), |y| format!("floor at y = {y}"));
+        let others: Vec<String> = self
+            .other_motions
+            .iter()
+            .map(|(c, m)| format!("{c} {m}"))
+            .collect();
+        let others = if others.is_empty() {
+            String::new()
+        } else {
+            format!(" ({})", others.join(", "))
+        };
         let per = |v: Option<f64>, what: &str| {
             v.map_or_else(String::new, |n| format!(", {} {what}", short(n)))
         };
         write!(
             f,
-            "scene: {} block{}, base {}, {floor}, mu = {}, e_n = {}, e_f = {}; dt = {}{}, t_end = {}{} ({} steps), rho_inf = {}, tol = {:e}, g = {}, prox {}",
+            "scene: {} block{}, base {}{others}, {floor}, mu = {}, e_n = {}, e_f = {}; dt = {}{}, t_end = {}{} ({} steps), rho_inf = {}, tol = {:e}, g = {}, prox {}",
             self.blocks,
             if self.blocks == 1 { "" } else { "s" },
             self.motion,

@@ -20,6 +20,7 @@ use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 use std::ops::ControlFlow;
+use std::path::PathBuf;
 
 /// A validated block-stack scene: blocks, base and its motion, contact, solver, floor.
 #[pyclass(module = "rollstack.blocks", name = "Scene", frozen)]
@@ -29,6 +30,8 @@ pub struct PyScene {
     defaults: Defaults,
     toml: Option<String>,
     title: String,
+    /// Where the paths of the scene's records start (the file's directory).
+    dir: PathBuf,
 }
 
 #[pymethods]
@@ -82,12 +85,13 @@ impl PyScene {
 }
 
 impl PyScene {
-    fn from_loaded(loaded: LoadedScene, toml: String, title: String) -> Self {
+    fn from_loaded(loaded: LoadedScene, toml: String, title: String, dir: PathBuf) -> Self {
         Self {
             scene: loaded.scene,
             defaults: loaded.defaults,
             toml: Some(toml),
             title,
+            dir,
         }
     }
 
@@ -97,17 +101,20 @@ impl PyScene {
             defaults: Defaults::default(),
             toml: None,
             title,
+            dir: PathBuf::new(),
         }
     }
 }
 
-/// Parses and validates a TOML scene (`LoadedScene::from_toml`).
+/// Parses and validates a TOML scene (`LoadedScene::from_toml_at`); the paths of its
+/// records start from `dir` (the working directory by default).
 #[pyfunction]
-#[pyo3(signature = (text, title = "scene".to_owned()))]
-fn blocks_scene_from_toml(text: String, title: String) -> PyResult<PyScene> {
+#[pyo3(signature = (text, title = "scene".to_owned(), dir = String::new()))]
+fn blocks_scene_from_toml(text: String, title: String, dir: String) -> PyResult<PyScene> {
     guard(|| {
-        let loaded = LoadedScene::from_toml(&text).map_err(value_error)?;
-        Ok(PyScene::from_loaded(loaded, text, title))
+        let dir = PathBuf::from(dir);
+        let loaded = LoadedScene::from_toml_at(&text, &dir).map_err(value_error)?;
+        Ok(PyScene::from_loaded(loaded, text, title, dir))
     })
 }
 
@@ -123,7 +130,7 @@ fn blocks_scene_from_json(text: String, title: String) -> PyResult<PyScene> {
         }
         let toml = toml::to_string(&value).map_err(|e| value_error(format!("scene: {e}")))?;
         let loaded = LoadedScene::from_toml(&toml).map_err(value_error)?;
-        Ok(PyScene::from_loaded(loaded, toml, title))
+        Ok(PyScene::from_loaded(loaded, toml, title, PathBuf::new()))
     })
 }
 
@@ -137,6 +144,7 @@ fn blocks_builtin_scene(name: &str) -> PyResult<PyScene> {
             loaded,
             builtin.toml.to_owned(),
             builtin.name.to_owned(),
+            PathBuf::new(),
         ))
     })
 }
@@ -641,7 +649,9 @@ fn blocks_sweep_scene<'py>(
             .iter()
             .map(|o| o.parse::<Override>().map_err(PyValueError::new_err))
             .collect::<PyResult<Vec<_>>>()?;
-        let sweep = SceneSweep::new(text, overrides).map_err(value_error)?;
+        let sweep = SceneSweep::new(text, overrides)
+            .map_err(value_error)?
+            .in_dir(scene.dir.clone());
         let mut options = run_options(
             t_end,
             prox_constant,

@@ -18,6 +18,7 @@ mod block_studies;
 mod blocks;
 mod cylinder_sweeps;
 mod cylinders;
+mod excitation;
 mod nsga_py;
 mod rotations_py;
 mod sphere;
@@ -157,6 +158,7 @@ fn _rollstack(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     m.add("SolverError", m.py().get_type::<SolverError>())?;
     blocks::register(m)?;
+    excitation::register(m)?;
     block_studies::register(m)?;
     sphere::register(m)?;
     rotations_py::register(m)?;

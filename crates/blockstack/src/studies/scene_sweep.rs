@@ -48,11 +48,26 @@ use crate::simulation::{simulate, BlockPose, RunOptions};
 use crate::studies::shaking::one_line;
 use serde::{Deserialize, Serialize};
 use std::fmt;
+use std::path::PathBuf;
 use std::str::FromStr;
 
 /// The tables of a scene file with the keys a sweep can set: every numeric key.
 pub const NUMERIC_KEYS: [(&str, &[&str]); 5] = [
-    ("base", &["width", "height", "amplitude", "omega", "v0"]),
+    (
+        "base",
+        &[
+            "width",
+            "height",
+            "amplitude",
+            "omega",
+            "v0",
+            "period",
+            "start",
+            "scale",
+            "scale_to_pga",
+            "dt",
+        ],
+    ),
     (
         "blocks",
         &["width", "height", "mass", "count", "x", "y", "theta"],
@@ -94,7 +109,25 @@ fn angle_keys() -> String {
 }
 
 /// The keys of a scene file that are not numbers and cannot be swept.
-const OTHER_KEYS: [(&str, &str); 2] = [("base", "motion"), ("base", "samples")];
+const OTHER_KEYS: [(&str, &str); 6] = [
+    ("base", "motion"),
+    ("base", "samples"),
+    ("base", "shape"),
+    ("base", "record"),
+    ("base", "units"),
+    ("base", "baseline"),
+];
+
+/// The base's own keys; its other numeric keys are a component's motion's: `base.KEY`
+/// is the x component's (in `[base.x]` when the file has that table, else in `[base]`),
+/// `base.y.KEY` and `base.rotation.KEY` the others'.
+const BASE_OWN_KEYS: [&str; 2] = ["width", "height"];
+
+/// The keys of `[base]` itself that give the x motion (the thesis's motions).
+const BASE_X_KEYS: [&str; 5] = ["motion", "amplitude", "omega", "v0", "samples"];
+
+/// The components of the base's motion with a table of their own.
+const BASE_COMPONENTS: [&str; 3] = ["x", "y", "rotation"];
 
 /// Pairs of `[solver]` keys that say the same thing two ways: setting one drops the other.
 const ALTERNATIVES: [(&str, &str); 2] = [("dt", "steps_per_period"), ("t_end", "periods")];
@@ -159,6 +192,8 @@ enum Place {
     AllBlocks,
     /// `blocks.K.KEY`: entry K, from 0.
     Block(usize),
+    /// `base.C.KEY`: the table `[base.C]` of component C (x, y, rotation).
+    BaseComponent(&'static str),
 }
 
 /// A checked scene key: where it is and which field it names.
@@ -208,13 +243,24 @@ impl SceneKey {
                 (Place::Block(k), *field)
             }
             (_, [field]) => (Place::Table(table), *field),
+            ("base", [component, field]) => {
+                let Some(&c) = BASE_COMPONENTS.iter().find(|c| *c == component) else {
+                    return Err(bad(format!(
+                        "'{component}' is not a component of the base's motion (base.x.KEY, base.y.KEY, base.rotation.KEY)"
+                    )));
+                };
+                if BASE_OWN_KEYS.contains(field) {
+                    return Err(bad(format!("{field} is the base's own: base.{field}")));
+                }
+                (Place::BaseComponent(c), *field)
+            }
             _ => {
                 return Err(bad(format!(
                     "expected {table}.KEY{}",
-                    if table == "blocks" {
-                        " or blocks.K.KEY"
-                    } else {
-                        ""
+                    match table {
+                        "blocks" => " or blocks.K.KEY",
+                        "base" => " or base.C.KEY (C one of x, y, rotation)",
+                        _ => "",
                     }
                 )))
             }
@@ -246,7 +292,11 @@ impl SceneKey {
     /// Whether two keys set the same number of some table or entry.
     fn overlaps(&self, other: &Self) -> bool {
         let same_place = match (self.place, other.place) {
-            (Place::Block(_), Place::AllBlocks) | (Place::AllBlocks, Place::Block(_)) => true,
+            // blocks.KEY sets blocks.K.KEY; base.KEY may be set in [base.x].
+            (Place::Block(_), Place::AllBlocks)
+            | (Place::AllBlocks, Place::Block(_))
+            | (Place::Table("base"), Place::BaseComponent("x"))
+            | (Place::BaseComponent("x"), Place::Table("base")) => true,
             (a, b) => a == b,
         };
         same_place
@@ -284,12 +334,26 @@ impl SceneKey {
         };
         let not_table = |name: &str| BlockError::Scene(format!("{name} is not a table"));
         match self.place {
-            Place::Table(name) => {
-                let table = file
-                    .entry(name)
-                    .or_insert_with(|| toml::Value::Table(toml::Table::new()));
-                set_in(table.as_table_mut().ok_or_else(|| not_table(name))?);
+            // The x component's keys go where the file gives its x motion.
+            Place::Table("base") if !BASE_OWN_KEYS.contains(&field) => {
+                let base = table_in(file, "base")?;
+                if !base.contains_key("x") && !BASE_X_KEYS.contains(&field) {
+                    // A key only [base.x] takes (a record's scale): the x motion moves
+                    // there, so that the loader judges the key against it.
+                    let x: toml::Table = BASE_X_KEYS
+                        .iter()
+                        .filter_map(|k| base.remove(*k).map(|v| ((*k).to_owned(), v)))
+                        .collect();
+                    base.insert("x".to_owned(), toml::Value::Table(x));
+                }
+                if base.contains_key("x") {
+                    set_in(table_in(base, "x")?);
+                } else {
+                    set_in(base);
+                }
             }
+            Place::Table(name) => set_in(table_in(file, name)?),
+            Place::BaseComponent(c) => set_in(table_in(table_in(file, "base")?, c)?),
             Place::AllBlocks | Place::Block(_) => {
                 let entries = file
                     .get_mut("blocks")
@@ -307,12 +371,21 @@ impl SceneKey {
     }
 }
 
+/// The table `name` of `file`, added when absent.
+fn table_in<'a>(file: &'a mut toml::Table, name: &str) -> Result<&'a mut toml::Table, BlockError> {
+    file.entry(name)
+        .or_insert_with(|| toml::Value::Table(toml::Table::new()))
+        .as_table_mut()
+        .ok_or_else(|| BlockError::Scene(format!("{name} is not a table")))
+}
+
 /// A scene file and the keys swept over it, checked.
 #[derive(Debug, Clone)]
 pub struct SceneSweep {
     file: toml::Table,
     keys: Vec<SceneKey>,
     overrides: Vec<Override>,
+    dir: PathBuf,
 }
 
 impl SceneSweep {
@@ -359,7 +432,15 @@ impl SceneSweep {
             file,
             keys,
             overrides,
+            dir: PathBuf::new(),
         })
+    }
+
+    /// The same sweep of a scene file in the directory `dir`, where the paths of its
+    /// records start (by default the working directory).
+    #[must_use]
+    pub fn in_dir(self, dir: PathBuf) -> Self {
+        Self { dir, ..self }
     }
 
     /// The swept keys, in the order given.
@@ -406,7 +487,7 @@ impl SceneSweep {
     /// # Errors
     /// As [`SceneSweep::file`], and every error of [`SceneFile::build`].
     pub fn scene(&self, point: &[SetValue]) -> Result<LoadedScene, BlockError> {
-        self.file(point)?.build()
+        self.file(point)?.build_at(&self.dir)
     }
 
     /// Runs the scene of `point` with `options` (its `t_end`, when given, overrides the
@@ -727,6 +808,53 @@ mod tests {
     }
 
     #[test]
+    fn base_keys_go_to_the_table_of_their_component() {
+        use crate::base::BaseMotion;
+        let text = "[base]\nwidth = 1\nheight = 0.1\n[base.x]\nmotion = \"pulse\"\nshape = \"one-sine\"\namplitude = 0.1\nperiod = 1\n[[blocks]]\nwidth = 0.2\nheight = 0.4\n[contact]\nmu = 0.5\n";
+        let sweep = SceneSweep::new(
+            text,
+            vec![
+                over("base.amplitude=0.3"),
+                over("base.y.period=0.5"),
+                over("base.width=2"),
+            ],
+        )
+        .unwrap();
+        let point = &sweep.points()[0];
+        let file = sweep.file(point).unwrap();
+        assert_eq!(file.base.x.as_ref().unwrap().amplitude, Some(0.3));
+        assert_eq!(file.base.amplitude, None);
+        assert_eq!(file.base.y.as_ref().unwrap().period, Some(0.5));
+        assert_eq!(file.base.width, 2.0);
+        // [base.y] has a period but no motion: the loader says what is wrong.
+        let e = sweep.scene(point).unwrap_err().to_string();
+        assert!(
+            e.contains("base.y key 'period' does not apply to motion \"fixed\""),
+            "{e}"
+        );
+        let scene = SceneSweep::new(text, vec![over("base.amplitude=0.3")]).unwrap();
+        let base = scene
+            .scene(&scene.points()[0])
+            .unwrap()
+            .scene
+            .base()
+            .clone();
+        assert!(matches!(base.motion, BaseMotion::Pulse(p) if p.amplitude == 0.3));
+        // A record's key on a harmonic base given by the keys of [base] is judged
+        // against that motion.
+        let shaking = scenes::find("shaking").unwrap().toml;
+        let scaled = SceneSweep::new(shaking, vec![over("base.scale=2")]).unwrap();
+        let e = scaled.scene(&scaled.points()[0]).unwrap_err().to_string();
+        assert!(
+            e.contains("base.x key 'scale' does not apply to motion \"harmonic\""),
+            "{e}"
+        );
+        assert!(key_error(&["base.z.amplitude"]).contains("not a component"));
+        assert!(key_error(&["base.y.width"]).contains("the base's own"));
+        assert!(key_error(&["base.amplitude", "base.x.amplitude"]).contains("same number"));
+    }
+
+    #[test]
     fn unknown_keys_are_one_line_naming_the_keys_of_their_table() {
         let e = key_error(&["contact.muu"]);
         assert!(
@@ -754,8 +882,10 @@ mod tests {
 
     #[test]
     fn the_numeric_keys_are_every_key_of_a_scene_file() {
-        // A file with every key given: its keys are NUMERIC_KEYS and OTHER_KEYS.
+        // A file with every key given: its keys are NUMERIC_KEYS and OTHER_KEYS, the
+        // keys of a component's table ([base.y]) counted as the base's.
         let text = "[base]\nwidth = 1\nheight = 0.1\nmotion = \"harmonic\"\namplitude = 0.1\nomega = 1\nv0 = 1\nsamples = [[0, 0], [1, 1]]\n\
+            [base.y]\nmotion = \"record\"\nshape = \"ricker\"\nperiod = 1\nstart = 0\nrecord = \"r.csv\"\ndt = 1\nscale = 1\nscale_to_pga = 1\nunits = \"g\"\nbaseline = \"none\"\n\
             [[blocks]]\nwidth = 1\nheight = 1\nmass = 1\ncount = 1\nx = 0\ny = 1\ntheta = 0\n\
             [contact]\nmu = 0.1\ne_n = 0\ne_f = 0\n\
             [solver]\ndt = 0.1\nsteps_per_period = 1\nt_end = 1\nperiods = 1\nrho_inf = 0.5\nr = 1\nr_alpha = 1\ntol = 1e-9\ngravity = 1\n\
@@ -768,7 +898,15 @@ mod tests {
                 toml::Value::Array(a) => a[0].as_table().unwrap(),
                 other => other.as_table().unwrap(),
             };
-            seen.extend(inner.keys().map(|k| format!("{table}.{k}")));
+            for (k, v) in inner {
+                match v.as_table() {
+                    Some(component) => {
+                        assert!(BASE_COMPONENTS.contains(&k.as_str()), "{table}.{k}");
+                        seen.extend(component.keys().map(|k| format!("{table}.{k}")));
+                    }
+                    None => seen.push(format!("{table}.{k}")),
+                }
+            }
         }
         let mut known: Vec<String> = NUMERIC_KEYS
             .iter()
@@ -776,6 +914,7 @@ mod tests {
             .chain(OTHER_KEYS.iter().map(|(t, k)| format!("{t}.{k}")))
             .collect();
         seen.sort();
+        seen.dedup();
         known.sort();
         assert_eq!(seen, known);
     }

@@ -8,7 +8,9 @@ command line's scene files (docs/scenes.md). :func:`simulate` runs one and retur
 :class:`Result` with numpy arrays. :func:`lire`, :func:`shaking` and :func:`sliding`
 build the scenes of §4.3-4.5; :func:`sweep_frequency` and :func:`sweep_slide` compute
 the rows of Figures 4.6 and 4.7 in parallel, :func:`sweep_scene` any scene over any of
-its numeric keys.
+its numeric keys. :func:`read_record` and :func:`pulse` give the base excitations a
+scene's ``[base.x]``, ``[base.y]`` or ``[base.rotation]`` table can play (recorded
+accelerograms, one-sine, one-cosine and Ricker pulses) as numpy arrays.
 
 Coordinates: q = (x, y, θ) of each block's centre of mass, u = (ẋ, ẏ, θ̇); interface k
 lies between block k-1 (the base for k = 0) and block k; its contact forces are the
@@ -42,6 +44,8 @@ __all__ = [
     "explore",
     "painleve",
     "work_precision",
+    "read_record",
+    "pulse",
 ]
 
 
@@ -103,7 +107,8 @@ class Scene:
             with open(path, encoding="utf-8") as f:
                 text = f.read()
             title = os.path.splitext(os.path.basename(path))[0]
-            return cls(_rollstack.blocks_scene_from_toml(text, title))
+            # The paths of the scene's records start from the file's directory.
+            return cls(_rollstack.blocks_scene_from_toml(text, title, os.path.dirname(path)))
         return cls(_rollstack.blocks_scene_from_toml(str(source), "scene"))
 
     @classmethod
@@ -137,6 +142,57 @@ class Scene:
 
     def __repr__(self) -> str:
         return f"Scene({self.title!r}, {self.n_blocks} block(s))"
+
+
+def read_record(
+    path: Union[str, "os.PathLike[str]"],
+    dt: Optional[float] = None,
+    scale: float = 1.0,
+    scale_to_pga: Optional[float] = None,
+    baseline: str = "end-at-rest",
+    unit: float = 1.0,
+) -> Dict[str, np.ndarray]:
+    """A recorded accelerogram as a scene's ``motion = "record"`` plays it.
+
+    ``path`` is a PEER NGA ``.AT2`` file (values in g) or a CSV file (``t,a`` rows, or
+    one column ``a`` with its step ``dt``). The record is corrected (``baseline``:
+    ``"end-at-rest"`` removes the line from a(t) that makes it end at rest where it
+    started, ``"none"`` keeps it), scaled so that its peak is ``scale_to_pga`` (in the
+    file's units), then by ``scale``, and each unit of the file's is ``unit`` (9.81 for
+    m/s² from g). Returns ``t``, ``a``, ``v``, ``d`` at the samples: a(t) piecewise
+    linear, v and d its exact integrals from rest at the first sample. A malformed file
+    raises ``ValueError`` naming the file and its line (docs/scenes.md).
+    """
+    return _rollstack.blocks_read_record(
+        os.fspath(path),
+        optional_number("dt", dt),
+        number("scale", scale),
+        optional_number("scale_to_pga", scale_to_pga),
+        str(baseline),
+        number("unit", unit),
+    )
+
+
+def pulse(
+    shape: str,
+    amplitude: float,
+    period: float,
+    t: Any,
+    start: float = 0.0,
+) -> Dict[str, np.ndarray]:
+    """An acceleration pulse of a scene's ``motion = "pulse"`` at the times ``t``.
+
+    ``shape`` is ``"one-sine"`` (a = a_p sin(2πτ/T_p) over one period, τ = t - start),
+    ``"one-cosine"`` (a_p cos(2πτ/T_p)) or ``"ricker"`` (a_p (1 - 2s²) exp(-s²),
+    s = π(τ - 2T_p)/T_p); ``amplitude`` is a_p, ``period`` T_p. Returns ``t``, ``a``,
+    ``v``, ``d``: the velocity and displacement are the exact integrals from rest at
+    ``start``.
+    """
+    times = number_list("t", np.asarray(t, dtype=float).ravel().tolist())
+    return _rollstack.blocks_pulse(
+        str(shape), number("amplitude", amplitude), number("period", period), times,
+        number("start", start),
+    )
 
 
 def scenes() -> Dict[str, str]:

@@ -7,7 +7,7 @@ use blockstack::scene_file::{LoadedScene, MAX_SCENE_BYTES};
 use blockstack::scenes;
 use clap::Args;
 use std::io::Read;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 /// Arguments of `rollstack blocks scenes`.
 #[derive(Debug, Args)]
@@ -45,7 +45,18 @@ pub fn run(args: &ScenesArgs) -> Result<()> {
 /// names the built-in scenes).
 pub fn load_scene(arg: &Path) -> Result<LoadedScene> {
     let (text, what) = scene_text(arg)?;
-    LoadedScene::from_toml(&text).with_context(|| what)
+    LoadedScene::from_toml_at(&text, &scene_dir(arg)).with_context(|| what)
+}
+
+/// The directory where the record paths of the scene `arg` names start: the scene
+/// file's, or the working directory for a built-in scene.
+#[must_use]
+pub fn scene_dir(arg: &Path) -> PathBuf {
+    if arg.exists() && !arg.is_dir() {
+        arg.parent().map(Path::to_path_buf).unwrap_or_default()
+    } else {
+        PathBuf::new()
+    }
 }
 
 /// The TOML text of the scene `arg` names (a file, else a built-in scene), with what it

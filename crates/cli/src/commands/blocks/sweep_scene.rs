@@ -57,7 +57,9 @@ pub fn sweep_scene(args: &SceneArgs) -> Result<()> {
         .iter()
         .map(|s| s.parse::<Override>().map_err(anyhow::Error::msg))
         .collect::<Result<Vec<_>>>()?;
-    let sweep = SceneSweep::new(&text, overrides).with_context(|| what.clone())?;
+    let sweep = SceneSweep::new(&text, overrides)
+        .with_context(|| what.clone())?
+        .in_dir(super::scenes::scene_dir(&args.scene));
     let options = args
         .output
         .watched(args.solver.run_options(args.t_end, args.stop_at_failure)?);
