@@ -45,6 +45,7 @@ pub mod verdict;
 
 use crate::error::BlockError;
 use crate::exploration::Outcome;
+use crate::record::{finite_text, number_text, optional_text};
 use crate::scene::Scene;
 use crate::simulation::{simulate_until, BlockPose, RunOptions, StepRecord};
 use crate::time_guard::{run_cost, RunCost};
@@ -192,6 +193,114 @@ pub struct ConvergenceRun {
     /// The finest level: its configurations, for the members.
     #[serde(skip)]
     pub reference: Option<Reference>,
+}
+
+impl ConvergenceRun {
+    /// The columns of `runs.csv` before the final poses (`x{k}`, `y{k}`, `theta{k}` per
+    /// block follow).
+    pub const CSV_HEADER: [&'static str; 18] = [
+        "label",
+        "kind",
+        "k",
+        "member",
+        "perturbed",
+        "magnitude",
+        "dt",
+        "steps",
+        "t_final",
+        "failure_time",
+        "fell",
+        "on_floor",
+        "forks",
+        "separated_at",
+        "lyapunov",
+        "max_distance",
+        "wall_time_s",
+        "error",
+    ];
+
+    /// The header of `runs.csv` for `n` blocks.
+    #[must_use]
+    pub fn csv_header(n: usize) -> Vec<String> {
+        let mut h: Vec<String> = Self::CSV_HEADER.iter().map(|c| (*c).to_owned()).collect();
+        for k in 1..=n {
+            h.extend([format!("x{k}"), format!("y{k}"), format!("theta{k}")]);
+        }
+        h
+    }
+
+    /// Its row of `runs.csv` (lists of blocks space-separated, empty cells for what does
+    /// not apply).
+    #[must_use]
+    pub fn csv_cells(&self) -> Vec<String> {
+        let list = |v: &[usize]| {
+            v.iter()
+                .map(ToString::to_string)
+                .collect::<Vec<_>>()
+                .join(" ")
+        };
+        let (kind, k, member, perturbed, magnitude) = match self.kind {
+            JobKind::Level { k } => ("level", k.to_string(), String::new(), "", None),
+            JobKind::Member {
+                member,
+                perturbation: p,
+            } => (
+                "member",
+                String::new(),
+                member.to_string(),
+                p.perturbed.name(),
+                Some(p.magnitude),
+            ),
+        };
+        let sep = self.separation.as_ref();
+        let mut cells = vec![
+            self.label.clone(),
+            kind.to_owned(),
+            k,
+            member,
+            perturbed.to_owned(),
+            optional_text(magnitude),
+            number_text(self.dt),
+            self.steps.to_string(),
+            number_text(self.t_final),
+            optional_text(self.observed.failure_time),
+            list(&self.observed.outcome.fell),
+            list(&self.observed.outcome.on_floor),
+            self.observed.forks.len().to_string(),
+            optional_text(sep.and_then(|s| s.separated_at)),
+            optional_text(sep.and_then(|s| s.lyapunov)),
+            optional_text(sep.map(|s| s.max_distance)),
+            number_text(self.wall_time_s),
+            self.error.clone().unwrap_or_default(),
+        ];
+        for p in &self.observed.final_poses {
+            cells.extend([p.x, p.y, p.theta].map(finite_text));
+        }
+        cells
+    }
+}
+
+/// The members' distances from the unperturbed finest run as the rows of
+/// `separation.csv`: `t`, then one column per member (`member01`, …), a row per step of
+/// the finest run; empty where a member had stopped.
+#[must_use]
+pub fn separation_rows(members: &[ConvergenceRun]) -> (Vec<String>, Vec<Vec<String>>) {
+    let mut header = vec!["t".to_owned()];
+    header.extend(members.iter().map(|m| m.label.clone()));
+    let steps = members.iter().map(|m| m.distance.len()).max().unwrap_or(0);
+    let rows = (0..steps)
+        .map(|i| {
+            let t = members.iter().find_map(|m| m.distance.get(i)).map(|d| d.0);
+            let mut row = vec![optional_text(t)];
+            row.extend(
+                members
+                    .iter()
+                    .map(|m| optional_text(m.distance.get(i).map(|d| d.1))),
+            );
+            row
+        })
+        .collect();
+    (header, rows)
 }
 
 /// The ensemble's separation in brief: how many members separated, the earliest time,

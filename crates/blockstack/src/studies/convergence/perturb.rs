@@ -34,6 +34,15 @@ pub enum Perturbed {
 }
 
 impl Perturbed {
+    /// `initial_positions` or `base_frequency`, as in JSON.
+    #[must_use]
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::InitialPositions => "initial_positions",
+            Self::BaseFrequency => "base_frequency",
+        }
+    }
+
     /// `initial x` or `base frequency`.
     #[must_use]
     pub fn label(self) -> &'static str {
