@@ -106,6 +106,16 @@ fn bad_levels_and_ensembles_are_refused_naming_the_flag_and_writing_nothing() {
         assert!(stderr.contains(flag), "{flag} {value}: {stderr}");
         assert!(!dir.exists(), "{flag} {value} left {}", dir.display());
     }
+    // Endless runs: refused before any run by the time guard, naming --force.
+    let (ok, stdout, stderr) = run(&[
+        "blocks", "converge", "shaking", "--t-end", "1e300", "--out", d,
+    ]);
+    assert!(!ok && stdout.is_empty(), "{stdout}");
+    assert!(
+        stderr.contains("more than 600 s") && stderr.contains("--force"),
+        "{stderr}"
+    );
+    assert!(!dir.exists());
     let (ok, _, stderr) = run(&["blocks", "converge", "no-such-scene"]);
     assert!(!ok && stderr.contains("lire-collapse"), "{stderr}");
 }
