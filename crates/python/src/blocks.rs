@@ -99,6 +99,11 @@ impl PyScene {
             title,
         }
     }
+
+    /// The validated scene, for the studies of `block_studies`.
+    pub(crate) fn scene(&self) -> &blockstack::Scene {
+        &self.scene
+    }
 }
 
 /// Parses and validates a TOML scene (`LoadedScene::from_toml`).
