@@ -21,16 +21,18 @@
 //!    in the same order and reached the floor, and no corner's final position differs by
 //!    more than [`verdict::POSE_TOLERANCE`] of the smallest block dimension. The
 //!    tolerance reported is the level difference (for a failure time at least the
-//!    finest Δt, its resolution); with three levels or more that agree on the discrete
-//!    answer, the observed order log₂(d_{K−2,K−1}/d_{K−1,K}).
-//! 3. `chaotic`: the levels disagree, and the ensemble's spread (failure times
-//!    max − min; the largest corner distance of a member's final poses from the
-//!    unperturbed run's) is at least [`verdict::CHAOS_FRACTION`] of the levels'
-//!    difference (|T_{K−1} − T_K|; the corner distance of their final poses), or the
-//!    ensemble's members and the unperturbed run disagree on the discrete answer (fail
-//!    or stand; which blocks fell in which order, which reached the floor). The report
-//!    gives the ensemble's spread, when the members' motions separate from the
-//!    unperturbed one and the finite-time Lyapunov estimate ([`separation`]).
+//!    finest Δt, its resolution; none for a column that stands at both); with three
+//!    levels or more that agree, the observed order log₂(d_{K−2,K−1}/d_{K−1,K}).
+//! 3. `chaotic`: the levels disagree, and the spread of the members perturbed by at
+//!    most [`verdict::SENSITIVE_MAGNITUDE`] (failure times max − min; the largest corner
+//!    distance of a member's final poses from the unperturbed run's) is at least
+//!    [`verdict::CHAOS_FRACTION`] of the levels' difference (|T_{K−1} − T_K|; the corner
+//!    distance of their final poses), or those members and the unperturbed run disagree
+//!    on the discrete answer (fail or stand; which blocks fell in which order, which
+//!    reached the floor). The members at 10⁻⁴ show how smoothly the answer depends on
+//!    the initial state: reported, not judged. The report gives the ensemble's spread,
+//!    when the members' motions separate from the unperturbed one and the finite-time
+//!    Lyapunov estimate ([`separation`]).
 //! 4. `not converged`: none of these, or a run of the finest two levels stopped (an
 //!    error, the watchdog) before deciding.
 //!
@@ -53,7 +55,7 @@ use perturb::{ensemble, Perturbation, MAGNITUDES};
 use separation::{corner_distance, Separation, DISTANCE_FLOOR};
 use std::fmt;
 use std::ops::ControlFlow;
-use verdict::{judge_failure, judge_outcome, Level, Observed, Verdict, POSE_TOLERANCE};
+use verdict::{judge_failure, judge_outcome, Level, Member, Observed, Verdict, POSE_TOLERANCE};
 
 /// The default K: runs at Δt, Δt/2 and Δt/4, three levels, enough for an observed order.
 pub const DEFAULT_LEVELS: usize = 2;
@@ -551,7 +553,16 @@ impl Study {
                 observed: r.observed.clone(),
             })
             .collect();
-        let observed: Vec<Observed> = members.iter().map(|r| r.observed.clone()).collect();
+        let observed: Vec<Member> = members
+            .iter()
+            .filter_map(|r| match r.kind {
+                JobKind::Member { perturbation, .. } => Some(Member {
+                    magnitude: perturbation.magnitude,
+                    observed: r.observed.clone(),
+                }),
+                JobKind::Level { .. } => None,
+            })
+            .collect();
         ConvergenceReport {
             settings: self.settings,
             dts: levels.iter().map(|r| r.dt).collect(),

@@ -25,6 +25,22 @@ pub const POSE_TOLERANCE: f64 = 1e-2;
 /// of 1e-10 to 1e-4 make, so it measures sensitivity, not discretization error.
 pub const CHAOS_FRACTION: f64 = 0.5;
 
+/// The largest perturbation whose members count in the ensemble's spread: 10⁻⁷, a
+/// thousandth of the error a step of these scenes makes (a local error O(Δt²) ≥ 10⁻⁶
+/// at their Δt of 10⁻³ to 10⁻²). A member that changes the answer at such a size shows
+/// sensitive dependence; the members at 10⁻⁴ show how smoothly the answer depends on the
+/// initial state, and are reported but not judged.
+pub const SENSITIVE_MAGNITUDE: f64 = 1e-7;
+
+/// A member of the ensemble: its perturbation's size, and what it shows.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Member {
+    /// The perturbation's relative size δ.
+    pub magnitude: f64,
+    /// What it shows.
+    pub observed: Observed,
+}
+
 /// What one run shows of the two quantities judged.
 #[derive(Debug, Clone, PartialEq, serde::Serialize)]
 pub struct Observed {
@@ -125,12 +141,16 @@ pub struct Verdict {
 
 /// The failure-time verdict (the parent module's rules).
 #[must_use]
-pub fn judge_failure(levels: &[Level], members: &[Observed]) -> Verdict {
+pub fn judge_failure(levels: &[Level], members: &[Member]) -> Verdict {
     let forks = fork_times(levels, members, |o| o.forks_before_failure().collect());
+    let members = sensitive(members);
     let (coarse, fine) = finest_two(levels);
     let threshold = FAILURE_TIME_STEPS * coarse.dt;
     let (a, b) = (&coarse.observed, &fine.observed);
-    let decided: Vec<&Observed> = members.iter().filter(|m| m.failure_decided()).collect();
+    let decided: Vec<&Observed> = members
+        .into_iter()
+        .filter(|m| m.failure_decided())
+        .collect();
     let times = std::iter::once(b)
         .chain(decided.iter().copied())
         .map(|o| o.failure_time);
@@ -158,7 +178,9 @@ pub fn judge_failure(levels: &[Level], members: &[Observed]) -> Verdict {
         "the finest two levels fail within {FAILURE_TIME_STEPS} of the coarser one's steps \
          (or both stand)"
     );
-    decide(v, fine.dt, &rule)
+    // A column that stands at both levels has no failure time to know to a tolerance.
+    let resolution = b.failure_time.map(|_| fine.dt);
+    decide(v, resolution, &rule)
 }
 
 /// The outcome verdict (the parent module's rules); `radii`: the blocks' half
@@ -166,16 +188,17 @@ pub fn judge_failure(levels: &[Level], members: &[Observed]) -> Verdict {
 #[must_use]
 pub fn judge_outcome(
     levels: &[Level],
-    members: &[Observed],
+    members: &[Member],
     radii: &[f64],
     smallest: f64,
 ) -> Verdict {
     let forks = fork_times(levels, members, |o| o.forks.clone());
+    let members = sensitive(members);
     let (coarse, fine) = finest_two(levels);
     let (a, b) = (&coarse.observed, &fine.observed);
     let distance =
         |x: &Observed, y: &Observed| corner_distance(&x.final_poses, &y.final_poses, radii);
-    let done: Vec<&Observed> = members.iter().filter(|m| m.complete).collect();
+    let done: Vec<&Observed> = members.into_iter().filter(|m| m.complete).collect();
     let mut outcomes: Vec<&Outcome> = vec![&b.outcome];
     for m in &done {
         if !outcomes.contains(&&m.outcome) {
@@ -216,12 +239,12 @@ pub fn judge_outcome(
         "the finest two levels end with the same blocks fallen in the same order, their \
          final corners within {POSE_TOLERANCE} of the smallest block dimension"
     );
-    decide(v, 0.0, &rule)
+    decide(v, Some(0.0), &rule)
 }
 
 /// The rules after the level comparison is filled in: non-unique, converged (`resolution`:
 /// the least tolerance that can be claimed), chaotic, not converged.
-fn decide(v: Verdict, resolution: f64, converged_rule: &str) -> Verdict {
+fn decide(v: Verdict, resolution: Option<f64>, converged_rule: &str) -> Verdict {
     if !v.fork_times.is_empty() {
         let n = v.fork_times.len();
         return v.with(
@@ -232,7 +255,7 @@ fn decide(v: Verdict, resolution: f64, converged_rule: &str) -> Verdict {
     let difference = v.level_difference;
     if let Some(d) = difference.filter(|&d| v.levels_agree && d <= v.threshold) {
         let mut v = v.with(VerdictKind::Converged, converged_rule);
-        v.tolerance = Some(d.max(resolution));
+        v.tolerance = resolution.map(|r| d.max(r));
         return v;
     }
     // Levels with no numeric difference (one failed, one stood): only an ensemble that
@@ -242,7 +265,7 @@ fn decide(v: Verdict, resolution: f64, converged_rule: &str) -> Verdict {
     if sensitive {
         return v.with(
             VerdictKind::Chaotic,
-            "the levels disagree, and perturbations of 1e-10 to 1e-4 spread the finest \
+            "the levels disagree, and perturbations of 1e-10 to 1e-7 spread the finest \
              level's answer at least half as far",
         );
     }
@@ -282,16 +305,26 @@ fn three_finest(levels: &[Level]) -> Option<[&Observed; 3]> {
     })
 }
 
-/// The fork times of every run, sorted, as `of` lists them per run.
+/// The members whose spread is judged: those perturbed by at most
+/// [`SENSITIVE_MAGNITUDE`].
+fn sensitive(members: &[Member]) -> Vec<&Observed> {
+    members
+        .iter()
+        .filter(|m| m.magnitude <= SENSITIVE_MAGNITUDE)
+        .map(|m| &m.observed)
+        .collect()
+}
+
+/// The fork times of every run (every member too), sorted, as `of` lists them per run.
 fn fork_times(
     levels: &[Level],
-    members: &[Observed],
+    members: &[Member],
     of: impl Fn(&Observed) -> Vec<f64>,
 ) -> Vec<f64> {
     let mut t: Vec<f64> = levels
         .iter()
         .map(|l| &l.observed)
-        .chain(members)
+        .chain(members.iter().map(|m| &m.observed))
         .flat_map(of)
         .collect();
     t.sort_by(f64::total_cmp);
@@ -364,6 +397,16 @@ mod tests {
         }
     }
 
+    /// Members perturbed by 1e-10.
+    fn tiny(runs: &[Observed]) -> Vec<Member> {
+        runs.iter()
+            .map(|observed| Member {
+                magnitude: 1e-10,
+                observed: observed.clone(),
+            })
+            .collect()
+    }
+
     fn levels(runs: Vec<Observed>) -> Vec<Level> {
         let mut dt = 0.01;
         runs.into_iter()
@@ -385,7 +428,7 @@ mod tests {
             run(Some(6.601), &[1], 1.0004),
             run(Some(6.600), &[1], 1.0005),
         ]);
-        let v = judge_failure(&l, &[run(Some(6.6001), &[1], 1.0)]);
+        let v = judge_failure(&l, &tiny(&[run(Some(6.6001), &[1], 1.0)]));
         assert_eq!(v.verdict, VerdictKind::Converged, "{v:?}");
         assert!((v.order.unwrap() - 2.0).abs() < 1e-9);
         assert!(
@@ -400,9 +443,10 @@ mod tests {
         let mut far = l.clone();
         far[0].observed.failure_time = Some(6.7);
         assert_eq!(judge_failure(&far, &[]).order, None);
-        // Both standing: converged.
+        // Both standing: converged, with no failure time to know to a tolerance.
         let l = levels(vec![run(None, &[], 0.0), run(None, &[], 0.0)]);
-        assert_eq!(judge_failure(&l, &[]).verdict, VerdictKind::Converged);
+        let v = judge_failure(&l, &[]);
+        assert_eq!((v.verdict, v.tolerance), (VerdictKind::Converged, None));
     }
 
     #[test]
@@ -413,24 +457,37 @@ mod tests {
         ]);
         // The ensemble spreads 0.2 ≥ 0.5 × 0.3: chaotic.
         let wide = [run(Some(1.2), &[1, 2], -3.0), run(Some(1.4), &[1, 2], -2.9)];
-        let v = judge_failure(&l, &wide);
+        let v = judge_failure(&l, &tiny(&wide));
         assert_eq!(v.verdict, VerdictKind::Chaotic, "{v:?}");
         assert!((v.ensemble_spread.unwrap() - 0.2).abs() < 1e-12);
+        // The same spread at δ = 1e-4 is a smooth dependence, not judged.
+        let smooth: Vec<Member> = tiny(&wide)
+            .into_iter()
+            .map(|m| Member {
+                magnitude: 1e-4,
+                ..m
+            })
+            .collect();
+        let v = judge_failure(&l, &smooth);
+        assert_eq!(
+            (v.verdict, v.ensemble_members),
+            (VerdictKind::NotConverged, 0)
+        );
         // 0.01 < 0.15: not converged.
         let narrow = [run(Some(1.31), &[1, 2], -3.0)];
         assert_eq!(
-            judge_failure(&l, &narrow).verdict,
+            judge_failure(&l, &tiny(&narrow)).verdict,
             VerdictKind::NotConverged
         );
         // Outcome: the levels differ in order; a member with another order is chaotic,
         // members all alike are not.
-        let o = judge_outcome(&l, &[run(Some(1.2), &[2, 1], 3.0)], &R, 0.2);
+        let o = judge_outcome(&l, &tiny(&[run(Some(1.2), &[2, 1], 3.0)]), &R, 0.2);
         assert_eq!((o.verdict, o.ensemble_answers), (VerdictKind::Chaotic, 2));
-        let o = judge_outcome(&l, &narrow, &R, 0.2);
+        let o = judge_outcome(&l, &tiny(&narrow), &R, 0.2);
         assert_eq!(o.verdict, VerdictKind::NotConverged, "{o:?}");
         // Members with the finest level's outcome but final poses 3 apart, half the
         // levels' 6: chaotic.
-        let o = judge_outcome(&l, &[run(Some(1.3), &[1, 2], 0.0)], &R, 0.2);
+        let o = judge_outcome(&l, &tiny(&[run(Some(1.3), &[1, 2], 0.0)]), &R, 0.2);
         assert_eq!(
             (o.verdict, o.ensemble_answers),
             (VerdictKind::Chaotic, 1),
@@ -438,9 +495,12 @@ mod tests {
         );
         // One level fails, the other stands: chaotic only if members do both.
         let l = levels(vec![run(Some(1.0), &[1], 0.0), run(None, &[], 0.0)]);
-        assert_eq!(judge_failure(&l, &narrow).verdict, VerdictKind::Chaotic);
         assert_eq!(
-            judge_failure(&l, &[run(None, &[], 0.0)]).verdict,
+            judge_failure(&l, &tiny(&narrow)).verdict,
+            VerdictKind::Chaotic
+        );
+        assert_eq!(
+            judge_failure(&l, &tiny(&[run(None, &[], 0.0)])).verdict,
             VerdictKind::NotConverged
         );
     }
@@ -458,7 +518,7 @@ mod tests {
             (VerdictKind::NonUnique, vec![2.5])
         );
         forked.forks = vec![1.5];
-        let v = judge_failure(&l, &[forked]);
+        let v = judge_failure(&l, &tiny(&[forked]));
         assert_eq!(v.verdict, VerdictKind::NonUnique);
     }
 
