@@ -11,12 +11,17 @@ use std::path::Path;
 
 /// The failure time of the unperturbed runs against Δt (log Δt), the members' failure
 /// times at the finest Δt as markers and their spread (the unperturbed finest run's
-/// included) as a band across the plot; the title gives the verdict. Left out with a
-/// note when no run failed.
+/// included) as a band across the plot; the title gives the verdict, the scene's Δt and
+/// `prox`, the prox choice. Left out with a note when no run failed.
 ///
 /// # Errors
 /// An unwritable file.
-pub fn plot_convergence(path: &Path, report: &ConvergenceReport, scene: &str) -> Result<DrawnRun> {
+pub fn plot_convergence(
+    path: &Path,
+    report: &ConvergenceReport,
+    scene: &str,
+    prox: &str,
+) -> Result<DrawnRun> {
     let mut out = DrawnRun::default();
     let name = path
         .file_name()
@@ -36,7 +41,8 @@ pub fn plot_convergence(path: &Path, report: &ConvergenceReport, scene: &str) ->
         return Ok(out);
     }
     let title = format!(
-        "{scene}: failure time against Δt, {} ({} levels, {} members)",
+        "{scene}: failure time at Δt = {:.3e}/2^k, prox {prox}: {} ({} levels, {} members)",
+        report.dts.first().copied().unwrap_or(f64::NAN),
         report.failure.verdict,
         report.dts.len(),
         report.runs.len() - report.dts.len()

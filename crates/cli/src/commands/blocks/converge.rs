@@ -102,7 +102,8 @@ pub fn run(a: &ConvergeArgs) -> Result<()> {
     let mut files = Vec::new();
     let mut notes = Vec::new();
     if let Some(dir) = dir {
-        write_outputs(dir, &report, a, &mut files, &mut notes)?;
+        let prox = loaded.scene.solver.prox.to_string();
+        write_outputs(dir, &report, a, &prox, &mut files, &mut notes)?;
     }
     if a.json {
         let mut value = serde_json::to_value(&report)?;
@@ -185,13 +186,14 @@ impl Trajectory {
     }
 }
 
-/// Writes runs.csv, separation.csv, converge.png and run.json into `dir` (the
-/// trajectories are written already), adding their names to `files` after the
-/// trajectories'.
+/// Writes runs.csv, separation.csv, converge.png (its title naming `prox`, the scene's
+/// prox choice) and run.json into `dir` (the trajectories are written already), adding
+/// their names to `files` after the trajectories'.
 fn write_outputs(
     dir: &Path,
     report: &ConvergenceReport,
     a: &ConvergeArgs,
+    prox: &str,
     files: &mut Vec<String>,
     notes: &mut Vec<String>,
 ) -> Result<()> {
@@ -219,7 +221,7 @@ fn write_outputs(
         .scene
         .file_stem()
         .map_or_else(|| "scene".to_owned(), |s| s.to_string_lossy().into_owned());
-    let drawn = plot_convergence(&dir.join("converge.png"), report, &scene)?;
+    let drawn = plot_convergence(&dir.join("converge.png"), report, &scene, prox)?;
     files.extend(drawn.files);
     notes.extend(drawn.notes);
     files.push("run.json".to_owned());
