@@ -88,3 +88,57 @@ pub fn plot_convergence(
     out.files.push(name);
     Ok(out)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use blockstack::simulation::RunOptions;
+    use blockstack::studies::convergence::{Settings, Study};
+
+    /// The study of the Lire collapse to `t_end`, Δt and Δt/2, one member per magnitude.
+    fn lire_collapse(t_end: f64) -> ConvergenceReport {
+        let scene = blockstack::scenes::find("lire-collapse")
+            .unwrap()
+            .load()
+            .unwrap()
+            .scene;
+        let options = RunOptions {
+            t_end: Some(t_end),
+            ..RunOptions::default()
+        };
+        let settings = Settings {
+            levels: 1,
+            ensemble: 1,
+        };
+        let study = Study::new(&scene, &options, settings, ["levels", "ensemble"]).unwrap();
+        let levels: Vec<_> = study
+            .levels()
+            .iter()
+            .map(|j| study.run(j, None, |_| {}).unwrap())
+            .collect();
+        let reference = study.reference(&levels).cloned();
+        let members = study
+            .members()
+            .iter()
+            .map(|j| study.run(j, reference.as_ref(), |_| {}).unwrap())
+            .collect();
+        study.report(levels, members)
+    }
+
+    #[test]
+    fn a_study_without_a_failure_is_left_out_with_a_note_and_one_with_is_drawn() {
+        let dir = std::env::temp_dir().join(format!("figures-converge-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let path = dir.join("converge.png");
+        let standing = plot_convergence(&path, &lire_collapse(0.1), "lire", "p").unwrap();
+        assert!(standing.files.is_empty() && !path.exists());
+        assert_eq!(
+            standing.notes,
+            ["no converge.png: no run lost its support before its end"]
+        );
+        let fallen = plot_convergence(&path, &lire_collapse(6.7), "lire", "p").unwrap();
+        assert_eq!(fallen.files, ["converge.png"]);
+        assert!(path.exists() && fallen.notes.is_empty());
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+}
