@@ -4,28 +4,16 @@
 use blockstack::scenes;
 use blockstack::simulation::RunOptions;
 use blockstack::studies::convergence::verdict::VerdictKind;
-use blockstack::studies::convergence::{ConvergenceReport, Settings, Study};
+use blockstack::studies::convergence::{converge, ConvergenceReport, Settings};
 
-/// The study of a built-in scene to `t_end`, its runs one after the other.
+/// The study of a built-in scene to `t_end`.
 fn study(name: &str, t_end: f64, settings: Settings) -> ConvergenceReport {
     let scene = scenes::find(name).unwrap().load().unwrap().scene;
     let options = RunOptions {
         t_end: Some(t_end),
         ..RunOptions::default()
     };
-    let study = Study::new(&scene, &options, settings, ["levels", "ensemble"]).unwrap();
-    let levels: Vec<_> = study
-        .levels()
-        .iter()
-        .map(|j| study.run(j, None, |_| {}).unwrap())
-        .collect();
-    let reference = study.reference(&levels).cloned();
-    let members: Vec<_> = study
-        .members()
-        .iter()
-        .map(|j| study.run(j, reference.as_ref(), |_| {}).unwrap())
-        .collect();
-    study.report(levels, members)
+    converge(&scene, &options, settings).unwrap()
 }
 
 /// K = 2 (Δt, Δt/2, Δt/4) and `ensemble` members per magnitude.

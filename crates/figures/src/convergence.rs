@@ -93,7 +93,7 @@ pub fn plot_convergence(
 mod tests {
     use super::*;
     use blockstack::simulation::RunOptions;
-    use blockstack::studies::convergence::{Settings, Study};
+    use blockstack::studies::convergence::{converge, Settings};
 
     /// The study of the Lire collapse to `t_end`, Δt and Δt/2, one member per magnitude.
     fn lire_collapse(t_end: f64) -> ConvergenceReport {
@@ -110,19 +110,7 @@ mod tests {
             levels: 1,
             ensemble: 1,
         };
-        let study = Study::new(&scene, &options, settings, ["levels", "ensemble"]).unwrap();
-        let levels: Vec<_> = study
-            .levels()
-            .iter()
-            .map(|j| study.run(j, None, |_| {}).unwrap())
-            .collect();
-        let reference = study.reference(&levels).cloned();
-        let members = study
-            .members()
-            .iter()
-            .map(|j| study.run(j, reference.as_ref(), |_| {}).unwrap())
-            .collect();
-        study.report(levels, members)
+        converge(&scene, &options, settings).unwrap()
     }
 
     #[test]

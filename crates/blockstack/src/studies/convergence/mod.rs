@@ -577,6 +577,31 @@ impl Study {
     }
 }
 
+/// The study of `scene` with `options` and `settings`, its runs one after the other (the
+/// CLI and Python run them in parallel through [`Study`]).
+///
+/// # Errors
+/// As [`Study::new`] and [`Study::run`].
+pub fn converge(
+    scene: &Scene,
+    options: &RunOptions,
+    settings: Settings,
+) -> Result<ConvergenceReport, BlockError> {
+    let study = Study::new(scene, options, settings, ["levels", "ensemble"])?;
+    let levels = study
+        .levels()
+        .iter()
+        .map(|j| study.run(j, None, |_| {}))
+        .collect::<Result<Vec<_>, _>>()?;
+    let reference = study.reference(&levels).cloned();
+    let members = study
+        .members()
+        .iter()
+        .map(|j| study.run(j, reference.as_ref(), |_| {}))
+        .collect::<Result<Vec<_>, _>>()?;
+    Ok(study.report(levels, members))
+}
+
 impl EnsembleSeparation {
     /// The brief of the members' separations.
     #[must_use]
