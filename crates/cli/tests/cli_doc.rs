@@ -654,6 +654,20 @@ fn runs() -> Vec<Run> {
             ],
             true,
         ),
+        run(
+            "blocks converge",
+            &[
+                "lire-collapse",
+                "--t-end",
+                "0.05",
+                "--levels",
+                "1",
+                "--ensemble",
+                "1",
+                "--json",
+            ],
+            true,
+        ),
         run("tour", &["--only", "rotations,nsga"], true),
         run(
             "slurm",

@@ -12,6 +12,8 @@
 //! - [`axis`]: round ticks, decades on logarithmic axes (`1e-6`).
 //! - [`blocks`]: the block stack: snapshots (Figure 4.4), the animation, the top block's
 //!   angle and height (Figure 4.5).
+//! - [`convergence`]: a convergence study's failure time against Δt, with the
+//!   perturbation ensemble's spread as a band.
 //! - [`cylinders`]: the support-force curves of §3.3 (Figures 3.3–3.5, 3.7, 3.8) and
 //!   the plan view of a rolled trace (Figures 3.10, 3.12).
 //! - [`nsga`]: the bouncing ball and work-precision diagrams.
@@ -40,6 +42,7 @@
 pub mod animation;
 pub mod axis;
 pub mod blocks;
+pub mod convergence;
 pub mod cylinders;
 pub mod exploration;
 pub mod file;

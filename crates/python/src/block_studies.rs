@@ -1,12 +1,14 @@
-//! `rollstack.blocks.painleve` and `rollstack.blocks.work_precision`: Painlevé's
-//! paradoxes for one block (App. I, ERRATA 18) and speed against error for block
-//! stacks, NSGA beside Moreau–Jean, from `blockstack::studies` (the library functions
-//! of `rollstack blocks painleve` and `rollstack blocks work-precision`).
+//! `rollstack.blocks.painleve`, `rollstack.blocks.work_precision` and
+//! `rollstack.blocks.converge`: Painlevé's paradoxes for one block (App. I, ERRATA 18),
+//! speed against error for block stacks, NSGA beside Moreau–Jean, and a scene's
+//! convergence verdicts, from `blockstack::studies` (the library functions of
+//! `rollstack blocks painleve`, `blocks work-precision` and `blocks converge`).
 
-use crate::blocks::check_time_bound;
+use crate::blocks::{check_time_bound, PyScene};
 use crate::{guard, json_to_py, value_error};
 use blockstack::painleve::b_grid;
 use blockstack::simulation::RunOptions;
+use blockstack::studies::convergence::{Job, Reference, Settings, Study};
 use blockstack::studies::painleve::painleve_report;
 use blockstack::studies::work_precision::{stack_work_precision_until, StackBenchmark};
 use numpy::ndarray::{Array1, Array2};
@@ -14,6 +16,7 @@ use numpy::IntoPyArray;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use std::sync::atomic::AtomicBool;
+use std::sync::Arc;
 
 /// The Painlevé analysis of a block of aspect w/h (`studies::painleve::painleve_report`,
 /// the CLI's `blocks painleve --json`) and the b-sign grid of Figure I.2(b)
@@ -119,7 +122,62 @@ fn blocks_work_precision<'py>(
     })
 }
 
+/// A convergence study of `scene` (`studies::convergence::Study`): the runs at Δt/2^k,
+/// k = 0…`levels`, and `ensemble` perturbed runs per magnitude at the finest Δt, in
+/// parallel on rayon with the GIL released and Ctrl-C checked; the report as the CLI's
+/// `blocks converge --json` (without `files` and `notes`). Refused up front when
+/// estimated to take more than ten minutes, and each run watched, unless `force`.
+#[pyfunction]
+#[pyo3(signature = (scene, levels = 2, ensemble = 2, t_end = None, force = false))]
+fn blocks_converge<'py>(
+    py: Python<'py>,
+    scene: &PyScene,
+    levels: usize,
+    ensemble: usize,
+    t_end: Option<f64>,
+    force: bool,
+) -> PyResult<Bound<'py, PyAny>> {
+    use rayon::prelude::*;
+    guard(|| {
+        if let Some(t) = t_end {
+            input::positive("t_end", t).map_err(value_error)?;
+        }
+        let cancel = Arc::new(AtomicBool::new(false));
+        let options = RunOptions {
+            t_end,
+            time_bound: input::watchdog::time_bound(force),
+            cancel: Some(cancel.clone()),
+            ..RunOptions::default()
+        };
+        let settings = Settings { levels, ensemble };
+        let study = Study::new(scene.scene(), &options, settings, ["levels", "ensemble"])
+            .map_err(value_error)?;
+        let scenes: Vec<blockstack::Scene> = study
+            .levels()
+            .iter()
+            .chain(study.members())
+            .map(|j| j.scene.clone())
+            .collect();
+        let advice = "take fewer levels or a smaller ensemble, shorten t_end";
+        check_time_bound(&scenes, study.options(), force, advice)?;
+        let report = crate::interruptible(py, &cancel, || {
+            let run = |jobs: &[Job], reference: Option<&Reference>| {
+                jobs.par_iter()
+                    .map(|j| study.run(j, reference, |_| {}))
+                    .collect::<Result<Vec<_>, _>>()
+                    .map_err(value_error)
+            };
+            let levels = run(study.levels(), None)?;
+            let reference = study.reference(&levels).cloned();
+            let members = run(study.members(), reference.as_ref())?;
+            Ok(study.report(levels, members))
+        })?;
+        json_to_py(py, &report)
+    })
+}
+
 pub(crate) fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_function(wrap_pyfunction!(blocks_converge, m)?)?;
     m.add_function(wrap_pyfunction!(blocks_painleve, m)?)?;
     m.add_function(wrap_pyfunction!(blocks_work_precision, m)?)?;
     Ok(())

@@ -104,6 +104,11 @@ impl PyScene {
             dir: PathBuf::new(),
         }
     }
+
+    /// The validated scene, for the studies of `block_studies`.
+    pub(crate) fn scene(&self) -> &blockstack::Scene {
+        &self.scene
+    }
 }
 
 /// Parses and validates a TOML scene (`LoadedScene::from_toml_at`); the paths of its

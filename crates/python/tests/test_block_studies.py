@@ -143,3 +143,37 @@ def test_explore_takes_either_spelling_of_the_rule():
     plain = blocks.explore(scene, t_end=0.1, max_branches=1, branch_rule="self_consistent")
     assert dashed["branch_rule"] == plain["branch_rule"] == "self_consistent"
     assert strip_timings(dashed) == strip_timings(plain)
+
+
+def test_converge_equals_cli(cli):
+    # The Lire collapse to t = 6.7 at Δt and Δt/2 with one member per magnitude: the
+    # failure at 6.600 and 6.595 is converged.
+    ours = blocks.converge("lire-collapse", levels=1, ensemble=1, t_end=6.7)
+    theirs = cli("blocks", "converge", "lire-collapse", "--levels", "1", "--ensemble", "1",
+                 "--t-end", "6.7")
+    for key in ("files", "notes"):
+        theirs.pop(key)
+    assert strip_timings(ours) == strip_timings(theirs)
+    assert ours["failure"]["verdict"] == "converged"
+    assert [r["label"] for r in ours["runs"]] == [
+        "level0", "level1", "member01", "member02", "member03"]
+    scene = blocks.Scene.builtin("lire-collapse")
+    again = blocks.converge(scene, levels=1, ensemble=0, t_end=6.7)
+    assert strip_timings(again["runs"][:2]) == strip_timings(ours["runs"][:2])
+
+
+@pytest.mark.parametrize(
+    "kwargs, name",
+    [
+        (dict(levels=0), "levels"),
+        (dict(levels=9), "levels"),
+        (dict(levels=-1), "levels"),
+        (dict(levels=1.5), "levels"),
+        (dict(ensemble=21), "ensemble"),
+        (dict(t_end=-1.0), "t_end"),
+        (dict(t_end="long"), "t_end"),
+    ],
+)
+def test_converge_refuses_naming_the_parameter(kwargs, name):
+    with pytest.raises(ValueError, match=name):
+        blocks.converge("lire", **kwargs)

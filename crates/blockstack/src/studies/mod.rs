@@ -8,8 +8,11 @@
 //! - [`scene_sweep`]: any scene with some of its numbers set to other values, one run
 //!   per combination (`rollstack blocks sweep scene`);
 //! - [`lire`]: the outcome of a Leaning Tower of Lire run (Figure 4.4);
-//! - [`painleve`]: Painlevé's paradoxes for one block (App. I, Figure I.2).
+//! - [`painleve`]: Painlevé's paradoxes for one block (App. I, Figure I.2);
+//! - [`convergence`]: a scene at Δt/2^k and under tiny perturbations, with a verdict on
+//!   its failure time and its outcome (converged, chaotic, non-unique).
 
+pub mod convergence;
 pub mod lire;
 pub mod painleve;
 pub mod scene_sweep;

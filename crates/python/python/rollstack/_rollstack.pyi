@@ -112,6 +112,13 @@ def blocks_sweep_scene(
 def blocks_painleve(
     aspect: float, mu: float = ..., mu_max: float = ..., grid: int = ...
 ) -> Dict[str, Any]: ...
+def blocks_converge(
+    scene: Any,
+    levels: int = ...,
+    ensemble: int = ...,
+    t_end: Optional[float] = ...,
+    force: bool = ...,
+) -> Dict[str, Any]: ...
 def blocks_work_precision(
     system: str = ...,
     dts: Sequence[float] = ...,

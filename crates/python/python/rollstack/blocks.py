@@ -46,6 +46,7 @@ __all__ = [
     "work_precision",
     "read_record",
     "pulse",
+    "converge",
 ]
 
 
@@ -694,5 +695,47 @@ def work_precision(
         [number(f"dts[{i}]", d) for i, d in enumerate(dts)],
         number("reference_factor", reference_factor),
         count("repeat", repeat),
+        bool(force),
+    )
+
+
+def converge(
+    scene: Union[Scene, str],
+    *,
+    levels: int = 2,
+    ensemble: int = 2,
+    t_end: Optional[float] = None,
+    force: bool = False,
+) -> Dict[str, Any]:
+    """Whether ``scene``'s answer can be trusted, as ``rollstack blocks converge``: the
+    scene (a :class:`Scene` or a built-in scene's name) run at Δt/2^k for k = 0…``levels``
+    and, at the finest Δt, ``ensemble`` perturbed runs per magnitude (10⁻¹⁰, 10⁻⁷, 10⁻⁴;
+    the blocks' initial x, or the base's frequency), with a verdict on the failure time
+    and on the outcome: ``converged`` (with its tolerance and, over three levels, its
+    observed order), ``chaotic`` (with the ensemble's spread, when nearby motions
+    separate and a finite-time Lyapunov estimate), ``non_unique`` (a run forked) or
+    ``not_converged`` (docs/exploration.md, "Convergence as an answer").
+
+    Returns the dict of ``rollstack blocks converge --json`` without ``files`` and
+    ``notes``: ``failure`` and ``outcome`` (the verdicts), ``separation``, ``runs`` (each
+    run's failure time, outcome, final poses, forks and separation), ``dts``, ...
+
+    Runs in parallel with the GIL released; Ctrl-C stops the runs after their current
+    step and raises ``KeyboardInterrupt``. Raises ``ValueError`` naming the parameter for
+    ``levels`` outside 1..8, ``ensemble`` outside 0..20, a ``t_end`` that is not positive,
+    or runs estimated to take longer than ten minutes (the time guard of the command line;
+    ``force=True`` runs them anyway, unwatched)."""
+    if isinstance(scene, str):
+        scene = Scene.builtin(scene)
+    if not isinstance(scene, Scene):
+        raise TypeError(
+            "converge needs a rollstack.blocks.Scene or a built-in scene's name, "
+            f"got {type(scene).__name__}"
+        )
+    return _rollstack.blocks_converge(
+        scene._inner,
+        count("levels", levels),
+        count("ensemble", ensemble),
+        None if t_end is None else number("t_end", t_end),
         bool(force),
     )

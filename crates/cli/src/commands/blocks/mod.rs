@@ -11,10 +11,13 @@
 //! - `painleve` ([`painleve`]): Painlevé's paradoxes for one block (App. I);
 //! - `work-precision` ([`work_precision`]): speed against error, NSGA and Moreau–Jean;
 //! - `explore` ([`explore`]): every continuation of a run, its forks labelled real or
-//!   artefact, and Figure 4.5.
+//!   artefact, and Figure 4.5;
+//! - `converge` ([`converge`]): a scene at Δt/2^k and under tiny perturbations, with a
+//!   verdict on its failure time and its outcome (converged, chaotic, non-unique).
 //!
 //! Every number comes from `blockstack`: its simulation, its recorder and its studies.
 
+pub mod converge;
 pub mod explore;
 pub mod lire;
 pub mod painleve;
@@ -79,6 +82,10 @@ pub enum BlocksCommand {
     /// with a much smaller step, and the largest penetration, against solver time, NSGA
     /// beside Moreau–Jean, with the observed orders.
     WorkPrecision(work_precision::WorkPrecisionArgs),
+    /// Whether a scene's answer can be trusted: its runs at Δt/2^k, k = 0…K, and tiny
+    /// perturbations of its initial state and base, with a verdict on the failure time
+    /// and on the outcome (converged, chaotic, non-unique or not converged).
+    Converge(converge::ConvergeArgs),
 }
 
 /// Runs `rollstack blocks`.
@@ -97,6 +104,7 @@ pub fn run(args: &BlocksArgs) -> Result<()> {
         BlocksCommand::Painleve(a) => painleve::run(a),
         BlocksCommand::WorkPrecision(a) => work_precision::run(a),
         BlocksCommand::Explore(a) => explore::run(a),
+        BlocksCommand::Converge(a) => converge::run(a),
     }
 }
 
