@@ -14,7 +14,7 @@
 //! The magnitudes δ are [`MAGNITUDES`], from far below the error of any time step to a
 //! ten-thousandth of a block; each magnitude has the same number of members.
 
-use crate::base::BaseMotion;
+use crate::base::{BaseMotion, Pulse};
 use crate::error::BlockError;
 use crate::scene::Scene;
 
@@ -88,7 +88,8 @@ impl Perturbation {
     }
 }
 
-/// The base motion run `factor` times faster, if it has a frequency or a speed.
+/// The base motion run `factor` times faster, if it has a frequency, a speed or a pulse
+/// period (a pulse `factor` times shorter); a record or samples have none.
 fn faster(motion: &BaseMotion, factor: f64) -> Option<BaseMotion> {
     match *motion {
         BaseMotion::Harmonic { amplitude, omega } => Some(BaseMotion::Harmonic {
@@ -98,7 +99,11 @@ fn faster(motion: &BaseMotion, factor: f64) -> Option<BaseMotion> {
         BaseMotion::ConstantVelocity { v0 } => {
             Some(BaseMotion::ConstantVelocity { v0: v0 * factor })
         }
-        BaseMotion::Fixed | BaseMotion::Displacement(_) => None,
+        BaseMotion::Pulse(pulse) => Some(BaseMotion::Pulse(Pulse {
+            period: pulse.period / factor,
+            ..pulse
+        })),
+        BaseMotion::Fixed | BaseMotion::Displacement(_) | BaseMotion::Record(_) => None,
     }
 }
 
