@@ -441,6 +441,11 @@ fn runs() -> Vec<Run> {
         env!("CARGO_MANIFEST_DIR"),
         "/../blockstack/scenes/shaking.toml"
     );
+    // A base moving in y and rotating: the run report's `other_motions`.
+    let moving_table = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../examples/scenes/column-on-moving-table.toml"
+    );
     let mut runs = vec![
         run(
             "rotation",
@@ -563,6 +568,18 @@ fn runs() -> Vec<Run> {
         run(
             "blocks run",
             &["slide", "--t-end", "0.03", "--max-frames", "0", "--json"],
+            true,
+        ),
+        run(
+            "blocks run",
+            &[
+                moving_table,
+                "--t-end",
+                "0.03",
+                "--max-frames",
+                "0",
+                "--json",
+            ],
             true,
         ),
         run("blocks scenes", &[], false),
