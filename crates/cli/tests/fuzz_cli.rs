@@ -391,6 +391,7 @@ const FORMERLY_UNNAMED: &[(&str, &str)] = &[
     ("blocks shake", "--omega"),
     ("blocks shake", "--hz"),
     ("blocks shake", "--periods"),
+    ("blocks shake", "--t-end"),
     ("blocks shake", "--steps-per-period"),
     ("blocks work-precision", "--dts"),
     ("cylinder pair", "--ramp"),

@@ -65,6 +65,13 @@ fn check_stepping(p: &Shaking, args: &ShakeArgs) -> Result<()> {
         Some(hz) => format!("--hz {}", input::Short(hz)),
         None => format!("--omega {}", input::Short(p.omega)),
     };
+    if let Some(t_end) = args.t_end {
+        anyhow::ensure!(
+            t_end.is_finite() && t_end > 0.0,
+            "--t-end {} cannot be stepped: it must be a positive finite time",
+            input::Short(t_end)
+        );
+    }
     let dt = p.period() / p.steps_per_period;
     let span = args.t_end.unwrap_or_else(|| p.duration());
     for (what, value) in [("time step 2π/(Nω)", dt), ("span P·2π/ω", span)] {
