@@ -754,10 +754,12 @@ fn formerly_unnamed_refusals_name_the_flag() {
 }
 
 /// Found by the fuzzing above: these refusals named the library's parameter ("aspect w/h",
-/// "mu_max") or no flag at all ("'nan' is not a finite number").
+/// "mu_max", "points must lie in [3, 100000]") or no flag at all ("'nan' is not a finite
+/// number").
 #[test]
 fn painleve_and_nsga_work_precision_refusals_name_the_flag() {
     for (words, flag, value) in [
+        (&["cylinder", "statics"][..], "--points", "1000000000"),
         (&["blocks", "painleve"][..], "--aspect", "0"),
         (&["blocks", "painleve", "--aspect", "1"], "--mu", "-1"),
         (&["blocks", "painleve", "--aspect", "1"], "--mu-max", "0"),

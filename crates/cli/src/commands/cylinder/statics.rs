@@ -5,7 +5,7 @@ use crate::output::{ensure_dir, write_csv, write_run_json};
 use anyhow::Result;
 use clap::Args;
 use cylinders::studies::statics::{
-    statics_figures, MinimumForceRow, NormalForceCurves, NormalForceRow, StaticsFigures,
+    statics_figures, MinimumForceRow, NormalForceCurves, NormalForceRow, StaticsFigures, MAX_POINTS,
 };
 use figures::cylinders::plot_statics;
 use input::text::parse_finite;
@@ -32,7 +32,11 @@ pub struct StaticsArgs {
 
 pub(super) fn run(a: &StaticsArgs) -> Result<()> {
     let start = Instant::now();
-    anyhow::ensure!(a.points >= 3, "--points must be at least 3");
+    anyhow::ensure!(
+        (3..=MAX_POINTS).contains(&a.points),
+        "--points must lie in [3, {MAX_POINTS}], got {}",
+        a.points
+    );
     // Checked here so that the errors name the flags, not the library's r/h and μ.
     input::non_negative("--r-over-h", a.r_over_h)?;
     input::non_negative("--mu", a.mu)?;
