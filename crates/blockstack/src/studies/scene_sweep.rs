@@ -94,7 +94,16 @@ fn angle_keys() -> String {
 }
 
 /// The keys of a scene file that are not numbers and cannot be swept.
-const OTHER_KEYS: [(&str, &str); 2] = [("base", "motion"), ("base", "samples")];
+const OTHER_KEYS: [(&str, &str); 4] = [
+    ("base", "motion"),
+    ("base", "samples"),
+    ("blocks", "name"),
+    ("contact", "bodies"),
+];
+
+/// The sub-tables of `[contact]` that override its numbers for one kind of interface
+/// (`contact.base.mu`); `contact.pair.K.mu` sets `[[contact.pair]]` entry K.
+pub const CONTACT_KINDS: [&str; 3] = ["base", "blocks", "floor"];
 
 /// Pairs of `[solver]` keys that say the same thing two ways: setting one drops the other.
 const ALTERNATIVES: [(&str, &str); 2] = [("dt", "steps_per_period"), ("t_end", "periods")];
@@ -155,6 +164,10 @@ pub struct SetValue {
 enum Place {
     /// `[base]`, `[contact]`, `[solver]` or `[floor]`.
     Table(&'static str),
+    /// `[contact.base]`, `[contact.blocks]` or `[contact.floor]`.
+    ContactKind(&'static str),
+    /// `[[contact.pair]]` entry K, from 0.
+    Pair(usize),
     /// `blocks.KEY`: every entry.
     AllBlocks,
     /// `blocks.K.KEY`: entry K, from 0.
@@ -170,8 +183,9 @@ struct SceneKey {
 }
 
 impl SceneKey {
-    /// Checks `text` against the keys of a scene file with `entries` `[[blocks]]` entries.
-    fn parse(text: &str, entries: usize) -> Result<Self, BlockError> {
+    /// Checks `text` against the keys of a scene file with `entries` `[[blocks]]` entries
+    /// and `pairs` `[[contact.pair]]` entries.
+    fn parse(text: &str, entries: usize, pairs: usize) -> Result<Self, BlockError> {
         let bad = |why: String| BlockError::Key(format!("scene key '{text}': {why}"));
         let tables = || {
             NUMERIC_KEYS
@@ -207,14 +221,19 @@ impl SceneKey {
                 }
                 (Place::Block(k), *field)
             }
+            ("contact", [kind, field]) if CONTACT_KINDS.contains(kind) => {
+                let kind = CONTACT_KINDS.iter().find(|k| *k == kind).unwrap_or(&"base");
+                (Place::ContactKind(kind), *field)
+            }
+            ("contact", ["pair", k, field]) => (Place::Pair(pair_entry(k, pairs).map_err(bad)?), *field),
             (_, [field]) => (Place::Table(table), *field),
             _ => {
                 return Err(bad(format!(
                     "expected {table}.KEY{}",
-                    if table == "blocks" {
-                        " or blocks.K.KEY"
-                    } else {
-                        ""
+                    match table {
+                        "blocks" => " or blocks.K.KEY",
+                        "contact" => ", contact.base.KEY, contact.blocks.KEY, contact.floor.KEY or contact.pair.K.KEY",
+                        _ => "",
                     }
                 )))
             }
@@ -284,12 +303,16 @@ impl SceneKey {
         };
         let not_table = |name: &str| BlockError::Scene(format!("{name} is not a table"));
         match self.place {
-            Place::Table(name) => {
-                let table = file
-                    .entry(name)
-                    .or_insert_with(|| toml::Value::Table(toml::Table::new()));
-                set_in(table.as_table_mut().ok_or_else(|| not_table(name))?);
-            }
+            Place::Table(name) => set_in(subtable(file, name)?),
+            Place::ContactKind(kind) => set_in(subtable(subtable(file, "contact")?, kind)?),
+            Place::Pair(k) => set_in(
+                subtable(file, "contact")?
+                    .get_mut("pair")
+                    .and_then(toml::Value::as_array_mut)
+                    .and_then(|entries| entries.get_mut(k))
+                    .and_then(toml::Value::as_table_mut)
+                    .ok_or_else(|| not_table("contact.pair"))?,
+            ),
             Place::AllBlocks | Place::Block(_) => {
                 let entries = file
                     .get_mut("blocks")
@@ -304,6 +327,25 @@ impl SceneKey {
             }
         }
         Ok(())
+    }
+}
+
+/// The table `name` of `file`, added empty when absent.
+fn subtable<'a>(file: &'a mut toml::Table, name: &str) -> Result<&'a mut toml::Table, BlockError> {
+    file.entry(name)
+        .or_insert_with(|| toml::Value::Table(toml::Table::new()))
+        .as_table_mut()
+        .ok_or_else(|| BlockError::Scene(format!("{name} is not a table")))
+}
+
+/// The `[[contact.pair]]` entry number `k` of `contact.pair.K.KEY`, checked against the
+/// file's `pairs` entries.
+fn pair_entry(k: &str, pairs: usize) -> Result<usize, String> {
+    match k.parse::<usize>() {
+        Ok(k) if k < pairs => Ok(k),
+        _ => Err(format!(
+            "'{k}' is not a [[contact.pair]] entry: the scene has {pairs} (contact.pair.K.KEY, K from 0)"
+        )),
     }
 }
 
@@ -332,7 +374,7 @@ impl SceneSweep {
             .map_err(|e: toml::de::Error| BlockError::Scene(one_line(e.message())))?;
         let mut keys: Vec<SceneKey> = Vec::with_capacity(overrides.len());
         for o in &overrides {
-            let key = SceneKey::parse(&o.key, parsed.blocks.len())?;
+            let key = SceneKey::parse(&o.key, parsed.blocks.len(), parsed.contact.pair.len())?;
             if let Some(old) = keys.iter().find(|k| k.overlaps(&key)) {
                 return Err(BlockError::Key(format!(
                     "scene keys '{}' and '{}' set the same number: sweep one of them",
@@ -754,30 +796,83 @@ mod tests {
 
     #[test]
     fn the_numeric_keys_are_every_key_of_a_scene_file() {
-        // A file with every key given: its keys are NUMERIC_KEYS and OTHER_KEYS.
+        // A file with every key given: its keys are NUMERIC_KEYS and OTHER_KEYS, and the
+        // contact keys again in each of CONTACT_KINDS and in [[contact.pair]].
         let text = "[base]\nwidth = 1\nheight = 0.1\nmotion = \"harmonic\"\namplitude = 0.1\nomega = 1\nv0 = 1\nsamples = [[0, 0], [1, 1]]\n\
-            [[blocks]]\nwidth = 1\nheight = 1\nmass = 1\ncount = 1\nx = 0\ny = 1\ntheta = 0\n\
+            [[blocks]]\nwidth = 1\nheight = 1\nmass = 1\ncount = 1\nx = 0\ny = 1\ntheta = 0\nname = \"a\"\n\
             [contact]\nmu = 0.1\ne_n = 0\ne_f = 0\n\
+            [contact.base]\nmu = 0.1\ne_n = 0\ne_f = 0\n[contact.blocks]\nmu = 0.1\ne_n = 0\ne_f = 0\n\
+            [contact.floor]\nmu = 0.1\ne_n = 0\ne_f = 0\n\
+            [[contact.pair]]\nbodies = [\"a\", \"base\"]\nmu = 0.1\ne_n = 0\ne_f = 0\n\
             [solver]\ndt = 0.1\nsteps_per_period = 1\nt_end = 1\nperiods = 1\nrho_inf = 0.5\nr = 1\nr_alpha = 1\ntol = 1e-9\ngravity = 1\n\
             [floor]\ny = 0\n";
         let file = SceneFile::parse(text).unwrap();
-        let value = toml::Table::try_from(&file).unwrap();
-        let mut seen = Vec::new();
-        for (table, v) in &value {
+        fn keys_of(prefix: &str, v: &toml::Value, out: &mut Vec<String>) {
             let inner = match v {
-                toml::Value::Array(a) => a[0].as_table().unwrap(),
-                other => other.as_table().unwrap(),
+                toml::Value::Array(a) if a[0].is_table() => a[0].as_table().unwrap(),
+                toml::Value::Table(t) => t,
+                _ => return out.push(prefix.to_owned()),
             };
-            seen.extend(inner.keys().map(|k| format!("{table}.{k}")));
+            for (k, v) in inner {
+                keys_of(&format!("{prefix}.{k}"), v, out);
+            }
         }
+        let mut seen = Vec::new();
+        for (table, v) in &toml::Table::try_from(&file).unwrap() {
+            keys_of(table, v, &mut seen);
+        }
+        let contact = NUMERIC_KEYS
+            .iter()
+            .find(|(t, _)| *t == "contact")
+            .unwrap()
+            .1;
         let mut known: Vec<String> = NUMERIC_KEYS
             .iter()
             .flat_map(|(t, keys)| keys.iter().map(move |k| format!("{t}.{k}")))
-            .chain(OTHER_KEYS.iter().map(|(t, k)| format!("{t}.{k}")))
+            .chain(OTHER_KEYS.iter().map(|(t, k)| match (*t, *k) {
+                ("contact", "bodies") => "contact.pair.bodies".to_owned(),
+                _ => format!("{t}.{k}"),
+            }))
+            .chain(
+                CONTACT_KINDS
+                    .iter()
+                    .chain(&["pair"])
+                    .flat_map(|kind| contact.iter().map(move |k| format!("contact.{kind}.{k}"))),
+            )
             .collect();
         seen.sort();
         known.sort();
         assert_eq!(seen, known);
+    }
+
+    #[test]
+    fn contact_keys_of_a_kind_or_a_pair_set_their_override() {
+        let text = shaking().replace(
+            "[[blocks]]",
+            "[[blocks]]\nwidth = 0.2\nheight = 0.4\nname = \"first\"\n[[blocks]]",
+        ) + "\n[[contact.pair]]\nbodies = [\"base\", \"first\"]\nmu = 0.9\n";
+        let sweep = SceneSweep::new(
+            &text,
+            vec![
+                over("contact.base.mu=0.05"),
+                over("contact.floor.e_n=0.5"),
+                over("contact.pair.0.e_f=0.25"),
+            ],
+        )
+        .unwrap();
+        let scene = sweep.scene(&sweep.points()[0]).unwrap().scene;
+        let m = scene.materials();
+        assert_eq!((m.base.mu, m.floor.e_n), (Some(0.05), Some(0.5)));
+        assert_eq!(
+            (m.pairs[0].params.mu, m.pairs[0].params.e_f),
+            (Some(0.9), Some(0.25))
+        );
+        let e = key_error(&["contact.pair.0.mu"]);
+        assert!(e.contains("the scene has 0"), "{e}");
+        let e = key_error(&["contact.walls.mu"]);
+        assert!(e.contains("contact.base.KEY"), "{e}");
+        assert!(key_error(&["contact.base.muu"]).contains("mu, e_n, e_f"));
+        assert!(key_error(&["contact.base.mu", "contact.base.mu"]).contains("same number"));
     }
 
     #[test]
