@@ -206,20 +206,31 @@ pub struct ContactFile {
 
 /// One `[[contact.pair]]` entry: two bodies by name (`base`, `floor`, or a block's
 /// `name`) and the values that override their kind's.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
+#[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct PairFile {
     /// The two bodies' names.
     pub bodies: [String; 2],
-    /// Friction coefficient μ ≥ 0.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub mu: Option<f64>,
-    /// Normal restitution e_N ∈ [0, 1].
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub e_n: Option<f64>,
-    /// Tangential restitution e_F ∈ [0, 1].
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub e_f: Option<f64>,
+    /// Any of `mu`, `e_n`, `e_f`.
+    #[serde(flatten)]
+    pub params: Override,
+}
+
+impl<'de> Deserialize<'de> for PairFile {
+    /// `bodies`, and the rest of the entry as an [`Override`] (which refuses unknown
+    /// keys: serde's `flatten` would let them pass).
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        use serde::de::Error;
+        let mut entry = toml::Table::deserialize(d)?;
+        let bodies = entry
+            .remove("bodies")
+            .ok_or_else(|| D::Error::missing_field("bodies"))?
+            .try_into()
+            .map_err(|e: toml::de::Error| D::Error::custom(format!("bodies: {}", e.message())))?;
+        let params = toml::Value::Table(entry)
+            .try_into()
+            .map_err(|e: toml::de::Error| D::Error::custom(e.message()))?;
+        Ok(Self { bodies, params })
+    }
 }
 
 impl ContactFile {
@@ -238,11 +249,7 @@ impl ContactFile {
                 Ok(PairMaterial {
                     bodies: [body(&p.bodies[0])?, body(&p.bodies[1])?],
                     label: format!("{}/{}", p.bodies[0], p.bodies[1]),
-                    params: Override {
-                        mu: p.mu,
-                        e_n: p.e_n,
-                        e_f: p.e_f,
-                    },
+                    params: p.params,
                 })
             })
             .collect::<Result<_, BlockError>>()?;

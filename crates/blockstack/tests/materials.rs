@@ -2,6 +2,7 @@
 //! table overridden by `[contact.base]`, `[contact.blocks]`, `[contact.floor]` and
 //! `[[contact.pair]]`, seen in the laws the stepper gets and in what the blocks do.
 
+use blockstack::overlap::Body;
 use blockstack::{simulate, RunOptions, Scene};
 
 /// A column of `blocks` wide, low blocks (w = 0.4, h = 0.2: they slide long before they
@@ -140,6 +141,12 @@ fn names_and_pairs_are_checked_with_one_line_naming_the_key() {
         "{e}"
     );
     assert!(err(&pair("[\"base\", \"floor\"]")).contains("never touch"));
+    let e = err(&pair("[\"base\", \"bottom\"]\nmuu = 0.1"));
+    assert!(e.contains("unknown field") && e.contains("muu"), "{e}");
+    let e = err(&pair("[\"base\"]"));
+    assert!(e.contains("bodies"), "{e}");
+    let e = err("[contact]\nmu = 0.5\n[[contact.pair]]\nmu = 0.1\n");
+    assert!(e.contains("missing field") && e.contains("bodies"), "{e}");
     assert!(err(&pair("[\"bottom\", \"bottom\"]")).contains("itself"));
     let e = err("[contact]\nmu = 0.5\n[contact.floor]\ne_n = 1.5\n");
     assert!(e.contains("contact.floor.e_n"), "{e}");
@@ -162,4 +169,28 @@ fn names_and_pairs_are_checked_with_one_line_naming_the_key() {
         .unwrap_err()
         .to_string()
         .contains("taken"));
+}
+
+/// The example of docs/scenes.md ("Materials per interface"), on a base: it loads with the
+/// materials the page says, and the page's error messages are the loader's.
+#[test]
+fn the_example_of_the_scenes_page_is_what_it_says() {
+    const DOC: &str = include_str!(concat!(env!("CARGO_MANIFEST_DIR"), "/../../docs/scenes.md"));
+    let from = DOC.find("**Materials per interface.**").unwrap();
+    let start = DOC[from..].find("```toml\n").unwrap() + from + 8;
+    let example = &DOC[start..start + DOC[start..].find("```").unwrap()];
+    let text = format!("[base]\nwidth = 1.0\nheight = 0.1\n{example}");
+    let scene = Scene::from_toml(&text).unwrap();
+    let (base, plinth, statue) = (Body::Base, Body::Block(1), Body::Block(2));
+    assert_eq!(scene.contact_between(base, plinth).mu, 0.1);
+    let glued = scene.contact_between(statue, plinth);
+    assert_eq!((glued.mu, glued.e_n), (5.0, 0.0));
+    let e = Scene::from_toml(&text.replace("\"statue\"]", "\"capital\"]"))
+        .unwrap_err()
+        .to_string();
+    assert!(DOC.contains(&format!("error: {e}\n")), "{e}");
+    let e = Scene::from_toml(&text.replace("mu = 0.1", "mu = -0.1"))
+        .unwrap_err()
+        .to_string();
+    assert!(DOC.contains(&format!("error: {e}\n")), "{e}");
 }
