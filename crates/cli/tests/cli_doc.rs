@@ -565,6 +565,19 @@ fn runs() -> Vec<Run> {
             &["slide", "--t-end", "0.03", "--max-frames", "0", "--json"],
             true,
         ),
+        // A scene with materials per interface: its report lists them.
+        run(
+            "blocks run",
+            &[
+                "rocking-block",
+                "--t-end",
+                "0.02",
+                "--max-frames",
+                "0",
+                "--json",
+            ],
+            false,
+        ),
         run("blocks scenes", &[], false),
         run("blocks scenes", &["shaking"], false),
         run(
