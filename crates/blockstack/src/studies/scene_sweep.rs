@@ -164,8 +164,9 @@ pub struct SetValue {
 enum Place {
     /// `[base]`, `[contact]`, `[solver]` or `[floor]`.
     Table(&'static str),
-    /// `[contact.base]`, `[contact.blocks]` or `[contact.floor]`.
-    ContactKind(&'static str),
+    /// `[contact.base]`, `[contact.blocks]` or `[contact.floor]`: its index in
+    /// [`CONTACT_KINDS`].
+    ContactKind(usize),
     /// `[[contact.pair]]` entry K, from 0.
     Pair(usize),
     /// `blocks.KEY`: every entry.
@@ -222,8 +223,8 @@ impl SceneKey {
                 (Place::Block(k), *field)
             }
             ("contact", [kind, field]) if CONTACT_KINDS.contains(kind) => {
-                let kind = CONTACT_KINDS.iter().find(|k| *k == kind).unwrap_or(&"base");
-                (Place::ContactKind(kind), *field)
+                let i = CONTACT_KINDS.iter().position(|k| k == kind).unwrap_or(0);
+                (Place::ContactKind(i), *field)
             }
             ("contact", ["pair", k, field]) => (Place::Pair(pair_entry(k, pairs).map_err(bad)?), *field),
             (_, [field]) => (Place::Table(table), *field),
@@ -304,7 +305,9 @@ impl SceneKey {
         let not_table = |name: &str| BlockError::Scene(format!("{name} is not a table"));
         match self.place {
             Place::Table(name) => set_in(subtable(file, name)?),
-            Place::ContactKind(kind) => set_in(subtable(subtable(file, "contact")?, kind)?),
+            Place::ContactKind(i) => {
+                set_in(subtable(subtable(file, "contact")?, CONTACT_KINDS[i])?);
+            }
             Place::Pair(k) => set_in(
                 subtable(file, "contact")?
                     .get_mut("pair")
