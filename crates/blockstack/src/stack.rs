@@ -19,9 +19,10 @@
 //! column (`w.iter()`: coordinate index, entry), χ and ζ; a `None` is a contact that
 //! cannot close — report it as open (any positive gap, W = 0, χ = ζ = 0); each slip gives
 //! one friction component with W, χ, ζ, bounded by the normals of
-//! [`Scene::friction_laws`]; every normal contact has e_N ([`Scene::normal_restitutions`]) and every
-//! law e_F and μ, those of the bodies it joins ([`Scene::contact_between`]). Each row touches at most two bodies, so exact sparse
-//! Jacobians can be formed row by row.
+//! [`Scene::friction_laws`]; every normal contact has e_N
+//! ([`Scene::normal_restitutions`]) and every law e_F and μ, those of the two bodies it
+//! joins ([`Scene::contact_between`]). Each row touches at most two bodies, so exact
+//! sparse Jacobians can be formed row by row.
 
 use crate::coordinates::{BodyState, Frame, Pose, Scalar, Twist};
 use crate::floor::FloorContacts;

@@ -242,8 +242,9 @@ impl StackSystem {
     /// into the slots: a line already in a slot stays there, and so do its contacts that
     /// are still wanted; a slot whose line is no longer wanted is freed (the broad phase
     /// wants every contact that may close within the step, so a freed one is open); new
-    /// lines take the free slots in order, the number of slots doubling when they run
-    /// out. Deterministic.
+    /// lines take the free slots of their material ([`Scene::contact_between`]) in order,
+    /// the number of slots doubling when none is left (the new slots beyond those lines
+    /// take the scene's default material). Deterministic.
     pub fn assign_corner_contacts(&mut self, wanted: &[LineContacts]) -> SlotChange {
         let mut change = SlotChange::default();
         let mut keep = vec![false; self.slots.len()];
