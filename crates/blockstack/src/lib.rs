@@ -62,6 +62,7 @@ pub mod floor;
 pub mod fork_check;
 pub mod gaps;
 pub mod interface;
+pub mod materials;
 pub mod overlap;
 pub mod painleve;
 pub mod pairs;

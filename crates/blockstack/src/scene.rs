@@ -7,10 +7,12 @@ use crate::coordinates::{BodyState, Pose, Scalar, Twist};
 use crate::error::BlockError;
 use crate::floor::Floor;
 use crate::interface::Size;
-use crate::overlap::{deepest_among, scene_bodies};
+use crate::materials::Materials;
+use crate::overlap::{deepest_among, scene_bodies, Body};
 use input::{finite, positive};
 
-/// Coulomb friction and restitution, the same at every contact (§4.2).
+/// Coulomb friction and restitution (§4.2): the scene's defaults, which
+/// [`Materials`] may override per kind of interface and per pair of bodies.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ContactParams {
     /// Friction coefficient μ ≥ 0 (static = dynamic, §4.2).
@@ -108,10 +110,12 @@ pub struct Scene {
     base: Base,
     blocks: Vec<Block>,
     floor: Option<Floor>,
-    /// Friction and restitution.
+    /// Friction and restitution: the defaults of every contact.
     pub contact: ContactParams,
     /// Time-integration parameters.
     pub solver: SolverParams,
+    /// Overrides of `contact` per kind of interface and per pair (none by default).
+    materials: Materials,
 }
 
 /// Relative tolerance on initial overlaps (of the largest block size).
@@ -184,6 +188,7 @@ impl Scene {
             floor,
             contact,
             solver,
+            materials: Materials::default(),
         };
         scene.check_overlaps()?;
         scene.check_floor()?;
@@ -235,6 +240,29 @@ impl Scene {
             }),
             _ => Ok(()),
         }
+    }
+
+    /// The scene with contact parameters overridden per interface kind and pair.
+    ///
+    /// # Errors
+    /// A value out of range or a pair that names a body the scene lacks
+    /// ([`Materials::validate`]).
+    pub fn with_materials(mut self, materials: Materials) -> Result<Self, BlockError> {
+        materials.validate(self.n_blocks())?;
+        self.materials = materials;
+        Ok(self)
+    }
+
+    /// The overrides of the contact parameters.
+    #[must_use]
+    pub fn materials(&self) -> &Materials {
+        &self.materials
+    }
+
+    /// μ, e_N and e_F of the contacts between bodies `a` and `b` ([`Materials::between`]).
+    #[must_use]
+    pub fn contact_between(&self, a: Body, b: Body) -> ContactParams {
+        self.materials.between(&self.contact, a, b)
     }
 
     /// The base (block 0).

@@ -22,11 +22,17 @@
 //! # y = 0.25                 # initial y (default: resting on the block below)
 //! # theta = 0.0              # initial angle, radians (default 0)
 //! # velocity = [0.0, 0.0, 0.0]   # initial [vx, vy, omega] (default: at rest)
+//! # name = "capital"         # for [[contact.pair]] (an entry with count = 1 only)
 //!
-//! [contact]
+//! [contact]                  # the defaults of every contact
 //! mu = 0.2
 //! e_n = 0.0                  # default 0
 //! e_f = 0.0                  # default 0
+//! # [contact.base]           # optional, any of mu, e_n, e_f: base–block interfaces
+//! # mu = 0.1                 # ([contact.blocks]: block–block, [contact.floor]: block–floor)
+//! # [[contact.pair]]         # optional: one pair of bodies, over its kind's values
+//! # bodies = ["base", "capital"]   # base, floor, or a block's name = "..."
+//! # mu = 0.6
 //!
 //! [solver]                   # all optional
 //! steps_per_period = 100     # harmonic base only; or dt = 0.0157... (default dt 0.01)
@@ -50,6 +56,8 @@ use crate::base::{Base, BaseMotion};
 use crate::block::Block;
 use crate::error::BlockError;
 use crate::floor::Floor;
+use crate::materials::{Materials, Override, PairMaterial};
+use crate::overlap::Body;
 use crate::scene::{check_block_count, stack_on_top, ContactParams, Prox, Scene, SolverParams};
 use crate::scene_base::{Component, MotionContext, MotionFile};
 use crate::scene_info::Defaults;
@@ -127,6 +135,9 @@ pub struct BlockFile {
     /// Initial velocity [v_x, v_y, ω] of the centre (default: at rest).
     #[serde(default, skip_serializing_if = "is_at_rest")]
     pub velocity: [f64; 3],
+    /// A name, for `[[contact.pair]] bodies` (an entry of one block only).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub name: Option<String>,
 }
 
 fn is_at_rest(v: &[f64; 3]) -> bool {
@@ -177,11 +188,12 @@ fn whole_count<'de, D: serde::Deserializer<'de>>(d: D) -> Result<usize, D::Error
     d.deserialize_any(Count)
 }
 
-/// The `[contact]` table.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+/// The `[contact]` table: the defaults of every contact, and their overrides per kind of
+/// interface and per pair of bodies ([`crate::materials`]).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct ContactFile {
-    /// Friction coefficient μ (dimensionless, ≥ 0), the same at every contact.
+    /// Friction coefficient μ (dimensionless, ≥ 0) of every contact not overridden.
     pub mu: f64,
     /// Normal restitution e_N ∈ [0, 1] (absent: 0).
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -189,6 +201,127 @@ pub struct ContactFile {
     /// Tangential restitution e_F ∈ [0, 1] (absent: 0).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub e_f: Option<f64>,
+    /// `[contact.base]`: base–block interfaces.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub base: Option<Override>,
+    /// `[contact.blocks]`: block–block interfaces.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub blocks: Option<Override>,
+    /// `[contact.floor]`: block–floor contacts.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub floor: Option<Override>,
+    /// `[[contact.pair]]`: one pair of bodies each.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub pair: Vec<PairFile>,
+}
+
+/// One `[[contact.pair]]` entry: two bodies by name (`base`, `floor`, or a block's
+/// `name`) and the values that override their kind's.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct PairFile {
+    /// The two bodies' names.
+    pub bodies: [String; 2],
+    /// Any of `mu`, `e_n`, `e_f`.
+    #[serde(flatten)]
+    pub params: Override,
+}
+
+impl<'de> Deserialize<'de> for PairFile {
+    /// `bodies`, and the rest of the entry as an [`Override`] (which refuses unknown
+    /// keys: serde's `flatten` would let them pass).
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        use serde::de::Error;
+        let mut entry = toml::Table::deserialize(d)?;
+        let bodies = entry
+            .remove("bodies")
+            .ok_or_else(|| D::Error::missing_field("bodies"))?
+            .try_into()
+            .map_err(|e: toml::de::Error| D::Error::custom(format!("bodies: {}", e.message())))?;
+        let params = toml::Value::Table(entry)
+            .try_into()
+            .map_err(|e: toml::de::Error| D::Error::custom(e.message()))?;
+        Ok(Self { bodies, params })
+    }
+}
+
+impl ContactFile {
+    /// The overrides, with the pairs' names resolved against the blocks' `names` (one
+    /// per block, bottom to top).
+    fn materials(&self, names: &[Option<String>]) -> Result<Materials, BlockError> {
+        let pairs = self
+            .pair
+            .iter()
+            .enumerate()
+            .map(|(k, p)| {
+                let body = |name: &str| {
+                    body_named(name, names)
+                        .map_err(|why| BlockError::Scene(format!("contact.pair.{k} bodies: {why}")))
+                };
+                Ok(PairMaterial {
+                    bodies: [body(&p.bodies[0])?, body(&p.bodies[1])?],
+                    label: format!("{}/{}", p.bodies[0], p.bodies[1]),
+                    params: p.params,
+                })
+            })
+            .collect::<Result<_, BlockError>>()?;
+        Ok(Materials {
+            base: self.base.unwrap_or_default(),
+            blocks: self.blocks.unwrap_or_default(),
+            floor: self.floor.unwrap_or_default(),
+            pairs,
+        })
+    }
+}
+
+/// The body a scene file calls `name`: `base`, `floor`, or the block of that `name`.
+fn body_named(name: &str, names: &[Option<String>]) -> Result<Body, String> {
+    match name {
+        "base" => return Ok(Body::Base),
+        "floor" => return Ok(Body::Floor),
+        _ => {}
+    }
+    if let Some(k) = names.iter().position(|n| n.as_deref() == Some(name)) {
+        return Ok(Body::Block(k + 1));
+    }
+    let known: Vec<&str> = ["base", "floor"]
+        .into_iter()
+        .chain(names.iter().flatten().map(String::as_str))
+        .collect();
+    Err(format!(
+        "no body named \"{name}\" (bodies with names: {}; a block is named by its [[blocks]] key name)",
+        known.join(", ")
+    ))
+}
+
+/// The names of the blocks, bottom to top (`None` for a block without one).
+///
+/// # Errors
+/// A name on an entry of several blocks, a name given twice, or `base` / `floor`.
+fn block_names(entries: &[BlockFile]) -> Result<Vec<Option<String>>, BlockError> {
+    let mut names: Vec<Option<String>> = Vec::new();
+    for (k, entry) in entries.iter().enumerate() {
+        let bad = |why: String| BlockError::Scene(format!("[[blocks]] entry {k} name: {why}"));
+        if let Some(name) = &entry.name {
+            if entry.count != 1 {
+                return Err(bad(format!(
+                    "\"{name}\" names one block, but the entry has count = {}",
+                    entry.count
+                )));
+            }
+            if name == "base" || name == "floor" || name.is_empty() {
+                return Err(bad(format!(
+                    "\"{name}\" is not a block name (base and floor are taken)"
+                )));
+            }
+            if names.iter().flatten().any(|n| n == name) {
+                return Err(bad(format!(
+                    "\"{name}\" is already the name of another block"
+                )));
+            }
+        }
+        names.extend(std::iter::repeat_n(entry.name.clone(), entry.count));
+    }
+    Ok(names)
 }
 
 /// The `[solver]` table: every key optional; an absent key takes the thesis's value
@@ -388,7 +521,8 @@ impl SceneFile {
         let floor = self
             .floor
             .map(|f| Floor::new(defaults.or("floor.y", f.y, base.bottom())));
-        let scene = Scene::new(base, blocks, floor, contact, solver)?;
+        let materials = c.materials(&block_names(&self.blocks)?)?;
+        let scene = Scene::new(base, blocks, floor, contact, solver)?.with_materials(materials)?;
         Ok(LoadedScene { scene, defaults })
     }
 

@@ -190,6 +190,10 @@ pub struct SceneReport {
     pub e_n: f64,
     /// Tangential restitution e_F.
     pub e_f: f64,
+    /// The overrides of μ, e_N, e_F per kind of interface and per pair, one line each
+    /// (`base: mu = 0.1`, `drum3/capital: e_n = 0.2`); absent from JSON when none.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub materials: Vec<String>,
     /// Time step Δt (model time units).
     pub dt: f64,
     /// End time of the run (model time units).
@@ -259,6 +263,7 @@ impl SceneReport {
             mu: scene.contact.mu,
             e_n: scene.contact.e_n,
             e_f: scene.contact.e_f,
+            materials: scene.materials().lines(),
             dt: s.dt,
             t_end,
             steps: if t_end > 0.0 && s.dt > 0.0 {
@@ -278,7 +283,8 @@ impl SceneReport {
 }
 
 impl fmt::Display for SceneReport {
-    /// One line of the scene and its solver, then, if any, a line of the defaults taken.
+    /// One line of the scene and its solver, then, if any, a line of the materials'
+    /// overrides and one of the defaults taken.
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         let floor = self
             .floor
@@ -315,6 +321,9 @@ impl fmt::Display for SceneReport {
             self.gravity,
             self.prox,
         )?;
+        if !self.materials.is_empty() {
+            write!(f, "\nmaterials: {}", self.materials.join("; "))?;
+        }
         if !self.defaults.is_empty() {
             write!(f, "\ndefaults taken: {}", self.defaults)?;
         }

@@ -11,7 +11,7 @@
 //! let loaded = shaking.load()?;
 //! assert_eq!(loaded.scene.n_blocks(), 4);
 //! let unknown = scenes::find("tower").unwrap_err().to_string();
-//! assert!(unknown.contains("lire, lire-collapse, shaking, slide"), "{unknown}");
+//! assert!(unknown.contains("lire, lire-collapse, rocking-block, shaking, slide"), "{unknown}");
 //! # Ok::<(), blockstack::BlockError>(())
 //! ```
 
@@ -41,7 +41,7 @@ impl BuiltinScene {
     }
 }
 
-const BUILTIN: [BuiltinScene; 7] = [
+const BUILTIN: [BuiltinScene; 8] = [
     BuiltinScene {
         name: "abundance",
         description: "Figure 4.5 as the thesis states it: five blocks, mu = 0.3, base x = sin(3πt/2), 60 steps per period, 3 periods, floor (for `blocks explore`)",
@@ -66,6 +66,11 @@ const BUILTIN: [BuiltinScene; 7] = [
         name: "lire-collapse",
         description: "the Lire tower with its lowest block pushed out by 1 % of its width: the whole column collapses (§4.3, Figure 4.4), no floor",
         toml: include_str!("../scenes/lire-collapse.toml"),
+    },
+    BuiltinScene {
+        name: "rocking-block",
+        description: "a slender block (0.2 x 1.0, tan alpha = 0.2, mu = 1 on the base, e_N = 0) released tilted by half of alpha on a fixed table: it rocks freely, losing energy at each impact by Housner's ratio (docs/rocking.md), floor",
+        toml: include_str!("../scenes/rocking-block.toml"),
     },
     BuiltinScene {
         name: "shaking",
@@ -124,7 +129,7 @@ mod tests {
         }
         let e = find("nope").unwrap_err().to_string();
         assert!(
-            !e.contains('\n') && e.contains("lire, lire-collapse, shaking, slide"),
+            !e.contains('\n') && e.contains("lire, lire-collapse, rocking-block, shaking, slide"),
             "{e}"
         );
     }

@@ -19,14 +19,16 @@
 //! column (`w.iter()`: coordinate index, entry), χ and ζ; a `None` is a contact that
 //! cannot close — report it as open (any positive gap, W = 0, χ = ζ = 0); each slip gives
 //! one friction component with W, χ, ζ, bounded by the normals of
-//! [`Scene::friction_laws`]; every normal contact has e_N and every law e_F and μ from
-//! [`Scene::contact`](crate::Scene). Each row touches at most two bodies, so exact sparse
-//! Jacobians can be formed row by row.
+//! [`Scene::friction_laws`]; every normal contact has e_N
+//! ([`Scene::normal_restitutions`]) and every law e_F and μ, those of the two bodies it
+//! joins ([`Scene::contact_between`]). Each row touches at most two bodies, so exact
+//! sparse Jacobians can be formed row by row.
 
 use crate::coordinates::{BodyState, Frame, Pose, Scalar, Twist};
 use crate::floor::FloorContacts;
 use crate::gaps::PairRow;
 use crate::interface::{Interface, InterfaceContacts};
+use crate::overlap::Body as SceneBody;
 use crate::scene::Scene;
 
 /// A column of W with at most six nonzero entries (two bodies × (x, y, θ)).
@@ -98,13 +100,25 @@ enum Body {
     Block(usize),
 }
 
-/// One friction law: which normal contacts bound it (App. H) and μ.
+/// One friction law: which normal contacts bound it (App. H), μ and e_F.
 #[derive(Debug, Clone, PartialEq)]
 pub struct FrictionLaw {
     /// Indices of the normal contacts whose forces add up to the bound μ Σ λ_N.
     pub normals: Vec<usize>,
     /// Friction coefficient μ.
     pub mu: f64,
+    /// Tangential restitution e_F.
+    pub e_f: f64,
+}
+
+/// The two bodies of neighbour interface k (k = 0: the base and block 1).
+fn interface_bodies(k: usize) -> (SceneBody, SceneBody) {
+    let lower = if k == 0 {
+        SceneBody::Base
+    } else {
+        SceneBody::Block(k)
+    };
+    (lower, SceneBody::Block(k + 1))
 }
 
 /// Every contact of a scene at one (t, q, u).
@@ -187,24 +201,44 @@ impl Scene {
         2 * n + if self.floor().is_some() { 4 * n } else { 0 }
     }
 
-    /// The friction laws (one slip speed each), in the numbering of the module docs.
+    /// The friction laws (one slip speed each), in the numbering of the module docs, with
+    /// the μ and e_F of the bodies each joins ([`Scene::contact_between`]).
     #[must_use]
     pub fn friction_laws(&self) -> Vec<FrictionLaw> {
         let n = self.n_blocks();
-        let mu = self.contact.mu;
+        let law = |normals: Vec<usize>, (a, b)| {
+            let c = self.contact_between(a, b);
+            FrictionLaw {
+                normals,
+                mu: c.mu,
+                e_f: c.e_f,
+            }
+        };
         let mut laws: Vec<FrictionLaw> = (0..n)
-            .map(|k| FrictionLaw {
-                normals: vec![2 * k, 2 * k + 1],
-                mu,
-            })
+            .map(|k| law(vec![2 * k, 2 * k + 1], interface_bodies(k)))
             .collect();
         if self.floor().is_some() {
-            laws.extend((0..n).map(|i| FrictionLaw {
-                normals: (0..4).map(|j| 2 * n + 4 * i + j).collect(),
-                mu,
+            laws.extend((0..n).map(|i| {
+                law(
+                    (0..4).map(|j| 2 * n + 4 * i + j).collect(),
+                    (SceneBody::Block(i + 1), SceneBody::Floor),
+                )
             }));
         }
         laws
+    }
+
+    /// e_N of every normal contact, in the numbering of the module docs
+    /// ([`Scene::contact_between`] of the bodies each joins).
+    #[must_use]
+    pub fn normal_restitutions(&self) -> Vec<f64> {
+        let n = self.n_blocks();
+        let e_n = |(a, b)| self.contact_between(a, b).e_n;
+        let mut out: Vec<f64> = (0..n).flat_map(|k| [e_n(interface_bodies(k)); 2]).collect();
+        if self.floor().is_some() {
+            out.extend((0..n).flat_map(|i| [e_n((SceneBody::Block(i + 1), SceneBody::Floor)); 4]));
+        }
+        out
     }
 
     pub(crate) fn interface(&self, k: usize) -> Interface {

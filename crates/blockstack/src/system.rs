@@ -32,7 +32,7 @@ use crate::coordinates::re;
 use crate::coordinates::{BodyState, Pose, Twist};
 use crate::overlap::Body;
 use crate::pairs::{body_index, free_block, CornerContact, LineContacts, LineKind};
-use crate::scene::Scene;
+use crate::scene::{ContactParams, Scene};
 use crate::stack::{block_state, holds_contact, ContactRow, StackContacts};
 use nsga::{Derivatives, Evaluation, FrictionLaw, Layout, Probes, Scalar, System};
 use num_dual::DualSVec64;
@@ -81,6 +81,10 @@ pub struct StackSystem {
     /// a free slot. Each slot has two normal contacts and one friction law, after the
     /// scene's.
     slots: Vec<Option<LineContacts>>,
+    /// μ, e_N, e_F of each slot, fixed when the slot is made: the stepper reads the
+    /// layout only when it grows ([`nsga::Stepper::extend_layout`]), so a slot takes only
+    /// lines of its own material ([`StackSystem::assign_corner_contacts`]).
+    slot_materials: Vec<ContactParams>,
     /// Whether each neighbour interface's gaps hold its contact, decided once per step
     /// at the step's start ([`StackSystem::hold_interfaces`]); `None`: decided at every
     /// evaluation from the evaluated q.
@@ -120,6 +124,7 @@ impl Clone for StackSystem {
     fn clone(&self) -> Self {
         let mut copy = Self::new(self.scene.clone());
         copy.slots.clone_from(&self.slots);
+        copy.slot_materials.clone_from(&self.slot_materials);
         copy.interface_holds.clone_from(&self.interface_holds);
         copy
     }
@@ -129,23 +134,23 @@ impl StackSystem {
     /// The system of a (validated) scene.
     #[must_use]
     pub fn new(scene: Scene) -> Self {
-        let e_f = scene.contact.e_f;
         let laws = scene
             .friction_laws()
             .into_iter()
             .map(|law| FrictionLaw {
                 components: 1,
                 mu: law.mu,
-                e_f,
+                e_f: law.e_f,
                 normals: law.normals,
             })
             .collect();
         Self {
             mass: scene.mass_diagonal(),
             forces: scene.gravity_forces(),
-            e_n: vec![scene.contact.e_n; scene.n_normal_contacts()],
+            e_n: scene.normal_restitutions(),
             laws,
             slots: Vec::new(),
+            slot_materials: Vec::new(),
             interface_holds: None,
             end_tol: END_TOL * scene.smallest_block_dimension(),
             scratch: RefCell::new(DualScratch::default()),
@@ -237,8 +242,9 @@ impl StackSystem {
     /// into the slots: a line already in a slot stays there, and so do its contacts that
     /// are still wanted; a slot whose line is no longer wanted is freed (the broad phase
     /// wants every contact that may close within the step, so a freed one is open); new
-    /// lines take the free slots in order, the number of slots doubling when they run
-    /// out. Deterministic.
+    /// lines take the free slots of their material ([`Scene::contact_between`]) in order,
+    /// the number of slots doubling when none is left (the new slots beyond those lines
+    /// take the scene's default material). Deterministic.
     pub fn assign_corner_contacts(&mut self, wanted: &[LineContacts]) -> SlotChange {
         let mut change = SlotChange::default();
         let mut keep = vec![false; self.slots.len()];
@@ -285,23 +291,45 @@ impl StackSystem {
                 *slot = None;
             }
         }
-        let free = self.slots.iter().filter(|s| s.is_none()).count();
-        if new.len() > free {
-            let needed = self.slots.len() + new.len() - free;
-            let capacity = needed.max(2 * self.slots.len()).max(4);
-            self.slots.resize(capacity, None);
-            change.grown = true;
-        }
-        let free_slots: Vec<usize> = (0..self.slots.len())
+        let mut free: Vec<usize> = (0..self.slots.len())
             .filter(|&i| self.slots[i].is_none())
             .collect();
-        for (w, i) in new.into_iter().zip(free_slots) {
+        let mut placed = Vec::with_capacity(new.len());
+        let mut homeless = Vec::new();
+        for w in new {
+            let material = self.line_material(&w);
+            match free
+                .iter()
+                .position(|&i| self.slot_materials[i] == material)
+            {
+                Some(p) => placed.push((w, free.remove(p))),
+                None => homeless.push((w, material)),
+            }
+        }
+        if !homeless.is_empty() {
+            let first = self.slots.len();
+            let capacity = (first + homeless.len()).max(2 * first).max(4);
+            self.slots.resize(capacity, None);
+            // The spare slots take the defaults, the material of most lines.
+            self.slot_materials.resize(capacity, self.scene.contact);
+            for (k, (w, material)) in homeless.into_iter().enumerate() {
+                self.slot_materials[first + k] = material;
+                placed.push((w, first + k));
+            }
+            change.grown = true;
+        }
+        for (w, i) in placed {
             self.slots[i] = Some(w);
             let (normals, law) = self.slot_contacts(i);
             change.normals.extend(normals);
             change.laws.push(law);
         }
         change
+    }
+
+    /// μ, e_N, e_F of the contacts of a line: those of its two bodies.
+    fn line_material(&self, line: &LineContacts) -> ContactParams {
+        self.scene.contact_between(line.line.lo, line.line.hi)
     }
 
     /// The gap rows of a slot's contacts and the slip of its friction law, with the
@@ -433,11 +461,12 @@ impl System for StackSystem {
         let mut friction = self.laws.clone();
         for s in 0..self.slots.len() {
             let (normals, _) = self.slot_contacts(s);
-            e_n.extend([self.scene.contact.e_n; 2]);
+            let c = self.slot_materials[s];
+            e_n.extend([c.e_n; 2]);
             friction.push(FrictionLaw {
                 components: 1,
-                mu: self.scene.contact.mu,
-                e_f: self.scene.contact.e_f,
+                mu: c.mu,
+                e_f: c.e_f,
                 normals: normals.to_vec(),
             });
         }
@@ -1090,6 +1119,54 @@ mod tests {
         let n = sys.layout().n_normal();
         let change = sys.assign_corner_contacts(&[c(1), c(2), c(3), c(4), c(5)]);
         assert!(change.grown && sys.layout().n_normal() == n + 2 * 4);
+    }
+
+    /// A slot keeps the material it was made with (the stepper reads the layout only when
+    /// it grows): a line of another material does not take a free slot but grows the
+    /// slots, and its contacts have its own μ and e_N.
+    #[test]
+    fn a_slot_takes_only_lines_of_its_own_material() {
+        use crate::materials::{Materials, Override, PairMaterial};
+        let pair = Override {
+            mu: Some(0.9),
+            e_n: Some(0.4),
+            e_f: None,
+        };
+        let scene = lire_on_floor(3, Perturbation::Bottom)
+            .unwrap()
+            .with_materials(Materials {
+                pairs: vec![PairMaterial {
+                    bodies: [Body::Block(3), Body::Base],
+                    label: "3/base".into(),
+                    params: pair,
+                }],
+                ..Materials::default()
+            })
+            .unwrap();
+        let default = scene.contact;
+        let mut sys = StackSystem::new(scene);
+        let c = on_base_top;
+        assert!(sys.assign_corner_contacts(&[c(1), c(2)]).grown);
+        let slots = sys.corner_contacts().len();
+        let change = sys.assign_corner_contacts(&[c(1), c(3)]);
+        assert!(change.grown, "the free slots have the default material");
+        let s = sys
+            .corner_contacts()
+            .iter()
+            .position(|l| *l == Some(c(3)))
+            .unwrap();
+        assert!(s >= slots);
+        let layout = sys.layout();
+        let ([n, _], law) = sys.slot_contacts(s);
+        assert_eq!((layout.friction[law].mu, layout.e_n[n]), (0.9, 0.4));
+        let ([n, _], law) = sys.slot_contacts(0);
+        assert_eq!(
+            (layout.friction[law].mu, layout.e_n[n]),
+            (default.mu, default.e_n)
+        );
+        // Freed and taken again by a line of its material: no growth.
+        sys.assign_corner_contacts(&[c(1)]);
+        assert!(!sys.assign_corner_contacts(&[c(1), c(3)]).grown);
     }
 
     #[test]

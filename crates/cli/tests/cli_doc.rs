@@ -582,6 +582,19 @@ fn runs() -> Vec<Run> {
             ],
             true,
         ),
+        // A scene with materials per interface: its report lists them.
+        run(
+            "blocks run",
+            &[
+                "rocking-block",
+                "--t-end",
+                "0.02",
+                "--max-frames",
+                "0",
+                "--json",
+            ],
+            false,
+        ),
         run("blocks scenes", &[], false),
         run("blocks scenes", &["shaking"], false),
         run(

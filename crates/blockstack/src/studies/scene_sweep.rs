@@ -109,13 +109,15 @@ fn angle_keys() -> String {
 }
 
 /// The keys of a scene file that are not numbers and cannot be swept.
-const OTHER_KEYS: [(&str, &str); 6] = [
+const OTHER_KEYS: [(&str, &str); 8] = [
     ("base", "motion"),
     ("base", "samples"),
     ("base", "shape"),
     ("base", "record"),
     ("base", "units"),
     ("base", "baseline"),
+    ("blocks", "name"),
+    ("contact", "bodies"),
 ];
 
 /// The base's own keys; its other numeric keys are a component's motion's: `base.KEY`
@@ -128,6 +130,10 @@ const BASE_X_KEYS: [&str; 5] = ["motion", "amplitude", "omega", "v0", "samples"]
 
 /// The components of the base's motion with a table of their own.
 const BASE_COMPONENTS: [&str; 3] = ["x", "y", "rotation"];
+
+/// The sub-tables of `[contact]` that override its numbers for one kind of interface
+/// (`contact.base.mu`); `contact.pair.K.mu` sets `[[contact.pair]]` entry K.
+pub const CONTACT_KINDS: [&str; 3] = ["base", "blocks", "floor"];
 
 /// Pairs of `[solver]` keys that say the same thing two ways: setting one drops the other.
 const ALTERNATIVES: [(&str, &str); 2] = [("dt", "steps_per_period"), ("t_end", "periods")];
@@ -188,6 +194,11 @@ pub struct SetValue {
 enum Place {
     /// `[base]`, `[contact]`, `[solver]` or `[floor]`.
     Table(&'static str),
+    /// `[contact.base]`, `[contact.blocks]` or `[contact.floor]`: its index in
+    /// [`CONTACT_KINDS`].
+    ContactKind(usize),
+    /// `[[contact.pair]]` entry K, from 0.
+    Pair(usize),
     /// `blocks.KEY`: every entry.
     AllBlocks,
     /// `blocks.K.KEY`: entry K, from 0.
@@ -205,8 +216,9 @@ struct SceneKey {
 }
 
 impl SceneKey {
-    /// Checks `text` against the keys of a scene file with `entries` `[[blocks]]` entries.
-    fn parse(text: &str, entries: usize) -> Result<Self, BlockError> {
+    /// Checks `text` against the keys of a scene file with `entries` `[[blocks]]` entries
+    /// and `pairs` `[[contact.pair]]` entries.
+    fn parse(text: &str, entries: usize, pairs: usize) -> Result<Self, BlockError> {
         let bad = |why: String| BlockError::Key(format!("scene key '{text}': {why}"));
         let tables = || {
             NUMERIC_KEYS
@@ -242,6 +254,11 @@ impl SceneKey {
                 }
                 (Place::Block(k), *field)
             }
+            ("contact", [kind, field]) if CONTACT_KINDS.contains(kind) => {
+                let i = CONTACT_KINDS.iter().position(|k| k == kind).unwrap_or(0);
+                (Place::ContactKind(i), *field)
+            }
+            ("contact", ["pair", k, field]) => (Place::Pair(pair_entry(k, pairs).map_err(bad)?), *field),
             (_, [field]) => (Place::Table(table), *field),
             ("base", [component, field]) => {
                 let Some(&c) = BASE_COMPONENTS.iter().find(|c| *c == component) else {
@@ -260,6 +277,7 @@ impl SceneKey {
                     match table {
                         "blocks" => " or blocks.K.KEY",
                         "base" => " or base.C.KEY (C one of x, y, rotation)",
+                        "contact" => ", contact.base.KEY, contact.blocks.KEY, contact.floor.KEY or contact.pair.K.KEY",
                         _ => "",
                     }
                 )))
@@ -336,7 +354,7 @@ impl SceneKey {
         match self.place {
             // The x component's keys go where the file gives its x motion.
             Place::Table("base") if !BASE_OWN_KEYS.contains(&field) => {
-                let base = table_in(file, "base")?;
+                let base = subtable(file, "base")?;
                 if !base.contains_key("x") && !BASE_X_KEYS.contains(&field) {
                     // A key only [base.x] takes (a record's scale): the x motion moves
                     // there, so that the loader judges the key against it.
@@ -347,13 +365,24 @@ impl SceneKey {
                     base.insert("x".to_owned(), toml::Value::Table(x));
                 }
                 if base.contains_key("x") {
-                    set_in(table_in(base, "x")?);
+                    set_in(subtable(base, "x")?);
                 } else {
                     set_in(base);
                 }
             }
-            Place::Table(name) => set_in(table_in(file, name)?),
-            Place::BaseComponent(c) => set_in(table_in(table_in(file, "base")?, c)?),
+            Place::Table(name) => set_in(subtable(file, name)?),
+            Place::BaseComponent(c) => set_in(subtable(subtable(file, "base")?, c)?),
+            Place::ContactKind(i) => {
+                set_in(subtable(subtable(file, "contact")?, CONTACT_KINDS[i])?);
+            }
+            Place::Pair(k) => set_in(
+                subtable(file, "contact")?
+                    .get_mut("pair")
+                    .and_then(toml::Value::as_array_mut)
+                    .and_then(|entries| entries.get_mut(k))
+                    .and_then(toml::Value::as_table_mut)
+                    .ok_or_else(|| not_table("contact.pair"))?,
+            ),
             Place::AllBlocks | Place::Block(_) => {
                 let entries = file
                     .get_mut("blocks")
@@ -371,12 +400,23 @@ impl SceneKey {
     }
 }
 
-/// The table `name` of `file`, added when absent.
-fn table_in<'a>(file: &'a mut toml::Table, name: &str) -> Result<&'a mut toml::Table, BlockError> {
+/// The table `name` of `file`, added empty when absent.
+fn subtable<'a>(file: &'a mut toml::Table, name: &str) -> Result<&'a mut toml::Table, BlockError> {
     file.entry(name)
         .or_insert_with(|| toml::Value::Table(toml::Table::new()))
         .as_table_mut()
         .ok_or_else(|| BlockError::Scene(format!("{name} is not a table")))
+}
+
+/// The `[[contact.pair]]` entry number `k` of `contact.pair.K.KEY`, checked against the
+/// file's `pairs` entries.
+fn pair_entry(k: &str, pairs: usize) -> Result<usize, String> {
+    match k.parse::<usize>() {
+        Ok(k) if k < pairs => Ok(k),
+        _ => Err(format!(
+            "'{k}' is not a [[contact.pair]] entry: the scene has {pairs} (contact.pair.K.KEY, K from 0)"
+        )),
+    }
 }
 
 /// A scene file and the keys swept over it, checked.
@@ -405,7 +445,7 @@ impl SceneSweep {
             .map_err(|e: toml::de::Error| BlockError::Scene(one_line(e.message())))?;
         let mut keys: Vec<SceneKey> = Vec::with_capacity(overrides.len());
         for o in &overrides {
-            let key = SceneKey::parse(&o.key, parsed.blocks.len())?;
+            let key = SceneKey::parse(&o.key, parsed.blocks.len(), parsed.contact.pair.len())?;
             if let Some(old) = keys.iter().find(|k| k.overlaps(&key)) {
                 return Err(BlockError::Key(format!(
                     "scene keys '{}' and '{}' set the same number: sweep one of them",
@@ -882,41 +922,94 @@ mod tests {
 
     #[test]
     fn the_numeric_keys_are_every_key_of_a_scene_file() {
-        // A file with every key given: its keys are NUMERIC_KEYS and OTHER_KEYS, the
-        // keys of a component's table ([base.y]) counted as the base's.
+        // A file with every key given: its keys are NUMERIC_KEYS and OTHER_KEYS, the keys
+        // of a component's table ([base.y]) counted as the base's, and the contact keys
+        // again in each of CONTACT_KINDS and in [[contact.pair]].
         let text = "[base]\nwidth = 1\nheight = 0.1\nmotion = \"harmonic\"\namplitude = 0.1\nomega = 1\nv0 = 1\nsamples = [[0, 0], [1, 1]]\n\
             [base.y]\nmotion = \"record\"\nshape = \"ricker\"\nperiod = 1\nstart = 0\nrecord = \"r.csv\"\ndt = 1\nscale = 1\nscale_to_pga = 1\nunits = \"g\"\nbaseline = \"none\"\n\
-            [[blocks]]\nwidth = 1\nheight = 1\nmass = 1\ncount = 1\nx = 0\ny = 1\ntheta = 0\n\
+            [[blocks]]\nwidth = 1\nheight = 1\nmass = 1\ncount = 1\nx = 0\ny = 1\ntheta = 0\nname = \"a\"\n\
             [contact]\nmu = 0.1\ne_n = 0\ne_f = 0\n\
+            [contact.base]\nmu = 0.1\ne_n = 0\ne_f = 0\n[contact.blocks]\nmu = 0.1\ne_n = 0\ne_f = 0\n\
+            [contact.floor]\nmu = 0.1\ne_n = 0\ne_f = 0\n\
+            [[contact.pair]]\nbodies = [\"a\", \"base\"]\nmu = 0.1\ne_n = 0\ne_f = 0\n\
             [solver]\ndt = 0.1\nsteps_per_period = 1\nt_end = 1\nperiods = 1\nrho_inf = 0.5\nr = 1\nr_alpha = 1\ntol = 1e-9\ngravity = 1\n\
             [floor]\ny = 0\n";
         let file = SceneFile::parse(text).unwrap();
-        let value = toml::Table::try_from(&file).unwrap();
-        let mut seen = Vec::new();
-        for (table, v) in &value {
+        fn keys_of(prefix: &str, v: &toml::Value, out: &mut Vec<String>) {
             let inner = match v {
-                toml::Value::Array(a) => a[0].as_table().unwrap(),
-                other => other.as_table().unwrap(),
+                toml::Value::Array(a) if a[0].is_table() => a[0].as_table().unwrap(),
+                toml::Value::Table(t) => t,
+                _ => return out.push(prefix.to_owned()),
             };
             for (k, v) in inner {
-                match v.as_table() {
-                    Some(component) => {
-                        assert!(BASE_COMPONENTS.contains(&k.as_str()), "{table}.{k}");
-                        seen.extend(component.keys().map(|k| format!("{table}.{k}")));
-                    }
-                    None => seen.push(format!("{table}.{k}")),
+                keys_of(&format!("{prefix}.{k}"), v, out);
+            }
+        }
+        let mut seen = Vec::new();
+        for (table, v) in &toml::Table::try_from(&file).unwrap() {
+            keys_of(table, v, &mut seen);
+        }
+        // A component's keys (base.y.motion) are the base's (base.motion).
+        for key in &mut seen {
+            for c in BASE_COMPONENTS {
+                if let Some(rest) = key.strip_prefix(&format!("base.{c}.")) {
+                    *key = format!("base.{rest}");
                 }
             }
         }
+        let contact = NUMERIC_KEYS
+            .iter()
+            .find(|(t, _)| *t == "contact")
+            .unwrap()
+            .1;
         let mut known: Vec<String> = NUMERIC_KEYS
             .iter()
             .flat_map(|(t, keys)| keys.iter().map(move |k| format!("{t}.{k}")))
-            .chain(OTHER_KEYS.iter().map(|(t, k)| format!("{t}.{k}")))
+            .chain(OTHER_KEYS.iter().map(|(t, k)| match (*t, *k) {
+                ("contact", "bodies") => "contact.pair.bodies".to_owned(),
+                _ => format!("{t}.{k}"),
+            }))
+            .chain(
+                CONTACT_KINDS
+                    .iter()
+                    .chain(&["pair"])
+                    .flat_map(|kind| contact.iter().map(move |k| format!("contact.{kind}.{k}"))),
+            )
             .collect();
         seen.sort();
         seen.dedup();
         known.sort();
         assert_eq!(seen, known);
+    }
+
+    #[test]
+    fn contact_keys_of_a_kind_or_a_pair_set_their_override() {
+        let text = shaking().replace(
+            "[[blocks]]",
+            "[[blocks]]\nwidth = 0.2\nheight = 0.4\nname = \"first\"\n[[blocks]]",
+        ) + "\n[[contact.pair]]\nbodies = [\"base\", \"first\"]\nmu = 0.9\n";
+        let sweep = SceneSweep::new(
+            &text,
+            vec![
+                over("contact.base.mu=0.05"),
+                over("contact.floor.e_n=0.5"),
+                over("contact.pair.0.e_f=0.25"),
+            ],
+        )
+        .unwrap();
+        let scene = sweep.scene(&sweep.points()[0]).unwrap().scene;
+        let m = scene.materials();
+        assert_eq!((m.base.mu, m.floor.e_n), (Some(0.05), Some(0.5)));
+        assert_eq!(
+            (m.pairs[0].params.mu, m.pairs[0].params.e_f),
+            (Some(0.9), Some(0.25))
+        );
+        let e = key_error(&["contact.pair.0.mu"]);
+        assert!(e.contains("the scene has 0"), "{e}");
+        let e = key_error(&["contact.walls.mu"]);
+        assert!(e.contains("contact.base.KEY"), "{e}");
+        assert!(key_error(&["contact.base.muu"]).contains("mu, e_n, e_f"));
+        assert!(key_error(&["contact.base.mu", "contact.base.mu"]).contains("same number"));
     }
 
     #[test]

@@ -84,7 +84,8 @@ impl Perturbation {
                     .ok_or_else(|| BlockError::Scene("the base has no frequency".into()))?;
             }
         }
-        Scene::new(base, blocks, scene.floor(), scene.contact, scene.solver)
+        Scene::new(base, blocks, scene.floor(), scene.contact, scene.solver)?
+            .with_materials(scene.materials().clone())
     }
 }
 
@@ -176,5 +177,15 @@ mod tests {
         assert!(ensemble(&lire, 3)
             .iter()
             .all(|m| m.perturbed == Perturbed::InitialPositions));
+    }
+    /// A member is the same scene but for its perturbation: its materials per interface
+    /// too (they were dropped when the study and the materials were merged).
+    #[test]
+    fn a_member_keeps_the_scene_s_materials() {
+        let scene = scenes::find("rocking-block").unwrap().load().unwrap().scene;
+        assert!(!scene.materials().is_empty(), "the scene has materials");
+        for member in ensemble(&scene, 2) {
+            assert_eq!(member.apply(&scene).unwrap().materials(), scene.materials());
+        }
     }
 }
