@@ -86,6 +86,31 @@ pub fn plot_work_precision(path: &Path, title: &str, study: &WorkPrecision) -> R
     plot.save(path, (1000, 700))
 }
 
+/// One run of a study of both schemes, for [`both_schemes_series`]: its scheme, solver
+/// time, error (none when it failed) and whether its scheme's order was fitted through it.
+pub type SchemeRun = (Scheme, f64, Option<f64>, bool);
+
+/// The series of NSGA's and Moreau–Jean's `runs` (failed runs left out), each with its
+/// observed order of `orders` (NSGA's, Moreau–Jean's) in its label
+/// ([`work_precision_series`]).
+#[must_use]
+pub fn both_schemes_series(runs: &[SchemeRun], orders: [&ObservedOrder; 2]) -> Vec<Series> {
+    [(Scheme::Nsga, "NSGA"), (Scheme::Moreau, "Moreau-Jean")]
+        .into_iter()
+        .zip(orders)
+        .enumerate()
+        .flat_map(|(i, ((scheme, name), order))| {
+            let points: Vec<WorkPoint> = runs
+                .iter()
+                .filter(|r| r.0 == scheme)
+                .filter_map(|r| r.2.map(|e| (r.1, e, r.3)))
+                .collect();
+            let label = format!("{name}, order {}", order_label(order));
+            work_precision_series(label, i, &points)
+        })
+        .collect()
+}
+
 /// An observed order for a legend: `2.27` or `none (not in the asymptotic range)`.
 #[must_use]
 pub fn order_label(order: &ObservedOrder) -> String {
@@ -110,22 +135,13 @@ pub fn plot_stack_work_precision(path: &Path, study: &StackWorkPrecision) -> Res
     );
     let mut plot = LinePlot::new(&title, "wall time [s]", "error [length unit, rad]");
     plot.log = (true, true);
-    let orders = [&study.orders.nsga, &study.orders.moreau];
-    for (i, ((scheme, label), order)) in [(Scheme::Nsga, "NSGA"), (Scheme::Moreau, "Moreau-Jean")]
-        .into_iter()
-        .zip(orders)
-        .enumerate()
-    {
-        let pts: Vec<WorkPoint> = study
-            .rows
-            .iter()
-            .filter(|r| r.scheme == scheme)
-            .filter_map(|r| r.error.map(|e| (r.wall_time_s, e, r.fitted)))
-            .collect();
-        let label = format!("{label}, order {}", order_label(order));
-        for series in work_precision_series(label, i, &pts) {
-            plot = plot.with(series);
-        }
+    let runs: Vec<SchemeRun> = study
+        .rows
+        .iter()
+        .map(|r| (r.scheme, r.wall_time_s, r.error, r.fitted))
+        .collect();
+    for series in both_schemes_series(&runs, [&study.orders.nsga, &study.orders.moreau]) {
+        plot = plot.with(series);
     }
     plot.save(path, (1000, 700))
 }
