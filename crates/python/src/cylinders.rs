@@ -572,11 +572,14 @@ fn cylinders_work_precision<'py>(
     force: bool,
 ) -> PyResult<Bound<'py, PyAny>> {
     use cylinders::studies::work_precision::{
-        pair_work_precision_until, study_cost_settings, study_settings,
+        pair_work_precision_until, study_cost_settings, study_settings, MAX_DT,
     };
     use std::sync::atomic::AtomicBool;
     guard(|| {
         crate::block_studies::check_study_input(&dts, reference_factor, repeat)?;
+        for &dt in &dts {
+            input::in_range("dts", dt, 0.0..=MAX_DT, "(0, 0.1] s").map_err(value_error)?;
+        }
         check_pair_theta(theta, &study_settings(theta, dts[0]).cylinder)?;
         let cost = study_cost_settings(theta, &dts, reference_factor, repeat);
         check_pair_time(&cost, 1, force)?;

@@ -141,6 +141,7 @@ def test_work_precision_equals_cli(cli):
     [
         (dict(dts=[]), "dts"),
         (dict(dts=[-1e-3]), "dts"),
+        (dict(dts=[2.0]), "dts"),
         (dict(dts=["x"]), "dts"),
         (dict(reference_factor=0.5), "reference_factor"),
         (dict(repeat=0), "repeat"),

@@ -41,6 +41,9 @@ pub const SPIN_UP_S: f64 = 0.5;
 /// The end time of every run, s: the transport is steady again from about 1.1 s on.
 pub const T_END_S: f64 = 1.2;
 
+/// The largest Δt of the study, s: a tenth of its runs' length.
+pub const MAX_DT: f64 = 0.1;
+
 /// The spin rate the pair is brought to, rad/s (the thesis's).
 pub const TARGET_SPIN: f64 = -6.0 * PI;
 
@@ -241,8 +244,8 @@ struct RunEnd {
 /// once) keeping the fastest solver time.
 ///
 /// # Errors
-/// A bad ϑ, an empty `dts`, a Δt or factor that is not positive, or a reference run that
-/// fails (the rows' own failures are in their `error_message`).
+/// A bad ϑ, an empty `dts`, a Δt outside (0, [`MAX_DT`]], a factor that is not
+/// positive, or a reference run that fails (the rows' own failures are in their `error_message`).
 pub fn pair_work_precision(
     theta: f64,
     dts: &[f64],
@@ -282,6 +285,7 @@ pub fn pair_work_precision_until(
     }
     for &dt in dts {
         input::positive("time step Δt", dt)?;
+        input::in_range("time step Δt", dt, 0.0..=MAX_DT, "(0, 0.1] s")?;
     }
     let smallest = dts.iter().copied().fold(f64::INFINITY, f64::min);
     let reference_dt = smallest / reference_factor;
@@ -507,6 +511,7 @@ mod tests {
     fn bad_input_is_refused_before_any_run() {
         assert!(pair_work_precision(PI / 6.0, &[], 4.0, 1).is_err());
         assert!(pair_work_precision(PI / 6.0, &[0.0], 4.0, 1).is_err());
+        assert!(pair_work_precision(PI / 6.0, &[2.0], 4.0, 1).is_err());
         assert!(pair_work_precision(PI / 6.0, &[1e-2], 0.0, 1).is_err());
         assert!(pair_work_precision(0.05, &[1e-2], 4.0, 1).is_err());
     }

@@ -8,7 +8,7 @@ use anyhow::{Context, Result};
 use clap::Args;
 use cylinders::studies::pair_cost::pair_cost;
 use cylinders::studies::work_precision::{
-    pair_work_precision, study_cost_settings, study_settings, PairWorkPrecisionRow, T_END_S,
+    pair_work_precision, study_cost_settings, study_settings, PairWorkPrecisionRow, MAX_DT, T_END_S,
 };
 use figures::cylinders::plot_pair_work_precision;
 use input::text::{parse_finite, parse_number_list, RotationAngle};
@@ -20,7 +20,7 @@ pub struct WorkPrecisionArgs {
     /// Inclination ϑ of both cylinders, in (arctan(2r/h), π/2), rad (`30deg` accepted).
     #[arg(long, default_value = "30deg", allow_hyphen_values = true)]
     pub theta: RotationAngle,
-    /// Time steps Δt in s (comma-separated, each positive).
+    /// Time steps Δt in s (comma-separated, each in (0, 0.1]).
     #[arg(
         long,
         default_value = "8e-3,4e-3,2e-3,1e-3",
@@ -56,6 +56,7 @@ pub fn run(a: &WorkPrecisionArgs) -> Result<()> {
     // Checked here so that the errors name the flags, not the library's Δt and factor.
     for &dt in &dts {
         input::positive("--dts", dt)?;
+        input::in_range("--dts", dt, 0.0..=MAX_DT, "(0, 0.1] s")?;
     }
     anyhow::ensure!(
         a.reference_factor >= 1.0,
