@@ -26,9 +26,8 @@ use nsga::studies::asymptotic::{
     ObservedOrder,
 };
 use nsga::studies::ball::Scheme;
-use nsga::studies::work_precision::timed_steps;
+use nsga::studies::work_precision::run_scheme;
 use nsga::system::{Evaluation, System};
-use nsga::{MoreauOptions, MoreauStepper, Stepper};
 use std::fmt;
 use std::sync::atomic::AtomicBool;
 
@@ -352,57 +351,21 @@ fn run(
     let mut penetration = 0.0_f64;
     let mut eval = Evaluation::new(&system.layout());
     let mut contacts = ContactReader::new(system.layout(), tolerances(&scene));
-    let mut observe = |t: f64, q: &[f64], u: &[f64], p_n: &[f64]| {
+    let options = stepper_options(&scene, &RunOptions::default()).map_err(|e| e.to_string())?;
+    let observe = |t: f64, q: &[f64], u: &[f64], p_n: &[f64]| {
         eval.reset();
         system.evaluate(t, q, u, &mut eval);
         let lowest = eval.position.iter().copied().fold(0.0, f64::min);
         penetration = penetration.max(-lowest);
         contacts.record(&system, dt, (t, q, u), p_n);
     };
-    let wall_time_s;
-    let q = match scheme {
-        Scheme::Nsga => {
-            let options =
-                stepper_options(&scene, &RunOptions::default()).map_err(|e| e.to_string())?;
-            let mut s = Stepper::new(StackSystem::new(scene.clone()), 0.0, &q0, &u0, options)
-                .map_err(|e| e.to_string())?;
-            wall_time_s = timed_steps(
-                &mut s,
-                steps,
-                cancel,
-                |s| s.step().map(drop),
-                |s| {
-                    let st = s.state();
-                    observe(st.t, &st.q, &st.u, &st.p_n);
-                },
-            )?;
-            s.state().q.clone()
-        }
-        Scheme::Moreau => {
-            let options = MoreauOptions {
-                dt,
-                tol: scene.solver.tol,
-                ..MoreauOptions::default()
-            };
-            let mut s = MoreauStepper::new(StackSystem::new(scene.clone()), 0.0, &q0, &u0, options)
-                .map_err(|e| e.to_string())?;
-            wall_time_s = timed_steps(
-                &mut s,
-                steps,
-                cancel,
-                |s| s.step().map(drop),
-                |s| {
-                    let st = s.state();
-                    observe(st.t, &st.q, &st.u, &st.p_n);
-                },
-            )?;
-            s.state().q.clone()
-        }
-    };
+    let stepped = StackSystem::new(scene.clone());
+    let end = run_scheme(stepped, scheme, options, (&q0, &u0), steps, cancel, observe)
+        .map_err(|e| e.to_string())?;
     Ok(RunEnd {
-        q,
+        q: end.q,
         penetration,
-        wall_time_s,
+        wall_time_s: end.wall_time_s,
         history: contacts.into_history(),
     })
 }

@@ -28,8 +28,8 @@ use nsga::studies::asymptotic::{
     ObservedOrder,
 };
 use nsga::studies::ball::Scheme;
-use nsga::studies::work_precision::timed_steps;
-use nsga::{Evaluation, MoreauOptions, MoreauStepper, Options, PolicyOptions, Stepper, System};
+use nsga::studies::work_precision::run_scheme;
+use nsga::{Evaluation, Options, PolicyOptions, System};
 use serde::Serialize;
 use std::f64::consts::PI;
 use std::fmt;
@@ -405,63 +405,40 @@ impl Watch {
     }
 }
 
-/// One run of the study at inclination `theta` by `scheme` with step `dt`.
+/// One run of the study at inclination `theta` by `scheme` with step `dt`; NSGA alone
+/// (a step it cannot resolve is an error, not a Moreau–Jean step in disguise).
 fn run(theta: f64, scheme: Scheme, dt: f64, cancel: &AtomicBool) -> Result<RunEnd, String> {
     let settings = study_settings(theta, dt);
     let sys = settings.system().map_err(|e| e.to_string())?;
     let (q0, u0) = sys.initial_state(theta).map_err(|e| e.to_string())?;
     let mut watch = Watch::new(&sys);
-    let (q, wall_time_s) = match scheme {
-        Scheme::Nsga => {
-            // The scheme alone: a step it cannot resolve is an error, not a Moreau–Jean
-            // step in disguise.
-            let base = settings.stepper_options();
-            let options = Options {
-                policy: PolicyOptions {
-                    last_resort: false,
-                    ..base.policy
-                },
-                ..base
-            };
-            let mut s = Stepper::new(sys, 0.0, &q0, &u0, options).map_err(|e| e.to_string())?;
-            let wall = timed_steps(
-                &mut s,
-                settings.steps,
-                cancel,
-                |s| s.step().map(drop),
-                |s| {
-                    let st = s.state();
-                    watch.observe(&sys, dt, (st.t, &st.q, &st.u), &st.p_n);
-                },
-            )?;
-            (s.state().q.clone(), wall)
-        }
-        Scheme::Moreau => {
-            let options = MoreauOptions {
-                dt,
-                ..MoreauOptions::default()
-            };
-            let mut s =
-                MoreauStepper::new(sys, 0.0, &q0, &u0, options).map_err(|e| e.to_string())?;
-            let wall = timed_steps(
-                &mut s,
-                settings.steps,
-                cancel,
-                |s| s.step().map(drop),
-                |s| {
-                    let st = s.state();
-                    watch.observe(&sys, dt, (st.t, &st.q, &st.u), &st.p_n);
-                },
-            )?;
-            (s.state().q.clone(), wall)
-        }
+    let base = settings.stepper_options();
+    let options = Options {
+        policy: PolicyOptions {
+            last_resort: false,
+            ..base.policy
+        },
+        ..base
     };
+    let observe = |t: f64, q: &[f64], u: &[f64], p_n: &[f64]| {
+        watch.observe(&sys, dt, (t, q, u), p_n);
+    };
+    let end = run_scheme(
+        sys,
+        scheme,
+        options,
+        (&q0, &u0),
+        settings.steps,
+        cancel,
+        observe,
+    )
+    .map_err(|e| e.to_string())?;
     Ok(RunEnd {
-        q,
+        q: end.q,
         n_over_mg: watch.n_over_mg,
         drift: watch.drift,
         floor_slip: watch.floor_slip,
-        wall_time_s,
+        wall_time_s: end.wall_time_s,
         history: watch.contacts.into_history(),
     })
 }

@@ -49,30 +49,104 @@ pub const EVENTS_REFERENCE_FACTOR: f64 = 4.0;
 /// The error of a run stopped by its `cancel` flag.
 pub const CANCELLED: &str = "cancelled";
 
-/// Takes `steps` steps of `stepper` and calls `observe` after each; returns the time
-/// spent in the steps alone (solver time, without what `observe` measures). Stops with
-/// [`CANCELLED`] before a step once `cancel` is set.
+/// Why [`run_scheme`] stopped before its last step.
+#[derive(Debug)]
+pub enum SchemeStop {
+    /// Its `cancel` flag was set.
+    Cancelled,
+    /// A step failed.
+    Step(StepError),
+}
+
+impl fmt::Display for SchemeStop {
+    /// [`CANCELLED`], or the step's error.
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Self::Cancelled => f.write_str(CANCELLED),
+            Self::Step(e) => e.fmt(f),
+        }
+    }
+}
+
+impl From<StepError> for SchemeStop {
+    fn from(e: StepError) -> Self {
+        Self::Step(e)
+    }
+}
+
+/// The end of a run of [`run_scheme`].
+#[derive(Debug, Clone, PartialEq)]
+pub struct SchemeEnd {
+    /// The time reached.
+    pub t: f64,
+    /// Coordinates at the end.
+    pub q: Vec<f64>,
+    /// Velocities at the end.
+    pub u: Vec<f64>,
+    /// The time spent in the steps alone (solver time, without what `observe` does), s.
+    pub wall_time_s: f64,
+}
+
+/// Takes `steps` steps of `scheme` on `system` from (0, q0, u0), generalized-α with
+/// `options`, Moreau–Jean with the same Δt and Newton tolerance, and calls
+/// `observe(t, q, u, P_N)` after each. Stops with [`SchemeStop::Cancelled`] before a step
+/// once `cancel` is set.
 ///
 /// # Errors
-/// The first step error, as text, or [`CANCELLED`].
-pub fn timed_steps<S>(
-    stepper: &mut S,
+/// A bad start or the first step error; [`SchemeStop::Cancelled`].
+#[allow(clippy::too_many_arguments)]
+pub fn run_scheme<S: System>(
+    system: S,
+    scheme: Scheme,
+    options: Options,
+    (q0, u0): (&[f64], &[f64]),
     steps: usize,
     cancel: &AtomicBool,
-    step: impl Fn(&mut S) -> Result<(), StepError>,
-    mut observe: impl FnMut(&S),
-) -> Result<f64, String> {
+    mut observe: impl FnMut(f64, &[f64], &[f64], &[f64]),
+) -> Result<SchemeEnd, SchemeStop> {
     let mut wall_time_s = 0.0;
-    for _ in 0..steps {
+    let mut timed = |step: &mut dyn FnMut() -> Result<(), StepError>| {
         if cancel.load(Ordering::Relaxed) {
-            return Err(CANCELLED.into());
+            return Err(SchemeStop::Cancelled);
         }
         let clock = Instant::now();
-        step(stepper).map_err(|e| e.to_string())?;
+        step()?;
         wall_time_s += clock.elapsed().as_secs_f64();
-        observe(stepper);
-    }
-    Ok(wall_time_s)
+        Ok(())
+    };
+    let (t, q, u) = match scheme {
+        Scheme::Nsga => {
+            let mut s = Stepper::new(system, 0.0, q0, u0, options)?;
+            for _ in 0..steps {
+                timed(&mut || s.step().map(drop))?;
+                let st = s.state();
+                observe(st.t, &st.q, &st.u, &st.p_n);
+            }
+            let st = s.state();
+            (st.t, st.q.clone(), st.u.clone())
+        }
+        Scheme::Moreau => {
+            let moreau = MoreauOptions {
+                dt: options.dt,
+                tol: options.tol,
+                ..MoreauOptions::default()
+            };
+            let mut s = MoreauStepper::new(system, 0.0, q0, u0, moreau)?;
+            for _ in 0..steps {
+                timed(&mut || s.step().map(drop))?;
+                let st = s.state();
+                observe(st.t, &st.q, &st.u, &st.p_n);
+            }
+            let st = s.state();
+            (st.t, st.q.clone(), st.u.clone())
+        }
+    };
+    Ok(SchemeEnd {
+        t,
+        q,
+        u,
+        wall_time_s,
+    })
 }
 
 /// One run of a work-precision diagram: its error against the closed form, its solver
@@ -132,13 +206,14 @@ fn run_point(
                 stiffness: 4.0 * std::f64::consts::PI.powi(2),
             };
             let n = (1.0 / dt).round() as usize;
-            let end = run_generic(sys, scheme, rho_inf, dt, n, &[1.0], &[0.0], 1.0)?;
+            let start: (&[f64], &[f64]) = (&[1.0], &[0.0]);
+            let (end, history) = run_generic(sys, scheme, rho_inf, dt, n, start, 1.0)?;
             let (xe, ve) = sys.exact(1.0, 0.0, end.t);
             // Phase-plane error: at a full period x alone hides the phase error.
             Ok(PointRun {
                 error: (end.q[0] - xe).hypot((end.u[0] - ve) / sys.omega()),
                 wall_time_s: end.wall_time_s,
-                history: end.history,
+                history,
             })
         }
         WorkPrecisionSystem::Incline => {
@@ -151,99 +226,49 @@ fn run_point(
             };
             let n = (1.5 / dt).round() as usize;
             let weight = sys.mass * sys.gravity;
-            let end = run_generic(
-                sys,
-                scheme,
-                rho_inf,
-                dt,
-                n,
-                &[0.0, 0.0],
-                &[0.0, 0.0],
-                weight,
-            )?;
+            let start: (&[f64], &[f64]) = (&[0.0, 0.0], &[0.0, 0.0]);
+            let (end, history) = run_generic(sys, scheme, rho_inf, dt, n, start, weight)?;
             Ok(PointRun {
                 error: (end.q[0] - sys.turning_position(end.t)).abs(),
                 wall_time_s: end.wall_time_s,
-                history: end.history,
+                history,
             })
         }
     }
 }
 
-/// The end of a run of [`run_generic`].
-struct GenericEnd {
-    q: Vec<f64>,
-    u: Vec<f64>,
-    t: f64,
-    wall_time_s: f64,
-    history: ContactHistory,
-}
-
-/// Runs `n` steps of either scheme, recording the contact events of a system of weight
-/// `weight`; the wall time is that of the steps alone.
+/// Runs `n` steps of either scheme from (q0, u0), recording the contact events of a
+/// system of weight `weight`; NSGA alone (a step it cannot resolve is an error, not a
+/// Moreau–Jean step in disguise).
 #[allow(clippy::too_many_arguments)]
-fn run_generic<S: crate::system::System + Copy>(
+fn run_generic<S: System + Copy>(
     sys: S,
     scheme: Scheme,
     rho_inf: f64,
     dt: f64,
     n: usize,
-    q0: &[f64],
-    u0: &[f64],
+    start: (&[f64], &[f64]),
     weight: f64,
-) -> Result<GenericEnd, StepError> {
+) -> Result<(SchemeEnd, ContactHistory), StepError> {
     let mut reader = ContactReader::new(sys.layout(), ContactTolerances::relative(weight, 1.0));
-    let mut wall_time_s = 0.0;
-    let mut timed = |step: &mut dyn FnMut() -> Result<(), StepError>| -> Result<(), StepError> {
-        let start = Instant::now();
-        step()?;
-        wall_time_s += start.elapsed().as_secs_f64();
-        Ok(())
+    let options = Options {
+        dt,
+        rho_inf,
+        policy: PolicyOptions {
+            last_resort: false,
+            ..PolicyOptions::default()
+        },
+        ..Options::default()
     };
-    let (q, u, t) = match scheme {
-        Scheme::Nsga => {
-            // The scheme alone: a step it cannot resolve is an error, not a
-            // Moreau–Jean step in disguise.
-            let options = Options {
-                dt,
-                rho_inf,
-                policy: PolicyOptions {
-                    last_resort: false,
-                    ..PolicyOptions::default()
-                },
-                ..Options::default()
-            };
-            let mut s = Stepper::new(sys, 0.0, q0, u0, options)?;
-            for _ in 0..n {
-                timed(&mut || s.step().map(drop))?;
-                let st = s.state();
-                reader.record(&sys, dt, (st.t, &st.q, &st.u), &st.p_n);
-            }
-            let st = s.state();
-            (st.q.clone(), st.u.clone(), st.t)
-        }
-        Scheme::Moreau => {
-            let options = MoreauOptions {
-                dt,
-                ..MoreauOptions::default()
-            };
-            let mut s = MoreauStepper::new(sys, 0.0, q0, u0, options)?;
-            for _ in 0..n {
-                timed(&mut || s.step().map(drop))?;
-                let st = s.state();
-                reader.record(&sys, dt, (st.t, &st.q, &st.u), &st.p_n);
-            }
-            let st = s.state();
-            (st.q.clone(), st.u.clone(), st.t)
-        }
-    };
-    Ok(GenericEnd {
-        q,
-        u,
-        t,
-        wall_time_s,
-        history: reader.into_history(),
+    let never = AtomicBool::new(false);
+    let end = run_scheme(sys, scheme, options, start, n, &never, |t, q, u, p_n| {
+        reader.record(&sys, dt, (t, q, u), p_n);
     })
+    .map_err(|stop| match stop {
+        SchemeStop::Step(e) => e,
+        SchemeStop::Cancelled => unreachable!("never cancelled"),
+    })?;
+    Ok((end, reader.into_history()))
 }
 
 /// One point of a work-precision diagram.
