@@ -32,6 +32,7 @@ pub const EXAMPLES: &[&str] = &[
     "rollstack cylinder pair --theta 30deg --out pair --json",
     "rollstack cylinder sweep pair --theta 0.18:0.78:0.075 --out fig3_14",
     "rollstack cylinder sweep push --theta 0.3:0.78:0.03 --push 0:0.6:0.005 --out push",
+    "rollstack cylinder work-precision --dts 8e-3,4e-3,2e-3 --out wpc",
     "rollstack tour --out tour --only sphere,cylinder",
     "rollstack merge freq-1 freq-2 --out freq",
     "rollstack slurm --tasks 8 blocks sweep frequency --omega 2:20:0.25 --out freq",

@@ -698,6 +698,11 @@ fn runs() -> Vec<Run> {
             ],
             true,
         ),
+        run(
+            "cylinder work-precision",
+            &["--dts", "2e-2,1e-2", "--repeat", "1", "--json"],
+            true,
+        ),
         run("tour", &["--only", "rotations,nsga"], true),
         run(
             "slurm",

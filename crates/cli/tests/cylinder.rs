@@ -354,3 +354,63 @@ fn library_checks_reach_the_user_as_the_flag_they_typed() {
         assert_eq!(stderr.trim().lines().count(), 1, "{args:?}: {stderr}");
     }
 }
+
+/// `cylinder work-precision`: its files, and JSON whose rows and orders are the
+/// study's: each row's error falls with Δt, and an order fitted is the slope of the
+/// errors of the rows marked fitted.
+#[test]
+fn cylinder_work_precision_writes_csv_png_and_json() {
+    let dir = common::temp_dir("cylinder-wp");
+    let out = common::rollstack(&[
+        "cylinder",
+        "work-precision",
+        "--dts",
+        "2e-2,1e-2,5e-3",
+        "--repeat",
+        "1",
+        "--out",
+        dir.to_str().unwrap(),
+        "--json",
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let rows = v["rows"].as_array().unwrap();
+    assert_eq!(rows.len(), 6);
+    for (scheme, rows) in ["nsga", "moreau"].iter().zip(rows.chunks(3)) {
+        let errors: Vec<f64> = rows.iter().map(|r| r["error"].as_f64().unwrap()).collect();
+        assert!(errors[2] < errors[0], "{scheme}: {errors:?}");
+        let order = &v["orders"][scheme];
+        let fitted: Vec<(f64, f64)> = rows
+            .iter()
+            .filter(|r| r["fitted"] == true)
+            .map(|r| {
+                (
+                    r["dt"].as_f64().unwrap().ln(),
+                    r["error"].as_f64().unwrap().ln(),
+                )
+            })
+            .collect();
+        if order["status"] == "fitted" {
+            let n = fitted.len() as f64;
+            let mx = fitted.iter().map(|p| p.0).sum::<f64>() / n;
+            let my = fitted.iter().map(|p| p.1).sum::<f64>() / n;
+            let sxy: f64 = fitted.iter().map(|p| (p.0 - mx) * (p.1 - my)).sum();
+            let sxx: f64 = fitted.iter().map(|p| (p.0 - mx).powi(2)).sum();
+            let slope = order["order"].as_f64().unwrap();
+            assert!((slope - sxy / sxx).abs() < 1e-9, "{scheme}: {order}");
+        } else {
+            assert!(fitted.is_empty() && order["order"].is_null(), "{order}");
+        }
+    }
+    let csv = std::fs::read_to_string(dir.join("work_precision.csv")).unwrap();
+    assert!(csv.starts_with("scheme,dt,error,static_error,drift,final_floor_slip,wall_time_s"));
+    assert_eq!(csv.lines().count(), 7);
+    assert!(dir.join("work_precision.png").exists() && dir.join("run.json").exists());
+    let (ok, _, stderr) = run(&["cylinder", "work-precision", "--dts", "0"]);
+    assert!(!ok && stderr.contains("--dts"), "{stderr}");
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -184,6 +184,7 @@ fn endless_runs_are_refused_up_front_with_the_estimate_and_the_flag_that_forces_
         &[
             "blocks", "explore", "shaking", "--t-end", "1e300", "--out", d,
         ],
+        &["cylinder", "work-precision", "--dts", "1e-9", "--out", d],
     ] {
         refused(args, &["more than 600 s", "--force"]);
     }

@@ -83,6 +83,14 @@ fn work_precision_writes_csv_png_and_run_json() {
     let e0 = rows[0]["error"].as_f64().unwrap();
     let e1 = rows[1]["error"].as_f64().unwrap();
     assert!((e0 / e1 - 4.0).abs() < 0.5, "{e0} / {e1}");
+    // No contacts: both runs follow the reference, and the order is their slope.
+    let order = &v["orders"][0]["order"];
+    assert_eq!(order["status"], "fitted", "{order}");
+    let slope = (e0 / e1).ln() / 2f64.ln();
+    assert!(
+        (order["order"].as_f64().unwrap() - slope).abs() < 1e-9,
+        "{order}"
+    );
     let csv = std::fs::read_to_string(dir.join("work_precision.csv")).unwrap();
     assert!(csv.starts_with("scheme,rho_inf,dt,error,wall_time_s"));
     assert!(dir.join("work_precision.png").exists() && dir.join("run.json").exists());

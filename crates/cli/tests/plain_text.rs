@@ -408,7 +408,10 @@ fn the_tour_work_precision_file_names_its_schemes() {
     assert!(ok, "{stderr}");
     let csv = std::fs::read_to_string(dir.join("nsga/work_precision/work_precision.csv")).unwrap();
     let mut lines = csv.lines();
-    assert_eq!(lines.next(), Some("scheme,rho_inf,dt,error,wall_time_s"));
+    assert_eq!(
+        lines.next(),
+        Some("scheme,rho_inf,dt,error,wall_time_s,contact_events,follows_reference,fitted")
+    );
     let rows: Vec<Vec<&str>> = lines.map(|l| l.split(',').collect()).collect();
     assert!(rows.iter().any(|r| r[0] == "nsga" && !r[1].is_empty()));
     let moreau: Vec<_> = rows.iter().filter(|r| r[0] == "moreau").collect();

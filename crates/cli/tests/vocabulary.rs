@@ -141,8 +141,10 @@ fn work_precision_runs_without_out() {
         "--repeat",
         "1",
     ]);
+    // Two rows, each scheme's observed order and the reference: no file written.
+    let rows = text.lines().filter(|l| l.contains(" dt=")).count();
     assert!(
-        ok && text.lines().count() == 2 && !text.contains("wrote"),
+        ok && rows == 2 && text.lines().count() == 5 && !text.contains("wrote"),
         "{text}"
     );
 }

@@ -1,9 +1,11 @@
 //! The PNG figures of `rollstack cylinder`: the support-force curves of §3.3, the
 //! plan view of a rolled trace (Figures 3.10, 3.12), and the transport of a touching
-//! pair (§3.6: its forces, views, animation and Figure 3.14), drawn from the typed
+//! pair (§3.6: its forces, views, animation, Figure 3.14 and its work-precision diagram),
+//! drawn from the typed
 //! results of [`cylinders::studies`].
 
 use crate::animation::write_gif;
+use crate::nsga::{both_schemes_series, SchemeRun};
 use crate::plot::{with_png, Dash, Legend, LinePlot, Marker, Series, Style, PALETTE};
 use crate::Result;
 use cylinders::kinematics::Cylinder;
@@ -11,6 +13,7 @@ use cylinders::statics::FrictionLimit;
 use cylinders::studies::holonomy::PlanView;
 use cylinders::studies::pair::{pair_outline, PairSample, PairSweepRow, PushRow};
 use cylinders::studies::statics::StaticsFigures;
+use cylinders::studies::work_precision::{PairWorkPrecision, T_END_S};
 use std::ops::Range;
 use std::path::Path;
 
@@ -472,4 +475,32 @@ pub fn plot_minimum_force(
             .styled(Style::color(PALETTE[1]).marker(Marker::Diamond)),
     )
     .save(path, (1100, 600))
+}
+
+/// The pair's work-precision diagram: the error against the reference at the end time
+/// against solver time, log–log, one line with a marker per run for each scheme (failed
+/// runs left out), open markers where the order was not fitted
+/// ([`crate::nsga::work_precision_series`]).
+///
+/// # Errors
+/// An unwritable file.
+pub fn plot_pair_work_precision(path: &Path, study: &PairWorkPrecision) -> Result<()> {
+    let title = format!(
+        "Work-precision, cylinder pair spun up at ϑ = {:.1}° (error at t = {T_END_S} s against \
+         Δt = {:.2e} s; {})",
+        study.theta.to_degrees(),
+        study.reference_dt,
+        crate::nsga::FITTED_MARKERS
+    );
+    let mut plot = LinePlot::new(&title, "wall time [s]", "error [m, rad]");
+    plot.log = (true, true);
+    let runs: Vec<SchemeRun> = study
+        .rows
+        .iter()
+        .map(|r| (r.scheme, r.wall_time_s, r.error, r.fitted))
+        .collect();
+    for series in both_schemes_series(&runs, [&study.orders.nsga, &study.orders.moreau]) {
+        plot = plot.with(series);
+    }
+    plot.save(path, (1000, 700))
 }

@@ -1,11 +1,12 @@
 //! The solver core's figures: the rotating bouncing ball of Capobianco et al. (2021)
 //! and work-precision diagrams.
 
-use crate::plot::{LinePlot, Series};
+use crate::plot::{LinePlot, Series, Style};
 use crate::Result;
 use blockstack::studies::work_precision::StackWorkPrecision;
+use nsga::studies::asymptotic::ObservedOrder;
 use nsga::studies::ball::{BallRun, BallSample, Scheme};
-use nsga::studies::work_precision::WorkPrecisionRow;
+use nsga::studies::work_precision::WorkPrecision;
 use std::path::Path;
 
 /// The ball's height y, its speed ẋ and the slip ẋ + Rφ̇ of its contact point against
@@ -27,59 +28,120 @@ pub fn plot_ball(path: &Path, title: &str, run: &BallRun, radius: f64) -> Result
         .save(path, (1000, 600))
 }
 
+/// What the markers of a work-precision diagram say, for its title.
+pub const FITTED_MARKERS: &str = "filled: the Δt of the fitted order";
+
+/// One run of a work-precision diagram: (wall time, error, whether the scheme's order
+/// was fitted through it).
+pub type WorkPoint = (f64, f64, bool);
+
+/// The series of one scheme of a work-precision diagram, in the `i`-th style: a line
+/// through its runs in the order given with a filled marker at each, and open markers
+/// over the runs its order was not fitted through (other contact events than the
+/// reference). Wall times are floored at 1e-9 s and errors at 1e-16 for the log axes.
+#[must_use]
+pub fn work_precision_series(label: String, i: usize, points: &[WorkPoint]) -> Vec<Series> {
+    let style = Style::nth(i);
+    let at = |p: &WorkPoint| (p.0.max(1e-9), p.1.max(1e-16));
+    let mut series =
+        vec![Series::line_and_markers(label, points.iter().map(at).collect()).styled(style)];
+    let open: Vec<(f64, f64)> = points.iter().filter(|p| !p.2).map(at).collect();
+    if !open.is_empty() {
+        series.push(Series::markers("", open).styled(style.hollow()));
+    }
+    series
+}
+
 /// A work-precision diagram: error against wall time on log–log axes (ticks on the
 /// decades, [`crate::axis`]), one line with a marker per run for each scheme and ρ∞, in
-/// the order the rows first name them. Errors are floored at 1e-16.
+/// the order of the study's orders, labelled with its observed order; open markers
+/// where the order was not fitted ([`work_precision_series`]).
 ///
 /// # Errors
 /// An unwritable file.
-pub fn plot_work_precision(path: &Path, title: &str, rows: &[WorkPrecisionRow]) -> Result<()> {
-    let mut configs: Vec<(Scheme, Option<f64>)> = Vec::new();
-    for r in rows {
-        if !configs.contains(&(r.scheme, r.rho_inf)) {
-            configs.push((r.scheme, r.rho_inf));
-        }
-    }
-    let mut plot = LinePlot::new(title, "wall time [s]", "error [m]");
+pub fn plot_work_precision(path: &Path, title: &str, study: &WorkPrecision) -> Result<()> {
+    let mut plot = LinePlot::new(
+        format!("{title} ({FITTED_MARKERS})"),
+        "wall time [s]",
+        "error [m]",
+    );
     plot.log = (true, true);
-    for (scheme, rho) in configs {
-        let label = match (scheme, rho) {
+    for (i, config) in study.orders.iter().enumerate() {
+        let label = match (config.scheme, config.rho_inf) {
             (Scheme::Nsga, Some(r)) => format!("NSGA rho_inf = {r}"),
             (Scheme::Nsga, None) => "NSGA".to_owned(),
             (Scheme::Moreau, _) => "Moreau-Jean".to_owned(),
         };
-        let pts: Vec<(f64, f64)> = rows
+        let pts: Vec<WorkPoint> = study
+            .rows
             .iter()
-            .filter(|r| r.rho_inf == rho && r.scheme == scheme)
-            .map(|r| (r.wall_time_s, r.error.max(1e-16)))
+            .filter(|r| r.rho_inf == config.rho_inf && r.scheme == config.scheme)
+            .map(|r| (r.wall_time_s, r.error, r.fitted))
             .collect();
-        plot = plot.with(Series::line_and_markers(label, pts));
+        let label = format!("{label}, order {}", order_label(&config.order));
+        for series in work_precision_series(label, i, &pts) {
+            plot = plot.with(series);
+        }
     }
     plot.save(path, (1000, 700))
 }
 
+/// One run of a study of both schemes, for [`both_schemes_series`]: its scheme, solver
+/// time, error (none when it failed) and whether its scheme's order was fitted through it.
+pub type SchemeRun = (Scheme, f64, Option<f64>, bool);
+
+/// The series of NSGA's and Moreau–Jean's `runs` (failed runs left out), each with its
+/// observed order of `orders` (NSGA's, Moreau–Jean's) in its label
+/// ([`work_precision_series`]).
+#[must_use]
+pub fn both_schemes_series(runs: &[SchemeRun], orders: [&ObservedOrder; 2]) -> Vec<Series> {
+    [(Scheme::Nsga, "NSGA"), (Scheme::Moreau, "Moreau-Jean")]
+        .into_iter()
+        .zip(orders)
+        .enumerate()
+        .flat_map(|(i, ((scheme, name), order))| {
+            let points: Vec<WorkPoint> = runs
+                .iter()
+                .filter(|r| r.0 == scheme)
+                .filter_map(|r| r.2.map(|e| (r.1, e, r.3)))
+                .collect();
+            let label = format!("{name}, order {}", order_label(order));
+            work_precision_series(label, i, &points)
+        })
+        .collect()
+}
+
+/// An observed order for a legend: `2.27` or `none (not in the asymptotic range)`.
+#[must_use]
+pub fn order_label(order: &ObservedOrder) -> String {
+    order.order().map_or_else(
+        || "none (not in the asymptotic range)".to_owned(),
+        |p| format!("{p:.2}"),
+    )
+}
+
 /// The block-stack work-precision diagram: the error at the end time against solver
-/// time, log–log, one line with a marker per run for each scheme (failed runs left out).
+/// time, log–log, one line with a marker per run for each scheme (failed runs left out),
+/// open markers where the order was not fitted ([`work_precision_series`]).
 ///
 /// # Errors
 /// An unwritable file.
 pub fn plot_stack_work_precision(path: &Path, study: &StackWorkPrecision) -> Result<()> {
     let title = format!(
-        "Work-precision, {} (error at t = {} against Δt = {:.2e})",
+        "Work-precision, {} (error at t = {} against Δt = {:.2e}; {FITTED_MARKERS})",
         study.system.name(),
         study.system.t_end(),
         study.reference_dt
     );
     let mut plot = LinePlot::new(&title, "wall time [s]", "error [length unit, rad]");
     plot.log = (true, true);
-    for (scheme, label) in [(Scheme::Nsga, "NSGA"), (Scheme::Moreau, "Moreau-Jean")] {
-        let pts: Vec<(f64, f64)> = study
-            .rows
-            .iter()
-            .filter(|r| r.scheme == scheme)
-            .filter_map(|r| r.error.map(|e| (r.wall_time_s.max(1e-9), e.max(1e-16))))
-            .collect();
-        plot = plot.with(Series::line_and_markers(label, pts));
+    let runs: Vec<SchemeRun> = study
+        .rows
+        .iter()
+        .map(|r| (r.scheme, r.wall_time_s, r.error, r.fitted))
+        .collect();
+    for series in both_schemes_series(&runs, [&study.orders.nsga, &study.orders.moreau]) {
+        plot = plot.with(series);
     }
     plot.save(path, (1000, 700))
 }

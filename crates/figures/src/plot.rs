@@ -126,6 +126,8 @@ pub struct Style {
     pub marker: Marker,
     /// Line width, pixels.
     pub width: u32,
+    /// Markers drawn open (outlined, white inside) rather than filled.
+    pub hollow: bool,
 }
 
 impl Style {
@@ -146,6 +148,7 @@ impl Style {
             dash: DASHES[(i / PALETTE.len()) % DASHES.len()],
             marker: MARKERS[i % MARKERS.len()],
             width: 2,
+            hollow: false,
         }
     }
 
@@ -157,6 +160,7 @@ impl Style {
             dash: Dash::Solid,
             marker: Marker::Circle,
             width: 2,
+            hollow: false,
         }
     }
 
@@ -176,6 +180,15 @@ impl Style {
     #[must_use]
     pub fn width(self, width: u32) -> Self {
         Self { width, ..self }
+    }
+
+    /// This style with open markers.
+    #[must_use]
+    pub fn hollow(self) -> Self {
+        Self {
+            hollow: true,
+            ..self
+        }
     }
 }
 
@@ -569,7 +582,7 @@ impl LinePlot {
                     // Few points: larger markers, each one a computed value to be seen.
                     let r = if s.points.len() < DENSE_POINTS { 5 } else { 4 };
                     for &p in &px {
-                        draw_marker(&plot_area, p, st.marker, st.color, r)?;
+                        draw_marker(&plot_area, p, st, r)?;
                     }
                 }
             }
@@ -997,16 +1010,25 @@ fn draw_polyline(area: &Canvas<'_>, px: &[(i32, i32)], st: &Style) -> Result<()>
     Ok(())
 }
 
-/// Draws a filled marker of half-size `r` centred at `at` (pixels).
-fn draw_marker(
+/// Draws a marker of `style` of half-size `r` centred at `at` (pixels): filled, or
+/// open (white inside a two-pixel outline).
+fn draw_marker(area: &Canvas<'_>, at: (i32, i32), style: &Style, r: i32) -> Result<()> {
+    if style.hollow {
+        draw_marker_shape(area, at, style.marker, style.color.filled(), r)?;
+        return draw_marker_shape(area, at, style.marker, WHITE.filled(), r - 2);
+    }
+    draw_marker_shape(area, at, style.marker, style.color.filled(), r)
+}
+
+/// Draws the shape `marker` of half-size `r` centred at `at` (pixels) in `fill`.
+fn draw_marker_shape(
     area: &Canvas<'_>,
     at: (i32, i32),
     marker: Marker,
-    color: RGBColor,
+    fill: ShapeStyle,
     r: i32,
 ) -> Result<()> {
     let (x, y) = at;
-    let fill = color.filled();
     match marker {
         Marker::Circle => area.draw(&Circle::new(at, r, fill)),
         Marker::Square => area.draw(&Rectangle::new([(x - r, y - r), (x + r, y + r)], fill)),
@@ -1150,13 +1172,7 @@ pub fn draw_legend(area: &Canvas<'_>, at: (i32, i32), entries: &[LegendEntry]) -
             draw_polyline(area, &[(x + 8, yc), (x + 8 + sample, yc)], &e.style)?;
         }
         if e.markers {
-            draw_marker(
-                area,
-                (x + 8 + sample / 2, yc),
-                e.style.marker,
-                e.style.color,
-                4,
-            )?;
+            draw_marker(area, (x + 8 + sample / 2, yc), &e.style, 4)?;
         }
         area.draw_text(&e.label, &text, (x + 16 + sample, yc))
             .map_err(err)?;

@@ -85,24 +85,7 @@ fn blocks_work_precision<'py>(
                     "system must be 'block', 'column' or 'lire', got {system:?}"
                 ))
             })?;
-        if dts.is_empty() {
-            return Err(value_error("dts must hold at least one time step"));
-        }
-        for &dt in &dts {
-            input::positive("dts", dt).map_err(value_error)?;
-        }
-        input::finite("reference_factor", reference_factor).map_err(value_error)?;
-        if reference_factor < 1.0 {
-            return Err(value_error(format!(
-                "reference_factor must be at least 1, got {}",
-                input::Short(reference_factor)
-            )));
-        }
-        if !(1..=1000).contains(&repeat) {
-            return Err(value_error(format!(
-                "repeat must be in 1..=1000, got {repeat}"
-            )));
-        }
+        check_study_input(&dts, reference_factor, repeat)?;
         let smallest = dts.iter().copied().fold(f64::INFINITY, f64::min);
         let reference = bench
             .scene(smallest / reference_factor)
@@ -174,6 +157,35 @@ fn blocks_converge<'py>(
         })?;
         json_to_py(py, &report)
     })
+}
+
+/// Refuses the inputs of a work-precision study that no run can take, naming the
+/// parameter: no `dts` or one that is not positive and finite, a `reference_factor`
+/// under 1, a `repeat` outside 1..=1000 (`blocks.work_precision`,
+/// `cylinders.work_precision`).
+///
+/// # Errors
+/// The first bad input.
+pub(crate) fn check_study_input(dts: &[f64], reference_factor: f64, repeat: usize) -> PyResult<()> {
+    if dts.is_empty() {
+        return Err(value_error("dts must hold at least one time step"));
+    }
+    for &dt in dts {
+        input::positive("dts", dt).map_err(value_error)?;
+    }
+    input::finite("reference_factor", reference_factor).map_err(value_error)?;
+    if reference_factor < 1.0 {
+        return Err(value_error(format!(
+            "reference_factor must be at least 1, got {}",
+            input::Short(reference_factor)
+        )));
+    }
+    if !(1..=1000).contains(&repeat) {
+        return Err(value_error(format!(
+            "repeat must be in 1..=1000, got {repeat}"
+        )));
+    }
+    Ok(())
 }
 
 pub(crate) fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {

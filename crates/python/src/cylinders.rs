@@ -558,8 +558,43 @@ fn cylinders_pair<'py>(
     })
 }
 
+/// Speed against error for the pair spun up (`studies::work_precision::pair_work_precision`),
+/// with the GIL released and Ctrl-C checked; the CLI's `cylinder work-precision --json`.
+/// The study is checked against the ten-minute time guard first, unless `force`.
+#[pyfunction]
+#[pyo3(signature = (theta = std::f64::consts::PI / 6.0, dts = vec![8e-3, 4e-3, 2e-3, 1e-3], reference_factor = 4.0, repeat = 3, force = false))]
+fn cylinders_work_precision<'py>(
+    py: Python<'py>,
+    theta: f64,
+    dts: Vec<f64>,
+    reference_factor: f64,
+    repeat: usize,
+    force: bool,
+) -> PyResult<Bound<'py, PyAny>> {
+    use cylinders::studies::work_precision::{
+        pair_work_precision_until, study_cost_settings, study_settings, MAX_DT,
+    };
+    use std::sync::atomic::AtomicBool;
+    guard(|| {
+        crate::block_studies::check_study_input(&dts, reference_factor, repeat)?;
+        for &dt in &dts {
+            input::in_range("dts", dt, 0.0..=MAX_DT, "(0, 0.1] s").map_err(value_error)?;
+        }
+        check_pair_theta(theta, &study_settings(theta, dts[0]).cylinder)?;
+        let cost = study_cost_settings(theta, &dts, reference_factor, repeat);
+        check_pair_time(&cost, 1, force)?;
+        let cancel = AtomicBool::new(false);
+        let study = crate::interruptible(py, &cancel, || {
+            pair_work_precision_until(theta, &dts, reference_factor, repeat, &cancel)
+                .map_err(|e| crate::solver_error(e.to_string()))
+        })?;
+        json_to_py(py, &study)
+    })
+}
+
 pub(crate) fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(cylinders_pair, m)?)?;
+    m.add_function(wrap_pyfunction!(cylinders_work_precision, m)?)?;
     m.add_function(wrap_pyfunction!(cylinders_support, m)?)?;
     m.add_function(wrap_pyfunction!(cylinders_statics, m)?)?;
     m.add_function(wrap_pyfunction!(cylinders_frobenius, m)?)?;

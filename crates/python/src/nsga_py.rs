@@ -97,8 +97,8 @@ fn nsga_ball<'py>(
 }
 
 /// Error against CPU time (`studies::work_precision::work_precision`) for one benchmark
-/// system, NSGA for each ρ∞ beside Moreau–Jean, with the GIL released; rows as the
-/// CLI's `nsga work-precision --json`.
+/// system, NSGA for each ρ∞ beside Moreau–Jean, with the GIL released: rows, orders and
+/// reference as the CLI's `nsga work-precision --json`.
 #[pyfunction]
 #[pyo3(signature = (system, dts = vec![0.008, 0.004, 0.002, 0.001, 0.0005, 0.00025], rho_inf = vec![0.0, 0.5, 0.8, 1.0], repeat = 3))]
 fn nsga_work_precision<'py>(
@@ -133,7 +133,7 @@ fn nsga_work_precision<'py>(
         // On a worker thread, so that Ctrl-C is seen while it runs: the study stops
         // between two of its runs (each a fraction of a second).
         let cancel = AtomicBool::new(false);
-        let rows = crate::interruptible(py, &cancel, || {
+        let study = crate::interruptible(py, &cancel, || {
             Ok(work_precision_until(
                 system, &dts, &rho_inf, repeat, &cancel,
             ))
@@ -142,7 +142,7 @@ fn nsga_work_precision<'py>(
             nsga::StepError::InvalidInput(m) => PyValueError::new_err(m),
             e => crate::solver_error(e.to_string()),
         })?;
-        json_to_py(py, &rows)
+        json_to_py(py, &study)
     })
 }
 

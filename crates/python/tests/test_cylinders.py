@@ -125,3 +125,29 @@ def test_no_silent_nan():
     with pytest.raises(ValueError, match="system='single'"):
         cylinders.frobenius(contact_at=0.3)
     assert cylinders.frobenius(system="pair7", contact_at=0.3)["rank"] == 7
+
+
+def test_work_precision_equals_cli(cli):
+    ours = cylinders.work_precision(math.pi / 6, dts=[2e-2, 1e-2], repeat=1)
+    theirs = cli("cylinder", "work-precision", "--theta", "30deg", "--dts", "0.02,0.01",
+                 "--repeat", "1")
+    assert strip_timings(ours) == strip_timings(theirs)
+    assert [r["scheme"] for r in ours["rows"]] == ["nsga", "nsga", "moreau", "moreau"]
+    assert ours["orders"]["nsga"]["status"] in ("fitted", "not_in_asymptotic_range")
+
+
+@pytest.mark.parametrize(
+    "kwargs, name",
+    [
+        (dict(dts=[]), "dts"),
+        (dict(dts=[-1e-3]), "dts"),
+        (dict(dts=[2.0]), "dts"),
+        (dict(dts=["x"]), "dts"),
+        (dict(reference_factor=0.5), "reference_factor"),
+        (dict(repeat=0), "repeat"),
+        (dict(theta=0.05), "theta"),
+    ],
+)
+def test_work_precision_bad_input(kwargs, name):
+    with pytest.raises(ValueError, match=name):
+        cylinders.work_precision(**kwargs)

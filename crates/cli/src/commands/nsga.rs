@@ -11,6 +11,7 @@ use figures::nsga::{plot_ball, plot_work_precision};
 use nsga::studies::ball::{ball_report, BallRun, BallSample, Scheme, MAX_BALL_STEPS};
 use nsga::studies::work_precision::{
     work_precision, work_precision_point, WorkPrecisionRow, WorkPrecisionSystem,
+    EVENTS_REFERENCE_FACTOR,
 };
 use nsga::systems::ball::BallCase;
 use nsga::Prox;
@@ -242,7 +243,7 @@ fn work_precision_command(a: &WorkPrecisionArgs) -> Result<()> {
         check_time_bound(system, &dts, rhos.len() + 1, repeat)?;
     }
     let busy = crate::progress::busy("nsga work-precision: solving", !a.json);
-    let rows = work_precision(system, &dts, &rhos, repeat)?;
+    let study = work_precision(system, &dts, &rhos, repeat)?;
     let csv = a.out.as_ref().map(|dir| dir.join("work_precision.csv"));
     if let Some(dir) = &a.out {
         busy.set_message("nsga work-precision: writing the files");
@@ -250,27 +251,38 @@ fn work_precision_command(a: &WorkPrecisionArgs) -> Result<()> {
         write_csv(
             &dir.join("work_precision.csv"),
             &WorkPrecisionRow::CSV_HEADER,
-            rows.iter().map(WorkPrecisionRow::csv_cells),
+            study.rows.iter().map(WorkPrecisionRow::csv_cells),
         )?;
         plot_work_precision(
             &dir.join("work_precision.png"),
             &format!("Work-precision: {}", system.name()),
-            &rows,
+            &study,
         )?;
         write_run_json(
             dir,
             "nsga work-precision",
             &serde_json::json!({"system": system.name(), "dts": dts, "rho_inf": rhos, "repeat": repeat}),
-            &serde_json::json!({"total_wall_time_s": rows.iter().map(|r| r.wall_time_s).sum::<f64>()}),
+            &serde_json::json!({"total_wall_time_s": study.rows.iter().map(|r| r.wall_time_s).sum::<f64>()}),
         )?;
     }
     busy.finish_and_clear();
     if a.json {
-        print_json(&serde_json::json!({"rows": rows, "csv": csv}))?;
+        print_json(
+            &serde_json::json!({"rows": study.rows, "orders": study.orders,
+            "reference_dt": study.reference_dt, "reference_events": study.reference_events,
+            "csv": csv}),
+        )?;
     } else {
-        for r in &rows {
+        for r in &study.rows {
             println!("{r}");
         }
+        for o in &study.orders {
+            println!("{o}");
+        }
+        println!(
+            "(orders fitted where the runs follow the {} contact events of a run with Δt = {:.2e} s)",
+            study.reference_events, study.reference_dt
+        );
         if let Some(csv) = &csv {
             println!("wrote {}", csv.display());
         }
@@ -284,7 +296,9 @@ const SMALLEST_TIMED_DT: f64 = 1e-3;
 /// Refuses a work-precision study estimated to take more than [`TIME_BOUND_S`]: one run
 /// at the largest Δt (or at [`SMALLEST_TIMED_DT`], whichever is larger, so that the
 /// timed run is short) is timed, and a run at Δt costs its time × Δt_timed/Δt (steps go
-/// as 1/Δt), for each of `schemes` (the ρ∞ values and Moreau–Jean) `repeat` times.
+/// as 1/Δt), for each of `schemes` (the ρ∞ values and Moreau–Jean) `repeat` times, plus
+/// the reference run of the contact events at the smallest Δt over
+/// [`EVENTS_REFERENCE_FACTOR`].
 ///
 /// # Errors
 /// When the estimate is over the bound, or the timed run fails.
@@ -301,7 +315,9 @@ fn check_time_bound(
     let (_, seconds) = work_precision_point(system, Scheme::Nsga, 0.5, timed)?;
     #[allow(clippy::cast_precision_loss)]
     let runs = (schemes * repeat) as f64;
-    let total = runs * dts.iter().map(|dt| seconds * timed / dt).sum::<f64>();
+    let smallest = dts.iter().copied().fold(largest, f64::min);
+    let reference = seconds * timed * EVENTS_REFERENCE_FACTOR / smallest;
+    let total = reference + runs * dts.iter().map(|dt| seconds * timed / dt).sum::<f64>();
     anyhow::ensure!(
         total <= TIME_BOUND_S,
         "{} run(s) would take about {total:.1e} s (one at Δt = {timed} s took {seconds:.1e} \

@@ -12,7 +12,9 @@
 //! - [`frobenius`]: the Frobenius test of the single cylinder (App. D) and of the pair
 //!   (§3.5, App. F; rank 9, ERRATA 13);
 //! - [`pair`]: the transport of two touching cylinders (§3.6) and its sweeps, with
-//!   [`pair_cost`], what their runs will cost before they start.
+//!   [`pair_cost`], what their runs will cost before they start;
+//! - [`work_precision`]: speed against error for the pair spun up, NSGA beside
+//!   Moreau–Jean, with honest observed orders.
 //!
 //! Forces are divided by mg, angles are in radians, lengths in any one unit. Each report
 //! also carries its readable text (`Display`, the lines `rollstack cylinder ...` prints
@@ -25,3 +27,4 @@ pub mod pair;
 pub mod pair_cost;
 pub mod statics;
 pub mod support;
+pub mod work_precision;

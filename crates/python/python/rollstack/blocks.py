@@ -678,8 +678,11 @@ def work_precision(
     ``system`` is ``"block"`` (one block sliding and rocking on a shaken base, to t = 2),
     ``"column"`` (three blocks, to t = 0.8) or ``"lire"`` (the Lire collapse before its
     first fork, to t = 5). Returns the dict of ``rollstack blocks work-precision --json``:
-    ``rows`` (scheme, dt, error, penetration, wall_time_s, error_message), ``orders``
-    (observed orders of each scheme), ``reference_dt``.
+    ``rows`` (scheme, dt, error, penetration, wall_time_s, contact_events,
+    follows_reference, fitted, error_message), ``orders`` (per scheme: ``status``
+    ``"fitted"`` or ``"not_in_asymptotic_range"``, ``order``, ``dts``: an order is fitted
+    only over the smallest Δt whose runs follow the reference's contact events),
+    ``reference_dt``, ``reference_events``.
 
     Runs with the GIL released; Ctrl-C stops it before the next step and raises
     ``KeyboardInterrupt``. Raises ``ValueError`` naming the parameter for an unknown

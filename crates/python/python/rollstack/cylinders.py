@@ -3,7 +3,8 @@
 The support statics of §3.3 at one inclination (:func:`support`) and as the curves of
 Figures 3.3-3.8 (:func:`statics`), the holonomy of §3.4, the Frobenius test, and the
 two-cylinder transport of §3.5-3.6 (:func:`pair`), swept over the inclination
-(:func:`sweep_pair`, Figure 3.14) and over a push at the tops (:func:`sweep_push`).
+(:func:`sweep_pair`, Figure 3.14) and over a push at the tops (:func:`sweep_push`), and
+its speed against error (:func:`work_precision`).
 """
 
 from __future__ import annotations
@@ -24,6 +25,7 @@ __all__ = [
     "pair",
     "sweep_pair",
     "sweep_push",
+    "work_precision",
 ]
 
 
@@ -272,5 +274,35 @@ def sweep_push(
         number("mu_floor", mu_floor),
         number("dt", dt),
         count("steps", steps),
+        bool(force),
+    )
+
+
+def work_precision(
+    theta: float = math.pi / 6,
+    dts: Sequence[float] = (8e-3, 4e-3, 2e-3, 1e-3),
+    reference_factor: float = 4.0,
+    repeat: int = 3,
+    force: bool = False,
+) -> Dict[str, Any]:
+    """Speed against error for the transport of :func:`pair` spun up over 0.5 s at
+    inclination ``theta`` (rad), to t = 1.2 s: each Δt of ``dts`` (s) run by the
+    nonsmooth generalized-α method and by Moreau-Jean, measured against a
+    generalized-α run with Δt = min(dts)/``reference_factor`` (``error``), against the
+    statics (3.3.10) (``static_error``), by the drift of the constraints that hold the
+    pair (``drift``) and the rims' floor slip at the end (``final_floor_slip``), against
+    solver time (the fastest of ``repeat`` runs). Returns the dict of ``rollstack
+    cylinder work-precision --json``: ``rows``, ``orders`` (per scheme: ``status``
+    ``"fitted"`` or ``"not_in_asymptotic_range"``, ``order``, ``dts``; an order is
+    fitted only over the smallest Δt whose runs follow the reference's contact events),
+    ``reference_dt``, ``reference_events``, ``n_over_mg_static``, ... Bad input raises
+    ``ValueError`` naming the parameter; a study estimated to take longer than ten
+    minutes is refused unless ``force=True``. Runs with the GIL released; Ctrl-C stops
+    it and raises ``KeyboardInterrupt``."""
+    return _rollstack.cylinders_work_precision(
+        number("theta", theta),
+        number_list("dts", dts),
+        number("reference_factor", reference_factor),
+        count("repeat", repeat),
         bool(force),
     )

@@ -3,7 +3,7 @@ App. H), on the benchmark systems of the ``nsga`` crate whose answers are known.
 
 from __future__ import annotations
 
-from typing import Any, Dict, List, Optional, Sequence
+from typing import Any, Dict, Optional, Sequence
 
 from . import _rollstack
 from ._args import count, in_range, number, number_list, optional_number, positive
@@ -44,10 +44,13 @@ def work_precision(
     dts: Sequence[float] = (0.008, 0.004, 0.002, 0.001, 0.0005, 0.00025),
     rho_inf: Sequence[float] = (0.0, 0.5, 0.8, 1.0),
     repeat: int = 3,
-) -> List[Dict[str, Any]]:
+) -> Dict[str, Any]:
     """Error against CPU time for ``"ball"``, ``"oscillator"`` or ``"incline"``, NSGA
-    for each ρ∞ beside Moreau-Jean, each time the best of ``repeat`` runs: the rows of
-    ``rollstack nsga work-precision --json``. Runs with the GIL released; raises
+    for each ρ∞ beside Moreau-Jean, each time the best of ``repeat`` runs: the
+    ``rows``, ``orders``, ``reference_dt`` and ``reference_events`` of
+    ``rollstack nsga work-precision --json``. Each order is fitted only over the smallest
+    Δt whose runs follow the contact events of a reference run (``{"status": "fitted",
+    "order": ..., "dts": [...]}``), or is ``{"status": "not_in_asymptotic_range"}``. Runs with the GIL released; raises
     ``KeyboardInterrupt`` on Ctrl-C (checked every 20 ms, the study stopping between two
     of its runs)."""
     # Checked here so that the errors name the parameters, not the library's dt and ρ∞.

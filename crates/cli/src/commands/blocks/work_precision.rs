@@ -105,12 +105,12 @@ pub fn run(a: &WorkPrecisionArgs) -> Result<()> {
     for r in &study.rows {
         println!("{r}");
     }
-    let order = |p: Option<f64>| p.map_or_else(|| "-".to_owned(), |p| format!("{p:.2}"));
+    println!("observed order, NSGA: {}", study.orders.nsga);
+    println!("observed order, Moreau-Jean: {}", study.orders.moreau);
     println!(
-        "observed order: NSGA {}, Moreau-Jean {} (reference Δt = {:.2e})",
-        order(study.orders.nsga),
-        order(study.orders.moreau),
-        study.reference_dt
+        "(reference Δt = {:.2e}, {} contact events; orders fitted over the smallest Δt whose \
+         runs follow them)",
+        study.reference_dt, study.reference_events
     );
     Ok(())
 }

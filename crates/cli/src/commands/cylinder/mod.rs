@@ -1,6 +1,6 @@
-//! `rollstack cylinder support|statics|holonomy|frobenius|pair`: the inclined rolling
-//! cylinder of Ch. 3 (App. D, E, F), corrected per ERRATA 8–15, and the transport of a
-//! touching pair (§3.6).
+//! `rollstack cylinder support|statics|holonomy|frobenius|pair|work-precision`: the
+//! inclined rolling cylinder of Ch. 3 (App. D, E, F), corrected per ERRATA 8–15, and the
+//! transport of a touching pair (§3.6) with its speed against error.
 //!
 //! Forces are divided by mg, angles are radians (`30deg`, `pi/10` accepted), lengths are
 //! in any one unit (the cylinder's radius r for the holonomy examples). Every number
@@ -14,12 +14,14 @@ mod pair;
 mod statics;
 mod support;
 pub mod sweep;
+mod work_precision;
 
 pub use frobenius::{ConfigArg, FrobeniusArgs, SystemArg};
 pub use holonomy::{CaseArg, CircleArgs, HolonomyArgs, HolonomyPath, RectangleArgs};
 pub use pair::PairArgs;
 pub use statics::StaticsArgs;
 pub use support::SupportArgs;
+pub use work_precision::WorkPrecisionArgs;
 
 use anyhow::Result;
 use clap::{Args, Subcommand};
@@ -49,6 +51,9 @@ pub enum CylinderCommand {
     /// Sweeps of the pair's transport (Figure 3.14), in parallel and shardable.
     #[command(subcommand)]
     Sweep(sweep::CylinderSweepCommand),
+    /// Speed against error for the pair spun up, NSGA beside Moreau–Jean: error against
+    /// a fine reference and the statics (3.3.10), constraint drift, against solver time.
+    WorkPrecision(WorkPrecisionArgs),
 }
 
 /// Runs `rollstack cylinder ...`.
@@ -66,6 +71,7 @@ pub fn run(args: &CylinderArgs) -> Result<()> {
         CylinderCommand::Frobenius(a) => frobenius::run(a),
         CylinderCommand::Pair(a) => pair::run(a),
         CylinderCommand::Sweep(c) => sweep::run(c),
+        CylinderCommand::WorkPrecision(a) => work_precision::run(a),
     }
 }
 
