@@ -17,7 +17,9 @@ use std::path::PathBuf;
 /// Arguments of `rollstack cylinder work-precision`.
 #[derive(Debug, Args)]
 pub struct WorkPrecisionArgs {
-    /// Inclination ϑ of both cylinders, in (arctan(2r/h), π/2), rad (`30deg` accepted).
+    /// Inclination ϑ of both cylinders, in (arctan(2r/h), π/2), rad (`30deg` accepted);
+    /// by default that of the tour's `cylinder pair --theta 30deg`, so that the study
+    /// measures the run the tour shows.
     #[arg(long, default_value = "30deg", allow_hyphen_values = true)]
     pub theta: RotationAngle,
     /// Time steps Δt in s (comma-separated, each in (0, 0.1]).
