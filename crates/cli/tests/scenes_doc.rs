@@ -31,7 +31,18 @@ fn row(heading: &str, key: &str) -> Vec<&'static str> {
 #[test]
 fn the_worked_example_prints_what_the_page_shows() {
     let six = toml_after("## A worked example");
-    let failures = common::transcript_failures(DOC, "scenes-doc", 1, &[("six.toml", six)]);
+    // The malformed record of the baseline section: a scene that reads it, and the file.
+    let column = "[base]\nwidth = 1.0\nheight = 0.1\n[base.x]\nmotion = \"record\"\n\
+                  record = \"quake.AT2\"\n[[blocks]]\nwidth = 0.2\nheight = 0.4\n\
+                  [contact]\nmu = 0.5\n";
+    let quake = "PEER NGA STRONG MOTION DATABASE RECORD\nA made-up record\n\
+                 ACCELERATION TIME SERIES IN UNITS OF G\nDT= .005\n 0.0 0.001 0.002\n";
+    let files = [
+        ("six.toml", six),
+        ("column.toml", column),
+        ("quake.AT2", quake),
+    ];
+    let failures = common::transcript_failures(DOC, "scenes-doc", 1, &files);
     assert!(failures.is_empty(), "{}", failures.join("\n\n"));
 }
 
