@@ -223,12 +223,7 @@ pub fn check_fork(
 ) -> ForkEvidence {
     let before = history.last().expect("the forking step's start is kept");
     let end = before.k + history.window;
-    let start = history
-        .states
-        .iter()
-        .rev()
-        .find(|s| !walker.overlaps(s))
-        .filter(|s| s.k <= before.k);
+    let start = history.states.iter().rev().find(|s| !walker.overlaps(s));
     let window = |parts: u32, rule: BranchRule, prox: Option<Prox>| {
         start.and_then(|s| window_continuations(walker, s, end, parts, rule, prox))
     };

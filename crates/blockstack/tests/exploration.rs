@@ -329,7 +329,6 @@ fn two_self_consistent_candidates_at_omega_12_are_not_an_artefact_without_eviden
     let settings = WalkSettings {
         sample_every: 100,
         classify: true,
-        classify_window: Some(3),
         ..WalkSettings::default()
     };
     let run = RunOptions {
@@ -352,7 +351,7 @@ fn two_self_consistent_candidates_at_omega_12_are_not_an_artefact_without_eviden
         assert!(c.broken.is_empty(), "{c:?}");
     }
     let e = f.evidence.as_ref().expect("checked");
-    assert_eq!((e.window, e.stepped_back, e.breaking), (3, Some(0), 0));
+    assert_eq!((e.window, e.stepped_back, e.breaking), (5, Some(0), 0));
     // ... so, though one continuation is found at Δt/2 and Δt/4 (as the one-step check
     // found, which called the fork an artefact), the fork is not labelled an artefact.
     assert_eq!(e.refined, [Some(1), Some(1)], "{e:?}");
