@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # The real-versus-artefact counts of docs/method.md §8.4: Figure 4.5's setting
 # (`abundance`) and the Lire collapse (`lire-collapse`), each rule and prox choice, at the
-# scene's Δt, Δt/2 and Δt/4, explored to at most 200 branches and 40 s of wall time
+# scene's Δt, Δt/2 and Δt/4, explored to at most 200 branches and 120 s of wall time
 # (the thesis's rule puts bodies into each other, and every later step of such a branch
 # is split to keep them apart, which is slow), with every fork checked. Prints one
 # Markdown row per run ("cap": a cap ended the exploration; "deepest overlap": the deepest
@@ -39,7 +39,7 @@ for scene in abundance lire-collapse; do
         extra=()
         [ "$prox" = scaled ] || extra=(--prox-constant "$prox")
         rollstack blocks explore "$file" --branch-rule "$rule" "${extra[@]}" --classify \
-          --max-branches 200 --max-wall 40 --trajectories false --json |
+          --max-branches 200 --max-wall 120 --trajectories false --json |
           python3 -c "
 import json, sys
 d = json.load(sys.stdin)

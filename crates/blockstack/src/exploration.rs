@@ -10,11 +10,14 @@
 //! held in memory; what each branch keeps is its [`BranchSummary`]: final poses, events,
 //! and the top block's (t, y, θ) sampled for the figure.
 
+use crate::contact_laws::{self, breaks_text, violation_text, ContactCheck, Tolerances};
 use crate::contact_states::{differing_interfaces, interface_states, InterfaceState};
 use crate::coordinates::Pose;
 use crate::events::{EventKind, FailureEvent};
-use crate::fork_check::{check_fork, ForkEvidence, ForkLabel};
-use crate::record::{number_text, optional_text, trajectory_header, write_trajectory_row};
+use crate::fork_check::{check_fork, ForkEvidence, ForkLabel, History, DEFAULT_WINDOW};
+use crate::record::{
+    finite_text, number_text, optional_text, trajectory_header, write_trajectory_row,
+};
 use crate::scene::Scene;
 use crate::simulation::{
     check_failure, final_poses, step_count, stepper_options, BlockPose, Recorder, RunOptions,
@@ -57,20 +60,25 @@ pub struct BranchSummary {
     pub top: Vec<TopSample>,
     /// Why the trajectory file stopped, if it did.
     pub trajectory_error: Option<String>,
-    /// The forks this branch met that were checked ([`WalkSettings::classify`]).
+    /// The forks this branch met, their candidates checked against the contact laws
+    /// (and against refinement with [`WalkSettings::classify`]).
     pub fork_checks: Vec<CheckedFork>,
     /// The branch's last state, kept only for [`StackWalker::restarted`] walkers.
     #[serde(skip)]
     pub end_state: Option<State>,
 }
 
-/// A fork's evidence with the step number at its start.
+/// A fork's candidates checked against the contact laws, and its evidence, with the
+/// step number at its start.
 #[derive(Debug, Clone, serde::Serialize)]
 pub struct CheckedFork {
     /// Step number k at the start of the forking step.
     pub k: u64,
-    /// The evidence and label ([`crate::fork_check`]).
-    pub evidence: ForkEvidence,
+    /// Each candidate's own step against the contact laws ([`crate::contact_laws`]).
+    pub candidates: Vec<ContactCheck>,
+    /// The evidence and label ([`crate::fork_check`]), with
+    /// [`WalkSettings::classify`].
+    pub evidence: Option<ForkEvidence>,
 }
 
 /// How a branch is walked beyond stepping.
@@ -82,6 +90,8 @@ pub struct WalkSettings<'a> {
     pub trajectories: Option<&'a Path>,
     /// Check every fork against refinement ([`crate::fork_check`]).
     pub classify: bool,
+    /// Coarse steps of the refinement's window (None: [`DEFAULT_WINDOW`]).
+    pub classify_window: Option<u64>,
     /// Counts the branches that ended (a progress display reads it from another thread).
     pub finished: Option<&'a AtomicUsize>,
     /// End each branch at the first loss of support (§4.4), as a sweep of failure times.
@@ -117,6 +127,8 @@ pub struct StackWalker<'a> {
     csv: Option<BufWriter<File>>,
     trajectory_error: Option<String>,
     classify: bool,
+    /// The states at the start of the last steps, for the refinement's window.
+    history: History,
     keep_end_state: bool,
     checks: Vec<CheckedFork>,
     finished: Option<&'a AtomicUsize>,
@@ -186,6 +198,7 @@ impl<'a> StackWalker<'a> {
             csv: None,
             trajectory_error: None,
             classify: settings.classify,
+            history: History::new(settings.classify_window.unwrap_or(DEFAULT_WINDOW)),
             keep_end_state: false,
             checks: Vec::new(),
             finished: settings.finished,
@@ -197,6 +210,25 @@ impl<'a> StackWalker<'a> {
     #[must_use]
     pub fn options(&self) -> &nsga::Options {
         self.stepper.options()
+    }
+
+    /// The scene walked.
+    #[must_use]
+    pub fn scene(&self) -> &Scene {
+        self.scene
+    }
+
+    /// Deeper interpenetration than this is warned about ([`RunSummary::penetration_tol`]).
+    #[must_use]
+    pub fn penetration_tol(&self) -> f64 {
+        self.summary.penetration_tol
+    }
+
+    /// The contact laws at `st`, a state at the end of a step of this walker's stepper.
+    fn contact_check(&self, st: &State) -> ContactCheck {
+        let tol = Tolerances::new(self.scene, self.options().dt);
+        let (system, layout) = (self.stepper.system(), self.stepper.layout());
+        contact_laws::check(system, layout, st, self.scene.n_blocks(), &tol)
     }
 
     /// A walker that takes this branch again from `before` (a state of it, at the start
@@ -248,6 +280,7 @@ impl<'a> StackWalker<'a> {
             csv: None,
             trajectory_error: None,
             classify: self.classify,
+            history: self.history.clone(),
             keep_end_state: self.keep_end_state,
             checks: Vec::new(),
             finished: self.finished,
@@ -300,8 +333,13 @@ impl<'a> StackWalker<'a> {
     }
 
     fn write_row(&mut self, rec: &crate::simulation::StepRecord) {
+        if self.csv.is_none() {
+            return;
+        }
+        let st = self.stepper.state();
+        let laws = law_cells(&self.contact_check(st), st, self.scene.n_blocks());
         if let Some(csv) = self.csv.as_mut() {
-            if let Err(e) = write_trajectory_row(csv, rec) {
+            if let Err(e) = write_branch_row(csv, rec, &laws) {
                 self.trajectory_error = Some(e.to_string());
                 self.csv = None;
             }
@@ -321,7 +359,7 @@ impl Walker for StackWalker<'_> {
         let path = trajectory_path(dir, id);
         let opened = File::create(&path).and_then(|f| {
             let mut w = BufWriter::new(f);
-            writeln!(w, "{}", trajectory_header(self.scene.n_blocks()).join(","))?;
+            writeln!(w, "{}", branch_header(self.scene.n_blocks()).join(","))?;
             Ok(w)
         });
         match opened {
@@ -331,7 +369,9 @@ impl Walker for StackWalker<'_> {
     }
 
     fn step(&mut self) -> Result<Option<BranchPoint>, StepError> {
-        let before = self.classify.then(|| self.stepper.state().clone());
+        if self.classify {
+            self.history.push(self.stepper.state());
+        }
         let clock = Instant::now();
         let stepped =
             self.corners
@@ -346,10 +386,18 @@ impl Walker for StackWalker<'_> {
         self.total_iterations += stats.iterations;
         self.summary.count_step(stats, self.record_branches);
         let point = forkable(stats);
-        if let (Some(p), Some(before)) = (&point, before) {
-            let evidence = check_fork(self, &before, p);
+        if let Some(p) = &point {
+            let candidates: Vec<ContactCheck> = p
+                .candidates
+                .iter()
+                .map(|(_, st)| self.contact_check(st))
+                .collect();
+            let evidence = self
+                .classify
+                .then(|| check_fork(self, &self.history, p, &candidates));
             self.checks.push(CheckedFork {
-                k: before.k,
+                k: self.stepper.state().k - 1,
+                candidates,
                 evidence,
             });
         }
@@ -409,6 +457,70 @@ impl Walker for StackWalker<'_> {
             end_state: self.keep_end_state.then(|| self.stepper.state().clone()),
         }
     }
+}
+
+/// The columns a branch's trajectory adds to a run's ([`trajectory_header`]), per
+/// interface k (bottom to top): the step's normal impulses `pn{k}a`, `pn{k}b` (left and
+/// right corner), friction impulse `pf{k}` and state `state{k}`
+/// ([`contact_laws::interface_state`]); then the worst violation of each contact law at
+/// the step over every contact ([`contact_laws::Violations`]).
+pub const LAW_COLUMNS: [&str; 4] = [
+    "gap_violation",
+    "normal_violation",
+    "cone_violation",
+    "complementarity_violation",
+];
+
+/// The header of `branch_<id>.csv`: [`trajectory_header`], then the impulses and states
+/// of each interface and [`LAW_COLUMNS`].
+#[must_use]
+pub fn branch_header(n: usize) -> Vec<String> {
+    let mut h = trajectory_header(n);
+    for k in 1..=n {
+        h.extend([
+            format!("pn{k}a"),
+            format!("pn{k}b"),
+            format!("pf{k}"),
+            format!("state{k}"),
+        ]);
+    }
+    h.extend(LAW_COLUMNS.iter().map(|c| (*c).to_owned()));
+    h
+}
+
+/// The cells [`branch_header`] adds for the state `st` checked in `check`, `n` blocks.
+fn law_cells(check: &ContactCheck, st: &State, n: usize) -> Vec<String> {
+    let mut cells = Vec::with_capacity(4 * n + LAW_COLUMNS.len());
+    for (k, state) in check.states.iter().enumerate().take(n) {
+        cells.extend([
+            finite_text(st.p_n[2 * k]),
+            finite_text(st.p_n[2 * k + 1]),
+            finite_text(st.p_f[k]),
+            state.clone(),
+        ]);
+    }
+    cells.extend(
+        check
+            .violations
+            .by_law()
+            .iter()
+            .map(|(_, v)| finite_text(*v)),
+    );
+    cells
+}
+
+/// One row of `branch_<id>.csv`: the run's trajectory row, then `laws`.
+fn write_branch_row<W: Write>(
+    out: &mut W,
+    rec: &crate::simulation::StepRecord,
+    laws: &[String],
+) -> Result<(), crate::record::TrajectoryError> {
+    let mut row = Vec::new();
+    write_trajectory_row(&mut row, rec)?;
+    row.pop(); // its newline
+    out.write_all(&row)?;
+    writeln!(out, ",{}", laws.join(","))?;
+    Ok(())
 }
 
 /// The trajectory file of branch `id` in `dir`.
@@ -497,6 +609,8 @@ pub struct ForkRecord {
     pub corner_contacts_differ: bool,
     /// The largest distance between two candidates' (q, u), relative to 1 + ‖q‖ + ‖u‖.
     pub spread: f64,
+    /// Each candidate's own step against the contact laws (in the order of `states`).
+    pub candidates: Vec<ContactCheck>,
     /// The check against refinement, when it was made.
     pub evidence: Option<ForkEvidence>,
 }
@@ -517,6 +631,7 @@ pub fn fork_records(tree: &Exploration<BranchSummary>, n_blocks: usize) -> Vec<F
     tree.forks()
         .map(|(b, f)| {
             let sets = f.candidate_sets();
+            let checked = b.outcome.fork_checks.iter().find(|c| c.k == f.k);
             ForkRecord {
                 branch: b.id,
                 t: f.t,
@@ -535,12 +650,8 @@ pub fn fork_records(tree: &Exploration<BranchSummary>, n_blocks: usize) -> Vec<F
                         || a.d[n_blocks..] != b.d[n_blocks..]
                 }),
                 spread: f.spread,
-                evidence: b
-                    .outcome
-                    .fork_checks
-                    .iter()
-                    .find(|c| c.k == f.k)
-                    .map(|c| c.evidence.clone()),
+                candidates: checked.map(|c| c.candidates.clone()).unwrap_or_default(),
+                evidence: checked.and_then(|c| c.evidence.clone()),
             }
         })
         .collect()
@@ -770,7 +881,7 @@ pub fn branch_cells(b: &nsga::explore::Branch<BranchSummary>) -> Vec<String> {
 }
 
 /// Columns of `forks.csv`.
-pub const FORK_COLUMNS: [&str; 15] = [
+pub const FORK_COLUMNS: [&str; 23] = [
     "branch",
     "t",
     "k",
@@ -786,6 +897,14 @@ pub const FORK_COLUMNS: [&str; 15] = [
     "refined_dt2",
     "refined_dt4",
     "other_prox",
+    "refined_converged_dt2",
+    "refined_converged_dt4",
+    "window",
+    "stepped_back",
+    "candidate_states",
+    "breaks",
+    "violation",
+    "why",
 ];
 
 impl ForkRecord {
@@ -810,7 +929,25 @@ impl ForkRecord {
             count(e.and_then(|e| e.refined[0])),
             count(e.and_then(|e| e.refined[1])),
             count(e.and_then(|e| e.other_prox)),
+            count(e.and_then(|e| e.refined_converged[0])),
+            count(e.and_then(|e| e.refined_converged[1])),
+            e.map_or(String::new(), |e| e.window.to_string()),
+            e.and_then(|e| e.stepped_back)
+                .map_or(String::new(), |b| b.to_string()),
+            self.per_candidate(|c| c.states.join("|")),
+            self.per_candidate(|c| breaks_text(&c.broken)),
+            self.per_candidate(|c| violation_text(&c.broken)),
+            e.map_or(String::new(), |e| e.why.clone()),
         ]
+    }
+
+    /// One cell with a word per candidate, separated by spaces.
+    fn per_candidate(&self, word: impl Fn(&ContactCheck) -> String) -> String {
+        self.candidates
+            .iter()
+            .map(word)
+            .collect::<Vec<_>>()
+            .join(" ")
     }
 }
 

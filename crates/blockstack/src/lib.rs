@@ -52,6 +52,7 @@
 pub mod base;
 pub mod block;
 pub mod broad_phase;
+pub mod contact_laws;
 pub mod contact_states;
 pub mod coordinates;
 pub mod corners;

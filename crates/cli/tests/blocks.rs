@@ -907,5 +907,60 @@ fn explore_writes_the_same_files_with_one_or_two_threads() {
         header,
         "id,parent,candidate,depth,t_start,t_end,steps,end,forks_passed,failure_time,\
          fallback_steps,unshifted_steps,outcome"
+    ); // A branch's trajectory ends with the contact laws (docs/cli.md), a fork row with
+       // each candidate's.
+    let first = &one
+        .iter()
+        .find(|(n, _)| n.starts_with("out/trajectories/"))
+        .unwrap()
+        .1;
+    let header = String::from_utf8_lossy(first)
+        .lines()
+        .next()
+        .unwrap()
+        .to_owned();
+    assert!(
+        header.ends_with(
+            ",pn1a,pn1b,pf1,state1,pn2a,pn2b,pf2,state2,gap_violation,normal_violation,\
+             cone_violation,complementarity_violation"
+        ),
+        "{header}"
     );
+    let forks = String::from_utf8_lossy(&one.iter().find(|(n, _)| n == "out/forks.csv").unwrap().1)
+        .into_owned();
+    let header = forks.lines().next().unwrap();
+    assert!(
+        header.ends_with(
+            ",refined_converged_dt2,refined_converged_dt4,window,stepped_back,\
+             candidate_states,breaks,violation,why"
+        ),
+        "{header}"
+    );
+    // The thesis's rule keeps candidates that break a law, and says which.
+    assert!(
+        forks
+            .lines()
+            .skip(1)
+            .any(|l| l.contains("cone") || l.contains("gap")),
+        "{forks}"
+    );
+}
+
+#[test]
+fn explore_refuses_an_empty_classify_window_naming_the_flag() {
+    let out = rollstack(&[
+        "blocks",
+        "explore",
+        "shaking",
+        "--classify",
+        "--classify-window",
+        "0",
+    ]);
+    assert!(!out.status.success());
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        stderr.contains("--classify-window must be at least 1"),
+        "{stderr}"
+    );
+    assert_eq!(stderr.trim().lines().count(), 1, "{stderr}");
 }

@@ -95,6 +95,7 @@ const COMMANDS: &[Cmd] = &[
             "--max-depth",
             "--max-wall",
             "--prox-constant",
+            "--classify-window",
         ],
         out: true,
     },

@@ -617,12 +617,15 @@ def explore(
     cap the tree; ``branch_rule`` is ``"self_consistent"`` (solutions of the step's
     equations; also spelled ``"self-consistent"``, as on the command line) or ``"converged"`` (the thesis's count); ``probe_flips`` also looks for
     solutions Newton does not reveal (Painlevé's); ``classify`` labels each fork real,
-    artefact or undecided against Δt/2, Δt/4 and the other prox. A root run estimated
+    artefact or undecided, with its reason, from its candidates checked against the
+    contact laws and a window of five steps taken again at Δt/2 and Δt/4 under both
+    rules (docs/exploration.md). A root run estimated
     to take more than ten minutes is refused (ValueError) unless ``force``.
 
     Returns the JSON of ``rollstack blocks explore --json`` (branches, leaves, forks,
     labels, outcomes, ...) with ``branch_rows`` (the rows of branches.csv) and
-    ``fork_rows`` (one dict per fork: contact states of each candidate, evidence). The
+    ``fork_rows`` (one dict per fork: contact states of each candidate, each
+    candidate's contact-law check ``candidates``, and the ``evidence``). The
     tree does not depend on the number of threads."""
     if not isinstance(scene, Scene):
         raise TypeError(f"explore needs a rollstack.blocks.Scene, got {type(scene).__name__}")

@@ -9,6 +9,7 @@ use blockstack::exploration::{
     branch_cells, explore_scene, fork_records, outcome_groups, ExplorationReport, ForkRecord,
     OutcomeGroup, WalkSettings, BRANCH_COLUMNS, FORK_COLUMNS, OUTCOME_COLUMNS,
 };
+use blockstack::fork_check::DEFAULT_WINDOW;
 use blockstack::simulation::{Prox, RunOptions};
 use blockstack::time_guard::wall_limit;
 use clap::{Args, ValueEnum};
@@ -87,10 +88,15 @@ pub struct ExploreArgs {
     /// several solves per contact and step).
     #[arg(long)]
     pub probe_flips: bool,
-    /// Check each fork: the forking step again with Δt/2, Δt/4 and the other prox
-    /// choice; label it real, artefact or undecided (docs/method.md §8).
+    /// Check each fork: its candidates against the contact laws, and a window of steps
+    /// from the fork's start again with Δt/2 and Δt/4 under both branch rules and with
+    /// the other prox choice; label it real, artefact or undecided with a reason
+    /// (docs/exploration.md).
     #[arg(long)]
     pub classify: bool,
+    /// Coarse steps of the window --classify takes again (at least 1).
+    #[arg(long, default_value_t = DEFAULT_WINDOW, allow_hyphen_values = true)]
+    pub classify_window: u64,
     /// Use one constant prox parameter r > 0 (the thesis: 0.3) instead of the scene's.
     #[arg(long, value_parser = parse_finite, allow_hyphen_values = true)]
     pub prox_constant: Option<f64>,
@@ -127,6 +133,10 @@ pub fn run(args: &ExploreArgs) -> Result<()> {
     let loaded = load_scene(&args.scene)?;
     let scene = &loaded.scene;
     anyhow::ensure!(args.max_branches >= 1, "--max-branches must be at least 1");
+    anyhow::ensure!(
+        args.classify_window >= 1,
+        "--classify-window must be at least 1"
+    );
     if let Some(t) = args.t_end {
         input::positive("--t-end", t)?;
     }
@@ -176,6 +186,7 @@ pub fn run(args: &ExploreArgs) -> Result<()> {
         sample_every,
         trajectories: traj_dir.as_deref(),
         classify: args.classify,
+        classify_window: Some(args.classify_window),
         finished: Some(&finished),
         stop_at_failure: false,
     };
@@ -261,6 +272,7 @@ fn write_files(
             "branch_rule": format!("{:?}", args.branch_rule),
             "probe_flips": args.probe_flips,
             "classify": args.classify,
+            "classify_window": args.classify_window,
             "prox_constant": args.prox_constant,
         }),
         &serde_json::json!({"wall_time_s": report.wall_time_s}),
