@@ -23,6 +23,11 @@
 //!    tolerance reported is the level difference (for a failure time at least the
 //!    finest Δt, its resolution; none for a column that stands at both); with three
 //!    levels or more that agree, the observed order log₂(d_{K−2,K−1}/d_{K−1,K}).
+//!    A failure time is converged too by *Richardson's rule* when the three finest
+//!    levels follow one motion (each fails, the same block falls first) and their
+//!    failure times move one way at an observed order in
+//!    [`verdict::RICHARDSON_ORDERS`]: the answer is the extrapolated limit, known to
+//!    [`verdict::RICHARDSON_SAFETY`] times its distance from the finest level's value.
 //! 3. `chaotic`: the levels disagree, and the spread of the members perturbed by at
 //!    most [`verdict::SENSITIVE_MAGNITUDE`] (failure times max − min; the largest corner
 //!    distance of a member's final poses from the unperturbed run's) is at least
@@ -669,6 +674,9 @@ impl fmt::Display for Verdict {
         write!(f, "{}", self.verdict)?;
         if let Some(tol) = self.tolerance {
             write!(f, " to {tol:.2e}")?;
+        }
+        if let Some(t) = self.extrapolated {
+            write!(f, ", extrapolated {t:.4}")?;
         }
         write!(
             f,
