@@ -1048,6 +1048,7 @@ mod scene_sweep_tests {
                 top_theta: Some(0.1 * k as f64),
                 error: None,
                 wall_time_s: 0.0,
+                convergence: None,
             })
             .collect()
     }

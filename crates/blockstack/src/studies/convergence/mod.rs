@@ -47,6 +47,7 @@
 //! parallel and hands them back to [`Study::report`].
 
 pub mod perturb;
+pub mod row;
 pub mod separation;
 pub mod verdict;
 
@@ -721,16 +722,24 @@ impl fmt::Display for ConvergenceReport {
                 |[lo, mid, hi]| format!("median {mid:.2} (from {lo:.2} to {hi:.2})")
             ),
         )?;
+        write!(f, "{}", self.verdict_lines())
+    }
+}
+
+impl ConvergenceReport {
+    /// The two verdicts, a line each: `failure time 6.5950: converged to …` (the finest
+    /// level's failure time) and `outcome: …`.
+    #[must_use]
+    pub fn verdict_lines(&self) -> String {
         let failure_time = self
             .runs
             .get(self.dts.len() - 1)
             .and_then(|r| r.observed.failure_time);
-        writeln!(
-            f,
-            "failure time {}: {}",
+        format!(
+            "failure time {}: {}\noutcome: {}",
             cell(failure_time, 4),
-            self.failure
-        )?;
-        write!(f, "outcome: {}", self.outcome)
+            self.failure,
+            self.outcome
+        )
     }
 }
