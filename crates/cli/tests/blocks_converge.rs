@@ -279,6 +279,23 @@ fn sweeps_with_convergence_add_the_verdict_columns_and_resume() {
     for t in times.iter().filter_map(serde_json::Value::as_f64) {
         assert!(lo <= t && t <= hi, "{c}");
     }
+    // The sweep's solver time counts the studies' runs.
+    let run_json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(judged.join("run.json")).unwrap()).unwrap();
+    let seconds: f64 = v["rows"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|r| {
+            r["wall_time_s"].as_f64().unwrap() + r["convergence"]["wall_time_s"].as_f64().unwrap()
+        })
+        .sum();
+    let solver = run_json["timings"]["solver_s"].as_f64().unwrap();
+    assert!(
+        (solver - seconds).abs() <= 1e-9 * seconds,
+        "{solver} {seconds}"
+    );
+    assert!(c["wall_time_s"].as_f64().unwrap() > 0.0, "{c}");
     // Resumed: the same command computes nothing and writes the same CSV.
     let before = std::fs::read_to_string(judged.join("sweep_frequency.csv")).unwrap();
     let again = sweep(&judged, &["--convergence", "2"]);

@@ -45,6 +45,8 @@ pub struct RowConvergence {
     pub spread: Option<[f64; 2]>,
     /// Why the study could not run, or null.
     pub error: Option<String>,
+    /// The study's solver time, s: its runs' together.
+    pub wall_time_s: f64,
 }
 
 impl RowConvergence {
@@ -106,6 +108,7 @@ impl RowConvergence {
                 finest: None,
                 spread: None,
                 error: Some(one_line(&e.to_string())),
+                wall_time_s: 0.0,
             },
         }
     }
@@ -139,7 +142,15 @@ impl RowConvergence {
                     .as_ref()
                     .map(|e| format!("{}: {}", r.label, one_line(e)))
             }),
+            wall_time_s: report.runs.iter().map(|r| r.wall_time_s).sum(),
         }
+    }
+
+    /// The solver time of a row's study, s (0 without one): what a sweep adds to its
+    /// rows' own.
+    #[must_use]
+    pub fn seconds(c: Option<&Self>) -> f64 {
+        c.map_or(0.0, |c| c.wall_time_s)
     }
 
     /// The cells under [`Self::CSV_HEADER`]: the level failure times space-separated

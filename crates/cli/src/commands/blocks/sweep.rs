@@ -559,7 +559,9 @@ pub fn sweep_frequency(args: &FrequencyArgs) -> Result<()> {
         &["sweep_frequency.csv", "sweep_frequency.png"],
         serde_json::Map::new(),
         &rows,
-        rows.iter().map(|r| r.wall_time_s).sum(),
+        rows.iter()
+            .map(|r| r.wall_time_s + RowConvergence::seconds(r.convergence.as_ref()))
+            .sum(),
         ToString::to_string,
     )
 }
@@ -624,7 +626,9 @@ pub fn sweep_slide(args: &SlideArgs) -> Result<()> {
         &["sweep_slide.csv", "sweep_slide.png"],
         serde_json::Map::new(),
         &rows,
-        rows.iter().map(|r| r.wall_time_s).sum(),
+        rows.iter()
+            .map(|r| r.wall_time_s + RowConvergence::seconds(r.convergence.as_ref()))
+            .sum(),
         ToString::to_string,
     )
 }

@@ -7,7 +7,7 @@ use super::sweep::{check_judged_before_any_run, write_judged_csv, SweepOutputArg
 use super::SolverArgs;
 use crate::output::ensure_dir;
 use anyhow::{Context, Result};
-use blockstack::studies::convergence::row::SWEEP_ENSEMBLE;
+use blockstack::studies::convergence::row::{RowConvergence, SWEEP_ENSEMBLE};
 use blockstack::studies::scene_sweep::{Override, SceneSweep};
 use clap::Args;
 use figures::blocks::plot_scene_sweep;
@@ -129,7 +129,9 @@ pub fn sweep_scene(args: &SceneArgs) -> Result<()> {
         &files,
         extra,
         &rows,
-        rows.iter().map(|r| r.wall_time_s).sum(),
+        rows.iter()
+            .map(|r| r.wall_time_s + RowConvergence::seconds(r.convergence.as_ref()))
+            .sum(),
         ToString::to_string,
     )
 }
