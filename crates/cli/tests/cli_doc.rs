@@ -641,6 +641,38 @@ fn runs() -> Vec<Run> {
             &["--v0", "0.1", "--t-end", "0.05", "--blocks", "1", "--json"],
             true,
         ),
+        // With --convergence: the rows' verdict columns (the last run of a section
+        // gives the header checked).
+        run(
+            "blocks sweep frequency",
+            &[
+                "--omega",
+                "10",
+                "--periods",
+                "0.2",
+                "--blocks",
+                "1",
+                "--convergence",
+                "1",
+                "--json",
+            ],
+            true,
+        ),
+        run(
+            "blocks sweep slide",
+            &[
+                "--v0",
+                "0.1",
+                "--t-end",
+                "0.05",
+                "--blocks",
+                "1",
+                "--convergence",
+                "1",
+                "--json",
+            ],
+            true,
+        ),
         run(
             "blocks sweep scene",
             &[
@@ -651,6 +683,22 @@ fn runs() -> Vec<Run> {
                 "blocks.count=1",
                 "--t-end",
                 "0.05",
+                "--json",
+            ],
+            true,
+        ),
+        run(
+            "blocks sweep scene",
+            &[
+                "shaking",
+                "--set",
+                "contact.mu=0.2",
+                "--set",
+                "blocks.count=1",
+                "--t-end",
+                "0.05",
+                "--convergence",
+                "1",
                 "--json",
             ],
             true,

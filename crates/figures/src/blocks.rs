@@ -4,6 +4,7 @@
 
 use crate::animation::write_gif;
 use crate::axis::{TickedRange, Ticks, TARGET_TICKS};
+use crate::convergence::{with_verdicts, JudgedPoint};
 use crate::plot::{
     draw_title_reserving, fit_title, with_png, Canvas, LinePlot, Series, Style, BASE_COLOR, FONT,
     GUIDE_COLOR, PALETTE, TITLE_PX,
@@ -789,11 +790,36 @@ pub fn plot_frequency_sweep(
         Some((r.omega, bottom, 1.0 / lo))
     });
     plot = with_bands(plot, bands, "1/T over the explored motions");
+    let judged: Vec<JudgedPoint> = rows.iter().filter_map(judged_frequency).collect();
+    plot = with_verdicts(
+        plot,
+        &judged,
+        "1/T over Δt/2^k and the ensemble",
+        "failure time",
+    );
     plot.save(path, (1000, 620))
 }
 
+/// A frequency row's study as its figure draws it: 1/T at the finest level (0 when it
+/// stood), the band in 1/T reaching down to 0 when some level stood.
+fn judged_frequency(r: &FrequencyRow) -> Option<JudgedPoint> {
+    let c = r.convergence.as_ref()?;
+    let inverse = |t: f64| if t > 0.0 { 1.0 / t } else { 0.0 };
+    let stood = c.failure_times.iter().any(Option::is_none);
+    let band = c.spread.map(|[lo, hi]| {
+        let bottom = if stood { 0.0 } else { inverse(hi) };
+        (bottom, inverse(lo))
+    });
+    Some(JudgedPoint {
+        x: r.omega,
+        y: c.finest.map_or(0.0, inverse),
+        band,
+        verdict: c.failure_verdict?,
+    })
+}
+
 /// `plot` with a vertical bar from `lo` to `hi` at each `x` of `bands`, labelled once.
-fn with_bands(
+pub(crate) fn with_bands(
     mut plot: LinePlot,
     bands: impl Iterator<Item = (f64, f64, f64)>,
     label: &str,
@@ -902,6 +928,19 @@ pub fn plot_slide_sweep(path: &Path, rows: &[SlideRow], sweep: &SlideSweep) -> R
         bands,
         "θ over the explored motions (smallest to largest)",
     );
+    let judged: Vec<JudgedPoint> = rows
+        .iter()
+        .filter_map(|r| {
+            let c = r.convergence.as_ref()?;
+            Some(JudgedPoint {
+                x: r.v0,
+                y: c.finest?,
+                band: c.spread.map(|[lo, hi]| (lo, hi)),
+                verdict: c.outcome_verdict?,
+            })
+        })
+        .collect();
+    plot = with_verdicts(plot, &judged, "θ over Δt/2^k and the ensemble", "outcome");
     plot.save(path, (1000, 620))
 }
 
@@ -1048,6 +1087,7 @@ mod scene_sweep_tests {
                 top_theta: Some(0.1 * k as f64),
                 error: None,
                 wall_time_s: 0.0,
+                convergence: None,
             })
             .collect()
     }

@@ -3,11 +3,63 @@
 //! perturbed runs at the finest Δt as a band between its earliest and its latest
 //! failure time.
 
-use crate::blocks::DrawnRun;
+use crate::blocks::{with_bands, DrawnRun};
 use crate::plot::{Dash, LinePlot, Marker, Series, Style, GUIDE_COLOR, PALETTE};
 use crate::Result;
+use blockstack::studies::convergence::verdict::VerdictKind;
 use blockstack::studies::convergence::{ConvergenceReport, JobKind};
 use std::path::Path;
+
+/// A sweep row with `--convergence`, as its figure draws it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct JudgedPoint {
+    /// The swept parameter.
+    pub x: f64,
+    /// The plotted value at the finest level.
+    pub y: f64,
+    /// The plotted value's smallest and largest over the levels and the members.
+    pub band: Option<(f64, f64)>,
+    /// The verdict that marks it.
+    pub verdict: VerdictKind,
+}
+
+/// The verdicts in the legend's order, each with its marker: hollow, in colours the
+/// sweeps' own series (the first two of the palette) do not take.
+const VERDICT_MARKERS: [(VerdictKind, Marker, usize); 4] = [
+    (VerdictKind::Converged, Marker::Circle, 2),
+    (VerdictKind::Chaotic, Marker::Triangle, 3),
+    (VerdictKind::NonUnique, Marker::Square, 4),
+    (VerdictKind::NotConverged, Marker::Diamond, 5),
+];
+
+/// `plot` with each judged row's band as a grey bar (labelled once, `band`) and a marker
+/// at its finest level's value in the shape and colour of its verdict, one legend entry
+/// per verdict present (`what`: the verdict's quantity, "failure time", "outcome").
+#[must_use]
+pub fn with_verdicts(
+    mut plot: LinePlot,
+    points: &[JudgedPoint],
+    band: &str,
+    what: &str,
+) -> LinePlot {
+    let bars = points
+        .iter()
+        .filter_map(|p| p.band.map(|(lo, hi)| (p.x, lo, hi)));
+    plot = with_bands(plot, bars, band);
+    for (verdict, marker, colour) in VERDICT_MARKERS {
+        let at: Vec<(f64, f64)> = points
+            .iter()
+            .filter(|p| p.verdict == verdict)
+            .map(|p| (p.x, p.y))
+            .collect();
+        if !at.is_empty() {
+            let style = Style::color(PALETTE[colour]).marker(marker).hollow();
+            let label = format!("finest Δt, {what} {verdict}");
+            plot = plot.with(Series::markers(label, at).styled(style));
+        }
+    }
+    plot
+}
 
 /// The failure time of the unperturbed runs against Δt (log Δt), the members' failure
 /// times at the finest Δt as markers and their spread (the unperturbed finest run's
@@ -111,6 +163,36 @@ mod tests {
             ensemble: 1,
         };
         converge(&scene, &options, settings).unwrap()
+    }
+
+    #[test]
+    fn judged_rows_get_a_bar_each_and_one_legend_entry_per_verdict_present() {
+        let point = |x: f64, band: Option<(f64, f64)>, verdict| JudgedPoint {
+            x,
+            y: 1.0,
+            band,
+            verdict,
+        };
+        let points = [
+            point(1.0, Some((0.5, 1.5)), VerdictKind::Converged),
+            point(2.0, None, VerdictKind::NotConverged),
+            point(3.0, Some((0.9, 1.1)), VerdictKind::Converged),
+        ];
+        let plot = with_verdicts(LinePlot::new("t", "x", "y"), &points, "band", "outcome");
+        let labels: Vec<&str> = plot.series.iter().map(|s| s.label.as_str()).collect();
+        assert_eq!(
+            labels,
+            [
+                "band",
+                "",
+                "finest Δt, outcome converged",
+                "finest Δt, outcome not converged"
+            ]
+        );
+        assert_eq!(plot.series[1].points, [(3.0, 0.9), (3.0, 1.1)]);
+        assert_eq!(plot.series[2].points, [(1.0, 1.0), (3.0, 1.0)]);
+        let styles: Vec<Style> = plot.series[2..].iter().map(|s| s.style.unwrap()).collect();
+        assert!(styles.iter().all(|s| s.hollow) && styles[0] != styles[1]);
     }
 
     #[test]

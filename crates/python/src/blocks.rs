@@ -3,15 +3,18 @@
 //! of Figures 4.6 and 4.7 (Ch. 4, App. G–I), all from `blockstack`.
 
 use crate::{guard, json_to_py, value_error};
+use blockstack::scenarios::ColumnUnits;
 use blockstack::scenarios::{
     lire, lire_on_floor, shaking_column, sliding_column, Perturbation, Shaking, Sliding,
 };
 use blockstack::scene::check_block_count;
 use blockstack::scene_file::LoadedScene;
 use blockstack::simulation::{simulate_until, Prox, RunOptions, RunReport, StepRecord};
+use blockstack::studies::convergence::row::SWEEP_ENSEMBLE;
+use blockstack::studies::convergence::{Settings, Study};
 use blockstack::studies::scene_sweep::{Override, SceneSweep};
-use blockstack::studies::shaking::{frequency_row, periods_for_horizon};
-use blockstack::studies::slide::slide_row;
+use blockstack::studies::shaking::{frequency_row_judged, periods_for_horizon};
+use blockstack::studies::slide::slide_row_judged;
 use blockstack::time_guard::{run_cost, wall_limit, Guard};
 use blockstack::{scenes, Defaults};
 use numpy::ndarray::{Array1, Array2, Array3};
@@ -527,7 +530,7 @@ fn blocks_simulate<'py>(
 /// Rows of Figure 4.6 (`studies::shaking::frequency_row`), one per ω, in parallel on
 /// rayon with the GIL released; each row as the CLI's `blocks sweep frequency --json`.
 #[pyfunction]
-#[pyo3(signature = (omegas, periods, amplitude, blocks, steps_per_period, mu, prox_constant = None, explore_branches = true, last_resort = true, t_max = None, low_rank_updates = true, branches = 1, branch_rule = "self_consistent", force = false))]
+#[pyo3(signature = (omegas, periods, amplitude, blocks, steps_per_period, mu, prox_constant = None, explore_branches = true, last_resort = true, t_max = None, low_rank_updates = true, branches = 1, branch_rule = "self_consistent", force = false, convergence = None, ensemble = None))]
 #[allow(clippy::too_many_arguments)]
 fn blocks_sweep_frequency<'py>(
     py: Python<'py>,
@@ -545,8 +548,11 @@ fn blocks_sweep_frequency<'py>(
     branches: usize,
     branch_rule: &str,
     force: bool,
+    convergence: Option<usize>,
+    ensemble: Option<usize>,
 ) -> PyResult<Bound<'py, PyAny>> {
     guard(|| {
+        let settings = judged(convergence, ensemble)?;
         if let Some(t) = t_max {
             input::positive("t_max", t).map_err(value_error)?;
         }
@@ -574,15 +580,18 @@ fn blocks_sweep_frequency<'py>(
             .into_iter()
             .unzip();
         let advice = "shorten periods or t_max, take fewer values";
+        let scenes = with_studies(scenes, &options, settings)?;
         check_time_bound(&scenes, &options, force, advice)?;
-        parallel_rows(py, &columns, &mut options, frequency_row)
+        parallel_rows(py, &columns, &mut options, |p, o| {
+            frequency_row_judged(p, &ColumnUnits::default(), o, settings)
+        })
     })
 }
 
 /// Rows of Figure 4.7 (`studies::slide::slide_row`), one per v0, in parallel on rayon
 /// with the GIL released; each row as the CLI's `blocks sweep slide --json`.
 #[pyfunction]
-#[pyo3(signature = (speeds, t_end, blocks, mu, prox_constant = None, explore_branches = true, last_resort = true, low_rank_updates = true, branches = 1, branch_rule = "self_consistent", force = false))]
+#[pyo3(signature = (speeds, t_end, blocks, mu, prox_constant = None, explore_branches = true, last_resort = true, low_rank_updates = true, branches = 1, branch_rule = "self_consistent", force = false, convergence = None, ensemble = None))]
 #[allow(clippy::too_many_arguments)]
 fn blocks_sweep_slide<'py>(
     py: Python<'py>,
@@ -597,8 +606,11 @@ fn blocks_sweep_slide<'py>(
     branches: usize,
     branch_rule: &str,
     force: bool,
+    convergence: Option<usize>,
+    ensemble: Option<usize>,
 ) -> PyResult<Bound<'py, PyAny>> {
     guard(|| {
+        let settings = judged(convergence, ensemble)?;
         let options = run_options(
             Some(t_end),
             prox_constant,
@@ -619,8 +631,11 @@ fn blocks_sweep_slide<'py>(
             .collect::<PyResult<Vec<_>>>()?
             .into_iter()
             .unzip();
+        let scenes = with_studies(scenes, &options, settings)?;
         check_time_bound(&scenes, &options, force, "shorten t_end, take fewer values")?;
-        parallel_rows(py, &columns, &mut options, slide_row)
+        parallel_rows(py, &columns, &mut options, |p, o| {
+            slide_row_judged(p, &ColumnUnits::default(), o, settings)
+        })
     })
 }
 
@@ -630,7 +645,7 @@ fn blocks_sweep_slide<'py>(
 /// (`contact.mu=0.1:0.5:0.1`, `base.omega=2,4,8`); every combination's scene is checked
 /// before any run.
 #[pyfunction]
-#[pyo3(signature = (scene, overrides, t_end = None, stop_at_failure = false, prox_constant = None, explore_branches = true, last_resort = true, low_rank_updates = true, force = false))]
+#[pyo3(signature = (scene, overrides, t_end = None, stop_at_failure = false, prox_constant = None, explore_branches = true, last_resort = true, low_rank_updates = true, force = false, convergence = None, ensemble = None))]
 #[allow(clippy::too_many_arguments)]
 fn blocks_sweep_scene<'py>(
     py: Python<'py>,
@@ -643,8 +658,11 @@ fn blocks_sweep_scene<'py>(
     last_resort: bool,
     low_rank_updates: bool,
     force: bool,
+    convergence: Option<usize>,
+    ensemble: Option<usize>,
 ) -> PyResult<Bound<'py, PyAny>> {
     guard(|| {
+        let settings = judged(convergence, ensemble)?;
         let text = scene.toml.as_deref().ok_or_else(|| {
             PyValueError::new_err(
                 "a scene sweep needs a scene built from TOML (a file, a dict, keywords or a built-in name), not a preset",
@@ -680,9 +698,62 @@ fn blocks_sweep_scene<'py>(
             })
             .collect::<PyResult<Vec<_>>>()?;
         let advice = "shorten t_end or solver.t_end, take fewer values";
+        let scenes = with_studies(scenes, &options, settings)?;
         check_time_bound(&scenes, &options, force, advice)?;
-        parallel_rows(py, &points, &mut options, |p, o| sweep.row(p, o))
+        parallel_rows(py, &points, &mut options, |p, o| {
+            sweep.row_judged(p, o, settings)
+        })
     })
+}
+
+/// The settings of a sweep's `convergence` = K and `ensemble` = N keywords (default
+/// [`SWEEP_ENSEMBLE`] members), or None without `convergence`.
+///
+/// # Errors
+/// An `ensemble` without `convergence`, or either out of range, named.
+fn judged(convergence: Option<usize>, ensemble: Option<usize>) -> PyResult<Option<Settings>> {
+    let Some(levels) = convergence else {
+        return match ensemble {
+            Some(_) => Err(value_error("ensemble needs convergence (the levels K)")),
+            None => Ok(None),
+        };
+    };
+    let settings = Settings {
+        levels,
+        ensemble: ensemble.unwrap_or(SWEEP_ENSEMBLE),
+    };
+    settings
+        .validate(["convergence", "ensemble"])
+        .map_err(value_error)?;
+    Ok(Some(settings))
+}
+
+/// `scenes` and, with `settings`, every run of each one's convergence study: what the
+/// time guard counts.
+///
+/// # Errors
+/// A member's scene the checks refuse.
+fn with_studies(
+    scenes: Vec<blockstack::Scene>,
+    options: &RunOptions,
+    settings: Option<Settings>,
+) -> PyResult<Vec<blockstack::Scene>> {
+    let Some(settings) = settings else {
+        return Ok(scenes);
+    };
+    let mut all = scenes.clone();
+    for scene in &scenes {
+        let study = Study::new(scene, options, settings, ["convergence", "ensemble"])
+            .map_err(value_error)?;
+        all.extend(
+            study
+                .levels()
+                .iter()
+                .chain(study.members())
+                .map(|j| j.scene.clone()),
+        );
+    }
+    Ok(all)
 }
 
 /// [`crate::parallel_rows`] of block-stack runs with `options`, whose `cancel` flag is

@@ -177,3 +177,41 @@ def test_converge_equals_cli(cli):
 def test_converge_refuses_naming_the_parameter(kwargs, name):
     with pytest.raises(ValueError, match=name):
         blocks.converge("lire", **kwargs)
+
+
+def test_sweep_convergence_equals_cli(cli):
+    # `convergence=K` is `--convergence K`: the rows gain their verdicts over Δt/2^k;
+    # without it they have no `convergence` key.
+    rows = blocks.sweep_frequency([4.0], t_max=5.0, convergence=1)
+    theirs = cli("blocks", "sweep", "frequency", "--omega", "4", "--t-max", "5",
+                 "--convergence", "1")
+    assert strip_timings(rows) == strip_timings(theirs["rows"])
+    c = rows[0]["convergence"]
+    assert (c["levels"], c["ensemble"], len(c["failure_times"])) == (1, 0, 2)
+    assert c["failure_times"][0] == rows[0]["failure_time"]
+    plain = blocks.sweep_frequency([4.0], t_max=5.0)
+    assert "convergence" not in plain[0]
+    slide = blocks.sweep_slide([0.5], t_end=0.3, blocks=2, convergence=1, ensemble=1)
+    theirs = cli("blocks", "sweep", "slide", "--v0", "0.5", "--t-end", "0.3", "--blocks", "2",
+                 "--convergence", "1", "--ensemble", "1")
+    assert strip_timings(slide) == strip_timings(theirs["rows"])
+    scene = blocks.sweep_scene(blocks.Scene.builtin("shaking"), {"contact.mu": [0.2]},
+                               t_end=0.3, convergence=1)
+    assert scene[0]["convergence"]["levels"] == 1
+
+
+@pytest.mark.parametrize(
+    "kwargs, name",
+    [
+        (dict(convergence=0), "convergence"),
+        (dict(convergence=9), "convergence"),
+        (dict(convergence=1.5), "convergence"),
+        (dict(convergence=1, ensemble=21), "ensemble"),
+        (dict(ensemble=1), "ensemble"),
+    ],
+)
+def test_sweep_convergence_bad_input(kwargs, name):
+    with pytest.raises(ValueError, match=name):
+        blocks.sweep_frequency([6.0], periods=1.0, blocks=2, **kwargs)
+    with pytest.raises(ValueError, match=name):
+        blocks.sweep_slide([0.3], t_end=0.3, blocks=2, **kwargs)

@@ -45,6 +45,8 @@ use crate::error::BlockError;
 use crate::record::{finite_text, optional_text};
 use crate::scene_file::{LoadedScene, SceneFile};
 use crate::simulation::{simulate, BlockPose, RunOptions};
+use crate::studies::convergence::row::RowConvergence;
+use crate::studies::convergence::Settings;
 use crate::studies::shaking::one_line;
 use serde::{Deserialize, Serialize};
 use std::fmt;
@@ -553,6 +555,7 @@ impl SceneSweep {
             top_theta: None,
             error: None,
             wall_time_s: 0.0,
+            convergence: None,
         };
         let loaded = match self.scene(point) {
             Ok(l) => l,
@@ -586,6 +589,24 @@ impl SceneSweep {
                 }
             }
             Err(e) => row.error = Some(one_line(&e.to_string())),
+        }
+        row
+    }
+
+    /// [`Self::row`] and, with `settings` (`--convergence K`), the row's verdicts over
+    /// Δt/2^k on its failure time ([`RowConvergence`]).
+    #[must_use]
+    pub fn row_judged(
+        &self,
+        point: &[SetValue],
+        options: &RunOptions,
+        settings: Option<Settings>,
+    ) -> SceneRow {
+        let mut row = self.row(point, options);
+        if let (Some(settings), Ok(loaded)) = (settings, self.scene(point)) {
+            row.convergence = Some(RowConvergence::of(&loaded.scene, options, settings, |r| {
+                r.observed.failure_time
+            }));
         }
         row
     }
@@ -662,6 +683,11 @@ pub struct SceneRow {
     pub error: Option<String>,
     /// Solver time (s).
     pub wall_time_s: f64,
+    /// With `--convergence K`: the row's verdicts over Δt/2^k, k = 0…K
+    /// ([`crate::studies::convergence::row`]); absent otherwise, so that the row, its
+    /// JSON and its line in the row log are those of a sweep without it.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub convergence: Option<RowConvergence>,
 }
 
 impl SceneRow {
@@ -742,6 +768,9 @@ impl fmt::Display for SceneRow {
             num(self.t_final),
             self.steps
         )?;
+        if let Some(c) = &self.convergence {
+            f.write_str(&c.line())?;
+        }
         if let Some(e) = &self.error {
             write!(f, ", error: {e}")?;
         }

@@ -4,6 +4,8 @@ use crate::exploration::{leaf_spread, LeafSpread};
 use crate::record::{finite_text, optional_text};
 use crate::scenarios::{shaking_column_in, ColumnUnits, Shaking};
 use crate::simulation::{simulate, RunOptions};
+use crate::studies::convergence::row::RowConvergence;
+use crate::studies::convergence::Settings;
 
 /// How one run of the frequency sweep ended.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
@@ -66,6 +68,11 @@ pub struct FrequencyRow {
     pub failure_time_median: Option<f64>,
     /// Their largest failure time, or null.
     pub failure_time_max: Option<f64>,
+    /// With `--convergence K`: the row's verdicts over Δt/2^k, k = 0…K
+    /// ([`crate::studies::convergence::row`]); absent otherwise, so that the row, its
+    /// JSON and its line in the row log are those of a sweep without it.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub convergence: Option<RowConvergence>,
 }
 
 impl FrequencyRow {
@@ -140,6 +147,9 @@ impl std::fmt::Display for FrequencyRow {
                 write!(f, " between t = {lo:.4} and {hi:.4}")?;
             }
         }
+        if let Some(c) = &self.convergence {
+            f.write_str(&c.line())?;
+        }
         if let Some(e) = &self.error {
             write!(f, ", error: {e}")?;
         }
@@ -179,6 +189,7 @@ pub fn frequency_row_in(
         failure_time_min: None,
         failure_time_median: None,
         failure_time_max: None,
+        convergence: None,
     };
     let options = RunOptions {
         stop_at_failure: true,
@@ -231,6 +242,28 @@ pub fn frequency_row_in(
             }
         }
         Err(e) => row.error = Some(one_line(&e.to_string())),
+    }
+    row
+}
+
+/// [`frequency_row_in`] and, with `settings` (`--convergence K`), the row's verdicts
+/// over Δt/2^k on its failure time ([`RowConvergence`]; each run stops at its failure).
+#[must_use]
+pub fn frequency_row_judged(
+    shaking: &Shaking,
+    units: &ColumnUnits,
+    options: &RunOptions,
+    settings: Option<Settings>,
+) -> FrequencyRow {
+    let mut row = frequency_row_in(shaking, units, options);
+    if let (Some(settings), Ok(scene)) = (settings, shaking_column_in(shaking, units)) {
+        let options = RunOptions {
+            stop_at_failure: true,
+            ..options.clone()
+        };
+        row.convergence = Some(RowConvergence::of(&scene, &options, settings, |r| {
+            r.observed.failure_time
+        }));
     }
     row
 }

@@ -6,6 +6,8 @@ use crate::record::{finite_text, optional_text, Frame};
 use crate::scenarios::{sliding_column_in, ColumnUnits, Sliding};
 use crate::scene::Scene;
 use crate::simulation::{simulate, RunOptions};
+use crate::studies::convergence::row::RowConvergence;
+use crate::studies::convergence::Settings;
 use crate::studies::shaking::one_line;
 
 /// How the column on a pulled base ends (§4.5).
@@ -95,6 +97,11 @@ pub struct SlideRow {
     pub top_angle_median: Option<f64>,
     /// Their largest top block angle, or null.
     pub top_angle_max: Option<f64>,
+    /// With `--convergence K`: the row's verdicts over Δt/2^k, k = 0…K
+    /// ([`crate::studies::convergence::row`]); absent otherwise, so that the row, its
+    /// JSON and its line in the row log are those of a sweep without it.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub convergence: Option<RowConvergence>,
 }
 
 impl SlideRow {
@@ -160,6 +167,9 @@ impl std::fmt::Display for SlideRow {
                 write!(f, ", top angle from {lo:.4} to {hi:.4} rad")?;
             }
         }
+        if let Some(c) = &self.convergence {
+            f.write_str(&c.line())?;
+        }
         if let Some(e) = &self.error {
             write!(f, ", error: {e}")?;
         }
@@ -191,6 +201,7 @@ pub fn slide_row_in(p: &Sliding, units: &ColumnUnits, options: &RunOptions) -> S
         top_angle_min: None,
         top_angle_median: None,
         top_angle_max: None,
+        convergence: None,
     };
     let scene = match sliding_column_in(p, units) {
         Ok(s) => s,
@@ -234,6 +245,25 @@ pub fn slide_row_in(p: &Sliding, units: &ColumnUnits, options: &RunOptions) -> S
     row
 }
 
+/// [`slide_row_in`] and, with `settings` (`--convergence K`), the row's verdicts over
+/// Δt/2^k, its band the top block's angle at the end over the levels and members
+/// ([`RowConvergence`]).
+#[must_use]
+pub fn slide_row_judged(
+    p: &Sliding,
+    units: &ColumnUnits,
+    options: &RunOptions,
+    settings: Option<Settings>,
+) -> SlideRow {
+    let mut row = slide_row_in(p, units, options);
+    if let (Some(settings), Ok(scene)) = (settings, sliding_column_in(p, units)) {
+        row.convergence = Some(RowConvergence::of(&scene, options, settings, |r| {
+            r.observed.final_poses.last().map(|p| p.theta)
+        }));
+    }
+    row
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -256,6 +286,7 @@ mod tests {
             top_angle_min: Some(0.25),
             top_angle_median: Some(0.25),
             top_angle_max: Some(0.25),
+            convergence: None,
         };
         let cells = row.csv_cells();
         assert_eq!(cells.len(), SlideRow::CSV_HEADER.len());

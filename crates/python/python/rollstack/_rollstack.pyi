@@ -71,6 +71,8 @@ def blocks_sweep_frequency(
     branches: int = ...,
     branch_rule: str = ...,
     force: bool = ...,
+    convergence: Optional[int] = ...,
+    ensemble: Optional[int] = ...,
 ) -> List[Dict[str, Any]]: ...
 def blocks_explore(
     scene: Any,
@@ -97,6 +99,8 @@ def blocks_sweep_slide(
     branches: int = ...,
     branch_rule: str = ...,
     force: bool = ...,
+    convergence: Optional[int] = ...,
+    ensemble: Optional[int] = ...,
 ) -> List[Dict[str, Any]]: ...
 def blocks_sweep_scene(
     scene: Scene,
@@ -108,6 +112,8 @@ def blocks_sweep_scene(
     last_resort: bool = ...,
     low_rank_updates: bool = ...,
     force: bool = ...,
+    convergence: Optional[int] = ...,
+    ensemble: Optional[int] = ...,
 ) -> List[Dict[str, Any]]: ...
 def blocks_painleve(
     aspect: float, mu: float = ..., mu_max: float = ..., grid: int = ...

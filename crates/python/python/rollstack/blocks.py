@@ -471,6 +471,8 @@ def sweep_frequency(
     branches: int = 1,
     branch_rule: str = "self_consistent",
     force: bool = False,
+    convergence: Optional[int] = None,
+    ensemble: Optional[int] = None,
 ) -> List[Dict[str, Any]]:
     """Failure time against the shaking frequency (Figure 4.6): one row per ω, each run
     until the first loss of support or the end of its periods, in parallel (rayon, the
@@ -488,6 +490,13 @@ def sweep_frequency(
     reports the smallest, median and largest failure time over them
     (``failure_time_min``, ``failure_time_median``, ``failure_time_max``, with
     ``branches`` and ``failed_branches``). Ctrl-C is seen between the rows' explorations.
+
+    ``convergence`` = K (``--convergence``) also runs each row at Δt/2^k, k = 0…K, with
+    ``ensemble`` perturbed runs per magnitude (default 0), and gives each row a
+    ``convergence`` dict as the CLI's: ``failure_verdict``, ``failure_rule``,
+    ``failure_tolerance``, ``failure_extrapolated``, ``failure_times`` (per level),
+    ``outcome_verdict``, ``finest``, ``spread``, ``levels``, ``ensemble``, ``error``.
+    Without it the rows have no ``convergence`` key.
 
     Runs estimated to take longer than ten minutes in all (the time guard of the command
     line, calibrated on the first steps of the costliest run) raise ``ValueError`` before
@@ -510,6 +519,15 @@ def sweep_frequency(
         count("branches", branches),
         str(branch_rule),
         bool(force),
+        *_judged(convergence, ensemble),
+    )
+
+
+def _judged(convergence: Any, ensemble: Any) -> tuple:
+    """The ``convergence`` and ``ensemble`` keywords of the sweeps, checked."""
+    return (
+        None if convergence is None else count("convergence", convergence),
+        None if ensemble is None else count("ensemble", ensemble),
     )
 
 
@@ -526,11 +544,13 @@ def sweep_slide(
     branches: int = 1,
     branch_rule: str = "self_consistent",
     force: bool = False,
+    convergence: Optional[int] = None,
+    ensemble: Optional[int] = None,
 ) -> List[Dict[str, Any]]:
     """The top block's angle against the speed of the pulled base (Figure 4.7): one row
     per v0, in parallel, in input order: the rows of ``rollstack blocks sweep slide
-    --json``. ``branches``, ``branch_rule`` and ``force`` as in :func:`sweep_frequency`,
-    the spread being that of the top block's angle."""
+    --json``. ``branches``, ``branch_rule``, ``force``, ``convergence`` and ``ensemble``
+    as in :func:`sweep_frequency`, the spreads being those of the top block's angle."""
     return _rollstack.blocks_sweep_slide(
         number_list("speeds", speeds),
         number("t_end", t_end),
@@ -543,6 +563,7 @@ def sweep_slide(
         count("branches", branches),
         str(branch_rule),
         bool(force),
+        *_judged(convergence, ensemble),
     )
 
 
@@ -557,6 +578,8 @@ def sweep_scene(
     last_resort: bool = True,
     low_rank_updates: bool = True,
     force: bool = False,
+    convergence: Optional[int] = None,
+    ensemble: Optional[int] = None,
 ) -> List[Dict[str, Any]]:
     """Runs ``scene`` once per combination of the values of its swept keys (the
     cartesian product, in order), in parallel (rayon, the GIL released): the rows of
@@ -568,8 +591,8 @@ def sweep_scene(
     The scene must come from TOML (a file, a dict, keywords or a built-in name). Raises
     ``ValueError`` for an unknown key or a combination the model refuses, before any
     run, and for runs over the time guard unless ``force=True`` (as
-    :func:`sweep_frequency`); a run the solver stops has its message in its row's
-    ``error``::
+    :func:`sweep_frequency`; ``convergence`` and ``ensemble`` too, on the failure time);
+    a run the solver stops has its message in its row's ``error``::
 
         blocks.sweep_scene(blocks.Scene.builtin("shaking"),
                            {"contact.mu": [0.1, 0.3], "base.amplitude": "0.1,0.2"})
@@ -593,6 +616,7 @@ def sweep_scene(
         bool(last_resort),
         bool(low_rank_updates),
         bool(force),
+        *_judged(convergence, ensemble),
     )
 
 

@@ -23,6 +23,11 @@
 //!    tolerance reported is the level difference (for a failure time at least the
 //!    finest Δt, its resolution; none for a column that stands at both); with three
 //!    levels or more that agree, the observed order log₂(d_{K−2,K−1}/d_{K−1,K}).
+//!    A failure time is converged too by *Richardson's rule* when the three finest
+//!    levels follow one motion (each fails, the same block falls first) and their
+//!    failure times move one way at an observed order in
+//!    [`verdict::RICHARDSON_ORDERS`]: the answer is the extrapolated limit, known to
+//!    [`verdict::RICHARDSON_SAFETY`] times its distance from the finest level's value.
 //! 3. `chaotic`: the levels disagree, and the spread of the members perturbed by at
 //!    most [`verdict::SENSITIVE_MAGNITUDE`] (failure times max − min; the largest corner
 //!    distance of a member's final poses from the unperturbed run's) is at least
@@ -42,6 +47,7 @@
 //! parallel and hands them back to [`Study::report`].
 
 pub mod perturb;
+pub mod row;
 pub mod separation;
 pub mod verdict;
 
@@ -670,6 +676,9 @@ impl fmt::Display for Verdict {
         if let Some(tol) = self.tolerance {
             write!(f, " to {tol:.2e}")?;
         }
+        if let Some(t) = self.extrapolated {
+            write!(f, ", extrapolated {t:.4}")?;
+        }
         write!(
             f,
             " (finest two levels differ by {}, threshold {:.2e}; order {}; ensemble spread {}, {} answer(s) over {} member(s) and the unperturbed run",
@@ -713,16 +722,24 @@ impl fmt::Display for ConvergenceReport {
                 |[lo, mid, hi]| format!("median {mid:.2} (from {lo:.2} to {hi:.2})")
             ),
         )?;
+        write!(f, "{}", self.verdict_lines())
+    }
+}
+
+impl ConvergenceReport {
+    /// The two verdicts, a line each: `failure time 6.5950: converged to …` (the finest
+    /// level's failure time) and `outcome: …`.
+    #[must_use]
+    pub fn verdict_lines(&self) -> String {
         let failure_time = self
             .runs
             .get(self.dts.len() - 1)
             .and_then(|r| r.observed.failure_time);
-        writeln!(
-            f,
-            "failure time {}: {}",
+        format!(
+            "failure time {}: {}\noutcome: {}",
             cell(failure_time, 4),
-            self.failure
-        )?;
-        write!(f, "outcome: {}", self.outcome)
+            self.failure,
+            self.outcome
+        )
     }
 }

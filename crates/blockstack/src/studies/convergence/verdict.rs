@@ -19,6 +19,21 @@ pub const FAILURE_TIME_STEPS: f64 = 2.0;
 /// faces touch. The same distance marks two motions as separated.
 pub const POSE_TOLERANCE: f64 = 1e-2;
 
+/// The observed orders p = log₂(d₁/d₂) for which the Richardson rule trusts an
+/// extrapolation. The scheme is of order 1 through impacts and 2 between them, so an
+/// observed order in the asymptotic range lies near 1 or 2; below 0.5 the differences
+/// barely shrink (d₁/d₂ < √2) and the extrapolated correction, at least 1/(2^p − 1) ≈ 2.4
+/// times the last difference, is larger than the difference it rests on; above 3 the
+/// last difference is more than eight times smaller than the one before, a near
+/// coincidence rather than a rate.
+pub const RICHARDSON_ORDERS: [f64; 2] = [0.5, 3.0];
+
+/// The safety factor on the Richardson error estimate |t_K − t*|: Roache's 1.25 for a
+/// grid convergence index computed from three grids with the observed order (Roache,
+/// *Verification and Validation in Computational Science and Engineering*, 1998, §5.9),
+/// which covers an order estimated from two differences rather than known.
+pub const RICHARDSON_SAFETY: f64 = 1.25;
+
 /// The ensemble makes levels that disagree *chaotic* when its spread at the finest Δt is
 /// at least this fraction of the finest two levels' difference: the difference that
 /// halving Δt makes is then no larger (within a factor of two) than what perturbations
@@ -80,7 +95,7 @@ pub struct Level {
 }
 
 /// The four verdicts, in the order the rules are tried after `non-unique`.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum VerdictKind {
     /// A run forked: distinct self-consistent solutions at a step.
@@ -93,6 +108,20 @@ pub enum VerdictKind {
     NotConverged,
 }
 
+impl VerdictKind {
+    /// Its name in the JSON and the CSV: `non_unique`, `converged`, `chaotic`,
+    /// `not_converged`.
+    #[must_use]
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::NonUnique => "non_unique",
+            Self::Converged => "converged",
+            Self::Chaotic => "chaotic",
+            Self::NotConverged => "not_converged",
+        }
+    }
+}
+
 impl fmt::Display for VerdictKind {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         f.write_str(match self {
@@ -102,6 +131,25 @@ impl fmt::Display for VerdictKind {
             Self::NotConverged => "not converged",
         })
     }
+}
+
+/// The rule that gave a verdict.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Rule {
+    /// A run forked before the quantity was decided (`non-unique`).
+    Forks,
+    /// The finest two levels agree within the threshold (`converged`).
+    Agreement,
+    /// Three levels follow one motion and their differences shrink at an order in
+    /// [`RICHARDSON_ORDERS`] (`converged`, to the Richardson estimate).
+    Richardson,
+    /// The ensemble spreads as far as the levels differ (`chaotic`).
+    Ensemble,
+    /// None applies (`not converged`).
+    Disagreement,
+    /// A run of the finest two levels stopped before deciding (`not converged`).
+    Stopped,
 }
 
 /// The verdict on one quantity, with its numbers.
@@ -118,13 +166,19 @@ pub struct Verdict {
     pub levels_agree: bool,
     /// The largest difference that counts as agreement.
     pub threshold: f64,
-    /// For `converged`: how well the quantity is known, the larger of the level
-    /// difference and (failure time) the finest Δt.
+    /// For `converged`: how far the finest level's value may lie from the limit Δt → 0.
+    /// By agreement: the larger of the level difference and (failure time) the finest
+    /// Δt. By Richardson: [`RICHARDSON_SAFETY`] × |t_K − t*|, at least the finest Δt.
     pub tolerance: Option<f64>,
+    /// For a failure time `converged` by Richardson: the extrapolated limit
+    /// t* = t_K + (t_K − t_{K−1})/(2^p − 1).
+    pub extrapolated: Option<f64>,
     /// The observed order log₂(d_{K−2,K−1} / d_{K−1,K}) when the three finest levels
     /// agree (each pair as the finest two must, for `converged`) and both differences
-    /// are positive.
+    /// are positive, or the order the Richardson rule used.
     pub order: Option<f64>,
+    /// The rule that gave the verdict.
+    pub rule: Rule,
     /// The spread of the unperturbed finest run and the ensemble: failure time max − min,
     /// or the largest corner distance of a member's final poses from the unperturbed
     /// run's (null without members, or when they differ in the discrete answer).
@@ -161,7 +215,9 @@ pub fn judge_failure(levels: &[Level], members: &[Member]) -> Verdict {
         levels_agree: a.failure_time.is_some() == b.failure_time.is_some(),
         threshold,
         tolerance: None,
+        extrapolated: None,
         order: failure_order(levels),
+        rule: Rule::Disagreement,
         ensemble_spread: spread,
         ensemble_answers: answers,
         ensemble_members: decided.len(),
@@ -180,7 +236,7 @@ pub fn judge_failure(levels: &[Level], members: &[Member]) -> Verdict {
     );
     // A column that stands at both levels has no failure time to know to a tolerance.
     let resolution = b.failure_time.map(|_| fine.dt);
-    decide(v, resolution, &rule)
+    decide(v, resolution, &rule, richardson(levels))
 }
 
 /// The outcome verdict (the parent module's rules); `radii`: the blocks' half
@@ -222,7 +278,9 @@ pub fn judge_outcome(
         levels_agree: a.outcome == b.outcome,
         threshold,
         tolerance: None,
+        extrapolated: None,
         order,
+        rule: Rule::Disagreement,
         ensemble_spread: spread,
         ensemble_answers: outcomes.len(),
         ensemble_members: done.len(),
@@ -239,23 +297,47 @@ pub fn judge_outcome(
         "the finest two levels end with the same blocks fallen in the same order, their \
          final corners within {POSE_TOLERANCE} of the smallest block dimension"
     );
-    decide(v, Some(0.0), &rule)
+    decide(v, Some(0.0), &rule, None)
 }
 
-/// The rules after the level comparison is filled in: non-unique, converged (`resolution`:
-/// the least tolerance that can be claimed), chaotic, not converged.
-fn decide(v: Verdict, resolution: Option<f64>, converged_rule: &str) -> Verdict {
+/// The rules after the level comparison is filled in: non-unique, converged by agreement
+/// (`resolution`: the least tolerance that can be claimed) or by `richardson` (the
+/// failure time's extrapolation, when its conditions hold), chaotic, not converged.
+fn decide(
+    v: Verdict,
+    resolution: Option<f64>,
+    converged_rule: &str,
+    richardson: Option<Richardson>,
+) -> Verdict {
     if !v.fork_times.is_empty() {
         let n = v.fork_times.len();
         return v.with(
             VerdictKind::NonUnique,
+            Rule::Forks,
             &format!("{n} step(s) with distinct self-consistent solutions before it was decided"),
         );
     }
     let difference = v.level_difference;
     if let Some(d) = difference.filter(|&d| v.levels_agree && d <= v.threshold) {
-        let mut v = v.with(VerdictKind::Converged, converged_rule);
+        let mut v = v.with(VerdictKind::Converged, Rule::Agreement, converged_rule);
         v.tolerance = resolution.map(|r| d.max(r));
+        return v;
+    }
+    if let (Some(r), Some(resolution)) = (richardson, resolution) {
+        let [lo, hi] = RICHARDSON_ORDERS;
+        let mut v = v.with(
+            VerdictKind::Converged,
+            Rule::Richardson,
+            &format!(
+                "the three finest levels lose the same block first and their failure times \
+                 move one way at an observed order {:.2} in [{lo}, {hi}]: Richardson's \
+                 extrapolation, its error estimate times {RICHARDSON_SAFETY}",
+                r.order
+            ),
+        );
+        v.order = Some(r.order);
+        v.extrapolated = Some(r.extrapolated);
+        v.tolerance = Some((RICHARDSON_SAFETY * r.error).max(resolution));
         return v;
     }
     // Levels with no numeric difference (one failed, one stood): only an ensemble that
@@ -265,26 +347,74 @@ fn decide(v: Verdict, resolution: Option<f64>, converged_rule: &str) -> Verdict 
     if sensitive {
         return v.with(
             VerdictKind::Chaotic,
+            Rule::Ensemble,
             "the levels disagree, and perturbations of 1e-10 to 1e-7 spread the finest \
              level's answer at least half as far",
         );
     }
     v.with(
         VerdictKind::NotConverged,
+        Rule::Disagreement,
         "the levels disagree by more than the threshold and the ensemble does not",
     )
 }
 
 impl Verdict {
-    fn with(mut self, verdict: VerdictKind, why: &str) -> Self {
+    fn with(mut self, verdict: VerdictKind, rule: Rule, why: &str) -> Self {
         self.verdict = verdict;
+        self.rule = rule;
         self.why = why.to_owned();
         self
     }
 
     fn because(self, why: &str) -> Self {
-        self.with(VerdictKind::NotConverged, why)
+        self.with(VerdictKind::NotConverged, Rule::Stopped, why)
     }
+}
+
+/// A failure time's Richardson extrapolation over the three finest levels.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Richardson {
+    /// The observed order p = log₂(d₁/d₂).
+    order: f64,
+    /// t* = t_K + (t_K − t_{K−1})/(2^p − 1).
+    extrapolated: f64,
+    /// |t_K − t*|, the estimated error of t_K.
+    error: f64,
+}
+
+/// The Richardson extrapolation of the failure times t_{K−2}, t_{K−1}, t_K, when the
+/// three finest levels follow one motion (each fails, the same block falls first, no
+/// run stopped) and their differences d₁ = t_{K−1} − t_{K−2}, d₂ = t_K − t_{K−1} have the
+/// same sign with an observed order p = log₂(d₁/d₂) in [`RICHARDSON_ORDERS`]. A failure
+/// time is seen at the end of a step, so each carries an error of up to its own Δt; the
+/// rule is tried only after the agreement rule has failed, when |d₂| exceeds two steps
+/// of the coarser level and the differences are larger than that noise.
+fn richardson(levels: &[Level]) -> Option<Richardson> {
+    let runs = three_finest(levels)?;
+    let first = runs[2].outcome.fell.first()?;
+    let same_motion = runs
+        .iter()
+        .all(|o| o.complete && o.failure_time.is_some() && o.outcome.fell.first() == Some(first));
+    if !same_motion {
+        return None;
+    }
+    let [x, y, z] = runs.map(|o| o.failure_time.unwrap_or(f64::NAN));
+    let (d1, d2) = (y - x, z - y);
+    if d1 * d2 <= 0.0 {
+        return None;
+    }
+    let order = order_of(d1.abs(), d2.abs())?;
+    let [lo, hi] = RICHARDSON_ORDERS;
+    if !(lo..=hi).contains(&order) {
+        return None;
+    }
+    let extrapolated = z + d2 / (order.exp2() - 1.0);
+    Some(Richardson {
+        order,
+        extrapolated,
+        error: (z - extrapolated).abs(),
+    })
 }
 
 /// The coarser and the finer of the finest two levels (levels are coarsest first).
@@ -520,6 +650,75 @@ mod tests {
         forked.forks = vec![1.5];
         let v = judge_failure(&l, &tiny(&[forked]));
         assert_eq!(v.verdict, VerdictKind::NonUnique);
+    }
+
+    /// Failure times at Δt = 0.01, 0.005, 0.0025, 0.00125, block `first[k]` falling first.
+    fn failing(times: [f64; 4], first: [usize; 4]) -> Vec<Level> {
+        levels(
+            times
+                .iter()
+                .zip(first)
+                .map(|(&t, b)| run(Some(t), &[b], 0.0))
+                .collect(),
+        )
+    }
+
+    #[test]
+    fn a_steady_first_order_failure_time_converges_by_richardson() {
+        // 3.40, 3.20, 3.10, 3.05: d₁ = −0.10, d₂ = −0.05 over the three finest, order 1,
+        // t* = 3.05 − 0.05/(2 − 1) = 3.00; |d₂| = 0.05 is 20 steps of 0.0025, far beyond
+        // the agreement rule's 2.
+        let v = judge_failure(&failing([3.40, 3.20, 3.10, 3.05], [1; 4]), &[]);
+        assert_eq!(
+            (v.verdict, v.rule),
+            (VerdictKind::Converged, Rule::Richardson),
+            "{v:?}"
+        );
+        assert!((v.order.unwrap() - 1.0).abs() < 1e-9, "{v:?}");
+        assert!((v.extrapolated.unwrap() - 3.00).abs() < 1e-9, "{v:?}");
+        assert!(
+            (v.tolerance.unwrap() - RICHARDSON_SAFETY * 0.05).abs() < 1e-9,
+            "{v:?}"
+        );
+        // Second order over the three finest (a coarsest level far off does not count):
+        // 3.16, 3.04, 3.01, d = −0.12, −0.03, t* = 3.01 − 0.03/3 = 3.00.
+        let v = judge_failure(&failing([9.0, 3.16, 3.04, 3.01], [1; 4]), &[]);
+        assert_eq!(v.rule, Rule::Richardson, "{v:?}");
+        assert!((v.order.unwrap() - 2.0).abs() < 1e-9, "{v:?}");
+        assert!((v.extrapolated.unwrap() - 3.00).abs() < 1e-9, "{v:?}");
+        // Agreement within two steps still comes first, without an extrapolation.
+        let v = judge_failure(&failing([3.40, 3.02, 3.01, 3.008], [1; 4]), &[]);
+        assert_eq!((v.rule, v.extrapolated), (Rule::Agreement, None), "{v:?}");
+    }
+
+    #[test]
+    fn richardson_refuses_oscillations_jumps_and_orders_out_of_range() {
+        let not = |times, first| {
+            let v = judge_failure(&failing(times, first), &[]);
+            assert_eq!(
+                (v.verdict, v.extrapolated),
+                (VerdictKind::NotConverged, None),
+                "{times:?} {first:?}: {v:?}"
+            );
+        };
+        // Oscillating differences: +0.10, −0.05.
+        not([3.40, 3.20, 3.30, 3.25], [1; 4]);
+        // A jump: the finest level loses block 2 first, another motion.
+        not([3.40, 3.20, 3.10, 3.05], [1, 1, 1, 2]);
+        not([3.40, 3.20, 3.10, 3.05], [1, 2, 1, 1]);
+        // Orders out of range: d₁/d₂ = 1.2 (p = 0.26) and 10 (p = 3.3).
+        not([3.40, 3.20, 3.08, 2.98], [1; 4]);
+        not([3.40, 4.20, 3.20, 3.10], [1; 4]);
+        // Two levels only: no third to estimate an order from.
+        let v = judge_failure(
+            &levels(vec![run(Some(3.1), &[1], 0.0), run(Some(3.05), &[1], 0.0)]),
+            &[],
+        );
+        assert_eq!(v.verdict, VerdictKind::NotConverged, "{v:?}");
+        // A finest level that stands is not the same motion.
+        let mut l = failing([3.40, 3.20, 3.10, 3.05], [1; 4]);
+        l[3].observed = run(None, &[], 0.0);
+        assert_eq!(judge_failure(&l, &[]).extrapolated, None);
     }
 
     #[test]

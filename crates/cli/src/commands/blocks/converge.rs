@@ -52,6 +52,78 @@ pub struct ConvergeArgs {
     pub json: bool,
 }
 
+/// `--convergence K` and `--ensemble N` of `blocks run`, `blocks shake` and the sweeps:
+/// the study of `blocks converge` on each run.
+#[derive(Debug, Clone, Args)]
+pub struct ConvergenceArgs {
+    /// Also run the scene (each row of a sweep) at Δt/2^k for k = 0…K (1 to 8) and judge
+    /// its failure time and outcome as `blocks converge` does: converged (to what
+    /// tolerance, or to a Richardson limit), chaotic, non-unique or not converged.
+    #[arg(long, value_name = "K", value_parser = clap::value_parser!(u8).range(1..=8),
+          allow_hyphen_values = true)]
+    pub convergence: Option<u8>,
+    /// With --convergence: perturbed runs per magnitude (1e-10, 1e-7, 1e-4) at the finest
+    /// Δt (0 to 20). Default 2 for `blocks run` and `shake`, 0 for the sweeps: a member
+    /// costs as much as the finest level, and without members a verdict is never
+    /// chaotic.
+    #[arg(long, value_name = "N", requires = "convergence",
+          value_parser = clap::value_parser!(u8).range(0..=20), allow_hyphen_values = true)]
+    pub ensemble: Option<u8>,
+}
+
+impl ConvergenceArgs {
+    /// The study's settings, `default_ensemble` members per magnitude unless
+    /// `--ensemble` is given; None without `--convergence`.
+    #[must_use]
+    pub fn settings(&self, default_ensemble: usize) -> Option<Settings> {
+        self.convergence.map(|k| Settings {
+            levels: usize::from(k),
+            ensemble: self.ensemble.map_or(default_ensemble, usize::from),
+        })
+    }
+
+    /// Adds `convergence` and `ensemble` to a sweep's identity `inputs` when
+    /// `--convergence` is given, and nothing otherwise: a sweep without it keeps the
+    /// identity, and so the row log, of a sweep from before the flag.
+    pub fn identify(&self, inputs: &mut serde_json::Value, default_ensemble: usize) {
+        if let Some(s) = self.settings(default_ensemble) {
+            inputs["convergence"] = s.levels.into();
+            inputs["ensemble"] = s.ensemble.into();
+        }
+    }
+}
+
+/// The study of `scene` with `options` and `settings` for `blocks run` and `shake`: refused
+/// when estimated past ten minutes unless `force`, its runs in parallel.
+///
+/// # Errors
+/// As [`Study::new`] (settings named `--convergence`, `--ensemble`), a study over the
+/// time bound, or a run that could not start.
+pub fn verdicts(
+    scene: &blockstack::Scene,
+    options: &RunOptions,
+    settings: Settings,
+    force: bool,
+) -> Result<ConvergenceReport> {
+    let study = Study::new(scene, options, settings, ["--convergence", "--ensemble"])?;
+    check_time_bound(
+        &study.costs(),
+        Some(study.probe()),
+        force,
+        "take a smaller --convergence or --ensemble, shorten the run",
+    )?;
+    let levels = run_all(&study, study.levels(), None, None, "convergence levels")?;
+    let reference = study.reference(&levels).cloned();
+    let members = run_all(
+        &study,
+        study.members(),
+        reference.as_ref(),
+        None,
+        "ensemble",
+    )?;
+    Ok(study.report(levels, members))
+}
+
 /// Runs `rollstack blocks converge`.
 ///
 /// # Errors

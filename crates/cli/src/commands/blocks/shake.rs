@@ -2,7 +2,8 @@
 //! `blockstack::scenarios::shaking_column` from the flags and run like a scene, with the
 //! outputs of `blocks run`.
 
-use super::simulate::{finish_command, print_warnings, simulate_with_output};
+use super::converge::ConvergenceArgs;
+use super::simulate::{finish_command, print_warnings, simulate_with_output, with_convergence};
 use super::units::{omega_of_hz, UnitArgs};
 use super::{OutputArgs, SolverArgs};
 use anyhow::Result;
@@ -52,6 +53,9 @@ pub struct ShakeArgs {
     #[command(flatten)]
     #[allow(missing_docs)]
     pub output: OutputArgs,
+    #[command(flatten)]
+    #[allow(missing_docs)]
+    pub convergence: ConvergenceArgs,
 }
 
 /// Refuses a base frequency whose time step 2π/(Nω) or span P·2π/ω cannot be stepped
@@ -137,5 +141,6 @@ pub fn run_shake(args: &ShakeArgs) -> Result<()> {
     });
     print_warnings(&scene);
     let out = simulate_with_output(&scene, &options, &plan, "blocks shake", &inputs)?;
+    let out = with_convergence(out, &args.convergence, &scene, &options, args.solver.force)?;
     finish_command(&out, args.output.json, plan.dir.as_deref())
 }

@@ -2,6 +2,7 @@
 //! written progressively, branch points, snapshots, animation, top block). `lire`,
 //! `shake` run through [`simulate_with_output`] and [`finish_command`] too.
 
+use super::converge::{verdicts, ConvergenceArgs};
 use super::{OutputArgs, SolverArgs};
 use crate::output::{
     commit_temp, discard_temp, ensure_dir, print_json, temp_sibling, write_csv, write_run_json_with,
@@ -10,6 +11,7 @@ use crate::progress::RunProgress;
 use anyhow::{Context, Result};
 use blockstack::record::{RecordPlan, Recorder, Recording, TrajectoryError};
 use blockstack::simulation::{self as library, RunOptions, RunReport, RunSummary, RunWarning};
+use blockstack::studies::convergence::{ConvergenceReport, DEFAULT_ENSEMBLE};
 use blockstack::time_guard::{Clock, Watchdog};
 use blockstack::{Defaults, Scene};
 use clap::Args;
@@ -37,6 +39,9 @@ pub struct RunArgs {
     #[command(flatten)]
     #[allow(missing_docs)]
     pub output: OutputArgs,
+    #[command(flatten)]
+    #[allow(missing_docs)]
+    pub convergence: ConvergenceArgs,
 }
 
 /// The JSON of `rollstack blocks run`, `lire` and `shake`: the library's report, the
@@ -50,6 +55,9 @@ pub struct SimulationJson<'a> {
     pub files: &'a [String],
     /// Pictures left out and why (a run that did not start has nothing to draw).
     pub notes: &'a [String],
+    /// With `--convergence K`: the study of `blocks converge` on the scene.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub convergence: Option<&'a ConvergenceReport>,
 }
 
 /// Everything one simulation produced, for the commands.
@@ -65,6 +73,9 @@ pub struct SimulationOutput {
     pub notes: Vec<String>,
     /// A failure while writing output (the run itself went on, run.json was written).
     pub write_error: Option<String>,
+    /// With `--convergence K`: the study of `blocks converge` on the scene
+    /// ([`with_convergence`]).
+    pub convergence: Option<ConvergenceReport>,
 }
 
 /// What to write besides the JSON.
@@ -199,7 +210,26 @@ fn simulate_watched(
         recording,
         notes,
         write_error,
+        convergence: None,
     })
+}
+
+/// `out` with the study of `convergence` (`--convergence K`, `--ensemble N`) on the scene
+/// it ran, when asked.
+///
+/// # Errors
+/// As [`super::converge::verdicts`].
+pub fn with_convergence(
+    mut out: SimulationOutput,
+    convergence: &ConvergenceArgs,
+    scene: &Scene,
+    options: &RunOptions,
+    force: bool,
+) -> Result<SimulationOutput> {
+    if let Some(settings) = convergence.settings(DEFAULT_ENSEMBLE) {
+        out.convergence = Some(verdicts(scene, options, settings, force)?);
+    }
+    Ok(out)
 }
 
 /// Flushes the trajectory written progressively into the temporary sibling of `path`
@@ -269,9 +299,22 @@ pub fn finish_command(out: &SimulationOutput, json: bool, dir: Option<&Path>) ->
             report: r,
             files: &out.files,
             notes: &out.notes,
+            convergence: out.convergence.as_ref(),
         })?;
     } else {
-        println!("{r}");
+        let text = r.to_string();
+        match &out.convergence {
+            Some(c) => {
+                let lines = format!(
+                    "convergence over Δt/2^k, k = 0…{}, {} member(s) per perturbation size (the finest level's failure time):\n{}",
+                    c.settings.levels,
+                    c.settings.ensemble,
+                    c.verdict_lines()
+                );
+                println!("{}", after_failure_line(&text, &lines));
+            }
+            None => println!("{text}"),
+        }
         for n in &out.notes {
             println!("note: {n}");
         }
@@ -298,6 +341,18 @@ pub fn finish_command(out: &SimulationOutput, json: bool, dir: Option<&Path>) ->
         anyhow::bail!("{e}");
     }
     Ok(())
+}
+
+/// `report` ([`RunReport`]'s text) with `lines` inserted after its failure line
+/// (`failure (loss of support) at …`), or at its end should it have none.
+fn after_failure_line(report: &str, lines: &str) -> String {
+    let mut out: Vec<&str> = report.lines().collect();
+    let at = out
+        .iter()
+        .position(|l| l.starts_with("failure (loss of support)"))
+        .map_or(out.len(), |i| i + 1);
+    out.insert(at, lines);
+    out.join("\n")
 }
 
 /// Runs `rollstack blocks run`.
@@ -331,6 +386,7 @@ pub fn run_scene_file(args: &RunArgs) -> Result<()> {
     });
     print_warnings(scene);
     let out = simulate_with_output(scene, &options, &plan, "blocks run", &inputs)?;
+    let out = with_convergence(out, &args.convergence, scene, &options, args.solver.force)?;
     finish_command(&out, args.output.json, plan.dir.as_deref())
 }
 

@@ -6,6 +6,7 @@
 //! manifest, outputs and exit status), which
 //! `sweep scene` ([`super::sweep_scene`]) uses too.
 
+use super::converge::ConvergenceArgs;
 use super::units::{omega_of_hz, UnitArgs};
 use super::{run_cost, RunCost, SolverArgs};
 use crate::output::{ensure_dir, print_json, write_csv, write_run_json_with};
@@ -13,8 +14,10 @@ use crate::sweep::{par_map_ordered, ShardChoice};
 use anyhow::{Context, Result};
 use blockstack::scenarios::{shaking_column_in, sliding_column_in, Shaking, Sliding};
 use blockstack::simulation::{RunOptions, STOPPED_BY_WATCHDOG};
-use blockstack::studies::shaking::{frequency_row_in, periods_for_horizon, FrequencyRow};
-use blockstack::studies::slide::{slide_row_in, SlideRow};
+use blockstack::studies::convergence::row::{RowConvergence, SWEEP_ENSEMBLE};
+use blockstack::studies::convergence::{Settings, Study};
+use blockstack::studies::shaking::{frequency_row_judged, periods_for_horizon, FrequencyRow};
+use blockstack::studies::slide::{slide_row_judged, SlideRow};
 use blockstack::Scene;
 use clap::{Args, Subcommand};
 use figures::blocks::{plot_frequency_sweep, plot_slide_sweep, FrequencySweep, SlideSweep};
@@ -345,6 +348,9 @@ pub struct FrequencyArgs {
     pub spread: SpreadArgs,
     #[command(flatten)]
     #[allow(missing_docs)]
+    pub convergence: ConvergenceArgs,
+    #[command(flatten)]
+    #[allow(missing_docs)]
     pub output: SweepOutputArgs,
 }
 
@@ -375,6 +381,9 @@ pub struct SlideArgs {
     pub spread: SpreadArgs,
     #[command(flatten)]
     #[allow(missing_docs)]
+    pub convergence: ConvergenceArgs,
+    #[command(flatten)]
+    #[allow(missing_docs)]
     pub output: SweepOutputArgs,
 }
 
@@ -392,11 +401,32 @@ pub fn check_before_any_run<P>(
     options: &RunOptions,
     scene: impl Fn(&P) -> Result<Scene>,
 ) -> Result<()> {
+    check_judged_before_any_run(points, solver, output, options, None, scene)
+}
+
+/// [`check_before_any_run`] for rows that each run the convergence study of `settings`
+/// (`--convergence K`) too: its runs count in the estimate.
+///
+/// # Errors
+/// As [`check_before_any_run`], and settings out of range, named.
+pub fn check_judged_before_any_run<P>(
+    points: &[P],
+    solver: &SolverArgs,
+    output: &SweepOutputArgs,
+    options: &RunOptions,
+    settings: Option<Settings>,
+    scene: impl Fn(&P) -> Result<Scene>,
+) -> Result<()> {
     let mut costs = Vec::with_capacity(points.len());
     let mut costliest: Option<Scene> = None;
+    let mut studies = Vec::new();
     for p in points {
         let s = scene(p)?;
         let cost = run_cost(&s, options);
+        if let Some(settings) = settings {
+            let study = Study::new(&s, options, settings, ["--convergence", "--ensemble"])?;
+            studies.extend(study.costs());
+        }
         if costs
             .iter()
             .all(|c: &RunCost| c.block_steps() < cost.block_steps())
@@ -405,10 +435,35 @@ pub fn check_before_any_run<P>(
         }
         costs.push(cost);
     }
+    costs.extend(studies);
     if !output.time_guarded() {
         return Ok(());
     }
     solver.check_cost(&costs, costliest.as_ref().map(|s| (s, options)))
+}
+
+/// Writes a sweep's CSV at `path`: `header` and each row's cells (`cells`: its own and
+/// its convergence), with the columns [`RowConvergence`] adds when `settings` asks
+/// (`--convergence`); without it the file is the sweep's as before the flag.
+///
+/// # Errors
+/// An unwritable file.
+pub fn write_judged_csv<R>(
+    path: &std::path::Path,
+    mut header: Vec<String>,
+    rows: &[R],
+    settings: Option<Settings>,
+    cells: impl Fn(&R) -> (Vec<String>, Option<&RowConvergence>),
+) -> Result<()> {
+    let asked = settings.is_some();
+    RowConvergence::extend_header(&mut header, asked);
+    let header: Vec<&str> = header.iter().map(String::as_str).collect();
+    let rows = rows.iter().map(|r| {
+        let (mut own, convergence) = cells(r);
+        RowConvergence::extend_cells(&mut own, convergence, asked);
+        own
+    });
+    write_csv(path, &header, rows)
 }
 
 /// The angular frequencies ω of `--omega`, or of `--hz` as 2πf, and how to name one of
@@ -450,7 +505,7 @@ pub fn sweep_frequency(args: &FrequencyArgs) -> Result<()> {
         .watched(args.spread.apply(args.solver.run_options(None, true)?)?);
     let units = args.units.units()?;
     let (all, typed) = base_frequencies(args)?;
-    let inputs = serde_json::json!({
+    let mut inputs = serde_json::json!({
         "omega": args.omega, "hz": args.hz, "width": units.width, "height": units.height,
         "gravity": units.gravity, "periods": args.t_max.is_none().then_some(args.periods),
         "t_max": args.t_max, "amplitude": args.amplitude,
@@ -458,6 +513,8 @@ pub fn sweep_frequency(args: &FrequencyArgs) -> Result<()> {
         "branches": args.spread.branches,
         "branch_rule": args.spread.branch_rule.rule().name(),
     });
+    args.convergence.identify(&mut inputs, SWEEP_ENSEMBLE);
+    let settings = args.convergence.settings(SWEEP_ENSEMBLE);
     let sweep = SweepRun::new("frequency", &args.output, &args.solver, inputs, all.len())?;
     let omegas = sweep.run.select(&all);
     let column = |omega| Shaking {
@@ -471,23 +528,26 @@ pub fn sweep_frequency(args: &FrequencyArgs) -> Result<()> {
         mu: args.mu,
         start_with_base: false,
     };
-    check_before_any_run(
+    check_judged_before_any_run(
         &omegas,
         &args.solver,
         &args.output,
         &options,
+        settings,
         |&(_, omega)| shaking_column_in(&column(omega), &units).with_context(|| typed(omega)),
     )?;
     let rows = sweep.rows(&omegas, |&omega| {
-        frequency_row_in(&column(omega), &units, &options)
+        frequency_row_judged(&column(omega), &units, &options, settings)
     })?;
     if let Some(dir) = &args.output.out {
         ensure_dir(dir)?;
-        let csv = rows.iter().map(FrequencyRow::csv_cells);
-        write_csv(
+        let header = FrequencyRow::CSV_HEADER.map(str::to_owned).to_vec();
+        write_judged_csv(
             &dir.join("sweep_frequency.csv"),
-            &FrequencyRow::CSV_HEADER,
-            csv,
+            header,
+            &rows,
+            settings,
+            |r| (r.csv_cells(), r.convergence.as_ref()),
         )?;
         let plot = FrequencySweep {
             t_max: args.t_max,
@@ -499,7 +559,9 @@ pub fn sweep_frequency(args: &FrequencyArgs) -> Result<()> {
         &["sweep_frequency.csv", "sweep_frequency.png"],
         serde_json::Map::new(),
         &rows,
-        rows.iter().map(|r| r.wall_time_s).sum(),
+        rows.iter()
+            .map(|r| r.wall_time_s + RowConvergence::seconds(r.convergence.as_ref()))
+            .sum(),
         ToString::to_string,
     )
 }
@@ -517,12 +579,14 @@ pub fn sweep_slide(args: &SlideArgs) -> Result<()> {
     let options = args.output.watched(options);
     let units = args.units.units()?;
     let all = parse_values(&args.v0).map_err(|e| anyhow::anyhow!("--v0: {e}"))?;
-    let inputs = serde_json::json!({
+    let mut inputs = serde_json::json!({
         "v0": args.v0, "t_end": args.t_end, "blocks": args.blocks, "mu": args.mu,
         "width": units.width, "height": units.height, "gravity": units.gravity,
         "branches": args.spread.branches,
         "branch_rule": args.spread.branch_rule.rule().name(),
     });
+    args.convergence.identify(&mut inputs, SWEEP_ENSEMBLE);
+    let settings = args.convergence.settings(SWEEP_ENSEMBLE);
     let sweep = SweepRun::new("slide", &args.output, &args.solver, inputs, all.len())?;
     let speeds = sweep.run.select(&all);
     let column = |v0| Sliding {
@@ -531,14 +595,26 @@ pub fn sweep_slide(args: &SlideArgs) -> Result<()> {
         t_end: args.t_end,
         mu: args.mu,
     };
-    check_before_any_run(&speeds, &args.solver, &args.output, &options, |&(_, v0)| {
-        sliding_column_in(&column(v0), &units).with_context(|| format!("--v0 {}", input::Short(v0)))
+    check_judged_before_any_run(
+        &speeds,
+        &args.solver,
+        &args.output,
+        &options,
+        settings,
+        |&(_, v0)| {
+            sliding_column_in(&column(v0), &units)
+                .with_context(|| format!("--v0 {}", input::Short(v0)))
+        },
+    )?;
+    let rows = sweep.rows(&speeds, |&v0| {
+        slide_row_judged(&column(v0), &units, &options, settings)
     })?;
-    let rows = sweep.rows(&speeds, |&v0| slide_row_in(&column(v0), &units, &options))?;
     if let Some(dir) = &args.output.out {
         ensure_dir(dir)?;
-        let csv = rows.iter().map(SlideRow::csv_cells);
-        write_csv(&dir.join("sweep_slide.csv"), &SlideRow::CSV_HEADER, csv)?;
+        let header = SlideRow::CSV_HEADER.map(str::to_owned).to_vec();
+        write_judged_csv(&dir.join("sweep_slide.csv"), header, &rows, settings, |r| {
+            (r.csv_cells(), r.convergence.as_ref())
+        })?;
         let plot = SlideSweep {
             blocks: args.blocks,
             t_end: args.t_end,
@@ -550,7 +626,9 @@ pub fn sweep_slide(args: &SlideArgs) -> Result<()> {
         &["sweep_slide.csv", "sweep_slide.png"],
         serde_json::Map::new(),
         &rows,
-        rows.iter().map(|r| r.wall_time_s).sum(),
+        rows.iter()
+            .map(|r| r.wall_time_s + RowConvergence::seconds(r.convergence.as_ref()))
+            .sum(),
         ToString::to_string,
     )
 }

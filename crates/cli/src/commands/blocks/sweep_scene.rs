@@ -2,11 +2,13 @@
 //! `--set` keys, with the rows of `blockstack::studies::scene_sweep`, run in parallel and
 //! written in input order through the plumbing of the other sweeps ([`super::sweep`]).
 
-use super::sweep::{check_before_any_run, SweepOutputArgs, SweepRun};
+use super::converge::ConvergenceArgs;
+use super::sweep::{check_judged_before_any_run, write_judged_csv, SweepOutputArgs, SweepRun};
 use super::SolverArgs;
-use crate::output::{ensure_dir, write_csv};
+use crate::output::ensure_dir;
 use anyhow::{Context, Result};
-use blockstack::studies::scene_sweep::{Override, SceneRow, SceneSweep};
+use blockstack::studies::convergence::row::{RowConvergence, SWEEP_ENSEMBLE};
+use blockstack::studies::scene_sweep::{Override, SceneSweep};
 use clap::Args;
 use figures::blocks::plot_scene_sweep;
 use input::text::parse_finite;
@@ -41,6 +43,9 @@ pub struct SceneArgs {
     pub solver: SolverArgs,
     #[command(flatten)]
     #[allow(missing_docs)]
+    pub convergence: ConvergenceArgs,
+    #[command(flatten)]
+    #[allow(missing_docs)]
     pub output: SweepOutputArgs,
 }
 
@@ -63,11 +68,13 @@ pub fn sweep_scene(args: &SceneArgs) -> Result<()> {
     let options = args
         .output
         .watched(args.solver.run_options(args.t_end, args.stop_at_failure)?);
-    let inputs = serde_json::json!({
+    let mut inputs = serde_json::json!({
         "set": args.set,
         "t_end": args.t_end,
         "stop_at_failure": args.stop_at_failure,
     });
+    args.convergence.identify(&mut inputs, SWEEP_ENSEMBLE);
+    let settings = args.convergence.settings(SWEEP_ENSEMBLE);
     let all = sweep.points();
     let scene = InputFile {
         copy: SCENE_COPY.into(),
@@ -80,11 +87,12 @@ pub fn sweep_scene(args: &SceneArgs) -> Result<()> {
         scene,
     );
     let points = run.run.select(&all);
-    check_before_any_run(
+    check_judged_before_any_run(
         &points,
         &args.solver,
         &args.output,
         &options,
+        settings,
         |(_, point)| {
             let set: Vec<String> = point
                 .iter()
@@ -96,16 +104,17 @@ pub fn sweep_scene(args: &SceneArgs) -> Result<()> {
             Ok(loaded.scene)
         },
     )?;
-    let rows = run.rows(&points, |p| sweep.row(p, &options))?;
+    let rows = run.rows(&points, |p| sweep.row_judged(p, &options, settings))?;
     let mut files = Vec::new();
     let mut notes = Vec::new();
     if let Some(dir) = &args.output.out {
         ensure_dir(dir)?;
-        let header = sweep.csv_header();
-        write_csv(
+        write_judged_csv(
             &dir.join("sweep_scene.csv"),
-            &header.iter().map(String::as_str).collect::<Vec<_>>(),
-            rows.iter().map(SceneRow::csv_cells),
+            sweep.csv_header(),
+            &rows,
+            settings,
+            |r| (r.csv_cells(), r.convergence.as_ref()),
         )?;
         let drawn = plot_scene_sweep(&dir.join("sweep_scene.png"), &rows)?;
         files.push("sweep_scene.csv".to_owned());
@@ -120,7 +129,9 @@ pub fn sweep_scene(args: &SceneArgs) -> Result<()> {
         &files,
         extra,
         &rows,
-        rows.iter().map(|r| r.wall_time_s).sum(),
+        rows.iter()
+            .map(|r| r.wall_time_s + RowConvergence::seconds(r.convergence.as_ref()))
+            .sum(),
         ToString::to_string,
     )
 }
