@@ -101,7 +101,7 @@ pub enum Degenerate {
 
 impl fmt::Display for Degenerate {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        let n = |x: f64| input::Short(x).to_string();
+        let n = |x: f64| significant(x, 4);
         match *self {
             Self::NoRuns => write!(f, "no run to fit"),
             Self::NoneCollapsed { runs, max } => write!(
@@ -126,6 +126,17 @@ impl fmt::Display for Degenerate {
             ),
         }
     }
+}
+
+/// `x` to `digits` significant digits (`0.1243`, `12.43`), for messages.
+fn significant(x: f64, digits: i32) -> String {
+    let magnitude = if x == 0.0 {
+        0
+    } else {
+        x.abs().log10().floor() as i32
+    };
+    let decimals = (digits - 1 - magnitude).max(0) as usize;
+    format!("{x:.decimals$}")
 }
 
 impl LognormalFit {
@@ -398,7 +409,9 @@ mod tests {
         );
         assert!(separated
             .to_string()
-            .contains("every run up to 0.2 survived"));
+            .contains("every run up to 0.2000 survived"));
+        assert_eq!(significant(0.124_296_5, 4), "0.1243");
+        assert_eq!(significant(12.431, 4), "12.43");
         assert_eq!(
             e(&[(0.1, true), (0.2, true), (0.3, false), (0.4, false)]),
             Degenerate::NotIncreasing

@@ -166,7 +166,7 @@ impl FragilityStudy {
                 "[solver] steps_per_period counts in periods of a harmonic base, and the study plays records on it: give [solver] dt".into(),
             ));
         }
-        check_levels(&levels, measure)?;
+        check_levels(&levels, measure).map_err(BlockError::Key)?;
         let durations = records
             .iter()
             .map(|r| Ok(read_record(&r.path, None)?.last().map_or(0.0, |s| s.0)))
@@ -286,10 +286,14 @@ impl FragilityStudy {
     }
 }
 
-/// Checks the levels of a study (module docs).
-fn check_levels(levels: &[f64], measure: Measure) -> Result<(), BlockError> {
+/// Checks the levels of a study: at least one, each finite and ≥ 0 (> 0 for target
+/// PGAs).
+///
+/// # Errors
+/// The first bad level, in the units of `measure`.
+pub fn check_levels(levels: &[f64], measure: Measure) -> Result<(), String> {
     if levels.is_empty() {
-        return Err(BlockError::Scene("no intensity level".into()));
+        return Err("no intensity level".into());
     }
     for &level in levels {
         let bad = !level.is_finite() || level < 0.0 || (measure == Measure::Pga && level == 0.0);
@@ -298,10 +302,7 @@ fn check_levels(levels: &[f64], measure: Measure) -> Result<(), BlockError> {
                 Measure::Scale => "a factor on the record must be finite and at least 0",
                 Measure::Pga => "a target PGA (g) must be finite and positive",
             };
-            return Err(BlockError::Scene(format!(
-                "level {}: {what}",
-                input::Short(level)
-            )));
+            return Err(format!("level {}: {what}", input::Short(level)));
         }
     }
     Ok(())
