@@ -68,8 +68,7 @@ pub struct LognormalFit {
 }
 
 /// Why no lognormal curve fits the outcomes (the maximum of ℓ does not exist).
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
-#[serde(tag = "kind", rename_all = "snake_case")]
+#[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Degenerate {
     /// No run to fit.
     NoRuns,

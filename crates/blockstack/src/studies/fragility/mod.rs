@@ -550,33 +550,59 @@ pub const CURVES: [(Collapse, Intensity); 4] = [
 ];
 
 /// One fitted curve: of which outcome against which intensity, the fit or why none,
-/// and the runs left out.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+/// and the runs it counts. It serializes flat, with the same keys whether or not a
+/// curve fits (the fit's keys null, and `no_fit` the reason, when none does).
+#[derive(Debug, Clone, PartialEq)]
 pub struct Curve {
     /// The outcome.
     pub outcome: Collapse,
     /// The intensity.
     pub intensity: Intensity,
     /// The fit, or why no curve fits.
-    #[serde(flatten, serialize_with = "fit_or_reason")]
     pub fit: Result<LognormalFit, Degenerate>,
+    /// Runs fitted.
+    pub runs: usize,
+    /// Of them, those that collapsed.
+    pub collapsed: usize,
     /// Runs left out: stopped on an error, or at zero intensity.
     pub left_out: usize,
 }
 
-fn fit_or_reason<S: serde::Serializer>(
-    fit: &Result<LognormalFit, Degenerate>,
-    s: S,
-) -> Result<S::Ok, S::Error> {
-    use serde::ser::SerializeMap;
-    match fit {
-        Ok(f) => f.serialize(s),
-        Err(d) => {
-            let mut map = s.serialize_map(Some(2))?;
-            map.serialize_entry("degenerate", d)?;
-            map.serialize_entry("message", &d.to_string())?;
-            map.end()
+/// A [`Curve`] as the files and the JSON write it.
+#[derive(Serialize)]
+struct CurveRecord<'a> {
+    outcome: Collapse,
+    intensity: Intensity,
+    theta: Option<f64>,
+    beta: Option<f64>,
+    theta_band: Option<[f64; 2]>,
+    beta_band: Option<[f64; 2]>,
+    log_likelihood: Option<f64>,
+    covariance: Option<&'a [[f64; 2]; 2]>,
+    no_fit: Option<String>,
+    runs: usize,
+    collapsed: usize,
+    left_out: usize,
+}
+
+impl Serialize for Curve {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        let fit = self.fit.as_ref().ok();
+        CurveRecord {
+            outcome: self.outcome,
+            intensity: self.intensity,
+            theta: fit.map(|f| f.theta),
+            beta: fit.map(|f| f.beta),
+            theta_band: fit.map(|f| f.theta_band),
+            beta_band: fit.map(|f| f.beta_band),
+            log_likelihood: fit.map(|f| f.log_likelihood),
+            covariance: fit.map(|f| &f.covariance),
+            no_fit: self.fit.as_ref().err().map(ToString::to_string),
+            runs: self.runs,
+            collapsed: self.collapsed,
+            left_out: self.left_out,
         }
+        .serialize(s)
     }
 }
 
@@ -611,6 +637,8 @@ pub fn fit_curves(rows: &[FragilityRow]) -> Vec<Curve> {
                 outcome,
                 intensity,
                 fit: fit_lognormal(&data),
+                runs: data.len(),
+                collapsed: data.iter().filter(|o| o.collapsed).count(),
                 left_out,
             }
         })
