@@ -147,6 +147,19 @@ fn a_study_writes_its_files_and_its_merged_shards_equal_one_run() {
     );
     assert!(done, "{stderr}");
     assert_eq!(runs(&merged), table);
+    // A study killed after 4 rows (its row log cut there) resumes from --out to the
+    // same table, computing only the rows the log lacks.
+    let log = std::fs::read_to_string(whole.join("rows.log")).unwrap();
+    let kept: Vec<&str> = log.lines().take(1 + 4).collect();
+    std::fs::write(whole.join("rows.log"), kept.join("\n") + "\n").unwrap();
+    let args = fragility(&dir, &records, &["--out", whole.to_str().unwrap()]);
+    let args: Vec<&str> = args.iter().map(String::as_str).collect();
+    let (done, _, stderr) = run(&args);
+    assert!(
+        done && stderr.contains("4 of 9 rows reused from its row log, 5 to compute"),
+        "{stderr}"
+    );
+    assert_eq!(runs(&whole), table);
     // --json: the rows and the four fits on stdout.
     let json: serde_json::Value =
         serde_json::from_str(&ok(&fragility(&dir, &records, &["--json"]))).unwrap();
