@@ -82,6 +82,10 @@ def test_bad_input_raises_value_error_naming_it(records, tmp_path):
         blocks.fragility(scene, empty, 1.0)
     with pytest.raises(ValueError, match="scales: level 0: a target PGA"):
         blocks.fragility(scene, records, [0.0], measure="pga")
+    with pytest.raises(TypeError, match="records must be a directory or a sequence"):
+        blocks.fragility(scene, None, 1.0)
+    with pytest.raises(ValueError, match="scales: cannot read value 'x'"):
+        blocks.fragility(scene, records, "x")
     with pytest.raises(ValueError, match="measure must be 'scale' or 'pga'"):
         blocks.fragility(scene, records, 1.0, measure="pgv")
     (records / "d.csv").write_text("t,a\n0,0\n0.01,oops\n")

@@ -645,8 +645,11 @@ def fragility(
         raise TypeError(f"fragility needs a rollstack.blocks.Scene, got {type(scene).__name__}")
     if isinstance(records, (str, os.PathLike)):
         paths = [os.fspath(records)]
-    else:
+    elif isinstance(records, Sequence) and all(isinstance(r, (str, os.PathLike)) for r in records):
         paths = [os.fspath(r) for r in records]
+    else:
+        raise TypeError("records must be a directory or a sequence of record files, got "
+                        f"{type(records).__name__}")
     levels = scales if isinstance(scales, str) else np.asarray(scales, dtype=float).ravel().tolist()
     out = _rollstack.blocks_fragility(
         scene._inner, paths, levels, str(measure),
