@@ -232,6 +232,32 @@ fn slurm_writes_a_job_for_a_study_and_checks_its_levels_first() {
         batch.contains("fragility") && batch.contains("--shard"),
         "{batch}"
     );
+    // The jobs, run as Slurm would run them: each array task, then the merge, which
+    // writes what one run writes.
+    let bash = |script: &str, task: &str| {
+        let out = std::process::Command::new("bash")
+            .arg(dir.join("job/slurm").join(script))
+            .env("SLURM_ARRAY_TASK_ID", task)
+            .env("SLURM_ARRAY_TASK_COUNT", "2")
+            .env("SLURM_CPUS_PER_TASK", "1")
+            .current_dir(&dir)
+            .output()
+            .unwrap();
+        assert!(
+            out.status.success(),
+            "{script}: {}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+    };
+    bash("shards.sbatch", "0");
+    bash("shards.sbatch", "1");
+    bash("merge.sbatch", "");
+    let mut one = fragility(&dir, &records, &["--out", "one"]);
+    one[6] = "0.1,1.0".to_owned();
+    let one: Vec<&str> = one.iter().map(String::as_str).collect();
+    let (done, _, stderr) = run_in(&dir, &one);
+    assert!(done, "{stderr}");
+    assert_eq!(runs(&dir.join("job")), runs(&dir.join("one")));
     let (done, _, stderr) = slurm("-1");
     assert!(!done && stderr.contains("--scales: level -1"), "{stderr}");
     std::fs::remove_dir_all(dir).unwrap();
