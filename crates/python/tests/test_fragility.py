@@ -74,6 +74,17 @@ def test_target_pga_levels_and_a_list_of_files(records):
     assert all(f["no_fit"].startswith("none of the 4 runs collapsed") for f in study["fits"])
 
 
+def test_a_relative_records_directory_starts_from_the_working_directory(records, tmp_path,
+                                                                        monkeypatch):
+    # The scene's own record paths start from its file's directory; the records' do not.
+    (tmp_path / "scenes").mkdir()
+    (tmp_path / "scenes" / "block.toml").write_text(SCENE)
+    monkeypatch.chdir(tmp_path)
+    scene = blocks.Scene.from_toml("scenes/block.toml")
+    study = blocks.fragility(scene, "pulses", [0.1], t_end=0.05)
+    assert study["error"] == [None, None, None]
+
+
 def test_bad_input_raises_value_error_naming_it(records, tmp_path):
     scene = blocks.Scene.from_toml(SCENE)
     empty = tmp_path / "empty"

@@ -94,14 +94,18 @@ pub struct RecordFile {
     pub path: PathBuf,
 }
 
-/// Every `*.AT2` and `*.csv` file of `dir` (extensions in any case), sorted by name.
+/// Every `*.AT2` and `*.csv` file of `dir` (extensions in any case), sorted by name,
+/// with absolute paths (a scene's own record paths start from its directory, these
+/// from the working directory).
 ///
 /// # Errors
 /// An unreadable directory, or one without such a file.
 pub fn records_in(dir: &Path) -> Result<Vec<RecordFile>, BlockError> {
     let shown = dir.display();
-    let entries = std::fs::read_dir(dir)
-        .map_err(|e| BlockError::Record(format!("cannot read the directory {shown}: {e}")))?;
+    let unreadable =
+        |e: std::io::Error| BlockError::Record(format!("cannot read the directory {shown}: {e}"));
+    let dir = std::path::absolute(dir).map_err(unreadable)?;
+    let entries = std::fs::read_dir(&dir).map_err(unreadable)?;
     let mut records: Vec<RecordFile> = entries
         .filter_map(Result::ok)
         .map(|e| e.path())

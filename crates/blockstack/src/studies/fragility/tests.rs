@@ -68,6 +68,10 @@ fn records_are_every_at2_and_csv_file_sorted_by_name() {
         .map(|r| r.name)
         .collect();
     assert_eq!(names, ["C.at2", "a-pulse.csv", "b-pulse.csv"]);
+    assert!(records_in(&dir)
+        .unwrap()
+        .iter()
+        .all(|r| r.path.is_absolute()));
     let empty = temp_dir("empty");
     let e = records_in(&empty).unwrap_err().to_string();
     assert!(e.contains("holds no record (*.AT2 or *.csv)"), "{e}");
