@@ -82,3 +82,58 @@ fn panel(curves: &[Curve], points: &[CurvePoint], intensity: Intensity, title: &
     }
     plot
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use blockstack::studies::fragility::{curve_points, fit_curves, FragilityRow};
+
+    /// A run at `pga` (g; PGV = pga) that overturned or not.
+    fn row(level: f64, pga: f64, overturned: bool) -> FragilityRow {
+        FragilityRow {
+            record: "r.AT2".into(),
+            level,
+            pga_g: Some(pga),
+            pgv: Some(pga),
+            overturned: Some(overturned),
+            failed: Some(overturned),
+            failure_time: overturned.then_some(1.0),
+            failure_kind: overturned.then(|| "tipped".to_owned()),
+            t_final: Some(2.0),
+            steps: 10,
+            error: None,
+            wall_time_s: 0.0,
+        }
+    }
+
+    #[test]
+    fn fitted_and_unfitted_curves_are_drawn() {
+        // Overlapping outcomes: a curve fits against both intensities.
+        let outcomes = [
+            (0.1, false),
+            (0.2, false),
+            (0.3, true),
+            (0.25, false),
+            (0.28, true),
+            (0.4, true),
+            (0.35, false),
+        ];
+        let rows: Vec<FragilityRow> = outcomes.iter().map(|&(x, o)| row(x, x, o)).collect();
+        let curves = fit_curves(&rows);
+        assert!(curves.iter().all(|c| c.fit.is_ok()));
+        let dir = std::env::temp_dir().join(format!("figures-fragility-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let path = dir.join("fragility.png");
+        plot_fragility(&path, &curves, &curve_points(&rows, &curves), "test").unwrap();
+        assert!(std::fs::metadata(&path).unwrap().len() > 1000);
+        // None collapsed: no curve, the markers only.
+        let standing: Vec<FragilityRow> = rows
+            .iter()
+            .map(|r| row(r.level, r.pga_g.unwrap(), false))
+            .collect();
+        let curves = fit_curves(&standing);
+        assert!(curves.iter().all(|c| c.fit.is_err()));
+        plot_fragility(&path, &curves, &curve_points(&standing, &curves), "test").unwrap();
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+}
