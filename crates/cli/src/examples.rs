@@ -24,6 +24,7 @@ pub const EXAMPLES: &[&str] = &[
     "rollstack blocks painleve --aspect 0.5 --mu 0.6 --out painleve",
     "rollstack blocks explore abundance --branch-rule converged --max-branches 100 --classify --out abundance",
     "rollstack blocks converge lire-collapse --levels 3 --out lire-converge",
+    "rollstack blocks fragility examples/scenes/classical-column.toml --records quakes --measure pga --scales 0.1:2:0.1 --out column-fragility",
     "rollstack cylinder support --theta 30deg --r-over-h 0.1 --mu 0.2",
     "rollstack cylinder statics --r-over-h 0.1 --mu 0.2 --out statics",
     "rollstack cylinder holonomy rectangle --theta 0.3 --phi1 13pi/3 --phi2 29pi/4 --out rect",

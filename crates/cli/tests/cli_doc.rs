@@ -747,6 +747,23 @@ fn runs() -> Vec<Run> {
             true,
         ),
         run(
+            "blocks fragility",
+            &[
+                concat!(
+                    env!("CARGO_MANIFEST_DIR"),
+                    "/../../examples/scenes/drums-on-record.toml"
+                ),
+                "--records",
+                concat!(env!("CARGO_MANIFEST_DIR"), "/../../tests/data"),
+                "--scales",
+                "0.5,1",
+                "--t-end",
+                "0.05",
+                "--json",
+            ],
+            true,
+        ),
+        run(
             "cylinder work-precision",
             &["--dts", "2e-2,1e-2", "--repeat", "1", "--json"],
             true,

@@ -14,6 +14,8 @@
 //!   angle and height (Figure 4.5).
 //! - [`convergence`]: a convergence study's failure time against Δt, with the
 //!   perturbation ensemble's spread as a band.
+//! - [`fragility`](mod@fragility): fragility curves with their bands and the fraction
+//!   collapsed per level.
 //! - [`cylinders`]: the support-force curves of §3.3 (Figures 3.3–3.5, 3.7, 3.8) and
 //!   the plan view of a rolled trace (Figures 3.10, 3.12).
 //! - [`nsga`]: the bouncing ball and work-precision diagrams.
@@ -46,6 +48,7 @@ pub mod convergence;
 pub mod cylinders;
 pub mod exploration;
 pub mod file;
+pub mod fragility;
 pub mod nsga;
 pub mod page;
 pub mod painleve;

@@ -37,6 +37,14 @@ pub struct PyScene {
     dir: PathBuf,
 }
 
+impl PyScene {
+    /// The scene's TOML text (None for a preset built in code) and the directory its
+    /// records' paths start from.
+    pub(crate) fn source(&self) -> (Option<&str>, &std::path::Path) {
+        (self.toml.as_deref(), &self.dir)
+    }
+}
+
 #[pymethods]
 impl PyScene {
     /// The scene as TOML text, when it was built from TOML (a file, a dict, keyword
@@ -333,7 +341,7 @@ fn blocks_sliding(blocks: usize, v0: f64, t_end: f64, mu: f64) -> PyResult<PySce
 }
 
 /// The library's run options from the Python keywords (the CLI's `SolverArgs`).
-fn run_options(
+pub(crate) fn run_options(
     t_end: Option<f64>,
     prox_constant: Option<f64>,
     explore_branches: bool,
@@ -758,7 +766,7 @@ fn with_studies(
 
 /// [`crate::parallel_rows`] of block-stack runs with `options`, whose `cancel` flag is
 /// set here: a Ctrl-C ends every run after its current step.
-fn parallel_rows<'py, P: Sync, R: Send + serde::Serialize>(
+pub(crate) fn parallel_rows<'py, P: Sync, R: Send + serde::Serialize>(
     py: Python<'py>,
     items: &[P],
     options: &mut RunOptions,

@@ -19,6 +19,7 @@ mod blocks;
 mod cylinder_sweeps;
 mod cylinders;
 mod excitation;
+mod fragility_py;
 mod nsga_py;
 mod rotations_py;
 mod sphere;
@@ -160,6 +161,7 @@ fn _rollstack(m: &Bound<'_, PyModule>) -> PyResult<()> {
     blocks::register(m)?;
     excitation::register(m)?;
     block_studies::register(m)?;
+    fragility_py::register(m)?;
     sphere::register(m)?;
     rotations_py::register(m)?;
     cylinders::register(m)?;

@@ -10,7 +10,8 @@ use std::path::Path;
 /// A file a sweep reads, as it read it.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct InputFile {
-    /// The name of its copy in the output directory (`scene.toml`).
+    /// The name of its copy in the output directory (`scene.toml`), or its path there
+    /// (`records/quake.AT2`: the folder is made).
     pub copy: String,
     /// The file as the user named it, for messages (`scene my.toml`).
     pub source: String,
@@ -43,7 +44,11 @@ pub fn keep_inputs(dir: &Path, id: &SweepId, files: &[InputFile]) -> Result<(), 
     std::fs::create_dir_all(dir).map_err(|e| ShardError::io(dir, e))?;
     for f in files {
         let path = dir.join(&f.copy);
-        let tmp = dir.join(format!(".tmp-{}-{}", std::process::id(), f.copy));
+        // A copy may sit in a folder of its own (`records/quake.AT2`).
+        let folder = path.parent().unwrap_or(dir);
+        std::fs::create_dir_all(folder).map_err(|e| ShardError::io(folder, e))?;
+        let name = path.file_name().unwrap_or_default().to_string_lossy();
+        let tmp = folder.join(format!(".tmp-{}-{name}", std::process::id()));
         std::fs::write(&tmp, &f.bytes).map_err(|e| ShardError::io(&tmp, e))?;
         std::fs::rename(&tmp, &path).map_err(|e| ShardError::io(&path, e))?;
     }

@@ -9,10 +9,14 @@
 //!   per combination (`rollstack blocks sweep scene`);
 //! - [`lire`]: the outcome of a Leaning Tower of Lire run (Figure 4.4);
 //! - [`painleve`]: Painlevé's paradoxes for one block (App. I, Figure I.2);
+//! - [`fragility`]: a scene under every record of a list at every intensity level,
+//!   each run's outcome (overturned, failed) and lognormal fragility curves fitted to
+//!   them (`rollstack blocks fragility`);
 //! - [`convergence`]: a scene at Δt/2^k and under tiny perturbations, with a verdict on
 //!   its failure time and its outcome (converged, chaotic, non-unique).
 
 pub mod convergence;
+pub mod fragility;
 pub mod lire;
 pub mod painleve;
 pub mod scene_sweep;

@@ -2,6 +2,7 @@
 //! joined again. The checks, the calibration and the scripts are the `shards` crate's;
 //! this module parses, runs the sweep's own code over the merged rows, and prints.
 
+use crate::commands::blocks::fragility::{FragilityArgs, RECORDS_COPY};
 use crate::commands::blocks::sweep::{OnlyChecked, SweepCommand, SweepOutputArgs};
 use crate::commands::blocks::sweep_scene::SCENE_COPY;
 use crate::commands::blocks::{BlocksArgs, BlocksCommand, SolverArgs};
@@ -75,8 +76,31 @@ fn blocks_sweep(command: &mut Command) -> Option<&mut SweepCommand> {
     }
 }
 
+/// Whether a parsed command line runs a fragility study (a sweep of its own kind).
+fn is_fragility(command: &Command) -> bool {
+    matches!(
+        command,
+        Command::Blocks(BlocksArgs {
+            command: BlocksCommand::Fragility(_),
+        })
+    )
+}
+
+/// The fragility study a parsed command line runs, or `None` for another command.
+fn fragility(command: &mut Command) -> Option<&mut FragilityArgs> {
+    match command {
+        Command::Blocks(BlocksArgs {
+            command: BlocksCommand::Fragility(a),
+        }) => Some(a),
+        _ => None,
+    }
+}
+
 /// The scene file a parsed sweep reads, or `None` for a sweep that reads no file.
 fn scene_of(command: &mut Command) -> Option<&mut PathBuf> {
+    if is_fragility(command) {
+        return fragility(command).map(|a| &mut a.scene);
+    }
     match blocks_sweep(command)? {
         SweepCommand::Scene(a) => Some(&mut a.scene),
         _ => None,
@@ -85,6 +109,9 @@ fn scene_of(command: &mut Command) -> Option<&mut PathBuf> {
 
 /// The solver options of a parsed sweep of blocks, or `None` for another command.
 fn solver_of(command: &mut Command) -> Option<&mut SolverArgs> {
+    if is_fragility(command) {
+        return fragility(command).map(|a| &mut a.solver);
+    }
     Some(match blocks_sweep(command)? {
         SweepCommand::Frequency(a) => &mut a.solver,
         SweepCommand::Slide(a) => &mut a.solver,
@@ -102,6 +129,9 @@ fn sweep_output(command: &mut Command) -> Option<(&'static str, &mut SweepOutput
             CylinderSweepCommand::Pair(a) => ("pair", &mut a.output),
             CylinderSweepCommand::Push(a) => ("push", &mut a.output),
         });
+    }
+    if is_fragility(command) {
+        return fragility(command).map(|a| ("fragility", &mut a.output));
     }
     Some(match blocks_sweep(command)? {
         SweepCommand::Frequency(a) => ("frequency", &mut a.output),
@@ -123,7 +153,15 @@ pub fn merge(args: &MergeArgs) -> Result<()> {
     let (mut cli, _) = parse_sweep(&merged.argv)?;
     RowLog::write_all(&args.out, &merged.sweep, &merged.rows)?;
     for (name, bytes) in &merged.files {
-        write_atomic(&args.out.join(name), bytes)?;
+        let path = args.out.join(name);
+        if let Some(folder) = path.parent() {
+            std::fs::create_dir_all(folder)
+                .with_context(|| format!("cannot create directory {}", folder.display()))?;
+        }
+        write_atomic(&path, bytes)?;
+    }
+    if let Some(study) = fragility(&mut cli.command) {
+        study.records = args.out.join(RECORDS_COPY);
     }
     if let Some(scene) =
         scene_of(&mut cli.command).filter(|_| merged.files.contains_key(SCENE_COPY))

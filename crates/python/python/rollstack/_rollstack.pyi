@@ -115,6 +115,18 @@ def blocks_sweep_scene(
     convergence: Optional[int] = ...,
     ensemble: Optional[int] = ...,
 ) -> List[Dict[str, Any]]: ...
+def blocks_fragility(
+    scene: Scene,
+    records: Sequence[str],
+    levels: Union[str, Sequence[float]],
+    measure: str,
+    t_end: Optional[float],
+    prox_constant: Optional[float],
+    explore_branches: bool,
+    last_resort: bool,
+    low_rank_updates: bool,
+    force: bool,
+) -> Dict[str, Any]: ...
 def blocks_painleve(
     aspect: float, mu: float = ..., mu_max: float = ..., grid: int = ...
 ) -> Dict[str, Any]: ...

@@ -8,7 +8,8 @@ command line's scene files (docs/scenes.md). :func:`simulate` runs one and retur
 :class:`Result` with numpy arrays. :func:`lire`, :func:`shaking` and :func:`sliding`
 build the scenes of §4.3-4.5; :func:`sweep_frequency` and :func:`sweep_slide` compute
 the rows of Figures 4.6 and 4.7 in parallel, :func:`sweep_scene` any scene over any of
-its numeric keys. :func:`read_record` and :func:`pulse` give the base excitations a
+its numeric keys, :func:`fragility` a scene under many records at many intensities
+with lognormal fragility curves. :func:`read_record` and :func:`pulse` give the base excitations a
 scene's ``[base.x]``, ``[base.y]`` or ``[base.rotation]`` table can play (recorded
 accelerograms, one-sine, one-cosine and Ricker pulses) as numpy arrays.
 
@@ -47,6 +48,7 @@ __all__ = [
     "read_record",
     "pulse",
     "converge",
+    "fragility",
 ]
 
 
@@ -618,6 +620,76 @@ def sweep_scene(
         bool(force),
         *_judged(convergence, ensemble),
     )
+
+
+#: The columns of :func:`fragility`'s result that are numbers (NaN for null).
+_FRAGILITY_NUMBERS = ("level", "pga_g", "pgv", "overturned", "failed", "failure_time",
+                      "t_final", "steps", "wall_time_s")
+
+
+def fragility(
+    scene: Scene,
+    records: Union[str, "os.PathLike[str]", Sequence[Union[str, "os.PathLike[str]"]]],
+    scales: Union[str, float, Sequence[float]],
+    *,
+    measure: str = "scale",
+    t_end: Optional[float] = None,
+    prox_constant: Optional[float] = None,
+    explore_branches: bool = True,
+    last_resort: bool = True,
+    low_rank_updates: bool = True,
+    force: bool = False,
+) -> Dict[str, Any]:
+    """Fragility curves from recorded ground motions (``rollstack blocks fragility``,
+    docs/fragility.md): ``scene`` with its base's x motion replaced by every record at
+    every level, in parallel (rayon, the GIL released), and lognormal curves
+    P = Φ(ln(x/θ)/β) fitted by maximum likelihood to whether a block overturned and
+    whether the stack failed, against PGA (g) and PGV.
+
+    ``records`` is a directory (every ``*.AT2`` and ``*.csv`` in it, sorted by name) or a
+    sequence of record files (in that order); ``scales`` the levels, numbers or the
+    CLI's text (``"0.1:2:0.1"``): factors on each record (``measure="scale"``) or target
+    PGAs in g (``measure="pga"``). The scene must come from TOML and give
+    ``solver.dt``; each run lasts its record unless ``t_end`` is given.
+
+    Returns a dict of one entry per run, in order (each record at each level): numpy
+    float64 arrays ``level``, ``pga_g``, ``pgv``, ``overturned`` and ``failed`` (1.0 or
+    0.0; NaN for a run that stopped on an error), ``failure_time`` (NaN: none),
+    ``t_final``, ``steps``, ``wall_time_s``, and lists ``record``, ``failure_kind``,
+    ``error`` (None where there is none); and ``fits``: the four curves (overturned,
+    then failed, each against PGA then PGV) as dicts with the keys of ``fit.json``
+    (``theta``, ``beta``, ``theta_band``, ``beta_band``, ... or ``no_fit``, the reason
+    no curve fits). Bad records, levels or scenes raise ``ValueError`` before any run::
+
+        study = blocks.fragility(blocks.Scene.from_toml("column.toml"), "quakes",
+                                 "0.1:2:0.1", measure="pga")
+        study["fits"][0]["theta"], study["pga_g"], study["overturned"]
+    """
+    if not isinstance(scene, Scene):
+        raise TypeError(f"fragility needs a rollstack.blocks.Scene, got {type(scene).__name__}")
+    if isinstance(records, (str, os.PathLike)):
+        paths = [os.fspath(records)]
+    elif isinstance(records, Sequence) and all(isinstance(r, (str, os.PathLike)) for r in records):
+        paths = [os.fspath(r) for r in records]
+    else:
+        raise TypeError("records must be a directory or a sequence of record files, got "
+                        f"{type(records).__name__}")
+    levels = scales if isinstance(scales, str) else np.asarray(scales, dtype=float).ravel().tolist()
+    out = _rollstack.blocks_fragility(
+        scene._inner, paths, levels, str(measure),
+        optional_number("t_end", t_end), optional_number("prox_constant", prox_constant),
+        bool(explore_branches), bool(last_resort), bool(low_rank_updates), bool(force),
+    )
+    rows = out["rows"]
+    result: Dict[str, Any] = {
+        key: np.array([math.nan if r[key] is None else float(r[key]) for r in rows],
+                      dtype=float)
+        for key in _FRAGILITY_NUMBERS
+    }
+    for key in ("record", "failure_kind", "error"):
+        result[key] = [r[key] for r in rows]
+    result["fits"] = out["fits"]
+    return result
 
 
 def explore(

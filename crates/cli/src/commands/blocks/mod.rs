@@ -12,6 +12,8 @@
 //! - `work-precision` ([`work_precision`]): speed against error, NSGA and Moreau–Jean;
 //! - `explore` ([`explore`]): every continuation of a run, its forks labelled real or
 //!   artefact, and Figure 4.5;
+//! - `fragility` ([`fragility`]): a scene under every record of a directory at every
+//!   intensity level, and lognormal fragility curves against PGA and PGV;
 //! - `converge` ([`converge`]): a scene at Δt/2^k and under tiny perturbations, with a
 //!   verdict on its failure time and its outcome (converged, chaotic, non-unique).
 //!
@@ -19,6 +21,7 @@
 
 pub mod converge;
 pub mod explore;
+pub mod fragility;
 pub mod lire;
 pub mod painleve;
 pub mod scenes;
@@ -86,6 +89,11 @@ pub enum BlocksCommand {
     /// perturbations of its initial state and base, with a verdict on the failure time
     /// and on the outcome (converged, chaotic, non-unique or not converged).
     Converge(converge::ConvergeArgs),
+    /// Fragility curves from recorded ground motions: every record (`*.AT2`, `*.csv`) of
+    /// a directory played on the scene's base at every level of `--scales`, whether a
+    /// block overturned and whether the stack failed, and lognormal curves fitted to
+    /// them against PGA and PGV with their 95 % bands (docs/fragility.md).
+    Fragility(fragility::FragilityArgs),
 }
 
 /// Runs `rollstack blocks`.
@@ -105,6 +113,7 @@ pub fn run(args: &BlocksArgs) -> Result<()> {
         BlocksCommand::WorkPrecision(a) => work_precision::run(a),
         BlocksCommand::Explore(a) => explore::run(a),
         BlocksCommand::Converge(a) => converge::run(a),
+        BlocksCommand::Fragility(a) => fragility::run(a),
     }
 }
 

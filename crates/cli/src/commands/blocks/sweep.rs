@@ -109,6 +109,17 @@ fn stopped_by_watchdog(row: &impl Serialize) -> bool {
 #[error("every value of the sweep was checked; no row was run")]
 pub struct OnlyChecked;
 
+/// `inputs` with the solver options that change a sweep's rows, which join its
+/// identity (every sweep of blocks: `blocks sweep …`, `blocks fragility`).
+#[must_use]
+pub fn with_solver_inputs(mut inputs: serde_json::Value, solver: &SolverArgs) -> serde_json::Value {
+    inputs["prox_constant"] = serde_json::json!(solver.prox_constant);
+    inputs["explore_branches"] = solver.explore_branches.into();
+    inputs["last_resort"] = solver.last_resort.into();
+    inputs["low_rank_updates"] = solver.low_rank_updates.into();
+    inputs
+}
+
 /// One sweep being run ([`shards::Run`]: the sweep, the shard of `--shard`, the size),
 /// with its output options and the files it reads.
 #[derive(Debug)]
@@ -133,13 +144,10 @@ impl<'a> SweepRun<'a> {
         name: &'static str,
         output: &'a SweepOutputArgs,
         solver: &SolverArgs,
-        mut inputs: serde_json::Value,
+        inputs: serde_json::Value,
         total: usize,
     ) -> Result<Self> {
-        inputs["prox_constant"] = serde_json::json!(solver.prox_constant);
-        inputs["explore_branches"] = solver.explore_branches.into();
-        inputs["last_resort"] = solver.last_resort.into();
-        inputs["low_rank_updates"] = solver.low_rank_updates.into();
+        let inputs = with_solver_inputs(inputs, solver);
         Self::of_command(format!("blocks sweep {name}"), name, output, inputs, total)
     }
 
