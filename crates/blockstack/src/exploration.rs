@@ -14,7 +14,7 @@ use crate::contact_states::{differing_interfaces, interface_states, InterfaceSta
 use crate::coordinates::Pose;
 use crate::events::{EventKind, FailureEvent};
 use crate::fork_check::{check_fork, ForkEvidence, ForkLabel};
-use crate::record::{number_text, optional_text, trajectory_header, write_trajectory_row};
+use crate::record::{number_text, optional_text, trajectory_header_of, write_trajectory_row};
 use crate::scene::Scene;
 use crate::simulation::{
     check_failure, final_poses, step_count, stepper_options, BlockPose, Recorder, RunOptions,
@@ -321,7 +321,7 @@ impl Walker for StackWalker<'_> {
         let path = trajectory_path(dir, id);
         let opened = File::create(&path).and_then(|f| {
             let mut w = BufWriter::new(f);
-            writeln!(w, "{}", trajectory_header(self.scene.n_blocks()).join(","))?;
+            writeln!(w, "{}", trajectory_header_of(self.scene).join(","))?;
             Ok(w)
         });
         match opened {
@@ -511,9 +511,10 @@ impl ForkRecord {
     }
 }
 
-/// The forks of an exploration, in branch order then time.
+/// The forks of an exploration, in branch order then time, for a scene of `n_interfaces`
+/// interfaces ([`Scene::n_interfaces`]; a column: its blocks).
 #[must_use]
-pub fn fork_records(tree: &Exploration<BranchSummary>, n_blocks: usize) -> Vec<ForkRecord> {
+pub fn fork_records(tree: &Exploration<BranchSummary>, n_interfaces: usize) -> Vec<ForkRecord> {
     tree.forks()
         .map(|(b, f)| {
             let sets = f.candidate_sets();
@@ -526,13 +527,16 @@ pub fn fork_records(tree: &Exploration<BranchSummary>, n_blocks: usize) -> Vec<F
                 consistent: f.consistent.iter().filter(|&&c| c).count(),
                 followed: f.followed,
                 children: f.children.clone(),
-                differing_interfaces: differing_interfaces(&sets, n_blocks),
-                states: sets.iter().map(|s| interface_states(s, n_blocks)).collect(),
+                differing_interfaces: differing_interfaces(&sets, n_interfaces),
+                states: sets
+                    .iter()
+                    .map(|s| interface_states(s, n_interfaces))
+                    .collect(),
                 corner_contacts_differ: sets.iter().any(|s| {
                     let (a, b) = (sets[0], *s);
-                    a.a[2 * n_blocks..] != b.a[2 * n_blocks..]
-                        || a.c[2 * n_blocks..] != b.c[2 * n_blocks..]
-                        || a.d[n_blocks..] != b.d[n_blocks..]
+                    a.a[2 * n_interfaces..] != b.a[2 * n_interfaces..]
+                        || a.c[2 * n_interfaces..] != b.c[2 * n_interfaces..]
+                        || a.d[n_interfaces..] != b.d[n_interfaces..]
                 }),
                 spread: f.spread,
                 evidence: b

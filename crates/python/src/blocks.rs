@@ -770,7 +770,7 @@ fn blocks_explore<'py>(
         let tree = py
             .detach(|| explore_scene(scene, &options, &explore_options, settings))
             .map_err(value_error)?;
-        let forks = fork_records(&tree, scene.n_blocks());
+        let forks = fork_records(&tree, scene.n_interfaces());
         let report = ExplorationReport::new(&tree, &forks, outcome_groups(&tree));
         let mut value = serde_json::to_value(&report).map_err(value_error)?;
         value["strategy"] = strategy.name().into();
