@@ -19,7 +19,8 @@
 //! mass = 1.0                 # default 1
 //! count = 4                  # default 1: repeated identical blocks
 //! # x = 0.0                  # initial x of the centre (default 0)
-//! # y = 0.25                 # initial y (default: resting on the block below)
+//! # y = 0.25                 # initial y (default: resting on the block listed before)
+//! # on = ["left", "right"]   # or rest on these bodies ("base" or blocks' names, listed before)
 //! # theta = 0.0              # initial angle, radians (default 0)
 //! # velocity = [0.0, 0.0, 0.0]   # initial [vx, vy, omega] (default: at rest)
 //! # name = "capital"         # for [[contact.pair]] (an entry with count = 1 only)
@@ -48,7 +49,9 @@
 //! ```
 //!
 //! Block heights are stacked automatically: each block's lowest point rests on the top of
-//! the block below. [`LoadedScene::defaults`] lists the keys a file left out and the
+//! the block listed before it, or with `on` on the highest top of the bodies it names
+//! (docs/scenes.md, "Any arrangement"). Which bodies each block then rests on, the
+//! scene's interfaces, is found from the poses ([`crate::arrangement`]). [`LoadedScene::defaults`] lists the keys a file left out and the
 //! values they took; [`Scene::warnings`] says what the scene may do unexpectedly (no
 //! floor).
 

@@ -47,7 +47,9 @@ fn scenes_lists_the_builtin_scenes_and_prints_one_as_its_file() {
     assert_eq!(stderr.trim().lines().count(), 1, "{stderr}");
     assert!(
         stderr.contains("no built-in scene 'tower'")
-            && stderr.contains("lire, lire-collapse, rocking-block, shaking, side-by-side, slide, trilith"),
+            && stderr.contains(
+                "lire, lire-collapse, rocking-block, shaking, side-by-side, slide, trilith"
+            ),
         "{stderr}"
     );
 }
