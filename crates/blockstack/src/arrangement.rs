@@ -6,13 +6,15 @@
 //! side by side, a statue on a plinth) rest on other bodies: block i rests on body B (the
 //! base or another block) when, at t = 0,
 //! - the interface B/i of App. G supports i ([`crate::interface::Support::Supported`]: the
-//!   faces face each other, i's centre is above the line of B's top face, and i's bottom
-//!   face overlaps B's top face along e₁ over a positive length) with the faces turned
-//!   from each other by less than 60° (the gaps hold the contact,
-//!   [`crate::interface::InterfaceContacts::holds`]), and
+//!   faces face each other, e₂ᴮ·e₂ⁱ > 0, i's centre is above the line of B's top face,
+//!   and i's bottom face overlaps B's top face along e₁ over a positive length), and
 //! - the smaller of the interface's two gaps is at most [`REST_TOL`] times i's height
 //!   (i's bottom face lies on B's top face, or a corner of one on the other's face: the
 //!   overlap check of the scene has refused deeper penetrations already).
+//!
+//! A block turned by more than 60° from the body beneath and resting on a corner has its
+//! interface, as in a column: while the faces are turned that far, the corner contacts
+//! hold the contact in its place ([`crate::interface::InterfaceContacts::holds`]).
 //!
 //! Each such (lower body, upper block) pair is one interface ([`Seat`]) with its two
 //! normal gaps and its friction law (App. H). They are numbered by upper block, then by
@@ -23,7 +25,7 @@
 //! through the corner contacts of [`crate::pairs`].
 
 use crate::coordinates::{BodyState, Frame, Pose, Twist};
-use crate::interface::Interface;
+use crate::interface::{Interface, Support};
 use crate::overlap::Body;
 use crate::scene::Scene;
 use std::fmt;
@@ -142,10 +144,11 @@ impl Arrangement {
     }
 }
 
-/// Whether `upper` rests on `lower` at these states: supported with the gaps holding
-/// the contact, the smaller gap within `tol`.
+/// Whether `upper` rests on `lower` at these states: supported, the smaller gap within
+/// `tol`.
 fn rests_on(interface: &Interface, lower: &BodyState, upper: &BodyState, tol: f64) -> bool {
-    if !interface.holds(&Frame::of(&lower.pose), &Frame::of(&upper.pose)) {
+    let frames = (Frame::of(&lower.pose), Frame::of(&upper.pose));
+    if interface.support_of(&frames.0, &frames.1) != Support::Supported {
         return false;
     }
     let c = interface.contacts(lower, upper);

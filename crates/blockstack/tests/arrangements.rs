@@ -69,6 +69,25 @@ fn a_column_has_the_thesis_interfaces() {
     );
 }
 
+/// A block of a column turned by 1.2 rad (more than the 60° up to which the interface's
+/// gaps hold the contact) rests on a corner on the block below (moved left by 0.15 so
+/// that its lowest corner, 0.15 right of its centre, lies on the middle of the lower
+/// block's top face): it keeps its interface, as in the thesis's column, and does not
+/// count as resting on nothing.
+#[test]
+fn a_turned_block_on_a_corner_keeps_its_interface() {
+    let text = "[base]\nwidth = 1.0\nheight = 0.1\n\
+        [[blocks]]\nwidth = 0.2\nheight = 0.4\n\
+        [[blocks]]\nwidth = 0.2\nheight = 0.4\nx = -0.15\ntheta = 1.2\n\
+        [contact]\nmu = 0.5\n[floor]\n";
+    let scene = Scene::from_toml(text).unwrap();
+    assert_eq!(
+        scene.arrangement().seats(),
+        [seat(Body::Base, 1), seat(Body::Block(1), 2)].as_slice()
+    );
+    assert!(scene.warnings().is_empty(), "{:?}", scene.warnings());
+}
+
 #[test]
 fn a_lintel_rests_on_both_posts_and_side_by_side_blocks_on_the_base_only() {
     let trilith = resting_trilith();
