@@ -10,9 +10,10 @@
 //! and for each pair of boxes that meet, each corner of one body whose gap to the other
 //! body is below the sum of their margins is a candidate.
 //!
-//! Neighbours in the stack are the thesis's interfaces (App. G): while block k firmly
-//! supports block k+1 (its [`Interface::support_margin`] exceeds the margins) their
-//! corner contacts are not needed, so a standing column has no candidates at all and
+//! A block and a body it rests on are joined by an interface of App. G
+//! ([`crate::arrangement`]): while the lower body firmly supports the block (the
+//! interface's [`Interface::support_margin`] exceeds the margins) their corner contacts
+//! are not needed, so a standing column has no candidates at all and
 //! pays only for the sweep. Near the loss of support they are added; the system then
 //! uses either the interface's gaps (supported) or the corner contacts (not), never both.
 //!
@@ -23,9 +24,7 @@ use crate::corners::{frame_corners, Corner};
 use crate::gaps::Face;
 use crate::interface::{holds_given, Size, Support};
 use crate::overlap::Body;
-use crate::pairs::{
-    body_index, interface_between, ContactLine, CornerContact, LineContacts, LineKind, Side,
-};
+use crate::pairs::{body_index, ContactLine, CornerContact, LineContacts, LineKind, Side};
 use crate::scene::Scene;
 
 /// The fixed part δ of the margin, as a fraction of the smallest block dimension.
@@ -142,16 +141,28 @@ pub fn scan(scene: &Scene, t: f64, q: &[f64], u: &[f64], dt: f64) -> Scan {
         .chain((1..=scene.n_blocks()).map(Body::Block))
         .map(|b| scene_box(scene, (t, q, Some(u)), b, dt, delta))
         .collect();
-    // Interface k joins bodies k and k + 1 (the base is body 0).
-    let supports: Vec<Support> = bodies
-        .windows(2)
-        .enumerate()
-        .map(|(k, w)| scene.interface(k).support_of(&w[0].frame, &w[1].frame))
+    // Interface k joins its lower body and its upper block (`bodies` holds the base,
+    // then the blocks: body i is block i).
+    let frames = |k: usize| {
+        let seat = scene.arrangement().seats()[k];
+        (
+            &bodies[body_index(seat.lower)].frame,
+            &bodies[seat.upper].frame,
+        )
+    };
+    let supports: Vec<Support> = (0..scene.n_interfaces())
+        .map(|k| {
+            let (lower, upper) = frames(k);
+            scene.interface(k).support_of(lower, upper)
+        })
         .collect();
-    let holds = bodies
-        .windows(2)
-        .zip(&supports)
-        .map(|(w, &s)| holds_given(s, &w[0].frame, &w[1].frame))
+    let holds = supports
+        .iter()
+        .enumerate()
+        .map(|(k, &s)| {
+            let (lower, upper) = frames(k);
+            holds_given(s, lower, upper)
+        })
         .collect();
     Scan {
         lines: lines_near(scene, &bodies, &supports, delta),
@@ -369,9 +380,9 @@ fn sweep_axis(bodies: &[Boxed]) -> usize {
     usize::from(spread(1) >= spread(0))
 }
 
-/// Whether `a` and `b` are neighbours in the stack whose interface supports the upper
-/// one by more than `margin` (then the interface's own gaps are all the contact needed);
-/// `supports` holds each interface's support test.
+/// Whether `a` and `b` are joined by an interface that supports the upper one by more
+/// than `margin` (then the interface's own gaps are all the contact needed); `supports`
+/// holds each interface's support test.
 fn firmly_supported(
     scene: &Scene,
     supports: &[Support],
@@ -379,10 +390,10 @@ fn firmly_supported(
     b: &Boxed,
     margin: f64,
 ) -> bool {
-    let Some(k) = interface_between(a.body, b.body) else {
+    let Some(k) = scene.interface_between(a.body, b.body) else {
         return false;
     };
-    let (lower, upper) = if matches!(a.body, Body::Block(i) if i == k + 1) {
+    let (lower, upper) = if scene.arrangement().seats()[k].lower == b.body {
         (b, a)
     } else {
         (a, b)

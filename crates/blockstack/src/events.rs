@@ -1,5 +1,5 @@
 //! Failure events a user can see in a run: a block loses its support, a block tips past
-//! its tipping angle, the column's height drops by a block, a block reaches the floor.
+//! its tipping angle, the stack's height drops by a block, a block reaches the floor.
 //!
 //! `failure_time` (§4.4, Figure 4.6) is only the first of these, the loss of support of
 //! (G.2.4) corrected (ERRATA 23). A column can collapse without any block losing its
@@ -9,7 +9,7 @@
 //!
 //! **The failure of a run** ([`failure`]) is its first event of any kind: a block lost
 //! its support, tipped past its tipping angle or reached the floor from above, or the
-//! column's height dropped by a block. Each means the column no longer stands as it was
+//! stack's height (its highest corner) dropped by a block. Each means the column no longer stands as it was
 //! built; which came first is the failure's kind. In the Lire collapse on a floor no
 //! block loses its support in the sense of (G.2.4) (the test compares positions along
 //! the faces, and the blocks lie on the floor one beyond the other), the top block
@@ -17,11 +17,16 @@
 //! block only at t = 7.05, when block 3 has fallen too
 //! (`a_collapse_on_a_floor_is_a_failure_with_its_kind`).
 //!
-//! Support is lost only by a block that had it: an interface whose upper block does not
-//! rest on the lower one in the initial state (two blocks side by side on the base)
-//! reports no event.
+//! Support is per interface ([`crate::arrangement`]): block i lost its support on body B
+//! when the interface B/i no longer supports it. A block resting on one body (a column's)
+//! has one such event at most; a lintel across two posts may lose its support on each.
+//! Blocks side by side, or a block placed in the air, have no interface between them and
+//! no such event. Where a block rests on more than one body, the event names the body
+//! ([`FailureEvent::on`]). Tipping and touching the floor are per block; the height
+//! drop is that of the highest point of any block.
 
 use crate::coordinates::Pose;
+use crate::overlap::Body;
 use crate::scene::Scene;
 use crate::stack::StackContacts;
 use std::fmt;
@@ -48,7 +53,7 @@ impl fmt::Display for EventKind {
         f.write_str(match self {
             Self::SupportLost => "lost its support",
             Self::Tipped => "tipped past its tipping angle",
-            Self::HeightDropped => "the column's height dropped by a block",
+            Self::HeightDropped => "the stack's height dropped by a block",
             Self::TouchedFloor => "touched the floor",
         })
     }
@@ -61,16 +66,35 @@ pub struct FailureEvent {
     pub kind: EventKind,
     /// When: the end of the step at which it was first seen.
     pub t: f64,
-    /// Which block (1-based, bottom to top); None for [`EventKind::HeightDropped`].
+    /// Which block (1-based, in the scene's order); None for
+    /// [`EventKind::HeightDropped`].
     pub block: Option<usize>,
+    /// For [`EventKind::SupportLost`] by a block that rests on more than one body (a
+    /// lintel): the body it lost its support on. JSON: `"on": "block 1"` or
+    /// `"on": "the base"`, absent otherwise.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub on: Option<Body>,
+}
+
+impl FailureEvent {
+    /// What happened, with the bodies named by `label` (`block 3 (lintel) lost its
+    /// support on block 1 (left post)`), without the time.
+    #[must_use]
+    pub fn what(&self, label: &dyn Fn(Body) -> String) -> String {
+        let mut s = match self.block {
+            Some(k) => format!("{} {}", label(Body::Block(k)), self.kind),
+            None => self.kind.to_string(),
+        };
+        if let Some(on) = self.on {
+            s = format!("{s} on {}", label(on));
+        }
+        s
+    }
 }
 
 impl fmt::Display for FailureEvent {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self.block {
-            Some(k) => write!(f, "t = {:.4}: block {k} {}", self.t, self.kind),
-            None => write!(f, "t = {:.4}: {}", self.t, self.kind),
-        }
+        write!(f, "t = {:.4}: {}", self.t, self.what(&|b| b.to_string()))
     }
 }
 
@@ -81,8 +105,15 @@ pub struct EventWatch {
     initial_height: f64,
     drop: f64,
     floor_tol: f64,
-    /// Per block and per kind ([`EventKind`] as index): already reported.
+    /// Per block and per kind ([`EventKind`] as index): already reported. Support is
+    /// per interface: `support_seen`.
     seen: Vec<[bool; 4]>,
+    /// Per interface: its upper block's loss of support on it already reported (or the
+    /// interface did not support at the start).
+    support_seen: Vec<bool>,
+    /// Per interface: the body to name in its event (`None`: its block rests on this
+    /// body only).
+    named_lower: Vec<Option<Body>>,
     events: Vec<FailureEvent>,
 }
 
@@ -103,25 +134,42 @@ impl EventWatch {
             drop,
             floor_tol,
             seen: vec![[false; 4]; n],
+            support_seen: Vec::new(),
+            named_lower: Vec::new(),
             events: Vec::new(),
         };
+        let arrangement = scene.arrangement();
+        watch.named_lower = arrangement
+            .seats()
+            .iter()
+            .map(|s| (arrangement.seats_of(s.upper).len() > 1).then_some(s.lower))
+            .collect();
         for k in 0..n {
             watch.seen[k][EventKind::TouchedFloor as usize] =
                 floor_gap(scene, &q0, k).is_some_and(|g| g <= floor_tol);
         }
         let contacts = scene.contacts(0.0, &q0, &scene.initial_velocities());
-        for (k, interface) in contacts.interfaces.iter().enumerate() {
-            watch.seen[k][EventKind::SupportLost as usize] = !interface.is_supported();
-        }
+        watch.support_seen = contacts
+            .interfaces
+            .iter()
+            .map(|i| !i.is_supported())
+            .collect();
         watch
     }
 
     /// Records the events of the state at `t` with coordinates `q` and the contacts
     /// evaluated there.
     pub fn observe(&mut self, scene: &Scene, t: f64, q: &[f64], contacts: &StackContacts) {
+        let seats = scene.arrangement().seats();
         for (k, interface) in contacts.interfaces.iter().enumerate() {
-            if !interface.is_supported() {
-                self.record(Some(k), EventKind::SupportLost, t);
+            if !interface.is_supported() && !self.support_seen[k] {
+                self.support_seen[k] = true;
+                self.events.push(FailureEvent {
+                    kind: EventKind::SupportLost,
+                    t,
+                    block: Some(seats[k].upper),
+                    on: self.named_lower[k],
+                });
             }
         }
         for k in 0..scene.n_blocks() {
@@ -151,6 +199,7 @@ impl EventWatch {
                 kind,
                 t,
                 block: k.map(|k| k + 1),
+                on: None,
             });
         }
     }
@@ -204,13 +253,24 @@ impl Verdict {
     }
 }
 
+impl Verdict {
+    /// The verdict line with the bodies named by `label` ([`FailureEvent::what`]).
+    #[must_use]
+    pub fn line(&self, label: &dyn Fn(Body) -> String) -> String {
+        match self.failure {
+            Some(e) => format!("verdict: failed, t = {:.4}: {}", e.t, e.what(label)),
+            None => self.to_string(),
+        }
+    }
+}
+
 impl fmt::Display for Verdict {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match (self.failure, self.stopped_early) {
             (Some(e), _) => write!(f, "verdict: failed, {e}"),
             (None, false) => write!(
                 f,
-                "verdict: standing at t = {:.4} (no block lost its support, tipped or reached the floor; the column's height held)",
+                "verdict: standing at t = {:.4} (no block lost its support, tipped or reached the floor; the stack's height held)",
                 self.t_final
             ),
             (None, true) => write!(

@@ -16,7 +16,7 @@ use crate::coordinates::Pose;
 use crate::events::{EventKind, FailureEvent};
 use crate::fork_check::{check_fork, ForkEvidence, ForkLabel, History, DEFAULT_WINDOW};
 use crate::record::{
-    finite_text, number_text, optional_text, trajectory_header, write_trajectory_row,
+    finite_text, number_text, optional_text, trajectory_header_of, write_trajectory_row,
 };
 use crate::scene::Scene;
 use crate::simulation::{
@@ -228,7 +228,7 @@ impl<'a> StackWalker<'a> {
     fn contact_check(&self, st: &State) -> ContactCheck {
         let tol = Tolerances::new(self.scene, self.options().dt);
         let (system, layout) = (self.stepper.system(), self.stepper.layout());
-        contact_laws::check(system, layout, st, self.scene.n_blocks(), &tol)
+        contact_laws::check(system, layout, st, self.scene.n_interfaces(), &tol)
     }
 
     /// A walker that takes this branch again from `before` (a state of it, at the start
@@ -337,7 +337,7 @@ impl<'a> StackWalker<'a> {
             return;
         }
         let st = self.stepper.state();
-        let laws = law_cells(&self.contact_check(st), st, self.scene.n_blocks());
+        let laws = law_cells(&self.contact_check(st), st, self.scene.n_interfaces());
         if let Some(csv) = self.csv.as_mut() {
             if let Err(e) = write_branch_row(csv, rec, &laws) {
                 self.trajectory_error = Some(e.to_string());
@@ -359,7 +359,7 @@ impl Walker for StackWalker<'_> {
         let path = trajectory_path(dir, id);
         let opened = File::create(&path).and_then(|f| {
             let mut w = BufWriter::new(f);
-            writeln!(w, "{}", branch_header(self.scene.n_blocks()).join(","))?;
+            writeln!(w, "{}", branch_header(self.scene).join(","))?;
             Ok(w)
         });
         match opened {
@@ -471,12 +471,13 @@ pub const LAW_COLUMNS: [&str; 4] = [
     "complementarity_violation",
 ];
 
-/// The header of `branch_<id>.csv`: [`trajectory_header`], then the impulses and states
-/// of each interface and [`LAW_COLUMNS`].
+/// The header of `branch_<id>.csv` for `scene`: its trajectory's
+/// ([`trajectory_header_of`]), then the impulses and states of each interface
+/// ([`Scene::n_interfaces`]) and [`LAW_COLUMNS`].
 #[must_use]
-pub fn branch_header(n: usize) -> Vec<String> {
-    let mut h = trajectory_header(n);
-    for k in 1..=n {
+pub fn branch_header(scene: &Scene) -> Vec<String> {
+    let mut h = trajectory_header_of(scene);
+    for k in 1..=scene.n_interfaces() {
         h.extend([
             format!("pn{k}a"),
             format!("pn{k}b"),
@@ -488,7 +489,7 @@ pub fn branch_header(n: usize) -> Vec<String> {
     h
 }
 
-/// The cells [`branch_header`] adds for the state `st` checked in `check`, `n` blocks.
+/// The cells [`branch_header`] adds for the state `st` checked in `check`, `n` interfaces.
 fn law_cells(check: &ContactCheck, st: &State, n: usize) -> Vec<String> {
     let mut cells = Vec::with_capacity(4 * n + LAW_COLUMNS.len());
     for (k, state) in check.states.iter().enumerate().take(n) {
@@ -625,9 +626,10 @@ impl ForkRecord {
     }
 }
 
-/// The forks of an exploration, in branch order then time.
+/// The forks of an exploration, in branch order then time, for a scene of `n_interfaces`
+/// interfaces ([`Scene::n_interfaces`]; a column: its blocks).
 #[must_use]
-pub fn fork_records(tree: &Exploration<BranchSummary>, n_blocks: usize) -> Vec<ForkRecord> {
+pub fn fork_records(tree: &Exploration<BranchSummary>, n_interfaces: usize) -> Vec<ForkRecord> {
     tree.forks()
         .map(|(b, f)| {
             let sets = f.candidate_sets();
@@ -641,13 +643,16 @@ pub fn fork_records(tree: &Exploration<BranchSummary>, n_blocks: usize) -> Vec<F
                 consistent: f.consistent.iter().filter(|&&c| c).count(),
                 followed: f.followed,
                 children: f.children.clone(),
-                differing_interfaces: differing_interfaces(&sets, n_blocks),
-                states: sets.iter().map(|s| interface_states(s, n_blocks)).collect(),
+                differing_interfaces: differing_interfaces(&sets, n_interfaces),
+                states: sets
+                    .iter()
+                    .map(|s| interface_states(s, n_interfaces))
+                    .collect(),
                 corner_contacts_differ: sets.iter().any(|s| {
                     let (a, b) = (sets[0], *s);
-                    a.a[2 * n_blocks..] != b.a[2 * n_blocks..]
-                        || a.c[2 * n_blocks..] != b.c[2 * n_blocks..]
-                        || a.d[n_blocks..] != b.d[n_blocks..]
+                    a.a[2 * n_interfaces..] != b.a[2 * n_interfaces..]
+                        || a.c[2 * n_interfaces..] != b.c[2 * n_interfaces..]
+                        || a.d[n_interfaces..] != b.d[n_interfaces..]
                 }),
                 spread: f.spread,
                 candidates: checked.map(|c| c.candidates.clone()).unwrap_or_default(),

@@ -49,6 +49,7 @@
 //! ```
 #![warn(missing_docs)]
 
+pub mod arrangement;
 pub mod base;
 pub mod block;
 pub mod broad_phase;
@@ -82,6 +83,7 @@ pub mod studies;
 pub mod system;
 pub mod time_guard;
 
+pub use arrangement::{Arrangement, Seat};
 pub use base::{
     Accelerogram, Base, BaseKinematics, BaseMotion, Baseline, CubicSpline, Pulse, PulseShape,
 };

@@ -136,14 +136,6 @@ pub(crate) fn free_block(b: Body) -> Option<usize> {
     }
 }
 
-/// The neighbour interface of App. G between two bodies, if they are neighbours in the
-/// stack: interface k joins body k and body k+1 (k = 0: the base and block 1).
-#[must_use]
-pub fn interface_between(a: Body, b: Body) -> Option<usize> {
-    let (a, b) = (body_index(a), body_index(b));
-    (a.abs_diff(b) == 1 && a.max(b) != usize::MAX).then_some(a.min(b))
-}
-
 impl CornerContact {
     /// A total order key (corner body, corner, face body, face) for deterministic listings.
     #[must_use]
@@ -175,27 +167,17 @@ impl CornerContact {
         self.face.beyond_end(&Frame::of(&face.pose), sizes[1], &p)
     }
 
-    /// Whether this is a contact that a neighbour interface measures while it supports
-    /// (G.2.3): a top corner (a, b) of the lower body on the bottom face of the upper,
-    /// or a bottom corner (c, d) of the upper on the top face of the lower.
+    /// Whether this is a contact that the interface of its two bodies, with `lower` the
+    /// body beneath ([`crate::arrangement`]), measures while it supports (G.2.3): a top
+    /// corner (a, b) of the lower body on the bottom face of the upper, or a bottom
+    /// corner (c, d) of the upper on the top face of the lower.
     #[must_use]
-    pub fn is_interface_case(&self) -> bool {
-        let Some(k) = self.interface() else {
-            return false;
-        };
-        let lower_is_corner = body_index(self.corner_body) == k;
+    pub fn is_interface_case(&self, lower: Body) -> bool {
+        let lower_is_corner = self.corner_body == lower;
         matches!(
             (lower_is_corner, self.corner, self.face),
             (true, Corner::A | Corner::B, Side::Bottom) | (false, Corner::C | Corner::D, Side::Top)
         )
-    }
-
-    /// The neighbour interface of App. G that joins the two bodies, if they are
-    /// neighbours in the stack: interface k joins body k and body k+1 (k = 0: the base
-    /// and block 1).
-    #[must_use]
-    pub fn interface(&self) -> Option<usize> {
-        interface_between(self.corner_body, self.face_body)
     }
 
     /// The gap and the slip speed of the contact, in the coordinates of the free blocks
@@ -290,12 +272,6 @@ impl ContactLine {
         };
         (body_index(self.lo), body_index(self.hi), a, b)
     }
-
-    /// The neighbour interface of App. G joining the two bodies, if any.
-    #[must_use]
-    pub fn interface(&self) -> Option<usize> {
-        interface_between(self.lo, self.hi)
-    }
 }
 
 /// Up to two corner contacts on one [`ContactLine`].
@@ -310,7 +286,7 @@ pub struct LineContacts {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::coordinates::{Pose, Vec2};
+    use crate::coordinates::Vec2;
     use crate::gaps::tests::{fd_oracle, state};
 
     fn contact(corner: Corner, face: Side) -> CornerContact {
@@ -414,20 +390,5 @@ mod tests {
         seen.sort_by_key(|s| Side::ALL.iter().position(|x| x == s));
         seen.dedup();
         assert_eq!(seen.len(), 4, "every face is tried: {seen:?}");
-    }
-
-    #[test]
-    fn neighbours_are_joined_by_their_interface() {
-        let c = |a, b| CornerContact {
-            corner_body: a,
-            corner: Corner::A,
-            face_body: b,
-            face: Side::Top,
-        };
-        assert_eq!(c(Body::Base, Body::Block(1)).interface(), Some(0));
-        assert_eq!(c(Body::Block(4), Body::Block(3)).interface(), Some(3));
-        assert_eq!(c(Body::Block(4), Body::Block(2)).interface(), None);
-        assert_eq!(c(Body::Base, Body::Block(2)).interface(), None);
-        let _ = Pose::new(0.0, 0.0, 0.0);
     }
 }

@@ -141,16 +141,28 @@ pub struct Recording {
     pub last: Option<Frame>,
 }
 
-/// The trajectory CSV header for n blocks: t, x1, y1, theta1, …, then n{k}a, n{k}b, f{k}
-/// per interface k (k = 1 between the base and block 1), then base_x, min_gap,
-/// newton_iterations, energy.
+/// The trajectory CSV header for a column of n blocks: t, x1, y1, theta1, …, then n{k}a,
+/// n{k}b, f{k} per interface k (k = 1 between the base and block 1), then base_x,
+/// min_gap, newton_iterations, energy.
 #[must_use]
 pub fn trajectory_header(n: usize) -> Vec<String> {
+    header(n, n)
+}
+
+/// [`trajectory_header`] for any scene: its blocks, then its interfaces in their order
+/// ([`crate::arrangement`]; interface k is the k-th of them).
+#[must_use]
+pub fn trajectory_header_of(scene: &Scene) -> Vec<String> {
+    header(scene.n_blocks(), scene.n_interfaces())
+}
+
+/// The header for n blocks and m interfaces.
+fn header(n: usize, m: usize) -> Vec<String> {
     let mut h = vec!["t".to_owned()];
     for k in 1..=n {
         h.extend([format!("x{k}"), format!("y{k}"), format!("theta{k}")]);
     }
-    for k in 1..=n {
+    for k in 1..=m {
         h.extend([format!("n{k}a"), format!("n{k}b"), format!("f{k}")]);
     }
     h.extend(
@@ -248,7 +260,7 @@ impl<W: Write> Recorder<W> {
         mut csv: Option<W>,
     ) -> Result<Self, TrajectoryError> {
         if let Some(w) = &mut csv {
-            writeln!(w, "{}", trajectory_header(scene.n_blocks()).join(","))?;
+            writeln!(w, "{}", trajectory_header_of(scene).join(","))?;
         }
         Ok(Self {
             csv,

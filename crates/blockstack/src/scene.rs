@@ -1,6 +1,7 @@
 //! A scene: the base, the blocks bottom to top, the optional floor, and the contact and
 //! solver parameters (§4.2, "Simulation Parameters"), validated.
 
+use crate::arrangement::Arrangement;
 use crate::base::Base;
 use crate::block::Block;
 use crate::coordinates::{BodyState, Pose, Scalar, Twist};
@@ -116,6 +117,10 @@ pub struct Scene {
     pub solver: SolverParams,
     /// Overrides of `contact` per kind of interface and per pair (none by default).
     materials: Materials,
+    /// Which bodies each block rests on: the interfaces (crate::arrangement).
+    arrangement: Arrangement,
+    /// The blocks' names from a scene file (`None`: unnamed), for messages.
+    names: Vec<Option<String>>,
 }
 
 /// Relative tolerance on initial overlaps (of the largest block size).
@@ -165,6 +170,23 @@ impl Scene {
         contact: ContactParams,
         solver: SolverParams,
     ) -> Result<Self, BlockError> {
+        Self::named(base, blocks, floor, contact, solver, Vec::new())
+    }
+
+    /// [`Scene::new`] with the blocks named (one entry per block, in their order; `None`:
+    /// unnamed; fewer entries: the rest unnamed), as a scene file names them: errors and
+    /// messages then say `block 3 (lintel)`.
+    ///
+    /// # Errors
+    /// As [`Scene::new`].
+    pub fn named(
+        base: Base,
+        blocks: Vec<Block>,
+        floor: Option<Floor>,
+        contact: ContactParams,
+        solver: SolverParams,
+        names: Vec<Option<String>>,
+    ) -> Result<Self, BlockError> {
         contact.validate()?;
         solver.validate()?;
         if blocks.is_empty() {
@@ -189,10 +211,16 @@ impl Scene {
             contact,
             solver,
             materials: Materials::default(),
+            arrangement: Arrangement::default(),
+            names,
         };
         scene.check_overlaps()?;
         scene.check_floor()?;
-        Ok(scene)
+        let arrangement = Arrangement::of(&scene);
+        Ok(Self {
+            arrangement,
+            ..scene
+        })
     }
 
     fn check_floor(&self) -> Result<(), BlockError> {
@@ -234,8 +262,8 @@ impl Scene {
         let bodies = scene_bodies(self, 0.0, &self.initial_coordinates());
         match deepest_among(&bodies) {
             Some(p) if p.depth > tol => Err(BlockError::Overlap {
-                first: p.first.to_string(),
-                second: p.second.to_string(),
+                first: self.body_label(p.first),
+                second: self.body_label(p.second),
                 depth: p.depth,
             }),
             _ => Ok(()),
@@ -251,6 +279,37 @@ impl Scene {
         materials.validate(self.n_blocks())?;
         self.materials = materials;
         Ok(self)
+    }
+
+    /// The name of block k (1-based), if it has one.
+    #[must_use]
+    pub fn block_name(&self, k: usize) -> Option<&str> {
+        self.names.get(k.checked_sub(1)?)?.as_deref()
+    }
+
+    /// A body as messages name it: `the base`, `block 3`, or `block 3 (lintel)`.
+    #[must_use]
+    pub fn body_label(&self, body: Body) -> String {
+        match body {
+            Body::Block(k) => match self.block_name(k) {
+                Some(name) => format!("{body} ({name})"),
+                None => body.to_string(),
+            },
+            other => other.to_string(),
+        }
+    }
+
+    /// Which bodies each block rests on: the interfaces of App. G, numbered as
+    /// [`crate::arrangement`] says (a column: interface k joins body k − 1 and block k).
+    #[must_use]
+    pub fn arrangement(&self) -> &Arrangement {
+        &self.arrangement
+    }
+
+    /// The number of interfaces (a column: one per block).
+    #[must_use]
+    pub fn n_interfaces(&self) -> usize {
+        self.arrangement.seats().len()
     }
 
     /// The overrides of the contact parameters.

@@ -19,7 +19,8 @@
 //! mass = 1.0                 # default 1
 //! count = 4                  # default 1: repeated identical blocks
 //! # x = 0.0                  # initial x of the centre (default 0)
-//! # y = 0.25                 # initial y (default: resting on the block below)
+//! # y = 0.25                 # initial y (default: resting on the block listed before)
+//! # on = ["left", "right"]   # or rest on these bodies ("base" or blocks' names, listed before)
 //! # theta = 0.0              # initial angle, radians (default 0)
 //! # velocity = [0.0, 0.0, 0.0]   # initial [vx, vy, omega] (default: at rest)
 //! # name = "capital"         # for [[contact.pair]] (an entry with count = 1 only)
@@ -48,7 +49,9 @@
 //! ```
 //!
 //! Block heights are stacked automatically: each block's lowest point rests on the top of
-//! the block below. [`LoadedScene::defaults`] lists the keys a file left out and the
+//! the block listed before it, or with `on` on the highest top of the bodies it names
+//! (docs/scenes.md, "Any arrangement"). Which bodies each block then rests on, the
+//! scene's interfaces, is found from the poses ([`crate::arrangement`]). [`LoadedScene::defaults`] lists the keys a file left out and the
 //! values they took; [`Scene::warnings`] says what the scene may do unexpectedly (no
 //! floor).
 
@@ -135,9 +138,35 @@ pub struct BlockFile {
     /// Initial velocity [v_x, v_y, ω] of the centre (default: at rest).
     #[serde(default, skip_serializing_if = "is_at_rest")]
     pub velocity: [f64; 3],
-    /// A name, for `[[contact.pair]] bodies` (an entry of one block only).
+    /// A name, for `[[contact.pair]] bodies` and `on` (an entry of one block only).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub name: Option<String>,
+    /// The bodies the block rests on (`"base"` or blocks' names, listed before it): its
+    /// y puts its lowest point on the highest of their tops. Absent (and no `y`): on the
+    /// block listed just before it.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub on: Option<OnBodies>,
+}
+
+/// `on = "name"` or `on = ["name", "name"]`.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(untagged)]
+pub enum OnBodies {
+    /// One body.
+    One(String),
+    /// Several bodies (a lintel on two posts).
+    Many(Vec<String>),
+}
+
+impl OnBodies {
+    /// The names given.
+    #[must_use]
+    pub fn names(&self) -> &[String] {
+        match self {
+            Self::One(name) => std::slice::from_ref(name),
+            Self::Many(names) => names,
+        }
+    }
 }
 
 fn is_at_rest(v: &[f64; 3]) -> bool {
@@ -291,6 +320,49 @@ fn body_named(name: &str, names: &[Option<String>]) -> Result<Body, String> {
         "no body named \"{name}\" (bodies with names: {}; a block is named by its [[blocks]] key name)",
         known.join(", ")
     ))
+}
+
+/// The highest point of a placed block.
+fn top_of_block(b: &Block) -> f64 {
+    b.initial.y + b.half_vertical_extent(b.initial.theta)
+}
+
+/// The height a block of `[[blocks]]` entry `e` rests at with `on`: the highest top among
+/// the bodies it names (`base`, or blocks listed before it, whose `names` and placed
+/// `blocks` are given).
+fn top_of_bodies(
+    on: &OnBodies,
+    e: usize,
+    names: &[Option<String>],
+    base: &Base,
+    blocks: &[Block],
+) -> Result<f64, BlockError> {
+    let bad = |why: String| BlockError::Scene(format!("[[blocks]] entry {e} on: {why}"));
+    let list = on.names();
+    if list.is_empty() {
+        return Err(bad(
+            "names no body: give \"base\" or the name of a block listed before it".into(),
+        ));
+    }
+    let mut top = f64::NEG_INFINITY;
+    for name in list {
+        let body = match name.as_str() {
+            "floor" => {
+                return Err(bad(
+                    "\"floor\" is not a body to rest on: a block rests on the base or on blocks (place a block on the floor with y)"
+                        .into(),
+                ))
+            }
+            _ => body_named(name, names).map_err(|why| {
+                bad(format!("{why}; a block rests on the base or on blocks listed before it"))
+            })?,
+        };
+        top = top.max(match body {
+            Body::Block(j) => top_of_block(&blocks[j - 1]),
+            _ => base.top(),
+        });
+    }
+    Ok(top)
 }
 
 /// The names of the blocks, bottom to top (`None` for a block without one).
@@ -482,29 +554,38 @@ impl SceneFile {
     pub fn build_at(&self, dir: &Path) -> Result<LoadedScene, BlockError> {
         let base = self.base(dir)?;
         let mut column = Vec::with_capacity(self.block_count()?);
+        let names = block_names(&self.blocks)?;
         let mut k = 0;
-        for entry in &self.blocks {
+        for (e, entry) in self.blocks.iter().enumerate() {
+            if entry.y.is_some() && entry.on.is_some() {
+                return Err(BlockError::Scene(format!(
+                    "[[blocks]] entry {e} gives both y and on: give one of them (y places the block's centre, on rests it on bodies)"
+                )));
+            }
             for _ in 0..entry.count {
                 k += 1;
                 let [vx, vy, omega] = entry.velocity;
                 let block = Block::new(entry.width, entry.height, entry.mass)
                     .and_then(|b| b.moving(vx, vy, omega))
                     .map_err(|e| name_block(e, k))?;
-                column.push((block, entry.x, entry.y, entry.theta));
+                column.push((block, e, entry));
             }
         }
-        let mut blocks = Vec::with_capacity(column.len());
-        for (k, (block, x, y, th)) in column.into_iter().enumerate() {
+        let mut blocks: Vec<Block> = Vec::with_capacity(column.len());
+        for (k, (block, e, entry)) in column.into_iter().enumerate() {
             let name = |what: &str| format!("block {} {what}", k + 1);
+            let (x, th) = (entry.x, entry.theta);
             input::finite(&name("x"), x)?;
             input::finite(&name("theta"), th)?;
-            let placed = match y {
+            let placed = match (entry.y, &entry.on) {
                 // An explicit height: taken as is (the overlap check judges it).
-                Some(y) => block.at(x, input::finite(&name("y"), y)?, th)?,
-                None => {
-                    let top = blocks.last().map_or(base.top(), |b: &Block| {
-                        b.initial.y + b.half_vertical_extent(b.initial.theta)
-                    });
+                (Some(y), _) => block.at(x, input::finite(&name("y"), y)?, th)?,
+                (None, Some(on)) => {
+                    let top = top_of_bodies(on, e, &names[..k], &base, &blocks)?;
+                    stack_on_top(top, block, x, th, k)?
+                }
+                (None, None) => {
+                    let top = blocks.last().map_or(base.top(), top_of_block);
                     stack_on_top(top, block, x, th, k)?
                 }
             };
@@ -521,8 +602,9 @@ impl SceneFile {
         let floor = self
             .floor
             .map(|f| Floor::new(defaults.or("floor.y", f.y, base.bottom())));
-        let materials = c.materials(&block_names(&self.blocks)?)?;
-        let scene = Scene::new(base, blocks, floor, contact, solver)?.with_materials(materials)?;
+        let materials = c.materials(&names)?;
+        let scene =
+            Scene::named(base, blocks, floor, contact, solver, names)?.with_materials(materials)?;
         Ok(LoadedScene { scene, defaults })
     }
 

@@ -101,11 +101,30 @@ pub enum SceneWarning {
         /// beyond the base's edges.
         beyond_base: Vec<usize>,
     },
+    /// Blocks that rest on nothing at the start (given a height in the air, or beside
+    /// the bodies below them): they have no interface ([`crate::arrangement`]) and fall
+    /// until they meet a body or the floor.
+    RestsOnNothing {
+        /// The blocks (1-based, in the scene's order), as messages name them
+        /// (`block 3 (statue)`).
+        blocks: Vec<String>,
+    },
 }
 
 impl fmt::Display for SceneWarning {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
+            Self::RestsOnNothing { blocks } => match blocks.as_slice() {
+                [one] => write!(
+                    f,
+                    "{one} rests on nothing at the start (no base or block under its bottom face, no floor): it falls"
+                ),
+                many => write!(
+                    f,
+                    "{} rest on nothing at the start (no base or block under their bottom faces, no floor): they fall",
+                    many.join(", ")
+                ),
+            },
             Self::NoFloor { beyond_base } => {
                 write!(
                     f,
@@ -139,9 +158,10 @@ impl Serialize for SceneWarning {
 const EDGE_TOL: f64 = 1e-9;
 
 impl Scene {
-    /// What this scene may do unexpectedly (docs/scenes.md, "Warnings"): for now, a scene
+    /// What this scene may do unexpectedly (docs/scenes.md, "Warnings"): a scene
     /// without a floor gets [`SceneWarning::NoFloor`], naming the blocks that start
-    /// beyond the edges of the base (their corners' x range at t = 0 against the base's).
+    /// beyond the edges of the base (their corners' x range at t = 0 against the base's);
+    /// blocks that rest on no body and not on the floor, [`SceneWarning::RestsOnNothing`].
     #[must_use]
     pub fn warnings(&self) -> Vec<SceneWarning> {
         let mut out = Vec::new();
@@ -164,7 +184,23 @@ impl Scene {
                 .collect();
             out.push(SceneWarning::NoFloor { beyond_base });
         }
+        let falling: Vec<String> = (1..=self.n_blocks())
+            .filter(|&k| self.arrangement().seats_of(k).is_empty() && !self.on_floor(k))
+            .map(|k| self.body_label(crate::overlap::Body::Block(k)))
+            .collect();
+        if !falling.is_empty() {
+            out.push(SceneWarning::RestsOnNothing { blocks: falling });
+        }
         out
+    }
+
+    /// Whether block k (1-based) starts with its lowest corner on the floor.
+    fn on_floor(&self, k: usize) -> bool {
+        self.floor().is_some_and(|floor| {
+            let b = &self.blocks()[k - 1];
+            let low = b.initial.y - b.half_vertical_extent(b.initial.theta);
+            low - floor.y <= crate::arrangement::REST_TOL * b.height()
+        })
     }
 }
 

@@ -11,7 +11,7 @@
 //! let loaded = shaking.load()?;
 //! assert_eq!(loaded.scene.n_blocks(), 4);
 //! let unknown = scenes::find("tower").unwrap_err().to_string();
-//! assert!(unknown.contains("lire, lire-collapse, rocking-block, shaking, slide"), "{unknown}");
+//! assert!(unknown.contains("lire, lire-collapse, rocking-block, shaking, side-by-side, slide, trilith"), "{unknown}");
 //! # Ok::<(), blockstack::BlockError>(())
 //! ```
 
@@ -41,7 +41,7 @@ impl BuiltinScene {
     }
 }
 
-const BUILTIN: [BuiltinScene; 8] = [
+const BUILTIN: [BuiltinScene; 10] = [
     BuiltinScene {
         name: "abundance",
         description: "Figure 4.5 as the thesis states it: five blocks, mu = 0.3, base x = sin(3πt/2), 60 steps per period, 3 periods, floor (for `blocks explore`)",
@@ -78,9 +78,19 @@ const BUILTIN: [BuiltinScene; 8] = [
         toml: include_str!("../scenes/shaking.toml"),
     },
     BuiltinScene {
+        name: "side-by-side",
+        description: "two crates (0.4 x 0.8 m and 0.6 x 0.6 m, 100 kg) side by side on a base shaken at 0.32 g, 2 Hz, SI units: each rests on the base only, their sides meet through corner contacts, floor",
+        toml: include_str!("../scenes/side-by-side.toml"),
+    },
+    BuiltinScene {
         name: "slide",
         description: "a column of four blocks on a base pulled at v0 = 1 from t = 0 (§4.5): t_end = 3, floor",
         toml: include_str!("../scenes/slide.toml"),
+    },
+    BuiltinScene {
+        name: "trilith",
+        description: "a trilith: two stone posts (0.4 x 2 m, 2000 kg) and a lintel (2 x 0.5 m, 2500 kg) resting on both, on a base shaken at 0.45 g, 1.5 Hz, SI units: the lintel has an interface on each post, floor",
+        toml: include_str!("../scenes/trilith.toml"),
     },
 ];
 
@@ -129,7 +139,10 @@ mod tests {
         }
         let e = find("nope").unwrap_err().to_string();
         assert!(
-            !e.contains('\n') && e.contains("lire, lire-collapse, rocking-block, shaking, slide"),
+            !e.contains('\n')
+                && e.contains(
+                    "lire, lire-collapse, rocking-block, shaking, side-by-side, slide, trilith"
+                ),
             "{e}"
         );
     }

@@ -34,7 +34,7 @@ use crate::coordinates::Pose;
 use crate::error::BlockError;
 use crate::events::{EventKind, EventWatch, FailureEvent};
 use crate::exploration::{StackWalker, WalkSettings};
-use crate::overlap::{deepest_penetration, Penetration};
+use crate::overlap::{deepest_penetration, Body, Penetration};
 use crate::scene::Scene;
 use crate::scene_info::{Defaults, SceneReport, SceneWarning};
 use crate::stack::StackContacts;
@@ -211,7 +211,8 @@ impl From<Pose> for BlockPose {
     }
 }
 
-/// The contact forces λ of interface k/k+1 (bottom to top, base/block 1 first).
+/// The contact forces λ of one interface (a column's bottom to top, base/block 1 first;
+/// any arrangement's in the order of [`crate::arrangement`]).
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
 pub struct InterfaceForce {
     /// Normal forces of the left and right gaps.
@@ -231,7 +232,7 @@ pub struct StepRecord {
     pub base: BlockPose,
     /// Velocities of the free blocks [ẋ, ẏ, θ̇], bottom to top.
     pub velocities: Vec<[f64; 3]>,
-    /// One per interface (n of them), bottom to top.
+    /// One per interface (a column: n of them, bottom to top).
     pub forces: Vec<InterfaceForce>,
     /// The left and right gaps of each interface (G.2.2), bottom to top; NaN where the
     /// upper block has lost its support and the gaps mean nothing (G.2.4, ERRATA 23).
@@ -499,7 +500,7 @@ impl<'a> Recorder<'a> {
         if p.depth > self.deepest.penetration.depth {
             self.deepest = TimedPenetration { t, penetration: p };
         }
-        let forces = (0..n)
+        let forces = (0..self.scene.n_interfaces())
             .map(|k| InterfaceForce {
                 normal: [st.lambda_n[2 * k], st.lambda_n[2 * k + 1]],
                 friction: st.lambda_f[k],
@@ -695,9 +696,13 @@ pub(crate) fn final_poses(scene: &Scene, q: &[f64]) -> Vec<BlockPose> {
         .collect()
 }
 
-/// One line per kind of failure event: the blocks in the order they were affected,
-/// each with its time.
-fn write_events(f: &mut std::fmt::Formatter<'_>, events: &[FailureEvent]) -> std::fmt::Result {
+/// One line per kind of failure event: the blocks in the order they were affected (named
+/// by `label`), each with its time.
+fn write_events(
+    f: &mut std::fmt::Formatter<'_>,
+    events: &[FailureEvent],
+    label: &dyn Fn(Body) -> String,
+) -> std::fmt::Result {
     if events.is_empty() {
         return write!(f, "\nfailure events: none");
     }
@@ -709,16 +714,22 @@ fn write_events(f: &mut std::fmt::Formatter<'_>, events: &[FailureEvent]) -> std
         ),
         (
             EventKind::HeightDropped,
-            "the column's height dropped by a block",
+            "the stack's height dropped by a block",
         ),
         (EventKind::TouchedFloor, "blocks that touched the floor"),
     ] {
         let of_kind: Vec<String> = events
             .iter()
             .filter(|e| e.kind == kind)
-            .map(|e| match e.block {
-                Some(k) => format!("block {k} at t = {:.4}", e.t),
-                None => format!("at t = {:.4}", e.t),
+            .map(|e| match (e.block, e.on) {
+                (Some(k), Some(on)) => format!(
+                    "{} on {} at t = {:.4}",
+                    label(Body::Block(k)),
+                    label(on),
+                    e.t
+                ),
+                (Some(k), None) => format!("{} at t = {:.4}", label(Body::Block(k)), e.t),
+                (None, _) => format!("at t = {:.4}", e.t),
             })
             .collect();
         if !of_kind.is_empty() {
@@ -762,6 +773,9 @@ pub struct RunReport {
     pub warnings: Vec<RunWarning>,
     /// The parameters the run used, after defaults and overrides.
     pub scene: SceneReport,
+    /// The blocks' names (for the text: `block 3 (lintel)`); the JSON numbers them.
+    #[serde(skip)]
+    names: Vec<Option<String>>,
 }
 
 impl RunReport {
@@ -783,6 +797,20 @@ impl RunReport {
             prox: options.prox.unwrap_or(scene.solver.prox),
             warnings: RunWarning::of(scene, summary),
             scene: SceneReport::new(scene, options, defaults),
+            names: (1..=scene.n_blocks())
+                .map(|k| scene.block_name(k).map(str::to_owned))
+                .collect(),
+        }
+    }
+
+    /// A body as the text names it: `block 3 (lintel)` for a named block.
+    fn label(&self, body: Body) -> String {
+        match body {
+            Body::Block(k) => match self.names.get(k - 1).and_then(Option::as_deref) {
+                Some(name) => format!("{body} ({name})"),
+                None => body.to_string(),
+            },
+            other => other.to_string(),
         }
     }
 }
@@ -905,11 +933,12 @@ impl std::fmt::Display for RunReport {
                 s.corner_contacts, s.redone_steps
             )?;
         }
-        write_events(f, &s.events)?;
+        let label = |b: Body| self.label(b);
+        write_events(f, &s.events, &label)?;
         write!(
             f,
             "\n{}",
-            crate::events::Verdict::new(self.failure, self.t_final, s.error.is_some())
+            crate::events::Verdict::new(self.failure, self.t_final, s.error.is_some()).line(&label)
         )?;
         if s.fallback_steps > 0 {
             write!(

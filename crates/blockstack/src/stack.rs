@@ -1,12 +1,14 @@
 //! All contacts of a scene in the generalized coordinates q = (x¹, y¹, θ¹, …, xⁿ, yⁿ, θⁿ)
 //! of the free blocks (q̇ = u): what a time stepper evaluates at each iterate.
 //!
-//! Numbering (fixed for a scene, so that the solver's sizes never change):
-//! - normal contacts: interface k/k+1 (k = 0 is the base/block-1 interface) has the left
-//!   gap 2k and the right gap 2k+1 (g_N^{2k−1}, g_N^{2k} of (G.2.2) in the thesis's
-//!   one-based count); with a floor, block i's corner j ∈ (a, b, c, d) is 2n + 4i + j;
+//! Numbering (fixed for a scene, so that the solver's sizes never change), with m
+//! interfaces (the (lower body, upper block) pairs of [`crate::arrangement`], in its
+//! order; a column: interface k joins body k and block k+1, k = 0 the base, m = n):
+//! - normal contacts: interface k has the left gap 2k and the right gap 2k+1
+//!   (g_N^{2k−1}, g_N^{2k} of (G.2.2) in the thesis's one-based count); with a floor,
+//!   block i's corner j ∈ (a, b, c, d) is 2m + 4i + j;
 //! - friction laws: interface k is law k, bounded by the sum of its two normal forces
-//!   (App. H); with a floor, block i's floor law is n + i, bounded by its four corners.
+//!   (App. H); with a floor, block i's floor law is m + i, bounded by its four corners.
 //!
 //! For every row: ġ = wᵀu + χ and g̈ = wᵀu̇ + ζ (gaps); γ = wᵀu + χ and γ̇ = wᵀu̇ + ζ
 //! (slips). χ and the base-acceleration part of ζ come from the prescribed base motion,
@@ -24,11 +26,12 @@
 //! joins ([`Scene::contact_between`]). Each row touches at most two bodies, so exact
 //! sparse Jacobians can be formed row by row.
 
-use crate::coordinates::{BodyState, Frame, Pose, Scalar, Twist};
+use crate::coordinates::{BodyState, Frame, Pose, Rotation, Scalar, Twist};
 use crate::floor::FloorContacts;
 use crate::gaps::PairRow;
 use crate::interface::{Interface, InterfaceContacts};
 use crate::overlap::Body as SceneBody;
+use crate::pairs::body_index;
 use crate::scene::Scene;
 
 /// A column of W with at most six nonzero entries (two bodies × (x, y, θ)).
@@ -111,16 +114,6 @@ pub struct FrictionLaw {
     pub e_f: f64,
 }
 
-/// The two bodies of neighbour interface k (k = 0: the base and block 1).
-fn interface_bodies(k: usize) -> (SceneBody, SceneBody) {
-    let lower = if k == 0 {
-        SceneBody::Base
-    } else {
-        SceneBody::Block(k)
-    };
-    (lower, SceneBody::Block(k + 1))
-}
-
 /// Every contact of a scene at one (t, q, u).
 #[derive(Debug, Clone, PartialEq)]
 pub struct StackContacts<T = f64> {
@@ -152,12 +145,12 @@ impl<T> StackContacts<T> {
     /// buffer between calls).
     #[must_use]
     pub fn for_scene(scene: &Scene) -> Self {
-        let n = scene.n_blocks();
+        let (n, m) = (scene.n_blocks(), scene.n_interfaces());
         let floors = if scene.floor().is_some() { n } else { 0 };
         Self {
-            normals: Vec::with_capacity(2 * n + 4 * floors),
-            slips: Vec::with_capacity(n + floors),
-            interfaces: Vec::with_capacity(n),
+            normals: Vec::with_capacity(2 * m + 4 * floors),
+            slips: Vec::with_capacity(m + floors),
+            interfaces: Vec::with_capacity(m),
             floor: Vec::with_capacity(floors),
         }
     }
@@ -174,14 +167,14 @@ impl<T: Scalar> StackContacts<T> {
             .reduce(f64::min)
     }
 
-    /// The lowest interface k (k/k+1, 0 = base/block 1) whose upper block has lost its
-    /// support (G.2.4, ERRATA 23): the failure of §4.4 / Figure 4.6.
+    /// The first interface (in the scene's numbering: a column's lowest) whose upper
+    /// block has lost its support (G.2.4, ERRATA 23): the failure of §4.4 / Figure 4.6.
     #[must_use]
     pub fn first_unsupported(&self) -> Option<usize> {
         self.interfaces.iter().position(|i| !i.is_supported())
     }
 
-    /// The lowest interface that is open completely: unsupported, or both gaps above
+    /// The first interface that is open completely: unsupported, or both gaps above
     /// `tol` (the blocks no longer touch at all).
     #[must_use]
     pub fn first_open(&self, tol: f64) -> Option<usize> {
@@ -194,18 +187,30 @@ impl<T: Scalar> StackContacts<T> {
 }
 
 impl Scene {
-    /// Number of normal contacts: 2n, plus 4n with a floor.
+    /// Number of normal contacts: 2 per interface, plus 4 per block with a floor.
     #[must_use]
     pub fn n_normal_contacts(&self) -> usize {
         let n = self.n_blocks();
-        2 * n + if self.floor().is_some() { 4 * n } else { 0 }
+        2 * self.n_interfaces() + if self.floor().is_some() { 4 * n } else { 0 }
+    }
+
+    /// The two bodies of interface k.
+    fn interface_bodies(&self, k: usize) -> (SceneBody, SceneBody) {
+        let seat = self.arrangement().seats()[k];
+        (seat.lower, SceneBody::Block(seat.upper))
+    }
+
+    /// The interface joining bodies `a` and `b` (either order), if one rests on the other.
+    #[must_use]
+    pub fn interface_between(&self, a: SceneBody, b: SceneBody) -> Option<usize> {
+        self.arrangement().between(a, b)
     }
 
     /// The friction laws (one slip speed each), in the numbering of the module docs, with
     /// the μ and e_F of the bodies each joins ([`Scene::contact_between`]).
     #[must_use]
     pub fn friction_laws(&self) -> Vec<FrictionLaw> {
-        let n = self.n_blocks();
+        let (n, m) = (self.n_blocks(), self.n_interfaces());
         let law = |normals: Vec<usize>, (a, b)| {
             let c = self.contact_between(a, b);
             FrictionLaw {
@@ -214,13 +219,13 @@ impl Scene {
                 e_f: c.e_f,
             }
         };
-        let mut laws: Vec<FrictionLaw> = (0..n)
-            .map(|k| law(vec![2 * k, 2 * k + 1], interface_bodies(k)))
+        let mut laws: Vec<FrictionLaw> = (0..m)
+            .map(|k| law(vec![2 * k, 2 * k + 1], self.interface_bodies(k)))
             .collect();
         if self.floor().is_some() {
             laws.extend((0..n).map(|i| {
                 law(
-                    (0..4).map(|j| 2 * n + 4 * i + j).collect(),
+                    (0..4).map(|j| 2 * m + 4 * i + j).collect(),
                     (SceneBody::Block(i + 1), SceneBody::Floor),
                 )
             }));
@@ -234,15 +239,19 @@ impl Scene {
     pub fn normal_restitutions(&self) -> Vec<f64> {
         let n = self.n_blocks();
         let e_n = |(a, b)| self.contact_between(a, b).e_n;
-        let mut out: Vec<f64> = (0..n).flat_map(|k| [e_n(interface_bodies(k)); 2]).collect();
+        let mut out: Vec<f64> = (0..self.n_interfaces())
+            .flat_map(|k| [e_n(self.interface_bodies(k)); 2])
+            .collect();
         if self.floor().is_some() {
             out.extend((0..n).flat_map(|i| [e_n((SceneBody::Block(i + 1), SceneBody::Floor)); 4]));
         }
         out
     }
 
+    /// The geometry of interface k (the sizes of its lower and upper body).
     pub(crate) fn interface(&self, k: usize) -> Interface {
-        Interface::new(self.size(k), self.size(k + 1))
+        let seat = self.arrangement().seats()[k];
+        Interface::new(self.size(body_index(seat.lower)), self.size(seat.upper))
     }
 
     /// All contacts at time t, coordinates q and velocities u (length 3n each).
@@ -297,25 +306,28 @@ impl Scene {
         out.slips.clear();
         out.interfaces.clear();
         out.floor.clear();
-        // Each body turned once: it is the upper body of one interface and the lower of
-        // the next (in a derivative pass, with the same directions in both).
-        let mut lower_rotation = base.pose.rotation();
-        for k in 0..n {
-            let (lower_body, lower) = if k == 0 {
-                (Body::Base, base)
-            } else {
-                (Body::Block(k - 1), block(k - 1))
+        // Each body turned once where it can be: a column's block is the upper body of
+        // one interface and the lower of the next, a lintel the upper body of two (in a
+        // derivative pass, with the same directions in each).
+        let mut last: Option<(SceneBody, Rotation<T>, SceneBody, Rotation<T>)> = None;
+        for (k, seat) in self.arrangement().seats().iter().enumerate() {
+            let (lower_body, lower) = match seat.lower {
+                SceneBody::Block(i) => (Body::Block(i - 1), block(i - 1)),
+                _ => (Body::Base, base),
             };
-            let upper = block(k);
-            let rotations = (lower_rotation, upper.pose.rotation());
-            lower_rotation = rotations.1;
-            let c = self.interface(k).contacts_turned(&lower, &upper, rotations);
-            let fold =
-                |row: &PairRow<T>| fold_pair(row, lower_body, &lower, &base_acc, Body::Block(k));
-            let holds = holds_contact(holds, k, &c);
-            out.normals.push(holds.then(|| fold(&c.left.row)));
-            out.normals.push(holds.then(|| fold(&c.right.row)));
-            out.slips.push(fold(&c.slip));
+            let upper_body = SceneBody::Block(seat.upper);
+            let upper = block(seat.upper - 1);
+            let turned = |b: SceneBody, state: &BodyState<T>| match last {
+                Some((l, r, _, _)) if l == b => r,
+                Some((_, _, u, r)) if u == b => r,
+                _ => state.pose.rotation(),
+            };
+            let rotations = (turned(seat.lower, &lower), turned(upper_body, &upper));
+            last = Some((seat.lower, rotations.0, upper_body, rotations.1));
+            let bodies = [(lower_body, &lower), (Body::Block(seat.upper - 1), &upper)];
+            let (c, gaps, slip) = self.interface_rows(k, bodies, rotations, &base_acc, holds);
+            out.normals.extend(gaps);
+            out.slips.push(slip);
             out.interfaces.push(c);
         }
         if let Some(floor) = self.floor() {
@@ -340,6 +352,52 @@ impl Scene {
         }
     }
 
+    /// Interface k of the lower and upper bodies with their states and rotations (see
+    /// [`Scene::contacts_into_with_floor`] for `holds`): its contacts, its two gap rows
+    /// (`None` where its gaps do not hold the contact) and its slip row.
+    fn interface_rows<T: Scalar>(
+        &self,
+        k: usize,
+        [(lower_body, lower), (upper_body, upper)]: [(Body, &BodyState<T>); 2],
+        rotations: (Rotation<T>, Rotation<T>),
+        base_acc: &Twist<T>,
+        holds: Option<&[bool]>,
+    ) -> InterfaceRows<T> {
+        let c = self.interface(k).contacts_turned(lower, upper, rotations);
+        let fold = |row: &PairRow<T>| fold_pair(row, lower_body, lower, base_acc, upper_body);
+        let holds = holds_contact(holds, k, &c);
+        let gaps = [
+            holds.then(|| fold(&c.left.row)),
+            holds.then(|| fold(&c.right.row)),
+        ];
+        let slip = fold(&c.slip);
+        (c, gaps, slip)
+    }
+
+    /// The rows of interface k at time t with the given states of its lower and upper
+    /// body (a derivative pass seeds them on directions of their own), with the holding
+    /// of its gaps decided by `holds` as in [`Scene::contacts_into_with_floor`]: its two
+    /// gap rows and its slip row.
+    pub(crate) fn interface_rows_at<T: Scalar>(
+        &self,
+        k: usize,
+        t: f64,
+        [lower, upper]: [&BodyState<T>; 2],
+        holds: Option<&[bool]>,
+    ) -> ([Option<ContactRow<T>>; 2], ContactRow<T>) {
+        let seat = self.arrangement().seats()[k];
+        let base = BodyState::lift(&self.base().state(t));
+        let base_acc = Twist::lift(&self.base().acceleration(t));
+        let (lower_body, lower) = match seat.lower {
+            SceneBody::Block(i) => (Body::Block(i - 1), lower),
+            _ => (Body::Base, &base),
+        };
+        let bodies = [(lower_body, lower), (Body::Block(seat.upper - 1), upper)];
+        let rotations = (lower.pose.rotation(), upper.pose.rotation());
+        let (_, gaps, slip) = self.interface_rows(k, bodies, rotations, &base_acc, holds);
+        (gaps, slip)
+    }
+
     /// Whether the gaps of each interface hold its contact at (t, q, u)
     /// ([`InterfaceContacts::holds`]), without the rest of the contacts.
     ///
@@ -347,19 +405,38 @@ impl Scene {
     /// When q or u is shorter than 3n.
     #[must_use]
     pub fn interfaces_holding(&self, t: f64, q: &[f64], u: &[f64]) -> Vec<bool> {
-        // Each body's frame once: it is the upper body of one interface and the lower
-        // of the next.
-        let mut lower = Frame::of(&self.base().state(t).pose);
-        (0..self.n_blocks())
-            .map(|k| {
-                let upper = Frame::of(&block_state(q, u, k).pose);
-                let holds = self.interface(k).holds(&lower, &upper);
-                lower = upper;
-                holds
+        let base = Frame::of(&self.base().state(t).pose);
+        let frame = |b: SceneBody| match b {
+            SceneBody::Block(i) => Frame::of(&block_state(q, u, i - 1).pose),
+            _ => base,
+        };
+        // Each body's frame once where it can be (as in `contacts_into_with_floor`).
+        let mut last: Option<(SceneBody, Frame, SceneBody, Frame)> = None;
+        self.arrangement()
+            .seats()
+            .iter()
+            .enumerate()
+            .map(|(k, seat)| {
+                let upper_body = SceneBody::Block(seat.upper);
+                let framed = |b: SceneBody| match last {
+                    Some((l, f, _, _)) if l == b => f,
+                    Some((_, _, u, f)) if u == b => f,
+                    _ => frame(b),
+                };
+                let (lower, upper) = (framed(seat.lower), framed(upper_body));
+                last = Some((seat.lower, lower, upper_body, upper));
+                self.interface(k).holds(&lower, &upper)
             })
             .collect()
     }
 }
+
+/// An interface's contacts, its two gap rows and its slip row.
+type InterfaceRows<T> = (
+    InterfaceContacts<T>,
+    [Option<ContactRow<T>>; 2],
+    ContactRow<T>,
+);
 
 /// Whether interface `k`, with contacts `c` at the evaluated q, holds its contact with
 /// its own gaps: the decision in `holds` if one was made for the step, else

@@ -47,7 +47,9 @@ fn scenes_lists_the_builtin_scenes_and_prints_one_as_its_file() {
     assert_eq!(stderr.trim().lines().count(), 1, "{stderr}");
     assert!(
         stderr.contains("no built-in scene 'tower'")
-            && stderr.contains("lire, lire-collapse, rocking-block, shaking, slide"),
+            && stderr.contains(
+                "lire, lire-collapse, rocking-block, shaking, side-by-side, slide, trilith"
+            ),
         "{stderr}"
     );
 }
@@ -94,7 +96,7 @@ fn run_takes_a_builtin_name_and_a_file_wins_over_it() {
     assert_eq!(stderr.trim().lines().count(), 1, "{stderr}");
     assert!(
         stderr.contains(
-            "built-in scenes: abundance, abundance-author, drop, lire, lire-collapse, rocking-block, shaking, slide"
+            "built-in scenes: abundance, abundance-author, drop, lire, lire-collapse, rocking-block, shaking, side-by-side, slide, trilith"
         ),
         "{stderr}"
     );

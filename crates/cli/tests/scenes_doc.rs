@@ -37,13 +37,26 @@ fn the_worked_example_prints_what_the_page_shows() {
                   [contact]\nmu = 0.5\n";
     let quake = "PEER NGA STRONG MOTION DATABASE RECORD\nA made-up record\n\
                  ACCELERATION TIME SERIES IN UNITS OF G\nDT= .005\n 0.0 0.001 0.002\n";
+    let trilith = toml_after("### Any arrangement");
     let files = [
         ("six.toml", six),
         ("column.toml", column),
         ("quake.AT2", quake),
+        ("trilith.toml", trilith),
     ];
     let failures = common::transcript_failures(DOC, "scenes-doc", 1, &files);
     assert!(failures.is_empty(), "{}", failures.join("\n\n"));
+}
+
+/// The trilith of "Any arrangement" is the built-in one shaken harder: the same scene
+/// but for the base's amplitude.
+#[test]
+fn the_trilith_on_the_page_is_the_built_in_one() {
+    let page = blockstack::Scene::from_toml(toml_after("### Any arrangement")).unwrap();
+    let text = blockstack::scenes::find("trilith").unwrap().toml;
+    let shaken = text.replace("amplitude = 0.05 ", "amplitude = 0.3 ");
+    assert_ne!(shaken, text);
+    assert_eq!(page, blockstack::Scene::from_toml(&shaken).unwrap());
 }
 
 #[test]

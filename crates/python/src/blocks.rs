@@ -403,22 +403,32 @@ impl Trajectory {
             .push(i64::try_from(r.iterations).unwrap_or(i64::MAX));
     }
 
-    /// The arrays into `out`: t (N,), q, u, forces (N, n, 3), gaps (N, n, 2), base (N, 3),
-    /// min_gap, energy (N,), iterations (N,) int64.
-    fn into_dict(self, py: Python<'_>, n: usize, out: &Bound<'_, PyDict>) -> PyResult<()> {
+    /// The arrays into `out` for n blocks and m interfaces: t (N,), q, u (N, n, 3), forces
+    /// (N, m, 3), gaps (N, m, 2), base (N, 3), min_gap, energy (N,), iterations (N,) int64.
+    fn into_dict(
+        self,
+        py: Python<'_>,
+        (n, m): (usize, usize),
+        out: &Bound<'_, PyDict>,
+    ) -> PyResult<()> {
         let steps = self.t.len();
         let shape_err = |e: numpy::ndarray::ShapeError| value_error(e);
         let cube = |v: Vec<f64>, k: usize| Array3::from_shape_vec((steps, n, k), v);
+        let per_interface = |v: Vec<f64>, k: usize| Array3::from_shape_vec((steps, m, k), v);
         out.set_item("t", Array1::from_vec(self.t).into_pyarray(py))?;
         out.set_item("q", cube(self.q, 3).map_err(shape_err)?.into_pyarray(py))?;
         out.set_item("u", cube(self.u, 3).map_err(shape_err)?.into_pyarray(py))?;
         out.set_item(
             "forces",
-            cube(self.forces, 3).map_err(shape_err)?.into_pyarray(py),
+            per_interface(self.forces, 3)
+                .map_err(shape_err)?
+                .into_pyarray(py),
         )?;
         out.set_item(
             "gaps",
-            cube(self.gaps, 2).map_err(shape_err)?.into_pyarray(py),
+            per_interface(self.gaps, 2)
+                .map_err(shape_err)?
+                .into_pyarray(py),
         )?;
         out.set_item(
             "base",
@@ -515,6 +525,10 @@ fn blocks_simulate<'py>(
             let kind = serde_json::to_value(e.kind).map_err(value_error)?;
             let d = event(kind.as_str().unwrap_or("event"), e.t)?;
             d.set_item("block", e.block)?;
+            if let Some(on) = e.on {
+                // A block resting on several bodies: the one it lost its support on.
+                d.set_item("on", on.to_string())?;
+            }
             timeline.push((e.t, d));
         }
         if let Some(e) = &summary.error {
@@ -529,7 +543,8 @@ fn blocks_simulate<'py>(
         }
         out.set_item("events", events)?;
         out.set_item("error", summary.error.as_ref().map(ToString::to_string))?;
-        trajectory.into_dict(py, scene.scene.n_blocks(), &out)?;
+        let s = &scene.scene;
+        trajectory.into_dict(py, (s.n_blocks(), s.n_interfaces()), &out)?;
         out.set_item("interrupted", interrupt.map(|e| e.into_value(py)))?;
         Ok(out)
     })
@@ -849,7 +864,7 @@ fn blocks_explore<'py>(
         let tree = py
             .detach(|| explore_scene(scene, &options, &explore_options, settings))
             .map_err(value_error)?;
-        let forks = fork_records(&tree, scene.n_blocks());
+        let forks = fork_records(&tree, scene.n_interfaces());
         let report = ExplorationReport::new(&tree, &forks, outcome_groups(&tree));
         let mut value = serde_json::to_value(&report).map_err(value_error)?;
         value["strategy"] = strategy.name().into();

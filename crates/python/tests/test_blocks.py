@@ -1,3 +1,5 @@
+import re
+
 import numpy as np
 import pytest
 
@@ -74,6 +76,21 @@ def test_simulate_arrays_shapes_dtypes():
     np.testing.assert_allclose(r.q[-1, 0], [r.report["final"][0][k] for k in ("x", "y", "theta")])
     assert r.report["t_final"] == r.t[-1]
     assert r.error is None and isinstance(r.events, list)
+
+
+def test_a_trilith_has_forces_per_interface_and_its_events_name_the_post():
+    # Two posts and a lintel: 3 blocks, 4 interfaces (base/1, base/2, 1/3, 2/3).
+    text = re.sub(r"amplitude = [0-9.]+", "amplitude = 0.3", blocks.Scene.builtin("trilith").toml)
+    r = blocks.simulate(blocks.Scene.from_toml(text), t_end=3.0)
+    n = r.steps + 1
+    assert r.q.shape == (n, 3, 3)
+    assert r.forces.shape == (n, 4, 3) and r.gaps.shape == (n, 4, 2)
+    # Both of the lintel's interfaces carry it at the start (at rest: half its weight
+    # each, which the_lintel_weight_splits_equally_between_the_posts checks).
+    assert (r.forces[0, 2:, :2].sum(axis=1) > 0).all()
+    lost = [e for e in r.events if e["kind"] == "support_lost"]
+    assert lost[0]["block"] == 3 and lost[0]["on"] in ("block 1", "block 2"), lost
+    assert all("on" not in e for e in lost if e["block"] != 3), lost
 
 
 def test_simulate_bad_options():

@@ -225,9 +225,10 @@ class Result:
     ``"branch_point"`` (with ``candidates`` and ``distinct``: a step resolved by
     fixed-set re-solves), ``"failure"`` (a block first loses its support, §4.4),
     ``"opening"`` (an interface first opens completely), the failure events of
-    ``rollstack blocks run`` with the block (1-based) in ``block`` — ``"support_lost"``,
+    ``rollstack blocks run`` with the block (1-based) in ``block`` — ``"support_lost"``
+    (with ``on``, e.g. ``"block 1"``, where the block rests on several bodies),
     ``"tipped"`` (past its tipping angle atan(w/h)), ``"touched_floor"`` (a landing),
-    ``"height_dropped"`` (the column's height fell by a block; ``block`` None) — and
+    ``"height_dropped"`` (the stack's height fell by a block; ``block`` None) — and
     ``"error"`` (with ``message``: the step the solver could not resolve). The deepest
     overlap between two bodies is ``report["max_penetration"]``.
 

@@ -8,7 +8,7 @@ use super::check_time_bound;
 use crate::output::{ensure_dir, print_json, write_csv, write_run_json_with};
 use crate::sweep::par_map_ordered;
 use anyhow::{Context, Result};
-use blockstack::record::{trajectory_header, write_trajectory_row, TrajectoryError};
+use blockstack::record::{trajectory_header_of, write_trajectory_row, TrajectoryError};
 use blockstack::simulation::{RunOptions, StepRecord};
 use blockstack::studies::convergence::{
     separation_rows, ConvergenceReport, ConvergenceRun, Job, Reference, Settings, Study,
@@ -204,10 +204,9 @@ fn run_all(
 ) -> Result<Vec<ConvergenceRun>> {
     par_map_ordered(jobs, message, |job| {
         let path = dir.map(|d| d.join(format!("{}.csv", job.label())));
-        let n = job.scene.n_blocks();
         let mut csv = path
             .as_deref()
-            .map(|p| Trajectory::create(p, n))
+            .map(|p| Trajectory::create(p, &job.scene))
             .transpose()?;
         let run = study.run(job, reference, |r| {
             if let Some(csv) = &mut csv {
@@ -231,11 +230,11 @@ struct Trajectory {
 }
 
 impl Trajectory {
-    fn create(path: &Path, blocks: usize) -> Result<Self> {
+    fn create(path: &Path, scene: &blockstack::Scene) -> Result<Self> {
         let file =
             File::create(path).with_context(|| format!("cannot write {}", path.display()))?;
         let mut out = BufWriter::new(file);
-        writeln!(out, "{}", trajectory_header(blocks).join(","))
+        writeln!(out, "{}", trajectory_header_of(scene).join(","))
             .with_context(|| format!("cannot write {}", path.display()))?;
         Ok(Self { out, error: None })
     }

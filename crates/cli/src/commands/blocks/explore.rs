@@ -204,7 +204,7 @@ pub fn run(args: &ExploreArgs) -> Result<()> {
         tree
     })?;
     bar.finish_and_clear();
-    let forks = fork_records(&tree, scene.n_blocks());
+    let forks = fork_records(&tree, scene.n_interfaces());
     let groups = outcome_groups(&tree);
     let report = ExplorationReport::new(&tree, &forks, groups.clone());
     let mut files = Vec::new();
