@@ -41,7 +41,7 @@ impl BuiltinScene {
     }
 }
 
-const BUILTIN: [BuiltinScene; 10] = [
+const BUILTIN: [BuiltinScene; 11] = [
     BuiltinScene {
         name: "abundance",
         description: "Figure 4.5 as the thesis states it: five blocks, mu = 0.3, base x = sin(3πt/2), 60 steps per period, 3 periods, floor (for `blocks explore`)",
@@ -56,6 +56,11 @@ const BUILTIN: [BuiltinScene; 10] = [
         name: "drop",
         description: "a block dropped flat from rest onto a fixed table, e_N = 0.5, mu = 0.5: it bounces on both corners at once, a Zeno sequence that ends at t = 4.74, floor",
         toml: include_str!("../scenes/drop.toml"),
+    },
+    BuiltinScene {
+        name: "drum-column",
+        description: "a classical column: five marble drums (0.8 x 1 m, 2160 kg) under a capital (1.2 x 0.4 m) on a plinth moved by a one-sine pulse of 0.82 g lasting 1 s, SI units: the upper drums tip at 1.6 s and the column collapses, floor",
+        toml: include_str!("../scenes/drum-column.toml"),
     },
     BuiltinScene {
         name: "lire",

@@ -96,7 +96,7 @@ fn run_takes_a_builtin_name_and_a_file_wins_over_it() {
     assert_eq!(stderr.trim().lines().count(), 1, "{stderr}");
     assert!(
         stderr.contains(
-            "built-in scenes: abundance, abundance-author, drop, lire, lire-collapse, rocking-block, shaking, side-by-side, slide, trilith"
+            "built-in scenes: abundance, abundance-author, drop, drum-column, lire, lire-collapse, rocking-block, shaking, side-by-side, slide, trilith"
         ),
         "{stderr}"
     );
