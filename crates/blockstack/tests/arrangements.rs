@@ -6,17 +6,10 @@
 use blockstack::events::EventKind;
 use blockstack::overlap::Body;
 use blockstack::simulation::RunReport;
-use blockstack::{scenes, simulate, RunOptions, Scene, Seat, StepRecord};
+use blockstack::{scenes, RunOptions, Scene, Seat};
 
-/// The built-in scene `name`'s file with the `(from, to)` replacements made.
-fn builtin(name: &str, edits: &[(&str, &str)]) -> String {
-    let mut text = scenes::find(name).unwrap().toml.to_owned();
-    for (from, to) in edits {
-        assert!(text.contains(from), "{name} has no {from:?}");
-        text = text.replace(from, to);
-    }
-    text
-}
+mod common;
+use common::{builtin, run};
 
 /// The trilith on a base that does not move (amplitude 0).
 fn resting_trilith() -> Scene {
@@ -29,17 +22,6 @@ fn resting_trilith() -> Scene {
 
 fn seat(lower: Body, upper: usize) -> Seat {
     Seat { lower, upper }
-}
-
-/// Runs `scene` to `t_end`, calling `each` with every record.
-fn run(scene: &Scene, t_end: f64, each: impl FnMut(&StepRecord)) -> blockstack::RunSummary {
-    let options = RunOptions {
-        t_end: Some(t_end),
-        ..RunOptions::default()
-    };
-    let summary = simulate(scene, &options, each).unwrap();
-    assert!(summary.error.is_none(), "{:?}", summary.error);
-    summary
 }
 
 #[test]

@@ -6,35 +6,18 @@
 //! `solver.dt = 0.0025`), so neither is a step-size accident.
 
 use blockstack::events::EventKind;
-use blockstack::{scenes, simulate, RunOptions, Scene};
+use blockstack::Scene;
 
-fn drum_column(edit: Option<(&str, &str)>) -> Scene {
-    let mut text = scenes::find("drum-column").unwrap().toml.to_owned();
-    if let Some((from, to)) = edit {
-        assert!(text.contains(from), "drum-column has no {from:?}");
-        text = text.replace(from, to);
-    }
-    Scene::from_toml(&text).unwrap()
-}
+mod common;
+use common::{builtin, run};
 
-/// Runs `scene` to `t_end`, calling `each` with every record.
-fn run(
-    scene: &Scene,
-    t_end: f64,
-    each: impl FnMut(&blockstack::StepRecord),
-) -> blockstack::RunSummary {
-    let options = RunOptions {
-        t_end: Some(t_end),
-        ..RunOptions::default()
-    };
-    let summary = simulate(scene, &options, each).unwrap();
-    assert!(summary.error.is_none(), "{:?}", summary.error);
-    summary
+fn drum_column(edits: &[(&str, &str)]) -> Scene {
+    Scene::from_toml(&builtin("drum-column", edits)).unwrap()
 }
 
 #[test]
 fn the_long_pulse_tips_the_upper_drums_and_collapses_the_column() {
-    let summary = run(&drum_column(None), 4.0, |_| {});
+    let summary = run(&drum_column(&[]), 4.0, |_| {});
     let first = summary.events.first().expect("the column fails");
     assert_eq!(first.kind, EventKind::Tipped, "{:?}", summary.events);
     assert!((1.55..1.7).contains(&first.t), "{first:?}");
@@ -50,7 +33,7 @@ fn the_long_pulse_tips_the_upper_drums_and_collapses_the_column() {
 
 #[test]
 fn the_short_pulse_of_the_same_amplitude_only_rocks_it() {
-    let scene = drum_column(Some(("period = 1.0 ", "period = 0.5 ")));
+    let scene = drum_column(&[("period = 1.0 ", "period = 0.5 ")]);
     // It rocks: a drum turns by more than a milliradian (its tipping angle is 0.67 rad).
     let mut largest_turn: f64 = 0.0;
     let summary = run(&scene, 8.0, |r| {
