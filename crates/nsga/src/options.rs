@@ -283,10 +283,9 @@ pub struct PolicyOptions {
     /// amount of work per level (only the half that contains it is split again), not
     /// 2^level substeps.
     pub max_halvings: usize,
-    /// After halving fails too, repeat the fixed-set re-solves with a consistency test
-    /// that accepts friction laws sitting exactly on their stick–slip bound, and with
-    /// the sets one friction switch away from the visited ones (docs/method.md §8). Off
-    /// by default.
+    /// After halving fails too, repeat the fixed-set re-solves of the visited sets with a
+    /// consistency test that accepts friction laws sitting exactly on their stick–slip
+    /// bound (docs/method.md §8). Off by default.
     pub boundary_resolves: bool,
     /// When every attempt above fails, take the step by the last resort: a Moreau–Jean
     /// step whose contact problem Lemke's method solves (it terminates, with a solution

@@ -15,7 +15,8 @@
 //!
 //! Where a friction law sits exactly on its stick–slip bound, round-off decides its set,
 //! so no candidate may pass the strict test although several solve the step; the
-//! boundary re-solves ([`PolicyOptions::boundary_resolves`]) accept such laws on either side.
+//! boundary re-solves ([`PolicyOptions::boundary_resolves`]) re-solve the visited sets
+//! again and accept such laws on either side.
 //!
 //! [`PolicyOptions::boundary_resolves`]: crate::PolicyOptions::boundary_resolves
 
@@ -184,25 +185,23 @@ impl<S: System> Stepper<S> {
     /// ‖λ_F‖ = μ Σλ_N, as happens when a column rotating about the table edge starts to
     /// slip while the interfaces above it also reach their bound), round-off decides its
     /// set, so no candidate passes the strict self-consistency test although several
-    /// solve the step. Here a fixed-set solution is kept when its recomputed sets differ
-    /// from the fixed ones only in laws on their bound ([`Stepper::at_friction_bounds`]),
-    /// or else when a Newton solve with free sets started from it converges within
-    /// [`Tuning::quick_check_iterations`](crate::Tuning::quick_check_iterations) (then that free solution is kept). When no visited set
-    /// gives a solution, the sets one friction-law switch away ([`neighbour_sets`]) are
-    /// tried the same way until the first solution. The step is reported as a branch
-    /// point (sets tried, distinct solutions), not yet committed, after the first
-    /// attempt and every ρ∞ retry failed.
+    /// solve the step. Here each set the iterates `visited` is re-solved once, with the
+    /// sets fixed, and its solution is kept when its recomputed sets differ from the
+    /// fixed ones only in laws on their bound ([`Stepper::at_friction_bounds`]), or else
+    /// when a Newton solve with free sets started from it converges within
+    /// [`Tuning::quick_check_iterations`](crate::Tuning::quick_check_iterations) (then that free solution is kept). The step is
+    /// reported as a branch point (sets tried, distinct solutions), not yet committed.
+    ///
+    /// Only the visited sets: the stage once also tried each of them with one friction
+    /// law switched, until a first solution. Where none exists (a collapsed column whose
+    /// drums land on each other, whose iterates cycle through its contacts' normal sets)
+    /// that search is exhaustive, visited × active laws × 3 states at each level of
+    /// halving where the stage runs (631 sets for one step at Δt), and the reference
+    /// workload never needed it (docs/method.md §8.2).
     pub(super) fn resolve_at_boundary(&mut self, visited: &[IndexSets]) -> Option<Trial> {
         let rho = self.options.rho_inf;
         let mut candidates = Candidates::default();
-        let all = neighbour_sets(visited, &self.layout.friction);
-        let mut tried = 0;
-        for (i, sets) in all.iter().enumerate() {
-            // Neighbours only until a first solution is found.
-            if i >= visited.len() && !candidates.trials.is_empty() {
-                break;
-            }
-            tried += 1;
+        for sets in visited {
             let Ok(fixed) = self.trial(Some(sets), rho) else {
                 continue;
             };
@@ -218,7 +217,7 @@ impl<S: System> Stepper<S> {
             let sets = candidate.stats.sets.clone();
             candidates.offer(&sets, candidate, true);
         }
-        let mut trial = self.chosen(candidates, tried)?;
+        let mut trial = self.chosen(candidates, visited.len())?;
         trial.stats.retries = 1 + self.options.policy.rho_inf_retries.len();
         Some(trial)
     }
@@ -368,31 +367,6 @@ fn flipped_sets(sets: &IndexSets, touching: &[usize], laws: &[FrictionLaw]) -> V
                 f.e[j] = e;
             }
             push(f);
-        }
-    }
-    out
-}
-
-/// The sets to try with the sets fixed: those the Newton iterates visited, in order, then
-/// each of them with one friction law switched to another state (slip, stick on velocity
-/// level only, stick): the self-consistent sets of a step where one law crosses its
-/// bound are often one switch away from the ones Newton alternates between.
-fn neighbour_sets(visited: &[IndexSets], laws: &[FrictionLaw]) -> Vec<IndexSets> {
-    let mut out: Vec<IndexSets> = visited.to_vec();
-    for sets in visited {
-        for (j, law) in laws.iter().enumerate() {
-            // An inactive law (all its gaps open) has no state to switch.
-            if !law.normals.iter().any(|&k| sets.a[k]) {
-                continue;
-            }
-            for (d, e) in [(false, false), (true, false), (true, true)] {
-                let mut s = sets.clone();
-                s.d[j] = d;
-                s.e[j] = e;
-                if !out.contains(&s) {
-                    out.push(s);
-                }
-            }
         }
     }
     out
