@@ -459,7 +459,7 @@ impl Walker for StackWalker<'_> {
     }
 }
 
-/// The columns a branch's trajectory adds to a run's ([`trajectory_header`]), per
+/// The columns a branch's trajectory adds to a run's ([`trajectory_header_of`]), per
 /// interface k (bottom to top): the step's normal impulses `pn{k}a`, `pn{k}b` (left and
 /// right corner), friction impulse `pf{k}` and state `state{k}`
 /// ([`contact_laws::interface_state`]); then the worst violation of each contact law at

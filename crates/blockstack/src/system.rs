@@ -22,7 +22,7 @@
 //! and per velocity, 6n passes over an O(n) evaluation: O(n²) per Newton iteration.
 //! Here every constraint row touches at most two blocks joined by an interface, or one
 //! block (a floor corner). The blocks are given two colours so that the two blocks of
-//! an interface differ (a column: the parity of their number; [`BlockColours`]); then
+//! an interface differ (a column: the parity of their number; `BlockColours`); then
 //! seeding the same coordinate (x, y or θ) of all blocks of one colour with one
 //! direction and of the other colour with another gives every derivative exactly
 //! (forward-mode dual numbers) with 6 directions over q and 6 over u, whatever n. All 12
