@@ -1,27 +1,17 @@
 //! A block sliding on one corner (App. I), at angles θ from −1.5 to 1.5 rad, sliding
-//! either way, μ = 2, with the corner's free normal acceleration A = 0.5 g: where
-//! B < 0 the contact problem has two solutions (contact or lift-off). Explored with the
-//! flip probe and each fork checked against refinement, it prints, per case, B, the
-//! forks found and their labels.
+//! either way, either spin, μ = 2 (or the argument), with the corner's free normal
+//! acceleration A = 0.5 g: where B < 0 the first step has three solutions (sliding
+//! contact with n = −A/B, jam, lift-off). Prints, per case, B, −A/B and each solution
+//! the flip probe finds, with its mean normal force P_N/(mg Δt), then the counts.
 //!
 //! `cargo run --release -p blockstack --example painleve_forks [mu]`
-use blockstack::exploration::{explore_scene, fork_records, ForkRecord, WalkSettings};
 use blockstack::scenarios::PainleveCorner;
-use blockstack::RunOptions;
-use nsga::explore::ExploreOptions;
+use blockstack::studies::painleve::{corner_solutions, CornerMotion};
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let mu: f64 = std::env::args().nth(1).map_or(Ok(2.0), |a| a.parse())?;
-    let run = RunOptions {
-        probe_flips: true,
-        ..RunOptions::default()
-    };
-    let settings = WalkSettings {
-        sample_every: 1,
-        classify: true,
-        ..WalkSettings::default()
-    };
-    println!("theta  slip  spin      B  forks  labels");
+    println!("theta  slip  spin      B   -A/B  solutions (P_N/Δt)");
+    let (mut paradoxes, mut all_three, mut forks) = (0, 0, 0);
     for i in -30..=30 {
         for slip in [-0.5, 0.5] {
             for spin_sign in [-1.0, 1.0] {
@@ -32,18 +22,31 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                     spin_sign,
                     ..PainleveCorner::default()
                 };
-                let scene = case.scene()?;
-                let tree = explore_scene(&scene, &run, &ExploreOptions::default(), settings)?;
-                let forks = fork_records(&tree, 1);
-                let labels: Vec<&str> = forks.iter().map(ForkRecord::label).collect();
+                let b = case.response();
+                let solutions = corner_solutions(&case)?;
+                let found: Vec<String> = solutions
+                    .iter()
+                    .map(|s| format!("{} {:.4}", s.motion.name(), s.impulse))
+                    .collect();
                 println!(
-                    "{:5.2} {slip:5.1} {spin_sign:5.1} {:6.2} {:6} {labels:?}",
+                    "{:5.2} {slip:5.1} {spin_sign:5.1} {b:6.3} {:6.3}  {}",
                     case.theta,
-                    case.response(),
-                    forks.len()
+                    -case.free_acceleration / b,
+                    found.join(", ")
                 );
+                if b < 0.0 {
+                    paradoxes += 1;
+                    forks += usize::from(solutions.len() > 1);
+                    let has = |m| solutions.iter().any(|s| s.motion == m);
+                    all_three += usize::from(
+                        has(CornerMotion::SlidingContact)
+                            && has(CornerMotion::Jam)
+                            && has(CornerMotion::LiftOff),
+                    );
+                }
             }
         }
     }
+    println!("μ = {mu}: {paradoxes} cases with B < 0, {forks} with several solutions, {all_three} with all three");
     Ok(())
 }
