@@ -3,30 +3,16 @@
 //! sign of the spin, the first step's solutions are sliding contact (n ≈ −A/B), jam and
 //! lift-off, told apart by their contact states.
 
-use blockstack::scenarios::PainleveCorner;
-use blockstack::studies::painleve::{corner_solutions, CornerMotion};
+use blockstack::studies::painleve::{corner_scan, CornerCase, CornerMotion};
 
 /// The point-contact cases of the scan at `mu` with B < 0: θ = 0 is left out, where both
 /// bottom corners touch (line contact, §I.2, a unique solution).
-fn point_contact_paradoxes(mu: f64) -> Vec<PainleveCorner> {
-    let mut out = Vec::new();
-    for i in (-30..=30).filter(|&i| i != 0) {
-        for slip in [-0.5, 0.5] {
-            for spin_sign in [-1.0, 1.0] {
-                let case = PainleveCorner {
-                    theta: f64::from(i) * 0.05,
-                    mu,
-                    slip,
-                    spin_sign,
-                    ..PainleveCorner::default()
-                };
-                if case.response() < 0.0 {
-                    out.push(case);
-                }
-            }
-        }
-    }
-    out
+fn point_contact_paradoxes(mu: f64) -> Vec<CornerCase> {
+    corner_scan(mu)
+        .unwrap()
+        .into_iter()
+        .filter(|c| c.case.theta != 0.0 && c.b < 0.0)
+        .collect()
 }
 
 /// Over one step (Δt = 10⁻³) A and B drift with θ and θ̇, by an amount whose sign follows
@@ -42,10 +28,9 @@ const B_FOUND: f64 = 0.02;
 fn all_three_in_every_case(mu: f64, expected_cases: usize) {
     let cases = point_contact_paradoxes(mu);
     assert_eq!(cases.len(), expected_cases, "μ = {mu}");
-    for case in &cases {
-        let (a, b) = (case.free_acceleration, case.response());
-        let sols = corner_solutions(case).unwrap();
-        let find = |m: CornerMotion| sols.iter().find(|s| s.motion == m);
+    for c in &cases {
+        let (case, sols) = (&c.case, &c.solutions);
+        let find = |m: CornerMotion| c.find(m);
         let what = format!(
             "μ = {mu}, θ = {:.2}, slip {}, spin {}: {sols:?}",
             case.theta, case.slip, case.spin_sign
@@ -55,13 +40,13 @@ fn all_three_in_every_case(mu: f64, expected_cases: usize) {
         let jam = find(CornerMotion::Jam).unwrap_or_else(|| panic!("no jam: {what}"));
         // The jam stops a slip of 0.5 within one step: an impulse, P_N/Δt ≫ 1.
         assert!(jam.impulse > 50.0, "{what}");
-        if b.abs() < B_FOUND {
+        if c.b.abs() < B_FOUND {
             continue;
         }
         let slide = find(CornerMotion::SlidingContact)
             .unwrap_or_else(|| panic!("no sliding contact: {what}"));
-        if b.abs() >= B_CLEAR {
-            let error = slide.impulse / (-a / b) - 1.0;
+        if c.b.abs() >= B_CLEAR {
+            let error = slide.impulse / c.sliding_force - 1.0;
             assert!(
                 error.abs() <= FORCE_TOLERANCE,
                 "P_N/Δt off −A/B by {error:.3}: {what}"

@@ -247,6 +247,94 @@ pub fn corner_solutions(case: &PainleveCorner) -> Result<Vec<CornerSolution>, Bl
     })
 }
 
+/// One case of the corner scan ([`corner_scan`]) and its first step's solutions.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct CornerCase {
+    /// The case.
+    #[serde(skip)]
+    pub case: PainleveCorner,
+    /// B of ÿ_P = A + B n ([`PainleveCorner::response`]).
+    pub b: f64,
+    /// −A/B: App. I's sliding-contact force where B < 0 and A > 0.
+    pub sliding_force: f64,
+    /// The solutions found, converged solution first.
+    pub solutions: Vec<CornerSolution>,
+}
+
+impl CornerCase {
+    /// The columns of `painleve_corner_scan.csv`.
+    pub const CSV_HEADER: [&'static str; 9] = [
+        "theta_rad",
+        "slip",
+        "spin_sign",
+        "b",
+        "minus_a_over_b",
+        "solutions",
+        "sliding_contact_force",
+        "jam_force",
+        "lift_off",
+    ];
+
+    /// The solution of `motion`, if found.
+    #[must_use]
+    pub fn find(&self, motion: CornerMotion) -> Option<&CornerSolution> {
+        self.solutions.iter().find(|s| s.motion == motion)
+    }
+
+    /// The case's cells under [`Self::CSV_HEADER`]: the forces are P_N/(mg Δt), empty
+    /// where that solution was not found; `lift_off` is 0 or 1.
+    #[must_use]
+    pub fn csv_cells(&self) -> Vec<String> {
+        let force = |m| {
+            self.find(m)
+                .map_or(String::new(), |s| s.impulse.to_string())
+        };
+        vec![
+            self.case.theta.to_string(),
+            self.case.slip.to_string(),
+            self.case.spin_sign.to_string(),
+            self.b.to_string(),
+            self.sliding_force.to_string(),
+            self.solutions.len().to_string(),
+            force(CornerMotion::SlidingContact),
+            force(CornerMotion::Jam),
+            u8::from(self.find(CornerMotion::LiftOff).is_some()).to_string(),
+        ]
+    }
+}
+
+/// The corner scan at friction `mu`: θ from −1.5 to 1.5 rad by 0.05, the corner sliding
+/// at ±0.5, spin of either sign, A = 0.5 g ([`PainleveCorner::default`]); each case's
+/// first step solved and probed ([`corner_solutions`]).
+///
+/// # Errors
+/// A bad μ, or a step that fails.
+pub fn corner_scan(mu: f64) -> Result<Vec<CornerCase>, BlockError> {
+    input::non_negative("mu", mu)?;
+    let mut out = Vec::new();
+    for i in -30..=30 {
+        for slip in [-0.5, 0.5] {
+            for spin_sign in [-1.0, 1.0] {
+                let case = PainleveCorner {
+                    theta: f64::from(i) * 0.05,
+                    mu,
+                    slip,
+                    spin_sign,
+                    ..PainleveCorner::default()
+                };
+                let b = case.response();
+                out.push(CornerCase {
+                    case,
+                    b,
+                    sliding_force: -case.free_acceleration / b,
+                    solutions: corner_solutions(&case)?,
+                });
+            }
+        }
+    }
+    Ok(out)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
