@@ -1,49 +1,42 @@
 //! A block sliding on one corner (App. I), at angles θ from −1.5 to 1.5 rad, sliding
-//! either way, μ = 2, with the corner's free normal acceleration A = 0.5 g: where
-//! B < 0 the contact problem has two solutions (contact or lift-off). Explored with the
-//! flip probe and each fork checked against refinement, it prints, per case, B, the
-//! forks found and their labels.
+//! either way, either spin, μ = 2 (or the argument), with the corner's free normal
+//! acceleration A = 0.5 g: where B < 0 the first step has three solutions (sliding
+//! contact with n = −A/B, jam, lift-off). Prints, per case, B, −A/B and each solution
+//! the flip probe finds, with its mean normal force P_N/(mg Δt), then the counts.
 //!
 //! `cargo run --release -p blockstack --example painleve_forks [mu]`
-use blockstack::exploration::{explore_scene, fork_records, ForkRecord, WalkSettings};
-use blockstack::scenarios::PainleveCorner;
-use blockstack::RunOptions;
-use nsga::explore::ExploreOptions;
+use blockstack::studies::painleve::{corner_scan, CornerMotion};
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let mu: f64 = std::env::args().nth(1).map_or(Ok(2.0), |a| a.parse())?;
-    let run = RunOptions {
-        probe_flips: true,
-        ..RunOptions::default()
-    };
-    let settings = WalkSettings {
-        sample_every: 1,
-        classify: true,
-        ..WalkSettings::default()
-    };
-    println!("theta  slip  spin      B  forks  labels");
-    for i in -30..=30 {
-        for slip in [-0.5, 0.5] {
-            for spin_sign in [-1.0, 1.0] {
-                let case = PainleveCorner {
-                    theta: f64::from(i) * 0.05,
-                    mu,
-                    slip,
-                    spin_sign,
-                    ..PainleveCorner::default()
-                };
-                let scene = case.scene()?;
-                let tree = explore_scene(&scene, &run, &ExploreOptions::default(), settings)?;
-                let forks = fork_records(&tree, 1);
-                let labels: Vec<&str> = forks.iter().map(ForkRecord::label).collect();
-                println!(
-                    "{:5.2} {slip:5.1} {spin_sign:5.1} {:6.2} {:6} {labels:?}",
-                    case.theta,
-                    case.response(),
-                    forks.len()
-                );
-            }
+    println!("theta  slip  spin      B   -A/B  solutions (P_N/Δt)");
+    let (mut paradoxes, mut all_three, mut forks) = (0, 0, 0);
+    for c in corner_scan(mu)? {
+        let found: Vec<String> = c
+            .solutions
+            .iter()
+            .map(|s| format!("{} {:.4}", s.motion.name(), s.impulse))
+            .collect();
+        println!(
+            "{:5.2} {:5.1} {:5.1} {:6.3} {:6.3}  {}",
+            c.case.theta,
+            c.case.slip,
+            c.case.spin_sign,
+            c.b,
+            c.sliding_force,
+            found.join(", ")
+        );
+        if c.b < 0.0 {
+            paradoxes += 1;
+            forks += usize::from(c.solutions.len() > 1);
+            let motions = [
+                CornerMotion::SlidingContact,
+                CornerMotion::Jam,
+                CornerMotion::LiftOff,
+            ];
+            all_three += usize::from(motions.iter().all(|&m| c.find(m).is_some()));
         }
     }
+    println!("μ = {mu}: {paradoxes} cases with B < 0, {forks} with several solutions, {all_three} with all three");
     Ok(())
 }

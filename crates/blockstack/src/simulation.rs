@@ -132,8 +132,8 @@ pub struct RunOptions {
     /// self-consistent candidate under either rule, and an exploration
     /// ([`crate::exploration`]) follows every recorded one.
     pub branch_rule: nsga::BranchRule,
-    /// Probe every converged step for other solutions by flipping one touching contact
-    /// ([`nsga::PolicyOptions::probe_flips`]; costly, for exploring).
+    /// Probe every converged step for other solutions, the touching contacts' states
+    /// enumerated ([`nsga::PolicyOptions::probe_flips`]; costly, for exploring).
     pub probe_flips: bool,
     /// For the sweeps' rows: explore up to this many branches of each run
     /// ([`crate::exploration`]) and report the spread of the row's value over them

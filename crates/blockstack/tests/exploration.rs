@@ -39,18 +39,19 @@ fn painleves_indeterminacy_is_a_real_fork() {
     let scene = case.scene().unwrap();
     let tree = explore_scene(&scene, &run, &ExploreOptions::default(), settings).unwrap();
     let forks = fork_records(&tree, 1);
-    assert_eq!(forks.len(), 1, "{forks:?}");
-    let f = &forks[0];
-    assert_eq!((f.t, f.distinct, f.consistent), (0.0, 2, 2));
-    let e = f.evidence.as_ref().expect("checked");
-    assert_eq!(e.label, ForkLabel::Real, "{e:?}");
-    assert_eq!(e.refined, [Some(2), Some(2)]);
-    // One continuation keeps the corner on the table, the other lifts it off.
-    let mut gaps: Vec<f64> = tree.leaves().map(|b| corner_gap(&case, b)).collect();
-    gaps.sort_by(f64::total_cmp);
-    assert_eq!(gaps.len(), 2);
-    assert!(gaps[0].abs() < 1e-8, "{gaps:?}");
-    assert!(gaps[1] > 1e-5, "{gaps:?}");
+    // Lift-off, sliding contact and jam at the first step; the sliding contact meets the
+    // same three at each of the 10 steps.
+    assert_eq!(forks.len(), 10, "{forks:?}");
+    for f in &forks {
+        assert_eq!((f.distinct, f.consistent), (3, 3), "{f:?}");
+        let e = f.evidence.as_ref().expect("checked");
+        assert_eq!(e.label, ForkLabel::Real, "{e:?}");
+    }
+    assert_eq!(forks[0].t, 0.0);
+    // Some continuations keep the corner on the table, others lift it off.
+    let gaps: Vec<f64> = tree.leaves().map(|b| corner_gap(&case, b)).collect();
+    assert!(gaps.iter().any(|g| g.abs() < 1e-8), "{gaps:?}");
+    assert!(gaps.iter().any(|&g| g > 1e-5), "{gaps:?}");
     // With little friction (B > 0) the same probe finds one motion.
     let tame = PainleveCorner { mu: 0.2, ..case };
     assert!(tame.response() > 0.0);

@@ -63,6 +63,42 @@ fn painleve_out_writes_csv_png_and_run_json() {
 }
 
 #[test]
+fn painleve_out_writes_the_corner_scan_with_three_solutions_where_b_is_negative() {
+    let dir = common::temp_dir("blocks-painleve-scan");
+    let d = dir.to_str().unwrap();
+    let out = rollstack(&[
+        "blocks", "painleve", "--aspect", "0.5", "--mu", "2", "--grid", "2", "--out", d,
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let csv = std::fs::read_to_string(dir.join("painleve_corner_scan.csv")).unwrap();
+    let mut lines = csv.lines();
+    assert_eq!(
+        lines.next().unwrap(),
+        "theta_rad,slip,spin_sign,b,minus_a_over_b,solutions,sliding_contact_force,jam_force,lift_off"
+    );
+    let rows: Vec<Vec<&str>> = lines.map(|l| l.split(',').collect()).collect();
+    assert_eq!(rows.len(), 61 * 4);
+    // With B < 0 away from θ = 0 (a line contact): all three solutions, the sliding
+    // contact's force near −A/B.
+    let paradoxes: Vec<_> = rows
+        .iter()
+        .filter(|r| r[0] != "0" && r[3].parse::<f64>().unwrap() < 0.0)
+        .collect();
+    assert_eq!(paradoxes.len(), 76);
+    for r in paradoxes {
+        assert_eq!((r[5], r[8]), ("3", "1"), "{r:?}");
+        let (force, analytic): (f64, f64) = (r[6].parse().unwrap(), r[4].parse().unwrap());
+        assert!((force / analytic - 1.0).abs() < 0.25, "{r:?}");
+        assert!(r[7].parse::<f64>().unwrap() > 50.0, "{r:?}");
+    }
+    std::fs::remove_dir_all(dir).unwrap();
+}
+
+#[test]
 fn painleve_rejects_bad_input_with_one_line() {
     for bad in [
         ["--aspect", "-1"],

@@ -264,12 +264,13 @@ pub struct PolicyOptions {
     pub branch_trials: bool,
     /// Which fixed-set solutions count as continuations of a cycling step.
     pub branch_rule: BranchRule,
-    /// After a step converges, re-solve it with the state of one normal contact flipped
-    /// (a closed contact opened, a touching open one closed with each friction state) and
-    /// report the self-consistent solutions that differ as a branch point: the
+    /// After a step converges, re-solve it with the touching normal contacts' states fixed
+    /// (every combination of open / closed sliding / closed sticking for at most 3 of them,
+    /// else one contact flipped at a time: `stepper/enumerate.rs`) and report the self-consistent solutions that differ as a branch point: the
     /// non-uniqueness that Newton's iterates need not reveal by cycling (Painlevé's
-    /// indeterminacy, docs/method.md §8). Costs up to four fixed-set solves per touching
-    /// contact and step; off by default.
+    /// indeterminacy, docs/method.md §8). Costs up to 4³ = 64 fixed-set solves per step
+    /// (every state of at most 3 touching contacts), up to four per touching contact
+    /// beyond; off by default.
     pub probe_flips: bool,
     /// With [`Options::friction_percussion_shift`]: a step whose fixed-set re-solves
     /// found no self-consistent solution is tried once more, from the start, without

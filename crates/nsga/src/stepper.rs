@@ -46,6 +46,7 @@ use unknowns::Offsets;
 mod assemble;
 mod branch;
 mod direction;
+mod enumerate;
 mod far;
 mod halving;
 mod held;

@@ -5,6 +5,11 @@ use crate::error::BlockError;
 use crate::painleve::{
     admissible_range, least_friction, least_friction_for_sign, line_contact_solutions,
 };
+use crate::scenarios::PainleveCorner;
+use crate::simulation::{stepper_options, RunOptions};
+use crate::stepping::CornerStepping;
+use crate::system::StackSystem;
+use nsga::Stepper;
 
 /// The least μ_d for one slip direction.
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
@@ -151,6 +156,183 @@ pub fn painleve_report(aspect: f64, mu: f64) -> Result<PainleveReport, BlockErro
             sliding_left: lcp(-1.0)?,
         },
     })
+}
+
+/// What a solution of the first step of a [`PainleveCorner`] does with its corner
+/// (App. I's indeterminacy, from the corner's contact state at the step's end).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, serde::Serialize)]
+pub enum CornerMotion {
+    /// Closed and sliding, pressed with n = −A/B (the sliding-contact solution).
+    SlidingContact,
+    /// Closed and sticking: the slip stopped within the step by a tangential impulse.
+    Jam,
+    /// Open: n = 0.
+    LiftOff,
+}
+
+impl CornerMotion {
+    /// The motion in the sets `sets` a step of the one-block scene was solved with: open
+    /// when no normal contact is closed, else a jam when a friction law sticks (on
+    /// velocity level at least), else sliding. The touching corner may be an interface
+    /// corner or a corner contact (beyond |θ| = arctan(w/h)), so every contact counts.
+    #[must_use]
+    pub fn of(sets: &nsga::IndexSets) -> Self {
+        if !sets.a.iter().any(|&a| a) {
+            Self::LiftOff
+        } else if sets.d.iter().any(|&d| d) {
+            Self::Jam
+        } else {
+            Self::SlidingContact
+        }
+    }
+
+    /// `sliding contact`, `jam` or `lift-off`.
+    #[must_use]
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::SlidingContact => "sliding contact",
+            Self::Jam => "jam",
+            Self::LiftOff => "lift-off",
+        }
+    }
+}
+
+/// One solution of the first step of a [`PainleveCorner`].
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+pub struct CornerSolution {
+    /// What the corner does.
+    pub motion: CornerMotion,
+    /// The normal force at the step's end, n = λ_N/(mg) (m = g = 1 in the scene).
+    pub n: f64,
+    /// The normal impulse of the step, P_N/(mg Δt).
+    pub impulse: f64,
+}
+
+/// The distinct solutions of the first step of `case`, found by the flip probe (the
+/// contact states of the touching corner enumerated, [`nsga::PolicyOptions::probe_flips`]),
+/// converged solution first.
+///
+/// # Errors
+/// A bad case, or a step that fails.
+pub fn corner_solutions(case: &PainleveCorner) -> Result<Vec<CornerSolution>, BlockError> {
+    let scene = case.scene()?;
+    let run = RunOptions {
+        probe_flips: true,
+        ..RunOptions::default()
+    };
+    let options = stepper_options(&scene, &run)?;
+    let dt = options.dt;
+    let (q0, u0) = (scene.initial_coordinates(), scene.initial_velocities());
+    let mut system = StackSystem::new(scene);
+    // The corner contacts (a corner beyond the block's bottom face touching the table).
+    CornerStepping::default().start(&mut system, &q0, &u0, dt);
+    let mut stepper = Stepper::new(system, 0.0, &q0, &u0, options)
+        .map_err(|e| BlockError::Scene(format!("the Painlevé corner cannot start: {e}")))?;
+    let stats = stepper
+        .step()
+        .map_err(|e| BlockError::Scene(format!("the Painlevé corner's first step failed: {e}")))?
+        .clone();
+    let solution = |sets: &nsga::IndexSets, st: &nsga::State| CornerSolution {
+        motion: CornerMotion::of(sets),
+        n: st.lambda_n.iter().sum(),
+        impulse: st.p_n.iter().sum::<f64>() / dt,
+    };
+    Ok(match &stats.branch {
+        Some(point) => point
+            .candidates
+            .iter()
+            .map(|(sets, st)| solution(sets, st))
+            .collect(),
+        None => vec![solution(&stats.sets, stepper.state())],
+    })
+}
+
+/// One case of the corner scan ([`corner_scan`]) and its first step's solutions.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct CornerCase {
+    /// The case.
+    #[serde(skip)]
+    pub case: PainleveCorner,
+    /// B of ÿ_P = A + B n ([`PainleveCorner::response`]).
+    pub b: f64,
+    /// −A/B: App. I's sliding-contact force where B < 0 and A > 0.
+    pub sliding_force: f64,
+    /// The solutions found, converged solution first.
+    pub solutions: Vec<CornerSolution>,
+}
+
+impl CornerCase {
+    /// The columns of `painleve_corner_scan.csv`.
+    pub const CSV_HEADER: [&'static str; 9] = [
+        "theta_rad",
+        "slip",
+        "spin_sign",
+        "b",
+        "minus_a_over_b",
+        "solutions",
+        "sliding_contact_force",
+        "jam_force",
+        "lift_off",
+    ];
+
+    /// The solution of `motion`, if found.
+    #[must_use]
+    pub fn find(&self, motion: CornerMotion) -> Option<&CornerSolution> {
+        self.solutions.iter().find(|s| s.motion == motion)
+    }
+
+    /// The case's cells under [`Self::CSV_HEADER`]: the forces are P_N/(mg Δt), empty
+    /// where that solution was not found; `lift_off` is 0 or 1.
+    #[must_use]
+    pub fn csv_cells(&self) -> Vec<String> {
+        let force = |m| {
+            self.find(m)
+                .map_or(String::new(), |s| s.impulse.to_string())
+        };
+        vec![
+            self.case.theta.to_string(),
+            self.case.slip.to_string(),
+            self.case.spin_sign.to_string(),
+            self.b.to_string(),
+            self.sliding_force.to_string(),
+            self.solutions.len().to_string(),
+            force(CornerMotion::SlidingContact),
+            force(CornerMotion::Jam),
+            u8::from(self.find(CornerMotion::LiftOff).is_some()).to_string(),
+        ]
+    }
+}
+
+/// The corner scan at friction `mu`: θ from −1.5 to 1.5 rad by 0.05, the corner sliding
+/// at ±0.5, spin of either sign, A = 0.5 g ([`PainleveCorner::default`]); each case's
+/// first step solved and probed ([`corner_solutions`]).
+///
+/// # Errors
+/// A bad μ, or a step that fails.
+pub fn corner_scan(mu: f64) -> Result<Vec<CornerCase>, BlockError> {
+    input::non_negative("mu", mu)?;
+    let mut out = Vec::new();
+    for i in -30..=30 {
+        for slip in [-0.5, 0.5] {
+            for spin_sign in [-1.0, 1.0] {
+                let case = PainleveCorner {
+                    theta: f64::from(i) * 0.05,
+                    mu,
+                    slip,
+                    spin_sign,
+                    ..PainleveCorner::default()
+                };
+                let b = case.response();
+                out.push(CornerCase {
+                    case,
+                    b,
+                    sliding_force: -case.free_acceleration / b,
+                    solutions: corner_solutions(&case)?,
+                });
+            }
+        }
+    }
+    Ok(out)
 }
 
 #[cfg(test)]

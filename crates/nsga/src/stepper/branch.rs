@@ -20,6 +20,7 @@
 //!
 //! [`PolicyOptions::boundary_resolves`]: crate::PolicyOptions::boundary_resolves
 
+use super::enumerate::probe_sets;
 use super::spec::{AttemptSpec, SetRule, StartAt};
 use super::Stepper;
 use crate::attempt::{AttemptOutcome, Trial};
@@ -131,23 +132,21 @@ impl<S: System> Stepper<S> {
     }
 
     /// The flip probe of a converged step ([`PolicyOptions::probe_flips`]): the step re-solved
-    /// with one touching normal contact's state flipped ([`flipped_sets`]); the
+    /// with the touching normal contacts' states enumerated or flipped ([`probe_sets`]); the
     /// self-consistent solutions that differ from `converged` make a branch point whose
     /// first candidate is `converged` (the one continued).
     ///
     /// [`PolicyOptions::probe_flips`]: crate::PolicyOptions::probe_flips
     pub(super) fn probe_flips(&mut self, converged: Trial, rho0: f64) -> Trial {
         let touching = self.touching_contacts(&converged.stats.sets);
-        let flips = flipped_sets(&converged.stats.sets, &touching, &self.layout.friction);
+        let flips = probe_sets(&converged.stats.sets, &touching, &self.layout.friction);
         let mut candidates = Candidates::default();
         let sets = converged.stats.sets.clone();
         candidates.offer(&sets, converged, true);
         for s in &flips {
-            let Ok(t) = self.attempt(&self.retry_spec(SetRule::Fixed(s.clone()), rho0)) else {
-                continue;
-            };
-            if &self.sets_of(&t.state.x, rho0) == s {
-                candidates.offer(s, t, true);
+            if let Some(t) = self.probe_solution(s, rho0) {
+                let solved = t.stats.sets.clone();
+                candidates.offer(&solved, t, true);
             }
         }
         let more = candidates.trials.len() > 1;
@@ -228,7 +227,7 @@ impl<S: System> Stepper<S> {
     /// is larger)? The time grid is counted from the step's start from then on, and what
     /// the last solutions left for the next steps is forgotten, as after any restart
     /// from a state ([`Stepper::set_state`]).
-    fn quick_check(&mut self, x: Vec<f64>, rho: f64) -> AttemptOutcome {
+    pub(super) fn quick_check(&mut self, x: Vec<f64>, rho: f64) -> AttemptOutcome {
         self.time_base = (self.state.t, self.state.k);
         self.forget_solutions();
         let check = AttemptSpec {
@@ -338,7 +337,11 @@ fn magnitude(v: &[f64]) -> f64 {
 /// The sets of a flip probe: for each of the `touching` normal contacts, `sets` with it
 /// opened (when it is closed on acceleration level, C) or else closed on every level with
 /// each state of the friction laws it bounds (slip, stick on velocity level only, stick).
-fn flipped_sets(sets: &IndexSets, touching: &[usize], laws: &[FrictionLaw]) -> Vec<IndexSets> {
+pub(super) fn flipped_sets(
+    sets: &IndexSets,
+    touching: &[usize],
+    laws: &[FrictionLaw],
+) -> Vec<IndexSets> {
     let mut out: Vec<IndexSets> = Vec::new();
     let mut push = |s: IndexSets| {
         if &s != sets && !out.contains(&s) {

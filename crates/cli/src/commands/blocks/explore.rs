@@ -83,9 +83,10 @@ pub struct ExploreArgs {
     /// not follow a fork goes on as the plain run does, under either rule.
     #[arg(long, value_enum, default_value = "self-consistent")]
     pub branch_rule: RuleArg,
-    /// Also probe every converged step by flipping one touching contact (finds
-    /// non-uniqueness that Newton does not reveal by cycling, such as Painlevé's; costs
-    /// several solves per contact and step).
+    /// Also re-solve every converged step with the touching contacts' states fixed (every
+    /// combination for at most 3 touching contacts, else one flipped at a time): finds
+    /// non-uniqueness that Newton does not reveal by cycling, such as Painlevé's sliding
+    /// contact, jam and lift-off; up to 64 solves per step.
     #[arg(long)]
     pub probe_flips: bool,
     /// Check each fork: its candidates against the contact laws, and a window of steps

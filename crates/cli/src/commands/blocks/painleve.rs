@@ -4,7 +4,7 @@
 use crate::output::{ensure_dir, print_json, write_csv, write_run_json};
 use anyhow::{Context, Result};
 use blockstack::painleve::{b_grid, BSample, MAX_GRID_NODES};
-use blockstack::studies::painleve::{painleve_report, PainleveReport};
+use blockstack::studies::painleve::{corner_scan, painleve_report, CornerCase, PainleveReport};
 use clap::Args;
 use figures::painleve::plot_painleve;
 use input::text::parse_finite;
@@ -17,7 +17,8 @@ pub struct PainleveArgs {
     /// Aspect ratio w/h of the block (dimensionless, > 0).
     #[arg(long, value_parser = parse_finite, allow_hyphen_values = true)]
     pub aspect: f64,
-    /// Friction coefficient μ_d (dimensionless, ≥ 0) of the line-contact LCP (I.2.10).
+    /// Friction coefficient μ_d (dimensionless, ≥ 0) of the line-contact LCP (I.2.10) and
+    /// of the corner scan.
     #[arg(long, default_value_t = 0.2, value_parser = parse_finite, allow_hyphen_values = true)]
     pub mu: f64,
     /// Largest μ_d of the b-sign grid (dimensionless).
@@ -29,7 +30,9 @@ pub struct PainleveArgs {
     /// Print one JSON object on stdout (otherwise a readable summary).
     #[arg(long)]
     pub json: bool,
-    /// Directory for the b-sign grid (CSV), Figure I.2 (PNG) and run.json.
+    /// Directory for the b-sign grid (CSV), Figure I.2 (PNG), the corner scan at --mu
+    /// (CSV: each case's first-step solutions, sliding contact, jam, lift-off) and
+    /// run.json.
     #[arg(long)]
     pub out: Option<PathBuf>,
 }
@@ -52,6 +55,11 @@ pub fn run(args: &PainleveArgs) -> Result<()> {
     let report = painleve_report(args.aspect, args.mu)?;
     if let Some(dir) = &args.out {
         write_painleve_files(dir, args.aspect, args.mu_max, args.grid, &report)?;
+        write_csv(
+            &dir.join("painleve_corner_scan.csv"),
+            &CornerCase::CSV_HEADER,
+            corner_scan(args.mu)?.iter().map(CornerCase::csv_cells),
+        )?;
         write_run_json(
             dir,
             "blocks painleve",
