@@ -855,7 +855,8 @@ fn a_bouncier_column_dropped_flat_lands_standing() {
 
 /// The classical column (examples/scenes/classical-column.toml: five marble drums and a
 /// capital on a plinth, Δt = 5 ms) on record 7 of `scripts/synthetic_record.py
-/// DIR --count 20`, scaled to a peak of 1.6 g. It collapses at t ≈ 8.2; at t = 9.795 its
+/// DIR --count 20` (kept in tests/data/hard-cases/, apart from the record that
+/// `--records tests/data` examples read), scaled to a peak of 1.6 g. It collapses at t ≈ 8.2; at t = 9.795 its
 /// drums land on the floor and on each other, and the second half of the step fails at
 /// every level of halving, the Newton iterates cycling through the contacts' normal
 /// sets (5 to 29 of them). `Stage::Boundary` runs at the 5 levels where the first
@@ -876,7 +877,7 @@ fn a_collapsed_column_landing_on_itself_re_solves_only_its_visited_sets() {
         [contact]\nmu = 0.6\ne_n = 0.0\ne_f = 0.0\n\
         [solver]\ndt = 0.005\nt_end = 30.0\ngravity = 9.81\n\
         [floor]\n";
-    let data = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../tests/data");
+    let data = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../tests/data/hard-cases");
     let scene = blockstack::LoadedScene::from_toml_at(scene, &data)
         .unwrap()
         .scene;
