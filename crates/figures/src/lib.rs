@@ -50,6 +50,7 @@ pub mod exploration;
 pub mod file;
 pub mod fragility;
 pub mod nsga;
+pub mod numerics;
 pub mod page;
 pub mod painleve;
 pub mod plot;
