@@ -5,6 +5,7 @@
 use crate::animation::write_gif;
 use crate::axis::{TickedRange, Ticks, TARGET_TICKS};
 use crate::convergence::{with_verdicts, JudgedPoint};
+use crate::numerics::{extend_headline, Numerics, Step};
 use crate::plot::{
     draw_title_reserving, fit_title, with_png, Canvas, LinePlot, Series, Style, BASE_COLOR, FONT,
     GUIDE_COLOR, PALETTE, TITLE_PX,
@@ -15,7 +16,8 @@ use blockstack::scenarios::Shaking;
 use blockstack::studies::scene_sweep::SceneRow;
 use blockstack::studies::shaking::FrequencyRow;
 use blockstack::studies::slide::{SlideRegime, SlideRow};
-use blockstack::Scene;
+use blockstack::{Scene, SolverParams};
+use nsga::{BranchRule, Prox};
 use plotters::prelude::*;
 use std::ops::Range;
 use std::path::{Path, PathBuf};
@@ -529,7 +531,7 @@ pub fn write_animation(path: &Path, scene: &Scene, frames: &[Frame], title: &str
     let views = vec![animation_view(scene, &good); good.len()];
     let titles: Vec<String> = good
         .iter()
-        .map(|f| format!("{title}, t = {:.2}", f.t))
+        .map(|f| extend_headline(title, &format!(", t = {:.2}", f.t)))
         .collect();
     let size = (480, picture_height(480, &views));
     // The layout only measures text: a scratch canvas of the frames' size serves.
@@ -550,7 +552,7 @@ pub fn write_animation(path: &Path, scene: &Scene, frames: &[Frame], title: &str
 /// An unwritable file.
 pub fn plot_top_block(path: &Path, top: &[TopSample], title: &str) -> Result<()> {
     let angle = LinePlot::new(
-        format!("{title}: top block angle"),
+        extend_headline(title, ": top block angle"),
         "t [time unit]",
         "θ [rad]",
     )
@@ -559,7 +561,7 @@ pub fn plot_top_block(path: &Path, top: &[TopSample], title: &str) -> Result<()>
         top.iter().map(|p| (p.t, p.theta)).collect(),
     ));
     let height = LinePlot::new(
-        format!("{title}: top block height"),
+        extend_headline(title, ": top block height"),
         "t [time unit]",
         "y [length unit]",
     )
@@ -623,7 +625,8 @@ pub fn draw_run(
         } else {
             String::new()
         };
-        shots.push((dir.join(&name), format!("{title}, t = {:.2}{note}", f.t), f));
+        let shot_title = extend_headline(title, &format!(", t = {:.2}{note}", f.t));
+        shots.push((dir.join(&name), shot_title, f));
         out.files.push(name);
     }
     if recording.snapshots.is_empty() && recording.last.is_none() {
@@ -663,10 +666,15 @@ pub struct FrequencySweep {
     pub steps_per_period: f64,
     /// The horizon in time units, the same at every ω, when the sweep has one.
     pub t_max: Option<f64>,
+    /// The prox parameter of the runs.
+    pub prox: Prox,
+    /// The branch rule when the sweep explores each run's motions (`--branches`).
+    pub rule: Option<BranchRule>,
 }
 
 impl FrequencySweep {
-    /// The fixed parameters of shaken columns like `s` (its ω is not used).
+    /// The fixed parameters of shaken columns like `s` (its ω is not used), with the
+    /// default prox and no exploration.
     #[must_use]
     pub fn of(s: &Shaking) -> Self {
         Self {
@@ -676,6 +684,8 @@ impl FrequencySweep {
             periods: s.periods,
             steps_per_period: s.steps_per_period,
             t_max: None,
+            prox: SolverParams::default().prox,
+            rule: None,
         }
     }
 
@@ -706,9 +716,8 @@ impl FrequencySweep {
 
     /// The figure's title, from the parameters: e.g. "Failure time of a shaken column,
     /// 4 blocks, A = 0.2, μ = 0.2, 10 periods (cf. Figure 4.6)", or "…, t ≤ 40 (…)" with a
-    /// horizon in time units; the steps per period
-    /// are named when they are not the thesis's 100, and "cf. Figure 4.6" only when
-    /// [`Self::is_figure_4_6`].
+    /// horizon in time units, "cf. Figure 4.6" only when [`Self::is_figure_4_6`]; under
+    /// it the caption: the rule when exploring, Δt = 2π/(Nω) and the prox.
     #[must_use]
     pub fn title(&self) -> String {
         let blocks = plural(self.blocks, "block");
@@ -720,13 +729,15 @@ impl FrequencySweep {
             "Failure time of a shaken column, {blocks}, A = {}, μ = {}, {horizon}",
             self.amplitude, self.mu
         );
-        if self.steps_per_period != Shaking::default().steps_per_period {
-            t.push_str(&format!(", {} steps per period", self.steps_per_period));
-        }
         if self.is_figure_4_6() {
             t.push_str(" (cf. Figure 4.6)");
         }
-        t
+        let numerics = Numerics {
+            rule: self.rule,
+            step: Step::PerPeriod(self.steps_per_period),
+            prox: self.prox,
+        };
+        numerics.under(&t)
     }
 }
 
@@ -737,6 +748,22 @@ fn plural(n: usize, what: &str) -> String {
     } else {
         format!("{n} {what}s")
     }
+}
+
+/// The title of a scene sweep's panel: `what` against the swept `key`, with why the
+/// panel is `empty` when it is, and the runs' caption under it.
+#[must_use]
+pub fn scene_sweep_title(
+    what: &str,
+    key: &str,
+    empty: Option<&str>,
+    numerics: &Numerics,
+) -> String {
+    let headline = match empty {
+        None => format!("{what} against {key}"),
+        Some(why) => format!("{what} against {key} ({why})"),
+    };
+    numerics.under(&headline)
 }
 
 /// The inverse time to failure 1/T of a shaken column against the frequency ω
@@ -841,6 +868,8 @@ pub struct SlideSweep {
     pub t_end: f64,
     /// Friction coefficient μ.
     pub mu: f64,
+    /// The runs' Δt, prox and (when exploring) branch rule.
+    pub numerics: Numerics,
 }
 
 impl SlideSweep {
@@ -852,7 +881,8 @@ impl SlideSweep {
     }
 
     /// The figure's title, e.g. "Top block angle at t = 3 on a pulled base, 4 blocks
-    /// (cf. Figure 4.7)", "cf." only for [`Self::is_figure_4_7`].
+    /// (cf. Figure 4.7)", "cf." only for [`Self::is_figure_4_7`]; under it the caption
+    /// of [`Self::numerics`].
     #[must_use]
     pub fn title(&self) -> String {
         let mut t = format!(
@@ -864,7 +894,7 @@ impl SlideSweep {
         if self.is_figure_4_7() {
             t.push_str(" (cf. Figure 4.7)");
         }
-        t
+        self.numerics.under(&t)
     }
 }
 
@@ -1003,7 +1033,7 @@ pub fn inverse_failure_time(row: &SceneRow) -> Option<f64> {
 ///
 /// # Errors
 /// An unwritable file.
-pub fn plot_scene_sweep(path: &Path, rows: &[SceneRow]) -> Result<DrawnRun> {
+pub fn plot_scene_sweep(path: &Path, rows: &[SceneRow], numerics: &Numerics) -> Result<DrawnRun> {
     let name = path
         .file_name()
         .map_or_else(String::new, |n| n.to_string_lossy().into_owned());
@@ -1021,12 +1051,9 @@ pub fn plot_scene_sweep(path: &Path, rows: &[SceneRow]) -> Result<DrawnRun> {
         ));
         return Ok(out);
     }
-    let panel = |title: &str, empty: &str, y_label: &str, y: fn(&SceneRow) -> Option<f64>| {
-        let title = if rows.iter().any(|r| y(r).is_some()) {
-            format!("{title} against {key}")
-        } else {
-            format!("{title} against {key} ({empty})")
-        };
+    let panel = |what: &str, empty: &str, y_label: &str, y: fn(&SceneRow) -> Option<f64>| {
+        let empty = (!rows.iter().any(|r| y(r).is_some())).then_some(empty);
+        let title = scene_sweep_title(what, &key, empty, numerics);
         lines.iter().fold(
             LinePlot::new(title, key.as_str(), y_label),
             |plot, (label, members)| {
@@ -1143,18 +1170,23 @@ mod scene_sweep_tests {
             std::env::temp_dir().join(format!("rollstack-scene-sweep-{}", std::process::id()));
         std::fs::create_dir_all(&dir).unwrap();
         let path = dir.join("sweep_scene.png");
-        let drawn = plot_scene_sweep(&path, &rows(&["a.x=1,2", "b.y=0:1:0.5"])).unwrap();
+        let numerics = Numerics::run(0.01, Prox::Scaled(1.0));
+        let drawn = plot_scene_sweep(&path, &rows(&["a.x=1,2", "b.y=0:1:0.5"]), &numerics).unwrap();
         assert_eq!(drawn.files, ["sweep_scene.png"]);
         assert_eq!(&std::fs::read(&path).unwrap()[1..4], b"PNG");
-        let many =
-            plot_scene_sweep(&dir.join("many.png"), &rows(&["a.x=1:9:1", "b.y=1,2"])).unwrap();
+        let many = plot_scene_sweep(
+            &dir.join("many.png"),
+            &rows(&["a.x=1:9:1", "b.y=1,2"]),
+            &numerics,
+        )
+        .unwrap();
         assert!(
             many.files.is_empty() && many.notes[0].contains("9 combinations"),
             "{many:?}"
         );
-        let fixed = plot_scene_sweep(&dir.join("fixed.png"), &rows(&["a.x=1"])).unwrap();
+        let fixed = plot_scene_sweep(&dir.join("fixed.png"), &rows(&["a.x=1"]), &numerics).unwrap();
         assert_eq!(fixed.files, ["fixed.png"]);
-        let none = plot_scene_sweep(&dir.join("none.png"), &[]).unwrap();
+        let none = plot_scene_sweep(&dir.join("none.png"), &[], &numerics).unwrap();
         assert!(none.files.is_empty() && none.notes.len() == 1);
         assert!(!dir.join("many.png").exists() && !dir.join("none.png").exists());
         std::fs::remove_dir_all(dir).unwrap();
@@ -1323,17 +1355,19 @@ mod tests {
         let thesis = FrequencySweep::of(&Shaking::default());
         assert_eq!(
             thesis.title(),
-            "Failure time of a shaken column, 4 blocks, A = 0.2, μ = 0.2, 10 periods (cf. Figure 4.6)"
+            "Failure time of a shaken column, 4 blocks, A = 0.2, μ = 0.2, 10 periods (cf. Figure 4.6)\nΔt = 2π/(100ω), prox scaled (α = 1)"
         );
         let mine = FrequencySweep {
             blocks: 1,
             mu: 0.5,
             steps_per_period: 50.0,
+            prox: Prox::Constant(0.3),
+            rule: Some(BranchRule::Converged),
             ..thesis
         };
         assert_eq!(
             mine.title(),
-            "Failure time of a shaken column, 1 block, A = 0.2, μ = 0.5, 10 periods, 50 steps per period"
+            "Failure time of a shaken column, 1 block, A = 0.2, μ = 0.5, 10 periods\nconverged rule (the thesis's count), Δt = 2π/(50ω), prox r = 0.3"
         );
         assert!(!mine.is_figure_4_6());
         let horizon = FrequencySweep {
@@ -1342,7 +1376,7 @@ mod tests {
         };
         assert_eq!(
             horizon.title(),
-            "Failure time of a shaken column, 4 blocks, A = 0.2, μ = 0.2, t ≤ 40 (cf. Figure 4.6)"
+            "Failure time of a shaken column, 4 blocks, A = 0.2, μ = 0.2, t ≤ 40 (cf. Figure 4.6)\nΔt = 2π/(100ω), prox scaled (α = 1)"
         );
         assert_eq!(horizon.survival(), "no failure by t = 40");
         assert_eq!(
@@ -1353,15 +1387,26 @@ mod tests {
             blocks: 4,
             t_end: 3.0,
             mu: 0.2,
+            numerics: Numerics::run(0.01, Prox::Scaled(1.0)).with_rule(BranchRule::SelfConsistent),
         };
         assert_eq!(
             slide.title(),
-            "Top block angle at t = 3 on a pulled base, 4 blocks, μ = 0.2 (cf. Figure 4.7)"
+            "Top block angle at t = 3 on a pulled base, 4 blocks, μ = 0.2 (cf. Figure 4.7)\nself-consistent rule, Δt = 0.01, prox scaled (α = 1)"
         );
         let other = SlideSweep {
             t_end: 2.5,
             ..slide
         };
         assert!(!other.title().contains("Figure"));
+        let panel = scene_sweep_title(
+            "1/T",
+            "base.omega",
+            Some("no run failed"),
+            &Numerics::of_steps(&[0.01, 0.005], Prox::Scaled(1.0)),
+        );
+        assert_eq!(
+            panel,
+            "1/T against base.omega (no run failed)\nΔt = 0.01 … 0.005, prox scaled (α = 1)"
+        );
     }
 }

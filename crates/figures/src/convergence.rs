@@ -4,10 +4,12 @@
 //! failure time.
 
 use crate::blocks::{with_bands, DrawnRun};
+use crate::numerics::{Numerics, Step};
 use crate::plot::{Dash, LinePlot, Marker, Series, Style, GUIDE_COLOR, PALETTE};
 use crate::Result;
 use blockstack::studies::convergence::verdict::VerdictKind;
 use blockstack::studies::convergence::{ConvergenceReport, JobKind};
+use nsga::Prox;
 use std::path::Path;
 
 /// A sweep row with `--convergence`, as its figure draws it.
@@ -63,8 +65,8 @@ pub fn with_verdicts(
 
 /// The failure time of the unperturbed runs against Δt (log Δt), the members' failure
 /// times at the finest Δt as markers and their spread (the unperturbed finest run's
-/// included) as a band across the plot; the title gives the verdict, the scene's Δt and
-/// `prox`, the prox choice. Left out with a note when no run failed.
+/// included) as a band across the plot; the title gives the verdict, the caption the
+/// levels' Δt and `prox`, the prox choice ([`convergence_title`]). Left out with a note when no run failed.
 ///
 /// # Errors
 /// An unwritable file.
@@ -72,7 +74,7 @@ pub fn plot_convergence(
     path: &Path,
     report: &ConvergenceReport,
     scene: &str,
-    prox: &str,
+    prox: Prox,
 ) -> Result<DrawnRun> {
     let mut out = DrawnRun::default();
     let name = path
@@ -92,13 +94,7 @@ pub fn plot_convergence(
             .push(format!("no {name}: no run lost its support before its end"));
         return Ok(out);
     }
-    let title = format!(
-        "{scene}: failure time at Δt = {:.3e}/2^k, prox {prox}: {} ({} levels, {} members)",
-        report.dts.first().copied().unwrap_or(f64::NAN),
-        report.failure.verdict,
-        report.dts.len(),
-        report.runs.len() - report.dts.len()
-    );
+    let title = convergence_title(report, scene, prox);
     let mut plot = LinePlot::new(title, "Δt (model time)", "first loss of support t").with(
         Series::line_and_markers("unperturbed, Δt/2^k", levels.clone())
             .styled(Style::color(PALETTE[0])),
@@ -139,6 +135,27 @@ pub fn plot_convergence(
     plot.save(path, (1000, 620))?;
     out.files.push(name);
     Ok(out)
+}
+
+/// The title of [`plot_convergence`]: the scene, the verdict on the failure time and the
+/// study's size, with the caption under it: Δt from the scene's to the finest level's,
+/// and `prox`.
+#[must_use]
+pub fn convergence_title(report: &ConvergenceReport, scene: &str, prox: Prox) -> String {
+    let headline = format!(
+        "{scene}: failure time {} ({} levels, {} members)",
+        report.failure.verdict,
+        report.dts.len(),
+        report.runs.len() - report.dts.len()
+    );
+    let first = report.dts.first().copied().unwrap_or(f64::NAN);
+    let last = report.dts.last().copied().unwrap_or(f64::NAN);
+    Numerics {
+        rule: None,
+        step: Step::Range(first, last),
+        prox,
+    }
+    .under(&headline)
 }
 
 #[cfg(test)]
@@ -196,17 +213,31 @@ mod tests {
     }
 
     #[test]
+    fn the_title_names_the_verdict_and_its_caption_the_levels_and_the_prox() {
+        let report = lire_collapse(0.1);
+        assert_eq!(
+            convergence_title(&report, "lire", Prox::Constant(0.3)),
+            format!(
+                "lire: failure time {} (2 levels, 3 members)\nΔt = 0.01 … 0.005, prox r = 0.3",
+                report.failure.verdict
+            )
+        );
+    }
+
+    #[test]
     fn a_study_without_a_failure_is_left_out_with_a_note_and_one_with_is_drawn() {
         let dir = std::env::temp_dir().join(format!("figures-converge-{}", std::process::id()));
         std::fs::create_dir_all(&dir).unwrap();
         let path = dir.join("converge.png");
-        let standing = plot_convergence(&path, &lire_collapse(0.1), "lire", "p").unwrap();
+        let standing =
+            plot_convergence(&path, &lire_collapse(0.1), "lire", Prox::Scaled(1.0)).unwrap();
         assert!(standing.files.is_empty() && !path.exists());
         assert_eq!(
             standing.notes,
             ["no converge.png: no run lost its support before its end"]
         );
-        let fallen = plot_convergence(&path, &lire_collapse(6.7), "lire", "p").unwrap();
+        let fallen =
+            plot_convergence(&path, &lire_collapse(6.7), "lire", Prox::Scaled(1.0)).unwrap();
         assert_eq!(fallen.files, ["converge.png"]);
         assert!(path.exists() && fallen.notes.is_empty());
         std::fs::remove_dir_all(&dir).unwrap();

@@ -3,6 +3,7 @@
 //! for every branch, and the tree of branches over time.
 
 use crate::blocks::{draw_stack, frame_views, StackLayout, View};
+use crate::numerics::extend_headline;
 use crate::plot::{with_png, Canvas, LinePlot, Series, Style, PALETTE};
 use crate::{FigureError, Result};
 use blockstack::exploration::{BranchSummary, OutcomeGroup};
@@ -71,7 +72,7 @@ pub fn plot_exploration(
     };
     let curves = |index: usize, name: &str, unit: &str| {
         let mut plot = LinePlot::new(
-            format!("{title}: top block {name}{more}"),
+            extend_headline(title, &format!(": top block {name}{more}")),
             "t [time unit]",
             unit,
         );
@@ -97,7 +98,12 @@ pub fn plot_exploration(
     };
     let height = curves(1, "height", "y [length unit]");
     let angle = curves(2, "angle", "θ [rad]");
-    let tree_plot = tree_lines(tree, &colour, drawn, &format!("{title}: branches{more}"));
+    let tree_plot = tree_lines(
+        tree,
+        &colour,
+        drawn,
+        &extend_headline(title, &format!(": branches{more}")),
+    );
     with_png(path, (1400, 1100), |root| {
         let (top, bottom) = root.split_vertically(550);
         let (states, tree_area) = top.split_horizontally(700);

@@ -4,13 +4,15 @@
 //! of runs that collapsed at each level as markers. An outcome with no fit (none or all
 //! collapsed, separated outcomes) keeps its markers and says so in its legend.
 
+use crate::numerics::extend_headline;
 use crate::plot::{Dash, LinePlot, Series, Style, PALETTE};
 use crate::Result;
 use blockstack::studies::fragility::{Curve, CurvePoint, Intensity};
 use std::path::Path;
 
 /// The two panels of `fragility.png`, side by side: `curves` and their `points`
-/// ([`blockstack::studies::fragility::curve_points`]); `title` names the scene.
+/// ([`blockstack::studies::fragility::curve_points`]); `title` names the scene, and the
+/// runs' caption on a line of its own ([`Numerics::under`](crate::numerics::Numerics::under)).
 ///
 /// # Errors
 /// An unwritable file.
@@ -34,7 +36,10 @@ pub fn plot_fragility(
 /// One panel: every curve against `intensity`.
 fn panel(curves: &[Curve], points: &[CurvePoint], intensity: Intensity, title: &str) -> LinePlot {
     let mut plot = LinePlot::new(
-        format!("{title}: P(collapse) against {}", intensity.label()),
+        extend_headline(
+            title,
+            &format!(": P(collapse) against {}", intensity.label()),
+        ),
         intensity.label(),
         "P(collapse)",
     );
@@ -126,6 +131,17 @@ mod tests {
         let path = dir.join("fragility.png");
         plot_fragility(&path, &curves, &curve_points(&rows, &curves), "test").unwrap();
         assert!(std::fs::metadata(&path).unwrap().len() > 1000);
+        // The scene's name heads each panel, the runs' caption stays under it.
+        let title = crate::numerics::Numerics::run(0.005, nsga::Prox::Scaled(1.0)).under("column");
+        let points = curve_points(&rows, &curves);
+        let panel = panel(&curves, &points, curves[0].intensity, &title);
+        assert_eq!(
+            panel.title,
+            format!(
+                "column: P(collapse) against {}\nΔt = 0.005, prox scaled (α = 1)",
+                curves[0].intensity.label()
+            )
+        );
         // None collapsed: no curve, the markers only.
         let standing: Vec<FragilityRow> = rows
             .iter()

@@ -19,6 +19,8 @@
 //! - [`cylinders`]: the support-force curves of §3.3 (Figures 3.3–3.5, 3.7, 3.8) and
 //!   the plan view of a rolled trace (Figures 3.10, 3.12).
 //! - [`nsga`]: the bouncing ball and work-precision diagrams.
+//! - [`numerics`]: the caption line of a block-stack figure: the branch rule where it
+//!   applies, Δt and the prox parameter.
 //! - [`painleve`]: Figure I.2.
 //! - [`sphere`]: the rolling sphere: traces (Figure 2.1), rectangles and their panels
 //!   (Figures 2.6–2.9), the level sets of Figure 2.5, the integrator study.
@@ -50,6 +52,7 @@ pub mod exploration;
 pub mod file;
 pub mod fragility;
 pub mod nsga;
+pub mod numerics;
 pub mod page;
 pub mod painleve;
 pub mod plot;

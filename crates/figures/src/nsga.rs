@@ -1,6 +1,7 @@
 //! The solver core's figures: the rotating bouncing ball of Capobianco et al. (2021)
 //! and work-precision diagrams.
 
+use crate::numerics::{Numerics, Step};
 use crate::plot::{LinePlot, Series, Style};
 use crate::Result;
 use blockstack::studies::work_precision::StackWorkPrecision;
@@ -127,12 +128,7 @@ pub fn order_label(order: &ObservedOrder) -> String {
 /// # Errors
 /// An unwritable file.
 pub fn plot_stack_work_precision(path: &Path, study: &StackWorkPrecision) -> Result<()> {
-    let title = format!(
-        "Work-precision, {} (error at t = {} against Δt = {:.2e}; {FITTED_MARKERS})",
-        study.system.name(),
-        study.system.t_end(),
-        study.reference_dt
-    );
+    let title = stack_work_precision_title(study);
     let mut plot = LinePlot::new(&title, "wall time [s]", "error [length unit, rad]");
     plot.log = (true, true);
     let runs: Vec<SchemeRun> = study
@@ -144,4 +140,45 @@ pub fn plot_stack_work_precision(path: &Path, study: &StackWorkPrecision) -> Res
         plot = plot.with(series);
     }
     plot.save(path, (1000, 700))
+}
+
+/// The block-stack diagram's title, with the caption of its runs under it: the range of
+/// Δt from the largest to the smallest and the benchmark's prox (both schemes use it).
+#[must_use]
+pub fn stack_work_precision_title(study: &StackWorkPrecision) -> String {
+    let headline = format!(
+        "Work-precision, {} (error at t = {} against Δt = {:.2e}; {FITTED_MARKERS})",
+        study.system.name(),
+        study.system.t_end(),
+        study.reference_dt
+    );
+    let dts = study.rows.iter().map(|r| r.dt);
+    let largest = dts.clone().fold(f64::NAN, f64::max);
+    let smallest = dts.fold(f64::NAN, f64::min);
+    match study.system.scene(study.reference_dt) {
+        Ok(scene) if largest.is_finite() => Numerics {
+            rule: None,
+            step: Step::Range(largest, smallest),
+            prox: scene.solver.prox,
+        }
+        .under(&headline),
+        _ => headline,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use blockstack::studies::work_precision::{stack_work_precision, StackBenchmark};
+
+    #[test]
+    fn the_block_stack_diagram_names_its_steps_and_prox() {
+        let study = stack_work_precision(StackBenchmark::Block, &[8e-3, 4e-3], 2.0, 1).unwrap();
+        assert_eq!(
+            stack_work_precision_title(&study),
+            format!(
+                "Work-precision, block (error at t = 2 against Δt = 2.00e-3; {FITTED_MARKERS})\nΔt = 0.008 … 0.004, prox scaled (α = 1)"
+            )
+        );
+    }
 }

@@ -318,7 +318,9 @@ const MAX_INSIDE_ENTRIES: usize = 8;
 /// Lays a title out in `width` pixels: one line at the largest font from `max_px` down
 /// to ¾ of it that fits, else two lines split at the space that balances them (fonts
 /// down to 12 px), else one line at 12 px cut with an ellipsis. `measure(text, px)` is
-/// the width of `text` at `px` pixels. Returns the lines and the font size.
+/// the width of `text` at `px` pixels. Returns the lines and the font size. A title with
+/// line breaks (a caption under it, [`Numerics::under`](crate::numerics::Numerics::under))
+/// keeps its lines: the largest font at which each fits, else each cut at 12 px.
 #[must_use]
 pub fn fit_title(
     text: &str,
@@ -327,6 +329,9 @@ pub fn fit_title(
     measure: impl Fn(&str, u32) -> u32,
 ) -> (Vec<String>, u32) {
     let max_px = max_px.max(MIN_TITLE_PX);
+    if text.contains('\n') {
+        return fit_lines(text.lines(), width, max_px, measure);
+    }
     let min_one = (max_px * 3 / 4).max(MIN_TITLE_PX);
     for px in (min_one..=max_px).rev() {
         if measure(text, px) <= width {
@@ -348,15 +353,41 @@ pub fn fit_title(
             }
         }
     }
+    (vec![cut_to_fit(text, width, &measure)], MIN_TITLE_PX)
+}
+
+/// Lines kept as given, at the largest font from `max_px` down to 12 px at which every
+/// one fits, else each cut at 12 px.
+fn fit_lines<'a>(
+    lines: impl Iterator<Item = &'a str>,
+    width: u32,
+    max_px: u32,
+    measure: impl Fn(&str, u32) -> u32,
+) -> (Vec<String>, u32) {
+    let lines: Vec<&str> = lines.collect();
+    for px in (MIN_TITLE_PX..=max_px).rev() {
+        if lines.iter().all(|l| measure(l, px) <= width) {
+            return (lines.iter().map(|&l| l.to_owned()).collect(), px);
+        }
+    }
+    let cut = lines.iter().map(|l| cut_to_fit(l, width, &measure));
+    (cut.collect(), MIN_TITLE_PX)
+}
+
+/// `text` whole if it fits at 12 px, else cut with an ellipsis where it does.
+fn cut_to_fit(text: &str, width: u32, measure: &impl Fn(&str, u32) -> u32) -> String {
+    if measure(text, MIN_TITLE_PX) <= width {
+        return text.to_owned();
+    }
     let mut cut: Vec<char> = text.chars().collect();
     while !cut.is_empty() {
         let s: String = cut.iter().collect::<String>() + "…";
         if measure(&s, MIN_TITLE_PX) <= width {
-            return (vec![s], MIN_TITLE_PX);
+            return s;
         }
         cut.pop();
     }
-    (vec![String::new()], MIN_TITLE_PX)
+    String::new()
 }
 
 /// Width and height of `text` at `px` pixels on `area`.
@@ -1297,6 +1328,13 @@ mod tests {
         assert!(lines.iter().all(|l| measure(l, px) <= 200), "{lines:?}");
         let (lines, _) = fit_title(&"x".repeat(300), 100, 22, measure);
         assert!(lines[0].ends_with('…'));
+        // A caption keeps its own line, at the font at which both lines fit.
+        let (lines, px) = fit_title("Lire\nΔt = 0.01, prox r = 0.3", 200, 22, measure);
+        assert_eq!(lines, ["Lire", "Δt = 0.01, prox r = 0.3"]);
+        assert_eq!(px, 17);
+        let (lines, px) = fit_title(&format!("a\n{}", "x".repeat(300)), 100, 22, measure);
+        assert_eq!((lines[0].as_str(), px), ("a", 12));
+        assert!(lines[1].ends_with('…'));
     }
 
     #[test]

@@ -14,6 +14,7 @@ use blockstack::studies::convergence::{
     separation_rows, ConvergenceReport, ConvergenceRun, Job, Reference, Settings, Study,
     DEFAULT_ENSEMBLE, DEFAULT_LEVELS,
 };
+use blockstack::Prox;
 use clap::Args;
 use figures::convergence::plot_convergence;
 use input::text::parse_finite;
@@ -174,8 +175,8 @@ pub fn run(a: &ConvergeArgs) -> Result<()> {
     let mut files = Vec::new();
     let mut notes = Vec::new();
     if let Some(dir) = dir {
-        let prox = loaded.scene.solver.prox.to_string();
-        write_outputs(dir, &report, a, &prox, &mut files, &mut notes)?;
+        let prox = loaded.scene.solver.prox;
+        write_outputs(dir, &report, a, prox, &mut files, &mut notes)?;
     }
     if a.json {
         let mut value = serde_json::to_value(&report)?;
@@ -264,7 +265,7 @@ fn write_outputs(
     dir: &Path,
     report: &ConvergenceReport,
     a: &ConvergeArgs,
-    prox: &str,
+    prox: Prox,
     files: &mut Vec<String>,
     notes: &mut Vec<String>,
 ) -> Result<()> {

@@ -215,6 +215,9 @@ pub fn run(args: &ExploreArgs) -> Result<()> {
             .scene
             .file_stem()
             .map_or_else(|| "scene".into(), |s| s.to_string_lossy().into_owned());
+        let title = super::figure_numerics(scene, &options)
+            .with_rule(rule)
+            .under(&title);
         let png = dir.join("abundance.png");
         plot_exploration(&png, scene, &tree, &groups, &title)
             .with_context(|| format!("cannot draw {}", png.display()))?;

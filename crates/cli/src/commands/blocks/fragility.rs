@@ -141,7 +141,12 @@ pub fn run(args: &FragilityArgs) -> Result<()> {
     let mut files = Vec::new();
     if let Some(out) = &args.output.out {
         ensure_dir(out)?;
-        write_files(out, &rows, &curves, &study, &what)?;
+        // Every run has the scene's Δt and prox; a record changes only the base's motion.
+        let title = match points.first() {
+            Some((_, p)) => super::figure_numerics(&study.scene(*p)?.scene, &options).under(&what),
+            None => what.clone(),
+        };
+        write_files(out, &rows, &curves, &study, &what, &title)?;
         files.extend(FILES.map(str::to_owned));
         files.push(SCENE_COPY.to_owned());
         files.push(format!("{RECORDS_COPY}/"));
@@ -159,13 +164,15 @@ pub fn run(args: &FragilityArgs) -> Result<()> {
     )
 }
 
-/// runs.csv, fragility.csv, fit.json and fragility.png in `out`.
+/// runs.csv, fragility.csv, fit.json and fragility.png in `out`: `what` names the scene,
+/// `title` (it and the runs' caption) heads the figure.
 fn write_files(
     out: &Path,
     rows: &[FragilityRow],
     curves: &[Curve],
     study: &FragilityStudy,
     what: &str,
+    title: &str,
 ) -> Result<()> {
     write_csv(
         &out.join("runs.csv"),
@@ -190,7 +197,7 @@ fn write_files(
             "curves": curves,
         }),
     )?;
-    plot_fragility(&out.join("fragility.png"), curves, &points, what)?;
+    plot_fragility(&out.join("fragility.png"), curves, &points, title)?;
     Ok(())
 }
 

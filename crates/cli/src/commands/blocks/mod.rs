@@ -38,6 +38,7 @@ use blockstack::time_guard::Guard;
 pub use blockstack::time_guard::{run_cost, RunCost, TIME_BOUND_S};
 use blockstack::Scene;
 use clap::{Args, Subcommand};
+use figures::numerics::Numerics;
 use input::text::parse_finite;
 use std::path::PathBuf;
 
@@ -233,6 +234,19 @@ pub fn check_time_bound(
         .map_err(|estimate| anyhow::anyhow!("{estimate}: {advice}, or pass --force"))
 }
 
+/// The caption of the figures of runs of `scene` with `options`: its Δt, the prox the
+/// runs use, and the branch rule when they explore (a sweep's `--branches` above 1), since
+/// the rule changes what an exploration records but not a plain run's motion.
+#[must_use]
+pub fn figure_numerics(scene: &Scene, options: &RunOptions) -> Numerics {
+    let numerics = Numerics::run(scene.solver.dt, options.prox.unwrap_or(scene.solver.prox));
+    if options.spread_branches > 1 {
+        numerics.with_rule(options.branch_rule)
+    } else {
+        numerics
+    }
+}
+
 /// Output options of `run`, `shake` and `lire`.
 #[derive(Debug, Clone, Args)]
 pub struct OutputArgs {
@@ -267,5 +281,41 @@ impl OutputArgs {
             progress: !self.json,
             force,
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use blockstack::scenarios::{lire, Perturbation};
+    use nsga::BranchRule;
+
+    #[test]
+    fn run_figures_name_their_step_and_prox_and_explored_ones_their_rule() {
+        let scene = lire(4, Perturbation::Bottom).unwrap();
+        let plain = figure_numerics(&scene, &RunOptions::default());
+        assert_eq!(plain.caption(), "Δt = 0.01, prox scaled (α = 1)");
+        assert_eq!(
+            plain.under("Lire tower"),
+            "Lire tower\nΔt = 0.01, prox scaled (α = 1)"
+        );
+        // A sweep that explores its runs (`--branches 30`) draws what the rule records.
+        let explored = RunOptions {
+            prox: Some(Prox::Constant(0.3)),
+            spread_branches: 30,
+            branch_rule: BranchRule::Converged,
+            ..RunOptions::default()
+        };
+        assert_eq!(
+            figure_numerics(&scene, &explored).caption(),
+            "converged rule (the thesis's count), Δt = 0.01, prox r = 0.3"
+        );
+        // `blocks explore` always names its rule.
+        let tree =
+            figure_numerics(&scene, &RunOptions::default()).with_rule(BranchRule::SelfConsistent);
+        assert_eq!(
+            tree.caption(),
+            "self-consistent rule, Δt = 0.01, prox scaled (α = 1)"
+        );
     }
 }

@@ -16,6 +16,7 @@ use blockstack::time_guard::{Clock, Watchdog};
 use blockstack::{Defaults, Scene};
 use clap::Args;
 use figures::blocks::draw_run;
+use figures::numerics::Numerics;
 use input::text::parse_finite;
 use serde::Serialize;
 use std::fs::File;
@@ -178,7 +179,10 @@ fn simulate_watched(
     let (mut files, mut notes) = (Vec::new(), Vec::new());
     if let Some(dir) = &plan.dir {
         files.push("trajectory.csv".to_owned());
-        match write_run_files(dir, scene, plan, &summary, &recording, &mut files) {
+        let numerics = super::figure_numerics(scene, options);
+        match write_run_files(
+            dir, scene, plan, &numerics, &summary, &recording, &mut files,
+        ) {
             Ok(n) => notes = n,
             Err(e) => {
                 write_error.get_or_insert(format!("{e:#}"));
@@ -251,10 +255,12 @@ fn finish_trajectory(mut w: BufWriter<File>, path: &Path, failed: bool) -> Resul
 
 /// Writes branch_points.csv, the snapshots, the animation and the top block's plot into
 /// `dir`, adding each file's name to `files`; returns the notes of the pictures left out.
+/// The pictures' titles carry `numerics` as their caption.
 fn write_run_files(
     dir: &Path,
     scene: &Scene,
     plan: &OutputPlan,
+    numerics: &Numerics,
     summary: &RunSummary,
     recording: &Recording,
     files: &mut Vec<String>,
@@ -272,7 +278,8 @@ fn write_run_files(
         rows,
     )?;
     files.push("branch_points.csv".to_owned());
-    let drawn = draw_run(dir, scene, recording, &plan.title, plan.max_frames > 0)?;
+    let title = numerics.under(&plan.title);
+    let drawn = draw_run(dir, scene, recording, &title, plan.max_frames > 0)?;
     files.extend(drawn.files);
     Ok(drawn.notes)
 }

@@ -557,8 +557,11 @@ pub fn sweep_frequency(args: &FrequencyArgs) -> Result<()> {
             settings,
             |r| (r.csv_cells(), r.convergence.as_ref()),
         )?;
+        let numerics = super::figure_numerics(&shaking_column_in(&column(1.0), &units)?, &options);
         let plot = FrequencySweep {
             t_max: args.t_max,
+            prox: numerics.prox,
+            rule: numerics.rule,
             ..FrequencySweep::of(&column(1.0))
         };
         plot_frequency_sweep(&dir.join("sweep_frequency.png"), &rows, &plot)?;
@@ -623,10 +626,12 @@ pub fn sweep_slide(args: &SlideArgs) -> Result<()> {
         write_judged_csv(&dir.join("sweep_slide.csv"), header, &rows, settings, |r| {
             (r.csv_cells(), r.convergence.as_ref())
         })?;
+        let first = speeds.first().map_or(1.0, |&(_, v0)| v0);
         let plot = SlideSweep {
             blocks: args.blocks,
             t_end: args.t_end,
             mu: args.mu,
+            numerics: super::figure_numerics(&sliding_column_in(&column(first), &units)?, &options),
         };
         plot_slide_sweep(&dir.join("sweep_slide.png"), &rows, &plot)?;
     }

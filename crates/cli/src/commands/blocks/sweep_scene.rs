@@ -7,10 +7,13 @@ use super::sweep::{check_judged_before_any_run, write_judged_csv, SweepOutputArg
 use super::SolverArgs;
 use crate::output::ensure_dir;
 use anyhow::{Context, Result};
+use blockstack::simulation::RunOptions;
 use blockstack::studies::convergence::row::{RowConvergence, SWEEP_ENSEMBLE};
-use blockstack::studies::scene_sweep::{Override, SceneSweep};
+use blockstack::studies::scene_sweep::{Override, SceneSweep, SetValue};
+use blockstack::SolverParams;
 use clap::Args;
 use figures::blocks::plot_scene_sweep;
+use figures::numerics::Numerics;
 use input::text::parse_finite;
 use shards::InputFile;
 use std::path::PathBuf;
@@ -116,7 +119,8 @@ pub fn sweep_scene(args: &SceneArgs) -> Result<()> {
             settings,
             |r| (r.csv_cells(), r.convergence.as_ref()),
         )?;
-        let drawn = plot_scene_sweep(&dir.join("sweep_scene.png"), &rows)?;
+        let numerics = sweep_numerics(&sweep, &points, &options)?;
+        let drawn = plot_scene_sweep(&dir.join("sweep_scene.png"), &rows, &numerics)?;
         files.push("sweep_scene.csv".to_owned());
         files.extend(drawn.files);
         files.push(SCENE_COPY.to_owned());
@@ -134,6 +138,25 @@ pub fn sweep_scene(args: &SceneArgs) -> Result<()> {
             .sum(),
         ToString::to_string,
     )
+}
+
+/// The caption of the sweep's figure: the runs' Δt (one, or the range when a swept key
+/// moves it, as ω at fixed steps per period does) and the prox of the first point's scene
+/// unless `--prox-constant` sets it.
+fn sweep_numerics(
+    sweep: &SceneSweep,
+    points: &[(usize, Vec<SetValue>)],
+    options: &RunOptions,
+) -> Result<Numerics> {
+    let scenes = points
+        .iter()
+        .map(|(_, point)| sweep.scene(point).map(|l| l.scene))
+        .collect::<Result<Vec<_>, _>>()?;
+    let dts: Vec<f64> = scenes.iter().map(|s| s.solver.dt).collect();
+    let scene_prox = scenes
+        .first()
+        .map_or(SolverParams::default().prox, |s| s.solver.prox);
+    Ok(Numerics::of_steps(&dts, options.prox.unwrap_or(scene_prox)))
 }
 
 /// Checks the syntax of one `--set KEY=VALUES` (keys are checked against the scene

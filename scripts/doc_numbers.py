@@ -1,0 +1,153 @@
+#!/usr/bin/env python3
+"""The numbers the docs quote from rollstack's runs, written by running it.
+
+    scripts/doc_numbers.py BIN                 # rewrites every marked number in the docs
+    scripts/doc_numbers.py BIN --check         # exit 1, with a diff, where a doc differs
+    scripts/doc_numbers.py BIN --only NAME,... # only these entries
+
+BIN is a release build (cargo build --release -p rollstack; target/release/rollstack).
+Each entry of NUMBERS names a doc file, a marker NAME (the doc holds the text between
+`<!-- NAME: begin -->` and `<!-- NAME: end -->`), what it runs and how it writes the
+result. The reference workload's commands are those of scripts/reference_workload.py,
+imported, so that the harness and the docs run the same thing. Counts (linear solves,
+failed steps, failure times) are exact and the same on every machine; no timing is
+written or checked here. The matrix takes a few minutes on 2 cores; the rest seconds.
+
+The cheap counts (the Lire collapse, its floor landing, the kicked 30-block column) are
+also checked on every `cargo test` by crates/cli/tests/doc_numbers.rs with the debug
+build, against the text this script writes. Numbers that record what a change saved
+("N instead of M") are historical measurements, labelled as such in the docs, and are
+not rewritten.
+"""
+import argparse
+import difflib
+import functools
+import json
+import os
+import re
+import subprocess
+import sys
+import tempfile
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import reference_workload  # noqa: E402  (the workload's commands, single-sourced)
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+
+
+def grouped(n):
+    """369344 → '369 344' (groups of three from 10 000 on, as the docs write counts)."""
+    return f"{n:,}".replace(",", " ") if n >= 10_000 else str(n)
+
+
+class Runner:
+    """Runs BIN, each command once per script run (entries share the matrix)."""
+
+    def __init__(self, binary, tmp):
+        self.binary = binary
+        self.tmp = tmp
+
+    @functools.lru_cache(maxsize=None)
+    def workload(self, name):
+        """The counts of one reference workload (scripts/reference_workload.py)."""
+        config = {"binary": self.binary, "tuning": [], "index": 0, "label": "docs"}
+        counts, _, _ = reference_workload.run(config, name, self.tmp, 0)
+        return counts
+
+    def json(self, *args):
+        out = subprocess.run([self.binary, *args], capture_output=True, text=True, check=False)
+        if out.returncode not in (0, 3):
+            sys.exit(f"{self.binary} {' '.join(args)}: exit {out.returncode}\n{out.stderr}")
+        return json.loads(out.stdout)
+
+
+def last_resort(n, where="anywhere"):
+    return f"no unresolved or last-resort step {where}" if n == 0 else f"{n} last-resort steps"
+
+
+def reference_counts(r):
+    """method.md §8.3: the reference of "The stages measured"."""
+    m, lire, floor, kicked = (r.workload(n) for n in ("matrix", "lire_collapse", "lire_floor", "kicked30"))
+    fallback = sum(c["fallback_steps"] + c["unresolved"] for c in (m, lire, floor, kicked))
+    return (
+        f"matrix {grouped(m['linear_solves'])} linear solves, {m['failed_steps']} failed\n"
+        f"steps; Lire collapse {lire['linear_solves']}; on a floor {floor['linear_solves']}; "
+        f"kicked 30-block column {kicked['linear_solves']}; {last_resort(fallback)}"
+    )
+
+
+def matrix_counts(r):
+    """tuning.md, "The workloads": the matrix as the binary runs it now."""
+    m = r.workload("matrix")
+    last = "no last-resort step" if m["fallback_steps"] == 0 else f"{m['fallback_steps']} last-resort steps"
+    reach = "every run reaches t = 20" if m["unresolved"] == 0 else f"{m['unresolved']} runs stop before t = 20"
+    return (
+        f"{grouped(m['linear_solves'])} linear solves and {m['failed_steps']} failed steps, {last},\n"
+        f"and {reach}"
+    )
+
+
+def lire_convergence(r):
+    """exploration.md, "Convergence as an answer": the Lire collapse's failure times at
+    Δt, Δt/2 and Δt/4 and the verdict (`blocks converge`, no ensemble)."""
+    d = r.json("blocks", "converge", "lire-collapse", "--levels", "2", "--ensemble", "0",
+               "--t-end", "7", "--json")
+    times = [f"{run['failure_time']:.3f}" for run in d["runs"] if run["kind"] == "level"]
+    return (
+        f"fails at\n{times[0]}, {times[1]} and {times[2]} at Δt = 0.01, Δt/2 and Δt/4 "
+        f"({d['failure']['verdict']}"
+    )
+
+
+# doc file, marker name, function of the runner giving the text between the markers.
+NUMBERS = [
+    ("docs/method.md", "reference_counts", reference_counts),
+    ("docs/tuning.md", "matrix_counts", matrix_counts),
+    ("docs/exploration.md", "lire_convergence", lire_convergence),
+]
+
+
+def replaced(text, name, value):
+    """`text` with the span between NAME's markers set to `value`."""
+    begin, end = f"<!-- {name}: begin -->", f"<!-- {name}: end -->"
+    pattern = re.compile(re.escape(begin) + ".*?" + re.escape(end), re.S)
+    if len(pattern.findall(text)) != 1:
+        sys.exit(f"expected one pair of {name} markers")
+    return pattern.sub(lambda _: begin + value + end, text)
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("binary", help="a release rollstack")
+    parser.add_argument("--check", action="store_true", help="only compare; exit 1 on a difference")
+    parser.add_argument("--only", default="", help="comma-separated marker names")
+    args = parser.parse_args()
+    only = set(filter(None, args.only.split(",")))
+    unknown = only - {name for _, name, _ in NUMBERS}
+    if unknown:
+        sys.exit(f"--only: unknown entries {sorted(unknown)} (entries: {', '.join(n for _, n, _ in NUMBERS)})")
+    differ = False
+    with tempfile.TemporaryDirectory() as tmp:
+        runner = Runner(os.path.abspath(args.binary), tmp)
+        for doc, name, make in NUMBERS:
+            if only and name not in only:
+                continue
+            path = os.path.join(ROOT, doc)
+            old = open(path, encoding="utf-8").read()
+            new = replaced(old, name, make(runner))
+            if new == old:
+                print(f"{doc} {name}: the same")
+                continue
+            differ = True
+            if args.check:
+                diff = difflib.unified_diff(old.splitlines(), new.splitlines(), doc, "program", lineterm="")
+                print("\n".join(diff))
+            else:
+                open(path, "w", encoding="utf-8").write(new)
+                print(f"{doc} {name}: rewritten")
+    if args.check and differ:
+        sys.exit(1)
+
+
+if __name__ == "__main__":
+    main()
