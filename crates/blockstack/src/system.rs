@@ -491,12 +491,6 @@ impl System for StackSystem {
         self.evaluate_into(t, q, u, out, &mut StackContacts::for_scene(&self.scene));
     }
 
-    /// A block's (x, y, θ): blocks interact only through contacts (M is diagonal, h is
-    /// gravity), so a pile at rest and a column falling elsewhere are two islands.
-    fn unknowns_per_body(&self) -> Option<usize> {
-        Some(3)
-    }
-
     fn evaluate_real(&self, t: f64, q: &[f64], u: &[f64], out: &mut Evaluation<f64>) {
         self.evaluate_into(t, q, u, out, &mut self.real_contacts.borrow_mut());
     }

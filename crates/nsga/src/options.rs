@@ -198,14 +198,6 @@ pub struct NewtonOptions {
     /// attempt would be (docs/method.md §8.1). Fixed-set re-solves prune only the
     /// contacts their sets leave open.
     pub prune_open_contacts: bool,
-    /// Leave out of an attempt's linear solves the islands (bodies that constraints
-    /// connect, [`System::unknowns_per_body`](crate::System::unknowns_per_body)) whose
-    /// rows of the residual hold within the tolerance at its first iterate: a pile at
-    /// rest beside a falling column is not refactored at every update of the column's
-    /// step (docs/method.md §7, "Islands"). If a fixed island's rows stop holding, the
-    /// attempt goes on from that iterate with every island in the solve. Off by default:
-    /// the paper solves the whole system.
-    pub islands: bool,
 }
 
 /// Options of the linear solves of the Newton updates ([`Options::linear`]).
@@ -379,7 +371,6 @@ impl Default for NewtonOptions {
             max_openings_per_update: 0,
             predict_start: false,
             prune_open_contacts: false,
-            islands: false,
         }
     }
 }

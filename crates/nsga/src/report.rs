@@ -155,10 +155,6 @@ pub struct NewtonWork {
     /// "Far solutions"; [`Tuning::far_correction`](crate::Tuning::far_correction)).
     #[serde(default)]
     pub far_solutions: u64,
-    /// Attempts that left out of their linear solves the islands solved at their first
-    /// iterate (docs/method.md §7, "Islands"; [`NewtonOptions::islands`](crate::NewtonOptions::islands)).
-    #[serde(default)]
-    pub fixed_islands: u64,
     /// The seconds spent in each kind of work.
     pub seconds: WorkSeconds,
 }

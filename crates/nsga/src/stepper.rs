@@ -50,7 +50,6 @@ mod enumerate;
 mod far;
 mod halving;
 mod held;
-mod islands;
 mod iterate;
 mod kinematic;
 mod last_resort;

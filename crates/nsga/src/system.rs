@@ -401,17 +401,6 @@ pub trait System {
         self.evaluate(t, q, u, out);
     }
 
-    /// How many consecutive velocity unknowns make one body, when bodies interact only
-    /// through the constraints: M, h and B of a body depend on its own coordinates and
-    /// velocities alone. The stepper then splits each step into islands, the bodies
-    /// that constraints connect (docs/method.md §7, "Islands"), and leaves out of an
-    /// attempt's linear solves the islands whose equations already hold at its first
-    /// iterate ([`NewtonOptions::islands`](crate::NewtonOptions::islands)). Default: None
-    /// (the system is one island).
-    fn unknowns_per_body(&self) -> Option<usize> {
-        None
-    }
-
     /// The kinematic matrix B(t,q) (nq × nu, as (coordinate, velocity, value) triplets)
     /// of q̇ = B u. Default: the identity (q̇ = u).
     fn kinematics(&self, _t: f64, q: &[f64], b: &mut Triplets<f64>) {

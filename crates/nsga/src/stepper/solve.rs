@@ -4,7 +4,6 @@
 
 use super::direction::Refusal;
 use super::held::HeldSets;
-use super::islands::Frozen;
 use super::kinematic::KinematicColumns;
 use super::prune::Pruning;
 use super::scheme::Scheme;
@@ -18,20 +17,12 @@ use nalgebra::DMatrix;
 use std::time::Instant;
 
 /// The step seen by the Newton engine: the stepper at one ρ∞, with fixed index sets or
-/// not, the contacts pruned from this attempt, and the islands it leaves out.
+/// not, and the contacts pruned from this attempt.
 struct StepProblem<'a, S: System> {
     stepper: &'a mut Stepper<S>,
     fixed: Option<&'a IndexSets>,
     params: Scheme,
-    /// The open contacts pruned at the start ([`super::prune`]).
-    pruned_open: Option<&'a Pruning>,
-    /// The unknowns left out of the linear solves: the pruned open contacts, and the
-    /// islands solved at the first iterate ([`super::islands`]).
-    prune: Option<Pruning>,
-    /// Whether this run may leave solved islands out ([`NewtonOptions::islands`](crate::NewtonOptions::islands)).
-    may_fix_islands: bool,
-    /// The islands solved at the first iterate, left out of the linear solves.
-    fixed_islands: Option<Frozen>,
+    prune: Option<&'a Pruning>,
     /// The pruned contacts that closed at the iterate that asked for a restart.
     closing: Vec<bool>,
     /// The progress of a held-sets attempt ([`SetRule::Held`](super::spec::SetRule)).
@@ -40,15 +31,12 @@ struct StepProblem<'a, S: System> {
     resuming: bool,
 }
 
-/// How far an attempt went before a pruned contact closed, or a fixed island's rows
-/// stopped holding, and asked for a restart: the updates it made, the progress of its
-/// held sets, and whether islands were released. The attempt goes on from the iterate of
-/// the restart with that contact kept, or with every island in the solve; its budget
-/// counts the updates before.
+/// How far an attempt went before a pruned contact closed and asked for a restart: the
+/// updates it made, and the progress of its held sets. The attempt goes on from the
+/// iterate of the restart with that contact kept; its budget counts the updates before.
 struct Resumed {
     updates: usize,
     held: Option<HeldSets>,
-    islands_released: bool,
 }
 
 /// How one run of the Newton engine within an attempt ended. One per run, moved once:
@@ -74,35 +62,16 @@ impl<S: System> NewtonProblem for StepProblem<'_, S> {
                 .stepper
                 .evaluate_at(x, self.fixed, &self.params, first, None),
         };
-        if self.may_fix_islands && self.held.is_none() && out.1 > self.stepper.options.tol {
-            // Once, at the run's first iterate: a held-sets attempt's convergence counts
-            // held arguments that no row shows, so it keeps every island.
-            self.may_fix_islands = false;
-            if let Some((fixed, prune)) = self.stepper.solved_islands(self.pruned_open) {
-                self.stepper.mark_unused(Some(&prune.0));
-                self.stepper.newton_work.fixed_islands += 1;
-                self.prune = Some(prune);
-                self.fixed_islands = Some(fixed);
-            }
-        }
         let work = &mut self.stepper.newton_work;
         work.evaluations += 1;
         work.seconds.evaluation += started.elapsed().as_secs_f64();
         out
     }
 
-    /// A contact pruned as unable to close does close at this iterate, or the rows of a
-    /// fixed island no longer hold: the attempt goes on from it with that contact kept
-    /// in the system, or with every island ([`Resumed`]).
+    /// A contact pruned as unable to close does close at this iterate: the attempt goes
+    /// on from it with that contact kept in the system ([`Resumed`]).
     fn restart(&mut self, sets: &IndexSets) -> bool {
-        let tol = self.stepper.options.tol;
-        if let Some(fixed) = &self.fixed_islands {
-            if fixed.broken(&self.stepper.work.res, tol) {
-                self.closing.clear();
-                return true;
-            }
-        }
-        let Some((map, _)) = self.pruned_open else {
+        let Some((map, _)) = self.prune else {
             return false;
         };
         let o = self.stepper.off;
@@ -125,7 +94,7 @@ impl<S: System> NewtonProblem for StepProblem<'_, S> {
         let jacobian_before = self.stepper.newton_work.seconds.jacobian;
         let out = self
             .stepper
-            .exact_direction(x, sets, &self.params, self.prune.as_ref(), dx)
+            .exact_direction(x, sets, &self.params, self.prune, dx)
             .map_err(|e| e.0);
         let st = &mut *self.stepper;
         let work = &mut st.newton_work;
@@ -150,15 +119,7 @@ impl<S: System> NewtonProblem for StepProblem<'_, S> {
         let started = Instant::now();
         let kept = self
             .stepper
-            .kept_direction(x, sets, &self.params, self.prune.as_ref(), dx);
-        if let (true, Some(fixed)) = (kept, &self.fixed_islands) {
-            // Factors kept from a matrix with these islands in it: they stay where they are.
-            for (d, &f) in dx.iter_mut().zip(&fixed.unknowns) {
-                if f {
-                    *d = 0.0;
-                }
-            }
-        }
+            .kept_direction(x, sets, &self.params, self.prune, dx);
         self.stepper.newton_work.seconds.simplified += started.elapsed().as_secs_f64();
         if let (true, Some(held)) = (kept, &mut self.held) {
             held.updated(sets);
@@ -187,14 +148,11 @@ impl<S: System> Stepper<S> {
                 Run::Ended(outcome) => return outcome,
                 Run::Restart { closing, from } => {
                     // The iterate is the one the unpruned attempt would have reached (a
-                    // pruned contact's unknowns stay zero while it is open, a fixed
-                    // island's unknowns are solved): go on from it with the closing
-                    // contacts kept, within what is left of the budget.
-                    if closing.iter().any(|&c| c) {
-                        let keep = keep.get_or_insert_with(|| vec![false; self.off.nn]);
-                        for (kk, c) in keep.iter_mut().zip(closing) {
-                            *kk |= c;
-                        }
+                    // pruned contact's unknowns stay zero while it is open): go on from
+                    // it with the closing contacts kept, within what is left of the budget.
+                    let keep = keep.get_or_insert_with(|| vec![false; self.off.nn]);
+                    for (kk, c) in keep.iter_mut().zip(closing) {
+                        *kk |= c;
                     }
                     resumed = Some(from);
                 }
@@ -224,7 +182,6 @@ impl<S: System> Stepper<S> {
         self.mark_unused(prune.as_ref().map(|(map, _)| map.as_slice()));
         let scheme = spec.scheme();
         let updates_before = resumed.as_ref().map_or(0, |r| r.updates);
-        let islands_released = resumed.as_ref().is_some_and(|r| r.islands_released);
         let settings = NewtonSettings {
             tol: self.options.tol,
             max_iter: spec.budget.saturating_sub(updates_before),
@@ -245,21 +202,16 @@ impl<S: System> Stepper<S> {
             Some(r) => (r.held, true),
             None => (spec.sets.held_start(), false),
         };
-        let may_fix_islands = self.options.newton.islands && !islands_released;
         let mut problem = StepProblem {
             stepper: self,
             fixed,
             params: scheme,
-            pruned_open: prune.as_ref(),
-            prune: prune.clone(),
-            may_fix_islands,
-            fixed_islands: None,
+            prune: prune.as_ref(),
             closing: Vec::new(),
             held,
             resuming,
         };
         let outcome = newton::solve(&mut problem, x, &settings, &mut scratch);
-        let released = problem.fixed_islands.is_some() || islands_released;
         let (closing, held) = (problem.closing, problem.held);
         self.newton_work.line_search_trials += scratch.line_search_trials();
         // Updates this run made: one fewer than its evaluations.
@@ -267,11 +219,7 @@ impl<S: System> Stepper<S> {
         self.work.newton = scratch;
         Run::Ended(match outcome {
             Outcome::Restart => {
-                let from = Resumed {
-                    updates,
-                    held,
-                    islands_released: released,
-                };
+                let from = Resumed { updates, held };
                 return Run::Restart { closing, from };
             }
             Outcome::Converged {
