@@ -503,6 +503,10 @@ pub struct PainleveCorner {
     pub free_acceleration: f64,
     /// Sign of the spin θ̇.
     pub spin_sign: f64,
+    /// Time step Δt of the scene. The discrete step's B differs from App. I's by O(Δt):
+    /// near b = 0 a case is in Painlevé's region for one and not for the other
+    /// ([`crate::studies::painleve::corner_scan`] refines it there).
+    pub dt: f64,
 }
 
 impl Default for PainleveCorner {
@@ -516,6 +520,7 @@ impl Default for PainleveCorner {
             slip: 0.5,
             free_acceleration: 0.5,
             spin_sign: 1.0,
+            dt: 1e-3,
         }
     }
 }
@@ -535,6 +540,19 @@ impl PainleveCorner {
             .fold((0.0, f64::INFINITY), |m, p| if p.1 < m.1 { p } else { m })
     }
 
+    /// Whether the block rests on a side, both bottom corners level (θ = 0 in the scan):
+    /// a line contact (App. I.2, whose LCP (I.2.10) has one solution), not App. I.1's
+    /// single point.
+    #[must_use]
+    pub fn line_contact(&self) -> bool {
+        let (w, h) = Self::SIZE;
+        let (s, c) = self.theta.sin_cos();
+        let mut heights = [(-0.5, -0.5), (0.5, -0.5), (0.5, 0.5), (-0.5, 0.5)]
+            .map(|(a, b): (f64, f64)| s * a * w + c * b * h);
+        heights.sort_by(f64::total_cmp);
+        heights[1] - heights[0] <= 1e-12 * h
+    }
+
     /// B of ÿ_P = A + B n for unit mass and g = 1: 1 + r_x (r_x + μ sgn(ẋ_P) r_y)/I.
     /// The paradoxes need B < 0 (App. I: b ≤ 0); with A > 0 the contact problem has two
     /// solutions.
@@ -548,13 +566,14 @@ impl PainleveCorner {
 
     /// The scene: the block (m = 1) with its lowest corner on a fixed table (w = 10,
     /// h = 0.1, top at y = 0.05), the corner moving along the table at `slip`, g = 1,
-    /// Δt = 10⁻³, t_end = 0.01.
+    /// Δt = `dt`, t_end = 10 Δt.
     ///
     /// # Errors
     /// A free acceleration of −1 or less (no spin gives it) or non-finite input.
     pub fn scene(&self) -> Result<Scene, BlockError> {
         input::finite("theta", self.theta)?;
         input::finite("slip", self.slip)?;
+        input::positive("dt", self.dt)?;
         if self.free_acceleration <= -1.0 || !self.free_acceleration.is_finite() {
             return Err(BlockError::Scene(format!(
                 "the corner's free acceleration must be above -1 (g units), got {}",
@@ -577,8 +596,8 @@ impl PainleveCorner {
             omega,
         };
         let solver = SolverParams {
-            dt: 1e-3,
-            t_end: 0.01,
+            dt: self.dt,
+            t_end: 10.0 * self.dt,
             ..SolverParams::default()
         };
         Scene::new(

@@ -1,17 +1,26 @@
 //! Painlevé's indeterminacy (App. I) found whole: in every case of the corner scan
 //! (`examples/painleve_forks.rs`) with B < 0 and A > 0, at μ = 2 and μ = 1.4 and either
 //! sign of the spin, the first step's solutions are sliding contact (n ≈ −A/B), jam and
-//! lift-off, told apart by their contact states.
+//! lift-off, told apart by their contact states, at the scan's Δt or, near b = 0, at a
+//! finer one (`SCAN_STEPS`).
 
-use blockstack::studies::painleve::{corner_scan, CornerCase, CornerMotion};
+use blockstack::studies::painleve::{corner_scan, CornerCase, CornerMotion, SCAN_STEPS};
 
 /// The point-contact cases of the scan at `mu` with B < 0: θ = 0 is left out, where both
 /// bottom corners touch (line contact, §I.2, a unique solution).
 fn point_contact_paradoxes(mu: f64) -> Vec<CornerCase> {
-    corner_scan(mu)
-        .unwrap()
-        .into_iter()
-        .filter(|c| c.case.theta != 0.0 && c.b < 0.0)
+    let scan = corner_scan(mu).unwrap();
+    let line: Vec<f64> = scan
+        .iter()
+        .filter(|c| c.line_contact)
+        .map(|c| c.case.theta)
+        .collect();
+    assert!(
+        line.iter().all(|&t| t == 0.0) && !line.is_empty(),
+        "{line:?}"
+    );
+    scan.into_iter()
+        .filter(|c| !c.line_contact && c.b < 0.0)
         .collect()
 }
 
@@ -21,9 +30,6 @@ fn point_contact_paradoxes(mu: f64) -> Vec<CornerCase> {
 const FORCE_TOLERANCE: f64 = 0.1;
 /// The least |B| at which the force is compared: nearer b = 0, −A/B is steep in θ.
 const B_CLEAR: f64 = 0.13;
-/// The least |B| at which the sliding contact must be found: at μ = 1.4, θ = ±0.1 has
-/// B = −0.017 and −A/B = 30, and one spin sign's step leaves b ≤ 0 within it.
-const B_FOUND: f64 = 0.02;
 
 fn all_three_in_every_case(mu: f64, expected_cases: usize) {
     let cases = point_contact_paradoxes(mu);
@@ -40,9 +46,6 @@ fn all_three_in_every_case(mu: f64, expected_cases: usize) {
         let jam = find(CornerMotion::Jam).unwrap_or_else(|| panic!("no jam: {what}"));
         // The jam stops a slip of 0.5 within one step: an impulse, P_N/Δt ≫ 1.
         assert!(jam.impulse > 50.0, "{what}");
-        if c.b.abs() < B_FOUND {
-            continue;
-        }
         let slide = find(CornerMotion::SlidingContact)
             .unwrap_or_else(|| panic!("no sliding contact: {what}"));
         if c.b.abs() >= B_CLEAR {
@@ -63,4 +66,22 @@ fn painleves_three_solutions_at_mu_2_whatever_the_spin() {
 #[test]
 fn painleves_three_solutions_at_mu_1_4_whatever_the_spin() {
     all_three_in_every_case(1.4, 28);
+}
+
+/// Near b = 0 the discrete step's B differs from App. I's by O(Δt): at μ = 1.4, θ = ±0.1
+/// (B = −0.017) one spin sign's first step at Δt = 10⁻³ has no sliding contact, and the
+/// scan finds it at 10⁻⁴, its force then near −A/B = 30.
+#[test]
+fn near_b_zero_the_sliding_contact_is_found_at_a_finer_step() {
+    let refined: Vec<CornerCase> = point_contact_paradoxes(1.4)
+        .into_iter()
+        .filter(|c| c.dt < SCAN_STEPS[0])
+        .collect();
+    assert_eq!(refined.len(), 2, "{refined:?}");
+    for c in refined {
+        assert!((c.case.theta.abs() - 0.1).abs() < 1e-12, "{c:?}");
+        assert_eq!(c.dt, SCAN_STEPS[1]);
+        let slide = c.find(CornerMotion::SlidingContact).unwrap();
+        assert!((slide.impulse / c.sliding_force - 1.0).abs() < 0.1, "{c:?}");
+    }
 }

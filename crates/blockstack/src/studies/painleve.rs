@@ -257,13 +257,18 @@ pub struct CornerCase {
     pub b: f64,
     /// −A/B: App. I's sliding-contact force where B < 0 and A > 0.
     pub sliding_force: f64,
+    /// Whether both bottom corners touch ([`PainleveCorner::line_contact`]): App. I.2,
+    /// not the single point of App. I.1.
+    pub line_contact: bool,
+    /// The step Δt the solutions are of ([`SCAN_STEPS`]).
+    pub dt: f64,
     /// The solutions found, converged solution first.
     pub solutions: Vec<CornerSolution>,
 }
 
 impl CornerCase {
     /// The columns of `painleve_corner_scan.csv`.
-    pub const CSV_HEADER: [&'static str; 9] = [
+    pub const CSV_HEADER: [&'static str; 11] = [
         "theta_rad",
         "slip",
         "spin_sign",
@@ -273,6 +278,8 @@ impl CornerCase {
         "sliding_contact_force",
         "jam_force",
         "lift_off",
+        "contact",
+        "dt",
     ];
 
     /// The solution of `motion`, if found.
@@ -299,13 +306,36 @@ impl CornerCase {
             force(CornerMotion::SlidingContact),
             force(CornerMotion::Jam),
             u8::from(self.find(CornerMotion::LiftOff).is_some()).to_string(),
+            if self.line_contact { "line" } else { "point" }.to_string(),
+            self.dt.to_string(),
         ]
+    }
+
+    /// Whether App. I.1's three solutions (sliding contact, jam, lift-off) were all found.
+    #[must_use]
+    pub fn all_three(&self) -> bool {
+        [
+            CornerMotion::SlidingContact,
+            CornerMotion::Jam,
+            CornerMotion::LiftOff,
+        ]
+        .iter()
+        .all(|&m| self.find(m).is_some())
     }
 }
 
+/// The steps Δt of the corner scan, coarsest first. A single-point case in Painlevé's
+/// region (B < 0, A > 0) whose first step lacks one of App. I's three solutions is solved
+/// again at the next: the discrete step's B differs from App. I's by O(Δt), so near b = 0
+/// a case can lie in the region for one and outside it for the other. At μ = 1.4,
+/// θ = ±0.1 (B = −0.017, −A/B = 30) the step at 10⁻³ has lift-off and jam only; at 10⁻⁴
+/// the sliding contact appears with P_N/(mg Δt) = 31.3, at 10⁻⁵ 30.2, at 10⁻⁶ 30.04.
+pub const SCAN_STEPS: [f64; 3] = [1e-3, 1e-4, 1e-5];
+
 /// The corner scan at friction `mu`: θ from −1.5 to 1.5 rad by 0.05, the corner sliding
 /// at ±0.5, spin of either sign, A = 0.5 g ([`PainleveCorner::default`]); each case's
-/// first step solved and probed ([`corner_solutions`]).
+/// first step solved and probed ([`corner_solutions`]) at the first Δt of
+/// [`SCAN_STEPS`] that finds App. I's three solutions where it should.
 ///
 /// # Errors
 /// A bad μ, or a step that fails.
@@ -322,17 +352,38 @@ pub fn corner_scan(mu: f64) -> Result<Vec<CornerCase>, BlockError> {
                     spin_sign,
                     ..PainleveCorner::default()
                 };
-                let b = case.response();
-                out.push(CornerCase {
-                    case,
-                    b,
-                    sliding_force: -case.free_acceleration / b,
-                    solutions: corner_solutions(&case)?,
-                });
+                out.push(scan_case(case)?);
             }
         }
     }
     Ok(out)
+}
+
+/// One case of [`corner_scan`], refined in Δt ([`SCAN_STEPS`]) while it is a single-point
+/// case of Painlevé's region without its three solutions.
+fn scan_case(case: PainleveCorner) -> Result<CornerCase, BlockError> {
+    let b = case.response();
+    let line_contact = case.line_contact();
+    let paradox = !line_contact && b < 0.0 && case.free_acceleration > 0.0;
+    let solve = |dt: f64| -> Result<CornerCase, BlockError> {
+        let at = PainleveCorner { dt, ..case };
+        Ok(CornerCase {
+            case: at,
+            b,
+            sliding_force: -case.free_acceleration / b,
+            line_contact,
+            dt,
+            solutions: corner_solutions(&at)?,
+        })
+    };
+    let mut found = solve(SCAN_STEPS[0])?;
+    for &dt in &SCAN_STEPS[1..] {
+        if !paradox || found.all_three() {
+            break;
+        }
+        found = solve(dt)?;
+    }
+    Ok(found)
 }
 
 #[cfg(test)]
