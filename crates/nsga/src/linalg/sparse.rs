@@ -34,7 +34,8 @@ use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
 use std::mem::MaybeUninit;
 
 /// Number of matrix sizes whose pattern and symbolic analysis are kept (pruning open
-/// contacts changes the size of the Newton matrix). Set at run time by
+/// contacts changes the size of the Newton matrix), and whose orderings
+/// [`BandLu`](super::BandLu) keeps. Set at run time by
 /// [`LinearOptions::symbolic_cache`](crate::LinearOptions::symbolic_cache).
 ///
 /// Why more than one: a step's attempts prune different contacts (a fixed-set re-solve
