@@ -89,6 +89,16 @@ pub(crate) fn norm(v: &[f64]) -> f64 {
     v.iter().map(|x| x * x).sum::<f64>().sqrt()
 }
 
+/// An error naming the first triplet outside an n × n matrix, if any.
+fn inside(n: usize, triplets: &[(usize, usize, f64)]) -> Result<(), LinalgError> {
+    match triplets.iter().find(|&&(r, c, _)| r >= n || c >= n) {
+        Some(&(r, c, _)) => Err(LinalgError(format!(
+            "entry ({r}, {c}) outside a {n} × {n} matrix"
+        ))),
+        None => Ok(()),
+    }
+}
+
 fn finite(rhs: &[f64], what: &str) -> Result<(), LinalgError> {
     if rhs.iter().all(|x| x.is_finite()) {
         Ok(())
