@@ -128,12 +128,15 @@ impl Graph {
         let n = self.n();
         let mut order = Vec::with_capacity(n);
         let mut placed = vec![false; n];
-        let mut scratch = Vec::new();
+        let mut bfs = Bfs {
+            queue: Vec::new(),
+            level: vec![usize::MAX; n],
+        };
         for v in 0..n {
             if placed[v] {
                 continue;
             }
-            let start = self.peripheral(v, &mut scratch);
+            let start = self.peripheral(v, &mut bfs);
             let first = order.len();
             order.push(start);
             placed[start] = true;
@@ -157,15 +160,15 @@ impl Graph {
 
     /// A vertex of `v`'s component far from the others (George & Liu): breadth-first
     /// from `v`, then from a least-degree vertex of the last level, while that deepens.
-    fn peripheral(&self, v: usize, scratch: &mut Vec<usize>) -> usize {
-        let (mut root, mut depth) = (v, self.levels(v, scratch));
+    fn peripheral(&self, v: usize, bfs: &mut Bfs) -> usize {
+        let (mut root, mut depth) = (v, self.levels(v, bfs));
         loop {
-            let last = &scratch[depth.1..];
+            let last = &bfs.queue[depth.1..];
             let far = *last
                 .iter()
                 .min_by_key(|&&w| self.degree(w))
                 .expect("the last level holds a vertex");
-            let next = self.levels(far, scratch);
+            let next = self.levels(far, bfs);
             if next.0 <= depth.0 {
                 return root;
             }
@@ -173,29 +176,42 @@ impl Graph {
         }
     }
 
-    /// Breadth-first from `root` into `scratch`: (number of levels, start of the last).
-    fn levels(&self, root: usize, scratch: &mut Vec<usize>) -> (usize, usize) {
-        scratch.clear();
-        scratch.push(root);
-        let mut level = vec![usize::MAX; self.n()];
+    /// Breadth-first from `root` into `bfs.queue`: (number of levels, start of the last).
+    fn levels(&self, root: usize, bfs: &mut Bfs) -> (usize, usize) {
+        let Bfs { queue, level } = bfs;
+        // Only the last search's vertices are marked: unmarking them keeps the cost of
+        // a search that of its component (a matrix of many small components would
+        // otherwise cost n per component).
+        for &w in queue.iter() {
+            level[w] = usize::MAX;
+        }
+        queue.clear();
+        queue.push(root);
         level[root] = 0;
         let (mut head, mut last_start, mut depth) = (0, 0, 0);
-        while head < scratch.len() {
-            let u = scratch[head];
+        while head < queue.len() {
+            let u = queue[head];
             head += 1;
             for &w in self.neighbours(u) {
                 if level[w] == usize::MAX {
                     level[w] = level[u] + 1;
                     if level[w] > depth {
                         depth = level[w];
-                        last_start = scratch.len();
+                        last_start = queue.len();
                     }
-                    scratch.push(w);
+                    queue.push(w);
                 }
             }
         }
         (depth + 1, last_start)
     }
+}
+
+/// A breadth-first search's queue (the vertices it reached, level by level) and their
+/// levels (`usize::MAX`: not reached).
+struct Bfs {
+    queue: Vec<usize>,
+    level: Vec<usize>,
 }
 
 /// LU factors of a banded matrix with partial pivoting, in LAPACK's band storage: column
@@ -582,6 +598,32 @@ mod tests {
         assert!(band.solve_again(&mut [1.0, 1.0, 1.0]).is_err());
         let err = band.solve(2, &[(0, 0, 1.0), (2, 1, 1.0)], &mut [1.0, 1.0]);
         assert!(err.unwrap_err().0.contains("outside a 2 × 2 matrix"));
+    }
+
+    /// Many components (pairs of coupled unknowns and lone ones): each search starts
+    /// unmarked, and the order is a permutation with a band of one pair.
+    #[test]
+    fn components_are_ordered_one_by_one() {
+        let n = 1201;
+        let mut t = Vec::new();
+        for i in 0..n {
+            t.push((i, i, 2.0 + (i % 7) as f64));
+            if i % 3 == 0 && i + 1 < n {
+                t.push((i, i + 1, 1.0));
+                t.push((i + 1, i, -1.0));
+            }
+        }
+        let ordering = Ordering::of(n, &t);
+        assert!(
+            ordering.kl <= 1 && ordering.ku <= 1,
+            "{} {}",
+            ordering.kl,
+            ordering.ku
+        );
+        let mut seen = ordering.new.clone();
+        seen.sort_unstable();
+        assert!(seen.iter().enumerate().all(|(i, &p)| i == p));
+        agrees_with_dense(&mut BandLu::default(), n, &t);
     }
 
     #[test]
