@@ -10,8 +10,8 @@ use nsga::studies::ball::{run_ball, Scheme};
 use nsga::systems::ball::BallCase;
 use nsga::systems::chain::Chain;
 use nsga::{
-    DenseLu, IndexSets, LinearOptions, LinearSolver, MarkowitzLu, Options, Prox, SolverChoice,
-    SparseLu, Stepper,
+    BandLu, DenseLu, IndexSets, LinearOptions, LinearSolver, MarkowitzLu, Options, Prox,
+    SolverChoice, SparseLu, Stepper,
 };
 use std::hint::black_box;
 
@@ -79,7 +79,7 @@ fn chain_scaling(c: &mut Criterion) {
 
 fn linear_solve(c: &mut Criterion) {
     let mut g = c.benchmark_group("linear_solve");
-    for n in [2usize, 4, 8, 12, 16, 24, 40] {
+    for n in [2usize, 4, 8, 12, 16, 24, 40, 100] {
         let chain = Chain::benchmark(n);
         let (q0, u0) = chain.resting(1.0);
         let opts = Options {
@@ -123,6 +123,14 @@ fn linear_solve(c: &mut Criterion) {
             b.iter(|| {
                 let mut v = rhs.clone();
                 sp.solve(size, &trip, &mut v).unwrap();
+                black_box(v[0])
+            });
+        });
+        let mut band = BandLu::default();
+        g.bench_with_input(BenchmarkId::new("band", size), &size, |b, _| {
+            b.iter(|| {
+                let mut v = rhs.clone();
+                band.solve(size, &trip, &mut v).unwrap();
                 black_box(v[0])
             });
         });

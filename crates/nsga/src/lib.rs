@@ -85,7 +85,8 @@
 //! The default, [`SolverChoice::Markowitz`], factorizes Newton matrices of up to
 //! [`linalg::MARKOWITZ_SPARSE_THRESHOLD`] unknowns by [`MarkowitzLu`]: a sparse
 //! elimination on dense storage, with pivots chosen per matrix, since the pattern changes
-//! with the index sets from one iteration to the next; larger ones by faer's sparse LU.
+//! with the index sets from one iteration to the next; larger ones by [`BandLu`] (banded
+//! LU after a reverse Cuthill–McKee ordering; faer's sparse LU where the band is wide).
 //! [`SolverChoice::Auto`] uses dense LU up to [`linalg::DEFAULT_SPARSE_THRESHOLD`]
 //! unknowns instead. Both crossovers are measured by `cargo bench -p nsga --bench nsga --
 //! linear_solve`.
@@ -127,7 +128,7 @@ pub use error::StepError;
 pub use explore::{
     explore, Branch, BranchEnd, Exploration, ExploreOptions, Fork, Strategy, Walker,
 };
-pub use linalg::{AutoSolver, DenseLu, LinalgError, LinearSolver, MarkowitzLu, SparseLu};
+pub use linalg::{AutoSolver, BandLu, DenseLu, LinalgError, LinearSolver, MarkowitzLu, SparseLu};
 pub use moreau::{MoreauOptions, MoreauState, MoreauStepper};
 pub use options::{
     BranchRule, FailurePolicy, LinearOptions, NewtonOptions, Options, PolicyOptions, Prox,

@@ -1,13 +1,16 @@
 //! The linear solves of the Newton iteration behind one small trait.
 //!
 //! Dense LU for small systems, sparse LU for large ones (both faer; [`SparseLu`] keeps
-//! what depends only on the sparsity pattern), and
-//! [`MarkowitzLu`] (sparse elimination on dense storage) for small systems that are
-//! mostly zeros; [`AutoSolver`] switches at a size threshold (measured with the `nsga`
-//! bench `linear_solve`, see the crate docs).
+//! what depends only on the sparsity pattern), [`MarkowitzLu`] (sparse elimination on
+//! dense storage) for small systems that are mostly zeros, and [`BandLu`] (banded LU
+//! after a bandwidth-reducing ordering) for the large matrices of chains; [`AutoSolver`]
+//! switches at a size threshold (measured with the `nsga` bench `linear_solve`, see the
+//! crate docs).
 
+mod band;
 mod markowitz;
 mod sparse;
+pub use band::{BandLu, MAX_BAND};
 pub use markowitz::{
     MarkowitzLu, DENSE_VERDICT_UP_TO, MAX_UNKNOWNS as MARKOWITZ_MAX_UNKNOWNS, PIVOT_THRESHOLD,
 };
@@ -40,7 +43,7 @@ pub trait LinearSolver: std::fmt::Debug + Send {
         let _ = rhs;
         Err(LinalgError("no factorization kept".into()))
     }
-    /// A short name for statistics ("dense", "markowitz" or "sparse").
+    /// A short name for statistics ("dense", "markowitz", "band" or "sparse").
     fn name(&self) -> &'static str;
 }
 
@@ -84,6 +87,16 @@ pub(crate) fn norm(v: &[f64]) -> f64 {
         return x.abs();
     }
     v.iter().map(|x| x * x).sum::<f64>().sqrt()
+}
+
+/// An error naming the first triplet outside an n × n matrix, if any.
+fn inside(n: usize, triplets: &[(usize, usize, f64)]) -> Result<(), LinalgError> {
+    match triplets.iter().find(|&&(r, c, _)| r >= n || c >= n) {
+        Some(&(r, c, _)) => Err(LinalgError(format!(
+            "entry ({r}, {c}) outside a {n} × {n} matrix"
+        ))),
+        None => Ok(()),
+    }
 }
 
 fn finite(rhs: &[f64], what: &str) -> Result<(), LinalgError> {
@@ -286,13 +299,37 @@ impl SmallLu {
     }
 }
 
-/// Dense (or Markowitz) LU up to `threshold` unknowns, sparse LU above.
+/// The solver of [`AutoSolver`] for matrices above its threshold.
+#[derive(Debug, Clone)]
+enum LargeLu {
+    Sparse(SparseLu),
+    Band(BandLu),
+}
+
+impl LargeLu {
+    fn solver(&mut self) -> &mut dyn LinearSolver {
+        match self {
+            Self::Sparse(s) => s,
+            Self::Band(s) => s,
+        }
+    }
+
+    fn name(&self) -> &'static str {
+        match self {
+            Self::Sparse(s) => s.name(),
+            Self::Band(s) => s.name(),
+        }
+    }
+}
+
+/// Dense LU up to `threshold` unknowns and faer's sparse LU above ([`AutoSolver::new`]),
+/// or Markowitz LU up to `threshold` and banded LU above ([`AutoSolver::markowitz`]).
 #[derive(Debug, Clone)]
 pub struct AutoSolver {
     /// Largest size solved by the small-matrix solver.
     pub threshold: usize,
     small: SmallLu,
-    sparse: SparseLu,
+    large: LargeLu,
     last_small: bool,
 }
 
@@ -318,16 +355,17 @@ impl AutoSolver {
         Self {
             threshold,
             small: SmallLu::Dense(DenseLu::default()),
-            sparse: SparseLu::default(),
+            large: LargeLu::Sparse(SparseLu::default()),
             last_small: true,
         }
     }
-    /// A solver switching from [`MarkowitzLu`] to sparse LU above `threshold` unknowns
+    /// A solver switching from [`MarkowitzLu`] to [`BandLu`] above `threshold` unknowns
     /// (at most [`MARKOWITZ_MAX_UNKNOWNS`]).
     #[must_use]
     pub fn markowitz(threshold: usize) -> Self {
         Self {
             small: SmallLu::Markowitz(Box::default()),
+            large: LargeLu::Band(BandLu::default()),
             ..Self::new(threshold.min(MARKOWITZ_MAX_UNKNOWNS))
         }
     }
@@ -340,11 +378,14 @@ impl AutoSolver {
         }
         self
     }
-    /// The same solver with sparse LU keeping `sizes` matrix sizes (see
-    /// [`SparseLu::keeping`]).
+    /// The same solver with its large-matrix solver keeping `sizes` matrix sizes (see
+    /// [`SparseLu::keeping`], [`BandLu::keeping`]).
     #[must_use]
     pub fn keeping(mut self, sizes: usize) -> Self {
-        self.sparse = SparseLu::keeping(sizes);
+        self.large = match self.large {
+            LargeLu::Sparse(_) => LargeLu::Sparse(SparseLu::keeping(sizes)),
+            LargeLu::Band(_) => LargeLu::Band(BandLu::keeping(sizes)),
+        };
         self
     }
 }
@@ -366,19 +407,19 @@ impl LinearSolver for AutoSolver {
         if self.last_small {
             self.small.solver().solve(n, triplets, rhs)
         } else {
-            self.sparse.solve(n, triplets, rhs)
+            self.large.solver().solve(n, triplets, rhs)
         }
     }
     fn solve_again(&mut self, rhs: &mut [f64]) -> Result<(), LinalgError> {
         if self.last_small {
             self.small.solver().solve_again(rhs)
         } else {
-            self.sparse.solve_again(rhs)
+            self.large.solver().solve_again(rhs)
         }
     }
     fn name(&self) -> &'static str {
         match (&self.small, self.last_small) {
-            (_, false) => self.sparse.name(),
+            (_, false) => self.large.name(),
             (SmallLu::Dense(s), true) => s.name(),
             (SmallLu::Markowitz(s), true) => s.name(),
         }

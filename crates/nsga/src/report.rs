@@ -50,7 +50,7 @@ pub struct StepStats {
     pub converged: bool,
     /// Set when the step was resolved by fixed-set re-solves.
     pub branch: Option<BranchPoint>,
-    /// Linear solver used ("dense", "markowitz" or "sparse").
+    /// Linear solver used ("dense", "markowitz", "band" or "sparse").
     pub solver: String,
     /// Substeps the step was taken in: 1, or more when it was split
     /// ([`Stepper::split_step`]).

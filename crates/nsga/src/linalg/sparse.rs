@@ -34,7 +34,8 @@ use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
 use std::mem::MaybeUninit;
 
 /// Number of matrix sizes whose pattern and symbolic analysis are kept (pruning open
-/// contacts changes the size of the Newton matrix). Set at run time by
+/// contacts changes the size of the Newton matrix), and whose orderings
+/// [`BandLu`](super::BandLu) keeps. Set at run time by
 /// [`LinearOptions::symbolic_cache`](crate::LinearOptions::symbolic_cache).
 ///
 /// Why more than one: a step's attempts prune different contacts (a fixed-set re-solve
@@ -90,12 +91,7 @@ impl Assembly {
     /// Maps a new triplet sequence onto the union pattern, growing the union (and
     /// dropping its symbolic analysis) when the sequence has entries it lacks.
     fn map(&mut self, triplets: &[(usize, usize, f64)]) -> Result<(), LinalgError> {
-        let n = self.n;
-        if let Some(&(r, c, _)) = triplets.iter().find(|&&(r, c, _)| r >= n || c >= n) {
-            return Err(LinalgError(format!(
-                "entry ({r}, {c}) outside a {n} × {n} matrix"
-            )));
-        }
+        super::inside(self.n, triplets)?;
         self.pattern.clear();
         self.pattern
             .extend(triplets.iter().map(|&(r, c, _)| (r, c)));
