@@ -197,7 +197,7 @@ fn lines_near(
             if b.lo[other] > a.hi[other] + m || a.lo[other] > b.hi[other] + m {
                 continue;
             }
-            if firmly_supported(scene, supports, a, b, m) {
+            if firmly_supported(scene, supports, a, b, m) || !may_touch(scene, a.body, b.body) {
                 continue;
             }
             out.extend(lines_of(
@@ -209,6 +209,17 @@ fn lines_near(
     }
     out.sort_by_key(|l| l.line.key());
     out
+}
+
+/// Whether bodies `a` and `b` may touch: any two may, unless the scene keeps to
+/// neighbour contacts ([`Scene::neighbours_only`]), where only two bodies an interface
+/// joins do.
+fn may_touch(scene: &Scene, a: Body, b: Body) -> bool {
+    !scene.neighbours_only()
+        || scene.arrangement().seats().iter().any(|s| {
+            let upper = Body::Block(s.upper);
+            (s.lower, upper) == (a, b) || (s.lower, upper) == (b, a)
+        })
 }
 
 /// The corner contacts of one pair grouped into the lines they lie on ([`ContactLine`]).
@@ -449,5 +460,34 @@ mod tests {
         assert!(found
             .iter()
             .all(|l| l.line.lo != Body::Block(2) && l.line.hi != Body::Block(2)));
+    }
+
+    #[test]
+    fn neighbours_only_leaves_out_the_bodies_no_interface_joins() {
+        let scene = shaking_column(&Shaking {
+            blocks: 2,
+            ..Shaking::default()
+        })
+        .unwrap();
+        let mut q = scene.initial_coordinates();
+        let u = vec![0.0; q.len()];
+        // Block 2 (seated on block 1) moved down onto the base, beside block 1.
+        let (w1, w2) = (scene.size(1).width, scene.size(2).width);
+        q[3] = q[0] + 0.5 * (w1 + w2) + 1e-4;
+        q[4] = q[1];
+        let pair = |found: &[LineContacts], lo: Body| {
+            found
+                .iter()
+                .any(|l| l.line.lo == lo && l.line.hi == Body::Block(2))
+        };
+        let found = corner_contacts(&scene, 0.0, &q, &u, 1e-3);
+        assert!(
+            pair(&found, Body::Base) && pair(&found, Body::Block(1)),
+            "{found:?}"
+        );
+        let scene = scene.with_neighbours_only(true);
+        let found = corner_contacts(&scene, 0.0, &q, &u, 1e-3);
+        assert!(!pair(&found, Body::Base), "{found:?}");
+        assert!(pair(&found, Body::Block(1)), "{found:?}");
     }
 }
