@@ -7,7 +7,7 @@
 #     every branch stopped at the onset of failure),
 #   - rollstack's default rule (self-consistent candidates, scaled prox), and
 #   - the converged rule with r = 0.3 (the thesis's count in rollstack's solver),
-# each with every fork checked (--classify) to at most 200 branches and 60 s of wall
+# each with every fork checked (--classify) to at most 200 branches and 180 s of wall
 # time; then the thesis preset on `abundance-author` at Δt unchecked, to 3000 branches
 # or 300 s, for the size of the tree. Prints one Markdown row per run: forks met and
 # their labels, candidates over all forks and how many of them break a contact law (gap,
@@ -56,9 +56,9 @@ text = sys.stdin.read()
 n = int(re.search(r'^steps_per_period = (\d+)', text, re.M).group(1))
 print(re.sub(r'^steps_per_period = \d+', f'steps_per_period = {n * $factor}', text, flags=re.M), end='')" \
       > "$tmp/$scene-$factor.toml"
-    row "$scene" "$factor" "thesis preset" 200 60 --preset thesis --classify
-    row "$scene" "$factor" "self-consistent" 200 60 --branch-rule self-consistent --classify
-    row "$scene" "$factor" "converged, r = 0.3" 200 60 --branch-rule converged --prox-constant 0.3 --classify
+    row "$scene" "$factor" "thesis preset" 200 180 --preset thesis --classify
+    row "$scene" "$factor" "self-consistent" 200 180 --branch-rule self-consistent --classify
+    row "$scene" "$factor" "converged, r = 0.3" 200 180 --branch-rule converged --prox-constant 0.3 --classify
   done
 done
 row abundance-author 1 "thesis preset" 3000 300 --preset thesis
