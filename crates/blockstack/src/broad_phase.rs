@@ -432,8 +432,9 @@ mod tests {
         assert!(corner_contacts(&scene, 0.0, &q, &u, 1e-3).is_empty());
     }
 
-    #[test]
-    fn a_block_beside_another_is_found_and_a_far_one_is_not() {
+    /// A column of two blocks with block 2 (seated on block 1) moved down onto the base
+    /// beside block 1, its left face 1e-4 from block 1's right face: the scene, q and u.
+    fn block_beside_another() -> (Scene, Vec<f64>, Vec<f64>) {
         let scene = shaking_column(&Shaking {
             blocks: 2,
             ..Shaking::default()
@@ -441,10 +442,15 @@ mod tests {
         .unwrap();
         let mut q = scene.initial_coordinates();
         let u = vec![0.0; q.len()];
-        // Block 2 moved down beside block 1, its left face 1e-4 from block 1's right face.
         let (w1, w2) = (scene.size(1).width, scene.size(2).width);
         q[3] = q[0] + 0.5 * (w1 + w2) + 1e-4;
         q[4] = q[1];
+        (scene, q, u)
+    }
+
+    #[test]
+    fn a_block_beside_another_is_found_and_a_far_one_is_not() {
+        let (scene, mut q, u) = block_beside_another();
         let found = corner_contacts(&scene, 0.0, &q, &u, 1e-3);
         // One line along block 1's right face, with one contact at each end (the flush
         // faces' four corners are two contact points).
@@ -464,17 +470,7 @@ mod tests {
 
     #[test]
     fn neighbours_only_leaves_out_the_bodies_no_interface_joins() {
-        let scene = shaking_column(&Shaking {
-            blocks: 2,
-            ..Shaking::default()
-        })
-        .unwrap();
-        let mut q = scene.initial_coordinates();
-        let u = vec![0.0; q.len()];
-        // Block 2 (seated on block 1) moved down onto the base, beside block 1.
-        let (w1, w2) = (scene.size(1).width, scene.size(2).width);
-        q[3] = q[0] + 0.5 * (w1 + w2) + 1e-4;
-        q[4] = q[1];
+        let (scene, q, u) = block_beside_another();
         let pair = |found: &[LineContacts], lo: Body| {
             found
                 .iter()

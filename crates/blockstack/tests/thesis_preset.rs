@@ -22,6 +22,14 @@ fn thesis_scene(name: &str) -> Scene {
         .unwrap()
 }
 
+/// The preset's run options for `scene`, to `t_end`.
+fn thesis_run(scene: &Scene, t_end: f64) -> RunOptions {
+    RunOptions {
+        t_end: Some(t_end),
+        ..thesis::run_options(RunOptions::default(), scene.solver.rho_inf)
+    }
+}
+
 #[test]
 fn the_thesis_preset_sets_what_it_says() {
     let scene = thesis_scene("abundance-author");
@@ -68,33 +76,9 @@ fn the_thesis_preset_sets_what_it_says() {
     assert!(thesis::walk_settings(WalkSettings::default()).stop_at_failure);
 }
 
-/// The scaled residual's Jacobian (dense, in the unknowns x) of the next step for the
-/// last step's sets, with `jacobian`, at its unknowns moved off the last solution (`x`
-/// plus 10⁻³ times a fixed pattern): at the solution the interfaces lie flat, where the
-/// slip's point switches corners and the residual has a kink (see the test below).
-fn jacobian_near_last_step(
-    stepper: &mut Stepper<StackSystem>,
-    jacobian: JacobianChoice,
-) -> nalgebra::DMatrix<f64> {
-    let mut options = stepper.options().clone();
-    options.linear.jacobian = jacobian;
-    stepper.set_options(options).unwrap();
-    let sets = stepper.last_step().unwrap().sets.clone();
-    let x: Vec<f64> = stepper
-        .state()
-        .x
-        .iter()
-        .enumerate()
-        .map(|(i, v)| v + 1e-3 * ((i as f64 * 1.7).sin() + 0.3))
-        .collect();
-    let rho = stepper.options().rho_inf;
-    stepper.newton_system(&x, &sets, rho, false).1
-}
-
-#[test]
-fn the_finite_difference_jacobian_agrees_with_the_exact_one_on_a_blocks_step() {
-    // Figure 4.5's column as the author's scripts shake it, 60 steps in: the base
-    // drags the bottom block, which slides, and the column rocks on its corners.
+/// Figure 4.5's column as the author's scripts shake it, stepped 60 times under the
+/// preset: the base drags the bottom block, which slides, and the column rocks.
+fn shaken_column() -> Stepper<StackSystem> {
     let scene = thesis_scene("abundance-author");
     let run = thesis::run_options(RunOptions::default(), scene.solver.rho_inf);
     let options = stepper_options(&scene, &run).unwrap();
@@ -106,27 +90,90 @@ fn the_finite_difference_jacobian_agrees_with_the_exact_one_on_a_blocks_step() {
     for _ in 0..60 {
         corners.step(&scene, &mut stepper, 1e-6).unwrap();
     }
-    let sets = &stepper.last_step().unwrap().sets;
-    assert!(sets.a.iter().any(|&a| a), "contacts are closed");
-    let fd = jacobian_near_last_step(&mut stepper, JacobianChoice::FiniteDifference(1e-6));
-    let exact = jacobian_near_last_step(&mut stepper, JacobianChoice::Exact);
+    assert!(stepper.last_step().unwrap().sets.a.iter().any(|&a| a));
+    stepper
+}
+
+/// The next step's residual at `x` for the last step's sets, and its Jacobian (dense, in
+/// the unknowns x) with `jacobian`.
+fn newton_system(
+    stepper: &mut Stepper<StackSystem>,
+    x: &[f64],
+    jacobian: JacobianChoice,
+) -> (Vec<f64>, nalgebra::DMatrix<f64>) {
+    let mut options = stepper.options().clone();
+    options.linear.jacobian = jacobian;
+    stepper.set_options(options).unwrap();
+    let sets = stepper.last_step().unwrap().sets.clone();
+    let rho = stepper.options().rho_inf;
+    stepper.newton_system(x, &sets, rho, false)
+}
+
+/// The largest difference of `a` and `b`, relative to 1 + |b|, entry by entry.
+fn relative_difference(a: &nalgebra::DMatrix<f64>, b: &nalgebra::DMatrix<f64>) -> f64 {
+    a.iter()
+        .zip(b.iter())
+        .map(|(x, y)| (x - y).abs() / (1.0 + y.abs()))
+        .fold(0.0, f64::max)
+}
+
+#[test]
+fn the_finite_difference_jacobian_agrees_with_the_exact_one_on_a_blocks_step() {
+    let mut stepper = shaken_column();
+    // Off the last solution (x plus 10⁻³ times a fixed pattern): there the interfaces
+    // lie flat, where the residual has a kink (the next test).
+    let x: Vec<f64> = stepper
+        .state()
+        .x
+        .iter()
+        .enumerate()
+        .map(|(i, v)| v + 1e-3 * ((i as f64 * 1.7).sin() + 0.3))
+        .collect();
+    let fd = newton_system(&mut stepper, &x, JacobianChoice::FiniteDifference(1e-6)).1;
+    let exact = newton_system(&mut stepper, &x, JacobianChoice::Exact).1;
     assert!(exact.amax() > 1.0, "{}", exact.amax());
-    let mut worst: f64 = 0.0;
-    for (f, e) in fd.iter().zip(exact.iter()) {
-        worst = worst.max((f - e).abs() / (1.0 + e.abs()));
-    }
+    let worst = relative_difference(&fd, &exact);
     assert!(worst <= 1e-5, "largest relative difference {worst:e}");
     assert!(worst > 0.0, "the two matrices are formed differently");
+}
+
+#[test]
+fn at_a_flat_interface_the_differences_take_the_other_side_of_a_kink() {
+    // At the solution two interfaces lie flat and stick: the slip's corner changes
+    // with the sign of the blocks' relative rotation. The forward difference takes the
+    // derivative on the +ε side; the exact matrix is the derivative on the other side,
+    // as a backward difference shows.
+    let mut stepper = shaken_column();
+    let x = stepper.state().x.clone();
+    let (r, fd) = newton_system(&mut stepper, &x, JacobianChoice::FiniteDifference(1e-6));
+    let exact = newton_system(&mut stepper, &x, JacobianChoice::Exact).1;
+    let h = 1e-6;
+    let mut kinks = 0;
+    for c in 0..x.len() {
+        let mut back = x.clone();
+        back[c] -= h;
+        let (r_back, _) = newton_system(&mut stepper, &back, JacobianChoice::Exact);
+        for row in 0..x.len() {
+            let (f, e) = (fd[(row, c)], exact[(row, c)]);
+            if (f - e).abs() <= 1e-5 * (1.0 + e.abs()) {
+                continue;
+            }
+            kinks += 1;
+            let backward = (r[row] - r_back[row]) / h;
+            assert!(
+                (backward - e).abs() <= 1e-5 * (1.0 + e.abs()),
+                "({row}, {c}): forward {f:e}, backward {backward:e}, exact {e:e}"
+            );
+        }
+    }
+    assert!(kinks > 0, "the flat interfaces make a kink");
 }
 
 #[test]
 fn a_thesis_exploration_branches_where_newton_fails() {
     // The author's setting to t = 1.13: its first fork (about step 168).
     let scene = thesis_scene("abundance-author");
-    let run = RunOptions {
-        t_end: Some(1.13),
-        ..thesis::run_options(RunOptions::default(), scene.solver.rho_inf)
-    };
+    let run = thesis_run(&scene, 1.13);
     let settings = thesis::walk_settings(WalkSettings {
         sample_every: 10,
         ..WalkSettings::default()
@@ -149,13 +196,18 @@ fn a_thesis_exploration_branches_where_newton_fails() {
         }
     }
     // Without the re-solves, the run stops at the first fork's step: its Newton attempt
-    // did not converge within 20 iterations.
+    // did not converge within 20 iterations, and its iterates did not cycle (a branch
+    // point only by `policy.branch_on_any_failure`; docs/exploration.md).
     let first = forks[0].t;
     let mut plain = run.clone();
     plain.tuning.push("policy.branch_trials=false".into());
     let summary = simulate(&scene, &plain, |_| {}).unwrap();
     let e = summary.error.expect("the run stops").to_string();
     assert!(e.contains("did not converge"), "{e}");
+    assert!(
+        e.contains("2 index sets visited") && !e.contains("cycling"),
+        "{e}"
+    );
     assert!(
         e.contains(&format!("step from t = {first}")),
         "{e} (fork at {first})"
@@ -168,10 +220,7 @@ fn a_converged_solve_continues_a_step_that_has_no_self_consistent_one() {
     // and no fixed-set solve is self-consistent; the author's code goes on with a
     // converged one, as the preset does.
     let scene = thesis_scene("abundance");
-    let run = RunOptions {
-        t_end: Some(0.1),
-        ..thesis::run_options(RunOptions::default(), scene.solver.rho_inf)
-    };
+    let run = thesis_run(&scene, 0.1);
     let summary = simulate(&scene, &run, |_| {}).unwrap();
     assert!(summary.error.is_none(), "{:?}", summary.error);
     let mut strict = run.clone();
