@@ -195,6 +195,18 @@ fn a_thesis_exploration_branches_where_newton_fails() {
             assert!((start - (f.t + dt)).abs() < 1e-9, "{start} vs {}", f.t);
         }
     }
+    // The first fork: the step's solution, and a fixed-set solve beyond the friction
+    // cone (docs/exploration.md, "What the thesis's abundance is").
+    let f = &forks[0];
+    assert_eq!(
+        (f.distinct, f.consistent, f.breaking_laws()),
+        (2, 1, 1),
+        "{f:?}"
+    );
+    let cone = |c: &blockstack::contact_laws::ContactCheck| {
+        c.broken.iter().any(|(law, _)| law.name() == "cone")
+    };
+    assert!(f.candidates.iter().any(cone), "{f:?}");
     // Without the re-solves, the run stops at the first fork's step: its Newton attempt
     // did not converge within 20 iterations, and its iterates did not cycle (a branch
     // point only by `policy.branch_on_any_failure`; docs/exploration.md).
