@@ -55,14 +55,6 @@ if [ -z "$write" ]; then
   table
 else
   table > "$tmp/table.md"
-  python3 - "$write" "$tmp/table.md" "$(rollstack --version), commit $(git rev-parse --short HEAD 2>/dev/null || echo unknown)" <<'PY'
-import sys
-path, table, version = sys.argv[1], open(sys.argv[2]).read(), sys.argv[3]
-text = open(path).read()
-begin, end = "<!-- abundance_counts: begin -->", "<!-- abundance_counts: end -->"
-head, rest = text.split(begin, 1)
-_, tail = rest.split(end, 1)
-note = f"Written by `scripts/abundance_counts.sh --write` with {version}.\n\n"
-open(path, "w").write(head + begin + "\n" + note + table + end + tail)
-PY
+  python3 "$(dirname "$0")/write_between_markers.py" abundance_counts "$write" "$tmp/table.md" \
+    "$(rollstack --version), commit $(git rev-parse --short HEAD 2>/dev/null || echo unknown)"
 fi

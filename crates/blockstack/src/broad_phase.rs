@@ -197,7 +197,7 @@ fn lines_near(
             if b.lo[other] > a.hi[other] + m || a.lo[other] > b.hi[other] + m {
                 continue;
             }
-            if firmly_supported(scene, supports, a, b, m) {
+            if firmly_supported(scene, supports, a, b, m) || !may_touch(scene, a.body, b.body) {
                 continue;
             }
             out.extend(lines_of(
@@ -209,6 +209,17 @@ fn lines_near(
     }
     out.sort_by_key(|l| l.line.key());
     out
+}
+
+/// Whether bodies `a` and `b` may touch: any two may, unless the scene keeps to
+/// neighbour contacts ([`Scene::neighbours_only`]), where only two bodies an interface
+/// joins do.
+fn may_touch(scene: &Scene, a: Body, b: Body) -> bool {
+    !scene.neighbours_only()
+        || scene.arrangement().seats().iter().any(|s| {
+            let upper = Body::Block(s.upper);
+            (s.lower, upper) == (a, b) || (s.lower, upper) == (b, a)
+        })
 }
 
 /// The corner contacts of one pair grouped into the lines they lie on ([`ContactLine`]).
@@ -421,8 +432,9 @@ mod tests {
         assert!(corner_contacts(&scene, 0.0, &q, &u, 1e-3).is_empty());
     }
 
-    #[test]
-    fn a_block_beside_another_is_found_and_a_far_one_is_not() {
+    /// A column of two blocks with block 2 (seated on block 1) moved down onto the base
+    /// beside block 1, its left face 1e-4 from block 1's right face: the scene, q and u.
+    fn block_beside_another() -> (Scene, Vec<f64>, Vec<f64>) {
         let scene = shaking_column(&Shaking {
             blocks: 2,
             ..Shaking::default()
@@ -430,10 +442,15 @@ mod tests {
         .unwrap();
         let mut q = scene.initial_coordinates();
         let u = vec![0.0; q.len()];
-        // Block 2 moved down beside block 1, its left face 1e-4 from block 1's right face.
         let (w1, w2) = (scene.size(1).width, scene.size(2).width);
         q[3] = q[0] + 0.5 * (w1 + w2) + 1e-4;
         q[4] = q[1];
+        (scene, q, u)
+    }
+
+    #[test]
+    fn a_block_beside_another_is_found_and_a_far_one_is_not() {
+        let (scene, mut q, u) = block_beside_another();
         let found = corner_contacts(&scene, 0.0, &q, &u, 1e-3);
         // One line along block 1's right face, with one contact at each end (the flush
         // faces' four corners are two contact points).
@@ -449,5 +466,24 @@ mod tests {
         assert!(found
             .iter()
             .all(|l| l.line.lo != Body::Block(2) && l.line.hi != Body::Block(2)));
+    }
+
+    #[test]
+    fn neighbours_only_leaves_out_the_bodies_no_interface_joins() {
+        let (scene, q, u) = block_beside_another();
+        let pair = |found: &[LineContacts], lo: Body| {
+            found
+                .iter()
+                .any(|l| l.line.lo == lo && l.line.hi == Body::Block(2))
+        };
+        let found = corner_contacts(&scene, 0.0, &q, &u, 1e-3);
+        assert!(
+            pair(&found, Body::Base) && pair(&found, Body::Block(1)),
+            "{found:?}"
+        );
+        let scene = scene.with_neighbours_only(true);
+        let found = corner_contacts(&scene, 0.0, &q, &u, 1e-3);
+        assert!(!pair(&found, Body::Base), "{found:?}");
+        assert!(pair(&found, Body::Block(1)), "{found:?}");
     }
 }

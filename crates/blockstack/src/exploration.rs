@@ -10,6 +10,8 @@
 //! held in memory; what each branch keeps is its [`BranchSummary`]: final poses, events,
 //! and the top block's (t, y, θ) sampled for the figure.
 
+pub mod thesis;
+
 use crate::contact_laws::{self, breaks_text, violation_text, ContactCheck, Tolerances};
 use crate::contact_states::{differing_interfaces, interface_states, InterfaceState};
 use crate::coordinates::Pose;
@@ -617,6 +619,15 @@ pub struct ForkRecord {
 }
 
 impl ForkRecord {
+    /// How many of its candidates' own steps break a contact law.
+    #[must_use]
+    pub fn breaking_laws(&self) -> usize {
+        self.candidates
+            .iter()
+            .filter(|c| !c.broken.is_empty())
+            .count()
+    }
+
     /// `real`, `artefact`, `undecided`, or `unchecked`.
     #[must_use]
     pub fn label(&self) -> &'static str {
@@ -767,6 +778,13 @@ pub struct ExplorationReport {
     pub forks: usize,
     /// Forks whose candidates were followed.
     pub forks_followed: usize,
+    /// Candidates over all forks.
+    pub candidates: usize,
+    /// Candidates whose own step breaks a contact law ([`crate::contact_laws`]).
+    pub candidates_breaking_laws: usize,
+    /// Branches that start with a step breaking a contact law: the followed candidates
+    /// that break one.
+    pub branches_breaking_laws: usize,
     /// Distinct outcomes among the leaves.
     pub distinct_outcomes: usize,
     /// Labels of the forks.
@@ -815,6 +833,13 @@ impl ExplorationReport {
             leaves: tree.leaves().count(),
             forks: forks.len(),
             forks_followed: forks.iter().filter(|f| f.followed).count(),
+            candidates: forks.iter().map(|f| f.distinct).sum(),
+            candidates_breaking_laws: forks.iter().map(ForkRecord::breaking_laws).sum(),
+            branches_breaking_laws: forks
+                .iter()
+                .filter(|f| f.followed)
+                .map(ForkRecord::breaking_laws)
+                .sum(),
             distinct_outcomes: groups.len(),
             labels,
             branch_cap_reached: tree.branch_cap_reached,

@@ -121,6 +121,9 @@ pub struct Scene {
     arrangement: Arrangement,
     /// The blocks' names from a scene file (`None`: unnamed), for messages.
     names: Vec<Option<String>>,
+    /// Whether a block touches only the bodies an interface joins it to (the thesis's
+    /// code: block k meets blocks k − 1 and k + 1), never another block or the base.
+    neighbours_only: bool,
 }
 
 /// Relative tolerance on initial overlaps (of the largest block size).
@@ -213,6 +216,7 @@ impl Scene {
             materials: Materials::default(),
             arrangement: Arrangement::default(),
             names,
+            neighbours_only: false,
         };
         scene.check_overlaps()?;
         scene.check_floor()?;
@@ -279,6 +283,22 @@ impl Scene {
         materials.validate(self.n_blocks())?;
         self.materials = materials;
         Ok(self)
+    }
+
+    /// The scene with contacts between neighbours only, or between any two bodies
+    /// (`[contact] neighbours_only`).
+    #[must_use]
+    pub fn with_neighbours_only(mut self, neighbours_only: bool) -> Self {
+        self.neighbours_only = neighbours_only;
+        self
+    }
+
+    /// Whether a block touches only the bodies an interface joins it to (a column:
+    /// block k meets the body beneath it and the block above it), as in the thesis's
+    /// code; otherwise any two bodies may touch at their corners.
+    #[must_use]
+    pub fn neighbours_only(&self) -> bool {
+        self.neighbours_only
     }
 
     /// The name of block k (1-based), if it has one.

@@ -29,6 +29,7 @@
 //! mu = 0.2
 //! e_n = 0.0                  # default 0
 //! e_f = 0.0                  # default 0
+//! # neighbours_only = true   # default false: a block touches only the bodies beneath and above it
 //! # [contact.base]           # optional, any of mu, e_n, e_f: base–block interfaces
 //! # mu = 0.1                 # ([contact.blocks]: block–block, [contact.floor]: block–floor)
 //! # [[contact.pair]]         # optional: one pair of bodies, over its kind's values
@@ -230,6 +231,10 @@ pub struct ContactFile {
     /// Tangential restitution e_F ∈ [0, 1] (absent: 0).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub e_f: Option<f64>,
+    /// Contacts between the bodies an interface joins only, as in the thesis's code
+    /// ([`Scene::neighbours_only`]; absent: false, any two bodies may touch).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub neighbours_only: Option<bool>,
     /// `[contact.base]`: base–block interfaces.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub base: Option<Override>,
@@ -457,7 +462,21 @@ pub struct SceneFile {
     pub floor: Option<FloorFile>,
 }
 
+/// The height of the author's base plate (the thesis's scripts: 1 wide, 0.2 high).
+pub const THESIS_BASE_HEIGHT: f64 = 0.2;
+
 impl SceneFile {
+    /// The scene as the thesis's code models it (`--preset thesis`): no floor, the base
+    /// [`THESIS_BASE_HEIGHT`] high with the blocks stacked on it as the file places them,
+    /// and contacts between neighbouring bodies only (`[contact] neighbours_only`).
+    #[must_use]
+    pub fn as_in_the_thesis_code(mut self) -> Self {
+        self.floor = None;
+        self.base.height = THESIS_BASE_HEIGHT;
+        self.contact.neighbours_only = Some(true);
+        self
+    }
+
     /// Parses TOML text (syntax and keys only; see [`SceneFile::to_scene`]).
     ///
     /// # Errors
@@ -603,8 +622,9 @@ impl SceneFile {
             .floor
             .map(|f| Floor::new(defaults.or("floor.y", f.y, base.bottom())));
         let materials = c.materials(&names)?;
-        let scene =
-            Scene::named(base, blocks, floor, contact, solver, names)?.with_materials(materials)?;
+        let scene = Scene::named(base, blocks, floor, contact, solver, names)?
+            .with_materials(materials)?
+            .with_neighbours_only(c.neighbours_only.unwrap_or(false));
         Ok(LoadedScene { scene, defaults })
     }
 
@@ -810,6 +830,21 @@ mu = 0.2
         assert!(overlap.contains("block 2 and block 3 overlap"), "{overlap}");
         assert!(err(&GOOD.replace("[floor]", "[floor]\ny = 0.5")).contains("floor"));
         assert!(err("[base]\nwidth = 1\n").contains("line"));
+    }
+
+    #[test]
+    fn neighbours_only_is_read_and_the_thesis_model_sets_it() {
+        assert!(!Scene::from_toml(GOOD).unwrap().neighbours_only());
+        let text = GOOD.replace("mu = 0.2", "mu = 0.2\nneighbours_only = true");
+        assert!(Scene::from_toml(&text).unwrap().neighbours_only());
+        let e = err(&GOOD.replace("mu = 0.2", "mu = 0.2\nneighbours_only = 1"));
+        assert!(e.contains("[contact] neighbours_only: invalid type"), "{e}");
+        let thesis = SceneFile::parse(GOOD).unwrap().as_in_the_thesis_code();
+        let s = thesis.to_scene().unwrap();
+        assert!(s.neighbours_only() && s.floor().is_none());
+        assert_eq!(s.base().height(), THESIS_BASE_HEIGHT);
+        // The blocks rest on the higher base.
+        assert!((s.blocks()[0].initial.y - (s.base().top() + 0.2)).abs() < 1e-12);
     }
 
     #[test]

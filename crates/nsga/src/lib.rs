@@ -131,8 +131,9 @@ pub use explore::{
 pub use linalg::{AutoSolver, BandLu, DenseLu, LinalgError, LinearSolver, MarkowitzLu, SparseLu};
 pub use moreau::{MoreauOptions, MoreauState, MoreauStepper};
 pub use options::{
-    BranchRule, FailurePolicy, LinearOptions, NewtonOptions, Options, PolicyOptions, Prox,
-    RhoInfRetry, SolverChoice, DEFAULT_REGULARIZATION, DEFAULT_RETRY_MAX_ITER,
+    BranchRule, FailurePolicy, JacobianChoice, LinearOptions, NewtonOptions, Options,
+    PolicyOptions, Prox, RhoInfRetry, SolverChoice, DEFAULT_REGULARIZATION, DEFAULT_RETRY_MAX_ITER,
+    THESIS_FD_EPSILON,
 };
 pub use params::GenAlpha;
 pub use report::{

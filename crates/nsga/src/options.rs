@@ -242,7 +242,25 @@ pub struct LinearOptions {
     /// (at least 1). Default [`SYMBOLIC_CACHE`], where it
     /// is justified.
     pub symbolic_cache: usize,
+    /// How the Newton matrix is formed: from the system's exact derivatives (the
+    /// default), or by forward differences of the residual, as the thesis's code does.
+    pub jacobian: JacobianChoice,
 }
+
+/// How the Newton matrix of eq. 143 is formed ([`LinearOptions::jacobian`]).
+#[derive(Debug, Clone, Copy, PartialEq, Default, serde::Serialize, serde::Deserialize)]
+pub enum JacobianChoice {
+    /// From the system's exact derivatives (semismooth Jacobian, eq. 143).
+    #[default]
+    Exact,
+    /// Column by column, (R(x + ε eᵢ) − R(x))/ε with the index sets held, ε > 0 absolute
+    /// (the thesis's code: ε = 10⁻⁶, §4.2). One residual per unknown: for comparison
+    /// with the thesis, not for speed (`stepper/fd_jacobian.rs`).
+    FiniteDifference(f64),
+}
+
+/// The thesis's finite-difference parameter ε (§4.2, "Simulation Parameters").
+pub const THESIS_FD_EPSILON: f64 = 1e-6;
 
 /// The policy of a step whose first attempt fails ([`Options::policy`]): retries,
 /// re-solves, halving and the last resort.
@@ -264,6 +282,16 @@ pub struct PolicyOptions {
     pub branch_trials: bool,
     /// Which fixed-set solutions count as continuations of a cycling step.
     pub branch_rule: BranchRule,
+    /// Run the branch trials after every first attempt that did not converge within its
+    /// iterations, not only after one whose index sets cycled: the thesis's code takes
+    /// every failure of Newton as a branch point (§4.4, Algorithm 1). Off by default.
+    pub branch_on_any_failure: bool,
+    /// Let a fixed-set re-solve that converged continue the step even where its contact
+    /// laws do not hold (the sets recomputed from it differ from those it was solved
+    /// with), as the thesis's code does: every converged solve is a candidate, in the
+    /// order found, marked not self-consistent. Off by default: the step continues with
+    /// a self-consistent candidate only, whatever [`PolicyOptions::branch_rule`] records.
+    pub continue_inconsistent: bool,
     /// After a step converges, re-solve it with the touching normal contacts' states fixed
     /// (every combination of open / closed sliding / closed sticking for at most 3 of them,
     /// else one contact flipped at a time: `stepper/enumerate.rs`) and report the self-consistent solutions that differ as a branch point: the
@@ -384,6 +412,7 @@ impl Default for LinearOptions {
             low_rank_updates: false,
             pivot_threshold: PIVOT_THRESHOLD,
             symbolic_cache: SYMBOLIC_CACHE,
+            jacobian: JacobianChoice::Exact,
         }
     }
 }
@@ -396,6 +425,8 @@ impl Default for PolicyOptions {
             retry_max_iter: DEFAULT_RETRY_MAX_ITER,
             branch_trials: true,
             branch_rule: BranchRule::SelfConsistent,
+            branch_on_any_failure: false,
+            continue_inconsistent: false,
             probe_flips: false,
             retry_without_friction_shift: false,
             max_halvings: 0,
@@ -439,6 +470,11 @@ impl Options {
         let threshold = self.linear.pivot_threshold;
         if !(threshold > 0.0 && threshold <= 1.0) {
             return bad(format!("pivot_threshold = {threshold} must be in (0, 1]"));
+        }
+        if let JacobianChoice::FiniteDifference(h) = self.linear.jacobian {
+            if !(h > 0.0 && h.is_finite()) {
+                return bad(format!("finite-difference epsilon = {h} must be positive"));
+            }
         }
         if self.linear.symbolic_cache == 0 {
             return bad("symbolic_cache must be at least 1".into());

@@ -48,6 +48,7 @@ mod branch;
 mod direction;
 mod enumerate;
 mod far;
+mod fd_jacobian;
 mod halving;
 mod held;
 mod iterate;

@@ -7,6 +7,7 @@ use super::scheme::Scheme;
 use super::slip::{direction, slip_row, GuardedDirection, SlidingDirections, SlipArgument};
 use super::unknowns::Offsets;
 use super::{Stepper, Work};
+use crate::options::JacobianChoice;
 use crate::sets::IndexSets;
 use crate::system::{FrictionLaw, Probes, System};
 
@@ -121,6 +122,10 @@ impl<S: System> Stepper<S> {
     pub(super) fn jacobian(&mut self, x: &[f64], sets: &IndexSets, p: &Scheme) {
         self.derivative_rows(x);
         self.assemble_jacobian(x, sets, p, None);
+        if let JacobianChoice::FiniteDifference(eps) = self.options.linear.jacobian {
+            // The exact matrix has marked the rows a singular matrix regularizes.
+            self.finite_difference_jacobian(x, sets, p, eps);
+        }
     }
 
     /// The system's exact derivatives at the current iterate, and from them the rows

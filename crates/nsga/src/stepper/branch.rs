@@ -85,6 +85,8 @@ impl<S: System> Stepper<S> {
             // Self-consistency: the sets recomputed from the converged x.
             if &self.sets_of(&t.state.x, rho0) == sets {
                 candidates.offer(sets, t, true);
+            } else if self.options.policy.continue_inconsistent {
+                candidates.offer(sets, t, false);
             } else if self.options.policy.branch_rule == BranchRule::Converged {
                 others.push((sets.clone(), t.state));
             }

@@ -53,7 +53,8 @@ pub(crate) enum Stage {
     /// The `i`th ρ∞ of [`PolicyOptions::rho_inf_retries`] (after the failures that
     /// [`PolicyOptions::rho_inf_retry`] names; thesis §4.2).
     RhoRetry(usize),
-    /// With [`PolicyOptions::branch_trials`], when the first attempt's index sets cycled:
+    /// With [`PolicyOptions::branch_trials`], when the first attempt's index sets cycled
+    /// (with [`PolicyOptions::branch_on_any_failure`]: whenever it did not converge):
     /// one re-solve per distinct set seen with the sets fixed; the self-consistent
     /// candidates, deduplicated by state, make a branch point, and the step continues
     /// with one of them whatever [`PolicyOptions::branch_rule`] records.
@@ -145,6 +146,8 @@ struct Enabled {
     rho_retries: usize,
     rho_after_iterates: bool,
     branch_trials: bool,
+    /// Branch trials after any non-converged first attempt, not only a cycling one.
+    branch_on_any_failure: bool,
     unshifted: bool,
     accept_best: bool,
     boundary_resolves: bool,
@@ -159,6 +162,7 @@ impl Enabled {
             rho_retries: p.rho_inf_retries.len(),
             rho_after_iterates: p.rho_inf_retry != RhoInfRetry::SingularMatrix,
             branch_trials: p.branch_trials,
+            branch_on_any_failure: p.branch_on_any_failure,
             unshifted: p.retry_without_friction_shift && o.friction_percussion_shift,
             accept_best: p.on_failure == FailurePolicy::AcceptBest,
             boundary_resolves: p.boundary_resolves,
@@ -367,7 +371,7 @@ impl Policy {
     fn switched_on(&self, stage: Stage) -> bool {
         let e = &self.enabled;
         match stage {
-            Stage::BranchTrials => self.cycling && e.branch_trials,
+            Stage::BranchTrials => (self.cycling || e.branch_on_any_failure) && e.branch_trials,
             Stage::Unshifted => e.unshifted,
             Stage::AcceptBest => e.accept_best,
             Stage::Halving => self.halvings > 0,

@@ -2,14 +2,16 @@
 //! the tree of `blockstack::exploration`, its forks checked against refinement, the
 //! outcomes, and Figure 4.5.
 
-use super::scenes::load_scene;
+use super::scenes::{load_scene, scene_dir, scene_text};
 use crate::output::{ensure_dir, print_json, write_csv, write_run_json};
 use anyhow::{Context, Result};
+use blockstack::exploration::thesis;
 use blockstack::exploration::{
     branch_cells, explore_scene, fork_records, outcome_groups, ExplorationReport, ForkRecord,
     OutcomeGroup, WalkSettings, BRANCH_COLUMNS, FORK_COLUMNS, OUTCOME_COLUMNS,
 };
 use blockstack::fork_check::DEFAULT_WINDOW;
+use blockstack::scene_file::{LoadedScene, SceneFile};
 use blockstack::simulation::{Prox, RunOptions};
 use blockstack::time_guard::wall_limit;
 use clap::{Args, ValueEnum};
@@ -47,6 +49,23 @@ impl RuleArg {
         match self {
             Self::SelfConsistent => BranchRule::SelfConsistent,
             Self::Converged => BranchRule::Converged,
+        }
+    }
+}
+
+/// A set of settings that `--preset` names.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum PresetArg {
+    /// The thesis's algorithm and model, as its code runs them (docs/exploration.md).
+    Thesis,
+}
+
+impl PresetArg {
+    /// The name `--preset` takes.
+    #[must_use]
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Thesis => "thesis",
         }
     }
 }
@@ -98,6 +117,14 @@ pub struct ExploreArgs {
     /// Coarse steps of the window --classify takes again (at least 1).
     #[arg(long, default_value_t = DEFAULT_WINDOW, allow_hyphen_values = true)]
     pub classify_window: u64,
+    /// `thesis`: the thesis's algorithm as its code runs it: a branch point wherever
+    /// Newton has not converged in 20 iterations, every converged fixed-set solve a
+    /// branch, a finite-difference Jacobian (eps = 1e-6), no line search, r = 0.3, rho_inf
+    /// retried by steps of 0.05 on a singular matrix, each branch stopped at the onset of
+    /// failure; and its model: no floor, a base 0.2 high, contacts between neighbouring
+    /// blocks only (docs/exploration.md, "The thesis's algorithm").
+    #[arg(long, value_enum, conflicts_with_all = ["branch_rule", "prox_constant", "probe_flips"])]
+    pub preset: Option<PresetArg>,
     /// Use one constant prox parameter r > 0 (the thesis: 0.3) instead of the scene's.
     #[arg(long, value_parser = parse_finite, allow_hyphen_values = true)]
     pub prox_constant: Option<f64>,
@@ -120,6 +147,7 @@ struct ExploreJson<'a> {
     report: &'a ExplorationReport,
     strategy: &'static str,
     branch_rule: &'static str,
+    preset: Option<&'static str>,
     files: Vec<String>,
 }
 
@@ -131,7 +159,10 @@ const TOP_SAMPLES: f64 = 400.0;
 /// # Errors
 /// Bad input, a failed start, or an unwritable output directory.
 pub fn run(args: &ExploreArgs) -> Result<()> {
-    let loaded = load_scene(&args.scene)?;
+    let loaded = match args.preset {
+        None => load_scene(&args.scene)?,
+        Some(PresetArg::Thesis) => load_as_in_the_thesis_code(&args.scene)?,
+    };
     let scene = &loaded.scene;
     anyhow::ensure!(args.max_branches >= 1, "--max-branches must be at least 1");
     anyhow::ensure!(
@@ -147,18 +178,21 @@ pub fn run(args: &ExploreArgs) -> Result<()> {
     if let Some(w) = args.max_wall {
         input::non_negative("--max-wall", w)?;
     }
-    let rule = args.branch_rule.rule();
     let strategy = match args.strategy {
         StrategyArg::Breadth => Strategy::Breadth,
         StrategyArg::Depth => Strategy::Depth,
     };
-    let options = RunOptions {
+    let mut options = RunOptions {
         t_end: args.t_end,
         prox: args.prox_constant.map(Prox::Constant),
-        branch_rule: rule,
+        branch_rule: args.branch_rule.rule(),
         probe_flips: args.probe_flips,
         ..RunOptions::default()
     };
+    if args.preset == Some(PresetArg::Thesis) {
+        options = thesis::run_options(options, scene.solver.rho_inf);
+    }
+    let rule = options.branch_rule;
     let explore_options = ExploreOptions {
         strategy,
         max_branches: args.max_branches,
@@ -183,7 +217,7 @@ pub fn run(args: &ExploreArgs) -> Result<()> {
     #[allow(clippy::cast_possible_truncation, clippy::cast_sign_loss)]
     let sample_every = (t_end / scene.solver.dt / TOP_SAMPLES).ceil().max(1.0) as u64;
     let finished = AtomicUsize::new(0);
-    let settings = WalkSettings {
+    let mut settings = WalkSettings {
         sample_every,
         trajectories: traj_dir.as_deref(),
         classify: args.classify,
@@ -191,6 +225,9 @@ pub fn run(args: &ExploreArgs) -> Result<()> {
         finished: Some(&finished),
         stop_at_failure: false,
     };
+    if args.preset == Some(PresetArg::Thesis) {
+        settings = thesis::walk_settings(settings);
+    }
     let bar = crate::progress::bar_when(args.max_branches as u64, "branches", !args.json);
     let done = AtomicBool::new(false);
     let tree = std::thread::scope(|s| {
@@ -231,12 +268,23 @@ pub fn run(args: &ExploreArgs) -> Result<()> {
             report: &report,
             strategy: strategy.name(),
             branch_rule: rule.name(),
+            preset: args.preset.map(PresetArg::name),
             files,
         })
     } else {
         print_summary(&report, strategy, rule);
         Ok(())
     }
+}
+
+/// The scene `arg` as the thesis's code models it (no floor, a base 0.2 high, neighbour
+/// contacts only: `SceneFile::as_in_the_thesis_code`).
+fn load_as_in_the_thesis_code(arg: &Path) -> Result<LoadedScene> {
+    let (text, what) = scene_text(arg)?;
+    let file = SceneFile::parse(&text).with_context(|| what.clone())?;
+    file.as_in_the_thesis_code()
+        .build_at(&scene_dir(arg))
+        .with_context(|| format!("{what} as the thesis's code models it (--preset thesis)"))
 }
 
 /// Writes branches.csv, forks.csv, outcomes.csv and run.json into `dir`.
@@ -274,6 +322,7 @@ fn write_files(
             "max_depth": args.max_depth,
             "max_wall": args.max_wall,
             "branch_rule": format!("{:?}", args.branch_rule),
+            "preset": args.preset.map(PresetArg::name),
             "probe_flips": args.probe_flips,
             "classify": args.classify,
             "classify_window": args.classify_window,
@@ -318,8 +367,51 @@ fn print_summary(r: &ExplorationReport, strategy: Strategy, rule: BranchRule) {
         "forks: {} real, {} artefact, {} undecided, {} unchecked",
         l.real, l.artefact, l.undecided, l.unchecked
     );
+    println!(
+        "{} of {} candidates break a contact law, {} of them followed as branches",
+        r.candidates_breaking_laws, r.candidates, r.branches_breaking_laws
+    );
     println!("{} distinct outcomes:", r.distinct_outcomes);
     for g in &r.outcomes {
         println!("  {:>5} × {}", g.branches.len(), g.label);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::Cli;
+    use clap::Parser;
+
+    fn parse(args: &[&str]) -> Result<Cli, clap::Error> {
+        let mut all = vec!["rollstack", "blocks", "explore", "abundance-author"];
+        all.extend_from_slice(args);
+        Cli::try_parse_from(all)
+    }
+
+    #[test]
+    fn the_thesis_preset_refuses_the_flags_it_sets() {
+        assert!(parse(&["--preset", "thesis"]).is_ok());
+        for flag in [
+            &["--branch-rule", "converged"][..],
+            &["--prox-constant", "0.3"],
+            &["--probe-flips"],
+        ] {
+            let mut args = vec!["--preset", "thesis"];
+            args.extend_from_slice(flag);
+            let e = parse(&args).unwrap_err();
+            assert_eq!(e.kind(), clap::error::ErrorKind::ArgumentConflict, "{e}");
+            assert!(e.to_string().contains(flag[0]), "{e}");
+        }
+        let e = parse(&["--preset", "thesys"]).unwrap_err();
+        assert!(e.to_string().contains("thesis"), "{e}");
+    }
+
+    #[test]
+    fn the_thesis_preset_loads_the_authors_model() {
+        let loaded = load_as_in_the_thesis_code(Path::new("abundance-author")).unwrap();
+        assert!(loaded.scene.neighbours_only() && loaded.scene.floor().is_none());
+        let e = load_as_in_the_thesis_code(Path::new("no-such-scene")).unwrap_err();
+        assert!(format!("{e:#}").contains("no-such-scene"), "{e:#}");
     }
 }
