@@ -424,6 +424,7 @@ pub fn stepper_options(scene: &Scene, options: &RunOptions) -> Result<Options, B
             branch_trials: true,
             branch_rule: options.branch_rule,
             probe_flips: options.probe_flips,
+            probe_painleve: true,
             retry_without_friction_shift: true,
             // No ρ∞ retries (thesis §4.2): they paid less than 1 % on the reference
             // workload (docs/method.md §8.3, "The stages measured").

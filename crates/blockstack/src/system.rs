@@ -491,6 +491,16 @@ impl System for StackSystem {
         self.evaluate_into(t, q, u, out, &mut StackContacts::for_scene(&self.scene));
     }
 
+    /// 4/3: a corner of a rectangle of any aspect needs μ ≥ 4/3 for b ≤ 0 (App. I,
+    /// ERRATA 18: b m = 1 + (a² + μ s a c)/k² with a, c the corner's lever arms about the
+    /// normal and the tangent, a² + c² = r², k² = r²/3, whose least value over the angle is
+    /// 1 + 3(1 − √(1 + μ²))/2, zero at μ = 4/3). A contact between two blocks adds one such
+    /// term per block, and the base and the floor are not bodies, so no contact of a stack
+    /// is in Painlevé's region below 4/3.
+    fn least_painleve_friction(&self) -> f64 {
+        4.0 / 3.0
+    }
+
     fn evaluate_real(&self, t: f64, q: &[f64], u: &[f64], out: &mut Evaluation<f64>) {
         self.evaluate_into(t, q, u, out, &mut self.real_contacts.borrow_mut());
     }

@@ -60,6 +60,49 @@ fn painleves_indeterminacy_is_a_real_fork() {
     assert_eq!(tree.branches.len(), 1);
 }
 
+/// Without `probe_flips`, the probe runs where App. I's b ≤ 0 (nsga's `probe_painleve`,
+/// on in the block stack): the same ten forks, each with its three solutions; with
+/// μ = 0.2 (b > 0) it never runs, and the step costs what it did without it.
+#[test]
+fn painleves_indeterminacy_is_found_without_a_flag_where_b_is_negative() {
+    let case = PainleveCorner::default();
+    let settings = WalkSettings {
+        sample_every: 1,
+        ..WalkSettings::default()
+    };
+    let plain = RunOptions::default();
+    assert!(!plain.probe_flips);
+    let tree = explore_scene(
+        &case.scene().unwrap(),
+        &plain,
+        &ExploreOptions::default(),
+        settings,
+    )
+    .unwrap();
+    let forks = fork_records(&tree, 1);
+    assert_eq!(forks.len(), 10, "{forks:?}");
+    assert!(
+        forks.iter().all(|f| (f.distinct, f.consistent) == (3, 3)),
+        "{forks:?}"
+    );
+    // A plain run records the branch point and goes on with Newton's solution, the
+    // lift-off, after which the corner no longer touches.
+    let run = blockstack::simulate(&case.scene().unwrap(), &plain, |_| {}).unwrap();
+    assert_eq!(run.branch_points.len(), 1, "{:?}", run.branch_points);
+    assert_eq!(run.branch_points[0].t, 0.0);
+    assert_eq!(run.branch_points[0].distinct, 3);
+    // Off the region nothing is probed: as many linear solves as with the probe off.
+    let tame = PainleveCorner { mu: 0.2, ..case }.scene().unwrap();
+    let off = RunOptions {
+        tuning: vec!["policy.probe_painleve=false".into()],
+        ..RunOptions::default()
+    };
+    let with = blockstack::simulate(&tame, &plain, |_| {}).unwrap();
+    let without = blockstack::simulate(&tame, &off, |_| {}).unwrap();
+    assert!(with.branch_points.is_empty());
+    assert_eq!(with.linear_solves, without.linear_solves);
+}
+
 /// Two blocks on the base of Figure 4.5 (x = sin(3πt/2), 60 steps per period), three
 /// periods: the thesis's rule forks here.
 fn two_blocks() -> Scene {

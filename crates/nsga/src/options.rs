@@ -300,6 +300,13 @@ pub struct PolicyOptions {
     /// (every state of at most 3 touching contacts), up to four per touching contact
     /// beyond; off by default.
     pub probe_flips: bool,
+    /// Run that probe only where Painlevé's indeterminacy is possible: a converged step
+    /// with a closed contact that slides and whose normal acceleration decreases with its
+    /// own normal force, friction counted (b ≤ 0 of App. I's (I.1.8), for any system with
+    /// a diagonal mass matrix; `stepper/painleve.rs`). Free where no contact is in that
+    /// region (a block with μ < 4/3 never is); off by default.
+    #[serde(default)]
+    pub probe_painleve: bool,
     /// With [`Options::friction_percussion_shift`]: a step whose fixed-set re-solves
     /// found no self-consistent solution is tried once more, from the start, without
     /// the shift (docs/method.md §8.2, `Stage::Unshifted`), before the best iterate, halving and
@@ -428,6 +435,7 @@ impl Default for PolicyOptions {
             branch_on_any_failure: false,
             continue_inconsistent: false,
             probe_flips: false,
+            probe_painleve: false,
             retry_without_friction_shift: false,
             max_halvings: 0,
             boundary_resolves: false,

@@ -56,6 +56,7 @@ mod kinematic;
 mod last_resort;
 mod low_rank;
 mod multipliers;
+mod painleve;
 mod policy;
 mod predict;
 mod prune;

@@ -401,6 +401,15 @@ pub trait System {
         self.evaluate(t, q, u, out);
     }
 
+    /// A friction coefficient below which no contact of the system can have App. I's
+    /// b ≤ 0 (a normal acceleration that decreases with the contact's own normal force,
+    /// friction counted): the check of
+    /// [`PolicyOptions::probe_painleve`](crate::PolicyOptions::probe_painleve) skips the
+    /// friction laws below it. Default 0: every sliding law is checked.
+    fn least_painleve_friction(&self) -> f64 {
+        0.0
+    }
+
     /// The kinematic matrix B(t,q) (nq × nu, as (coordinate, velocity, value) triplets)
     /// of q̇ = B u. Default: the identity (q̇ = u).
     fn kinematics(&self, _t: f64, q: &[f64], b: &mut Triplets<f64>) {

@@ -46,7 +46,8 @@ pub(crate) enum Stage {
     /// ([`NewtonOptions::max_iter_per_contact`](crate::NewtonOptions::max_iter_per_contact)). Its failure is the step's first failure,
     /// which the later stages read.
     Free,
-    /// The flip probe of a converged first attempt ([`PolicyOptions::probe_flips`]): the step
+    /// The flip probe of a converged first attempt ([`PolicyOptions::probe_flips`], or
+    /// [`PolicyOptions::probe_painleve`] where a sliding contact has b ≤ 0): the step
     /// re-solved with each touching contact's state flipped; it commits the converged
     /// step, with a branch point when a flip gives another self-consistent solution.
     FlipProbe,
@@ -177,6 +178,10 @@ impl Enabled {
 #[derive(Debug)]
 pub(super) struct Policy {
     enabled: Enabled,
+    /// Whether the converged first attempt just reported has a touching sliding contact
+    /// with App. I's b ≤ 0 ([`PolicyOptions::probe_painleve`](crate::PolicyOptions::probe_painleve)),
+    /// set by the loop of [`Stepper::run_policy`] before it asks what follows.
+    painleve: bool,
     /// The halvings left at this Δt.
     pub(super) halvings: usize,
     /// Whether this is the step's own Δt (not a half), where the last resort may follow.
@@ -228,6 +233,7 @@ impl Policy {
     ) -> Self {
         Self {
             enabled,
+            painleve: false,
             halvings,
             top,
             prediction,
@@ -270,7 +276,7 @@ impl Policy {
             Unshifted,
         };
         match (stage, outcome) {
-            (Predicted | HeldSets | Free, Ok(t)) if self.enabled.probe_flips => {
+            (Predicted | HeldSets | Free, Ok(t)) if self.enabled.probe_flips || self.painleve => {
                 self.converged = Some(t);
                 Next::Run(FlipProbe)
             }
@@ -442,6 +448,9 @@ impl<S: System> Stepper<S> {
                 Stage::LastResort => return self.last_resort(),
                 _ => {
                     let outcome = self.run_stage(stage, &mut policy);
+                    policy.painleve = self.options.policy.probe_painleve
+                        && matches!(stage, Stage::Predicted | Stage::HeldSets | Stage::Free)
+                        && outcome.as_ref().is_ok_and(|t| self.painleve_possible(t));
                     policy.next(stage, outcome, &self.state)
                 }
             };

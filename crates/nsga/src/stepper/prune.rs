@@ -88,7 +88,7 @@ impl<S: System> Stepper<S> {
 
     /// Makes `work.state_levels` those of the current state: kept from the iterate that
     /// became it (`state_levels`), or evaluated here.
-    fn state_levels(&mut self) {
+    pub(super) fn state_levels(&mut self) {
         let st = &self.state;
         let w = &mut self.work;
         if w.state_levels.describe(st) {

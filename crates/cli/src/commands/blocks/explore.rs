@@ -104,8 +104,9 @@ pub struct ExploreArgs {
     pub branch_rule: RuleArg,
     /// Also re-solve every converged step with the touching contacts' states fixed (every
     /// combination for at most 3 touching contacts, else one flipped at a time): finds
-    /// non-uniqueness that Newton does not reveal by cycling, such as Painlevé's sliding
-    /// contact, jam and lift-off; up to 64 solves per step.
+    /// non-uniqueness that Newton does not reveal by cycling; up to 64 solves per step.
+    /// Without it the probe runs only where Painlevé's indeterminacy is possible (App. I's
+    /// b ≤ 0 at a touching sliding contact), and finds sliding contact, jam and lift-off.
     #[arg(long)]
     pub probe_flips: bool,
     /// Check each fork: its candidates against the contact laws, and a window of steps
