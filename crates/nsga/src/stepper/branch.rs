@@ -169,14 +169,21 @@ impl<S: System> Stepper<S> {
     /// those whose gap at the step's start is within [`Options::start_tol`] of zero.
     ///
     /// [`Options::start_tol`]: crate::Options::start_tol
-    fn touching_contacts(&self, sets: &IndexSets) -> Vec<usize> {
-        let mut eval = crate::system::Evaluation::new(&self.layout);
-        let st = &self.state;
-        self.system.evaluate(st.t, &st.q, &st.u, &mut eval);
-        let ng = self.layout.n_bilateral_position;
+    fn touching_contacts(&mut self, sets: &IndexSets) -> Vec<usize> {
+        self.state_levels();
         (0..self.off.nn)
-            .filter(|&k| sets.a[k] || eval.position[ng + k].abs() <= self.options.start_tol)
+            .filter(|&k| sets.a[k] || self.at_zero_gap(k))
             .collect()
+    }
+
+    /// Whether normal contact `k` is within [`Options::start_tol`] of zero gap at the
+    /// step's start, from the levels of the current state (`Stepper::state_levels`,
+    /// which the caller has made current).
+    ///
+    /// [`Options::start_tol`]: crate::Options::start_tol
+    pub(super) fn at_zero_gap(&self, k: usize) -> bool {
+        let gap = self.work.state_levels.position[self.off.ng + k];
+        gap.abs() <= self.options.start_tol
     }
 
     /// Fixed-set re-solves for a step whose Newton iterates cycle because a friction law

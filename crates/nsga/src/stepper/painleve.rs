@@ -106,13 +106,11 @@ impl<S: System> Stepper<S> {
                 .map(|m| m.2)
                 .sum::<f64>()
         };
-        let start_gap = &self.work.state_levels.position;
-        let tol = self.options.start_tol;
         let touching = |j: usize, k: usize| {
             if closed(&laws[j]) {
                 sets.a[k]
             } else {
-                by_gap && start_gap[o.ng + k].abs() <= tol
+                by_gap && self.at_zero_gap(k)
             }
         };
         let u = &trial.state.u;
