@@ -19,7 +19,7 @@
 //!
 //! [`Interface::support_margin`]: crate::interface::Interface::support_margin
 
-use crate::coordinates::{BodyState, Frame, Pose, Twist};
+use crate::coordinates::{BodyState, Frame, Pose, Twist, Vec2};
 use crate::corners::{frame_corners, Corner};
 use crate::gaps::Face;
 use crate::interface::{holds_given, Size, Support};
@@ -305,7 +305,11 @@ fn pair_candidates(a: &Boxed, b: &Boxed, m: f64, reach: f64, tie: f64) -> Vec<Ca
     for (x, y) in [(a, b), (b, a)] {
         for c in Corner::ALL {
             let point = x.frame.point(&c.body_offset(x.size.width, x.size.height));
-            let (face, gap) = corner_face(x, c, y, tie);
+            let (face, gap) = match flush_face(x, c, &point, y, tie) {
+                Flush::Meets(face, gap) => (face, gap),
+                Flush::Hangs => continue,
+                Flush::No => corner_face(x, c, y, tie),
+            };
             if gap >= m || face.beyond_end(&y.frame, y.size, &point) > reach + tie {
                 continue;
             }
@@ -323,6 +327,51 @@ fn pair_candidates(a: &Boxed, b: &Boxed, m: f64, reach: f64, tie: f64) -> Vec<Ca
         }
     }
     found
+}
+
+/// What a face lying flush decides for a corner ([`flush_face`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Flush {
+    /// The corner lies on that face's line within its extent: it meets that face, at
+    /// this signed distance.
+    Meets(Side, f64),
+    /// It lies on that face's line beyond its end: it hangs over the edge.
+    Hangs,
+    /// No face of its body through it lies flush on a face of the other whose line
+    /// holds it: the largest distance decides ([`Side::facing`]).
+    No,
+}
+
+/// The face of `y` that corner `c` of `x` (at `point`) meets where a face of `x` through
+/// that corner lies flush on a face F of `y` (a block lying on another or standing
+/// beside it) and the corner is on F's line (within `tie`): F within its extent, none
+/// beyond its end, where the corner hangs over the edge and the corner of `y` at that
+/// end meets x's flush face instead. The largest distance alone would pair a corner
+/// level with F just past its end with the side face of `y` there, whose line the
+/// corner, moving along F, cannot cross: a block sliding back onto a base it overhung
+/// stopped with its corner at the base's corner (crates/blockstack/tests/hard_cases.rs,
+/// `a_block_sliding_back_onto_the_base_is_not_caught_at_its_corner`).
+fn flush_face(x: &Boxed, c: Corner, point: &Vec2, y: &Boxed, tie: f64) -> Flush {
+    let normal = |b: &Boxed, s: Side| b.frame.to_world(&s.face(b.size).normal);
+    for own in Side::through(c) {
+        let n = normal(x, own);
+        let Some(side) = Side::ALL
+            .into_iter()
+            .find(|&s| normal(y, s).dot(&n) < -FLUSH)
+        else {
+            continue;
+        };
+        let distance = side.face(y.size).distance(&y.frame, point);
+        if distance.abs() > tie {
+            continue;
+        }
+        return if side.beyond_end(&y.frame, y.size, point) > tie {
+            Flush::Hangs
+        } else {
+            Flush::Meets(side, distance)
+        };
+    }
+    Flush::No
 }
 
 /// A corner contact found by the broad phase, with where its corner is.

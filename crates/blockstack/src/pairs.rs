@@ -103,6 +103,17 @@ impl Side {
         (Self::ALL[chosen], d[chosen])
     }
 
+    /// The two faces that meet at `corner` (its letters as in (G.1.1): a is top right).
+    #[must_use]
+    pub fn through(corner: Corner) -> [Side; 2] {
+        match corner {
+            Corner::A => [Side::Top, Side::Right],
+            Corner::B => [Side::Top, Side::Left],
+            Corner::C => [Side::Bottom, Side::Left],
+            Corner::D => [Side::Bottom, Side::Right],
+        }
+    }
+
     /// How far beyond the nearer end of this face of a body (with frame `frame`, of
     /// `size`) the world point `p` lies along the face (negative: within the face's
     /// extent). A corner beyond the end of a face does not touch it: the other body's
