@@ -185,13 +185,46 @@ impl Scene {
             out.push(SceneWarning::NoFloor { beyond_base });
         }
         let falling: Vec<String> = (1..=self.n_blocks())
-            .filter(|&k| self.arrangement().seats_of(k).is_empty() && !self.on_floor(k))
+            .filter(|&k| {
+                self.arrangement().seats_of(k).is_empty() && !self.on_floor(k) && !self.on_a_body(k)
+            })
             .map(|k| self.body_label(crate::overlap::Body::Block(k)))
             .collect();
         if !falling.is_empty() {
             out.push(SceneWarning::RestsOnNothing { blocks: falling });
         }
         out
+    }
+
+    /// Whether block k (1-based) starts with its lowest point on the highest point of
+    /// another body (the base or a block, within `REST_TOL` of its height) and over that
+    /// body along a positive length: a block lying on its side across others, which has
+    /// no interface (those join faces turned by less than 90°) but rests on them
+    /// through corner contacts. Both bodies' extents are their corners' ranges at t = 0.
+    fn on_a_body(&self, k: usize) -> bool {
+        let extent = |j: usize| {
+            let pose = if j == 0 {
+                self.base().state(0.0).pose
+            } else {
+                self.blocks()[j - 1].initial
+            };
+            let size = self.size(j);
+            let c = crate::corners::corners(&pose, size.width, size.height);
+            let range = |f: fn(&crate::coordinates::Vec2) -> f64| {
+                c.iter()
+                    .map(f)
+                    .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), v| {
+                        (lo.min(v), hi.max(v))
+                    })
+            };
+            (range(|v| v.x), range(|v| v.y))
+        };
+        let ((left, right), (low, _)) = extent(k);
+        let tol = crate::arrangement::REST_TOL * self.size(k).height;
+        (0..=self.n_blocks()).filter(|&j| j != k).any(|j| {
+            let ((l, r), (_, top)) = extent(j);
+            (low - top).abs() <= tol && left.max(l) < right.min(r)
+        })
     }
 
     /// Whether block k (1-based) starts with its lowest corner on the floor.

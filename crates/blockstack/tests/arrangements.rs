@@ -263,6 +263,32 @@ fn on_places_a_block_on_named_bodies() {
     assert!(e.contains("[[blocks]] entry 1 on: names no body"), "{e}");
 }
 
+/// Blocks lying on their sides on other lying blocks (examples/scenes/pile-at-rest.toml:
+/// three stacked, and one across two) have no interface there (blocks 2, 3 and 6), but
+/// they rest on those blocks through corner contacts: no warning that they fall (it
+/// named blocks 2, 3 and 6), and they do not move.
+#[test]
+fn blocks_lying_across_others_rest_on_them() {
+    let path = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../examples/scenes/pile-at-rest.toml"
+    );
+    let scene = Scene::from_toml(&std::fs::read_to_string(path).unwrap()).unwrap();
+    for k in [2, 3, 6] {
+        assert!(scene.arrangement().seats_of(k).is_empty(), "block {k}");
+    }
+    assert!(scene.warnings().is_empty(), "{:?}", scene.warnings());
+    let y0 = scene.initial_coordinates();
+    let summary = run(&scene, 1.0, |_| {});
+    for (k, pose) in summary.final_poses.iter().enumerate() {
+        assert!(
+            (pose.y - y0[3 * k + 1]).abs() < 1e-9,
+            "block {}: {pose:?}",
+            k + 1
+        );
+    }
+}
+
 /// A block given a height in the air rests on nothing: no interface, a warning that says
 /// it falls, and no support event (it had none to lose).
 #[test]
