@@ -11,11 +11,12 @@
 //! linearly dependent. At a tie of the two lowest corners, the face between them is
 //! horizontal, so their slip speeds agree and the choice is continuous.
 
-use crate::coordinates::{re, BodyState, Pose, Scalar, Twist};
+use crate::coordinates::{re, BodyState, Pose, Rotation, Scalar, Twist};
 use crate::corners::Corner;
-use crate::gaps::{CornerOnFace, Face, PairRow};
+use crate::gaps::{CornerOnFace, Face, PairRotations, PairRow};
 use crate::interface::Size;
 use crate::slip::LowerBody;
+use crate::turned::TurnedBody;
 
 /// The floor plane y = y_f.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -61,8 +62,22 @@ impl Floor {
     /// The four corner gaps and the slip of the lowest corner of a block.
     #[must_use]
     pub fn contacts<T: Scalar>(&self, block: &BodyState<T>, size: Size) -> FloorContacts<T> {
-        // The block's rotation and the floor's (θ = 0), once for the five rows.
-        let rotations = self.pair(Corner::A, block, size).rotations();
+        self.contacts_turned(&TurnedBody::of(*block), size)
+    }
+
+    /// [`Floor::contacts`] of a block whose rotation is evaluated already.
+    #[must_use]
+    pub fn contacts_turned<T: Scalar>(
+        &self,
+        turned: &TurnedBody<T>,
+        size: Size,
+    ) -> FloorContacts<T> {
+        // The block's rotation and the floor's (θ = 0: none), for the five rows.
+        let rotations = PairRotations {
+            corner: turned.rotation,
+            face: Rotation::default(),
+        };
+        let block = &turned.state;
         let gaps = Corner::ALL.map(|c| self.pair(c, block, size).gap_turned(&rotations));
         let mut lowest = 0;
         for i in 1..4 {

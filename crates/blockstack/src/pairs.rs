@@ -26,13 +26,14 @@
 //! ([`crate::broad_phase`]); how they enter the stepper, the system's
 //! ([`crate::StackSystem`]).
 
-use crate::coordinates::{re, BodyState, Frame, Scalar, Twist};
+use crate::coordinates::{re, Frame, Scalar, Twist};
 use crate::corners::Corner;
-use crate::gaps::{CornerOnFace, Face};
+use crate::gaps::{CornerOnFace, Face, PairRotations};
 use crate::interface::Size;
 use crate::overlap::Body;
 use crate::slip::LowerBody;
 use crate::stack::{pair_row, ContactRow};
+use crate::turned::TurnedBody;
 
 /// Corner `corner` of body `corner_body` against face `face` of body `face_body` (base or
 /// block; the floor has its own contacts).
@@ -154,17 +155,17 @@ impl CornerContact {
     }
 
     /// How far beyond the nearer end of its face the corner lies (real parts; negative:
-    /// within the face's extent), at the bodies' states (corner body first).
+    /// within the face's extent), with the bodies turned (corner body first).
     #[must_use]
     pub fn beyond_end<T: Scalar>(
         &self,
-        corner: &BodyState<T>,
-        face: &BodyState<T>,
+        corner: &TurnedBody<T>,
+        face: &TurnedBody<T>,
         sizes: [Size; 2],
     ) -> f64 {
         let offset = self.corner.body_offset(sizes[0].width, sizes[0].height);
-        let p = corner.pose.point(&offset).re();
-        self.face.beyond_end(&Frame::of(&face.pose), sizes[1], &p)
+        let p = corner.point(&offset).re();
+        self.face.beyond_end(&face.frame(), sizes[1], &p)
     }
 
     /// Whether this is a contact that the interface of its two bodies, with `lower` the
@@ -182,7 +183,7 @@ impl CornerContact {
 
     /// The gap and the slip speed of the contact, in the coordinates of the free blocks
     /// (W on at most two blocks; the base's prescribed motion in χ and ζ). `corner` and
-    /// `face` are the states of the two bodies, `sizes` their sizes (corner body first).
+    /// `face` are the two bodies turned, `sizes` their sizes (corner body first).
     /// The slip is the velocity of the body first in the scene's order (base, then blocks
     /// bottom to top) relative to the other, along the face's tangent, or along `along`
     /// when given (the tangent of the contact's line: the two contacts of a line, one on
@@ -190,13 +191,17 @@ impl CornerContact {
     #[must_use]
     pub fn rows<T: Scalar>(
         &self,
-        corner: &BodyState<T>,
-        face: &BodyState<T>,
+        [corner, face]: [&TurnedBody<T>; 2],
         sizes: [Size; 2],
         base_acc: &Twist<T>,
         along: Option<&crate::coordinates::Vec2<T>>,
     ) -> (ContactRow<T>, ContactRow<T>) {
         let face_geometry = self.face.face(sizes[1]);
+        let rotations = PairRotations {
+            corner: corner.rotation,
+            face: face.rotation,
+        };
+        let (corner, face) = (&corner.state, &face.state);
         let pair = CornerOnFace {
             corner_body: *corner,
             corner: self.corner.body_offset(sizes[0].width, sizes[0].height),
@@ -214,7 +219,6 @@ impl CornerContact {
         } else {
             LowerBody::Face
         };
-        let rotations = pair.rotations();
         let mut slip = pair.slip_turned(lower, &rotations);
         if let Some(t) = along {
             let tangent = rotations.face.apply(&face_geometry.tangent);
@@ -286,7 +290,7 @@ pub struct LineContacts {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::coordinates::Vec2;
+    use crate::coordinates::{BodyState, Vec2};
     use crate::gaps::tests::{fd_oracle, state};
 
     fn contact(corner: Corner, face: Side) -> CornerContact {
@@ -309,10 +313,16 @@ mod tests {
         },
     ];
 
+    /// The gap and slip rows of contact `c` of A on B, with a base at rest.
+    fn rows_of(c: CornerContact, a: &BodyState, b: &BodyState) -> (ContactRow, ContactRow) {
+        let zero = Twist::new(0.0, 0.0, 0.0);
+        let turned = [a, b].map(|s| TurnedBody::of(*s));
+        c.rows([&turned[0], &turned[1]], SIZES, &zero, None)
+    }
+
     /// The gap of corner `c` of A against face `side` of B.
     fn gap_of(c: Corner, side: Side, a: &BodyState, b: &BodyState) -> f64 {
-        let zero = Twist::new(0.0, 0.0, 0.0);
-        contact(c, side).rows(a, b, SIZES, &zero, None).0.value
+        rows_of(contact(c, side), a, b).0.value
     }
 
     /// The side that corner `c` of A meets, and its distance.
@@ -349,10 +359,9 @@ mod tests {
         let mut seen = Vec::new();
         for (x, y) in [(0.0, 0.3), (0.05, -0.3), (0.4, 0.1), (-0.5, 0.0)] {
             let a = state(x, y, 0.3, 0.7, -0.4, 1.1);
-            let zero = Twist::new(0.0, 0.0, 0.0);
             let (side, _) = facing(Corner::B, &a, &b);
             seen.push(side);
-            let (gap, slip) = contact(Corner::B, side).rows(&a, &b, SIZES, &zero, None);
+            let (gap, slip) = rows_of(contact(Corner::B, side), &a, &b);
             let (wa, wb, second) = fd_oracle(&|a, b| gap_of(Corner::B, side, a, b), &a, &b);
             let w: Vec<(usize, f64)> = gap.w.iter().collect();
             for i in 0..3 {
@@ -365,16 +374,14 @@ mod tests {
             let moving =
                 |s: &BodyState, v: Vec2, w: f64| BodyState::new(s.pose, Twist::new(v.x, v.y, w));
             let v = Vec2::new(0.3, -0.2);
-            let (_, together) = contact(Corner::B, side).rows(
+            let (_, together) = rows_of(
+                contact(Corner::B, side),
                 &moving(&a, v, 0.0),
                 &moving(&b, v, 0.0),
-                SIZES,
-                &zero,
-                None,
             );
             assert!(together.value.abs() < 1e-15, "{}", together.value);
             let still = moving(&b, Vec2::new(0.0, 0.0), 0.0);
-            let (_, alone) = contact(Corner::B, side).rows(&a, &still, SIZES, &zero, None);
+            let (_, alone) = rows_of(contact(Corner::B, side), &a, &still);
             let p = a.pose.to_world(&Corner::B.body_offset(0.2, 0.4));
             let speed = a.twist.point_velocity(&p);
             // W_F on A is σ (t, ⊥p·t): read the face tangent t from it.

@@ -26,13 +26,14 @@
 //! joins ([`Scene::contact_between`]). Each row touches at most two bodies, so exact
 //! sparse Jacobians can be formed row by row.
 
-use crate::coordinates::{BodyState, Frame, Pose, Rotation, Scalar, Twist};
+use crate::coordinates::{BodyState, Frame, Pose, Scalar, Twist};
 use crate::floor::FloorContacts;
 use crate::gaps::PairRow;
 use crate::interface::{Interface, InterfaceContacts};
 use crate::overlap::Body as SceneBody;
 use crate::pairs::body_index;
 use crate::scene::Scene;
+use crate::turned::{TurnedBodies, TurnedBody};
 
 /// A column of W with at most six nonzero entries (two bodies × (x, y, θ)).
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
@@ -126,20 +127,24 @@ pub struct StackContacts<T = f64> {
     pub interfaces: Vec<InterfaceContacts<T>>,
     /// Per block, the floor detail (empty without a floor).
     pub floor: Vec<FloorContacts<T>>,
+    /// The base and the blocks, each turned once for all the rows above (and for the
+    /// corner contacts of the system's slots, which read them from here).
+    pub bodies: TurnedBodies<T>,
 }
 
-impl<T> Default for StackContacts<T> {
+impl<T: Scalar> Default for StackContacts<T> {
     fn default() -> Self {
         Self {
             normals: Vec::new(),
             slips: Vec::new(),
             interfaces: Vec::new(),
             floor: Vec::new(),
+            bodies: TurnedBodies::default(),
         }
     }
 }
 
-impl<T> StackContacts<T> {
+impl<T: Scalar> StackContacts<T> {
     /// Empty buffers sized for the contacts of `scene`, so that filling them allocates
     /// once per list (the system's evaluation, generic over the scalar, cannot keep a
     /// buffer between calls).
@@ -152,11 +157,10 @@ impl<T> StackContacts<T> {
             slips: Vec::with_capacity(m + floors),
             interfaces: Vec::with_capacity(m),
             floor: Vec::with_capacity(floors),
+            bodies: TurnedBodies::default(),
         }
     }
-}
 
-impl<T: Scalar> StackContacts<T> {
     /// The smallest gap (real part) among the contacts that can close (`None` if none can).
     #[must_use]
     pub fn min_gap(&self) -> Option<f64> {
@@ -298,34 +302,26 @@ impl Scene {
             q.len() >= 3 * n && u.len() >= 3 * n,
             "q and u need 3 entries per block"
         );
-        let base = BodyState::lift(&self.base().state(t));
-        let base_acc = Twist::lift(&self.base().acceleration(t));
-        // States read on the fly from q and u: no allocation per call.
-        let block = |k: usize| block_state(q, u, k);
         out.normals.clear();
         out.slips.clear();
         out.interfaces.clear();
         out.floor.clear();
-        // Each body turned once where it can be: a column's block is the upper body of
-        // one interface and the lower of the next, a lintel the upper body of two (in a
+        // Each body turned once, for all its rows (a column's block is the upper body of
+        // one interface and the lower of the next, a lintel the upper body of two; in a
         // derivative pass, with the same directions in each).
-        let mut last: Option<(SceneBody, Rotation<T>, SceneBody, Rotation<T>)> = None;
+        out.bodies.fill(self, t, q, u);
+        let bodies = &out.bodies;
         for (k, seat) in self.arrangement().seats().iter().enumerate() {
-            let (lower_body, lower) = match seat.lower {
-                SceneBody::Block(i) => (Body::Block(i - 1), block(i - 1)),
-                _ => (Body::Base, base),
+            let lower_body = match seat.lower {
+                SceneBody::Block(i) => Body::Block(i - 1),
+                _ => Body::Base,
             };
-            let upper_body = SceneBody::Block(seat.upper);
-            let upper = block(seat.upper - 1);
-            let turned = |b: SceneBody, state: &BodyState<T>| match last {
-                Some((l, r, _, _)) if l == b => r,
-                Some((_, _, u, r)) if u == b => r,
-                _ => state.pose.rotation(),
-            };
-            let rotations = (turned(seat.lower, &lower), turned(upper_body, &upper));
-            last = Some((seat.lower, rotations.0, upper_body, rotations.1));
-            let bodies = [(lower_body, &lower), (Body::Block(seat.upper - 1), &upper)];
-            let (c, gaps, slip) = self.interface_rows(k, bodies, rotations, &base_acc, holds);
+            let upper_body = Body::Block(seat.upper - 1);
+            let turned = [
+                (lower_body, bodies.get(seat.lower)),
+                (upper_body, bodies.block(seat.upper - 1)),
+            ];
+            let (c, gaps, slip) = self.interface_rows(k, turned, bodies.base_acceleration(), holds);
             out.normals.extend(gaps);
             out.slips.push(slip);
             out.interfaces.push(c);
@@ -342,7 +338,7 @@ impl Scene {
                     });
                     continue;
                 }
-                let c = floor.contacts(&block(i), self.size(i + 1));
+                let c = floor.contacts_turned(bodies.block(i), self.size(i + 1));
                 for g in &c.gaps {
                     out.normals.push(Some(single(g, i)));
                 }
@@ -352,17 +348,18 @@ impl Scene {
         }
     }
 
-    /// Interface k of the lower and upper bodies with their states and rotations (see
+    /// Interface k of the lower and upper bodies, turned (see
     /// [`Scene::contacts_into_with_floor`] for `holds`): its contacts, its two gap rows
     /// (`None` where its gaps do not hold the contact) and its slip row.
     fn interface_rows<T: Scalar>(
         &self,
         k: usize,
-        [(lower_body, lower), (upper_body, upper)]: [(Body, &BodyState<T>); 2],
-        rotations: (Rotation<T>, Rotation<T>),
+        [(lower_body, lower), (upper_body, upper)]: [(Body, &TurnedBody<T>); 2],
         base_acc: &Twist<T>,
         holds: Option<&[bool]>,
     ) -> InterfaceRows<T> {
+        let rotations = (lower.rotation, upper.rotation);
+        let (lower, upper) = (&lower.state, &upper.state);
         let c = self.interface(k).contacts_turned(lower, upper, rotations);
         let fold = |row: &PairRow<T>| fold_pair(row, lower_body, lower, base_acc, upper_body);
         let holds = holds_contact(holds, k, &c);
@@ -392,9 +389,11 @@ impl Scene {
             SceneBody::Block(i) => (Body::Block(i - 1), lower),
             _ => (Body::Base, &base),
         };
-        let bodies = [(lower_body, lower), (Body::Block(seat.upper - 1), upper)];
-        let rotations = (lower.pose.rotation(), upper.pose.rotation());
-        let (_, gaps, slip) = self.interface_rows(k, bodies, rotations, &base_acc, holds);
+        let bodies = [
+            (lower_body, &TurnedBody::of(*lower)),
+            (Body::Block(seat.upper - 1), &TurnedBody::of(*upper)),
+        ];
+        let (_, gaps, slip) = self.interface_rows(k, bodies, &base_acc, holds);
         (gaps, slip)
     }
 

@@ -37,7 +37,8 @@ use crate::coordinates::{BodyState, Pose, Twist};
 use crate::overlap::Body;
 use crate::pairs::{body_index, free_block, CornerContact, LineContacts, LineKind};
 use crate::scene::{ContactParams, Scene};
-use crate::stack::{block_state, holds_contact, ContactRow, StackContacts};
+use crate::stack::{holds_contact, ContactRow, StackContacts};
+use crate::turned::TurnedBody;
 use nsga::{Derivatives, Evaluation, FrictionLaw, Layout, Probes, Scalar, System};
 use num_dual::DualSVec64;
 use std::cell::RefCell;
@@ -340,13 +341,14 @@ impl StackSystem {
     }
 
     /// The gap rows of a slot's contacts and the slip of its friction law, with the
-    /// bodies' states from `state`; `None` when the line's bodies are neighbours whose
-    /// interface supports the upper one and the interface's gaps hold all its contacts.
-    fn slot_rows<T: Scalar>(
+    /// bodies turned as `turned` gives them and the base's acceleration `base_acc`;
+    /// `None` when the line's bodies are neighbours whose interface supports the upper
+    /// one and the interface's gaps hold all its contacts.
+    fn slot_rows<'b, T: Scalar + 'b>(
         &self,
         line: &LineContacts,
-        t: f64,
-        state: impl Fn(Body) -> BodyState<T>,
+        turned: impl Fn(Body) -> &'b TurnedBody<T>,
+        base_acc: &Twist<T>,
         interfaces: &[crate::interface::InterfaceContacts<T>],
     ) -> Option<SlotRows<T>> {
         // While the interface supports, it holds the corners it measures (ℓ_a…ℓ_d of
@@ -360,7 +362,7 @@ impl StackSystem {
         // corner on the face's line beyond the body.
         let on_face = |c: &CornerContact| {
             let sizes = [size(c.corner_body), size(c.face_body)];
-            c.beyond_end(&state(c.corner_body), &state(c.face_body), sizes) <= self.end_tol
+            c.beyond_end(turned(c.corner_body), turned(c.face_body), sizes) <= self.end_tol
         };
         let contacts = line.contacts.map(|c| {
             c.filter(|c| {
@@ -370,21 +372,19 @@ impl StackSystem {
         if contacts.iter().all(Option::is_none) {
             return None;
         }
-        let base_acc = Twist::lift(&self.scene.base().acceleration(t));
         let along = match line.line.kind {
             LineKind::Face(side) => {
-                let lo = state(line.line.lo);
-                Some(lo.pose.to_world(&side.face(size(line.line.lo)).tangent))
+                let lo = turned(line.line.lo);
+                Some(lo.rotation.apply(&side.face(size(line.line.lo)).tangent))
             }
             LineKind::Corner(..) => None,
         };
         let rows = contacts.map(|c| {
             c.map(|c| {
                 c.rows(
-                    &state(c.corner_body),
-                    &state(c.face_body),
+                    [turned(c.corner_body), turned(c.face_body)],
                     [size(c.corner_body), size(c.face_body)],
-                    &base_acc,
+                    base_acc,
                     along.as_ref(),
                 )
             })
@@ -612,13 +612,13 @@ impl StackSystem {
         for (j, row) in c.slips.iter().enumerate() {
             put_slip(row, j, out);
         }
-        let block = |i: usize| block_state(q, u, i);
         for (s, line) in self.slots.iter().enumerate() {
             let (normals, law) = self.slot_contacts(s);
-            let state = |b| self.body_state(t, b, block);
-            let rows = line
-                .as_ref()
-                .and_then(|l| self.slot_rows(l, t, state, &c.interfaces));
+            let bodies = &c.bodies;
+            let rows = line.as_ref().and_then(|l| {
+                let turned = |b| bodies.get(b);
+                self.slot_rows(l, turned, bodies.base_acceleration(), &c.interfaces)
+            });
             let Some(rows) = rows else {
                 for i in normals {
                     out.position[i] = T::from(UNSUPPORTED_GAP);
@@ -689,6 +689,8 @@ impl StackSystem {
         interfaces: &[crate::interface::InterfaceContacts<Directions>],
         out: &mut Derivatives,
     ) {
+        let base = BodyState::lift(&self.scene.base().state(t));
+        let base_acc = Twist::lift(&self.scene.base().acceleration(t));
         for (slot, line) in self.slots.iter().enumerate() {
             let Some(line) = line else { continue };
             let (normals, law) = self.slot_contacts(slot);
@@ -698,11 +700,13 @@ impl StackSystem {
                 continue;
             }
             let bodies = [line.line.lo, line.line.hi];
-            let state = |b: Body| {
-                let role = usize::from(b == bodies[1]);
-                self.body_state(t, b, |k| seeded(q, u, k, role))
-            };
-            let Some(rows) = self.slot_rows(line, t, state, interfaces) else {
+            // Each body seeded on its role's directions and turned once for the slot.
+            let pair = [0, 1].map(|role| {
+                let state = free_block(bodies[role]).map_or(base, |k| seeded(q, u, k, role));
+                TurnedBody::of(state)
+            });
+            let turned = |b: Body| &pair[usize::from(b == bodies[1])];
+            let Some(rows) = self.slot_rows(line, turned, &base_acc, interfaces) else {
                 continue;
             };
             rows_derivatives(&rows, bodies, (normals, law), (used, use_v), u, probes, out);
@@ -842,7 +846,7 @@ fn gap_derivatives(
         |k| probes.dynamics[k].1,
         &mut out.dynamics_q,
         &mut PositionRows {
-            value: &mut out.position_q,
+            value: Some(&mut out.position_q),
             rate: &mut out.position_rate_q,
             accel: &mut out.position_accel_q,
         },
@@ -863,7 +867,6 @@ fn slip_derivatives(
     probes: &Probes<'_>,
     out: &mut Derivatives,
 ) {
-    let mut unused = nsga::Triplets::default();
     q_row(
         row,
         dq,
@@ -874,7 +877,7 @@ fn slip_derivatives(
         |k| probes.dynamics[k].2,
         &mut out.dynamics_q,
         &mut PositionRows {
-            value: &mut unused,
+            value: None,
             rate: &mut out.velocity_q,
             accel: &mut out.velocity_accel_q,
         },
@@ -882,9 +885,10 @@ fn slip_derivatives(
     push_nonzero(&mut out.velocity_accel_u, i, j, part(&row.zeta, du));
 }
 
-/// Where the q-derivatives of one constraint family go.
+/// Where the q-derivatives of one constraint family go (`value`: none for the velocity
+/// family, whose "value" v = Wᵀu + χ is formed by the stepper).
 struct PositionRows<'a> {
-    value: &'a mut nsga::Triplets<f64>,
+    value: Option<&'a mut nsga::Triplets<f64>>,
     rate: &'a mut [nsga::Triplets<f64>; 2],
     accel: &'a mut nsga::Triplets<f64>,
 }
@@ -916,7 +920,9 @@ fn q_row<'p>(
         rows.rate[1].push(i, j, dw * probes.u_old[r]);
         rows.accel.push(i, j, dw * probes.a[r]);
     }
-    push_nonzero(rows.value, i, j, part(&row.value, d));
+    if let Some(value) = rows.value.as_deref_mut() {
+        push_nonzero(value, i, j, part(&row.value, d));
+    }
     let dchi = part(&row.chi, d);
     push_nonzero(&mut rows.rate[0], i, j, dchi);
     push_nonzero(&mut rows.rate[1], i, j, dchi);
