@@ -118,6 +118,37 @@ mod tests {
         assert_eq!(c.lowest, Corner::B);
     }
 
+    /// The rows from the block's rotation evaluated once (and the floor's none) are
+    /// those of each corner's pair turning both bodies itself, to the bit, in plain and
+    /// in the derivative pass's dual numbers.
+    #[test]
+    fn turned_floor_rows_equal_each_pairs_own_to_the_bit() {
+        use crate::system::Directions;
+        let f = Floor::new(-0.05);
+        let size = Size::new(0.2, 0.4);
+        for s in [
+            state(0.1, 0.5, 2.2, 0.3, -0.7, 1.9),
+            state(-0.3, 0.2, -0.4, 0.0, 0.1, -0.6),
+        ] {
+            let c = f.contacts(&s, size);
+            for (i, corner) in Corner::ALL.into_iter().enumerate() {
+                assert_eq!(c.gaps[i], f.pair(corner, &s, size).gap());
+            }
+            assert_eq!(c.slip, f.pair(c.lowest, &s, size).slip(LowerBody::Face));
+            let d = |x: f64, k: usize| Directions::from_re(x).derivative(k);
+            let (p, v) = (s.pose, s.twist);
+            let seeded = BodyState::new(
+                Pose::new(d(p.x, 0), d(p.y, 1), d(p.theta, 2)),
+                Twist::new(d(v.vx, 6), d(v.vy, 7), d(v.omega, 8)),
+            );
+            let c = f.contacts(&seeded, size);
+            for (i, corner) in Corner::ALL.into_iter().enumerate() {
+                let own = f.pair(corner, &seeded, size).gap();
+                assert_eq!(format!("{:?}", c.gaps[i]), format!("{own:?}"));
+            }
+        }
+    }
+
     #[test]
     fn floor_rows_match_finite_differences() {
         let f = Floor::new(0.0);

@@ -95,6 +95,27 @@ pub struct ContactRow<T = f64> {
     pub zeta: T,
 }
 
+impl<T: Scalar> ContactRow<T> {
+    /// A row on no coordinate: zero value, W, χ and ζ (the slip of a law left out).
+    fn zero() -> Self {
+        Self {
+            value: T::zero(),
+            w: SparseColumn::empty(),
+            chi: T::zero(),
+            zeta: T::zero(),
+        }
+    }
+}
+
+/// A group of rows of [`Scene::contacts_into_needed`], computed or left out together.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum RowGroup {
+    /// Interface k: its gaps 2k, 2k + 1 and its friction law k.
+    Interface(usize),
+    /// The floor of block i (0-based): its four corner gaps and its friction law.
+    Floor(usize),
+}
+
 /// A body of the scene as seen by the contacts.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 enum Body {
@@ -274,26 +295,28 @@ impl Scene {
     /// # Panics
     /// When q or u is shorter than 3n.
     pub fn contacts_into<T: Scalar>(&self, t: f64, q: &[T], u: &[T], out: &mut StackContacts<T>) {
-        self.contacts_into_with_floor(t, q, u, |_| true, None, out);
+        self.contacts_into_needed(t, q, u, |_| true, None, out);
     }
 
-    /// [`Scene::contacts_into`] with the floor contacts of only the blocks `floor_of`
-    /// accepts (0-based), and with the interfaces whose gaps hold their contact given
-    /// by `holds` (one entry per interface; `None`: [`InterfaceContacts::holds`] at this
-    /// q). The numbering stays the same: a block left out gets `None` corner gaps, a
-    /// zero floor slip and no [`StackContacts::floor`] detail. For a caller that knows
-    /// those rows are not needed (a derivative pass for a Newton matrix without them),
-    /// and for the stepper's system, which decides the holding once per step
+    /// [`Scene::contacts_into`] with the rows of only the groups `needed` accepts, and
+    /// with the interfaces whose gaps hold their contact given by `holds` (one entry per
+    /// interface; `None`: [`InterfaceContacts::holds`] at this q). The numbering stays
+    /// the same: a group left out gets `None` gaps and a zero slip; a block's floor left
+    /// out has no [`StackContacts::floor`] detail, an interface left out has its
+    /// [`StackContacts::interfaces`] detail at the bodies' real parts (its cases, support
+    /// and holding exact; no derivative directions). For a caller that knows those rows
+    /// are not needed (a derivative pass for a Newton matrix without them), and for the
+    /// stepper's system, which decides the holding once per step
     /// ([`crate::system::StackSystem::hold_interfaces`]).
     ///
     /// # Panics
     /// When q or u is shorter than 3n, or `holds` has fewer than n entries.
-    pub fn contacts_into_with_floor<T: Scalar>(
+    pub fn contacts_into_needed<T: Scalar>(
         &self,
         t: f64,
         q: &[T],
         u: &[T],
-        floor_of: impl Fn(usize) -> bool,
+        needed: impl Fn(RowGroup) -> bool,
         holds: Option<&[bool]>,
         out: &mut StackContacts<T>,
     ) {
@@ -317,10 +340,20 @@ impl Scene {
                 _ => Body::Base,
             };
             let upper_body = Body::Block(seat.upper - 1);
-            let turned = [
-                (lower_body, bodies.get(seat.lower)),
-                (upper_body, bodies.block(seat.upper - 1)),
-            ];
+            let (lower, upper) = (bodies.get(seat.lower), bodies.block(seat.upper - 1));
+            if !needed(RowGroup::Interface(k)) {
+                // Only its detail, which the slots read for its holding: the real parts
+                // cost little in dual numbers without directions.
+                let (lower, upper) = (lower.real_parts(), upper.real_parts());
+                let rotations = (lower.rotation, upper.rotation);
+                let c = self.interface(k);
+                out.interfaces
+                    .push(c.contacts_turned(&lower.state, &upper.state, rotations));
+                out.normals.extend([None; 2]);
+                out.slips.push(ContactRow::zero());
+                continue;
+            }
+            let turned = [(lower_body, lower), (upper_body, upper)];
             let (c, gaps, slip) = self.interface_rows(k, turned, bodies.base_acceleration(), holds);
             out.normals.extend(gaps);
             out.slips.push(slip);
@@ -328,14 +361,9 @@ impl Scene {
         }
         if let Some(floor) = self.floor() {
             for i in 0..n {
-                if !floor_of(i) {
+                if !needed(RowGroup::Floor(i)) {
                     out.normals.extend([None; 4]);
-                    out.slips.push(ContactRow {
-                        value: T::zero(),
-                        w: SparseColumn::empty(),
-                        chi: T::zero(),
-                        zeta: T::zero(),
-                    });
+                    out.slips.push(ContactRow::zero());
                     continue;
                 }
                 let c = floor.contacts_turned(bodies.block(i), self.size(i + 1));
@@ -409,7 +437,7 @@ impl Scene {
             SceneBody::Block(i) => Frame::of(&block_state(q, u, i - 1).pose),
             _ => base,
         };
-        // Each body's frame once where it can be (as in `contacts_into_with_floor`).
+        // Each body's frame once where it can be.
         let mut last: Option<(SceneBody, Frame, SceneBody, Frame)> = None;
         self.arrangement()
             .seats()

@@ -37,7 +37,7 @@ use crate::coordinates::{BodyState, Pose, Twist};
 use crate::overlap::Body;
 use crate::pairs::{body_index, free_block, CornerContact, LineContacts, LineKind};
 use crate::scene::{ContactParams, Scene};
-use crate::stack::{holds_contact, ContactRow, StackContacts};
+use crate::stack::{holds_contact, ContactRow, RowGroup, StackContacts};
 use crate::turned::TurnedBody;
 use nsga::{Derivatives, Evaluation, FrictionLaw, Layout, Probes, Scalar, System};
 use num_dual::DualSVec64;
@@ -528,21 +528,27 @@ impl System for StackSystem {
         };
         seed(&mut s.q, q, false);
         seed(&mut s.u, u, true);
-        // The floor rows of a block (its floor law m + i and the corners bounding it) are
-        // skipped when the stepper uses none of them.
+        // The rows of an interface (its law k and the gaps bounding it) or of a block's
+        // floor (its law m + i and its corners) are skipped when the stepper uses none of
+        // them: an open contact's, pruned (a column fallen on the floor has most).
         let m = self.scene.n_interfaces();
-        let floor_used = |i: usize| {
-            probes.uses_velocity(m + i)
-                || self.laws[m + i]
+        let used = |law: usize| {
+            probes.uses_velocity(law)
+                || self.laws[law]
                     .normals
                     .iter()
                     .any(|&k| probes.uses_position(k))
         };
-        self.scene.contacts_into_with_floor(
+        let needed = |group| match group {
+            // A same-coloured interface is differentiated on its own (below).
+            RowGroup::Interface(k) => used(k) && !self.colours.same[k],
+            RowGroup::Floor(i) => used(m + i),
+        };
+        self.scene.contacts_into_needed(
             t,
             &s.q,
             &s.u,
-            floor_used,
+            needed,
             self.interface_holds.as_deref(),
             &mut s.contacts,
         );
@@ -597,7 +603,7 @@ impl StackSystem {
             out.forces[i] = T::from(h);
         }
         self.scene
-            .contacts_into_with_floor(t, q, u, |_| true, self.interface_holds.as_deref(), c);
+            .contacts_into_needed(t, q, u, |_| true, self.interface_holds.as_deref(), c);
         for (i, row) in c.normals.iter().enumerate() {
             put_row(
                 row.as_ref(),
@@ -1151,6 +1157,26 @@ mod tests {
                 None,
             ],
         )
+    }
+
+    /// The rows of an interface the stepper does not use are left out of the derivative
+    /// pass, and a slot on its two bodies still reads its holding: the rest is exact.
+    #[test]
+    fn unused_interface_rows_are_left_out_and_the_rest_is_exact() {
+        let mut sys = StackSystem::new(shaken_column(3));
+        let (b1, b2) = (Body::Block(1), Body::Block(2));
+        let beside = line(
+            b1,
+            b2,
+            LineKind::Face(Side::Top),
+            [contact(b2, Corner::C, b1, Side::Top), None],
+        );
+        sys.assign_corner_contacts(&[beside, on_base_top(3)]);
+        let layout = sys.layout();
+        // Interface 1 joins blocks 1 and 2: normals 2 and 3, law 1.
+        let unused_p: Vec<bool> = (0..layout.n_position()).map(|i| i == 2 || i == 3).collect();
+        let unused_v: Vec<bool> = (0..layout.n_velocity()).map(|i| i == 1).collect();
+        check_system(&sys, 0.4, &unused_p, &unused_v);
     }
 
     /// The stepper's evaluations reuse one set of contact lists: each must fill its

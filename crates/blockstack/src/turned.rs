@@ -12,7 +12,7 @@
 //! The rotation is [`Rotation::of`] of the body's θ, the one function every caller used
 //! before: the rows are the same to the bit.
 
-use crate::coordinates::{BodyState, Frame, Rotation, Scalar, Twist, Vec2};
+use crate::coordinates::{BodyState, Frame, Pose, Rotation, Scalar, Twist, Vec2};
 use crate::overlap::Body;
 use crate::pairs::body_index;
 use crate::scene::Scene;
@@ -41,6 +41,24 @@ impl<T: Scalar> TurnedBody<T> {
     #[must_use]
     pub fn frame(&self) -> Frame {
         Frame::turned(&self.state.pose, &self.rotation)
+    }
+
+    /// The same body at its real parts only: no derivative directions, no `sin_cos`
+    /// (each number is `T::from` its real part, the same bits).
+    #[must_use]
+    pub fn real_parts(&self) -> Self {
+        let re = |x: T| T::from(x.re());
+        let (p, v, r) = (&self.state.pose, &self.state.twist, &self.rotation);
+        Self {
+            state: BodyState::new(
+                Pose::new(re(p.x), re(p.y), re(p.theta)),
+                Twist::new(re(v.vx), re(v.vy), re(v.omega)),
+            ),
+            rotation: Rotation {
+                sin: re(r.sin),
+                cos: re(r.cos),
+            },
+        }
     }
 
     /// The point r + R(θ) ρ of the body with components ρ = (α, β), as
@@ -110,7 +128,6 @@ impl<T: Scalar> TurnedBodies<T> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::coordinates::Pose;
     use crate::scenarios::{shaking_column, Shaking};
     use num_dual::Dual64;
 
