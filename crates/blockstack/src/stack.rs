@@ -411,8 +411,8 @@ impl Scene {
         holds: Option<&[bool]>,
     ) -> ([Option<ContactRow<T>>; 2], ContactRow<T>) {
         let seat = self.arrangement().seats()[k];
-        let base = BodyState::lift(&self.base().state(t));
-        let base_acc = Twist::lift(&self.base().acceleration(t));
+        let (base, base_acc) = self.base().state_and_acceleration(t);
+        let (base, base_acc) = (BodyState::lift(&base), Twist::lift(&base_acc));
         let (lower_body, lower) = match seat.lower {
             SceneBody::Block(i) => (Body::Block(i - 1), lower),
             _ => (Body::Base, &base),

@@ -695,8 +695,8 @@ impl StackSystem {
         interfaces: &[crate::interface::InterfaceContacts<Directions>],
         out: &mut Derivatives,
     ) {
-        let base = BodyState::lift(&self.scene.base().state(t));
-        let base_acc = Twist::lift(&self.scene.base().acceleration(t));
+        let (base, base_acc) = self.scene.base().state_and_acceleration(t);
+        let (base, base_acc) = (BodyState::lift(&base), Twist::lift(&base_acc));
         for (slot, line) in self.slots.iter().enumerate() {
             let Some(line) = line else { continue };
             let (normals, law) = self.slot_contacts(slot);

@@ -95,12 +95,12 @@ impl<T: Scalar> TurnedBodies<T> {
     /// # Panics
     /// When q or u is shorter than 3n.
     pub fn fill(&mut self, scene: &Scene, t: f64, q: &[T], u: &[T]) {
+        let (base, base_acc) = scene.base().state_and_acceleration(t);
         self.bodies.clear();
-        self.bodies
-            .push(TurnedBody::of(BodyState::lift(&scene.base().state(t))));
+        self.bodies.push(TurnedBody::of(BodyState::lift(&base)));
         self.bodies
             .extend((0..scene.n_blocks()).map(|k| TurnedBody::of(block_state(q, u, k))));
-        self.base_acc = Twist::lift(&scene.base().acceleration(t));
+        self.base_acc = Twist::lift(&base_acc);
     }
 
     /// Body `b` (the base or a block; the floor is no body here).
