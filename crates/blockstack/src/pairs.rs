@@ -28,7 +28,7 @@
 
 use crate::coordinates::{re, Frame, Scalar, Twist};
 use crate::corners::Corner;
-use crate::gaps::{CornerOnFace, Face, PairRotations};
+use crate::gaps::{CornerOnFace, Face, PairRotations, PairRow};
 use crate::interface::Size;
 use crate::overlap::Body;
 use crate::slip::LowerBody;
@@ -154,18 +154,12 @@ impl CornerContact {
         )
     }
 
-    /// How far beyond the nearer end of its face the corner lies (real parts; negative:
-    /// within the face's extent), with the bodies turned (corner body first).
+    /// How far beyond the nearer end of its face the corner lies (negative: within the
+    /// face's extent), with the bodies' frames (real parts; corner body first).
     #[must_use]
-    pub fn beyond_end<T: Scalar>(
-        &self,
-        corner: &TurnedBody<T>,
-        face: &TurnedBody<T>,
-        sizes: [Size; 2],
-    ) -> f64 {
+    pub fn beyond_end(&self, [corner, face]: &[Frame; 2], sizes: [Size; 2]) -> f64 {
         let offset = self.corner.body_offset(sizes[0].width, sizes[0].height);
-        let p = corner.point(&offset).re();
-        self.face.beyond_end(&face.frame(), sizes[1], &p)
+        self.face.beyond_end(face, sizes[1], &corner.point(&offset))
     }
 
     /// Whether this is a contact that the interface of its two bodies, with `lower` the
@@ -181,39 +175,50 @@ impl CornerContact {
         )
     }
 
-    /// The gap and the slip speed of the contact, in the coordinates of the free blocks
-    /// (W on at most two blocks; the base's prescribed motion in χ and ζ). `corner` and
-    /// `face` are the two bodies turned, `sizes` their sizes (corner body first).
-    /// The slip is the velocity of the body first in the scene's order (base, then blocks
-    /// bottom to top) relative to the other, along the face's tangent, or along `along`
-    /// when given (the tangent of the contact's line: the two contacts of a line, one on
-    /// each body's face, then measure the same slip).
+    /// The gap and the slip speed of the contact ([`CornerContact::gap_row`],
+    /// [`CornerContact::slip_row`]).
     #[must_use]
     pub fn rows<T: Scalar>(
         &self,
-        [corner, face]: [&TurnedBody<T>; 2],
+        bodies: [&TurnedBody<T>; 2],
         sizes: [Size; 2],
         base_acc: &Twist<T>,
         along: Option<&crate::coordinates::Vec2<T>>,
     ) -> (ContactRow<T>, ContactRow<T>) {
-        let face_geometry = self.face.face(sizes[1]);
-        let rotations = PairRotations {
-            corner: corner.rotation,
-            face: face.rotation,
-        };
-        let (corner, face) = (&corner.state, &face.state);
-        let pair = CornerOnFace {
-            corner_body: *corner,
-            corner: self.corner.body_offset(sizes[0].width, sizes[0].height),
-            face_body: *face,
-            face: face_geometry,
-        };
-        let blocks = [free_block(self.corner_body), free_block(self.face_body)];
-        let base_vel = match (self.corner_body, self.face_body) {
-            (Body::Base, _) => corner.twist,
-            (_, Body::Base) => face.twist,
-            _ => Twist::new(T::zero(), T::zero(), T::zero()),
-        };
+        (
+            self.gap_row(bodies, sizes, base_acc),
+            self.slip_row(bodies, sizes, base_acc, along),
+        )
+    }
+
+    /// The gap of the contact, in the coordinates of the free blocks (W on at most two
+    /// blocks; the base's prescribed motion in χ and ζ). `bodies` are the corner's and
+    /// the face's bodies turned, `sizes` their sizes.
+    #[must_use]
+    pub fn gap_row<T: Scalar>(
+        &self,
+        bodies: [&TurnedBody<T>; 2],
+        sizes: [Size; 2],
+        base_acc: &Twist<T>,
+    ) -> ContactRow<T> {
+        let (pair, rotations) = self.pair(bodies, sizes);
+        self.fold(&pair.gap_turned(&rotations), bodies, base_acc)
+    }
+
+    /// The slip speed of the contact, as [`CornerContact::gap_row`]: the velocity of the
+    /// body first in the scene's order (base, then blocks bottom to top) relative to the
+    /// other, along the face's tangent, or along `along` when given (the tangent of the
+    /// contact's line: the two contacts of a line, one on each body's face, then measure
+    /// the same slip).
+    #[must_use]
+    pub fn slip_row<T: Scalar>(
+        &self,
+        bodies: [&TurnedBody<T>; 2],
+        sizes: [Size; 2],
+        base_acc: &Twist<T>,
+        along: Option<&crate::coordinates::Vec2<T>>,
+    ) -> ContactRow<T> {
+        let (pair, rotations) = self.pair(bodies, sizes);
         let lower = if body_index(self.corner_body) < body_index(self.face_body) {
             LowerBody::Corner
         } else {
@@ -221,13 +226,47 @@ impl CornerContact {
         };
         let mut slip = pair.slip_turned(lower, &rotations);
         if let Some(t) = along {
-            let tangent = rotations.face.apply(&face_geometry.tangent);
+            let tangent = rotations.face.apply(&pair.face.tangent);
             if re(tangent.dot(t)) < 0.0 {
                 slip = slip.negated();
             }
         }
-        let fold = |row| pair_row(&row, blocks, &base_vel, base_acc);
-        (fold(pair.gap_turned(&rotations)), fold(slip))
+        self.fold(&slip, bodies, base_acc)
+    }
+
+    /// The corner-on-face pairing of the contact's bodies, with their rotations.
+    fn pair<T: Scalar>(
+        &self,
+        [corner, face]: [&TurnedBody<T>; 2],
+        sizes: [Size; 2],
+    ) -> (CornerOnFace<T>, PairRotations<T>) {
+        let pair = CornerOnFace {
+            corner_body: corner.state,
+            corner: self.corner.body_offset(sizes[0].width, sizes[0].height),
+            face_body: face.state,
+            face: self.face.face(sizes[1]),
+        };
+        let rotations = PairRotations {
+            corner: corner.rotation,
+            face: face.rotation,
+        };
+        (pair, rotations)
+    }
+
+    /// A row of the pair in the coordinates of the free blocks (a base's terms in χ, ζ).
+    fn fold<T: Scalar>(
+        &self,
+        row: &PairRow<T>,
+        [corner, face]: [&TurnedBody<T>; 2],
+        base_acc: &Twist<T>,
+    ) -> ContactRow<T> {
+        let blocks = [free_block(self.corner_body), free_block(self.face_body)];
+        let base_vel = match (self.corner_body, self.face_body) {
+            (Body::Base, _) => corner.state.twist,
+            (_, Body::Base) => face.state.twist,
+            _ => Twist::new(T::zero(), T::zero(), T::zero()),
+        };
+        pair_row(row, blocks, &base_vel, base_acc)
     }
 }
 

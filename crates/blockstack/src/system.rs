@@ -362,7 +362,8 @@ impl StackSystem {
         // corner on the face's line beyond the body.
         let on_face = |c: &CornerContact| {
             let sizes = [size(c.corner_body), size(c.face_body)];
-            c.beyond_end(turned(c.corner_body), turned(c.face_body), sizes) <= self.end_tol
+            let frames = [c.corner_body, c.face_body].map(|b| turned(b).frame());
+            c.beyond_end(&frames, sizes) <= self.end_tol
         };
         let contacts = line.contacts.map(|c| {
             c.filter(|c| {
@@ -379,27 +380,19 @@ impl StackSystem {
             }
             LineKind::Corner(..) => None,
         };
-        let rows = contacts.map(|c| {
-            c.map(|c| {
-                c.rows(
-                    [turned(c.corner_body), turned(c.face_body)],
-                    [size(c.corner_body), size(c.face_body)],
-                    base_acc,
-                    along.as_ref(),
-                )
-            })
-        });
-        // The law's slip: the contact with the smaller gap, as (G.3.1).
-        let slip = match (&rows[0], &rows[1]) {
-            (Some(a), Some(b)) if re(b.0.value) < re(a.0.value) => b.1,
-            (Some(a), _) => a.1,
-            (None, Some(b)) => b.1,
+        let bodies = |c: &CornerContact| [turned(c.corner_body), turned(c.face_body)];
+        let sizes = |c: &CornerContact| [size(c.corner_body), size(c.face_body)];
+        let gaps = contacts.map(|c| c.map(|c| c.gap_row(bodies(&c), sizes(&c), base_acc)));
+        // The law's slip: the contact with the smaller gap, as (G.3.1) (the other's
+        // slip is not needed).
+        let closer = match (&gaps[0], &gaps[1]) {
+            (Some(a), Some(b)) if re(b.value) < re(a.value) => contacts[1],
+            (Some(_), _) => contacts[0],
+            (None, Some(_)) => contacts[1],
             (None, None) => return None,
-        };
-        Some(SlotRows {
-            gaps: rows.map(|r| r.map(|r| r.0)),
-            slip,
-        })
+        }?;
+        let slip = closer.slip_row(bodies(&closer), sizes(&closer), base_acc, along.as_ref());
+        Some(SlotRows { gaps, slip })
     }
 
     /// The state of a body of a corner contact: the base's prescribed one, or a block's
