@@ -112,8 +112,10 @@ impl<T: Scalar> ContactRow<T> {
 pub enum RowGroup {
     /// Interface k: its gaps 2k, 2k + 1 and its friction law k.
     Interface(usize),
-    /// The floor of block i (0-based): its four corner gaps and its friction law.
-    Floor(usize),
+    /// The floor gap of corner j (a, b, c, d) of block i (0-based).
+    FloorCorner(usize, usize),
+    /// The floor's friction law of block i (0-based).
+    FloorLaw(usize),
 }
 
 /// A body of the scene as seen by the contacts.
@@ -302,7 +304,8 @@ impl Scene {
     /// with the interfaces whose gaps hold their contact given by `holds` (one entry per
     /// interface; `None`: [`InterfaceContacts::holds`] at this q). The numbering stays
     /// the same: a group left out gets `None` gaps and a zero slip; a block's floor left
-    /// out has no [`StackContacts::floor`] detail, an interface left out has its
+    /// out in whole or in part has no [`StackContacts::floor`] detail, an interface left
+    /// out has its
     /// [`StackContacts::interfaces`] detail at the bodies' real parts (its cases, support
     /// and holding exact; no derivative directions). For a caller that knows those rows
     /// are not needed (a derivative pass for a Newton matrix without them), and for the
@@ -344,7 +347,7 @@ impl Scene {
             if !needed(RowGroup::Interface(k)) {
                 // Only its detail, which the slots read for its holding: the real parts
                 // cost little in dual numbers without directions.
-                let (lower, upper) = (lower.real_parts(), upper.real_parts());
+                let [lower, upper] = [lower, upper].map(|b| TurnedBody::lift(&b.re()));
                 let rotations = (lower.rotation, upper.rotation);
                 let c = self.interface(k);
                 out.interfaces
@@ -361,23 +364,34 @@ impl Scene {
         }
         if let Some(floor) = self.floor() {
             for i in 0..n {
-                if !needed(RowGroup::Floor(i)) {
+                let corners = [0, 1, 2, 3].map(|j| needed(RowGroup::FloorCorner(i, j)));
+                let law = needed(RowGroup::FloorLaw(i));
+                let (block, size) = (bodies.block(i), self.size(i + 1));
+                if !law && !corners.contains(&true) {
                     out.normals.extend([None; 4]);
                     out.slips.push(ContactRow::zero());
                     continue;
                 }
-                let c = floor.contacts_turned(bodies.block(i), self.size(i + 1));
-                for g in &c.gaps {
-                    out.normals.push(Some(single(g, i)));
+                if law && !corners.contains(&false) {
+                    let c = floor.contacts_turned(block, size);
+                    for g in &c.gaps {
+                        out.normals.push(Some(single(g, i)));
+                    }
+                    out.slips.push(single(&c.slip, i));
+                    out.floor.push(c);
+                    continue;
                 }
-                out.slips.push(single(&c.slip, i));
-                out.floor.push(c);
+                // Part of the block's floor rows, without the detail.
+                let (gaps, slip) = floor.rows_turned(block, size, corners, law);
+                out.normals.extend(gaps.map(|g| g.map(|g| single(&g, i))));
+                out.slips
+                    .push(slip.map_or_else(ContactRow::zero, |s| single(&s, i)));
             }
         }
     }
 
     /// Interface k of the lower and upper bodies, turned (see
-    /// [`Scene::contacts_into_with_floor`] for `holds`): its contacts, its two gap rows
+    /// [`Scene::contacts_into_needed`] for `holds`): its contacts, its two gap rows
     /// (`None` where its gaps do not hold the contact) and its slip row.
     fn interface_rows<T: Scalar>(
         &self,
@@ -401,7 +415,7 @@ impl Scene {
 
     /// The rows of interface k at time t with the given states of its lower and upper
     /// body (a derivative pass seeds them on directions of their own), with the holding
-    /// of its gaps decided by `holds` as in [`Scene::contacts_into_with_floor`]: its two
+    /// of its gaps decided by `holds` as in [`Scene::contacts_into_needed`]: its two
     /// gap rows and its slip row.
     pub(crate) fn interface_rows_at<T: Scalar>(
         &self,

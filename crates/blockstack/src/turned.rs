@@ -43,20 +43,31 @@ impl<T: Scalar> TurnedBody<T> {
         Frame::turned(&self.state.pose, &self.rotation)
     }
 
-    /// The same body at its real parts only: no derivative directions, no `sin_cos`
-    /// (each number is `T::from` its real part, the same bits).
+    /// The real parts (the same numbers, without derivative directions).
     #[must_use]
-    pub fn real_parts(&self) -> Self {
-        let re = |x: T| T::from(x.re());
+    pub fn re(&self) -> TurnedBody<f64> {
         let (p, v, r) = (&self.state.pose, &self.state.twist, &self.rotation);
-        Self {
+        TurnedBody {
             state: BodyState::new(
-                Pose::new(re(p.x), re(p.y), re(p.theta)),
-                Twist::new(re(v.vx), re(v.vy), re(v.omega)),
+                Pose::new(p.x.re(), p.y.re(), p.theta.re()),
+                Twist::new(v.vx.re(), v.vy.re(), v.omega.re()),
             ),
             rotation: Rotation {
-                sin: re(r.sin),
-                cos: re(r.cos),
+                sin: r.sin.re(),
+                cos: r.cos.re(),
+            },
+        }
+    }
+
+    /// A body of real numbers in the scalar type, without derivative directions (no
+    /// `sin_cos`: its rotation is lifted too).
+    #[must_use]
+    pub fn lift(body: &TurnedBody<f64>) -> Self {
+        Self {
+            state: BodyState::lift(&body.state),
+            rotation: Rotation {
+                sin: T::from(body.rotation.sin),
+                cos: T::from(body.rotation.cos),
             },
         }
     }
