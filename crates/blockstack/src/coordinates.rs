@@ -189,6 +189,17 @@ impl<T: Scalar> Rotation<T> {
     }
 }
 
+impl<T: Scalar> Default for Rotation<T> {
+    /// No rotation (θ = 0, the floor's): what [`Rotation::of`] gives for a zero angle, to
+    /// the bit, without the `sin_cos`.
+    fn default() -> Self {
+        Self {
+            sin: T::zero(),
+            cos: T::one(),
+        }
+    }
+}
+
 /// R(θ) (α, β) from s = sin θ and c = cos θ: a vector given on {e₁, e₂}, expressed on
 /// {E₁, E₂} (the one formula of [`Pose::to_world`] and [`Frame::point`]).
 fn rotate<T: Scalar>(s: T, c: T, body: &Vec2<f64>) -> Vec2<T> {

@@ -11,11 +11,12 @@
 //! linearly dependent. At a tie of the two lowest corners, the face between them is
 //! horizontal, so their slip speeds agree and the choice is continuous.
 
-use crate::coordinates::{re, BodyState, Pose, Scalar, Twist};
+use crate::coordinates::{re, BodyState, Pose, Rotation, Scalar, Twist};
 use crate::corners::Corner;
-use crate::gaps::{CornerOnFace, Face, PairRow};
+use crate::gaps::{CornerOnFace, Face, PairRotations, PairRow};
 use crate::interface::Size;
 use crate::slip::LowerBody;
+use crate::turned::TurnedBody;
 
 /// The floor plane y = y_f.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -61,24 +62,79 @@ impl Floor {
     /// The four corner gaps and the slip of the lowest corner of a block.
     #[must_use]
     pub fn contacts<T: Scalar>(&self, block: &BodyState<T>, size: Size) -> FloorContacts<T> {
-        // The block's rotation and the floor's (θ = 0), once for the five rows.
-        let rotations = self.pair(Corner::A, block, size).rotations();
-        let gaps = Corner::ALL.map(|c| self.pair(c, block, size).gap_turned(&rotations));
-        let mut lowest = 0;
-        for i in 1..4 {
-            if re(gaps[i].value) < re(gaps[lowest].value) {
-                lowest = i;
-            }
-        }
-        let corner = Corner::ALL[lowest];
+        self.contacts_turned(&TurnedBody::of(*block), size)
+    }
+
+    /// [`Floor::contacts`] of a block whose rotation is evaluated already.
+    #[must_use]
+    pub fn contacts_turned<T: Scalar>(
+        &self,
+        turned: &TurnedBody<T>,
+        size: Size,
+    ) -> FloorContacts<T> {
+        let gaps = Corner::ALL.map(|c| self.gap(c, turned, size));
+        let lowest = lowest(gaps.each_ref().map(|g| re(g.value)));
         FloorContacts {
             gaps,
-            lowest: corner,
-            slip: self
-                .pair(corner, block, size)
-                .slip_turned(LowerBody::Face, &rotations),
+            lowest,
+            slip: self.slip(lowest, turned, size),
         }
     }
+
+    /// The rows of [`Floor::contacts_turned`] that are asked for: the gaps of the corners
+    /// a, b, c, d whose entry in `corners` is true, and the slip if `slip` is (of the
+    /// lowest corner, chosen from the four gaps at the block's real parts: the same
+    /// numbers, without derivative directions). For a derivative pass that needs only
+    /// some of them (the closed corners of a block lying on the floor).
+    #[must_use]
+    pub fn rows_turned<T: Scalar>(
+        &self,
+        turned: &TurnedBody<T>,
+        size: Size,
+        corners: [bool; 4],
+        slip: bool,
+    ) -> ([Option<PairRow<T>>; 4], Option<PairRow<T>>) {
+        let gaps =
+            std::array::from_fn(|j| corners[j].then(|| self.gap(Corner::ALL[j], turned, size)));
+        let slip = slip.then(|| {
+            let real = turned.re();
+            let heights = Corner::ALL.map(|c| self.gap(c, &real, size).value);
+            self.slip(lowest(heights), turned, size)
+        });
+        (gaps, slip)
+    }
+
+    /// The gap of a corner of the block (the block's rotation and the floor's, θ = 0:
+    /// none).
+    fn gap<T: Scalar>(&self, corner: Corner, turned: &TurnedBody<T>, size: Size) -> PairRow<T> {
+        let pair = self.pair(corner, &turned.state, size);
+        pair.gap_turned(&on_floor(turned))
+    }
+
+    /// The slip speed −ẋ of a corner of the block.
+    fn slip<T: Scalar>(&self, corner: Corner, turned: &TurnedBody<T>, size: Size) -> PairRow<T> {
+        let pair = self.pair(corner, &turned.state, size);
+        pair.slip_turned(LowerBody::Face, &on_floor(turned))
+    }
+}
+
+/// The rotations of a block's corner on the floor: the block's, and the floor's (none).
+fn on_floor<T: Scalar>(turned: &TurnedBody<T>) -> PairRotations<T> {
+    PairRotations {
+        corner: turned.rotation,
+        face: Rotation::default(),
+    }
+}
+
+/// The lowest corner (the first of a, b, c, d at a tie) from the corners' gaps.
+fn lowest(gaps: [f64; 4]) -> Corner {
+    let mut lowest = 0;
+    for i in 1..4 {
+        if gaps[i] < gaps[lowest] {
+            lowest = i;
+        }
+    }
+    Corner::ALL[lowest]
 }
 
 #[cfg(test)]
@@ -101,6 +157,67 @@ mod tests {
         // Turned past π/2 the lowest corner changes (no flip of any test, ERRATA 23).
         let c = f.contacts(&state(0.0, 1.0, 2.0, 0.0, 0.0, 0.0), size);
         assert_eq!(c.lowest, Corner::B);
+    }
+
+    /// A block's state in the derivative pass's dual numbers, seeded on its own
+    /// directions.
+    fn seeded(s: &BodyState) -> BodyState<crate::system::Directions> {
+        let d = |x: f64, k: usize| crate::system::Directions::from_re(x).derivative(k);
+        let (p, v) = (s.pose, s.twist);
+        BodyState::new(
+            Pose::new(d(p.x, 0), d(p.y, 1), d(p.theta, 2)),
+            Twist::new(d(v.vx, 6), d(v.vy, 7), d(v.omega, 8)),
+        )
+    }
+
+    /// The rows asked for are those of all the contacts, to the bit, the slip's lowest
+    /// corner chosen from the real parts as from the dual numbers' (a tie included).
+    #[test]
+    fn rows_asked_for_equal_those_of_all_the_contacts() {
+        let f = Floor::new(-0.05);
+        let size = Size::new(0.2, 0.4);
+        let flat = std::f64::consts::FRAC_PI_2;
+        for s in [
+            state(0.1, 0.5, 2.2, 0.3, -0.7, 1.9),
+            state(-0.3, 0.2, -0.4, 0.0, 0.1, -0.6),
+            state(0.0, 0.05, flat, 0.4, 0.0, 0.3),
+        ] {
+            let turned = TurnedBody::of(seeded(&s));
+            let all = f.contacts_turned(&turned, size);
+            let (gaps, slip) = f.rows_turned(&turned, size, [true, false, false, true], true);
+            let same = |a: &PairRow<_>, b: &PairRow<_>| format!("{a:?}") == format!("{b:?}");
+            assert!(same(gaps[0].as_ref().unwrap(), &all.gaps[0]));
+            assert!(same(gaps[3].as_ref().unwrap(), &all.gaps[3]));
+            assert!(gaps[1].is_none() && gaps[2].is_none());
+            assert!(same(slip.as_ref().unwrap(), &all.slip));
+            let (gaps, slip) = f.rows_turned(&turned, size, [false; 4], false);
+            assert!(gaps.iter().all(Option::is_none) && slip.is_none());
+        }
+    }
+
+    /// The rows from the block's rotation evaluated once (and the floor's none) are
+    /// those of each corner's pair turning both bodies itself, to the bit, in plain and
+    /// in the derivative pass's dual numbers.
+    #[test]
+    fn turned_floor_rows_equal_each_pairs_own_to_the_bit() {
+        let f = Floor::new(-0.05);
+        let size = Size::new(0.2, 0.4);
+        for s in [
+            state(0.1, 0.5, 2.2, 0.3, -0.7, 1.9),
+            state(-0.3, 0.2, -0.4, 0.0, 0.1, -0.6),
+        ] {
+            let c = f.contacts(&s, size);
+            for (i, corner) in Corner::ALL.into_iter().enumerate() {
+                assert_eq!(c.gaps[i], f.pair(corner, &s, size).gap());
+            }
+            assert_eq!(c.slip, f.pair(c.lowest, &s, size).slip(LowerBody::Face));
+            let seeded = seeded(&s);
+            let c = f.contacts(&seeded, size);
+            for (i, corner) in Corner::ALL.into_iter().enumerate() {
+                let own = f.pair(corner, &seeded, size).gap();
+                assert_eq!(format!("{:?}", c.gaps[i]), format!("{own:?}"));
+            }
+        }
     }
 
     #[test]

@@ -82,6 +82,7 @@ pub mod stepping;
 pub mod studies;
 pub mod system;
 pub mod time_guard;
+pub mod turned;
 
 pub use arrangement::{Arrangement, Seat};
 pub use base::{

@@ -66,7 +66,9 @@ impl fmt::Display for Penetration {
 /// row of blocks on the floor costs O(n log n), not O(n²).
 #[must_use]
 pub fn deepest_among(bodies: &[(Body, Pose, Size)]) -> Option<Penetration> {
-    let radius = |s: &Size| 0.5 * s.width.hypot(s.height);
+    // Each body placed once for all its pairs (a body near k others was turned and its
+    // corners and radius computed k times).
+    let placed: Vec<Placed> = bodies.iter().map(|(_, p, s)| Placed::of(p, *s)).collect();
     let spread = |f: fn(&Pose) -> f64| {
         let (lo, hi) = bodies
             .iter()
@@ -82,21 +84,21 @@ pub fn deepest_among(bodies: &[(Body, Pose, Size)]) -> Option<Penetration> {
     };
     let mut order: Vec<usize> = (0..bodies.len()).collect();
     order.sort_by(|&i, &j| along(&bodies[i].1).total_cmp(&along(&bodies[j].1)));
-    let r_max = bodies.iter().map(|b| radius(&b.2)).fold(0.0, f64::max);
+    let r_max = placed.iter().map(|p| p.radius).fold(0.0, f64::max);
     let mut deepest: Option<Penetration> = None;
     for (a, &i) in order.iter().enumerate() {
-        let (bi, pi, si) = &bodies[i];
+        let ((bi, pi, _), ri) = (&bodies[i], placed[i].radius);
         for &j in &order[a + 1..] {
-            let (bj, pj, sj) = &bodies[j];
-            if along(pj) - along(pi) > radius(si) + r_max {
+            let ((bj, pj, _), rj) = (&bodies[j], placed[j].radius);
+            if along(pj) - along(pi) > ri + r_max {
                 break;
             }
-            let apart = (pi.r() - pj.r()).norm() >= radius(si) + radius(sj);
+            let apart = (pi.r() - pj.r()).norm() >= ri + rj;
             let depth = if apart {
                 // Apart by at least this much: a lower bound is enough to rank the pair.
-                radius(si) + radius(sj) - (pi.r() - pj.r()).norm()
+                ri + rj - (pi.r() - pj.r()).norm()
             } else {
-                penetration_depth((pi, *si), (pj, *sj))
+                placed[i].depth(&placed[j])
             };
             if deepest.is_none_or(|d| depth > d.depth) {
                 deepest = Some(Penetration {
@@ -165,21 +167,41 @@ pub fn deepest_penetration(scene: &Scene, t: f64, q: &[f64]) -> Penetration {
 /// separate or only touch (the value is then minus the largest separating distance).
 #[must_use]
 pub fn penetration_depth(a: (&Pose, Size), b: (&Pose, Size)) -> f64 {
-    // Each body's basis once: the corners and axes of [`corners`], [`Pose::e1`] and
-    // [`Pose::e2`], the same numbers (see [`Frame`]) for two sin_cos calls instead of twelve.
-    let (fa, fb) = (Frame::of(a.0), Frame::of(b.0));
-    let ca = frame_corners(&fa, a.1.width, a.1.height);
-    let cb = frame_corners(&fb, b.1.width, b.1.height);
-    let axes = [fa.e1, fa.e2, fb.e1, fb.e2];
-    let mut depth = f64::INFINITY;
-    for axis in &axes {
-        let (amin, amax) = extent(&ca, axis);
-        let (bmin, bmax) = extent(&cb, axis);
-        // Overlap of the two projections along this axis (negative: a gap).
-        let overlap = amax.min(bmax) - amin.max(bmin);
-        depth = depth.min(overlap);
+    Placed::of(a.0, a.1).depth(&Placed::of(b.0, b.1))
+}
+
+/// A rectangle placed at a pose, with what the separating-axis test reads of it: its
+/// basis (the axes, [`Pose::e1`] and [`Pose::e2`]: the same numbers, see [`Frame`]), its
+/// corners, and the radius of its bounding circle, each computed once.
+struct Placed {
+    frame: Frame,
+    corners: [Vec2; 4],
+    radius: f64,
+}
+
+impl Placed {
+    fn of(pose: &Pose, size: Size) -> Self {
+        let frame = Frame::of(pose);
+        Self {
+            corners: frame_corners(&frame, size.width, size.height),
+            radius: 0.5 * size.width.hypot(size.height),
+            frame,
+        }
     }
-    depth
+
+    /// [`penetration_depth`] of this rectangle and `other`.
+    fn depth(&self, other: &Self) -> f64 {
+        let axes = [self.frame.e1, self.frame.e2, other.frame.e1, other.frame.e2];
+        let mut depth = f64::INFINITY;
+        for axis in &axes {
+            let (amin, amax) = extent(&self.corners, axis);
+            let (bmin, bmax) = extent(&other.corners, axis);
+            // Overlap of the two projections along this axis (negative: a gap).
+            let overlap = amax.min(bmax) - amin.max(bmin);
+            depth = depth.min(overlap);
+        }
+        depth
+    }
 }
 
 fn extent(points: &[Vec2; 4], axis: &Vec2) -> (f64, f64) {
@@ -245,6 +267,35 @@ mod tests {
         q[1] -= 0.1;
         let deepest = deepest_among(&scene_bodies(&scene, 0.0, &q)).unwrap();
         assert!((deepest.depth - 0.1).abs() < 1e-12, "{deepest:?}");
+    }
+
+    /// The deepest penetration among bodies placed once each is the deepest of the
+    /// pairs' own penetration depths, to the bit.
+    #[test]
+    fn the_deepest_among_bodies_is_the_deepest_pair() {
+        let s = Size::new(1.0, 0.2);
+        let bodies = [
+            (Body::Base, Pose::new(0.0, 0.0, 0.0), Size::new(2.0, 0.1)),
+            (Body::Block(1), Pose::new(0.1, 0.149, 0.01), s),
+            (Body::Block(2), Pose::new(0.3, 0.35, -0.3), s),
+            (Body::Block(3), Pose::new(-0.2, 0.5, 0.2), s),
+        ];
+        let deepest = deepest_among(&bodies).unwrap();
+        let mut pairs = Vec::new();
+        for (i, a) in bodies.iter().enumerate() {
+            for b in &bodies[i + 1..] {
+                pairs.push((penetration_depth((&a.1, a.2), (&b.1, b.2)), a.0, b.0));
+            }
+        }
+        let best = pairs
+            .iter()
+            .fold(pairs[0], |m, p| if p.0 > m.0 { *p } else { m });
+        assert_eq!(deepest.depth, best.0);
+        let pair = [deepest.first, deepest.second];
+        assert!(
+            pair.contains(&best.1) && pair.contains(&best.2),
+            "{deepest:?}"
+        );
     }
 
     #[test]

@@ -26,13 +26,14 @@
 //! ([`crate::broad_phase`]); how they enter the stepper, the system's
 //! ([`crate::StackSystem`]).
 
-use crate::coordinates::{re, BodyState, Frame, Scalar, Twist};
+use crate::coordinates::{re, Frame, Scalar, Twist};
 use crate::corners::Corner;
-use crate::gaps::{CornerOnFace, Face};
+use crate::gaps::{CornerOnFace, Face, PairRotations, PairRow};
 use crate::interface::Size;
 use crate::overlap::Body;
 use crate::slip::LowerBody;
 use crate::stack::{pair_row, ContactRow};
+use crate::turned::TurnedBody;
 
 /// Corner `corner` of body `corner_body` against face `face` of body `face_body` (base or
 /// block; the floor has its own contacts).
@@ -164,18 +165,12 @@ impl CornerContact {
         )
     }
 
-    /// How far beyond the nearer end of its face the corner lies (real parts; negative:
-    /// within the face's extent), at the bodies' states (corner body first).
+    /// How far beyond the nearer end of its face the corner lies (negative: within the
+    /// face's extent), with the bodies' frames (real parts; corner body first).
     #[must_use]
-    pub fn beyond_end<T: Scalar>(
-        &self,
-        corner: &BodyState<T>,
-        face: &BodyState<T>,
-        sizes: [Size; 2],
-    ) -> f64 {
+    pub fn beyond_end(&self, [corner, face]: &[Frame; 2], sizes: [Size; 2]) -> f64 {
         let offset = self.corner.body_offset(sizes[0].width, sizes[0].height);
-        let p = corner.pose.point(&offset).re();
-        self.face.beyond_end(&Frame::of(&face.pose), sizes[1], &p)
+        self.face.beyond_end(face, sizes[1], &corner.point(&offset))
     }
 
     /// Whether this is a contact that the interface of its two bodies, with `lower` the
@@ -191,50 +186,98 @@ impl CornerContact {
         )
     }
 
-    /// The gap and the slip speed of the contact, in the coordinates of the free blocks
-    /// (W on at most two blocks; the base's prescribed motion in χ and ζ). `corner` and
-    /// `face` are the states of the two bodies, `sizes` their sizes (corner body first).
-    /// The slip is the velocity of the body first in the scene's order (base, then blocks
-    /// bottom to top) relative to the other, along the face's tangent, or along `along`
-    /// when given (the tangent of the contact's line: the two contacts of a line, one on
-    /// each body's face, then measure the same slip).
+    /// The gap and the slip speed of the contact ([`CornerContact::gap_row`],
+    /// [`CornerContact::slip_row`]).
     #[must_use]
     pub fn rows<T: Scalar>(
         &self,
-        corner: &BodyState<T>,
-        face: &BodyState<T>,
+        bodies: [&TurnedBody<T>; 2],
         sizes: [Size; 2],
         base_acc: &Twist<T>,
         along: Option<&crate::coordinates::Vec2<T>>,
     ) -> (ContactRow<T>, ContactRow<T>) {
-        let face_geometry = self.face.face(sizes[1]);
-        let pair = CornerOnFace {
-            corner_body: *corner,
-            corner: self.corner.body_offset(sizes[0].width, sizes[0].height),
-            face_body: *face,
-            face: face_geometry,
-        };
-        let blocks = [free_block(self.corner_body), free_block(self.face_body)];
-        let base_vel = match (self.corner_body, self.face_body) {
-            (Body::Base, _) => corner.twist,
-            (_, Body::Base) => face.twist,
-            _ => Twist::new(T::zero(), T::zero(), T::zero()),
-        };
+        (
+            self.gap_row(bodies, sizes, base_acc),
+            self.slip_row(bodies, sizes, base_acc, along),
+        )
+    }
+
+    /// The gap of the contact, in the coordinates of the free blocks (W on at most two
+    /// blocks; the base's prescribed motion in χ and ζ). `bodies` are the corner's and
+    /// the face's bodies turned, `sizes` their sizes.
+    #[must_use]
+    pub fn gap_row<T: Scalar>(
+        &self,
+        bodies: [&TurnedBody<T>; 2],
+        sizes: [Size; 2],
+        base_acc: &Twist<T>,
+    ) -> ContactRow<T> {
+        let (pair, rotations) = self.pair(bodies, sizes);
+        self.fold(&pair.gap_turned(&rotations), bodies, base_acc)
+    }
+
+    /// The slip speed of the contact, as [`CornerContact::gap_row`]: the velocity of the
+    /// body first in the scene's order (base, then blocks bottom to top) relative to the
+    /// other, along the face's tangent, or along `along` when given (the tangent of the
+    /// contact's line: the two contacts of a line, one on each body's face, then measure
+    /// the same slip).
+    #[must_use]
+    pub fn slip_row<T: Scalar>(
+        &self,
+        bodies: [&TurnedBody<T>; 2],
+        sizes: [Size; 2],
+        base_acc: &Twist<T>,
+        along: Option<&crate::coordinates::Vec2<T>>,
+    ) -> ContactRow<T> {
+        let (pair, rotations) = self.pair(bodies, sizes);
         let lower = if body_index(self.corner_body) < body_index(self.face_body) {
             LowerBody::Corner
         } else {
             LowerBody::Face
         };
-        let rotations = pair.rotations();
         let mut slip = pair.slip_turned(lower, &rotations);
         if let Some(t) = along {
-            let tangent = rotations.face.apply(&face_geometry.tangent);
+            let tangent = rotations.face.apply(&pair.face.tangent);
             if re(tangent.dot(t)) < 0.0 {
                 slip = slip.negated();
             }
         }
-        let fold = |row| pair_row(&row, blocks, &base_vel, base_acc);
-        (fold(pair.gap_turned(&rotations)), fold(slip))
+        self.fold(&slip, bodies, base_acc)
+    }
+
+    /// The corner-on-face pairing of the contact's bodies, with their rotations.
+    fn pair<T: Scalar>(
+        &self,
+        [corner, face]: [&TurnedBody<T>; 2],
+        sizes: [Size; 2],
+    ) -> (CornerOnFace<T>, PairRotations<T>) {
+        let pair = CornerOnFace {
+            corner_body: corner.state,
+            corner: self.corner.body_offset(sizes[0].width, sizes[0].height),
+            face_body: face.state,
+            face: self.face.face(sizes[1]),
+        };
+        let rotations = PairRotations {
+            corner: corner.rotation,
+            face: face.rotation,
+        };
+        (pair, rotations)
+    }
+
+    /// A row of the pair in the coordinates of the free blocks (a base's terms in χ, ζ).
+    fn fold<T: Scalar>(
+        &self,
+        row: &PairRow<T>,
+        [corner, face]: [&TurnedBody<T>; 2],
+        base_acc: &Twist<T>,
+    ) -> ContactRow<T> {
+        let blocks = [free_block(self.corner_body), free_block(self.face_body)];
+        let base_vel = match (self.corner_body, self.face_body) {
+            (Body::Base, _) => corner.state.twist,
+            (_, Body::Base) => face.state.twist,
+            _ => Twist::new(T::zero(), T::zero(), T::zero()),
+        };
+        pair_row(row, blocks, &base_vel, base_acc)
     }
 }
 
@@ -297,7 +340,7 @@ pub struct LineContacts {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::coordinates::Vec2;
+    use crate::coordinates::{BodyState, Vec2};
     use crate::gaps::tests::{fd_oracle, state};
 
     fn contact(corner: Corner, face: Side) -> CornerContact {
@@ -320,10 +363,16 @@ mod tests {
         },
     ];
 
+    /// The gap and slip rows of contact `c` of A on B, with a base at rest.
+    fn rows_of(c: CornerContact, a: &BodyState, b: &BodyState) -> (ContactRow, ContactRow) {
+        let zero = Twist::new(0.0, 0.0, 0.0);
+        let turned = [a, b].map(|s| TurnedBody::of(*s));
+        c.rows([&turned[0], &turned[1]], SIZES, &zero, None)
+    }
+
     /// The gap of corner `c` of A against face `side` of B.
     fn gap_of(c: Corner, side: Side, a: &BodyState, b: &BodyState) -> f64 {
-        let zero = Twist::new(0.0, 0.0, 0.0);
-        contact(c, side).rows(a, b, SIZES, &zero, None).0.value
+        rows_of(contact(c, side), a, b).0.value
     }
 
     /// The side that corner `c` of A meets, and its distance.
@@ -360,10 +409,9 @@ mod tests {
         let mut seen = Vec::new();
         for (x, y) in [(0.0, 0.3), (0.05, -0.3), (0.4, 0.1), (-0.5, 0.0)] {
             let a = state(x, y, 0.3, 0.7, -0.4, 1.1);
-            let zero = Twist::new(0.0, 0.0, 0.0);
             let (side, _) = facing(Corner::B, &a, &b);
             seen.push(side);
-            let (gap, slip) = contact(Corner::B, side).rows(&a, &b, SIZES, &zero, None);
+            let (gap, slip) = rows_of(contact(Corner::B, side), &a, &b);
             let (wa, wb, second) = fd_oracle(&|a, b| gap_of(Corner::B, side, a, b), &a, &b);
             let w: Vec<(usize, f64)> = gap.w.iter().collect();
             for i in 0..3 {
@@ -376,16 +424,14 @@ mod tests {
             let moving =
                 |s: &BodyState, v: Vec2, w: f64| BodyState::new(s.pose, Twist::new(v.x, v.y, w));
             let v = Vec2::new(0.3, -0.2);
-            let (_, together) = contact(Corner::B, side).rows(
+            let (_, together) = rows_of(
+                contact(Corner::B, side),
                 &moving(&a, v, 0.0),
                 &moving(&b, v, 0.0),
-                SIZES,
-                &zero,
-                None,
             );
             assert!(together.value.abs() < 1e-15, "{}", together.value);
             let still = moving(&b, Vec2::new(0.0, 0.0), 0.0);
-            let (_, alone) = contact(Corner::B, side).rows(&a, &still, SIZES, &zero, None);
+            let (_, alone) = rows_of(contact(Corner::B, side), &a, &still);
             let p = a.pose.to_world(&Corner::B.body_offset(0.2, 0.4));
             let speed = a.twist.point_velocity(&p);
             // W_F on A is σ (t, ⊥p·t): read the face tangent t from it.

@@ -26,13 +26,14 @@
 //! joins ([`Scene::contact_between`]). Each row touches at most two bodies, so exact
 //! sparse Jacobians can be formed row by row.
 
-use crate::coordinates::{BodyState, Frame, Pose, Rotation, Scalar, Twist};
+use crate::coordinates::{BodyState, Frame, Pose, Scalar, Twist};
 use crate::floor::FloorContacts;
 use crate::gaps::PairRow;
 use crate::interface::{Interface, InterfaceContacts};
 use crate::overlap::Body as SceneBody;
 use crate::pairs::body_index;
 use crate::scene::Scene;
+use crate::turned::{TurnedBodies, TurnedBody};
 
 /// A column of W with at most six nonzero entries (two bodies × (x, y, θ)).
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
@@ -94,6 +95,29 @@ pub struct ContactRow<T = f64> {
     pub zeta: T,
 }
 
+impl<T: Scalar> ContactRow<T> {
+    /// A row on no coordinate: zero value, W, χ and ζ (the slip of a law left out).
+    fn zero() -> Self {
+        Self {
+            value: T::zero(),
+            w: SparseColumn::empty(),
+            chi: T::zero(),
+            zeta: T::zero(),
+        }
+    }
+}
+
+/// A group of rows of [`Scene::contacts_into_needed`], computed or left out together.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum RowGroup {
+    /// Interface k: its gaps 2k, 2k + 1 and its friction law k.
+    Interface(usize),
+    /// The floor gap of corner j (a, b, c, d) of block i (0-based).
+    FloorCorner(usize, usize),
+    /// The floor's friction law of block i (0-based).
+    FloorLaw(usize),
+}
+
 /// A body of the scene as seen by the contacts.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 enum Body {
@@ -126,20 +150,24 @@ pub struct StackContacts<T = f64> {
     pub interfaces: Vec<InterfaceContacts<T>>,
     /// Per block, the floor detail (empty without a floor).
     pub floor: Vec<FloorContacts<T>>,
+    /// The base and the blocks, each turned once for all the rows above (and for the
+    /// corner contacts of the system's slots, which read them from here).
+    pub bodies: TurnedBodies<T>,
 }
 
-impl<T> Default for StackContacts<T> {
+impl<T: Scalar> Default for StackContacts<T> {
     fn default() -> Self {
         Self {
             normals: Vec::new(),
             slips: Vec::new(),
             interfaces: Vec::new(),
             floor: Vec::new(),
+            bodies: TurnedBodies::default(),
         }
     }
 }
 
-impl<T> StackContacts<T> {
+impl<T: Scalar> StackContacts<T> {
     /// Empty buffers sized for the contacts of `scene`, so that filling them allocates
     /// once per list (the system's evaluation, generic over the scalar, cannot keep a
     /// buffer between calls).
@@ -152,11 +180,10 @@ impl<T> StackContacts<T> {
             slips: Vec::with_capacity(m + floors),
             interfaces: Vec::with_capacity(m),
             floor: Vec::with_capacity(floors),
+            bodies: TurnedBodies::default(),
         }
     }
-}
 
-impl<T: Scalar> StackContacts<T> {
     /// The smallest gap (real part) among the contacts that can close (`None` if none can).
     #[must_use]
     pub fn min_gap(&self) -> Option<f64> {
@@ -270,26 +297,29 @@ impl Scene {
     /// # Panics
     /// When q or u is shorter than 3n.
     pub fn contacts_into<T: Scalar>(&self, t: f64, q: &[T], u: &[T], out: &mut StackContacts<T>) {
-        self.contacts_into_with_floor(t, q, u, |_| true, None, out);
+        self.contacts_into_needed(t, q, u, |_| true, None, out);
     }
 
-    /// [`Scene::contacts_into`] with the floor contacts of only the blocks `floor_of`
-    /// accepts (0-based), and with the interfaces whose gaps hold their contact given
-    /// by `holds` (one entry per interface; `None`: [`InterfaceContacts::holds`] at this
-    /// q). The numbering stays the same: a block left out gets `None` corner gaps, a
-    /// zero floor slip and no [`StackContacts::floor`] detail. For a caller that knows
-    /// those rows are not needed (a derivative pass for a Newton matrix without them),
-    /// and for the stepper's system, which decides the holding once per step
+    /// [`Scene::contacts_into`] with the rows of only the groups `needed` accepts, and
+    /// with the interfaces whose gaps hold their contact given by `holds` (one entry per
+    /// interface; `None`: [`InterfaceContacts::holds`] at this q). The numbering stays
+    /// the same: a group left out gets `None` gaps and a zero slip; a block's floor left
+    /// out in whole or in part has no [`StackContacts::floor`] detail, an interface left
+    /// out has its
+    /// [`StackContacts::interfaces`] detail at the bodies' real parts (its cases, support
+    /// and holding exact; no derivative directions). For a caller that knows those rows
+    /// are not needed (a derivative pass for a Newton matrix without them), and for the
+    /// stepper's system, which decides the holding once per step
     /// ([`crate::system::StackSystem::hold_interfaces`]).
     ///
     /// # Panics
     /// When q or u is shorter than 3n, or `holds` has fewer than n entries.
-    pub fn contacts_into_with_floor<T: Scalar>(
+    pub fn contacts_into_needed<T: Scalar>(
         &self,
         t: f64,
         q: &[T],
         u: &[T],
-        floor_of: impl Fn(usize) -> bool,
+        needed: impl Fn(RowGroup) -> bool,
         holds: Option<&[bool]>,
         out: &mut StackContacts<T>,
     ) {
@@ -298,71 +328,80 @@ impl Scene {
             q.len() >= 3 * n && u.len() >= 3 * n,
             "q and u need 3 entries per block"
         );
-        let base = BodyState::lift(&self.base().state(t));
-        let base_acc = Twist::lift(&self.base().acceleration(t));
-        // States read on the fly from q and u: no allocation per call.
-        let block = |k: usize| block_state(q, u, k);
         out.normals.clear();
         out.slips.clear();
         out.interfaces.clear();
         out.floor.clear();
-        // Each body turned once where it can be: a column's block is the upper body of
-        // one interface and the lower of the next, a lintel the upper body of two (in a
+        // Each body turned once, for all its rows (a column's block is the upper body of
+        // one interface and the lower of the next, a lintel the upper body of two; in a
         // derivative pass, with the same directions in each).
-        let mut last: Option<(SceneBody, Rotation<T>, SceneBody, Rotation<T>)> = None;
+        out.bodies.fill(self, t, q, u);
+        let bodies = &out.bodies;
         for (k, seat) in self.arrangement().seats().iter().enumerate() {
-            let (lower_body, lower) = match seat.lower {
-                SceneBody::Block(i) => (Body::Block(i - 1), block(i - 1)),
-                _ => (Body::Base, base),
+            let lower_body = match seat.lower {
+                SceneBody::Block(i) => Body::Block(i - 1),
+                _ => Body::Base,
             };
-            let upper_body = SceneBody::Block(seat.upper);
-            let upper = block(seat.upper - 1);
-            let turned = |b: SceneBody, state: &BodyState<T>| match last {
-                Some((l, r, _, _)) if l == b => r,
-                Some((_, _, u, r)) if u == b => r,
-                _ => state.pose.rotation(),
-            };
-            let rotations = (turned(seat.lower, &lower), turned(upper_body, &upper));
-            last = Some((seat.lower, rotations.0, upper_body, rotations.1));
-            let bodies = [(lower_body, &lower), (Body::Block(seat.upper - 1), &upper)];
-            let (c, gaps, slip) = self.interface_rows(k, bodies, rotations, &base_acc, holds);
+            let upper_body = Body::Block(seat.upper - 1);
+            let (lower, upper) = (bodies.get(seat.lower), bodies.block(seat.upper - 1));
+            if !needed(RowGroup::Interface(k)) {
+                // Only its detail, which the slots read for its holding: the real parts
+                // cost little in dual numbers without directions.
+                let [lower, upper] = [lower, upper].map(|b| TurnedBody::lift(&b.re()));
+                let rotations = (lower.rotation, upper.rotation);
+                let c = self.interface(k);
+                out.interfaces
+                    .push(c.contacts_turned(&lower.state, &upper.state, rotations));
+                out.normals.extend([None; 2]);
+                out.slips.push(ContactRow::zero());
+                continue;
+            }
+            let turned = [(lower_body, lower), (upper_body, upper)];
+            let (c, gaps, slip) = self.interface_rows(k, turned, bodies.base_acceleration(), holds);
             out.normals.extend(gaps);
             out.slips.push(slip);
             out.interfaces.push(c);
         }
         if let Some(floor) = self.floor() {
             for i in 0..n {
-                if !floor_of(i) {
+                let corners = [0, 1, 2, 3].map(|j| needed(RowGroup::FloorCorner(i, j)));
+                let law = needed(RowGroup::FloorLaw(i));
+                let (block, size) = (bodies.block(i), self.size(i + 1));
+                if !law && !corners.contains(&true) {
                     out.normals.extend([None; 4]);
-                    out.slips.push(ContactRow {
-                        value: T::zero(),
-                        w: SparseColumn::empty(),
-                        chi: T::zero(),
-                        zeta: T::zero(),
-                    });
+                    out.slips.push(ContactRow::zero());
                     continue;
                 }
-                let c = floor.contacts(&block(i), self.size(i + 1));
-                for g in &c.gaps {
-                    out.normals.push(Some(single(g, i)));
+                if law && !corners.contains(&false) {
+                    let c = floor.contacts_turned(block, size);
+                    for g in &c.gaps {
+                        out.normals.push(Some(single(g, i)));
+                    }
+                    out.slips.push(single(&c.slip, i));
+                    out.floor.push(c);
+                    continue;
                 }
-                out.slips.push(single(&c.slip, i));
-                out.floor.push(c);
+                // Part of the block's floor rows, without the detail.
+                let (gaps, slip) = floor.rows_turned(block, size, corners, law);
+                out.normals.extend(gaps.map(|g| g.map(|g| single(&g, i))));
+                out.slips
+                    .push(slip.map_or_else(ContactRow::zero, |s| single(&s, i)));
             }
         }
     }
 
-    /// Interface k of the lower and upper bodies with their states and rotations (see
-    /// [`Scene::contacts_into_with_floor`] for `holds`): its contacts, its two gap rows
+    /// Interface k of the lower and upper bodies, turned (see
+    /// [`Scene::contacts_into_needed`] for `holds`): its contacts, its two gap rows
     /// (`None` where its gaps do not hold the contact) and its slip row.
     fn interface_rows<T: Scalar>(
         &self,
         k: usize,
-        [(lower_body, lower), (upper_body, upper)]: [(Body, &BodyState<T>); 2],
-        rotations: (Rotation<T>, Rotation<T>),
+        [(lower_body, lower), (upper_body, upper)]: [(Body, &TurnedBody<T>); 2],
         base_acc: &Twist<T>,
         holds: Option<&[bool]>,
     ) -> InterfaceRows<T> {
+        let rotations = (lower.rotation, upper.rotation);
+        let (lower, upper) = (&lower.state, &upper.state);
         let c = self.interface(k).contacts_turned(lower, upper, rotations);
         let fold = |row: &PairRow<T>| fold_pair(row, lower_body, lower, base_acc, upper_body);
         let holds = holds_contact(holds, k, &c);
@@ -376,7 +415,7 @@ impl Scene {
 
     /// The rows of interface k at time t with the given states of its lower and upper
     /// body (a derivative pass seeds them on directions of their own), with the holding
-    /// of its gaps decided by `holds` as in [`Scene::contacts_into_with_floor`]: its two
+    /// of its gaps decided by `holds` as in [`Scene::contacts_into_needed`]: its two
     /// gap rows and its slip row.
     pub(crate) fn interface_rows_at<T: Scalar>(
         &self,
@@ -386,15 +425,17 @@ impl Scene {
         holds: Option<&[bool]>,
     ) -> ([Option<ContactRow<T>>; 2], ContactRow<T>) {
         let seat = self.arrangement().seats()[k];
-        let base = BodyState::lift(&self.base().state(t));
-        let base_acc = Twist::lift(&self.base().acceleration(t));
+        let (base, base_acc) = self.base().state_and_acceleration(t);
+        let (base, base_acc) = (BodyState::lift(&base), Twist::lift(&base_acc));
         let (lower_body, lower) = match seat.lower {
             SceneBody::Block(i) => (Body::Block(i - 1), lower),
             _ => (Body::Base, &base),
         };
-        let bodies = [(lower_body, lower), (Body::Block(seat.upper - 1), upper)];
-        let rotations = (lower.pose.rotation(), upper.pose.rotation());
-        let (_, gaps, slip) = self.interface_rows(k, bodies, rotations, &base_acc, holds);
+        let bodies = [
+            (lower_body, &TurnedBody::of(*lower)),
+            (Body::Block(seat.upper - 1), &TurnedBody::of(*upper)),
+        ];
+        let (_, gaps, slip) = self.interface_rows(k, bodies, &base_acc, holds);
         (gaps, slip)
     }
 
@@ -410,7 +451,7 @@ impl Scene {
             SceneBody::Block(i) => Frame::of(&block_state(q, u, i - 1).pose),
             _ => base,
         };
-        // Each body's frame once where it can be (as in `contacts_into_with_floor`).
+        // Each body's frame once where it can be.
         let mut last: Option<(SceneBody, Frame, SceneBody, Frame)> = None;
         self.arrangement()
             .seats()

@@ -37,7 +37,8 @@ use crate::coordinates::{BodyState, Pose, Twist};
 use crate::overlap::Body;
 use crate::pairs::{body_index, free_block, CornerContact, LineContacts, LineKind};
 use crate::scene::{ContactParams, Scene};
-use crate::stack::{block_state, holds_contact, ContactRow, StackContacts};
+use crate::stack::{holds_contact, ContactRow, RowGroup, StackContacts};
+use crate::turned::TurnedBody;
 use nsga::{Derivatives, Evaluation, FrictionLaw, Layout, Probes, Scalar, System};
 use num_dual::DualSVec64;
 use std::cell::RefCell;
@@ -340,13 +341,14 @@ impl StackSystem {
     }
 
     /// The gap rows of a slot's contacts and the slip of its friction law, with the
-    /// bodies' states from `state`; `None` when the line's bodies are neighbours whose
-    /// interface supports the upper one and the interface's gaps hold all its contacts.
-    fn slot_rows<T: Scalar>(
+    /// bodies turned as `turned` gives them and the base's acceleration `base_acc`;
+    /// `None` when the line's bodies are neighbours whose interface supports the upper
+    /// one and the interface's gaps hold all its contacts.
+    fn slot_rows<'b, T: Scalar + 'b>(
         &self,
         line: &LineContacts,
-        t: f64,
-        state: impl Fn(Body) -> BodyState<T>,
+        turned: impl Fn(Body) -> &'b TurnedBody<T>,
+        base_acc: &Twist<T>,
         interfaces: &[crate::interface::InterfaceContacts<T>],
     ) -> Option<SlotRows<T>> {
         // While the interface supports, it holds the corners it measures (ℓ_a…ℓ_d of
@@ -360,7 +362,8 @@ impl StackSystem {
         // corner on the face's line beyond the body.
         let on_face = |c: &CornerContact| {
             let sizes = [size(c.corner_body), size(c.face_body)];
-            c.beyond_end(&state(c.corner_body), &state(c.face_body), sizes) <= self.end_tol
+            let frames = [c.corner_body, c.face_body].map(|b| turned(b).frame());
+            c.beyond_end(&frames, sizes) <= self.end_tol
         };
         let contacts = line.contacts.map(|c| {
             c.filter(|c| {
@@ -370,36 +373,26 @@ impl StackSystem {
         if contacts.iter().all(Option::is_none) {
             return None;
         }
-        let base_acc = Twist::lift(&self.scene.base().acceleration(t));
         let along = match line.line.kind {
             LineKind::Face(side) => {
-                let lo = state(line.line.lo);
-                Some(lo.pose.to_world(&side.face(size(line.line.lo)).tangent))
+                let lo = turned(line.line.lo);
+                Some(lo.rotation.apply(&side.face(size(line.line.lo)).tangent))
             }
             LineKind::Corner(..) => None,
         };
-        let rows = contacts.map(|c| {
-            c.map(|c| {
-                c.rows(
-                    &state(c.corner_body),
-                    &state(c.face_body),
-                    [size(c.corner_body), size(c.face_body)],
-                    &base_acc,
-                    along.as_ref(),
-                )
-            })
-        });
-        // The law's slip: the contact with the smaller gap, as (G.3.1).
-        let slip = match (&rows[0], &rows[1]) {
-            (Some(a), Some(b)) if re(b.0.value) < re(a.0.value) => b.1,
-            (Some(a), _) => a.1,
-            (None, Some(b)) => b.1,
+        let bodies = |c: &CornerContact| [turned(c.corner_body), turned(c.face_body)];
+        let sizes = |c: &CornerContact| [size(c.corner_body), size(c.face_body)];
+        let gaps = contacts.map(|c| c.map(|c| c.gap_row(bodies(&c), sizes(&c), base_acc)));
+        // The law's slip: the contact with the smaller gap, as (G.3.1) (the other's
+        // slip is not needed).
+        let closer = match (&gaps[0], &gaps[1]) {
+            (Some(a), Some(b)) if re(b.value) < re(a.value) => contacts[1],
+            (Some(_), _) => contacts[0],
+            (None, Some(_)) => contacts[1],
             (None, None) => return None,
-        };
-        Some(SlotRows {
-            gaps: rows.map(|r| r.map(|r| r.0)),
-            slip,
-        })
+        }?;
+        let slip = closer.slip_row(bodies(&closer), sizes(&closer), base_acc, along.as_ref());
+        Some(SlotRows { gaps, slip })
     }
 
     /// The state of a body of a corner contact: the base's prescribed one, or a block's
@@ -528,21 +521,29 @@ impl System for StackSystem {
         };
         seed(&mut s.q, q, false);
         seed(&mut s.u, u, true);
-        // The floor rows of a block (its floor law m + i and the corners bounding it) are
-        // skipped when the stepper uses none of them.
+        // The rows of an interface (its law k and the gaps bounding it) are skipped when
+        // the stepper uses none of them, and so is each row of a block's floor (its
+        // corners and its law m + i) it does not use: an open contact's, pruned (a
+        // column fallen on the floor has most).
         let m = self.scene.n_interfaces();
-        let floor_used = |i: usize| {
-            probes.uses_velocity(m + i)
-                || self.laws[m + i]
+        let used = |law: usize| {
+            probes.uses_velocity(law)
+                || self.laws[law]
                     .normals
                     .iter()
                     .any(|&k| probes.uses_position(k))
         };
-        self.scene.contacts_into_with_floor(
+        let needed = |group| match group {
+            // A same-coloured interface is differentiated on its own (below).
+            RowGroup::Interface(k) => used(k) && !self.colours.same[k],
+            RowGroup::FloorCorner(i, j) => probes.uses_position(self.laws[m + i].normals[j]),
+            RowGroup::FloorLaw(i) => probes.uses_velocity(m + i),
+        };
+        self.scene.contacts_into_needed(
             t,
             &s.q,
             &s.u,
-            floor_used,
+            needed,
             self.interface_holds.as_deref(),
             &mut s.contacts,
         );
@@ -597,7 +598,7 @@ impl StackSystem {
             out.forces[i] = T::from(h);
         }
         self.scene
-            .contacts_into_with_floor(t, q, u, |_| true, self.interface_holds.as_deref(), c);
+            .contacts_into_needed(t, q, u, |_| true, self.interface_holds.as_deref(), c);
         for (i, row) in c.normals.iter().enumerate() {
             put_row(
                 row.as_ref(),
@@ -612,13 +613,13 @@ impl StackSystem {
         for (j, row) in c.slips.iter().enumerate() {
             put_slip(row, j, out);
         }
-        let block = |i: usize| block_state(q, u, i);
         for (s, line) in self.slots.iter().enumerate() {
             let (normals, law) = self.slot_contacts(s);
-            let state = |b| self.body_state(t, b, block);
-            let rows = line
-                .as_ref()
-                .and_then(|l| self.slot_rows(l, t, state, &c.interfaces));
+            let bodies = &c.bodies;
+            let rows = line.as_ref().and_then(|l| {
+                let turned = |b| bodies.get(b);
+                self.slot_rows(l, turned, bodies.base_acceleration(), &c.interfaces)
+            });
             let Some(rows) = rows else {
                 for i in normals {
                     out.position[i] = T::from(UNSUPPORTED_GAP);
@@ -689,6 +690,8 @@ impl StackSystem {
         interfaces: &[crate::interface::InterfaceContacts<Directions>],
         out: &mut Derivatives,
     ) {
+        let (base, base_acc) = self.scene.base().state_and_acceleration(t);
+        let (base, base_acc) = (BodyState::lift(&base), Twist::lift(&base_acc));
         for (slot, line) in self.slots.iter().enumerate() {
             let Some(line) = line else { continue };
             let (normals, law) = self.slot_contacts(slot);
@@ -698,11 +701,13 @@ impl StackSystem {
                 continue;
             }
             let bodies = [line.line.lo, line.line.hi];
-            let state = |b: Body| {
-                let role = usize::from(b == bodies[1]);
-                self.body_state(t, b, |k| seeded(q, u, k, role))
-            };
-            let Some(rows) = self.slot_rows(line, t, state, interfaces) else {
+            // Each body seeded on its role's directions and turned once for the slot.
+            let pair = [0, 1].map(|role| {
+                let state = free_block(bodies[role]).map_or(base, |k| seeded(q, u, k, role));
+                TurnedBody::of(state)
+            });
+            let turned = |b: Body| &pair[usize::from(b == bodies[1])];
+            let Some(rows) = self.slot_rows(line, turned, &base_acc, interfaces) else {
                 continue;
             };
             rows_derivatives(&rows, bodies, (normals, law), (used, use_v), u, probes, out);
@@ -842,7 +847,7 @@ fn gap_derivatives(
         |k| probes.dynamics[k].1,
         &mut out.dynamics_q,
         &mut PositionRows {
-            value: &mut out.position_q,
+            value: Some(&mut out.position_q),
             rate: &mut out.position_rate_q,
             accel: &mut out.position_accel_q,
         },
@@ -863,7 +868,6 @@ fn slip_derivatives(
     probes: &Probes<'_>,
     out: &mut Derivatives,
 ) {
-    let mut unused = nsga::Triplets::default();
     q_row(
         row,
         dq,
@@ -874,7 +878,7 @@ fn slip_derivatives(
         |k| probes.dynamics[k].2,
         &mut out.dynamics_q,
         &mut PositionRows {
-            value: &mut unused,
+            value: None,
             rate: &mut out.velocity_q,
             accel: &mut out.velocity_accel_q,
         },
@@ -882,9 +886,10 @@ fn slip_derivatives(
     push_nonzero(&mut out.velocity_accel_u, i, j, part(&row.zeta, du));
 }
 
-/// Where the q-derivatives of one constraint family go.
+/// Where the q-derivatives of one constraint family go (`value`: none for the velocity
+/// family, whose "value" v = Wᵀu + χ is formed by the stepper).
 struct PositionRows<'a> {
-    value: &'a mut nsga::Triplets<f64>,
+    value: Option<&'a mut nsga::Triplets<f64>>,
     rate: &'a mut [nsga::Triplets<f64>; 2],
     accel: &'a mut nsga::Triplets<f64>,
 }
@@ -916,7 +921,9 @@ fn q_row<'p>(
         rows.rate[1].push(i, j, dw * probes.u_old[r]);
         rows.accel.push(i, j, dw * probes.a[r]);
     }
-    push_nonzero(rows.value, i, j, part(&row.value, d));
+    if let Some(value) = rows.value.as_deref_mut() {
+        push_nonzero(value, i, j, part(&row.value, d));
+    }
     let dchi = part(&row.chi, d);
     push_nonzero(&mut rows.rate[0], i, j, dchi);
     push_nonzero(&mut rows.rate[1], i, j, dchi);
@@ -1145,6 +1152,39 @@ mod tests {
                 None,
             ],
         )
+    }
+
+    /// Some corners of each block's floor unused, and one block's floor law: only
+    /// those rows are left out, the lowest corner's slip of the others stays exact.
+    #[test]
+    fn partly_used_floor_rows_are_left_out_and_the_rest_is_exact() {
+        let scene = lire_on_floor(4, Perturbation::Bottom).unwrap();
+        let (nn, nl) = (scene.n_normal_contacts(), scene.friction_laws().len());
+        // After the 2 × 4 interface gaps and the 4 interface laws: corners b and d of
+        // every block, and block 1's floor law.
+        let unused_p: Vec<bool> = (0..nn).map(|i| i >= 8 && i % 2 == 1).collect();
+        let unused_v: Vec<bool> = (0..nl).map(|i| i == 4).collect();
+        check_with_unused(scene, 0.3, &unused_p, &unused_v);
+    }
+
+    /// The rows of an interface the stepper does not use are left out of the derivative
+    /// pass, and a slot on its two bodies still reads its holding: the rest is exact.
+    #[test]
+    fn unused_interface_rows_are_left_out_and_the_rest_is_exact() {
+        let mut sys = StackSystem::new(shaken_column(3));
+        let (b1, b2) = (Body::Block(1), Body::Block(2));
+        let beside = line(
+            b1,
+            b2,
+            LineKind::Face(Side::Top),
+            [contact(b2, Corner::C, b1, Side::Top), None],
+        );
+        sys.assign_corner_contacts(&[beside, on_base_top(3)]);
+        let layout = sys.layout();
+        // Interface 1 joins blocks 1 and 2: normals 2 and 3, law 1.
+        let unused_p: Vec<bool> = (0..layout.n_position()).map(|i| i == 2 || i == 3).collect();
+        let unused_v: Vec<bool> = (0..layout.n_velocity()).map(|i| i == 1).collect();
+        check_system(&sys, 0.4, &unused_p, &unused_v);
     }
 
     /// The stepper's evaluations reuse one set of contact lists: each must fill its

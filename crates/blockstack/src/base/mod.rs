@@ -128,7 +128,24 @@ impl Base {
     /// Pose and velocities of the base at time t.
     #[must_use]
     pub fn state(&self, t: f64) -> BodyState {
-        let (x, y, th) = self.components(t);
+        self.state_of(&self.components(t))
+    }
+
+    /// Acceleration (ẍ⁰, ÿ⁰, θ̈⁰) of the base at time t.
+    #[must_use]
+    pub fn acceleration(&self, t: f64) -> Twist {
+        acceleration_of(&self.components(t))
+    }
+
+    /// [`Base::state`] and [`Base::acceleration`] at time t, the motions evaluated once
+    /// for both (a harmonic one is a `sin_cos` of ωt).
+    #[must_use]
+    pub fn state_and_acceleration(&self, t: f64) -> (BodyState, Twist) {
+        let components = self.components(t);
+        (self.state_of(&components), acceleration_of(&components))
+    }
+
+    fn state_of(&self, (x, y, th): &Components) -> BodyState {
         BodyState::new(
             Pose::new(
                 self.x0 + x.displacement,
@@ -139,14 +156,36 @@ impl Base {
         )
     }
 
-    /// Acceleration (ẍ⁰, ÿ⁰, θ̈⁰) of the base at time t.
-    #[must_use]
-    pub fn acceleration(&self, t: f64) -> Twist {
-        let (x, y, th) = self.components(t);
-        Twist::new(x.acceleration, y.acceleration, th.acceleration)
-    }
-
-    fn components(&self, t: f64) -> (BaseKinematics, BaseKinematics, BaseKinematics) {
+    fn components(&self, t: f64) -> Components {
         (self.motion.at(t), self.vertical.at(t), self.rotation.at(t))
+    }
+}
+
+/// The motions of x, y and θ of the base at one time.
+type Components = (BaseKinematics, BaseKinematics, BaseKinematics);
+
+fn acceleration_of((x, y, th): &Components) -> Twist {
+    Twist::new(x.acceleration, y.acceleration, th.acceleration)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The state and the acceleration from one evaluation of the motions are those of
+    /// the two calls apart, to the bit, with every component moving.
+    #[test]
+    fn state_and_acceleration_together_equal_each_apart() {
+        let harmonic = |a, w| BaseMotion::harmonic(a, w).unwrap();
+        let base = Base::new(1.0, 0.1, harmonic(0.1, 3.0))
+            .unwrap()
+            .moving_also(
+                harmonic(0.02, 5.0),
+                BaseMotion::constant_velocity(0.3).unwrap(),
+            );
+        for t in [0.0, 0.37, 2.9] {
+            let apart = (base.state(t), base.acceleration(t));
+            assert_eq!(base.state_and_acceleration(t), apart, "t = {t}");
+        }
     }
 }
