@@ -303,9 +303,10 @@ fn lines_of(a: &Boxed, b: &Boxed, found: &[Candidate]) -> Vec<LineContacts> {
 fn pair_candidates(a: &Boxed, b: &Boxed, m: f64, reach: f64, tie: f64) -> Vec<Candidate> {
     let mut found = Vec::new();
     for (x, y) in [(a, b), (b, a)] {
+        let flush = flush_sides(x, y);
         for c in Corner::ALL {
             let point = x.frame.point(&c.body_offset(x.size.width, x.size.height));
-            let (face, gap) = match flush_face(x, c, &point, y, tie) {
+            let (face, gap) = match flush_face(&flush, c, &point, y, tie) {
                 Flush::Meets(face, gap) => (face, gap),
                 Flush::Hangs => continue,
                 Flush::No => corner_face(x, c, y, tie),
@@ -342,23 +343,33 @@ enum Flush {
     No,
 }
 
-/// The face of `y` that corner `c` of `x` (at `point`) meets where a face of `x` through
-/// that corner lies flush on a face F of `y` (a block lying on another or standing
-/// beside it) and the corner is on F's line (within `tie`): F within its extent, none
-/// beyond its end, where the corner hangs over the edge and the corner of `y` at that
-/// end meets x's flush face instead. The largest distance alone would pair a corner
-/// level with F just past its end with the side face of `y` there, whose line the
-/// corner, moving along F, cannot cross: a block sliding back onto a base it overhung
-/// stopped with its corner at the base's corner (crates/blockstack/tests/hard_cases.rs,
-/// `a_block_sliding_back_onto_the_base_is_not_caught_at_its_corner`).
-fn flush_face(x: &Boxed, c: Corner, point: &Vec2, y: &Boxed, tie: f64) -> Flush {
-    let normal = |b: &Boxed, s: Side| b.frame.to_world(&s.face(b.size).normal);
-    for own in Side::through(c) {
-        let n = normal(x, own);
-        let Some(side) = Side::ALL
+/// For each face of `x` (in the order of [`Side::ALL`]), the face of `y` it lies flush
+/// with (normals anti-parallel within [`FLUSH`]), if any: once per pair, for
+/// [`flush_face`].
+fn flush_sides(x: &Boxed, y: &Boxed) -> [Option<Side>; 4] {
+    let normals = |f: &Frame| [f.e2, -f.e2, f.e1, -f.e1];
+    let (nx, ny) = (normals(&x.frame), normals(&y.frame));
+    Side::ALL.map(|own| {
+        let n = nx[own.index()];
+        Side::ALL
             .into_iter()
-            .find(|&s| normal(y, s).dot(&n) < -FLUSH)
-        else {
+            .find(|&s| ny[s.index()].dot(&n) < -FLUSH)
+    })
+}
+
+/// The face of `y` that corner `c` of `x` (at `point`) meets where a face of `x` through
+/// that corner lies flush on a face F of `y` (`flush`, from [`flush_sides`]: a block
+/// lying on another or standing beside it) and the corner is on F's line (within
+/// `tie`): F within its extent, none beyond its end, where the corner hangs over the
+/// edge and the corner of `y` at that end meets x's flush face instead. The largest
+/// distance alone would pair a corner level with F just past its end with the side
+/// face of `y` there, whose line the corner, moving along F, cannot cross: a block
+/// sliding back onto a base it overhung stopped with its corner at the base's corner
+/// (crates/blockstack/tests/hard_cases.rs,
+/// `a_block_sliding_back_onto_the_base_is_not_caught_at_its_corner`).
+fn flush_face(flush: &[Option<Side>; 4], c: Corner, point: &Vec2, y: &Boxed, tie: f64) -> Flush {
+    for own in Side::through(c) {
+        let Some(side) = flush[own.index()] else {
             continue;
         };
         let distance = side.face(y.size).distance(&y.frame, point);
@@ -468,6 +479,44 @@ fn firmly_supported(
 mod tests {
     use super::*;
     use crate::scenarios::{shaking_column, Shaking};
+
+    /// The flush faces of two boxes: each face's world normal read from the frame is the
+    /// face's own normal turned, and a block lying on its side on the base has its side
+    /// faces flush with the base's top and bottom (a tilt within 0.999 counts).
+    #[test]
+    fn flush_sides_pair_the_faces_whose_normals_are_opposite() {
+        let boxed_at = |x: f64, theta: f64, size: Size| Boxed {
+            body: Body::Block(1),
+            frame: Frame::of(&Pose::new(x, 0.0, theta)),
+            size,
+            lo: [0.0; 2],
+            hi: [0.0; 2],
+            margin: 0.0,
+        };
+        let base = boxed_at(0.0, 0.0, Size::new(1.0, 0.1));
+        let lying = boxed_at(0.3, std::f64::consts::FRAC_PI_2 + 0.04, Size::new(0.2, 0.4));
+        for side in Side::ALL {
+            let turned = lying.frame.to_world(&side.face(lying.size).normal);
+            let from_frame = [
+                lying.frame.e2,
+                -lying.frame.e2,
+                lying.frame.e1,
+                -lying.frame.e1,
+            ];
+            assert!(
+                (turned - from_frame[side.index()]).norm() < 1e-15,
+                "{side:?}"
+            );
+        }
+        // Turned by π/2 + 0.04: e₁ points up, so its Left face (normal −e₁) faces the
+        // base's Top.
+        let flush = flush_sides(&lying, &base);
+        assert_eq!(flush[Side::Left.index()], Some(Side::Top));
+        assert_eq!(flush[Side::Right.index()], Some(Side::Bottom));
+        assert_eq!(flush[Side::Top.index()], Some(Side::Right));
+        let tilted = boxed_at(0.3, 0.1, Size::new(0.2, 0.4));
+        assert_eq!(flush_sides(&tilted, &base), [None; 4]);
+    }
 
     #[test]
     fn a_standing_column_needs_no_corner_contacts() {

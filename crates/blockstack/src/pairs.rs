@@ -104,6 +104,17 @@ impl Side {
         (Self::ALL[chosen], d[chosen])
     }
 
+    /// The position of this side in [`Side::ALL`].
+    #[must_use]
+    pub const fn index(self) -> usize {
+        match self {
+            Side::Top => 0,
+            Side::Bottom => 1,
+            Side::Right => 2,
+            Side::Left => 3,
+        }
+    }
+
     /// The two faces that meet at `corner` (its letters as in (G.1.1): a is top right).
     #[must_use]
     pub fn through(corner: Corner) -> [Side; 2] {
