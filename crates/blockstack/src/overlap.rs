@@ -204,7 +204,8 @@ impl Placed {
     }
 }
 
-fn extent(points: &[Vec2; 4], axis: &Vec2) -> (f64, f64) {
+/// The range (least, greatest) of `points` projected on `axis`.
+pub(crate) fn extent(points: &[Vec2; 4], axis: &Vec2) -> (f64, f64) {
     points
         .iter()
         .map(|p| p.dot(axis))

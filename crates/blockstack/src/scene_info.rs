@@ -21,6 +21,8 @@
 //! # Ok::<(), blockstack::BlockError>(())
 //! ```
 
+use crate::coordinates::Vec2;
+use crate::overlap::extent;
 use crate::scene::{Prox, Scene};
 use crate::simulation::{step_count, RunOptions};
 use serde::ser::{SerializeMap, Serializer};
@@ -210,14 +212,8 @@ impl Scene {
             };
             let size = self.size(j);
             let c = crate::corners::corners(&pose, size.width, size.height);
-            let range = |f: fn(&crate::coordinates::Vec2) -> f64| {
-                c.iter()
-                    .map(f)
-                    .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), v| {
-                        (lo.min(v), hi.max(v))
-                    })
-            };
-            (range(|v| v.x), range(|v| v.y))
+            let along = |x: f64, y: f64| extent(&c, &Vec2::new(x, y));
+            (along(1.0, 0.0), along(0.0, 1.0))
         };
         let ((left, right), (low, _)) = extent(k);
         let tol = crate::arrangement::REST_TOL * self.size(k).height;
