@@ -69,7 +69,7 @@ impl Side {
     /// This face of a body of the given size.
     #[must_use]
     pub fn face(self, size: Size) -> Face {
-        let i = Self::ALL.iter().position(|&s| s == self).unwrap_or(0);
+        let i = self.index();
         Face::of_rectangle(size.width, size.height)[i]
     }
 
@@ -167,7 +167,7 @@ impl CornerContact {
             .iter()
             .position(|&c| c == self.corner)
             .unwrap_or(0);
-        let side = Side::ALL.iter().position(|&s| s == self.face).unwrap_or(0);
+        let side = self.face.index();
         (
             body_index(self.corner_body),
             corner,
@@ -327,7 +327,7 @@ impl ContactLine {
     /// A total order key, for deterministic listings.
     #[must_use]
     pub fn key(&self) -> (usize, usize, usize, usize) {
-        let side = |s: Side| Side::ALL.iter().position(|&x| x == s).unwrap_or(0);
+        let side = Side::index;
         let (a, b) = match self.kind {
             LineKind::Face(s) => (0, side(s)),
             LineKind::Corner(c, s) => (
@@ -455,7 +455,7 @@ mod tests {
             );
             assert!(slip.value.is_finite());
         }
-        seen.sort_by_key(|s| Side::ALL.iter().position(|x| x == s));
+        seen.sort_by_key(|s| s.index());
         seen.dedup();
         assert_eq!(seen.len(), 4, "every face is tried: {seen:?}");
     }
