@@ -66,11 +66,19 @@ impl fmt::Display for Penetration {
 /// row of blocks on the floor costs O(n log n), not O(n²).
 #[must_use]
 pub fn deepest_among(bodies: &[(Body, Pose, Size)]) -> Option<Penetration> {
+    deepest_of(bodies.iter().copied())
+}
+
+/// [`deepest_among`] the bodies `bodies` yields, in one list of the bodies placed (one
+/// list a step, where a list of the bodies, their placings and their order took five
+/// allocations).
+fn deepest_of(bodies: impl Iterator<Item = (Body, Pose, Size)>) -> Option<Penetration> {
     // Each body placed once for all its pairs (a body near k others was turned and its
     // corners and radius computed k times).
-    let placed: Vec<Placed> = bodies.iter().map(|(_, p, s)| Placed::of(p, *s)).collect();
+    let mut placed: Vec<(Body, Pose, Placed)> =
+        bodies.map(|(b, p, s)| (b, p, Placed::of(&p, s))).collect();
     let spread = |f: fn(&Pose) -> f64| {
-        let (lo, hi) = bodies
+        let (lo, hi) = placed
             .iter()
             .fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), b| {
                 (l.min(f(&b.1)), h.max(f(&b.1)))
@@ -82,14 +90,14 @@ pub fn deepest_among(bodies: &[(Body, Pose, Size)]) -> Option<Penetration> {
     } else {
         |p| p.y
     };
-    let mut order: Vec<usize> = (0..bodies.len()).collect();
-    order.sort_by(|&i, &j| along(&bodies[i].1).total_cmp(&along(&bodies[j].1)));
-    let r_max = placed.iter().map(|p| p.radius).fold(0.0, f64::max);
+    // A stable sort: bodies level along the axis keep the order they were listed in.
+    placed.sort_by(|a, b| along(&a.1).total_cmp(&along(&b.1)));
+    let r_max = placed.iter().map(|p| p.2.radius).fold(0.0, f64::max);
     let mut deepest: Option<Penetration> = None;
-    for (a, &i) in order.iter().enumerate() {
-        let ((bi, pi, _), ri) = (&bodies[i], placed[i].radius);
-        for &j in &order[a + 1..] {
-            let ((bj, pj, _), rj) = (&bodies[j], placed[j].radius);
+    for (a, (bi, pi, placed_i)) in placed.iter().enumerate() {
+        let ri = placed_i.radius;
+        for (bj, pj, placed_j) in &placed[a + 1..] {
+            let rj = placed_j.radius;
             if along(pj) - along(pi) > ri + r_max {
                 break;
             }
@@ -98,7 +106,7 @@ pub fn deepest_among(bodies: &[(Body, Pose, Size)]) -> Option<Penetration> {
                 // Apart by at least this much: a lower bound is enough to rank the pair.
                 ri + rj - (pi.r() - pj.r()).norm()
             } else {
-                placed[i].depth(&placed[j])
+                placed_i.depth(placed_j)
             };
             if deepest.is_none_or(|d| depth > d.depth) {
                 deepest = Some(Penetration {
@@ -116,20 +124,28 @@ pub fn deepest_among(bodies: &[(Body, Pose, Size)]) -> Option<Penetration> {
 /// blocks bottom to top.
 #[must_use]
 pub fn scene_bodies(scene: &Scene, t: f64, q: &[f64]) -> Vec<(Body, Pose, Size)> {
+    bodies_of(scene, t, q).collect()
+}
+
+/// [`scene_bodies`], one by one.
+fn bodies_of<'a>(
+    scene: &'a Scene,
+    t: f64,
+    q: &'a [f64],
+) -> impl Iterator<Item = (Body, Pose, Size)> + 'a {
     let base = scene.base();
-    let mut bodies = vec![(
+    let base = (
         Body::Base,
         base.state(t).pose,
         Size::new(base.width(), base.height()),
-    )];
-    bodies.extend((0..scene.n_blocks()).map(|k| {
+    );
+    std::iter::once(base).chain((0..scene.n_blocks()).map(|k| {
         (
             Body::Block(k + 1),
             Pose::from_slice(&q[3 * k..]),
             scene.size(k + 1),
         )
-    }));
-    bodies
+    }))
 }
 
 /// The deepest penetration between any two bodies of `scene` (base, blocks and floor)
@@ -140,8 +156,7 @@ pub fn scene_bodies(scene: &Scene, t: f64, q: &[f64]) -> Vec<(Body, Pose, Size)>
 /// When q holds fewer than 3 coordinates per block.
 #[must_use]
 pub fn deepest_penetration(scene: &Scene, t: f64, q: &[f64]) -> Penetration {
-    let bodies = scene_bodies(scene, t, q);
-    let mut deepest = deepest_among(&bodies).unwrap_or(Penetration {
+    let mut deepest = deepest_of(bodies_of(scene, t, q)).unwrap_or(Penetration {
         depth: f64::NEG_INFINITY,
         first: Body::Base,
         second: Body::Base,
@@ -268,6 +283,8 @@ mod tests {
         q[1] -= 0.1;
         let deepest = deepest_among(&scene_bodies(&scene, 0.0, &q)).unwrap();
         assert!((deepest.depth - 0.1).abs() < 1e-12, "{deepest:?}");
+        // The scene's own measure (no floor here) places the same bodies.
+        assert_eq!(deepest_penetration(&scene, 0.0, &q), deepest);
     }
 
     /// The deepest penetration among bodies placed once each is the deepest of the
