@@ -233,6 +233,8 @@ fn may_touch(scene: &Scene, a: Body, b: Body) -> bool {
 struct PairBuffers {
     /// The pair's corner contacts ([`pair_candidates`]).
     found: Vec<Candidate>,
+    /// [`flush_sides`] of the pair (a, b) given to [`pair_candidates`], then of (b, a).
+    flush: [[Option<Side>; 4]; 2],
     /// Each with the line it lies on.
     lined: Vec<(ContactLine, Candidate)>,
     /// The contacts of one line.
@@ -253,7 +255,7 @@ fn lines_of(a: &Boxed, b: &Boxed, buffers: &mut PairBuffers, out: &mut Vec<LineC
     };
     // A corner of `lo` on a face of `hi` lies on the line of the face of `lo` flush
     // with that face, if any.
-    let flush = flush_sides(hi, lo);
+    let flush = buffers.flush[usize::from(hi.body == b.body)];
     let line_of = |c: &CornerContact| {
         let kind = if c.face_body == lo.body {
             LineKind::Face(c.face)
@@ -266,7 +268,9 @@ fn lines_of(a: &Boxed, b: &Boxed, buffers: &mut PairBuffers, out: &mut Vec<LineC
             kind,
         }
     };
-    let PairBuffers { found, lined, line } = buffers;
+    let PairBuffers {
+        found, lined, line, ..
+    } = buffers;
     lined.clear();
     lined.extend(found.iter().map(|c| (line_of(&c.contact), *c)));
     // The lines in the order their first contact was found, each with its contacts in
@@ -337,13 +341,17 @@ fn pair_candidates(
     tie: f64,
     buffers: &mut PairBuffers,
 ) {
-    let found = &mut buffers.found;
+    let PairBuffers {
+        found,
+        flush: flush_of,
+        ..
+    } = buffers;
     found.clear();
-    for (x, y) in [(a, b), (b, a)] {
-        let flush = flush_sides(x, y);
+    for ((x, y), flush) in [(a, b), (b, a)].into_iter().zip(flush_of) {
+        *flush = flush_sides(x, y);
         for c in Corner::ALL {
             let point = x.frame.point(&c.body_offset(x.size.width, x.size.height));
-            let (face, gap) = match flush_face(&flush, c, &point, y, tie) {
+            let (face, gap) = match flush_face(flush, c, &point, y, tie) {
                 Flush::Meets(face, gap) => (face, gap),
                 Flush::Hangs => continue,
                 Flush::No => corner_face(x, c, y, tie),
@@ -558,6 +566,43 @@ mod tests {
         assert_eq!(flush[Side::Top.index()], Some(Side::Right));
         let tilted = boxed_at(0.3, 0.1, Size::new(0.2, 0.4));
         assert_eq!(flush_sides(&tilted, &base), [None; 4]);
+    }
+
+    /// A block lying on the base, turned a quarter turn, its face Left (normal −e₁)
+    /// down on the base's top and overhanging the base's right end: the base's top
+    /// right corner touches the block's face Left, and its contact lies on the line of
+    /// the base's face Top, which is flush with it, with the block's corner on that
+    /// face.
+    #[test]
+    fn a_corner_on_a_face_flush_with_its_own_lies_on_that_line() {
+        let scene = shaking_column(&Shaking {
+            blocks: 1,
+            ..Shaking::default()
+        })
+        .unwrap();
+        let base = scene.base().state(0.0).pose;
+        let (base_size, block) = (scene.size(0), scene.size(1));
+        let q = vec![
+            base.x + 0.5 * base_size.width,
+            base.y + 0.5 * base_size.height + 0.5 * block.width,
+            std::f64::consts::FRAC_PI_2,
+        ];
+        let u = vec![0.0; 3];
+        let pair = [Body::Base, Body::Block(1)];
+        let lines = pair_corner_contacts(&scene, (0.0, 1e-3), &q, &u, pair);
+        let top: Vec<_> = lines
+            .iter()
+            .filter(|l| l.line.kind == LineKind::Face(Side::Top))
+            .flat_map(|l| l.contacts.iter().flatten())
+            .collect();
+        let on_block_left = |c: &&CornerContact| {
+            c.corner_body == Body::Base && c.face_body == Body::Block(1) && c.face == Side::Left
+        };
+        assert!(top.iter().any(on_block_left), "{lines:?}");
+        assert!(
+            top.iter().any(|c| c.corner_body == Body::Block(1)),
+            "{lines:?}"
+        );
     }
 
     #[test]

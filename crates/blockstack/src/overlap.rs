@@ -75,36 +75,38 @@ pub fn deepest_among(bodies: &[(Body, Pose, Size)]) -> Option<Penetration> {
 fn deepest_of(bodies: impl Iterator<Item = (Body, Pose, Size)>) -> Option<Penetration> {
     // Each body placed once for all its pairs (a body near k others was turned and its
     // corners and radius computed k times).
-    let mut placed: Vec<(Body, Pose, Placed)> =
-        bodies.map(|(b, p, s)| (b, p, Placed::of(&p, s))).collect();
-    let spread = |f: fn(&Pose) -> f64| {
+    let mut placed: Vec<(Body, Placed, f64)> = bodies
+        .map(|(b, p, s)| (b, Placed::of(&p, s), 0.5 * s.width.hypot(s.height)))
+        .collect();
+    // The centres r, the poses' (x, y).
+    let spread = |f: fn(&Vec2) -> f64| {
         let (lo, hi) = placed
             .iter()
             .fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), b| {
-                (l.min(f(&b.1)), h.max(f(&b.1)))
+                (l.min(f(&b.1.frame.r)), h.max(f(&b.1.frame.r)))
             });
         hi - lo
     };
-    let along: fn(&Pose) -> f64 = if spread(|p| p.x) >= spread(|p| p.y) {
-        |p| p.x
+    let along: fn(&Vec2) -> f64 = if spread(|r| r.x) >= spread(|r| r.y) {
+        |r| r.x
     } else {
-        |p| p.y
+        |r| r.y
     };
     // A stable sort: bodies level along the axis keep the order they were listed in.
-    placed.sort_by(|a, b| along(&a.1).total_cmp(&along(&b.1)));
-    let r_max = placed.iter().map(|p| p.2.radius).fold(0.0, f64::max);
+    placed.sort_by(|a, b| along(&a.1.frame.r).total_cmp(&along(&b.1.frame.r)));
+    let r_max = placed.iter().map(|p| p.2).fold(0.0, f64::max);
     let mut deepest: Option<Penetration> = None;
-    for (a, (bi, pi, placed_i)) in placed.iter().enumerate() {
-        let ri = placed_i.radius;
-        for (bj, pj, placed_j) in &placed[a + 1..] {
-            let rj = placed_j.radius;
-            if along(pj) - along(pi) > ri + r_max {
+    for (a, (bi, placed_i, ri)) in placed.iter().enumerate() {
+        let pi = placed_i.frame.r;
+        for (bj, placed_j, rj) in &placed[a + 1..] {
+            let pj = placed_j.frame.r;
+            if along(&pj) - along(&pi) > ri + r_max {
                 break;
             }
-            let apart = (pi.r() - pj.r()).norm() >= ri + rj;
+            let apart = (pi - pj).norm() >= ri + rj;
             let depth = if apart {
                 // Apart by at least this much: a lower bound is enough to rank the pair.
-                ri + rj - (pi.r() - pj.r()).norm()
+                ri + rj - (pi - pj).norm()
             } else {
                 placed_i.depth(placed_j)
             };
@@ -186,12 +188,11 @@ pub fn penetration_depth(a: (&Pose, Size), b: (&Pose, Size)) -> f64 {
 }
 
 /// A rectangle placed at a pose, with what the separating-axis test reads of it: its
-/// basis (the axes, [`Pose::e1`] and [`Pose::e2`]: the same numbers, see [`Frame`]), its
-/// corners, and the radius of its bounding circle, each computed once.
+/// centre and basis (the axes, [`Pose::e1`] and [`Pose::e2`]: the same numbers, see
+/// [`Frame`]) and its corners, each computed once.
 struct Placed {
     frame: Frame,
     corners: [Vec2; 4],
-    radius: f64,
 }
 
 impl Placed {
@@ -199,7 +200,6 @@ impl Placed {
         let frame = Frame::of(pose);
         Self {
             corners: frame_corners(&frame, size.width, size.height),
-            radius: 0.5 * size.width.hypot(size.height),
             frame,
         }
     }
