@@ -66,18 +66,21 @@ impl fmt::Display for Penetration {
 /// row of blocks on the floor costs O(n log n), not O(n²).
 #[must_use]
 pub fn deepest_among(bodies: &[(Body, Pose, Size)]) -> Option<Penetration> {
-    deepest_of(bodies.iter().copied())
+    deepest_in(&mut placed(bodies.iter().copied()))
 }
 
-/// [`deepest_among`] the bodies `bodies` yields, in one list of the bodies placed (one
-/// list a step, where a list of the bodies, their placings and their order took five
-/// allocations).
-fn deepest_of(bodies: impl Iterator<Item = (Body, Pose, Size)>) -> Option<Penetration> {
-    // Each body placed once for all its pairs (a body near k others was turned and its
-    // corners and radius computed k times).
-    let mut placed: Vec<(Body, Placed, f64)> = bodies
+/// The bodies `bodies` yields, each placed once for all its pairs (a body near k others
+/// was turned and its corners and radius computed k times), with the radius of its
+/// bounding circle: one list a step, where a list of the bodies, their placings and
+/// their order took five allocations.
+fn placed(bodies: impl Iterator<Item = (Body, Pose, Size)>) -> Vec<(Body, Placed, f64)> {
+    bodies
         .map(|(b, p, s)| (b, Placed::of(&p, s), 0.5 * s.width.hypot(s.height)))
-        .collect();
+        .collect()
+}
+
+/// [`deepest_among`] the bodies `placed` lists, which it sorts.
+fn deepest_in(placed: &mut [(Body, Placed, f64)]) -> Option<Penetration> {
     // The centres r, the poses' (x, y).
     let spread = |f: fn(&Vec2) -> f64| {
         let (lo, hi) = placed
@@ -158,25 +161,37 @@ fn bodies_of<'a>(
 /// When q holds fewer than 3 coordinates per block.
 #[must_use]
 pub fn deepest_penetration(scene: &Scene, t: f64, q: &[f64]) -> Penetration {
-    let mut deepest = deepest_of(bodies_of(scene, t, q)).unwrap_or(Penetration {
+    let mut placed = placed(bodies_of(scene, t, q));
+    // The blocks below the floor, read in the blocks' order (the first of equal depths
+    // is the one reported) before the bodies are sorted.
+    let below = scene.floor().and_then(|floor| {
+        let blocks = scene.blocks().iter().zip(&placed[1..]).enumerate();
+        blocks.fold(None, |deepest: Option<Penetration>, (k, (block, body))| {
+            // The block's lowest corner, with its sin θ and cos θ of the placing.
+            let e1 = body.1.frame.e1;
+            let lowest = q[3 * k + 1] - block.half_vertical_extent_turned(e1.y, e1.x);
+            let depth = floor.y - lowest;
+            if depth > deepest.map_or(f64::NEG_INFINITY, |d| d.depth) {
+                Some(Penetration {
+                    depth,
+                    first: Body::Block(k + 1),
+                    second: Body::Floor,
+                })
+            } else {
+                deepest
+            }
+        })
+    });
+    let between = deepest_in(&mut placed).unwrap_or(Penetration {
         depth: f64::NEG_INFINITY,
         first: Body::Base,
         second: Body::Base,
     });
-    if let Some(floor) = scene.floor() {
-        for (k, block) in scene.blocks().iter().enumerate() {
-            let lowest = q[3 * k + 1] - block.half_vertical_extent(q[3 * k + 2]);
-            let depth = floor.y - lowest;
-            if depth > deepest.depth {
-                deepest = Penetration {
-                    depth,
-                    first: Body::Block(k + 1),
-                    second: Body::Floor,
-                };
-            }
-        }
+    // Between the bodies first: the floor where it is strictly deeper.
+    match below {
+        Some(floor) if floor.depth > between.depth => floor,
+        _ => between,
     }
-    deepest
 }
 
 /// Penetration depth of two rectangles: the smallest distance one must move along a
@@ -289,6 +304,29 @@ mod tests {
 
     /// The deepest penetration among bodies placed once each is the deepest of the
     /// pairs' own penetration depths, to the bit.
+    /// Two equal blocks tilted alike, apart from each other and the base, sunk equally
+    /// into the floor: the floor's penetration is reported, with the lower-numbered
+    /// block, at the depth of the block's lowest corner (`Block::half_vertical_extent`).
+    #[test]
+    fn the_floor_reports_the_first_of_equally_sunken_blocks() {
+        use crate::scenarios::{shaking_column, Shaking};
+        let scene = shaking_column(&Shaking {
+            blocks: 2,
+            ..Shaking::default()
+        })
+        .unwrap();
+        let floor = scene.floor().unwrap();
+        let theta = 0.3;
+        let block = &scene.blocks()[0];
+        let y = floor.y - 0.01 + block.half_vertical_extent(theta);
+        let q = [2.0, y, theta, 3.0, y, theta];
+        let deepest = deepest_penetration(&scene, 0.0, &q);
+        assert_eq!(deepest.first, Body::Block(1));
+        assert_eq!(deepest.second, Body::Floor);
+        let lowest = q[1] - block.half_vertical_extent(theta);
+        assert_eq!(deepest.depth, floor.y - lowest);
+    }
+
     #[test]
     fn the_deepest_among_bodies_is_the_deepest_pair() {
         let s = Size::new(1.0, 0.2);
