@@ -91,7 +91,13 @@ impl Block {
     /// its lowest corner, (w/2)|sin θ| + (h/2)|cos θ|.
     #[must_use]
     pub fn half_vertical_extent(&self, theta: f64) -> f64 {
-        0.5 * self.width * theta.sin().abs() + 0.5 * self.height * theta.cos().abs()
+        self.half_vertical_extent_turned(theta.sin(), theta.cos())
+    }
+
+    /// [`Block::half_vertical_extent`] from sin θ and cos θ evaluated already.
+    #[must_use]
+    pub fn half_vertical_extent_turned(&self, sin: f64, cos: f64) -> f64 {
+        0.5 * self.width * sin.abs() + 0.5 * self.height * cos.abs()
     }
 }
 

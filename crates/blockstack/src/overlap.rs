@@ -66,39 +66,52 @@ impl fmt::Display for Penetration {
 /// row of blocks on the floor costs O(n log n), not O(n²).
 #[must_use]
 pub fn deepest_among(bodies: &[(Body, Pose, Size)]) -> Option<Penetration> {
-    // Each body placed once for all its pairs (a body near k others was turned and its
-    // corners and radius computed k times).
-    let placed: Vec<Placed> = bodies.iter().map(|(_, p, s)| Placed::of(p, *s)).collect();
-    let spread = |f: fn(&Pose) -> f64| {
-        let (lo, hi) = bodies
+    deepest_in(&mut placed(bodies.iter().copied()))
+}
+
+/// The bodies `bodies` yields, each placed once for all its pairs (a body near k others
+/// was turned and its corners and radius computed k times), with the radius of its
+/// bounding circle: one list a step, where a list of the bodies, their placings and
+/// their order took five allocations.
+fn placed(bodies: impl Iterator<Item = (Body, Pose, Size)>) -> Vec<(Body, Placed, f64)> {
+    bodies
+        .map(|(b, p, s)| (b, Placed::of(&p, s), 0.5 * s.width.hypot(s.height)))
+        .collect()
+}
+
+/// [`deepest_among`] the bodies `placed` lists, which it sorts.
+fn deepest_in(placed: &mut [(Body, Placed, f64)]) -> Option<Penetration> {
+    // The centres r, the poses' (x, y).
+    let spread = |f: fn(&Vec2) -> f64| {
+        let (lo, hi) = placed
             .iter()
             .fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), b| {
-                (l.min(f(&b.1)), h.max(f(&b.1)))
+                (l.min(f(&b.1.frame.r)), h.max(f(&b.1.frame.r)))
             });
         hi - lo
     };
-    let along: fn(&Pose) -> f64 = if spread(|p| p.x) >= spread(|p| p.y) {
-        |p| p.x
+    let along: fn(&Vec2) -> f64 = if spread(|r| r.x) >= spread(|r| r.y) {
+        |r| r.x
     } else {
-        |p| p.y
+        |r| r.y
     };
-    let mut order: Vec<usize> = (0..bodies.len()).collect();
-    order.sort_by(|&i, &j| along(&bodies[i].1).total_cmp(&along(&bodies[j].1)));
-    let r_max = placed.iter().map(|p| p.radius).fold(0.0, f64::max);
+    // A stable sort: bodies level along the axis keep the order they were listed in.
+    placed.sort_by(|a, b| along(&a.1.frame.r).total_cmp(&along(&b.1.frame.r)));
+    let r_max = placed.iter().map(|p| p.2).fold(0.0, f64::max);
     let mut deepest: Option<Penetration> = None;
-    for (a, &i) in order.iter().enumerate() {
-        let ((bi, pi, _), ri) = (&bodies[i], placed[i].radius);
-        for &j in &order[a + 1..] {
-            let ((bj, pj, _), rj) = (&bodies[j], placed[j].radius);
-            if along(pj) - along(pi) > ri + r_max {
+    for (a, (bi, placed_i, ri)) in placed.iter().enumerate() {
+        let pi = placed_i.frame.r;
+        for (bj, placed_j, rj) in &placed[a + 1..] {
+            let pj = placed_j.frame.r;
+            if along(&pj) - along(&pi) > ri + r_max {
                 break;
             }
-            let apart = (pi.r() - pj.r()).norm() >= ri + rj;
+            let apart = (pi - pj).norm() >= ri + rj;
             let depth = if apart {
                 // Apart by at least this much: a lower bound is enough to rank the pair.
-                ri + rj - (pi.r() - pj.r()).norm()
+                ri + rj - (pi - pj).norm()
             } else {
-                placed[i].depth(&placed[j])
+                placed_i.depth(placed_j)
             };
             if deepest.is_none_or(|d| depth > d.depth) {
                 deepest = Some(Penetration {
@@ -116,20 +129,28 @@ pub fn deepest_among(bodies: &[(Body, Pose, Size)]) -> Option<Penetration> {
 /// blocks bottom to top.
 #[must_use]
 pub fn scene_bodies(scene: &Scene, t: f64, q: &[f64]) -> Vec<(Body, Pose, Size)> {
+    bodies_of(scene, t, q).collect()
+}
+
+/// [`scene_bodies`], one by one.
+fn bodies_of<'a>(
+    scene: &'a Scene,
+    t: f64,
+    q: &'a [f64],
+) -> impl Iterator<Item = (Body, Pose, Size)> + 'a {
     let base = scene.base();
-    let mut bodies = vec![(
+    let base = (
         Body::Base,
         base.state(t).pose,
         Size::new(base.width(), base.height()),
-    )];
-    bodies.extend((0..scene.n_blocks()).map(|k| {
+    );
+    std::iter::once(base).chain((0..scene.n_blocks()).map(|k| {
         (
             Body::Block(k + 1),
             Pose::from_slice(&q[3 * k..]),
             scene.size(k + 1),
         )
-    }));
-    bodies
+    }))
 }
 
 /// The deepest penetration between any two bodies of `scene` (base, blocks and floor)
@@ -140,26 +161,37 @@ pub fn scene_bodies(scene: &Scene, t: f64, q: &[f64]) -> Vec<(Body, Pose, Size)>
 /// When q holds fewer than 3 coordinates per block.
 #[must_use]
 pub fn deepest_penetration(scene: &Scene, t: f64, q: &[f64]) -> Penetration {
-    let bodies = scene_bodies(scene, t, q);
-    let mut deepest = deepest_among(&bodies).unwrap_or(Penetration {
+    let mut placed = placed(bodies_of(scene, t, q));
+    // The blocks below the floor, read in the blocks' order (the first of equal depths
+    // is the one reported) before the bodies are sorted.
+    let below = scene.floor().and_then(|floor| {
+        let blocks = scene.blocks().iter().zip(&placed[1..]).enumerate();
+        blocks.fold(None, |deepest: Option<Penetration>, (k, (block, body))| {
+            // The block's lowest corner, with its sin θ and cos θ of the placing.
+            let e1 = body.1.frame.e1;
+            let lowest = q[3 * k + 1] - block.half_vertical_extent_turned(e1.y, e1.x);
+            let depth = floor.y - lowest;
+            if depth > deepest.map_or(f64::NEG_INFINITY, |d| d.depth) {
+                Some(Penetration {
+                    depth,
+                    first: Body::Block(k + 1),
+                    second: Body::Floor,
+                })
+            } else {
+                deepest
+            }
+        })
+    });
+    let between = deepest_in(&mut placed).unwrap_or(Penetration {
         depth: f64::NEG_INFINITY,
         first: Body::Base,
         second: Body::Base,
     });
-    if let Some(floor) = scene.floor() {
-        for (k, block) in scene.blocks().iter().enumerate() {
-            let lowest = q[3 * k + 1] - block.half_vertical_extent(q[3 * k + 2]);
-            let depth = floor.y - lowest;
-            if depth > deepest.depth {
-                deepest = Penetration {
-                    depth,
-                    first: Body::Block(k + 1),
-                    second: Body::Floor,
-                };
-            }
-        }
+    // Between the bodies first: the floor where it is strictly deeper.
+    match below {
+        Some(floor) if floor.depth > between.depth => floor,
+        _ => between,
     }
-    deepest
 }
 
 /// Penetration depth of two rectangles: the smallest distance one must move along a
@@ -171,12 +203,11 @@ pub fn penetration_depth(a: (&Pose, Size), b: (&Pose, Size)) -> f64 {
 }
 
 /// A rectangle placed at a pose, with what the separating-axis test reads of it: its
-/// basis (the axes, [`Pose::e1`] and [`Pose::e2`]: the same numbers, see [`Frame`]), its
-/// corners, and the radius of its bounding circle, each computed once.
+/// centre and basis (the axes, [`Pose::e1`] and [`Pose::e2`]: the same numbers, see
+/// [`Frame`]) and its corners, each computed once.
 struct Placed {
     frame: Frame,
     corners: [Vec2; 4],
-    radius: f64,
 }
 
 impl Placed {
@@ -184,7 +215,6 @@ impl Placed {
         let frame = Frame::of(pose);
         Self {
             corners: frame_corners(&frame, size.width, size.height),
-            radius: 0.5 * size.width.hypot(size.height),
             frame,
         }
     }
@@ -268,10 +298,35 @@ mod tests {
         q[1] -= 0.1;
         let deepest = deepest_among(&scene_bodies(&scene, 0.0, &q)).unwrap();
         assert!((deepest.depth - 0.1).abs() < 1e-12, "{deepest:?}");
+        // The scene's own measure (no floor here) places the same bodies.
+        assert_eq!(deepest_penetration(&scene, 0.0, &q), deepest);
     }
 
     /// The deepest penetration among bodies placed once each is the deepest of the
     /// pairs' own penetration depths, to the bit.
+    /// Two equal blocks tilted alike, apart from each other and the base, sunk equally
+    /// into the floor: the floor's penetration is reported, with the lower-numbered
+    /// block, at the depth of the block's lowest corner (`Block::half_vertical_extent`).
+    #[test]
+    fn the_floor_reports_the_first_of_equally_sunken_blocks() {
+        use crate::scenarios::{shaking_column, Shaking};
+        let scene = shaking_column(&Shaking {
+            blocks: 2,
+            ..Shaking::default()
+        })
+        .unwrap();
+        let floor = scene.floor().unwrap();
+        let theta = 0.3;
+        let block = &scene.blocks()[0];
+        let y = floor.y - 0.01 + block.half_vertical_extent(theta);
+        let q = [2.0, y, theta, 3.0, y, theta];
+        let deepest = deepest_penetration(&scene, 0.0, &q);
+        assert_eq!(deepest.first, Body::Block(1));
+        assert_eq!(deepest.second, Body::Floor);
+        let lowest = q[1] - block.half_vertical_extent(theta);
+        assert_eq!(deepest.depth, floor.y - lowest);
+    }
+
     #[test]
     fn the_deepest_among_bodies_is_the_deepest_pair() {
         let s = Size::new(1.0, 0.2);

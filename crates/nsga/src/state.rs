@@ -140,7 +140,7 @@ impl State {
     pub fn flush_subnormals(&mut self) {
         for v in self.vectors_mut() {
             // A branch-free scan first (it vectorizes): most states have none.
-            let any = v.iter().fold(false, |any, z| any | z.is_subnormal());
+            let any = v.iter().fold(false, |any, &z| any | square_underflows(z));
             if any {
                 v.iter_mut()
                     .filter(|z| z.is_subnormal())
@@ -150,9 +150,64 @@ impl State {
     }
 }
 
+/// Whether `z` is nonzero and its square below the smallest normal number (|z| below
+/// 1.5·10⁻¹⁵⁴): true for every subnormal number, false for zeros, NaN and the
+/// infinities. The scan of [`State::flush_subnormals`] tests this, two vectorized
+/// comparisons, rather than [`f64::is_subnormal`] or `|z| < f64::MIN_POSITIVE`, which
+/// both become a test on the bits, one entry at a time on x86-64 (the scan was 3 % of
+/// the instructions of a pile of blocks at rest); only a vector that has such an entry
+/// is tested exactly.
+fn square_underflows(z: f64) -> bool {
+    (z * z < f64::MIN_POSITIVE) & (z != 0.0)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The scan's test finds every subnormal number, of either sign, and no zero, NaN
+    /// or infinity; the flush then zeroes exactly the subnormal entries.
+    #[test]
+    fn the_scan_finds_every_subnormal_entry() {
+        let smallest = f64::from_bits(1);
+        let largest_subnormal = f64::from_bits(f64::MIN_POSITIVE.to_bits() - 1);
+        for z in [smallest, f64::MIN_POSITIVE / 4.0, largest_subnormal] {
+            assert!(square_underflows(z) && square_underflows(-z), "{z:e}");
+        }
+        for z in [
+            0.0,
+            -0.0,
+            f64::NAN,
+            f64::INFINITY,
+            f64::NEG_INFINITY,
+            1e-150,
+        ] {
+            assert!(!square_underflows(z), "{z:e}");
+        }
+        let mut s = State {
+            u: vec![
+                -0.0,
+                f64::NAN,
+                f64::NEG_INFINITY,
+                -f64::MIN_POSITIVE,
+                -smallest,
+                1e-200,
+                largest_subnormal,
+            ],
+            ..State::default()
+        };
+        s.flush_subnormals();
+        // −0.0 keeps its sign, NaN stays NaN, the normal numbers stay: only the
+        // subnormal entries become +0.
+        let bits: Vec<u64> = s.u.iter().map(|z| z.to_bits()).collect();
+        assert_eq!(bits[0], (-0.0f64).to_bits());
+        assert!(s.u[1].is_nan());
+        assert_eq!(
+            s.u[2..],
+            [f64::NEG_INFINITY, -f64::MIN_POSITIVE, 0.0, 1e-200, 0.0]
+        );
+        assert_eq!(bits[4], 0.0f64.to_bits());
+    }
 
     #[test]
     fn flushing_zeroes_only_subnormal_entries() {

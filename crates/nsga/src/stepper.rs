@@ -189,6 +189,12 @@ struct Work {
     /// The last index sets (at most [`Tuning::singular_sets_kept`](crate::Tuning::singular_sets_kept), oldest first) whose Newton
     /// matrix was found singular without regularization.
     singular_sets: Vec<IndexSets>,
+    /// The contacts an attempt may not prune (`Stepper::attempt`), a buffer reused from
+    /// attempt to attempt.
+    keep: Vec<bool>,
+    /// The name of the linear solver in the statistics the last commit replaced, whose
+    /// buffer the next trial's statistics reuse.
+    spare_solver_name: String,
     /// Constraints pruned from the current attempt's Newton matrix (empty when none).
     unused_position: Vec<bool>,
     unused_velocity: Vec<bool>,
@@ -250,6 +256,8 @@ impl Work {
             singular_sets: Vec::new(),
             factored: None,
             low_rank: low_rank::LowRank::default(),
+            keep: Vec::new(),
+            spare_solver_name: String::new(),
             unused_position: Vec::new(),
             unused_velocity: Vec::new(),
             trial_levels: StateLevels::default(),
@@ -530,6 +538,7 @@ impl<S: System> Stepper<S> {
         self.work.spare_state = left;
         if let Some(last) = self.last.replace(trial.stats) {
             self.recycle_sets(last.sets);
+            self.work.spare_solver_name = last.solver;
         }
     }
 

@@ -28,6 +28,12 @@ fn arrival(rate: f64) -> f64 {
     (-rate).max(0.0)
 }
 
+/// `to` becomes the entries of `from`, in `to`'s buffer.
+fn refill(to: &mut Vec<f64>, from: impl Iterator<Item = f64>) {
+    to.clear();
+    to.extend(from);
+}
+
 /// Quantities derived from x at one Newton iterate (eqs. 71, 73, 125, 95, 102, 113).
 #[derive(Debug, Clone, Default)]
 pub(super) struct Iterate {
@@ -83,58 +89,66 @@ impl<S: System> Stepper<S> {
         let dt = self.options.dt;
         let it = &mut self.work.it;
         let b = &self.work.b;
-        it.a_bar1.clear();
-        it.u1.clear();
-        for i in 0..o.nu {
-            let ab = p.alpha.bar(st.a[i], x[o.a + i], st.a_bar[i]);
-            it.a_bar1.push(ab);
-            it.u1.push(
-                st.u[i]
-                    + dt * ((1.0 - p.alpha.gamma) * st.a_bar[i] + p.alpha.gamma * ab)
-                    + x[o.uu + i],
-            );
-        }
-        it.q1.clear();
-        for j in 0..o.nq {
-            // q_{n+1} = q_n + Δt B u_n + ½Δt²(B a_β + Ḃu_n) + B Q   (eq. 125, second order)
-            let mut bu = 0.0;
-            let mut ba = 0.0;
-            let mut bq = 0.0;
-            for (i, bij) in b.row(j) {
-                bu += bij * st.u[i];
-                let a_beta =
-                    (1.0 - 2.0 * p.alpha.beta) * st.a_bar[i] + 2.0 * p.alpha.beta * it.a_bar1[i];
-                ba += bij * a_beta;
-                bq += bij * x[o.qq + i];
-            }
-            it.q1
-                .push(st.q[j] + dt * bu + 0.5 * dt * dt * (ba + self.work.bdot_u[j]) + bq);
-        }
-        it.lbar_n1.clear();
-        it.p_n.clear();
-        it.kappa_hat.clear();
-        for k in 0..o.nn {
-            let lb = p.alpha.bar(st.lambda_n[k], x[o.ln + k], st.lambda_n_bar[k]);
-            it.lbar_n1.push(lb);
-            it.p_n.push(
-                x[o.cn + k]
-                    + dt * ((1.0 - p.alpha.gamma) * st.lambda_n_bar[k] + p.alpha.gamma * lb),
-            );
-            it.kappa_hat.push(
-                x[o.kn + k]
-                    + dt * dt * ((0.5 - p.alpha.beta) * st.lambda_n_bar[k] + p.alpha.beta * lb),
-            );
-        }
-        it.lbar_f1.clear();
-        it.p_f.clear();
-        for c in 0..o.nf {
-            let lb = p.alpha.bar(st.lambda_f[c], x[o.lf + c], st.lambda_f_bar[c]);
-            it.lbar_f1.push(lb);
-            it.p_f.push(
-                x[o.cf + c]
-                    + dt * ((1.0 - p.alpha.gamma) * st.lambda_f_bar[c] + p.alpha.gamma * lb),
-            );
-        }
+        let bdot_u = &self.work.bdot_u;
+        let (beta, gamma) = (p.alpha.beta, p.alpha.gamma);
+        // Each vector filled by one `extend` over its indices, which reserves once,
+        // rather than a `push` per entry, which checks the capacity each time (the
+        // iterate is derived at every Newton iterate; same numbers either way).
+        refill(
+            &mut it.a_bar1,
+            (0..o.nu).map(|i| p.alpha.bar(st.a[i], x[o.a + i], st.a_bar[i])),
+        );
+        let a_bar1 = &it.a_bar1;
+        refill(
+            &mut it.u1,
+            (0..o.nu).map(|i| {
+                st.u[i] + dt * ((1.0 - gamma) * st.a_bar[i] + gamma * a_bar1[i]) + x[o.uu + i]
+            }),
+        );
+        // q_{n+1} = q_n + Δt B u_n + ½Δt²(B a_β + Ḃu_n) + B Q   (eq. 125, second order)
+        refill(
+            &mut it.q1,
+            (0..o.nq).map(|j| {
+                let mut bu = 0.0;
+                let mut ba = 0.0;
+                let mut bq = 0.0;
+                for (i, bij) in b.row(j) {
+                    bu += bij * st.u[i];
+                    let a_beta = (1.0 - 2.0 * beta) * st.a_bar[i] + 2.0 * beta * a_bar1[i];
+                    ba += bij * a_beta;
+                    bq += bij * x[o.qq + i];
+                }
+                st.q[j] + dt * bu + 0.5 * dt * dt * (ba + bdot_u[j]) + bq
+            }),
+        );
+        refill(
+            &mut it.lbar_n1,
+            (0..o.nn).map(|k| p.alpha.bar(st.lambda_n[k], x[o.ln + k], st.lambda_n_bar[k])),
+        );
+        let lbar_n1 = &it.lbar_n1;
+        refill(
+            &mut it.p_n,
+            (0..o.nn).map(|k| {
+                x[o.cn + k] + dt * ((1.0 - gamma) * st.lambda_n_bar[k] + gamma * lbar_n1[k])
+            }),
+        );
+        refill(
+            &mut it.kappa_hat,
+            (0..o.nn).map(|k| {
+                x[o.kn + k] + dt * dt * ((0.5 - beta) * st.lambda_n_bar[k] + beta * lbar_n1[k])
+            }),
+        );
+        refill(
+            &mut it.lbar_f1,
+            (0..o.nf).map(|c| p.alpha.bar(st.lambda_f[c], x[o.lf + c], st.lambda_f_bar[c])),
+        );
+        let lbar_f1 = &it.lbar_f1;
+        refill(
+            &mut it.p_f,
+            (0..o.nf).map(|c| {
+                x[o.cf + c] + dt * ((1.0 - gamma) * st.lambda_f_bar[c] + gamma * lbar_f1[c])
+            }),
+        );
         // Multipliers per family, for the smooth rows and the derivative probes.
         let fam = |v: &mut Vec<f64>, first: &[f64], second: &[f64]| {
             v.clear();
@@ -200,11 +214,14 @@ impl<S: System> Stepper<S> {
             it.supported[c] = true;
         }
         it.p.clone_from(&e.position);
-        it.xi_p.clear();
-        for k in 0..np {
-            let en = if k < ng { 0.0 } else { l.e_n[k - ng] };
-            it.xi_p.push(it.rate_new[k] + en * it.rate_old[k]);
-        }
+        let (rate_new, rate_old) = (&it.rate_new, &it.rate_old);
+        refill(
+            &mut it.xi_p,
+            (0..np).map(|k| {
+                let en = if k < ng { 0.0 } else { l.e_n[k - ng] };
+                rate_new[k] + en * rate_old[k]
+            }),
+        );
         // velocity level
         it.v.clone_from(&e.velocity_chi);
         it.v_old.clone_from(&e.velocity_chi);
@@ -212,11 +229,14 @@ impl<S: System> Stepper<S> {
             it.v[c] += v * it.u1[r];
             it.v_old[c] += v * u0[r];
         }
-        it.xi_v.clear();
-        for k in 0..nv {
-            let ef = if k < nga { 0.0 } else { self.comp_ef[k - nga] };
-            it.xi_v.push(it.v[k] + ef * it.v_old[k]);
-        }
+        let (v, v_old) = (&it.v, &it.v_old);
+        refill(
+            &mut it.xi_v,
+            (0..nv).map(|k| {
+                let ef = if k < nga { 0.0 } else { self.comp_ef[k - nga] };
+                v[k] + ef * v_old[k]
+            }),
+        );
         it.acc_p.clone_from(&e.position_zeta);
         it.acc_v.clone_from(&e.velocity_zeta);
     }

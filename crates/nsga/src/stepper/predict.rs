@@ -21,8 +21,9 @@ use super::unknowns::Offsets;
 #[derive(Debug, Clone, Default)]
 pub(super) struct StartPredictor {
     history: Vec<(u64, f64, Vec<f64>)>,
-    /// The buffer of the solution that left the history, for the next prediction: the
-    /// unknowns go round from prediction to state to history without an allocation.
+    /// The buffer of the solution that left the history, for the next prediction or
+    /// the next attempt's start ([`StartPredictor::buffer`]): the unknowns go round from
+    /// start to state to history without an allocation.
     spare: Vec<f64>,
 }
 
@@ -37,12 +38,29 @@ impl StartPredictor {
     pub(super) fn record(&mut self, k: u64, dt: f64, x: Vec<f64>, same_sets: bool) {
         if !same_sets {
             self.history.clear();
+            self.give_back(x);
             return;
         }
         if self.history.len() == 2 {
-            self.spare = self.history.remove(0).2;
+            let (_, _, oldest) = self.history.remove(0);
+            self.give_back(oldest);
         }
         self.history.push((k, dt, x));
+    }
+
+    /// An empty buffer for unknowns: the spare one, or a new one.
+    pub(super) fn buffer(&mut self) -> Vec<f64> {
+        let mut b = std::mem::take(&mut self.spare);
+        b.clear();
+        b
+    }
+
+    /// Keeps the buffer of unknowns no longer needed for [`StartPredictor::buffer`],
+    /// where it is larger than the one kept.
+    pub(super) fn give_back(&mut self, x: Vec<f64>) {
+        if x.capacity() > self.spare.capacity() {
+            self.spare = x;
+        }
     }
 
     /// The predicted start of the step after state `k` whose solution is `x`, for time

@@ -135,29 +135,35 @@ impl<S: System> Stepper<S> {
     /// (with fixed sets, only those the sets leave open); a pruned contact that closes
     /// restarts the run from its iterate with that contact kept ([`Resumed`]).
     pub(super) fn attempt(&mut self, spec: &AttemptSpec) -> AttemptOutcome {
-        let mut x = spec.start_unknowns(&self.state);
+        // The iterates and the contacts kept from pruning in buffers that outlive the
+        // attempt: the predictor's spare unknowns and the work's flags.
+        let mut x = self.predictor.buffer();
+        x.extend_from_slice(spec.start_unknowns(&self.state));
         let fixed = spec.sets.fixed();
-        let mut keep: Option<Vec<bool>> = self.options.newton.prune_open_contacts.then(|| {
-            (0..self.off.nn)
-                .map(|k| fixed.is_some_and(|f| f.a[k]))
-                .collect()
-        });
+        let mut keep = std::mem::take(&mut self.work.keep);
+        keep.clear();
+        keep.extend((0..self.off.nn).map(|k| fixed.is_some_and(|f| f.a[k])));
+        // A restart comes only from a pruned contact, so only with pruning.
+        let pruning = self.options.newton.prune_open_contacts;
         let mut resumed = None;
-        loop {
-            match self.newton_run(spec, &mut x, keep.as_deref(), resumed) {
-                Run::Ended(outcome) => return outcome,
+        let outcome = loop {
+            match self.newton_run(spec, &mut x, pruning.then_some(&keep[..]), resumed) {
+                Run::Ended(outcome) => break outcome,
                 Run::Restart { closing, from } => {
                     // The iterate is the one the unpruned attempt would have reached (a
                     // pruned contact's unknowns stay zero while it is open): go on from
                     // it with the closing contacts kept, within what is left of the budget.
-                    let keep = keep.get_or_insert_with(|| vec![false; self.off.nn]);
                     for (kk, c) in keep.iter_mut().zip(closing) {
                         *kk |= c;
                     }
                     resumed = Some(from);
                 }
             }
-        }
+        };
+        self.work.keep = keep;
+        // A converged attempt's x went into its trial; a failed one's is free again.
+        self.predictor.give_back(x);
+        outcome
     }
 
     /// Whether an attempt with `scheme` takes the updates of

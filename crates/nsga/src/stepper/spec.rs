@@ -90,10 +90,10 @@ impl AttemptSpec {
     }
 
     /// The unknowns the iterates start from, at the step from `state`.
-    pub(super) fn start_unknowns(&self, state: &State) -> Vec<f64> {
+    pub(super) fn start_unknowns<'a>(&'a self, state: &'a State) -> &'a [f64] {
         match &self.start {
-            StartAt::LastSolution => state.x.clone(),
-            StartAt::Unknowns(x) => x.clone(),
+            StartAt::LastSolution => &state.x,
+            StartAt::Unknowns(x) => x,
         }
     }
 }

@@ -62,12 +62,19 @@ impl StateLevels {
 
     /// Whether these are the levels of `state`.
     pub(super) fn describe(&self, state: &State) -> bool {
-        self.valid && self.k == state.k && self.t == state.t && self.x == state.x
+        self.valid && self.k == state.k && self.t == state.t && equal(&self.x, &state.x)
     }
 
     pub(super) fn forget(&mut self) {
         self.valid = false;
     }
+}
+
+/// `a == b`, without the early exit of the slices' `==`: it compares all entries in
+/// pairs (it vectorizes) rather than one at a time (two such comparisons a step, in
+/// the commit and in the pruning, cost 2 000 instructions of a six-block pile's).
+fn equal(a: &[f64], b: &[f64]) -> bool {
+    a.len() == b.len() && a.iter().zip(b).fold(true, |same, (x, y)| same & (x == y))
 }
 
 #[cfg(test)]
@@ -76,6 +83,25 @@ mod tests {
     use crate::system::System;
     use crate::systems::chain::Chain;
     use crate::{NewtonOptions, Options, Stepper};
+
+    /// `equal` is the slices' `==`: −0 equals +0, NaN equals nothing.
+    #[test]
+    fn unknowns_compare_as_the_slices_do() {
+        let cases: [(&[f64], &[f64]); 6] = [
+            (&[1.0, -0.0, 3.0], &[1.0, 0.0, 3.0]),
+            (&[1.0, 2.0], &[1.0, 2.0, 0.0]),
+            (
+                &[1.0, 2.0, 3.0, 4.0, 5.0],
+                &[1.0, 2.0, 3.0, 4.0, 5.0f64.next_up()],
+            ),
+            (&[f64::NAN], &[f64::NAN]),
+            (&[f64::INFINITY, 1.0], &[f64::INFINITY, 1.0]),
+            (&[], &[]),
+        ];
+        for (a, b) in cases {
+            assert_eq!(equal(a, b), a == b, "{a:?} {b:?}");
+        }
+    }
 
     /// The levels a step keeps are those a fresh evaluation of the committed state gives,
     /// to the bit; `system_mut` forgets them.

@@ -71,6 +71,9 @@ impl<S: System> Stepper<S> {
             p_f,
             x,
         };
+        let mut solver = std::mem::take(&mut self.work.spare_solver_name);
+        solver.clear();
+        solver.push_str(self.work.solver.name());
         let stats = StepStats {
             last_resort: None,
             t: state.t,
@@ -81,7 +84,7 @@ impl<S: System> Stepper<S> {
             retries: 0,
             converged,
             branch: None,
-            solver: self.work.solver.name().to_owned(),
+            solver,
             substeps: 1,
             unshifted: false,
         };
