@@ -5,6 +5,7 @@
 
 use super::scheme::Scheme;
 use super::Stepper;
+use crate::params::GenAlpha;
 use crate::prox::prox_parameters;
 use crate::sets::{beyond_the_strongest, IndexSets};
 use crate::system::System;
@@ -32,6 +33,36 @@ fn arrival(rate: f64) -> f64 {
 fn refill(to: &mut Vec<f64>, from: impl Iterator<Item = f64>) {
     to.clear();
     to.extend(from);
+}
+
+/// The auxiliary variables of one family at the iterate (eqs. 71, 95, 113): per entry,
+/// ā_{n+1} from the last step's value `old`, the iterate's `new` and the last ā `old_bar`.
+fn refill_bars(to: &mut Vec<f64>, alpha: &GenAlpha, (old, new, old_bar): (&[f64], &[f64], &[f64])) {
+    refill(
+        to,
+        old.iter()
+            .zip(new)
+            .zip(old_bar)
+            .map(|((&o, &n), &ob)| alpha.bar(o, n, ob)),
+    );
+}
+
+/// The percussions of one family at the iterate (eqs. 96, 114): per entry, the impulsive
+/// part `impulsive` plus Δt((1 − γ) λ̄_n + γ λ̄_{n+1}) of the smooth forces.
+fn refill_percussions(
+    to: &mut Vec<f64>,
+    (dt, gamma): (f64, f64),
+    impulsive: &[f64],
+    (old_bar, bar): (&[f64], &[f64]),
+) {
+    refill(
+        to,
+        impulsive
+            .iter()
+            .zip(old_bar)
+            .zip(bar)
+            .map(|((&c, &ob), &b)| c + dt * ((1.0 - gamma) * ob + gamma * b)),
+    );
 }
 
 /// Quantities derived from x at one Newton iterate (eqs. 71, 73, 125, 95, 102, 113).
@@ -94,10 +125,8 @@ impl<S: System> Stepper<S> {
         // Each vector filled by one `extend` over its indices, which reserves once,
         // rather than a `push` per entry, which checks the capacity each time (the
         // iterate is derived at every Newton iterate; same numbers either way).
-        refill(
-            &mut it.a_bar1,
-            (0..o.nu).map(|i| p.alpha.bar(st.a[i], x[o.a + i], st.a_bar[i])),
-        );
+        let xs = |at: usize, n: usize| &x[at..at + n];
+        refill_bars(&mut it.a_bar1, &p.alpha, (&st.a, xs(o.a, o.nu), &st.a_bar));
         let a_bar1 = &it.a_bar1;
         refill(
             &mut it.u1,
@@ -121,16 +150,17 @@ impl<S: System> Stepper<S> {
                 st.q[j] + dt * bu + 0.5 * dt * dt * (ba + bdot_u[j]) + bq
             }),
         );
-        refill(
+        refill_bars(
             &mut it.lbar_n1,
-            (0..o.nn).map(|k| p.alpha.bar(st.lambda_n[k], x[o.ln + k], st.lambda_n_bar[k])),
+            &p.alpha,
+            (&st.lambda_n, xs(o.ln, o.nn), &st.lambda_n_bar),
         );
         let lbar_n1 = &it.lbar_n1;
-        refill(
+        refill_percussions(
             &mut it.p_n,
-            (0..o.nn).map(|k| {
-                x[o.cn + k] + dt * ((1.0 - gamma) * st.lambda_n_bar[k] + gamma * lbar_n1[k])
-            }),
+            (dt, gamma),
+            xs(o.cn, o.nn),
+            (&st.lambda_n_bar, lbar_n1),
         );
         refill(
             &mut it.kappa_hat,
@@ -138,16 +168,16 @@ impl<S: System> Stepper<S> {
                 x[o.kn + k] + dt * dt * ((0.5 - beta) * st.lambda_n_bar[k] + beta * lbar_n1[k])
             }),
         );
-        refill(
+        refill_bars(
             &mut it.lbar_f1,
-            (0..o.nf).map(|c| p.alpha.bar(st.lambda_f[c], x[o.lf + c], st.lambda_f_bar[c])),
+            &p.alpha,
+            (&st.lambda_f, xs(o.lf, o.nf), &st.lambda_f_bar),
         );
-        let lbar_f1 = &it.lbar_f1;
-        refill(
+        refill_percussions(
             &mut it.p_f,
-            (0..o.nf).map(|c| {
-                x[o.cf + c] + dt * ((1.0 - gamma) * st.lambda_f_bar[c] + gamma * lbar_f1[c])
-            }),
+            (dt, gamma),
+            xs(o.cf, o.nf),
+            (&st.lambda_f_bar, &it.lbar_f1),
         );
         // Multipliers per family, for the smooth rows and the derivative probes.
         let fam = |v: &mut Vec<f64>, first: &[f64], second: &[f64]| {
