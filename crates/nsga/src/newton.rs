@@ -103,6 +103,20 @@ pub trait NewtonProblem {
     fn recycle(&mut self, sets: Self::Sets) {
         drop(sets);
     }
+
+    /// An empty list for the sets an attempt visits, which its outcome reports
+    /// ([`Outcome::Converged`], [`Outcome::NotConverged`]): the problem may hand out one
+    /// whose buffer it got back from an earlier outcome. Default: a new one.
+    fn visited_list(&mut self) -> Vec<Self::Sets> {
+        Vec::new()
+    }
+
+    /// A copy of visited `sets` for the outcome to report besides its visited list (the
+    /// solution's, the best iterate's), which the problem may write into the buffers of
+    /// sets it recycled. Default: a clone.
+    fn copy_sets(&mut self, sets: &Self::Sets) -> Self::Sets {
+        sets.clone()
+    }
 }
 
 /// The best (smallest-residual) iterate of an attempt that did not converge.
@@ -188,7 +202,7 @@ pub fn solve<P: NewtonProblem>(
 ) -> Outcome<P::Sets> {
     scratch.dx.clear();
     scratch.dx.resize(x.len(), 0.0);
-    let mut visited: Vec<P::Sets> = Vec::new();
+    let mut visited = problem.visited_list();
     scratch.history.clear();
     scratch.residuals.clear();
     scratch.line_search_trials = 0;
@@ -226,7 +240,7 @@ pub fn solve<P: NewtonProblem>(
         }
         if res <= settings.tol {
             return Outcome::Converged {
-                sets: sets.clone(),
+                sets: problem.copy_sets(sets),
                 iterations: iter,
                 residual: res,
                 visited,
@@ -278,7 +292,7 @@ pub fn solve<P: NewtonProblem>(
             x: scratch.best_x.clone(),
             residual,
             iteration,
-            sets: visited[id].clone(),
+            sets: problem.copy_sets(&visited[id]),
         }),
         visited,
         cycling,
@@ -455,6 +469,63 @@ mod tests {
             dx[0] = -self.res / slope;
             Ok(())
         }
+    }
+
+    /// [`Kink`] handing out its own list for the visited sets and its own copies.
+    struct KeptKink {
+        kink: Kink,
+        list: Vec<bool>,
+        copies: usize,
+    }
+
+    impl NewtonProblem for KeptKink {
+        type Sets = bool;
+        fn evaluate(&mut self, x: &[f64], first: bool) -> (bool, f64) {
+            self.kink.evaluate(x, first)
+        }
+        fn exact_direction(&mut self, x: &[f64], s: &bool, dx: &mut [f64]) -> Result<(), String> {
+            self.kink.exact_direction(x, s, dx)
+        }
+        fn visited_list(&mut self) -> Vec<bool> {
+            std::mem::take(&mut self.list)
+        }
+        fn copy_sets(&mut self, sets: &bool) -> bool {
+            self.copies += 1;
+            *sets
+        }
+    }
+
+    #[test]
+    fn the_outcome_reports_in_the_problems_list_and_copies() {
+        let settings = NewtonSettings {
+            tol: 1e-12,
+            max_iter: 10,
+            line_search: 0,
+            reuse_factorization: false,
+            resume_reuse: false,
+            give_up: GiveUp::Never,
+            contracting_extra: 0,
+            tuning: Tuning::default(),
+        };
+        let list = Vec::with_capacity(4);
+        let buffer = list.as_ptr();
+        let mut problem = KeptKink {
+            kink: Kink { res: 0.0 },
+            list,
+            copies: 0,
+        };
+        let out = solve(
+            &mut problem,
+            &mut [-3.0],
+            &settings,
+            &mut NewtonScratch::default(),
+        );
+        let Outcome::Converged { sets, visited, .. } = out else {
+            panic!("{out:?}");
+        };
+        assert!(!sets && visited == [false]);
+        assert_eq!(visited.as_ptr(), buffer);
+        assert_eq!(problem.copies, 1);
     }
 
     #[test]

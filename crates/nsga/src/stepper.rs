@@ -178,6 +178,9 @@ struct Work {
     /// Index sets no longer needed, whose buffers [`Stepper::compute_sets`] reuses (at
     /// most [`SPARE_SETS`]).
     spare_sets: Vec<IndexSets>,
+    /// The list of the sets a committed trial visited, emptied, for the next Newton
+    /// run's ([`NewtonProblem::visited_list`](crate::newton::NewtonProblem::visited_list)).
+    spare_visited: Vec<IndexSets>,
     /// The state the last commit replaced, whose buffers the next trial fills.
     spare_state: State,
     /// Scratch of `prox_parameters`: the diagonal of M.
@@ -248,6 +251,7 @@ impl Work {
             r_vel: Vec::new(),
             r_law: Vec::new(),
             spare_sets: Vec::new(),
+            spare_visited: Vec::new(),
             spare_state: State::default(),
             mass_diagonal: Vec::new(),
             it: Iterate::default(),
@@ -528,9 +532,10 @@ impl<S: System> Stepper<S> {
                 .last
                 .as_ref()
                 .is_some_and(|last| last.last_resort.is_none() && last.sets == trial.stats.sets);
-        for sets in trial.visited {
+        for sets in trial.visited.drain(..) {
             self.recycle_sets(sets);
         }
+        self.work.spare_visited = trial.visited;
         let mut left = std::mem::replace(&mut self.state, trial.state);
         let x = std::mem::take(&mut left.x);
         self.predictor.record(left.k, self.options.dt, x, same_sets);
@@ -548,6 +553,13 @@ impl<S: System> Stepper<S> {
         if self.work.spare_sets.len() < SPARE_SETS {
             self.work.spare_sets.push(sets);
         }
+    }
+
+    /// A copy of `sets` in the buffers of spent ones ([`Stepper::recycle_sets`]).
+    fn copy_sets(&mut self, sets: &IndexSets) -> IndexSets {
+        let mut copy = self.work.spare_sets.pop().unwrap_or_default();
+        copy.clone_from(sets);
+        copy
     }
 
     /// Adds one accepted step to the run statistics.

@@ -115,6 +115,16 @@ impl<S: System> NewtonProblem for StepProblem<'_, S> {
         self.stepper.recycle_sets(sets);
     }
 
+    fn visited_list(&mut self) -> Vec<IndexSets> {
+        let mut list = std::mem::take(&mut self.stepper.work.spare_visited);
+        list.clear();
+        list
+    }
+
+    fn copy_sets(&mut self, sets: &IndexSets) -> IndexSets {
+        self.stepper.copy_sets(sets)
+    }
+
     fn kept_direction(&mut self, x: &[f64], sets: &IndexSets, dx: &mut [f64]) -> bool {
         let started = Instant::now();
         let kept = self
