@@ -510,7 +510,7 @@ impl<S: System> Stepper<S> {
             }
         }
         let sets = fixed.map_or(SetRule::Free, |s| SetRule::Fixed(s.clone()));
-        self.attempt(&self.spec(sets, rho_inf))
+        self.attempt(self.spec(sets, rho_inf))
             .map_err(|f| f.into_error(&self.state))
     }
 

@@ -144,11 +144,12 @@ impl<S: System> Stepper<S> {
     /// [`NewtonOptions::prune_open_contacts`](crate::NewtonOptions::prune_open_contacts) asks for it
     /// (with fixed sets, only those the sets leave open); a pruned contact that closes
     /// restarts the run from its iterate with that contact kept ([`Resumed`]).
-    pub(super) fn attempt(&mut self, spec: &AttemptSpec) -> AttemptOutcome {
+    pub(super) fn attempt(&mut self, mut spec: AttemptSpec) -> AttemptOutcome {
         // The iterates and the contacts kept from pruning in buffers that outlive the
-        // attempt: the predictor's spare unknowns and the work's flags.
-        let mut x = self.predictor.buffer();
-        x.extend_from_slice(spec.start_unknowns(&self.state));
+        // attempt: the start's own unknowns (a prediction) or the predictor's spare
+        // ones, and the work's flags.
+        let mut x = spec.take_start(&self.state, || self.predictor.buffer());
+        let spec = &spec;
         let fixed = spec.sets.fixed();
         let mut keep = std::mem::take(&mut self.work.keep);
         keep.clear();
