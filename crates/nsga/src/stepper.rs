@@ -195,6 +195,12 @@ struct Work {
     /// The contacts an attempt may not prune (`Stepper::attempt`), a buffer reused from
     /// attempt to attempt.
     keep: Vec<bool>,
+    /// The normal contacts that cannot close within the step (`Stepper::open_contacts`),
+    /// the last prune map given back, and the pruned contacts that closed at a restart
+    /// (`StepProblem::restart`): buffers reused from run to run.
+    unclosable: Vec<bool>,
+    prune_map: Vec<usize>,
+    closing: Vec<bool>,
     /// The name of the linear solver in the statistics the last commit replaced, whose
     /// buffer the next trial's statistics reuse.
     spare_solver_name: String,
@@ -261,6 +267,9 @@ impl Work {
             factored: None,
             low_rank: low_rank::LowRank::default(),
             keep: Vec::new(),
+            unclosable: Vec::new(),
+            prune_map: Vec::new(),
+            closing: Vec::new(),
             spare_solver_name: String::new(),
             unused_position: Vec::new(),
             unused_velocity: Vec::new(),

@@ -45,8 +45,9 @@ struct Resumed {
 enum Run {
     /// The attempt's outcome.
     Ended(AttemptOutcome),
-    /// The pruned contacts `closing` closed: the attempt goes on `from` there.
-    Restart { closing: Vec<bool>, from: Resumed },
+    /// The pruned contacts flagged in `work.closing` closed: the attempt goes on
+    /// `from` there.
+    Restart { from: Resumed },
 }
 
 impl<S: System> NewtonProblem for StepProblem<'_, S> {
@@ -160,11 +161,11 @@ impl<S: System> Stepper<S> {
         let outcome = loop {
             match self.newton_run(spec, &mut x, pruning.then_some(&keep[..]), resumed) {
                 Run::Ended(outcome) => break outcome,
-                Run::Restart { closing, from } => {
+                Run::Restart { from } => {
                     // The iterate is the one the unpruned attempt would have reached (a
                     // pruned contact's unknowns stay zero while it is open): go on from
                     // it with the closing contacts kept, within what is left of the budget.
-                    for (kk, c) in keep.iter_mut().zip(closing) {
+                    for (kk, c) in keep.iter_mut().zip(&self.work.closing) {
                         *kk |= c;
                     }
                     resumed = Some(from);
@@ -215,6 +216,7 @@ impl<S: System> Stepper<S> {
         };
         self.prepare_step();
         let mut scratch = std::mem::take(&mut self.work.newton);
+        let closing = std::mem::take(&mut self.work.closing);
         let (held, resuming) = match resumed {
             Some(r) => (r.held, true),
             None => (spec.sets.held_start(), false),
@@ -224,12 +226,14 @@ impl<S: System> Stepper<S> {
             fixed,
             params: scheme,
             prune: prune.as_ref(),
-            closing: Vec::new(),
+            closing,
             held,
             resuming,
         };
         let outcome = newton::solve(&mut problem, x, &settings, &mut scratch);
-        let (closing, held) = (problem.closing, problem.held);
+        let held = problem.held;
+        self.work.closing = problem.closing;
+        self.give_back_pruning(prune);
         self.newton_work.line_search_trials += scratch.line_search_trials();
         // Updates this run made: one fewer than its evaluations.
         let updates = updates_before + scratch.evaluations().saturating_sub(1);
@@ -237,7 +241,7 @@ impl<S: System> Stepper<S> {
         Run::Ended(match outcome {
             Outcome::Restart => {
                 let from = Resumed { updates, held };
-                return Run::Restart { closing, from };
+                return Run::Restart { from };
             }
             Outcome::Converged {
                 sets,
