@@ -318,7 +318,7 @@ impl<S: System> Stepper<S> {
         self.evaluate_iterate(update_prox);
         self.finish_accelerations(x);
         let sets = match fixed {
-            Some(s) => s.clone(),
+            Some(s) => self.copy_sets(s),
             None => self.compute_sets(x, None, update_prox),
         };
         self.residual(x, &sets, p);
@@ -327,8 +327,10 @@ impl<S: System> Stepper<S> {
             let limited = self.compute_sets(x, Some(limit), update_prox);
             if limited != sets {
                 self.residual(x, &limited, p);
+                self.recycle_sets(sets);
                 return (limited, res);
             }
+            self.recycle_sets(limited);
         }
         (sets, res)
     }
@@ -372,5 +374,36 @@ impl<S: System> Stepper<S> {
         }
         KinematicColumns::new(self.options.dt, &p.alpha).to_unknown_columns(&self.off, &mut j);
         (self.work.res.clone(), j)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use crate::systems::chain::Chain;
+    use crate::{Options, Stepper};
+
+    /// An iterate evaluated with fixed sets or with a limit on openings hands back the
+    /// sets it does not return, and copies fixed sets into spent ones.
+    #[test]
+    fn an_evaluation_takes_and_gives_back_spent_sets() {
+        let chain = Chain::benchmark(4);
+        let (q0, u0) = chain.resting(0.0);
+        let mut s = Stepper::new(chain, 0.0, &q0, &u0, Options::default()).unwrap();
+        let p = s.scheme(0.5);
+        let x = s.state().x.clone();
+        let sets = s.sets_of(&x, 0.5);
+        s.work.spare_sets.clear();
+        s.recycle_sets(sets.clone());
+        let spare = s.work.spare_sets[0].a.as_ptr();
+        let (fixed, _) = s.evaluate_at(&x, Some(&sets), &p, false, None);
+        assert_eq!((&fixed, fixed.a.as_ptr()), (&sets, spare));
+        assert!(s.work.spare_sets.is_empty());
+        // Away from the solution, with a limit on openings: the laws' sets or the limited
+        // ones, whichever are not returned, go back.
+        let mut off = x.clone();
+        off[s.off.a] += 1.0;
+        let (_, res) = s.evaluate_at(&off, None, &p, false, Some((&sets, 0)));
+        assert!(res > s.options.tol);
+        assert_eq!(s.work.spare_sets.len(), 1);
     }
 }
