@@ -160,6 +160,8 @@ struct Work {
     /// `jac` renumbered to the unknowns left after pruning; `jac` itself is kept, so
     /// that a singular plain matrix is regularized without being assembled again.
     jac_pruned: Vec<(usize, usize, f64)>,
+    /// Scratch of the assembly of a sliding friction row: its radius's columns.
+    radius_cols: Vec<(usize, f64)>,
     /// Power-of-two row scales of an equilibrated regularized matrix.
     row_scale: Vec<f64>,
     rhs_red: Vec<f64>,
@@ -243,6 +245,7 @@ impl Work {
             regularized: Vec::new(),
             regularization_scale: Vec::new(),
             jac_pruned: Vec::new(),
+            radius_cols: Vec::new(),
             row_scale: Vec::new(),
             rhs_red: Vec::new(),
             res: vec![0.0; Offsets::new(layout).n],
