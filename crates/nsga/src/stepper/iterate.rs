@@ -202,16 +202,20 @@ impl<S: System> Stepper<S> {
         );
         let e = &w.eval;
         let it = &mut w.it;
-        let u0 = &self.state.u;
+        // Slices in the loops over the triplets: each vector's pointer and length read
+        // once, not at every entry.
+        let (u0, u1) = (&self.state.u[..], &it.u1[..]);
         // ṗ(q1,u1), ṗ(q1,u_n), p̈ = W_pᵀa + ζ_p (buffers reused: no allocation per iterate)
         it.rate_new.clone_from(&e.position_chi);
         it.rate_old.clone_from(&e.position_chi);
         it.supported.clear();
         it.supported.resize(np, false);
+        let (rate_new, rate_old) = (&mut it.rate_new[..], &mut it.rate_old[..]);
+        let supported = &mut it.supported[..];
         for &(r, c, v) in &e.position_w.entries {
-            it.rate_new[c] += v * it.u1[r];
-            it.rate_old[c] += v * u0[r];
-            it.supported[c] = true;
+            rate_new[c] += v * u1[r];
+            rate_old[c] += v * u0[r];
+            supported[c] = true;
         }
         it.p.clone_from(&e.position);
         let (rate_new, rate_old) = (&it.rate_new, &it.rate_old);
@@ -225,9 +229,10 @@ impl<S: System> Stepper<S> {
         // velocity level
         it.v.clone_from(&e.velocity_chi);
         it.v_old.clone_from(&e.velocity_chi);
+        let (v_new, v_old) = (&mut it.v[..], &mut it.v_old[..]);
         for &(r, c, v) in &e.velocity_w.entries {
-            it.v[c] += v * it.u1[r];
-            it.v_old[c] += v * u0[r];
+            v_new[c] += v * u1[r];
+            v_old[c] += v * u0[r];
         }
         let (v, v_old) = (&it.v, &it.v_old);
         refill(
@@ -244,12 +249,15 @@ impl<S: System> Stepper<S> {
     /// Adds W_pᵀ a and W_vᵀ a to the acceleration levels (needs x).
     pub(super) fn finish_accelerations(&mut self, x: &[f64]) {
         let o = self.off;
+        let a = &x[o.a..o.a + o.nu];
         let w = &mut self.work;
+        let acc_p = &mut w.it.acc_p[..];
         for &(r, c, v) in &w.eval.position_w.entries {
-            w.it.acc_p[c] += v * x[o.a + r];
+            acc_p[c] += v * a[r];
         }
+        let acc_v = &mut w.it.acc_v[..];
         for &(r, c, v) in &w.eval.velocity_w.entries {
-            w.it.acc_v[c] += v * x[o.a + r];
+            acc_v[c] += v * a[r];
         }
     }
 
