@@ -105,7 +105,10 @@ impl<S: System> Stepper<S> {
                 st.u[i] + dt * ((1.0 - gamma) * st.a_bar[i] + gamma * a_bar1[i]) + x[o.uu + i]
             }),
         );
-        // q_{n+1} = q_n + Δt B u_n + ½Δt²(B a_β + Ḃu_n) + B Q   (eq. 125, second order)
+        // q_{n+1} = q_n + Δt B u_n + ½Δt²(B a_β + Ḃu_n) + B Q   (eq. 125, second order),
+        // through slices: each vector's pointer and length read once, not per entry of B.
+        let (u, a_bar, a_bar1) = (&st.u[..], &st.a_bar[..], &a_bar1[..]);
+        let (q, xq, bdot_u) = (&st.q[..], &x[o.qq..o.qq + o.nu], &bdot_u[..]);
         refill(
             &mut it.q1,
             (0..o.nq).map(|j| {
@@ -113,12 +116,12 @@ impl<S: System> Stepper<S> {
                 let mut ba = 0.0;
                 let mut bq = 0.0;
                 for (i, bij) in b.row(j) {
-                    bu += bij * st.u[i];
-                    let a_beta = (1.0 - 2.0 * beta) * st.a_bar[i] + 2.0 * beta * a_bar1[i];
+                    bu += bij * u[i];
+                    let a_beta = (1.0 - 2.0 * beta) * a_bar[i] + 2.0 * beta * a_bar1[i];
                     ba += bij * a_beta;
-                    bq += bij * x[o.qq + i];
+                    bq += bij * xq[i];
                 }
-                st.q[j] + dt * bu + 0.5 * dt * dt * (ba + bdot_u[j]) + bq
+                q[j] + dt * bu + 0.5 * dt * dt * (ba + bdot_u[j]) + bq
             }),
         );
         refill(
@@ -367,20 +370,24 @@ impl<S: System> Stepper<S> {
         let l = &self.layout;
         let w = &self.work;
         let it = &w.it;
+        // The normal contacts' rows of the position constraints' vectors, as slices: their
+        // pointers and lengths read once, not per contact.
+        let nr = o.ng..o.ng + o.nn;
+        let (r_pos, rate_old) = (&w.r_pos[nr.clone()], &it.rate_old[nr.clone()]);
+        let (gap, xi, acc) = (&it.p[nr.clone()], &it.xi_p[nr.clone()], &it.acc_p[nr]);
+        let (kappa_hat, p_n, lambda_n) = (&it.kappa_hat[..], &it.p_n[..], &x[o.ln..o.ln + o.nn]);
         // The prox arguments of the normal contacts' laws on position, velocity and
         // acceleration level: positive where the law opens the contact.
-        let open_by = |k: usize| w.r_pos[o.ng + k] * it.p[o.ng + k] - it.kappa_hat[k];
-        let leaves_b_by = |k: usize| w.r_pos[o.ng + k] * it.xi_p[o.ng + k] - it.p_n[k];
-        let leaves_c_by = |k: usize| w.r_pos[o.ng + k] * it.acc_p[o.ng + k] - x[o.ln + k];
+        let open_by = |k: usize| r_pos[k] * gap[k] - kappa_hat[k];
+        let leaves_b_by = |k: usize| r_pos[k] * xi[k] - p_n[k];
+        let leaves_c_by = |k: usize| r_pos[k] * acc[k] - lambda_n[k];
         // The fastest arrival among the normal contacts `ks` (0 when none arrives).
         let fastest = |ks: &mut dyn Iterator<Item = usize>| {
-            ks.map(|k| arrival(it.rate_old[o.ng + k]))
-                .fold(0.0, f64::max)
+            ks.map(|k| arrival(rate_old[k])).fold(0.0, f64::max)
         };
         let dt = self.options.dt;
         for k in 0..o.nn {
-            let pk = o.ng + k;
-            s.a[k] = open_by(k) <= -SET_TIE * w.r_pos[pk] * dt * arrival(it.rate_old[pk]);
+            s.a[k] = open_by(k) <= -SET_TIE * r_pos[k] * dt * arrival(rate_old[k]);
         }
         let limit = limit.filter(|(last, _)| last.a.len() == o.nn);
         if let Some((last, most)) = limit {
@@ -398,7 +405,7 @@ impl<S: System> Stepper<S> {
             0.0
         };
         for k in 0..o.nn {
-            s.b[k] = s.a[k] && leaves_b_by(k) <= SET_TIE * w.r_pos[o.ng + k] * impact;
+            s.b[k] = s.a[k] && leaves_b_by(k) <= SET_TIE * r_pos[k] * impact;
             s.c[k] = s.b[k] && leaves_c_by(k) <= 0.0;
         }
         if let Some((last, most)) = limit {
