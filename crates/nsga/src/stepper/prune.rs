@@ -93,17 +93,20 @@ impl<S: System> Stepper<S> {
         let st = &self.state;
         let w = &mut self.work;
         let levels = &w.state_levels;
-        let (gap, rate, acc) = (&levels.position, &levels.rate, &levels.acceleration);
+        // The normal contacts' rows, as slices: their pointers and lengths read once.
+        let nr = o.ng..o.ng + o.nn;
+        let (gap, rate) = (&levels.position[nr.clone()], &levels.rate[nr.clone()]);
+        let acc = &levels.acceleration[nr];
+        let (lambda_n, lambda_n_bar) = (&st.lambda_n[..], &st.lambda_n_bar[..]);
         let prune_margin = self.options.tuning.prune_margin;
         w.unclosable.clear();
         w.unclosable.extend((0..o.nn).map(|k| {
-            let pk = o.ng + k;
-            let margin = prune_margin * dt * rate[pk].abs() + dt * dt * acc[pk].abs();
+            let margin = prune_margin * dt * rate[k].abs() + dt * dt * acc[k].abs();
             !keep[k]
-                && gap[pk] > margin
-                && gap[pk] > 0.0
-                && st.lambda_n[k] == 0.0
-                && st.lambda_n_bar[k] == 0.0
+                && gap[k] > margin
+                && gap[k] > 0.0
+                && lambda_n[k] == 0.0
+                && lambda_n_bar[k] == 0.0
         }));
         w.unclosable.iter().any(|&b| b)
     }
