@@ -7,7 +7,7 @@
 /// (r g̈_N − λ_N ≤ 0); `d[j]`: friction law j sticks on velocity level
 /// (‖r ξ_F − P_F‖ ≤ μ P̂); `e[j]`: sticks on acceleration level (‖r γ̇_F − λ_F‖ ≤ μ λ̂).
 /// A law is *active* when one of its normal contacts is in A.
-#[derive(Debug, Clone, PartialEq, Eq, Hash, Default, serde::Serialize, serde::Deserialize)]
+#[derive(Debug, PartialEq, Eq, Hash, Default, serde::Serialize, serde::Deserialize)]
 pub struct IndexSets {
     /// A: closed gaps (position level), per normal contact.
     pub a: Vec<bool>,
@@ -19,6 +19,28 @@ pub struct IndexSets {
     pub d: Vec<bool>,
     /// E ⊆ D: sticking on acceleration level, per friction law.
     pub e: Vec<bool>,
+}
+
+/// Written out for `clone_from`, which copies into the five buffers of the sets it
+/// overwrites (the derived one would allocate five new ones).
+impl Clone for IndexSets {
+    fn clone(&self) -> Self {
+        Self {
+            a: self.a.clone(),
+            b: self.b.clone(),
+            c: self.c.clone(),
+            d: self.d.clone(),
+            e: self.e.clone(),
+        }
+    }
+
+    fn clone_from(&mut self, source: &Self) {
+        self.a.clone_from(&source.a);
+        self.b.clone_from(&source.b);
+        self.c.clone_from(&source.c);
+        self.d.clone_from(&source.d);
+        self.e.clone_from(&source.e);
+    }
 }
 
 impl IndexSets {
@@ -128,6 +150,17 @@ mod tests {
         }
         t.reset(s.a.len(), s.d.len());
         t
+    }
+
+    #[test]
+    fn a_copy_from_other_sets_keeps_its_buffers() {
+        let mut s = IndexSets::empty(3, 2);
+        (s.a[0], s.b[2], s.d[1]) = (true, true, true);
+        let mut t = IndexSets::empty(4, 2);
+        let buffers = [&t.a, &t.b, &t.c, &t.d, &t.e].map(Vec::as_ptr);
+        t.clone_from(&s);
+        assert_eq!(t, s);
+        assert_eq!([&t.a, &t.b, &t.c, &t.d, &t.e].map(Vec::as_ptr), buffers);
     }
 
     #[test]

@@ -160,6 +160,8 @@ struct Work {
     /// `jac` renumbered to the unknowns left after pruning; `jac` itself is kept, so
     /// that a singular plain matrix is regularized without being assembled again.
     jac_pruned: Vec<(usize, usize, f64)>,
+    /// Scratch of the assembly of a sliding friction row: its radius's columns.
+    radius_cols: Vec<(usize, f64)>,
     /// Power-of-two row scales of an equilibrated regularized matrix.
     row_scale: Vec<f64>,
     rhs_red: Vec<f64>,
@@ -178,6 +180,9 @@ struct Work {
     /// Index sets no longer needed, whose buffers [`Stepper::compute_sets`] reuses (at
     /// most [`SPARE_SETS`]).
     spare_sets: Vec<IndexSets>,
+    /// The list of the sets a committed trial visited, emptied, for the next Newton
+    /// run's ([`NewtonProblem::visited_list`](crate::newton::NewtonProblem::visited_list)).
+    spare_visited: Vec<IndexSets>,
     /// The state the last commit replaced, whose buffers the next trial fills.
     spare_state: State,
     /// Scratch of `prox_parameters`: the diagonal of M.
@@ -192,6 +197,12 @@ struct Work {
     /// The contacts an attempt may not prune (`Stepper::attempt`), a buffer reused from
     /// attempt to attempt.
     keep: Vec<bool>,
+    /// The normal contacts that cannot close within the step (`Stepper::open_contacts`),
+    /// the last prune map given back, and the pruned contacts that closed at a restart
+    /// (`StepProblem::restart`): buffers reused from run to run.
+    unclosable: Vec<bool>,
+    prune_map: Vec<usize>,
+    closing: Vec<bool>,
     /// The name of the linear solver in the statistics the last commit replaced, whose
     /// buffer the next trial's statistics reuse.
     spare_solver_name: String,
@@ -234,6 +245,7 @@ impl Work {
             regularized: Vec::new(),
             regularization_scale: Vec::new(),
             jac_pruned: Vec::new(),
+            radius_cols: Vec::new(),
             row_scale: Vec::new(),
             rhs_red: Vec::new(),
             res: vec![0.0; Offsets::new(layout).n],
@@ -248,6 +260,7 @@ impl Work {
             r_vel: Vec::new(),
             r_law: Vec::new(),
             spare_sets: Vec::new(),
+            spare_visited: Vec::new(),
             spare_state: State::default(),
             mass_diagonal: Vec::new(),
             it: Iterate::default(),
@@ -257,6 +270,9 @@ impl Work {
             factored: None,
             low_rank: low_rank::LowRank::default(),
             keep: Vec::new(),
+            unclosable: Vec::new(),
+            prune_map: Vec::new(),
+            closing: Vec::new(),
             spare_solver_name: String::new(),
             unused_position: Vec::new(),
             unused_velocity: Vec::new(),
@@ -506,7 +522,7 @@ impl<S: System> Stepper<S> {
             }
         }
         let sets = fixed.map_or(SetRule::Free, |s| SetRule::Fixed(s.clone()));
-        self.attempt(&self.spec(sets, rho_inf))
+        self.attempt(self.spec(sets, rho_inf))
             .map_err(|f| f.into_error(&self.state))
     }
 
@@ -528,9 +544,10 @@ impl<S: System> Stepper<S> {
                 .last
                 .as_ref()
                 .is_some_and(|last| last.last_resort.is_none() && last.sets == trial.stats.sets);
-        for sets in trial.visited {
+        for sets in trial.visited.drain(..) {
             self.recycle_sets(sets);
         }
+        self.work.spare_visited = trial.visited;
         let mut left = std::mem::replace(&mut self.state, trial.state);
         let x = std::mem::take(&mut left.x);
         self.predictor.record(left.k, self.options.dt, x, same_sets);
@@ -548,6 +565,13 @@ impl<S: System> Stepper<S> {
         if self.work.spare_sets.len() < SPARE_SETS {
             self.work.spare_sets.push(sets);
         }
+    }
+
+    /// A copy of `sets` in the buffers of spent ones ([`Stepper::recycle_sets`]).
+    fn copy_sets(&mut self, sets: &IndexSets) -> IndexSets {
+        let mut copy = self.work.spare_sets.pop().unwrap_or_default();
+        copy.clone_from(sets);
+        copy
     }
 
     /// Adds one accepted step to the run statistics.

@@ -1,6 +1,7 @@
 //! Residual (eqs. 127–142) and its semismooth Jacobian (eq. 143), rows scaled to
 //! impulse units: acceleration-level rows × Δt, position-level rows ÷ Δt.
 
+use super::iterate::Iterate;
 use super::kinematic::KinematicColumns;
 use super::rows::{push_q_derivative, push_u_derivative, RowMat};
 use super::scheme::Scheme;
@@ -9,7 +10,7 @@ use super::unknowns::Offsets;
 use super::{Stepper, Work};
 use crate::options::JacobianChoice;
 use crate::sets::IndexSets;
-use crate::system::{FrictionLaw, Probes, System};
+use crate::system::{Evaluation, FrictionLaw, Probes, System};
 
 impl<S: System> Stepper<S> {
     /// Fills `work.res` with R(x) for the given sets.
@@ -20,33 +21,18 @@ impl<S: System> Stepper<S> {
         let w = &mut self.work;
         let e = &w.eval;
         let it = &w.it;
-        let r = &mut w.res;
-        r.iter_mut().for_each(|v| *v = 0.0);
-        // Smooth rows (eq. 127).
-        for &(i, j, m) in &e.mass.entries {
-            r[o.a + i] += dt * m * x[o.a + j];
-            r[o.uu + i] += m * x[o.uu + j];
-            r[o.qq + i] += m * x[o.qq + j] / dt;
-        }
-        for i in 0..o.nu {
-            r[o.a + i] -= dt * e.forces[i];
-        }
-        for &(i, c, v) in &e.position_w.entries {
-            r[o.a + i] -= dt * v * it.lam_p[c];
-            r[o.uu + i] -= v * it.cap_p[c];
-            r[o.qq + i] -= v * it.kap_p[c] / dt;
-        }
-        for &(i, c, v) in &e.velocity_w.entries {
-            r[o.a + i] -= dt * v * it.lam_v[c];
-            r[o.uu + i] -= v * it.cap_v[c];
-            r[o.qq + i] -= v * it.half_cap_v[c] / dt;
-        }
+        // Slices, not the vectors: their pointers and lengths are read once, not at each
+        // entry of the loops over the triplets.
+        let r: &mut [f64] = &mut w.res;
+        r.fill(0.0);
+        smooth_residual(r, o, x, dt, e, it);
         // Bilateral constraints on all their levels.
+        let (p, xi_p, acc_p) = (&it.p[..], &it.xi_p[..], &it.acc_p[..]);
         for i in 0..o.ng {
             let rp = w.r_pos[i];
-            r[o.kg + i] = rp * it.p[i] / dt;
-            r[o.cg + i] = rp * it.xi_p[i];
-            r[o.lg + i] = rp * it.acc_p[i] * dt;
+            r[o.kg + i] = rp * p[i] / dt;
+            r[o.cg + i] = rp * xi_p[i];
+            r[o.lg + i] = rp * acc_p[i] * dt;
         }
         for i in 0..o.nga {
             let rv = w.r_vel[i];
@@ -58,17 +44,13 @@ impl<S: System> Stepper<S> {
             let pk = o.ng + k;
             let rp = w.r_pos[pk];
             r[o.kn + k] = if sets.a[k] {
-                rp * it.p[pk]
+                rp * p[pk]
             } else {
                 it.kappa_hat[k]
             } / dt;
-            r[o.cn + k] = if sets.b[k] {
-                rp * it.xi_p[pk]
-            } else {
-                it.p_n[k]
-            };
+            r[o.cn + k] = if sets.b[k] { rp * xi_p[pk] } else { it.p_n[k] };
             r[o.ln + k] = if sets.c[k] {
-                rp * it.acc_p[pk]
+                rp * acc_p[pk]
             } else {
                 x[o.ln + k]
             } * dt;
@@ -225,6 +207,7 @@ impl<S: System> Stepper<S> {
         let mut jac = std::mem::take(&mut w.jac);
         let mut at = std::mem::take(&mut w.regularized);
         let mut scale = std::mem::take(&mut w.regularization_scale);
+        let mut radius = std::mem::take(&mut w.radius_cols);
         jac.clear();
         at.clear();
         scale.clear();
@@ -236,6 +219,7 @@ impl<S: System> Stepper<S> {
             jac: &mut jac,
             at: &mut at,
             scale: &mut scale,
+            radius: &mut radius,
         };
         // The rows no set changes, left out of a low-rank update's rows.
         if only.is_none() {
@@ -254,6 +238,43 @@ impl<S: System> Stepper<S> {
         }
         let w = &mut self.work;
         (w.jac, w.regularized, w.regularization_scale) = (jac, at, scale);
+        w.radius_cols = radius;
+    }
+}
+
+/// Adds the smooth rows of R (eq. 127) to `r`: its a, U and Q rows, three consecutive
+/// blocks of one row per velocity.
+fn smooth_residual(
+    r: &mut [f64],
+    o: Offsets,
+    x: &[f64],
+    dt: f64,
+    e: &Evaluation<f64>,
+    it: &Iterate,
+) {
+    let (ra, rest) = r[o.a..o.qq + o.nu].split_at_mut(o.nu);
+    let (ru, rq) = rest.split_at_mut(o.nu);
+    let block = |start: usize| &x[start..start + o.nu];
+    let (xa, xu, xq) = (block(o.a), block(o.uu), block(o.qq));
+    for &(i, j, m) in &e.mass.entries {
+        ra[i] += dt * m * xa[j];
+        ru[i] += m * xu[j];
+        rq[i] += m * xq[j] / dt;
+    }
+    for (ri, f) in ra.iter_mut().zip(&e.forces) {
+        *ri -= dt * f;
+    }
+    let (lam, cap, kap) = (&it.lam_p[..], &it.cap_p[..], &it.kap_p[..]);
+    for &(i, c, v) in &e.position_w.entries {
+        ra[i] -= dt * v * lam[c];
+        ru[i] -= v * cap[c];
+        rq[i] -= v * kap[c] / dt;
+    }
+    let (lam, cap, half_cap) = (&it.lam_v[..], &it.cap_v[..], &it.half_cap_v[..]);
+    for &(i, c, v) in &e.velocity_w.entries {
+        ra[i] -= dt * v * lam[c];
+        ru[i] -= v * cap[c];
+        rq[i] -= v * half_cap[c] / dt;
     }
 }
 
@@ -268,6 +289,8 @@ struct Assembly<'a> {
     /// Where the ε entries go, so that the rows can be scaled by their plain entries.
     at: &'a mut Vec<usize>,
     scale: &'a mut Vec<EpsScale>,
+    /// The columns of a sliding row's friction radius, rewritten for each such row.
+    radius: &'a mut Vec<(usize, f64)>,
 }
 
 impl Assembly<'_> {
@@ -453,12 +476,13 @@ impl Assembly<'_> {
         };
         self.jac.push((rv, o.cf + c, 1.0));
         self.jac.push((rv, o.lf + c, c_pl));
-        let radius_cols: Vec<(usize, f64)> = at
-            .law
-            .normals
-            .iter()
-            .flat_map(|&k| [(o.cn + k, 1.0), (o.ln + k, c_pl)])
-            .collect();
+        self.radius.clear();
+        self.radius.extend(
+            at.law
+                .normals
+                .iter()
+                .flat_map(|&k| [(o.cn + k, 1.0), (o.ln + k, c_pl)]),
+        );
         let p_f_cols = at.p_f_columns(o, c_pl);
         let arg = if d.projected {
             SlipArgument::Projected(&w.dxv, at.vs, at.rl, &p_f_cols)
@@ -466,7 +490,7 @@ impl Assembly<'_> {
             SlipArgument::Rows(&w.dxv, at.vs)
         };
         let (mu, sum) = (at.law.mu, at.p_sum);
-        slip_row(self.jac, rv, 1.0, mu, sum, &radius_cols, d.vector(), m, arg);
+        slip_row(self.jac, rv, 1.0, mu, sum, self.radius, d.vector(), m, arg);
     }
 
     /// The acceleration-level row of component `m` of an active law (`in_d`: whether
@@ -489,8 +513,9 @@ impl Assembly<'_> {
             return;
         };
         self.jac.push((ra, o.lf + c, dt));
-        let radius_cols: Vec<(usize, f64)> =
-            at.law.normals.iter().map(|&k| (o.ln + k, 1.0)).collect();
+        self.radius.clear();
+        self.radius
+            .extend(at.law.normals.iter().map(|&k| (o.ln + k, 1.0)));
         let p_f_cols = at.p_f_columns(o, c_pl);
         let lambda_f_cols = [(o.lf + at.f0, 1.0)];
         let (vs, rl) = (at.vs, at.rl);
@@ -501,7 +526,7 @@ impl Assembly<'_> {
             (false, true) => SlipArgument::Projected(&w.dxv, vs, rl, &p_f_cols),
         };
         let (mu, sum) = (at.law.mu, at.l_sum);
-        slip_row(self.jac, ra, dt, mu, sum, &radius_cols, d.vector(), m, arg);
+        slip_row(self.jac, ra, dt, mu, sum, self.radius, d.vector(), m, arg);
     }
 }
 
@@ -560,5 +585,33 @@ impl<S: System> Stepper<S> {
         for (&i, &scale) in w.regularized.iter().zip(&w.regularization_scale) {
             w.jac[i].2 = scale.entry(eps, dt);
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use crate::systems::chain::Chain;
+    use crate::{Options, Stepper};
+
+    /// The top block of a resting column slides: its law's rows are sliding rows, whose
+    /// radius columns are written into one buffer kept from matrix to matrix.
+    #[test]
+    fn sliding_rows_take_their_radius_columns_from_one_buffer() {
+        let chain = Chain::benchmark(4);
+        let (q0, u0) = chain.resting(1.0);
+        let mut s = Stepper::new(chain, 0.0, &q0, &u0, Options::default()).unwrap();
+        let p = s.scheme(0.5);
+        let x = s.state().x.clone();
+        let sets = s.sets_of(&x, 0.5);
+        let top = s.layout.friction.len() - 1;
+        assert!(sets.a[top] && !sets.d[top] && !sets.e[top]);
+        s.residual(&x, &sets, &p);
+        s.jacobian(&x, &sets, &p);
+        let entries = s.work.jac.clone();
+        let buffer = s.work.radius_cols.as_ptr();
+        assert!(s.work.radius_cols.capacity() > 0);
+        s.jacobian(&x, &sets, &p);
+        assert_eq!(s.work.jac, entries);
+        assert_eq!(s.work.radius_cols.as_ptr(), buffer);
     }
 }

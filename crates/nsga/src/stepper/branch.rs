@@ -79,7 +79,7 @@ impl<S: System> Stepper<S> {
         let mut candidates = Candidates::default();
         let mut others = Unfollowed::new();
         for sets in visited {
-            let Ok(t) = self.attempt(&self.retry_spec(SetRule::Fixed(sets.clone()), rho0)) else {
+            let Ok(t) = self.attempt(self.retry_spec(SetRule::Fixed(sets.clone()), rho0)) else {
                 continue;
             };
             // Self-consistency: the sets recomputed from the converged x.
@@ -244,7 +244,7 @@ impl<S: System> Stepper<S> {
             budget: self.free_budget_over(self.options.tuning.quick_check_iterations),
             ..self.spec(SetRule::Free, rho)
         };
-        let free = self.attempt(&check);
+        let free = self.attempt(check);
         self.forget_solutions();
         free
     }

@@ -53,9 +53,10 @@ impl<S: System> Stepper<S> {
         dx: &mut [f64],
     ) -> Result<(), crate::linalg::LinalgError> {
         let eps = self.options.linear.regularization;
-        // The factors made below replace the kept ones; a regularized matrix's serve the
-        // same sets only, and only in a step's first attempt (docs/method.md §7).
-        self.work.factored = None;
+        // The factors made below replace the kept ones (whose record lends its buffers to
+        // theirs); a regularized matrix's serve the same sets only, and only in a step's
+        // first attempt (docs/method.md §7).
+        let spent = self.work.factored.take();
         // Redundancy is a property of which contacts are closed: sets whose normal
         // contacts are those of a singular plain matrix go straight to the regularized
         // one, whatever their friction sets.
@@ -80,13 +81,7 @@ impl<S: System> Stepper<S> {
                         // factored before, and is assembled anew before its next read.
                         w.low_rank.factored(factored);
                     }
-                    self.work.factored = Some(FactoredFor {
-                        sets: sets.clone(),
-                        prune: prune.cloned(),
-                        dt: self.options.dt,
-                        rho_inf: p.alpha.rho_inf,
-                        regularized: false,
-                    });
+                    self.record_factors(spent, sets, prune, p, false);
                     return Ok(());
                 }
                 Err(e) if eps <= 0.0 => return Err(e),
@@ -105,15 +100,38 @@ impl<S: System> Stepper<S> {
         self.regularize(eps);
         self.newton_direction(prune, Factor::Equilibrated, p, dx)?;
         if self.options.linear.reuse_factorization && p.quick_updates {
-            self.work.factored = Some(FactoredFor {
-                sets: sets.clone(),
-                prune: prune.cloned(),
-                dt: self.options.dt,
-                rho_inf: p.alpha.rho_inf,
-                regularized: true,
-            });
+            self.record_factors(spent, sets, prune, p, true);
         }
         Ok(())
+    }
+
+    /// Keeps what the factors just made were assembled for (`work.factored`), written
+    /// into the buffers of `spent`, the record of the factors they replaced.
+    fn record_factors(
+        &mut self,
+        spent: Option<FactoredFor>,
+        sets: &IndexSets,
+        prune: Option<&Pruning>,
+        p: &Scheme,
+        regularized: bool,
+    ) {
+        let (mut kept_sets, mut kept_prune) =
+            spent.map_or_else(Default::default, |f| (f.sets, f.prune));
+        kept_sets.clone_from(sets);
+        match (prune, &mut kept_prune) {
+            (Some((map, n_red)), Some((kept_map, kept_n))) => {
+                kept_map.clone_from(map);
+                *kept_n = *n_red;
+            }
+            (prune, kept) => *kept = prune.cloned(),
+        }
+        self.work.factored = Some(FactoredFor {
+            sets: kept_sets,
+            prune: kept_prune,
+            dt: self.options.dt,
+            rho_inf: p.alpha.rho_inf,
+            regularized,
+        });
     }
 
     /// The simplified Newton update at `x` from the solver's kept factors into `dx`, when
@@ -327,5 +345,17 @@ mod tests {
         // The other way round (factors of the pruned system, the whole one asked for)
         // they cannot serve: they lack the contact's unknowns.
         assert!(!s.kept_direction(&x, &sets, &p, None, &mut kept));
+        // New factors are recorded in the buffers of the record they replace (given
+        // room to spare here, which a new buffer would not have).
+        let room = 4 * o.n;
+        let old = s.work.factored.as_mut().unwrap();
+        old.sets.a.reserve(room);
+        old.prune.as_mut().unwrap().0.reserve(room);
+        s.exact_direction(&x, &sets, &p, Some(&prune), &mut exact)
+            .unwrap();
+        let new = s.work.factored.as_ref().unwrap();
+        assert_eq!((&new.sets, &new.prune), (&sets, &Some(prune.clone())));
+        assert!(new.sets.a.capacity() >= room);
+        assert!(new.prune.as_ref().unwrap().0.capacity() >= room);
     }
 }

@@ -82,7 +82,7 @@ impl<S: System> Stepper<S> {
     /// the sets it satisfies; None when none is found.
     pub(super) fn probe_solution(&mut self, sets: &IndexSets, rho0: f64) -> Option<Trial> {
         let fixed = self
-            .attempt(&self.retry_spec(SetRule::Fixed(sets.clone()), rho0))
+            .attempt(self.retry_spec(SetRule::Fixed(sets.clone()), rho0))
             .ok()?;
         if &self.sets_of(&fixed.state.x, rho0) == sets {
             return Some(fixed);
@@ -92,7 +92,7 @@ impl<S: System> Stepper<S> {
                 start: StartAt::Unknowns(pushing),
                 ..self.retry_spec(SetRule::Fixed(sets.clone()), rho0)
             };
-            if let Ok(t) = self.attempt(&again) {
+            if let Ok(t) = self.attempt(again) {
                 if &self.sets_of(&t.state.x, rho0) == sets {
                     return Some(t);
                 }

@@ -134,7 +134,10 @@ impl<S: System> Stepper<S> {
                 st.u[i] + dt * ((1.0 - gamma) * st.a_bar[i] + gamma * a_bar1[i]) + x[o.uu + i]
             }),
         );
-        // q_{n+1} = q_n + Δt B u_n + ½Δt²(B a_β + Ḃu_n) + B Q   (eq. 125, second order)
+        // q_{n+1} = q_n + Δt B u_n + ½Δt²(B a_β + Ḃu_n) + B Q   (eq. 125, second order),
+        // through slices: each vector's pointer and length read once, not per entry of B.
+        let (u, a_bar, a_bar1) = (&st.u[..], &st.a_bar[..], &a_bar1[..]);
+        let (q, xq, bdot_u) = (&st.q[..], &x[o.qq..o.qq + o.nu], &bdot_u[..]);
         refill(
             &mut it.q1,
             (0..o.nq).map(|j| {
@@ -142,12 +145,12 @@ impl<S: System> Stepper<S> {
                 let mut ba = 0.0;
                 let mut bq = 0.0;
                 for (i, bij) in b.row(j) {
-                    bu += bij * st.u[i];
-                    let a_beta = (1.0 - 2.0 * beta) * st.a_bar[i] + 2.0 * beta * a_bar1[i];
+                    bu += bij * u[i];
+                    let a_beta = (1.0 - 2.0 * beta) * a_bar[i] + 2.0 * beta * a_bar1[i];
                     ba += bij * a_beta;
-                    bq += bij * x[o.qq + i];
+                    bq += bij * xq[i];
                 }
-                st.q[j] + dt * bu + 0.5 * dt * dt * (ba + bdot_u[j]) + bq
+                q[j] + dt * bu + 0.5 * dt * dt * (ba + bdot_u[j]) + bq
             }),
         );
         refill_bars(
@@ -232,16 +235,20 @@ impl<S: System> Stepper<S> {
         );
         let e = &w.eval;
         let it = &mut w.it;
-        let u0 = &self.state.u;
+        // Slices in the loops over the triplets: each vector's pointer and length read
+        // once, not at every entry.
+        let (u0, u1) = (&self.state.u[..], &it.u1[..]);
         // ṗ(q1,u1), ṗ(q1,u_n), p̈ = W_pᵀa + ζ_p (buffers reused: no allocation per iterate)
         it.rate_new.clone_from(&e.position_chi);
         it.rate_old.clone_from(&e.position_chi);
         it.supported.clear();
         it.supported.resize(np, false);
+        let (rate_new, rate_old) = (&mut it.rate_new[..], &mut it.rate_old[..]);
+        let supported = &mut it.supported[..];
         for &(r, c, v) in &e.position_w.entries {
-            it.rate_new[c] += v * it.u1[r];
-            it.rate_old[c] += v * u0[r];
-            it.supported[c] = true;
+            rate_new[c] += v * u1[r];
+            rate_old[c] += v * u0[r];
+            supported[c] = true;
         }
         it.p.clone_from(&e.position);
         let (rate_new, rate_old) = (&it.rate_new, &it.rate_old);
@@ -255,9 +262,10 @@ impl<S: System> Stepper<S> {
         // velocity level
         it.v.clone_from(&e.velocity_chi);
         it.v_old.clone_from(&e.velocity_chi);
+        let (v_new, v_old) = (&mut it.v[..], &mut it.v_old[..]);
         for &(r, c, v) in &e.velocity_w.entries {
-            it.v[c] += v * it.u1[r];
-            it.v_old[c] += v * u0[r];
+            v_new[c] += v * u1[r];
+            v_old[c] += v * u0[r];
         }
         let (v, v_old) = (&it.v, &it.v_old);
         refill(
@@ -274,12 +282,15 @@ impl<S: System> Stepper<S> {
     /// Adds W_pᵀ a and W_vᵀ a to the acceleration levels (needs x).
     pub(super) fn finish_accelerations(&mut self, x: &[f64]) {
         let o = self.off;
+        let a = &x[o.a..o.a + o.nu];
         let w = &mut self.work;
+        let acc_p = &mut w.it.acc_p[..];
         for &(r, c, v) in &w.eval.position_w.entries {
-            w.it.acc_p[c] += v * x[o.a + r];
+            acc_p[c] += v * a[r];
         }
+        let acc_v = &mut w.it.acc_v[..];
         for &(r, c, v) in &w.eval.velocity_w.entries {
-            w.it.acc_v[c] += v * x[o.a + r];
+            acc_v[c] += v * a[r];
         }
     }
 
@@ -389,20 +400,24 @@ impl<S: System> Stepper<S> {
         let l = &self.layout;
         let w = &self.work;
         let it = &w.it;
+        // The normal contacts' rows of the position constraints' vectors, as slices: their
+        // pointers and lengths read once, not per contact.
+        let nr = o.ng..o.ng + o.nn;
+        let (r_pos, rate_old) = (&w.r_pos[nr.clone()], &it.rate_old[nr.clone()]);
+        let (gap, xi, acc) = (&it.p[nr.clone()], &it.xi_p[nr.clone()], &it.acc_p[nr]);
+        let (kappa_hat, p_n, lambda_n) = (&it.kappa_hat[..], &it.p_n[..], &x[o.ln..o.ln + o.nn]);
         // The prox arguments of the normal contacts' laws on position, velocity and
         // acceleration level: positive where the law opens the contact.
-        let open_by = |k: usize| w.r_pos[o.ng + k] * it.p[o.ng + k] - it.kappa_hat[k];
-        let leaves_b_by = |k: usize| w.r_pos[o.ng + k] * it.xi_p[o.ng + k] - it.p_n[k];
-        let leaves_c_by = |k: usize| w.r_pos[o.ng + k] * it.acc_p[o.ng + k] - x[o.ln + k];
+        let open_by = |k: usize| r_pos[k] * gap[k] - kappa_hat[k];
+        let leaves_b_by = |k: usize| r_pos[k] * xi[k] - p_n[k];
+        let leaves_c_by = |k: usize| r_pos[k] * acc[k] - lambda_n[k];
         // The fastest arrival among the normal contacts `ks` (0 when none arrives).
         let fastest = |ks: &mut dyn Iterator<Item = usize>| {
-            ks.map(|k| arrival(it.rate_old[o.ng + k]))
-                .fold(0.0, f64::max)
+            ks.map(|k| arrival(rate_old[k])).fold(0.0, f64::max)
         };
         let dt = self.options.dt;
         for k in 0..o.nn {
-            let pk = o.ng + k;
-            s.a[k] = open_by(k) <= -SET_TIE * w.r_pos[pk] * dt * arrival(it.rate_old[pk]);
+            s.a[k] = open_by(k) <= -SET_TIE * r_pos[k] * dt * arrival(rate_old[k]);
         }
         let limit = limit.filter(|(last, _)| last.a.len() == o.nn);
         if let Some((last, most)) = limit {
@@ -420,7 +435,7 @@ impl<S: System> Stepper<S> {
             0.0
         };
         for k in 0..o.nn {
-            s.b[k] = s.a[k] && leaves_b_by(k) <= SET_TIE * w.r_pos[o.ng + k] * impact;
+            s.b[k] = s.a[k] && leaves_b_by(k) <= SET_TIE * r_pos[k] * impact;
             s.c[k] = s.b[k] && leaves_c_by(k) <= 0.0;
         }
         if let Some((last, most)) = limit {

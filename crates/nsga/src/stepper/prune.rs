@@ -37,29 +37,19 @@ pub(super) fn expand(map: Option<&[usize]>, reduced: &[f64], full: &mut [f64]) {
 impl<S: System> Stepper<S> {
     /// Marks the unknowns of contacts that are open, force-free and cannot close within
     /// the step, sets them to zero in `x`, and returns the map full → reduced index
-    /// (`usize::MAX` for pruned) and the reduced size; None when nothing is pruned.
+    /// (`usize::MAX` for pruned) and the reduced size; None when nothing is pruned. The
+    /// map is written into the buffer of the last one given back
+    /// ([`Stepper::give_back_pruning`]).
     pub(super) fn open_contacts(&mut self, x: &mut [f64], keep: &[bool]) -> Option<Pruning> {
-        let o = self.off;
-        let dt = self.options.dt;
-        self.state_levels();
-        let st = &self.state;
-        let levels = &self.work.state_levels;
-        let (gap, rate, acc) = (&levels.position, &levels.rate, &levels.acceleration);
-        let mut pruned_n = vec![false; o.nn];
-        for (k, pr) in pruned_n.iter_mut().enumerate() {
-            let pk = o.ng + k;
-            let margin =
-                self.options.tuning.prune_margin * dt * rate[pk].abs() + dt * dt * acc[pk].abs();
-            *pr = !keep[k]
-                && gap[pk] > margin
-                && gap[pk] > 0.0
-                && st.lambda_n[k] == 0.0
-                && st.lambda_n_bar[k] == 0.0;
-        }
-        if !pruned_n.iter().any(|&b| b) {
+        if !self.mark_unclosable(keep) {
             return None;
         }
-        let mut map = vec![0usize; o.n];
+        let o = self.off;
+        let st = &self.state;
+        let pruned_n = &self.work.unclosable;
+        let mut map = std::mem::take(&mut self.work.prune_map);
+        map.clear();
+        map.resize(o.n, 0);
         let prune_unknown = |i: usize, map: &mut Vec<usize>, x: &mut [f64]| {
             map[i] = usize::MAX;
             x[i] = 0.0;
@@ -84,6 +74,41 @@ impl<S: System> Stepper<S> {
         }
         let n_red = number_kept(&mut map);
         Some((map, n_red))
+    }
+
+    /// Keeps the buffer of a prune map no longer used, for the next
+    /// [`Stepper::open_contacts`].
+    pub(super) fn give_back_pruning(&mut self, prune: Option<Pruning>) {
+        if let Some((map, _)) = prune {
+            self.work.prune_map = map;
+        }
+    }
+
+    /// Flags in `work.unclosable` the normal contacts not in `keep` that are open,
+    /// force-free and cannot close within the step; returns whether there is one.
+    fn mark_unclosable(&mut self, keep: &[bool]) -> bool {
+        let o = self.off;
+        let dt = self.options.dt;
+        self.state_levels();
+        let st = &self.state;
+        let w = &mut self.work;
+        let levels = &w.state_levels;
+        // The normal contacts' rows, as slices: their pointers and lengths read once.
+        let nr = o.ng..o.ng + o.nn;
+        let (gap, rate) = (&levels.position[nr.clone()], &levels.rate[nr.clone()]);
+        let acc = &levels.acceleration[nr];
+        let (lambda_n, lambda_n_bar) = (&st.lambda_n[..], &st.lambda_n_bar[..]);
+        let prune_margin = self.options.tuning.prune_margin;
+        w.unclosable.clear();
+        w.unclosable.extend((0..o.nn).map(|k| {
+            let margin = prune_margin * dt * rate[k].abs() + dt * dt * acc[k].abs();
+            !keep[k]
+                && gap[k] > margin
+                && gap[k] > 0.0
+                && lambda_n[k] == 0.0
+                && lambda_n_bar[k] == 0.0
+        }));
+        w.unclosable.iter().any(|&b| b)
     }
 
     /// Makes `work.state_levels` those of the current state: kept from the iterate that
@@ -138,5 +163,44 @@ pub(super) fn keeps_all_of(kept: Option<&Vec<usize>>, now: Option<&[usize]>) -> 
             .iter()
             .zip(now)
             .all(|(&k, &n)| n == usize::MAX || k != usize::MAX),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use crate::systems::chain::Chain;
+    use crate::{Options, Stepper};
+
+    /// The top block of a resting column 5 cm above the next: its contact is pruned, in
+    /// the buffer of the map given back before.
+    #[test]
+    fn the_prune_map_is_written_into_the_buffer_given_back() {
+        let chain = Chain::benchmark(4);
+        let (mut q0, u0) = chain.resting(0.0);
+        q0[7] += 0.05;
+        let options = Options {
+            dt: 1e-3,
+            ..Options::default()
+        };
+        let mut s = Stepper::new(chain, 0.0, &q0, &u0, options).unwrap();
+        let (o, top) = (s.off, s.off.nn - 1);
+        let mut x = s.state().x.clone();
+        let keep = vec![false; o.nn];
+        let (map, n_red) = s.open_contacts(&mut x, &keep).unwrap();
+        let pruned = [o.kn + top, o.cn + top, o.ln + top];
+        assert!(pruned.iter().all(|&i| map[i] == usize::MAX));
+        assert_eq!(map.iter().filter(|&&m| m != usize::MAX).count(), n_red);
+        let buffer = map.as_ptr();
+        let first = map.clone();
+        s.give_back_pruning(Some((map, n_red)));
+        let again = s.open_contacts(&mut x, &keep).unwrap();
+        assert_eq!(
+            (&again.0, again.0.as_ptr(), again.1),
+            (&first, buffer, n_red)
+        );
+        // A contact kept from pruning is not pruned.
+        let mut keep_top = keep;
+        keep_top[top] = true;
+        assert!(s.open_contacts(&mut x, &keep_top).is_none());
     }
 }

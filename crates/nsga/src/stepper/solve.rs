@@ -45,8 +45,9 @@ struct Resumed {
 enum Run {
     /// The attempt's outcome.
     Ended(AttemptOutcome),
-    /// The pruned contacts `closing` closed: the attempt goes on `from` there.
-    Restart { closing: Vec<bool>, from: Resumed },
+    /// The pruned contacts flagged in `work.closing` closed: the attempt goes on
+    /// `from` there.
+    Restart { from: Resumed },
 }
 
 impl<S: System> NewtonProblem for StepProblem<'_, S> {
@@ -115,6 +116,16 @@ impl<S: System> NewtonProblem for StepProblem<'_, S> {
         self.stepper.recycle_sets(sets);
     }
 
+    fn visited_list(&mut self) -> Vec<IndexSets> {
+        let mut list = std::mem::take(&mut self.stepper.work.spare_visited);
+        list.clear();
+        list
+    }
+
+    fn copy_sets(&mut self, sets: &IndexSets) -> IndexSets {
+        self.stepper.copy_sets(sets)
+    }
+
     fn kept_direction(&mut self, x: &[f64], sets: &IndexSets, dx: &mut [f64]) -> bool {
         let started = Instant::now();
         let kept = self
@@ -134,11 +145,12 @@ impl<S: System> Stepper<S> {
     /// [`NewtonOptions::prune_open_contacts`](crate::NewtonOptions::prune_open_contacts) asks for it
     /// (with fixed sets, only those the sets leave open); a pruned contact that closes
     /// restarts the run from its iterate with that contact kept ([`Resumed`]).
-    pub(super) fn attempt(&mut self, spec: &AttemptSpec) -> AttemptOutcome {
+    pub(super) fn attempt(&mut self, mut spec: AttemptSpec) -> AttemptOutcome {
         // The iterates and the contacts kept from pruning in buffers that outlive the
-        // attempt: the predictor's spare unknowns and the work's flags.
-        let mut x = self.predictor.buffer();
-        x.extend_from_slice(spec.start_unknowns(&self.state));
+        // attempt: the start's own unknowns (a prediction) or the predictor's spare
+        // ones, and the work's flags.
+        let mut x = spec.take_start(&self.state, || self.predictor.buffer());
+        let spec = &spec;
         let fixed = spec.sets.fixed();
         let mut keep = std::mem::take(&mut self.work.keep);
         keep.clear();
@@ -149,11 +161,11 @@ impl<S: System> Stepper<S> {
         let outcome = loop {
             match self.newton_run(spec, &mut x, pruning.then_some(&keep[..]), resumed) {
                 Run::Ended(outcome) => break outcome,
-                Run::Restart { closing, from } => {
+                Run::Restart { from } => {
                     // The iterate is the one the unpruned attempt would have reached (a
                     // pruned contact's unknowns stay zero while it is open): go on from
                     // it with the closing contacts kept, within what is left of the budget.
-                    for (kk, c) in keep.iter_mut().zip(closing) {
+                    for (kk, c) in keep.iter_mut().zip(&self.work.closing) {
                         *kk |= c;
                     }
                     resumed = Some(from);
@@ -204,6 +216,7 @@ impl<S: System> Stepper<S> {
         };
         self.prepare_step();
         let mut scratch = std::mem::take(&mut self.work.newton);
+        let closing = std::mem::take(&mut self.work.closing);
         let (held, resuming) = match resumed {
             Some(r) => (r.held, true),
             None => (spec.sets.held_start(), false),
@@ -213,12 +226,14 @@ impl<S: System> Stepper<S> {
             fixed,
             params: scheme,
             prune: prune.as_ref(),
-            closing: Vec::new(),
+            closing,
             held,
             resuming,
         };
         let outcome = newton::solve(&mut problem, x, &settings, &mut scratch);
-        let (closing, held) = (problem.closing, problem.held);
+        let held = problem.held;
+        self.work.closing = problem.closing;
+        self.give_back_pruning(prune);
         self.newton_work.line_search_trials += scratch.line_search_trials();
         // Updates this run made: one fewer than its evaluations.
         let updates = updates_before + scratch.evaluations().saturating_sub(1);
@@ -226,7 +241,7 @@ impl<S: System> Stepper<S> {
         Run::Ended(match outcome {
             Outcome::Restart => {
                 let from = Resumed { updates, held };
-                return Run::Restart { closing, from };
+                return Run::Restart { from };
             }
             Outcome::Converged {
                 sets,
@@ -303,7 +318,7 @@ impl<S: System> Stepper<S> {
         self.evaluate_iterate(update_prox);
         self.finish_accelerations(x);
         let sets = match fixed {
-            Some(s) => s.clone(),
+            Some(s) => self.copy_sets(s),
             None => self.compute_sets(x, None, update_prox),
         };
         self.residual(x, &sets, p);
@@ -312,8 +327,10 @@ impl<S: System> Stepper<S> {
             let limited = self.compute_sets(x, Some(limit), update_prox);
             if limited != sets {
                 self.residual(x, &limited, p);
+                self.recycle_sets(sets);
                 return (limited, res);
             }
+            self.recycle_sets(limited);
         }
         (sets, res)
     }
@@ -357,5 +374,36 @@ impl<S: System> Stepper<S> {
         }
         KinematicColumns::new(self.options.dt, &p.alpha).to_unknown_columns(&self.off, &mut j);
         (self.work.res.clone(), j)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use crate::systems::chain::Chain;
+    use crate::{Options, Stepper};
+
+    /// An iterate evaluated with fixed sets or with a limit on openings hands back the
+    /// sets it does not return, and copies fixed sets into spent ones.
+    #[test]
+    fn an_evaluation_takes_and_gives_back_spent_sets() {
+        let chain = Chain::benchmark(4);
+        let (q0, u0) = chain.resting(0.0);
+        let mut s = Stepper::new(chain, 0.0, &q0, &u0, Options::default()).unwrap();
+        let p = s.scheme(0.5);
+        let x = s.state().x.clone();
+        let sets = s.sets_of(&x, 0.5);
+        s.work.spare_sets.clear();
+        s.recycle_sets(sets.clone());
+        let spare = s.work.spare_sets[0].a.as_ptr();
+        let (fixed, _) = s.evaluate_at(&x, Some(&sets), &p, false, None);
+        assert_eq!((&fixed, fixed.a.as_ptr()), (&sets, spare));
+        assert!(s.work.spare_sets.is_empty());
+        // Away from the solution, with a limit on openings: the laws' sets or the limited
+        // ones, whichever are not returned, go back.
+        let mut off = x.clone();
+        off[s.off.a] += 1.0;
+        let (_, res) = s.evaluate_at(&off, None, &p, false, Some((&sets, 0)));
+        assert!(res > s.options.tol);
+        assert_eq!(s.work.spare_sets.len(), 1);
     }
 }

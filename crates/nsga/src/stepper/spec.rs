@@ -89,11 +89,22 @@ impl AttemptSpec {
         }
     }
 
-    /// The unknowns the iterates start from, at the step from `state`.
-    pub(super) fn start_unknowns<'a>(&'a self, state: &'a State) -> &'a [f64] {
-        match &self.start {
-            StartAt::LastSolution => &state.x,
-            StartAt::Unknowns(x) => x,
+    /// The unknowns the iterates start from, at the step from `state`, in a buffer of
+    /// their own: the start's, taken out of the spec (an attempt reads its start once,
+    /// and a predicted start is not needed after it), or `spare()` filled with the last
+    /// solution.
+    pub(super) fn take_start(
+        &mut self,
+        state: &State,
+        spare: impl FnOnce() -> Vec<f64>,
+    ) -> Vec<f64> {
+        match &mut self.start {
+            StartAt::LastSolution => {
+                let mut x = spare();
+                x.extend_from_slice(&state.x);
+                x
+            }
+            StartAt::Unknowns(x) => std::mem::take(x),
         }
     }
 }
@@ -149,5 +160,41 @@ impl<S: System> Stepper<S> {
     /// [`Stepper::free_budget`] with `max_iter` in place of the options'.
     pub(super) fn free_budget_over(&self, max_iter: usize) -> usize {
         (self.options.newton.max_iter_per_contact * self.off.nn).max(max_iter)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn spec_from(start: StartAt) -> AttemptSpec {
+        AttemptSpec {
+            start,
+            sets: SetRule::Free,
+            rho_inf: 0.8,
+            budget: 10,
+            contracting_extra: 0,
+            friction_shift: true,
+            line_search: 0,
+            quick_updates: false,
+        }
+    }
+
+    #[test]
+    fn a_start_of_its_own_becomes_the_iterates_buffer() {
+        let state = State {
+            x: vec![1.0, 2.0],
+            ..State::default()
+        };
+        let predicted = vec![3.0, 4.0];
+        let buffer = predicted.as_ptr();
+        let mut spec = spec_from(StartAt::Unknowns(predicted));
+        let x = spec.take_start(&state, || panic!("no spare buffer is needed"));
+        assert_eq!((x.as_slice(), x.as_ptr()), (&[3.0, 4.0][..], buffer));
+        // From the last solution: copied into the spare buffer.
+        let spare = Vec::with_capacity(2);
+        let buffer = spare.as_ptr();
+        let x = spec_from(StartAt::LastSolution).take_start(&state, || spare);
+        assert_eq!((x.as_slice(), x.as_ptr()), (&[1.0, 2.0][..], buffer));
     }
 }

@@ -35,16 +35,16 @@ impl<S: System> Stepper<S> {
                     contracting_extra: self.options.newton.max_iter - budget,
                     ..self.first_spec(SetRule::Free, rho0)
                 };
-                self.attempt(&from_prediction).map_err(Some)
+                self.attempt(from_prediction).map_err(Some)
             }
             Stage::HeldSets => {
                 let previous = self.last.as_ref().ok_or(None)?.sets.clone();
                 let most = self.options.newton.max_openings_per_update;
                 let held = self.first_spec(SetRule::Held { previous, most }, rho0);
-                self.attempt(&held).map_err(Some)
+                self.attempt(held).map_err(Some)
             }
             Stage::Free => self
-                .attempt(&self.first_spec(SetRule::Free, rho0))
+                .attempt(self.first_spec(SetRule::Free, rho0))
                 .map_err(Some),
             Stage::FlipProbe => {
                 let converged = policy.converged.take().ok_or(None)?;
@@ -52,7 +52,7 @@ impl<S: System> Stepper<S> {
             }
             Stage::RhoRetry(i) => {
                 let rho = *self.options.policy.rho_inf_retries.get(i).ok_or(None)?;
-                self.attempt(&self.retry_spec(SetRule::Free, rho))
+                self.attempt(self.retry_spec(SetRule::Free, rho))
                     .map_err(Some)
             }
             Stage::BranchTrials => self.branch_trial(&policy.visited, rho0).map_err(|point| {
@@ -131,7 +131,7 @@ impl<S: System> Stepper<S> {
             friction_shift: false,
             ..self.spec(SetRule::Free, rho0)
         };
-        self.attempt(&unshifted).map(|mut t| {
+        self.attempt(unshifted).map(|mut t| {
             t.stats.unshifted = true;
             t
         })
