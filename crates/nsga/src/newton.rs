@@ -381,6 +381,21 @@ pub fn stalled(residuals: &[f64], tuning: &Tuning) -> bool {
 mod tests {
     use super::*;
 
+    /// Plain Newton to `tol` in at most `max_iter` updates, with `line_search` halvings:
+    /// no kept factors, no early give-up, no updates past the limit.
+    fn plain(tol: f64, max_iter: usize, line_search: usize) -> NewtonSettings {
+        NewtonSettings {
+            tol,
+            max_iter,
+            line_search,
+            reuse_factorization: false,
+            resume_reuse: false,
+            give_up: GiveUp::Never,
+            contracting_extra: 0,
+            tuning: Tuning::default(),
+        }
+    }
+
     #[test]
     fn a_period_three_cycle_without_progress_is_settled() {
         // Sets 0, 1, 2 repeating; residuals repeating too.
@@ -503,16 +518,7 @@ mod tests {
 
     #[test]
     fn the_outcome_reports_in_the_problems_list_and_copies() {
-        let settings = NewtonSettings {
-            tol: 1e-12,
-            max_iter: 10,
-            line_search: 0,
-            reuse_factorization: false,
-            resume_reuse: false,
-            give_up: GiveUp::Never,
-            contracting_extra: 0,
-            tuning: Tuning::default(),
-        };
+        let settings = plain(1e-12, 10, 0);
         let list = Vec::with_capacity(4);
         let buffer = list.as_ptr();
         let mut problem = KeptKink {
@@ -559,16 +565,7 @@ mod tests {
 
     #[test]
     fn the_sets_of_damped_trials_passed_over_are_given_back() {
-        let settings = NewtonSettings {
-            tol: 1e-12,
-            max_iter: 20,
-            line_search: 4,
-            reuse_factorization: false,
-            resume_reuse: false,
-            give_up: GiveUp::Never,
-            contracting_extra: 0,
-            tuning: Tuning::default(),
-        };
+        let settings = plain(1e-12, 20, 4);
         let mut problem = Atan {
             evaluations: 0,
             recycled: 0,
@@ -585,16 +582,7 @@ mod tests {
 
     #[test]
     fn the_engine_solves_a_piecewise_linear_problem_in_one_update() {
-        let settings = NewtonSettings {
-            tol: 1e-12,
-            max_iter: 10,
-            line_search: 0,
-            reuse_factorization: false,
-            resume_reuse: false,
-            give_up: GiveUp::Never,
-            contracting_extra: 0,
-            tuning: Tuning::default(),
-        };
+        let settings = plain(1e-12, 10, 0);
         let mut x = [3.0];
         let out = solve(
             &mut Kink { res: 0.0 },
@@ -628,14 +616,8 @@ mod tests {
 
     fn linear_updates(rate: f64, max_iter: usize, contracting_extra: usize) -> Outcome<()> {
         let settings = NewtonSettings {
-            tol: 1e-10,
-            max_iter,
-            line_search: 0,
-            reuse_factorization: false,
-            resume_reuse: false,
-            give_up: GiveUp::Never,
             contracting_extra,
-            tuning: Tuning::default(),
+            ..plain(1e-10, max_iter, 0)
         };
         let mut scratch = NewtonScratch::default();
         solve(&mut Linear { rate }, &mut [1.0], &settings, &mut scratch)
