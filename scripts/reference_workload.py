@@ -51,7 +51,8 @@ WORKLOADS = {
 
 
 def run(config, name, tmp, repeat):
-    """One run of workload `name`: (counts, solver seconds, worst µs per step)."""
+    """One run of workload `name`: (counts, solver seconds, worst µs per step, and for the
+    matrix its per-run figures, `per_row`)."""
     binary, tuning = config["binary"], config["tuning"]
     args = list(WORKLOADS[name])
     if name == "matrix":
@@ -70,7 +71,7 @@ def run(config, name, tmp, repeat):
         # one unresolved run, no counts.
         if tuning and "--tuning:" not in out.stderr:
             print(f"{name} {config['label']}: {out.stderr.strip()}", file=sys.stderr)
-            return {"runs": 1, "unresolved": 1}, 0.0, 0.0
+            return {"runs": 1, "unresolved": 1}, 0.0, 0.0, None
         sys.exit(f"{binary} {' '.join(args)}: exit {out.returncode}\n{out.stderr}")
     rows = report["rows"] if name == "matrix" else [report]
     def total(key):
@@ -90,7 +91,22 @@ def run(config, name, tmp, repeat):
     }
     seconds = [r.get("wall_time_s") or 0.0 for r in rows]
     worst = max((s / r["steps"] for s, r in zip(seconds, rows) if r.get("steps")), default=0.0)
-    return counts, sum(seconds), worst
+    return counts, sum(seconds), worst, per_row(rows) if name == "matrix" else None
+
+
+def per_row(rows):
+    """The matrix's figures as issue 62 states its targets: the mean over the runs of each
+    run's µs per step, and the median of those by number of blocks n."""
+    us, by_n = [], {}
+    for r in rows:
+        if not r.get("steps"):
+            continue
+        v = 1e6 * (r.get("wall_time_s") or 0.0) / r["steps"]
+        us.append(v)
+        n = next(int(s["value"]) for s in r["set"] if s["key"] == "blocks.count")
+        by_n.setdefault(n, []).append(v)
+    return {"row_mean": statistics.mean(us) if us else 0.0,
+            "by_n": {n: statistics.median(v) for n, v in sorted(by_n.items())}}
 
 
 def configurations(binaries, variants):
@@ -149,6 +165,11 @@ def main():
                        "us_per_step_median": statistics.median(us),
                        "us_per_step_min": min(us), "us_per_step_max": max(us),
                        "worst_run_us_per_step": statistics.median(1e6 * r[2] for r in rs)}
+                if rs[0][3] is not None:
+                    # Medians over the repeats of the per-run figures.
+                    row["row_mean_us_per_step"] = statistics.median(r[3]["row_mean"] for r in rs)
+                    row["median_us_per_step_by_n"] = {
+                        n: statistics.median(r[3]["by_n"][n] for r in rs) for n in rs[0][3]["by_n"]}
                 reference = reference or row
                 row["solves_ratio"] = ratio(row.get("linear_solves"), reference.get("linear_solves"))
                 row["time_ratio"] = ratio(row["us_per_step_median"], reference["us_per_step_median"])
@@ -167,6 +188,14 @@ def main():
             r.get("newton_iterations", "–"),
             f"{r['us_per_step_median']:.1f} ({r['us_per_step_min']:.1f}–{r['us_per_step_max']:.1f})",
             f"{r['worst_run_us_per_step']:.0f}", r["solves_ratio"], r["time_ratio"])))
+    for r in table:
+        by_n = r.get("median_us_per_step_by_n")
+        if by_n:
+            ns = sorted(by_n)
+            print(f"{r['workload']} {r['config']}: mean over the runs "
+                  f"{r['row_mean_us_per_step']:.1f} µs/step; median by n: "
+                  + ", ".join(f"{n}: {by_n[n]:.1f}" for n in ns)
+                  + f"; n = {ns[-1]} / n = {ns[0]}: {by_n[ns[-1]] / by_n[ns[0]]:.1f}")
 
 
 if __name__ == "__main__":
