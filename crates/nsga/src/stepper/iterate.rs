@@ -137,7 +137,7 @@ impl<S: System> Stepper<S> {
         // q_{n+1} = q_n + Δt B u_n + ½Δt²(B a_β + Ḃu_n) + B Q   (eq. 125, second order),
         // through slices: each vector's pointer and length read once, not per entry of B.
         let (u, a_bar, a_bar1) = (&st.u[..], &st.a_bar[..], &a_bar1[..]);
-        let (q, xq, bdot_u) = (&st.q[..], &x[o.qq..o.qq + o.nu], &bdot_u[..]);
+        let (q, xq, bdot_u) = (&st.q[..], xs(o.qq, o.nu), &bdot_u[..]);
         refill(
             &mut it.q1,
             (0..o.nq).map(|j| {
