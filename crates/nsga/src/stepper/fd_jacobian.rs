@@ -82,8 +82,7 @@ impl<S: System> Stepper<S> {
     /// R(x) for the fixed `sets` into `work.res`, the prox parameters kept.
     fn residual_at(&mut self, x: &[f64], sets: &IndexSets, p: &Scheme) {
         self.derive(x, p);
-        self.evaluate_iterate(false);
-        self.finish_accelerations(x);
+        self.evaluate_iterate(x, false);
         self.residual(x, sets, p);
     }
 }

@@ -210,8 +210,9 @@ impl<S: System> Stepper<S> {
         it.half_cap_v.resize(it.cap_v.len(), 0.0);
     }
 
-    /// Evaluates the system at (t_{n+1}, q_{n+1}, u_{n+1}) and the constraint levels.
-    pub(super) fn evaluate_iterate(&mut self, update_prox: bool) {
+    /// Evaluates the system at (t_{n+1}, q_{n+1}, u_{n+1}) and the constraint levels at
+    /// the unknowns `x` (whose a gives the acceleration levels W_pᵀa + ζ_p, W_vᵀa + ζ_v).
+    pub(super) fn evaluate_iterate(&mut self, x: &[f64], update_prox: bool) {
         let t1 = self.t_next();
         let w = &mut self.work;
         w.eval.reset();
@@ -238,16 +239,21 @@ impl<S: System> Stepper<S> {
         // Slices in the loops over the triplets: each vector's pointer and length read
         // once, not at every entry.
         let (u0, u1) = (&self.state.u[..], &it.u1[..]);
-        // ṗ(q1,u1), ṗ(q1,u_n), p̈ = W_pᵀa + ζ_p (buffers reused: no allocation per iterate)
+        let o = self.off;
+        let a = &x[o.a..o.a + o.nu];
+        // ṗ(q1,u1), ṗ(q1,u_n), p̈ = W_pᵀa + ζ_p in one pass over W_p (buffers reused: no
+        // allocation per iterate)
         it.rate_new.clone_from(&e.position_chi);
         it.rate_old.clone_from(&e.position_chi);
+        it.acc_p.clone_from(&e.position_zeta);
         it.supported.clear();
         it.supported.resize(np, false);
         let (rate_new, rate_old) = (&mut it.rate_new[..], &mut it.rate_old[..]);
-        let supported = &mut it.supported[..];
+        let (acc_p, supported) = (&mut it.acc_p[..], &mut it.supported[..]);
         for &(r, c, v) in &e.position_w.entries {
             rate_new[c] += v * u1[r];
             rate_old[c] += v * u0[r];
+            acc_p[c] += v * a[r];
             supported[c] = true;
         }
         it.p.clone_from(&e.position);
@@ -259,13 +265,16 @@ impl<S: System> Stepper<S> {
                 rate_new[k] + en * rate_old[k]
             }),
         );
-        // velocity level
+        // velocity level, and W_vᵀa + ζ_v
         it.v.clone_from(&e.velocity_chi);
         it.v_old.clone_from(&e.velocity_chi);
+        it.acc_v.clone_from(&e.velocity_zeta);
         let (v_new, v_old) = (&mut it.v[..], &mut it.v_old[..]);
+        let acc_v = &mut it.acc_v[..];
         for &(r, c, v) in &e.velocity_w.entries {
             v_new[c] += v * u1[r];
             v_old[c] += v * u0[r];
+            acc_v[c] += v * a[r];
         }
         let (v, v_old) = (&it.v, &it.v_old);
         refill(
@@ -275,23 +284,6 @@ impl<S: System> Stepper<S> {
                 v[k] + ef * v_old[k]
             }),
         );
-        it.acc_p.clone_from(&e.position_zeta);
-        it.acc_v.clone_from(&e.velocity_zeta);
-    }
-
-    /// Adds W_pᵀ a and W_vᵀ a to the acceleration levels (needs x).
-    pub(super) fn finish_accelerations(&mut self, x: &[f64]) {
-        let o = self.off;
-        let a = &x[o.a..o.a + o.nu];
-        let w = &mut self.work;
-        let acc_p = &mut w.it.acc_p[..];
-        for &(r, c, v) in &w.eval.position_w.entries {
-            acc_p[c] += v * a[r];
-        }
-        let acc_v = &mut w.it.acc_v[..];
-        for &(r, c, v) in &w.eval.velocity_w.entries {
-            acc_v[c] += v * a[r];
-        }
     }
 
     /// The normal contacts that have no W and a positive gap at the current iterate: a

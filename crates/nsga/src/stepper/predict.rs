@@ -85,13 +85,8 @@ impl StartPredictor {
         let mut predicted = std::mem::take(&mut self.spare);
         predicted.clear();
         predicted.extend_from_slice(x);
-        let smooth = [
-            off.a..off.a + off.nu,
-            off.lg..off.lg + off.ng,
-            off.lga..off.lga + off.nga,
-            off.ln..off.ln + off.nn,
-            off.lf..off.lf + off.nf,
-        ];
+        let [lg, lga, ln, lf] = off.forces();
+        let smooth = [off.a..off.a + off.nu, lg, lga, ln, lf];
         match fitting {
             // Only the newest fits (a fitting solution has x's length, so is not empty).
             [x1, []] => smooth.into_iter().flatten().for_each(|i| {

@@ -315,8 +315,7 @@ impl<S: System> Stepper<S> {
         limit: Option<(&IndexSets, usize)>,
     ) -> (IndexSets, f64) {
         self.derive(x, p);
-        self.evaluate_iterate(update_prox);
-        self.finish_accelerations(x);
+        self.evaluate_iterate(x, update_prox);
         let sets = match fixed {
             Some(s) => self.copy_sets(s),
             None => self.compute_sets(x, None, update_prox),
@@ -340,8 +339,7 @@ impl<S: System> Stepper<S> {
         let p = self.scheme(rho_inf);
         self.prepare_step();
         self.derive(x, &p);
-        self.evaluate_iterate(true);
-        self.finish_accelerations(x);
+        self.evaluate_iterate(x, true);
         self.compute_sets(x, None, false)
     }
 
@@ -361,8 +359,7 @@ impl<S: System> Stepper<S> {
         self.work.factored = None;
         self.prepare_step();
         self.derive(x, &p);
-        self.evaluate_iterate(update_prox);
-        self.finish_accelerations(x);
+        self.evaluate_iterate(x, update_prox);
         self.residual(x, sets, &p);
         // The full matrix: nothing pruned.
         self.mark_unused(None);

@@ -43,8 +43,8 @@ impl StateLevels {
         self.position.clone_from(&e.position);
         self.rate.clone_from(&e.position_chi);
         self.acceleration.clone_from(&e.position_zeta);
-        // Each sum in the order of the iterate's (`Stepper::evaluate_iterate`,
-        // `Stepper::finish_accelerations`), so that both give the same bits.
+        // Each sum in the order of the iterate's (`Stepper::evaluate_iterate`), so that
+        // both give the same bits.
         for &(r, c, v) in &e.position_w.entries {
             self.rate[c] += v * state.u[r];
             self.acceleration[c] += v * state.a[r];

@@ -73,4 +73,16 @@ impl Offsets {
             n,
         }
     }
+
+    /// The blocks of x that hold the smooth forces λ (eq. 126): bilateral on position
+    /// and velocity level, normal, friction. With a, the smooth unknowns; the rest
+    /// (U, Q, κ, Λ) answer impacts and drift.
+    pub(crate) fn forces(&self) -> [std::ops::Range<usize>; 4] {
+        [
+            self.lg..self.lg + self.ng,
+            self.lga..self.lga + self.nga,
+            self.ln..self.ln + self.nn,
+            self.lf..self.lf + self.nf,
+        ]
+    }
 }
