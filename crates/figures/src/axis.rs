@@ -66,7 +66,10 @@ impl Ticks {
     /// n/d ticks has its labels at least d pixels apart.
     #[must_use]
     pub fn linear_about(lo: f64, hi: f64, target: f64) -> Self {
-        let (lo, hi) = if hi > lo {
+        // A range too narrow for its step to be a normal number (or empty) gets the
+        // unit range about its start: a subnormal step has no power of ten to round to,
+        // and its tick count overflows.
+        let (lo, hi) = if hi > lo && ((hi - lo) / target.max(1.0)).is_normal() {
             (lo, hi)
         } else {
             (lo - 0.5, lo + 0.5)
@@ -351,7 +354,12 @@ mod tests {
         let t = Ticks::linear(-1.0, 1.0);
         assert!(t.labels.contains(&"0.0".to_owned()));
         assert!(t.major.contains(&0.0));
-        // Degenerate ranges still get ticks.
-        assert!(!Ticks::linear(3.0, 3.0).major.is_empty());
+        // Degenerate ranges still get ticks, a few: an empty one, one whose step would
+        // be subnormal (`blocks painleve --mu-max 5e-324` overflowed the tick count),
+        // an infinite one.
+        for (lo, hi) in [(3.0, 3.0), (0.0, 5e-324), (0.0, f64::INFINITY)] {
+            let n = Ticks::linear(lo, hi).major.len();
+            assert!((1..=12).contains(&n), "{n} ticks over [{lo}, {hi}]");
+        }
     }
 }
