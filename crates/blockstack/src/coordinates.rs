@@ -359,6 +359,19 @@ impl BodyState<f64> {
     }
 }
 
+/// Whether two poses are the same to the bit (`==` would take −0 for 0, whose sine
+/// differs in sign).
+pub(crate) fn same_pose(a: &Pose, b: &Pose) -> bool {
+    let bits = |p: &Pose| [p.x.to_bits(), p.y.to_bits(), p.theta.to_bits()];
+    bits(a) == bits(b)
+}
+
+/// Whether two lists of numbers (coordinates) are the same to the bit, as
+/// [`same_pose`]: whatever is computed from one is computed from the other.
+pub(crate) fn same_bits(a: &[f64], b: &[f64]) -> bool {
+    a.len() == b.len() && a.iter().zip(b).all(|(x, y)| x.to_bits() == y.to_bits())
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -413,5 +426,17 @@ mod tests {
             * (0.5 / h);
         let offset = s.pose.to_world(&body);
         assert!((fd - s.twist.point_velocity(&offset)).norm() < 1e-9);
+    }
+
+    /// A zero angle and a negative zero are different poses to the broad phase: their
+    /// sines differ in sign.
+    #[test]
+    fn poses_are_the_same_only_to_the_bit() {
+        let p = Pose::new(1.0, 2.0, 0.0);
+        assert!(same_pose(&p, &Pose::new(1.0, 2.0, 0.0)));
+        assert!(!same_pose(&p, &Pose::new(1.0, 2.0, -0.0)));
+        assert!(same_bits(&[1.0, 0.0], &[1.0, 0.0]));
+        assert!(!same_bits(&[1.0, 0.0], &[1.0, -0.0]));
+        assert!(!same_bits(&[1.0], &[1.0, 0.0]));
     }
 }

@@ -25,7 +25,7 @@
 //! ([`FailureEvent::on`]). Tipping and touching the floor are per block; the height
 //! drop is that of the highest point of any block.
 
-use crate::coordinates::Pose;
+use crate::coordinates::{same_bits, Pose};
 use crate::overlap::Body;
 use crate::scene::Scene;
 use crate::stack::StackContacts;
@@ -115,6 +115,10 @@ pub struct EventWatch {
     /// body only).
     named_lower: Vec<Option<Body>>,
     events: Vec<FailureEvent>,
+    /// The block coordinates of the last state observed: a state at the same ones, to
+    /// the bit, tilts, lowers and raises every block as that one did, so its events of
+    /// those kinds are recorded already (at rest, every state after the first).
+    observed_q: Vec<f64>,
 }
 
 impl EventWatch {
@@ -137,6 +141,7 @@ impl EventWatch {
             support_seen: Vec::new(),
             named_lower: Vec::new(),
             events: Vec::new(),
+            observed_q: Vec::new(),
         };
         let arrangement = scene.arrangement();
         watch.named_lower = arrangement
@@ -172,19 +177,30 @@ impl EventWatch {
                 });
             }
         }
-        for k in 0..scene.n_blocks() {
-            let theta = Pose::from_slice(&q[3 * k..]).theta;
+        if same_bits(q, &self.observed_q) {
+            return;
+        }
+        self.observed_q.clear();
+        self.observed_q.extend_from_slice(q);
+        // The highest corner of any block ([`top`]), gathered in the loop: each block's
+        // sin θ and cos θ serve its tilt, its lowest corner and its highest.
+        let mut top = f64::NEG_INFINITY;
+        for (k, block) in scene.blocks().iter().enumerate() {
+            let pose = Pose::from_slice(&q[3 * k..]);
+            let (sin, cos) = (pose.theta.sin(), pose.theta.cos());
             // The tilt from the nearest upright or lying orientation would hide a block
             // that turned over; the tilt from upright is what tipping means here.
-            let tilt = theta.sin().atan2(theta.cos()).abs();
+            let tilt = sin.atan2(cos).abs();
             if tilt > self.tipping[k] {
                 self.record(Some(k), EventKind::Tipped, t);
             }
-            if floor_gap(scene, q, k).is_some_and(|g| g <= self.floor_tol) {
+            let half = block.half_vertical_extent_turned(sin, cos);
+            if floor_gap_of(scene, pose.y, half).is_some_and(|g| g <= self.floor_tol) {
                 self.record(Some(k), EventKind::TouchedFloor, t);
             }
+            top = top.max(pose.y + half);
         }
-        if top(scene, q) < self.initial_height - self.drop {
+        if top < self.initial_height - self.drop {
             self.record(None, EventKind::HeightDropped, t);
         }
     }
@@ -294,8 +310,15 @@ fn top(scene: &Scene, q: &[f64]) -> f64 {
 
 /// The height of block k's lowest corner above the floor, None without a floor.
 fn floor_gap(scene: &Scene, q: &[f64], k: usize) -> Option<f64> {
+    let half = scene.blocks()[k].half_vertical_extent(q[3 * k + 2]);
+    floor_gap_of(scene, q[3 * k + 1], half)
+}
+
+/// [`floor_gap`] of a block at height y with half vertical extent `half`
+/// ([`crate::block::Block::half_vertical_extent`]).
+fn floor_gap_of(scene: &Scene, y: f64, half: f64) -> Option<f64> {
     let floor = scene.floor()?;
-    let lowest = q[3 * k + 1] - scene.blocks()[k].half_vertical_extent(q[3 * k + 2]);
+    let lowest = y - half;
     Some(lowest - floor.y)
 }
 

@@ -295,7 +295,8 @@ impl<'a> StackWalker<'a> {
     pub(crate) fn record_state(&mut self) -> StepRecord {
         let st = self.stepper.state();
         let t = st.t;
-        let r = self.rec.record(t, st, self.iterations);
+        let found = self.corners.found_at(st.k);
+        let r = self.rec.record(t, st, self.iterations, found);
         let s = &mut self.summary;
         s.min_gap = s.min_gap.min(r.min_gap);
         s.max_energy_increase = s.max_energy_increase.max(r.energy - self.energy);
@@ -310,6 +311,7 @@ impl<'a> StackWalker<'a> {
         s.linear_solves = self.stepper.linear_solves();
         s.linear_solves_by_stage = self.stepper.solves_by_stage();
         s.newton_work = self.stepper.newton_work();
+        s.resting_steps = self.stepper.run_stats().resting_steps;
         s.corner_contacts = self.corners.most_contacts;
         s.redone_steps = self.corners.redone_steps;
         s.deepest = self.rec.deepest;

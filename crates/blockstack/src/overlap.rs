@@ -66,16 +66,24 @@ impl fmt::Display for Penetration {
 /// row of blocks on the floor costs O(n log n), not O(n²).
 #[must_use]
 pub fn deepest_among(bodies: &[(Body, Pose, Size)]) -> Option<Penetration> {
-    deepest_in(&mut placed(bodies.iter().copied()))
+    deepest_in(&mut placed(bodies.iter().copied(), |_, _, _| None))
 }
 
 /// The bodies `bodies` yields, each placed once for all its pairs (a body near k others
 /// was turned and its corners and radius computed k times), with the radius of its
 /// bounding circle: one list a step, where a list of the bodies, their placings and
-/// their order took five allocations.
-fn placed(bodies: impl Iterator<Item = (Body, Pose, Size)>) -> Vec<(Body, Placed, f64)> {
+/// their order took five allocations. The i-th body's placing is the one `known` gives
+/// for its pose and size where it gives one ([`deepest_penetration_placed`]).
+fn placed(
+    bodies: impl Iterator<Item = (Body, Pose, Size)>,
+    known: impl Fn(usize, &Pose, Size) -> Option<Placed>,
+) -> Vec<(Body, Placed, f64)> {
     bodies
-        .map(|(b, p, s)| (b, Placed::of(&p, s), 0.5 * s.width.hypot(s.height)))
+        .enumerate()
+        .map(|(i, (b, p, s))| {
+            let placed = known(i, &p, s).unwrap_or_else(|| Placed::of(&p, s));
+            (b, placed, 0.5 * s.width.hypot(s.height))
+        })
         .collect()
 }
 
@@ -161,7 +169,20 @@ fn bodies_of<'a>(
 /// When q holds fewer than 3 coordinates per block.
 #[must_use]
 pub fn deepest_penetration(scene: &Scene, t: f64, q: &[f64]) -> Penetration {
-    let mut placed = placed(bodies_of(scene, t, q));
+    deepest_penetration_placed(scene, t, q, |_, _, _| None)
+}
+
+/// [`deepest_penetration`] with the placing of body i (0: the base, then the blocks)
+/// taken from `known` where it has one for the body's pose and size: the broad phase's
+/// of the same state ([`crate::broad_phase::Scan::placed_at`]), the same numbers as
+/// [`Placed::of`] without a sin θ and cos θ per body.
+pub(crate) fn deepest_penetration_placed(
+    scene: &Scene,
+    t: f64,
+    q: &[f64],
+    known: impl Fn(usize, &Pose, Size) -> Option<Placed>,
+) -> Penetration {
+    let mut placed = placed(bodies_of(scene, t, q), known);
     // The blocks below the floor, read in the blocks' order (the first of equal depths
     // is the one reported) before the bodies are sorted.
     let below = scene.floor().and_then(|floor| {
@@ -204,14 +225,17 @@ pub fn penetration_depth(a: (&Pose, Size), b: (&Pose, Size)) -> f64 {
 
 /// A rectangle placed at a pose, with what the separating-axis test reads of it: its
 /// centre and basis (the axes, [`Pose::e1`] and [`Pose::e2`]: the same numbers, see
-/// [`Frame`]) and its corners, each computed once.
-struct Placed {
-    frame: Frame,
-    corners: [Vec2; 4],
+/// [`Frame`]) and its corners, each computed once. The broad phase places its bodies
+/// the same way (`crate::broad_phase`), so that the overlap of the pairs it lists reads
+/// its placings.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct Placed {
+    pub(crate) frame: Frame,
+    pub(crate) corners: [Vec2; 4],
 }
 
 impl Placed {
-    fn of(pose: &Pose, size: Size) -> Self {
+    pub(crate) fn of(pose: &Pose, size: Size) -> Self {
         let frame = Frame::of(pose);
         Self {
             corners: frame_corners(&frame, size.width, size.height),
@@ -220,7 +244,7 @@ impl Placed {
     }
 
     /// [`penetration_depth`] of this rectangle and `other`.
-    fn depth(&self, other: &Self) -> f64 {
+    pub(crate) fn depth(&self, other: &Self) -> f64 {
         let axes = [self.frame.e1, self.frame.e2, other.frame.e1, other.frame.e2];
         let mut depth = f64::INFINITY;
         for axis in &axes {

@@ -30,11 +30,12 @@
 //!   it carries the typed error ([`RunError`], with the state it failed at), it is not
 //!   an `Err`.
 
-use crate::coordinates::Pose;
+use crate::broad_phase::Scan;
+use crate::coordinates::{same_bits, same_pose, Pose};
 use crate::error::BlockError;
 use crate::events::{EventKind, EventWatch, FailureEvent};
 use crate::exploration::{StackWalker, WalkSettings};
-use crate::overlap::{deepest_penetration, Body, Penetration};
+use crate::overlap::{deepest_penetration, deepest_penetration_placed, Body, Penetration};
 use crate::scene::Scene;
 use crate::scene_info::{Defaults, SceneReport, SceneWarning};
 use crate::stack::StackContacts;
@@ -295,6 +296,9 @@ pub struct RunSummary {
     /// paper's step had no self-consistent index sets
     /// ([`nsga::PolicyOptions::retry_without_friction_shift`]).
     pub unshifted_steps: usize,
+    /// Steps that repeated a state at rest without solving, once the base stood still
+    /// for good ([`nsga::PolicyOptions::rest`], docs/method.md §8.2 "At rest").
+    pub resting_steps: u64,
     /// Why the consistent start failed, where the run started without it and took its
     /// first step by the last resort ([`nsga::Stepper::start_failure`]); `None` after a
     /// consistent start.
@@ -471,6 +475,10 @@ pub(crate) struct Recorder<'a> {
     pub(crate) watch: EventWatch,
     /// The deepest penetration of the states recorded so far (the initial one before).
     pub(crate) deepest: TimedPenetration,
+    /// The last state's deepest penetration with the base's pose and the block
+    /// coordinates it was measured at: a state at the same ones, to the bit, has it too
+    /// (at rest, every state after the first).
+    last_overlap: Option<(Pose, Vec<f64>, Penetration)>,
 }
 
 impl<'a> Recorder<'a> {
@@ -486,10 +494,42 @@ impl<'a> Recorder<'a> {
                 t: 0.0,
                 penetration: deepest_penetration(scene, 0.0, q0),
             },
+            last_overlap: None,
         }
     }
 
-    pub(crate) fn record(&mut self, t: f64, st: &nsga::State, iterations: usize) -> StepRecord {
+    /// The deepest penetration at `t` and `q` ([`deepest_penetration`]), where the base
+    /// is at `base`; `scan`: the broad phase's findings at that state, whose placings of
+    /// the bodies serve it.
+    fn overlap(&mut self, t: f64, q: &[f64], base: &Pose, scan: Option<&Scan>) -> Penetration {
+        if let Some((b, at, p)) = &self.last_overlap {
+            if same_pose(b, base) && same_bits(at, q) {
+                return *p;
+            }
+        }
+        let p = deepest_penetration_placed(self.scene, t, q, |i, pose, size| {
+            scan.and_then(|s| s.placed_at(i, pose, size))
+        });
+        // The last one's list of coordinates, reused.
+        let mut at = self
+            .last_overlap
+            .take()
+            .map_or_else(Vec::new, |(_, at, _)| at);
+        at.clear();
+        at.extend_from_slice(q);
+        self.last_overlap = Some((*base, at, p));
+        p
+    }
+
+    /// The record of state `st` at `t`; `scan`: the broad phase's findings at that state,
+    /// if kept, whose placings of the bodies serve the deepest overlap.
+    pub(crate) fn record(
+        &mut self,
+        t: f64,
+        st: &nsga::State,
+        iterations: usize,
+        scan: Option<&Scan>,
+    ) -> StepRecord {
         let n = self.scene.n_blocks();
         self.scene
             .contacts_into(t, &st.q, &st.u, &mut self.contacts);
@@ -497,7 +537,8 @@ impl<'a> Recorder<'a> {
             .map(|k| Pose::from_slice(&st.q[3 * k..3 * k + 3]).into())
             .collect();
         self.watch.observe(self.scene, t, &st.q, &self.contacts);
-        let p = deepest_penetration(self.scene, t, &st.q);
+        let base = self.scene.base().state(t).pose;
+        let p = self.overlap(t, &st.q, &base, scan);
         if p.depth > self.deepest.penetration.depth {
             self.deepest = TimedPenetration { t, penetration: p };
         }
@@ -526,7 +567,7 @@ impl<'a> Recorder<'a> {
             t,
             poses,
             velocities,
-            base: self.scene.base().state(t).pose.into(),
+            base: base.into(),
             forces,
             gaps,
             min_gap: self.contacts.min_gap().unwrap_or(f64::INFINITY),
@@ -635,6 +676,7 @@ impl RunSummary {
             fallback_steps: 0,
             fallback_residual: 0.0,
             unshifted_steps: 0,
+            resting_steps: 0,
             start_failure: None,
             linear_solves: 0,
             linear_solves_by_stage: nsga::SolvesByStage::default(),
@@ -941,6 +983,13 @@ impl std::fmt::Display for RunReport {
             "\n{}",
             crate::events::Verdict::new(self.failure, self.t_final, s.error.is_some()).line(&label)
         )?;
+        if s.resting_steps > 0 {
+            write!(
+                f,
+                "\nsteps held at rest without solving (the base standing still): {}",
+                s.resting_steps
+            )?;
+        }
         if s.fallback_steps > 0 {
             write!(
                 f,
@@ -968,6 +1017,40 @@ mod tests {
     use crate::scenarios::{shaking_column, Shaking};
     use crate::time_guard::WATCHDOG_GRACE_S;
     use input::watchdog::TickingClock;
+
+    /// A recorder keeps the last state's deepest overlap for a state at the same
+    /// coordinates, to the bit, and measures it anew for any other: each record's is the
+    /// one measured afresh, at a state, another where block 2 sinks into block 1 and
+    /// the first again, with and without the broad phase's findings of that state.
+    #[test]
+    fn a_recorder_measures_each_states_overlap_as_a_fresh_measure_would() {
+        let scene = shaking_column(&Shaking {
+            blocks: 2,
+            ..Shaking::default()
+        })
+        .unwrap();
+        let options = stepper_options(&scene, &RunOptions::default()).unwrap();
+        let (q0, u0) = (scene.initial_coordinates(), scene.initial_velocities());
+        let stepper = nsga::Stepper::new(
+            crate::StackSystem::new(scene.clone()),
+            0.0,
+            &q0,
+            &u0,
+            options,
+        )
+        .unwrap();
+        let at = stepper.state().clone();
+        let mut sunk = at.clone();
+        sunk.q[4] -= 0.01;
+        let mut rec = Recorder::new(&scene, &q0);
+        for (st, scanned) in [(&at, false), (&sunk, true), (&sunk, false), (&at, true)] {
+            let found = crate::broad_phase::scan(&scene, 0.0, &st.q, &st.u, 1e-3);
+            rec.record(0.0, st, 0, scanned.then_some(&found));
+            let fresh = deepest_penetration(&scene, 0.0, &st.q);
+            assert_eq!(rec.last_overlap.as_ref().map(|l| l.2), Some(fresh));
+        }
+        assert!(rec.deepest.penetration.depth > 0.009, "{:?}", rec.deepest);
+    }
 
     #[test]
     fn the_watchdog_stops_a_run_with_a_typed_error() {

@@ -27,7 +27,6 @@
 //! sparse Jacobians can be formed row by row.
 
 use crate::coordinates::{BodyState, Frame, Pose, Scalar, Twist};
-use crate::floor::FloorContacts;
 use crate::gaps::PairRow;
 use crate::interface::{Interface, InterfaceContacts};
 use crate::overlap::Body as SceneBody;
@@ -148,8 +147,6 @@ pub struct StackContacts<T = f64> {
     pub slips: Vec<ContactRow<T>>,
     /// Per interface, the geometric detail (cases of (G.2.2), support state).
     pub interfaces: Vec<InterfaceContacts<T>>,
-    /// Per block, the floor detail (empty without a floor).
-    pub floor: Vec<FloorContacts<T>>,
     /// The base and the blocks, each turned once for all the rows above (and for the
     /// corner contacts of the system's slots, which read them from here).
     pub bodies: TurnedBodies<T>,
@@ -161,7 +158,6 @@ impl<T: Scalar> Default for StackContacts<T> {
             normals: Vec::new(),
             slips: Vec::new(),
             interfaces: Vec::new(),
-            floor: Vec::new(),
             bodies: TurnedBodies::default(),
         }
     }
@@ -179,7 +175,6 @@ impl<T: Scalar> StackContacts<T> {
             normals: Vec::with_capacity(2 * m + 4 * floors),
             slips: Vec::with_capacity(m + floors),
             interfaces: Vec::with_capacity(m),
-            floor: Vec::with_capacity(floors),
             bodies: TurnedBodies::default(),
         }
     }
@@ -303,10 +298,8 @@ impl Scene {
     /// [`Scene::contacts_into`] with the rows of only the groups `needed` accepts, and
     /// with the interfaces whose gaps hold their contact given by `holds` (one entry per
     /// interface; `None`: [`InterfaceContacts::holds`] at this q). The numbering stays
-    /// the same: a group left out gets `None` gaps and a zero slip; a block's floor left
-    /// out in whole or in part has no [`StackContacts::floor`] detail, an interface left
-    /// out has its
-    /// [`StackContacts::interfaces`] detail at the bodies' real parts (its cases, support
+    /// the same: a group left out gets `None` gaps and a zero slip; an interface left out
+    /// has its [`StackContacts::interfaces`] detail at the bodies' real parts (its cases, support
     /// and holding exact; no derivative directions). For a caller that knows those rows
     /// are not needed (a derivative pass for a Newton matrix without them), and for the
     /// stepper's system, which decides the holding once per step
@@ -331,7 +324,6 @@ impl Scene {
         out.normals.clear();
         out.slips.clear();
         out.interfaces.clear();
-        out.floor.clear();
         // Each body turned once, for all its rows (a column's block is the upper body of
         // one interface and the lower of the next, a lintel the upper body of two; in a
         // derivative pass, with the same directions in each).
@@ -378,7 +370,6 @@ impl Scene {
                         out.normals.push(Some(single(g, i)));
                     }
                     out.slips.push(single(&c.slip, i));
-                    out.floor.push(c);
                     continue;
                 }
                 // Part of the block's floor rows, without the detail.

@@ -15,8 +15,9 @@
 //! tunnel into another unseen; [`CornerStepping::redone_steps`] counts how often it
 //! happened.
 
-use crate::broad_phase::{pair_corner_contacts, scan, Scan};
-use crate::coordinates::Pose;
+use crate::broad_phase::{pair_corner_contacts, BroadPhase, Scan};
+use crate::coordinates::{same_pose, Pose};
+use crate::interface::Size;
 use crate::overlap::{penetration_depth, Body};
 use crate::pairs::LineContacts;
 use crate::scene::Scene;
@@ -35,6 +36,8 @@ pub const MAX_CONTACT_SPLITS: usize = 4;
 pub struct CornerStepping {
     /// The broad phase's findings at the current state (step number, findings).
     wanted: Option<(u64, Scan)>,
+    /// The broad phase, with what it keeps from one state's scan for the next's.
+    broad: BroadPhase,
     /// Steps taken again because a contact was missed.
     pub redone_steps: usize,
     /// Steps (or substeps) split in two because the bodies still entered each other
@@ -51,7 +54,7 @@ impl CornerStepping {
     /// The corner contacts of the initial state (t = 0, q0, u0) put into a system before
     /// its stepper is built; the list also serves the first step.
     pub fn start(&mut self, system: &mut StackSystem, q0: &[f64], u0: &[f64], dt: f64) {
-        let found = scan(system.scene(), 0.0, q0, u0, dt);
+        let found = self.broad.scan(system.scene(), 0.0, q0, u0, dt);
         system.assign_corner_contacts(&found.lines);
         // The first decision: no forces to forget yet.
         let _ = system.hold_interfaces(found.holds.clone());
@@ -127,8 +130,16 @@ impl CornerStepping {
         let dt = stepper.options().dt;
         &self
             .wanted
-            .get_or_insert_with(|| (st.k, scan(scene, st.t, &st.q, &st.u, dt)))
+            .get_or_insert_with(|| (st.k, self.broad.scan(scene, st.t, &st.q, &st.u, dt)))
             .1
+    }
+
+    /// The broad phase's findings at the state of step number `k`, if they are kept.
+    pub(crate) fn found_at(&self, k: u64) -> Option<&Scan> {
+        self.wanted
+            .as_ref()
+            .filter(|(at, _)| *at == k)
+            .map(|(_, found)| found)
     }
 
     /// [`CornerStepping::wanted`] taken out of the bookkeeping, for the step from this
@@ -150,6 +161,12 @@ impl CornerStepping {
         stepper: &mut Stepper<StackSystem>,
         tol: f64,
     ) -> Result<(), StepError> {
+        if stepper.at_rest() {
+            // The state is repeated (nsga's `Stepper::at_rest`): the bodies stay where
+            // the broad phase and the missed-contact check last found them.
+            stepper.step()?;
+            return Ok(());
+        }
         self.step_within(scene, stepper, tol, MAX_CONTACT_SPLITS)
     }
 
@@ -170,6 +187,7 @@ impl CornerStepping {
         let missed = self.penetrating(scene, stepper, &before, tol);
         if missed.is_empty() {
             self.before = before;
+            self.broad.recycle(found);
             return Ok(());
         }
         self.redone_steps += 1;
@@ -222,18 +240,38 @@ impl CornerStepping {
         tol: f64,
     ) -> Vec<[Body; 2]> {
         let st = stepper.state();
-        let after = &self.wanted(scene, stepper).lines;
+        // A body where it was before the step, to the bit: a pair of two such overlaps
+        // exactly as deep as before, so it cannot have sunk deeper by tol ≥ 0 (at rest,
+        // no pair's overlap is measured).
+        let stayed = |x: Body| {
+            let (was, is) = (
+                body_of(scene, before.t, &before.q, x),
+                body_of(scene, st.t, &st.q, x),
+            );
+            same_pose(&was.0, &is.0)
+        };
+        let after = self.wanted(scene, stepper);
         // The pairs' overlap, not the corners' gaps: a corner exactly level with a side
         // of the other body is at distance zero from it however deep the faces overlap.
-        let mut missed: Vec<[Body; 2]> = after
-            .iter()
-            .map(|l| [l.line.lo, l.line.hi])
-            .filter(|&[a, b]| {
-                let depth = pair_depth(scene, st.t, &st.q, a, b);
-                depth > tol && depth > pair_depth(scene, before.t, &before.q, a, b) + tol
-            })
-            .collect();
-        missed.dedup();
+        // A pair's lines lie next to each other (sorted by their bodies first): its
+        // overlap is measured once, at its first.
+        let mut missed: Vec<[Body; 2]> = Vec::new();
+        let mut last: Option<([Body; 2], bool)> = None;
+        for l in &after.lines {
+            let pair @ [a, b] = [l.line.lo, l.line.hi];
+            let deeper = match last {
+                Some((p, deeper)) if p == pair => deeper,
+                _ if tol >= 0.0 && stayed(a) && stayed(b) => false,
+                _ => {
+                    let depth = after.pair_depth(a, b);
+                    depth > tol && depth > pair_depth(scene, before.t, &before.q, a, b) + tol
+                }
+            };
+            last = Some((pair, deeper));
+            if deeper && missed.last() != Some(&pair) {
+                missed.push(pair);
+            }
+        }
         missed
     }
 }
@@ -248,12 +286,16 @@ fn count(lines: &[LineContacts]) -> usize {
 
 /// How deep two bodies (base or blocks) overlap at time t and block coordinates q.
 fn pair_depth(scene: &Scene, t: f64, q: &[f64], a: Body, b: Body) -> f64 {
-    let body = |x: Body| match x {
+    let ((pa, sa), (pb, sb)) = (body_of(scene, t, q, a), body_of(scene, t, q, b));
+    penetration_depth((&pa, sa), (&pb, sb))
+}
+
+/// The pose and size of body `x` (base or block) at time t and block coordinates q.
+fn body_of(scene: &Scene, t: f64, q: &[f64], x: Body) -> (Pose, Size) {
+    match x {
         Body::Block(k) => (Pose::from_slice(&q[3 * k - 3..]), scene.size(k)),
         Body::Base | Body::Floor => (scene.base().state(t).pose, scene.size(0)),
-    };
-    let ((pa, sa), (pb, sb)) = (body(a), body(b));
-    penetration_depth((&pa, sa), (&pb, sb))
+    }
 }
 
 #[cfg(test)]
@@ -286,6 +328,7 @@ mod tests {
                 Scan {
                     lines: Vec::new(),
                     holds: scene.interfaces_holding(0.0, &q0, &u0),
+                    ..Scan::default()
                 },
             )),
             ..CornerStepping::default()

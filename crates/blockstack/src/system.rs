@@ -236,6 +236,10 @@ impl StackSystem {
     #[must_use]
     pub fn holds_corner_contacts(&self, wanted: &[LineContacts]) -> bool {
         let held = self.slots.iter().flatten();
+        // Slots filled from a list in its order hold it in that order: one pass.
+        if held.clone().eq(wanted) {
+            return true;
+        }
         held.clone().count() == wanted.len()
             && wanted.iter().all(|w| {
                 held.clone().any(|s| {
@@ -482,6 +486,12 @@ impl System for StackSystem {
 
     fn evaluate<T: Scalar>(&self, t: f64, q: &[T], u: &[T], out: &mut Evaluation<T>) {
         self.evaluate_into(t, q, u, out, &mut StackContacts::for_scene(&self.scene));
+    }
+
+    /// Gravity and the contact laws do not change with time: the stack is autonomous
+    /// once its base stands still for good ([`crate::Base::still_from`]).
+    fn autonomous_from(&self, t: f64) -> bool {
+        self.scene.base().still_from(t)
     }
 
     /// 4/3: a corner of a rectangle of any aspect needs μ ≥ 4/3 for b ≤ 0 (App. I,

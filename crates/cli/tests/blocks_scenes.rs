@@ -419,3 +419,30 @@ fn a_run_whose_consistent_start_fails_goes_on_by_the_last_resort_and_says_so() {
     );
     std::fs::remove_dir_all(dir).unwrap();
 }
+
+/// Piles at rest beside a fixed base are held without solving, and the run says how many
+/// steps were held, in its text and as the JSON key `resting_steps`.
+#[test]
+fn a_run_held_at_rest_counts_the_steps_held() {
+    let scene = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../examples/scenes/pile-at-rest.toml"
+    );
+    let dir = temp_dir("resting");
+    let out = dir.to_str().unwrap();
+    let (ok, text, stderr) = run(&["blocks", "run", scene, "--force", "--out", out]);
+    assert!(ok, "{stderr}");
+    let j = json(&["blocks", "run", scene, "--json", "--force", "--out", out]);
+    let held = j["resting_steps"].as_u64().expect("resting_steps");
+    assert!(
+        held + 10 >= j["steps"].as_u64().unwrap(),
+        "{held} steps held"
+    );
+    assert!(
+        text.contains(&format!(
+            "steps held at rest without solving (the base standing still): {held}"
+        )),
+        "{text}"
+    );
+    let _ = std::fs::remove_dir_all(dir);
+}

@@ -312,6 +312,15 @@ pub struct PolicyOptions {
     /// the shift (docs/method.md §8.2, `Stage::Unshifted`), before the best iterate, halving and
     /// the last resort.
     pub retry_without_friction_shift: bool,
+    /// Hold a state at rest without solving (docs/method.md §8.2, "At rest"): after a
+    /// step that converged at its start without a Newton update and left q unchanged to
+    /// the bit, of a system autonomous from then on ([`System::autonomous_from`]), the
+    /// next steps repeat the state one Δt later until the system stops being autonomous
+    /// or the caller changes the state or the options. On by default; it changes
+    /// nothing for a system that is never autonomous.
+    ///
+    /// [`System::autonomous_from`]: crate::System::autonomous_from
+    pub rest: bool,
     /// How often a step that fails after every retry and fixed-set re-solve may be
     /// halved: it is then taken as two substeps of Δt/2 with this same policy, each of
     /// which may be halved again, down to Δt/2^`max_halvings` ([`Stepper::split_step`]).
@@ -437,6 +446,7 @@ impl Default for PolicyOptions {
             probe_flips: false,
             probe_painleve: false,
             retry_without_friction_shift: false,
+            rest: true,
             max_halvings: 0,
             boundary_resolves: false,
             last_resort: true,

@@ -229,6 +229,10 @@ pub struct RunStats {
     /// ([`StepStats::unshifted`]).
     #[serde(default)]
     pub unshifted_steps: u64,
+    /// Steps that repeated a state at rest without solving
+    /// ([`PolicyOptions::rest`](crate::PolicyOptions::rest)).
+    #[serde(default)]
+    pub resting_steps: u64,
 }
 
 impl RunStats {

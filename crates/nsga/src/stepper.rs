@@ -61,6 +61,7 @@ mod policy;
 mod predict;
 mod prune;
 mod resize;
+mod rest;
 pub(crate) mod rows;
 mod scheme;
 mod slip;
@@ -142,6 +143,12 @@ pub struct Stepper<S: System> {
     /// The last steps' solutions, for a predicted Newton start
     /// ([`NewtonOptions::predict_start`](crate::NewtonOptions::predict_start)).
     predictor: predict::StartPredictor,
+    /// Where the state stands on the way to rest (`stepper/rest.rs`).
+    rest: rest::Rest,
+    /// How the last commit moved q (`stepper/rest.rs`).
+    moved: rest::Moved,
+    /// Whether the last commit kept the index sets of the step before.
+    same_sets: bool,
 }
 
 /// Buffers reused from iterate to iterate and step to step.
@@ -372,6 +379,9 @@ impl<S: System> Stepper<S> {
             refusal: None,
             start_failure,
             predictor: predict::StartPredictor::default(),
+            rest: rest::Rest::Moving,
+            moved: rest::Moved::Beyond,
+            same_sets: false,
         })
     }
 
@@ -385,6 +395,7 @@ impl<S: System> Stepper<S> {
     /// matrices").
     pub fn system_mut(&mut self) -> &mut S {
         self.work.state_levels.forget();
+        self.rest = rest::Rest::Moving;
         &mut self.system
     }
     /// The layout of the system.
@@ -430,6 +441,9 @@ impl<S: System> Stepper<S> {
             refusal: None,
             start_failure: None,
             predictor: predict::StartPredictor::default(),
+            rest: rest::Rest::Moving,
+            moved: rest::Moved::Beyond,
+            same_sets: false,
         }
     }
     /// Drops the solver's buffers and kept factors (rebuilt at the next step), to hold a
@@ -459,6 +473,7 @@ impl<S: System> Stepper<S> {
             self.time_base = (self.state.t, self.state.k);
         }
         self.options = options;
+        self.rest = rest::Rest::Moving;
         Ok(())
     }
     /// Accumulated statistics.
@@ -549,6 +564,8 @@ impl<S: System> Stepper<S> {
         }
         self.work.spare_visited = trial.visited;
         let mut left = std::mem::replace(&mut self.state, trial.state);
+        (self.moved, self.same_sets) = (rest::Moved::between(&left.q, &self.state.q), same_sets);
+        self.rest = rest::Rest::Moving;
         let x = std::mem::take(&mut left.x);
         self.predictor.record(left.k, self.options.dt, x, same_sets);
         // Its buffers serve the next step's trial state.
@@ -602,6 +619,7 @@ impl<S: System> Stepper<S> {
     fn forget_solutions(&mut self) {
         self.predictor.clear();
         self.work.state_levels.forget();
+        self.rest = rest::Rest::Moving;
     }
 
     /// The statistics of the step just committed.
@@ -631,6 +649,11 @@ impl<S: System> Stepper<S> {
     /// stepper stays at the last good state, so the run can continue from it (for
     /// example after changing the options).
     pub fn step(&mut self) -> Result<&StepStats, StepError> {
+        if self.at_rest() {
+            self.rest_step();
+            return Ok(self.committed());
+        }
+        let (t0, before) = (self.state.t, self.rest);
         if self.start_failure.is_some() && self.state.k == 0 {
             // The initial state after a failed start has no consistent a0 to start a
             // generalized-α step from (§5): a Moreau–Jean step needs none, and restarts
@@ -638,8 +661,16 @@ impl<S: System> Stepper<S> {
             self.last_resort()?;
         } else {
             self.run_policy()?;
+            self.rest = self.rest_after_step(before, t0);
         }
         Ok(self.committed())
+    }
+
+    /// Whether the state is at rest for good: the next [`Stepper::step`] repeats it one
+    /// Δt later without solving ([`PolicyOptions::rest`](crate::PolicyOptions::rest)).
+    #[must_use]
+    pub fn at_rest(&self) -> bool {
+        self.rest == rest::Rest::Held && self.system.autonomous_from(self.state.t)
     }
 
     /// Runs `n` steps, calling `observe` after each accepted one.

@@ -401,6 +401,14 @@ pub trait System {
         self.evaluate(t, q, u, out);
     }
 
+    /// Whether the system's equations no longer depend on time from `t` on (no
+    /// prescribed motion or force changes any more): then a step that leaves the state
+    /// at rest leaves it at rest for good, and the stepper holds it there without
+    /// solving ([`PolicyOptions::rest`](crate::PolicyOptions::rest)). Default: never.
+    fn autonomous_from(&self, _t: f64) -> bool {
+        false
+    }
+
     /// A friction coefficient below which no contact of the system can have App. I's
     /// b ≤ 0 (a normal acceleration that decreases with the contact's own normal force,
     /// friction counted): the check of

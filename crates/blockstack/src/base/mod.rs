@@ -89,6 +89,15 @@ impl Base {
         }
     }
 
+    /// Whether the base stands still from time t on, in every component
+    /// ([`BaseMotion::still_from`]).
+    #[must_use]
+    pub fn still_from(&self, t: f64) -> bool {
+        [&self.motion, &self.vertical, &self.rotation]
+            .iter()
+            .all(|m| m.still_from(t))
+    }
+
     /// Width w⁰.
     #[must_use]
     pub fn width(&self) -> f64 {

@@ -95,6 +95,23 @@ impl BaseMotion {
         }
     }
 
+    /// Whether the component stands still from time t on: its displacement constant and
+    /// its velocity and acceleration zero at every later time (a fixed component, a
+    /// harmonic motion of zero amplitude or frequency, a cycloidal pulse after its end, a
+    /// record after its last sample when it ends at rest). `false` where that is not
+    /// known (a Ricker pulse's tail, a displacement's linear extension).
+    #[must_use]
+    pub fn still_from(&self, t: f64) -> bool {
+        match self {
+            Self::Fixed => true,
+            Self::Harmonic { amplitude, omega } => *amplitude == 0.0 || *omega == 0.0,
+            Self::ConstantVelocity { v0 } => *v0 == 0.0,
+            Self::Displacement(_) => false,
+            Self::Pulse(pulse) => pulse.ended_by(t),
+            Self::Record(record) => record.at_rest_from(t),
+        }
+    }
+
     /// Position (from the start), velocity and acceleration at time t.
     #[must_use]
     pub fn at(&self, t: f64) -> BaseKinematics {
@@ -131,6 +148,25 @@ pub(crate) mod tests {
         let (p, m) = (motion.at(t + h), motion.at(t - h));
         assert!(((p.displacement - m.displacement) / (2.0 * h) - k.velocity).abs() < 1e-7);
         assert!(((p.velocity - m.velocity) / (2.0 * h) - k.acceleration).abs() < 1e-6);
+    }
+
+    /// Which motions stand still from a time on: a fixed base, a harmonic motion of zero
+    /// amplitude or frequency, a constant velocity of zero, a cycloidal pulse after its
+    /// period; not a moving one, a Ricker pulse (its tail goes on) or a displacement.
+    #[test]
+    fn a_base_stands_still_where_its_motion_is_over_for_good() {
+        use super::super::pulse::{Pulse, PulseShape};
+        assert!(BaseMotion::Fixed.still_from(0.0));
+        assert!(BaseMotion::harmonic(0.0, 3.0).unwrap().still_from(0.0));
+        assert!(!BaseMotion::harmonic(0.2, 3.0).unwrap().still_from(1e6));
+        assert!(BaseMotion::constant_velocity(0.0).unwrap().still_from(0.0));
+        assert!(!BaseMotion::constant_velocity(0.1).unwrap().still_from(1e6));
+        let sine = Pulse::new(PulseShape::OneSine, 2.0, 0.5, 1.0).unwrap();
+        let still = BaseMotion::Pulse(sine);
+        assert!(!still.still_from(1.4) && still.still_from(1.5));
+        assert_eq!(still.at(1.5), still.at(7.0));
+        let ricker = Pulse::new(PulseShape::Ricker, 2.0, 0.5, 1.0).unwrap();
+        assert!(!BaseMotion::Pulse(ricker).still_from(1e3));
     }
 
     #[test]

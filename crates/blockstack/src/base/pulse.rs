@@ -101,6 +101,17 @@ impl Pulse {
         })
     }
 
+    /// Whether the pulse is over by time t: a one-sine or one-cosine pulse after its
+    /// period, which leaves the base at rest ([`Pulse::at`]); never a Ricker pulse, whose
+    /// tail goes on.
+    #[must_use]
+    pub fn ended_by(&self, t: f64) -> bool {
+        match self.shape {
+            PulseShape::OneSine | PulseShape::OneCosine => t - self.start >= self.period,
+            PulseShape::Ricker => false,
+        }
+    }
+
     /// Displacement from the position at rest, velocity and acceleration at time t.
     #[must_use]
     pub fn at(&self, t: f64) -> BaseKinematics {

@@ -135,7 +135,11 @@ impl Accelerogram {
             .zip(&self.a)
             .map(|(&t, &a)| a - (c0 + c1 * (t - t0)))
             .collect();
-        Self::integrated(self.t, a)
+        let mut at_rest = Self::integrated(self.t, a);
+        // The line makes the end velocity zero; its integration leaves round-off, which
+        // would move the base on after the record, slowly but for good.
+        at_rest.v[n - 1] = 0.0;
+        at_rest
     }
 
     /// The record with every acceleration (and so velocity and displacement) times k.
@@ -163,6 +167,15 @@ impl Accelerogram {
     #[must_use]
     pub fn end(&self) -> f64 {
         self.t[self.t.len() - 1]
+    }
+
+    /// Whether the base stands still from time `s` on: at or after the last sample, with
+    /// the record ending at rest (zero velocity there; [`Accelerogram::at`] then keeps
+    /// the last displacement).
+    #[must_use]
+    pub fn at_rest_from(&self, s: f64) -> bool {
+        let n = self.t.len();
+        s >= self.t[n - 1] && self.v[n - 1] == 0.0
     }
 
     /// Displacement from the position at rest, velocity and acceleration at time s.
@@ -260,7 +273,8 @@ mod tests {
         assert!(raw.at(end).velocity.abs() > 0.1);
         let r = raw.corrected(Baseline::EndAtRest);
         let k = r.at(end);
-        assert!(k.velocity.abs() < 1e-12, "{}", k.velocity);
+        assert_eq!(k.velocity, 0.0);
+        assert!(r.at_rest_from(end) && !r.at_rest_from(0.5 * end));
         assert!(k.displacement.abs() < 1e-12, "{}", k.displacement);
         assert!((r.at(end + 3.0).displacement - k.displacement).abs() < 1e-12);
         // The correction is a line: a sampled line is corrected to nothing.
