@@ -28,6 +28,7 @@ import re
 import subprocess
 import sys
 import tempfile
+import textwrap
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import reference_workload  # noqa: E402  (the workload's commands, single-sourced)
@@ -51,7 +52,7 @@ class Runner:
     def workload(self, name):
         """The counts of one reference workload (scripts/reference_workload.py)."""
         config = {"binary": self.binary, "tuning": [], "index": 0, "label": "docs"}
-        counts, _, _ = reference_workload.run(config, name, self.tmp, 0)
+        counts = reference_workload.run(config, name, self.tmp, 0)[0]
         return counts
 
     def json(self, *args):
@@ -99,11 +100,56 @@ def lire_convergence(r):
     )
 
 
+def sci(x):
+    """x as 1.3·10⁻¹³ (0 as 0)."""
+    if x == 0:
+        return "0"
+    mantissa, exponent = f"{x:.1e}".split("e")
+    sup = str.maketrans("-0123456789", "⁻⁰¹²³⁴⁵⁶⁷⁸⁹")
+    return f"{mantissa}·10{str(int(exponent)).translate(sup)}"
+
+
+def rest_counts(r):
+    """method.md §8.2, "At rest": runs held at rest against the same runs solving every
+    step (`--tuning policy.rest=false`)."""
+    def pair(name, *args):
+        out = [] if args[1] == "lire" else ["--force", "--out", os.path.join(r.tmp, name)]
+        held = r.json(*args, *out, "--json")
+        solved = r.json(*args, *out, "--json", "--tuning", "policy.rest=false")
+        apart = max(abs(p[k] - q[k]) for p, q in zip(held["final"], solved["final"]) for k in ("x", "y", "theta"))
+        evals = f"{held['newton_work']['evaluations']} evaluations instead of {solved['newton_work']['evaluations']}"
+        solves = (f"the same {held['linear_solves']} linear solves" if held["linear_solves"] == solved["linear_solves"]
+                  else f"{held['linear_solves']} linear solves instead of {solved['linear_solves']}")
+        poses = "the same final poses" if apart == 0 else f"final poses within {sci(apart)}"
+        return held, solved, evals, solves, poses
+    pile, _, evals, _, poses = pair("pile", "blocks", "run", "examples/scenes/pile-at-rest.toml")
+    _, _, l_evals, l_solves, l_poses = pair("lire", "blocks", "lire", "--perturb", "bottom", "--floor", "--t-end", "30")
+    drums, _, d_evals, d_solves, d_poses = pair("drums", "blocks", "run", "drum-column")
+    record, _, _, _, _ = pair("record", "blocks", "run", "examples/scenes/drums-on-record.toml")
+    _, still, _, _, _ = pair("none", "blocks", "lire", "--perturb", "none")
+    tilt = max(abs(b["theta"]) for b in still["final"])
+    text = (
+        f"the pile's run (`rollstack blocks run examples/scenes/pile-at-rest.toml --json`) takes "
+        f"{evals}, {poses}; the Lire tower collapsing onto a floor (`rollstack blocks lire "
+        f"--perturb bottom --floor --t-end 30 --json`) comes to rest leaning on itself and takes "
+        f"{l_evals}, {l_solves}, {l_poses} (the run that solves every step keeps moving by the "
+        f"round-off of its velocities). The drum column the pulse topples (`rollstack blocks run "
+        f"drum-column --json`) lies at rest on the floor for {drums['resting_steps']} of its "
+        f"{drums['steps']} steps: {d_evals}, {d_solves}, {d_poses}; the drums on a record "
+        f"(`examples/scenes/drums-on-record.toml`) rest for {record['resting_steps']} of its "
+        f"{record['steps']} steps, after the record. The tower in exact unstable equilibrium "
+        f"(`blocks lire --perturb none`) is held there; solving every step, round-off tips it by "
+        f"{sci(tilt)} rad by t = 10"
+    )
+    return "\n".join(textwrap.wrap(text, 88, break_long_words=False, break_on_hyphens=False))
+
+
 # doc file, marker name, function of the runner giving the text between the markers.
 NUMBERS = [
     ("docs/method.md", "reference_counts", reference_counts),
     ("docs/tuning.md", "matrix_counts", matrix_counts),
     ("docs/exploration.md", "lire_convergence", lire_convergence),
+    ("docs/method.md", "rest_counts", rest_counts),
 ]
 
 
