@@ -50,8 +50,8 @@ pub fn run(args: &PainleveArgs) -> Result<()> {
         args.grid
     );
     input::positive("--aspect", args.aspect)?;
-    input::non_negative("--mu", args.mu)?;
-    input::positive("--mu-max", args.mu_max)?;
+    friction("--mu", input::non_negative("--mu", args.mu)?)?;
+    friction("--mu-max", input::positive("--mu-max", args.mu_max)?)?;
     let report = painleve_report(args.aspect, args.mu)?;
     if let Some(dir) = &args.out {
         write_painleve_files(dir, args.aspect, args.mu_max, args.grid, &report)?;
@@ -73,6 +73,19 @@ pub fn run(args: &PainleveArgs) -> Result<()> {
         println!("{}", report.summary(args.aspect));
     }
     Ok(())
+}
+
+/// Refuses a friction coefficient for which the term 3 μ sin ϑ cos ϑ of b (I.1.8)
+/// overflows: b would be ±∞ in the grid and the corner scan.
+///
+/// # Errors
+/// 3 μ not finite.
+fn friction(flag: &str, mu: f64) -> Result<f64> {
+    anyhow::ensure!(
+        (3.0 * mu).is_finite(),
+        "{flag} {mu:e} is too large: 3 μ sin ϑ cos ϑ in b (I.1.8) overflows"
+    );
+    Ok(mu)
 }
 
 /// Writes `painleve_b_grid.csv` (b on a (ϑ, μ_d) grid of `grid` × `grid` nodes up to

@@ -58,26 +58,28 @@ pub struct ShakeArgs {
     pub convergence: ConvergenceArgs,
 }
 
-/// Refuses a base frequency whose time step 2π/(Nω) or span P·2π/ω cannot be stepped
-/// (infinite, or zero), naming the flags that make them in the units typed: the scenario
-/// names only its "dt".
+/// Refuses a base frequency whose time step 2π/(Nω) or span cannot be stepped (infinite,
+/// or zero), naming the flags that make them in the units typed: the scenario names only
+/// its "dt". `frequency` is the frequency as typed (`--omega 4`); `span` is the flag and
+/// value of a span given in time units (`--t-end`, `--t-max`), else the span is
+/// P·2π/ω.
 ///
 /// # Errors
 /// A time step or span that is not a positive finite number.
-fn check_stepping(p: &Shaking, args: &ShakeArgs) -> Result<()> {
-    let frequency = match args.hz {
-        Some(hz) => format!("--hz {}", input::Short(hz)),
-        None => format!("--omega {}", input::Short(p.omega)),
-    };
-    if let Some(t_end) = args.t_end {
+pub(super) fn check_stepping(
+    p: &Shaking,
+    frequency: &str,
+    span: Option<(&str, f64)>,
+) -> Result<()> {
+    if let Some((flag, t)) = span {
         anyhow::ensure!(
-            t_end.is_finite() && t_end > 0.0,
-            "--t-end {} cannot be stepped: it must be a positive finite time",
-            input::Short(t_end)
+            t.is_finite() && t > 0.0,
+            "{flag} {} cannot be stepped: it must be a positive finite time",
+            input::Short(t)
         );
     }
     let dt = p.period() / p.steps_per_period;
-    let span = args.t_end.unwrap_or_else(|| p.duration());
+    let span = span.map_or_else(|| p.duration(), |(_, t)| t);
     for (what, value) in [("time step 2π/(Nω)", dt), ("span P·2π/ω", span)] {
         anyhow::ensure!(
             value.is_finite() && value > 0.0,
@@ -115,7 +117,11 @@ pub fn run_shake(args: &ShakeArgs) -> Result<()> {
         mu: args.mu,
         start_with_base: args.start_with_base,
     };
-    check_stepping(&p, args)?;
+    let frequency = match args.hz {
+        Some(hz) => format!("--hz {}", input::Short(hz)),
+        None => format!("--omega {}", input::Short(p.omega)),
+    };
+    check_stepping(&p, &frequency, args.t_end.map(|t| ("--t-end", t)))?;
     let scene = shaking_column_in(&p, &units)?;
     let options = args.solver.run_options(args.t_end, false)?;
     args.solver.check_run(&scene, &options)?;

@@ -536,6 +536,12 @@ pub fn sweep_frequency(args: &FrequencyArgs) -> Result<()> {
         mu: args.mu,
         start_with_base: false,
     };
+    // Every ω of the sweep, not only this shard's: each shard refuses what the whole
+    // sweep would.
+    for &omega in &all {
+        let span = args.t_max.map(|t| ("--t-max", t));
+        super::shake::check_stepping(&column(omega), &typed(omega), span)?;
+    }
     check_judged_before_any_run(
         &omegas,
         &args.solver,
@@ -557,12 +563,15 @@ pub fn sweep_frequency(args: &FrequencyArgs) -> Result<()> {
             settings,
             |r| (r.csv_cells(), r.convergence.as_ref()),
         )?;
-        let numerics = super::figure_numerics(&shaking_column_in(&column(1.0), &units)?, &options);
+        // The figure's fixed parameters from the sweep's first column, whose step was
+        // checked (a column at ω = 1 may have none: Δt = 2π/N overflows for a tiny N).
+        let first = column(all.first().copied().unwrap_or(1.0));
+        let numerics = super::figure_numerics(&shaking_column_in(&first, &units)?, &options);
         let plot = FrequencySweep {
             t_max: args.t_max,
             prox: numerics.prox,
             rule: numerics.rule,
-            ..FrequencySweep::of(&column(1.0))
+            ..FrequencySweep::of(&first)
         };
         plot_frequency_sweep(&dir.join("sweep_frequency.png"), &rows, &plot)?;
     }

@@ -5,6 +5,7 @@
 
 use anyhow::Result;
 use blockstack::scenarios::ColumnUnits;
+use blockstack::scene::MAX_BLOCKS;
 use clap::Args;
 use input::text::parse_finite;
 use std::f64::consts::PI;
@@ -28,11 +29,20 @@ impl UnitArgs {
     /// The units given, checked with the flags' names.
     ///
     /// # Errors
-    /// A block size that is not positive, a negative gravity.
+    /// A block size that is not positive, a height so large that a column of
+    /// [`MAX_BLOCKS`] would rise to ∞ (the blocks' centres, (i + ½)h, must be finite),
+    /// a negative gravity.
     pub fn units(&self) -> Result<ColumnUnits> {
+        let height = input::positive("--height", self.height)?;
+        let top = height * (MAX_BLOCKS as f64 + 1.0);
+        anyhow::ensure!(
+            top.is_finite(),
+            "--height {height:e} is too large: a column of {MAX_BLOCKS} blocks would rise \
+             to {top}"
+        );
         Ok(ColumnUnits {
             width: input::positive("--width", self.width)?,
-            height: input::positive("--height", self.height)?,
+            height,
             gravity: input::non_negative("--gravity", self.gravity)?,
         })
     }

@@ -79,13 +79,19 @@ pub fn run(args: &CylinderArgs) -> Result<()> {
 /// (h = r / (r/h)); `h` wins when both are given.
 ///
 /// # Errors
-/// When neither is given or the ratio is not positive.
+/// When neither is given, or the ratio is not positive or so small that r / (r/h)
+/// overflows (`--r-over-h 3.6e-309` gives h = ∞).
 pub fn height(r: f64, h: Option<f64>, r_over_h: Option<f64>) -> Result<f64> {
     match (h, r_over_h) {
         (Some(h), _) => Ok(h),
         (None, Some(ratio)) => {
             input::positive("--r-over-h", ratio)?;
-            Ok(r / ratio)
+            let h = r / ratio;
+            anyhow::ensure!(
+                h.is_finite(),
+                "--r-over-h {ratio} is too small: the height r / (r/h) = {r} / {ratio} overflows"
+            );
+            Ok(h)
         }
         (None, None) => anyhow::bail!("give the height as --h or --r-over-h"),
     }
