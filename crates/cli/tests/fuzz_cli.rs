@@ -640,6 +640,35 @@ proptest! {
     }
 }
 
+/// `blocks sweep scene shaking --set KEY=VALUES`, briefly: runs or is refused naming the
+/// key (or `--set` for an empty key), leaving nothing.
+fn set_case(key: &str, values: &str) -> Result<(), TestCaseError> {
+    let out = out_dir("set");
+    let set = format!("{key}={values}");
+    let args: Vec<String> = [
+        "blocks",
+        "sweep",
+        "scene",
+        "shaking",
+        "--t-end",
+        "0.01",
+        "--set",
+        &set,
+        "--out",
+        &out.display().to_string(),
+    ]
+    .iter()
+    .map(ToString::to_string)
+    .collect();
+    let o = run(&args)?;
+    // An empty key is named by the option itself.
+    let name = if key.is_empty() { "--set" } else { key };
+    check(&o, &[name, "--set"], &set)?;
+    nothing_left(&o, &out)?;
+    let _ = std::fs::remove_dir_all(&out);
+    Ok(())
+}
+
 proptest! {
     #![proptest_config(ProptestConfig { cases: 64, ..ProptestConfig::default() })]
 
@@ -665,18 +694,7 @@ proptest! {
         key in prop::sample::select(SET_KEYS),
         values in prop::collection::vec(hostile(), 1..3),
     ) {
-        let out = out_dir("set");
-        let set = format!("{key}={}", values.join(","));
-        let args: Vec<String> = [
-            "blocks", "sweep", "scene", "shaking", "--t-end", "0.01", "--set", &set,
-            "--out", &out.display().to_string(),
-        ].iter().map(ToString::to_string).collect();
-        let o = run(&args)?;
-        // An empty key is named by the option itself.
-        let name = if key.is_empty() { "--set" } else { key };
-        check(&o, &[name, "--set"], &set)?;
-        nothing_left(&o, &out)?;
-        let _ = std::fs::remove_dir_all(&out);
+        set_case(key, &values.join(","))?;
     }
 
     /// `rollstack slurm` with hostile values: refused naming the flag, or scripts a shell
@@ -886,49 +904,78 @@ const EXTREMES: &[&str] = &[
     "-5e-324",
 ];
 
-/// Every numeric flag of every command with every value of [`HOSTILE`] and [`EXTREMES`],
-/// in turn rather than at random, on a few threads: the random tests above see a hundred
-/// of these cases per run, and a case they have not met yet fails CI the day it is drawn
-/// (`cylinder holonomy rectangle --r-over-h 3.6e-309` did). About a minute and a half on
-/// two cores; run it after adding a flag or a check:
-/// `cargo test -p rollstack --test fuzz_cli -- --ignored`.
-#[test]
-#[ignore = "exhaustive: every flag with every hostile value, about 90 s"]
-fn every_flag_with_every_hostile_value() {
+/// Runs `case` on every item of `cases` on a few threads and returns the failures.
+fn failures_of<T: Send>(
+    cases: Vec<T>,
+    case: impl Fn(T) -> Result<(), TestCaseError> + Sync,
+) -> Vec<String> {
     use std::sync::Mutex;
-    let mut cases = Vec::new();
-    for cmd in COMMANDS {
-        for flag in cmd.flags {
-            for value in HOSTILE.iter().chain(EXTREMES) {
-                cases.push((cmd, *flag, *value));
-            }
-        }
-    }
     let cases = Mutex::new(cases);
     let failures = Mutex::new(Vec::new());
     let threads = std::thread::available_parallelism().map_or(2, |n| n.get().min(8));
     std::thread::scope(|s| {
         for _ in 0..threads {
             s.spawn(|| loop {
-                let Some((cmd, flag, value)) = cases.lock().unwrap().pop() else {
+                let Some(c) = cases.lock().unwrap().pop() else {
                     break;
                 };
-                let out = cmd.out.then(|| out_dir("every"));
-                let args = invocation(cmd, flag, value, true, out.as_deref());
-                let result = run(&args).and_then(|o| {
-                    check(&o, &[flag], value)?;
-                    out.as_deref().map_or(Ok(()), |out| nothing_left(&o, out))
-                });
-                if let Err(e) = result {
+                if let Err(e) = case(c) {
                     failures.lock().unwrap().push(e.to_string());
-                }
-                if let Some(out) = out {
-                    let _ = std::fs::remove_dir_all(&out);
                 }
             });
         }
     });
-    let failures = failures.into_inner().unwrap();
+    failures.into_inner().unwrap()
+}
+
+/// Every value of [`HOSTILE`] and [`EXTREMES`].
+fn every_hostile_value() -> impl Iterator<Item = &'static str> {
+    HOSTILE.iter().chain(EXTREMES).copied()
+}
+
+/// Every numeric flag of every command with every value of [`HOSTILE`] and [`EXTREMES`],
+/// in turn rather than at random: the random tests above see a hundred of these cases per
+/// run, and a case they have not met yet fails CI the day it is drawn (`cylinder holonomy
+/// rectangle --r-over-h 3.6e-309` did). About 70 s on two cores; run it after adding a
+/// flag or a check: `cargo test -p rollstack --test fuzz_cli -- --ignored`.
+#[test]
+#[ignore = "exhaustive: every flag with every hostile value, about 70 s"]
+fn every_flag_with_every_hostile_value() {
+    let cases: Vec<_> = COMMANDS
+        .iter()
+        .flat_map(|cmd| cmd.flags.iter().map(move |flag| (cmd, *flag)))
+        .flat_map(|(cmd, flag)| every_hostile_value().map(move |v| (cmd, flag, v)))
+        .collect();
+    let failures = failures_of(cases, |(cmd, flag, value)| {
+        let out = cmd.out.then(|| out_dir("every"));
+        let args = invocation(cmd, flag, value, true, out.as_deref());
+        let result = run(&args).and_then(|o| {
+            check(&o, &[flag], value)?;
+            out.as_deref().map_or(Ok(()), |out| nothing_left(&o, out))
+        });
+        if let Some(out) = out {
+            let _ = std::fs::remove_dir_all(&out);
+        }
+        result
+    });
+    assert!(
+        failures.is_empty(),
+        "{} failures:\n{}",
+        failures.len(),
+        failures.join("\n")
+    );
+}
+
+/// Every `--set` key of [`SET_KEYS`] with every value of [`HOSTILE`] and [`EXTREMES`],
+/// in turn: as [`every_flag_with_every_hostile_value`] for the scene's keys.
+#[test]
+#[ignore = "exhaustive: every --set key with every hostile value, about a minute"]
+fn every_set_key_with_every_hostile_value() {
+    let cases: Vec<_> = SET_KEYS
+        .iter()
+        .flat_map(|key| every_hostile_value().map(move |v| (*key, v)))
+        .collect();
+    let failures = failures_of(cases, |(key, value)| set_case(key, value));
     assert!(
         failures.is_empty(),
         "{} failures:\n{}",
