@@ -130,9 +130,12 @@ pub struct Scene {
 const OVERLAP_TOL: f64 = 1e-9;
 
 /// The most free blocks a scene may have, checked before memory is taken for them. A
-/// step's cost grows like n² in a shaken column (docs/method.md: 13 s per step at 300
-/// blocks), so a step of 1000 blocks takes minutes and the ten-minute time guard
-/// ([`crate::time_guard`]) leaves a few of them; the thesis's stacks have 4 to 20.
+/// column that moves with its base takes 100 steps of 1000 blocks in about a second, but
+/// a kicked column's steps cost far more than n times a short one's (docs/method.md §8.2,
+/// tall columns: 6 to 10 s for 10 steps at 300 blocks), and taller columns may end their
+/// tipping step on a band of open interfaces (3000 blocks: 131 s for 10 steps); the
+/// ten-minute time guard ([`crate::time_guard`]) stops what would run longer. The
+/// thesis's stacks have 4 to 20.
 pub const MAX_BLOCKS: usize = 1000;
 
 /// [`MAX_BLOCKS`] as the range of a block count, for error messages.
