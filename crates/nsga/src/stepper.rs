@@ -524,6 +524,12 @@ impl<S: System> Stepper<S> {
     /// sets at each Newton iterate, or keeping `fixed` sets throughout. Nothing is
     /// committed: pass the result to [`Stepper::commit`] to advance.
     ///
+    /// The state is left as it was, but not the solver's kept factors: they are the
+    /// trial's last, and the next step's simplified updates start from them
+    /// ([`LinearOptions::reuse_factorization`](crate::LinearOptions::reuse_factorization)).
+    /// That step converges to the same tolerance by another path, so its bits (and its
+    /// count of linear solves) may differ from a step taken without the trial.
+    ///
     /// # Errors
     /// [`StepError::NotConverged`] (carrying the best residual, the sets visited and the
     /// current state), [`StepError::NonFinite`], [`StepError::Linear`];
