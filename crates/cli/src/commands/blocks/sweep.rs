@@ -538,8 +538,8 @@ pub fn sweep_frequency(args: &FrequencyArgs) -> Result<()> {
     };
     // Every ω of the sweep, not only this shard's: each shard refuses what the whole
     // sweep would.
+    let span = args.t_max.map(|t| ("--t-max", t));
     for &omega in &all {
-        let span = args.t_max.map(|t| ("--t-max", t));
         super::shake::check_stepping(&column(omega), &typed(omega), span)?;
     }
     check_judged_before_any_run(
