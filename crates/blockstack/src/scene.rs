@@ -133,9 +133,10 @@ const OVERLAP_TOL: f64 = 1e-9;
 /// column that moves with its base takes 100 steps of 1000 blocks in about a second, but
 /// a kicked column's steps cost far more than n times a short one's (docs/method.md §8.2,
 /// tall columns: 6 to 10 s for 10 steps at 300 blocks), and taller columns may end their
-/// tipping step on a band of open interfaces (3000 blocks: 131 s for 10 steps); the
-/// ten-minute time guard ([`crate::time_guard`]) stops what would run longer. The
-/// thesis's stacks have 4 to 20.
+/// tipping step on a band of open interfaces (3000 blocks: 131 s for 10 steps) or, when
+/// they tip in their first step (10 000 blocks), not take it at all; the ten-minute time
+/// guard ([`crate::time_guard`]) stops what would run longer. The thesis's stacks have 4
+/// to 20.
 pub const MAX_BLOCKS: usize = 1000;
 
 /// [`MAX_BLOCKS`] as the range of a block count, for error messages.
