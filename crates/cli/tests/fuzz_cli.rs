@@ -892,6 +892,42 @@ fn values_whose_products_overflow_are_refused_naming_the_flag() {
     let _ = std::fs::remove_dir_all(&out);
 }
 
+/// Found in review: with the span given in time units (`--t-max`, `--t-end`), a time
+/// step 2π/(Nω) that cannot be stepped was refused naming `--periods` and a value of it
+/// derived from the span, which the user had not typed. The step is made of the
+/// frequency and `--steps-per-period` alone, and the message names only those.
+#[test]
+fn a_step_refused_beside_a_span_in_time_names_no_periods() {
+    for (words, span) in [
+        (
+            &["blocks", "sweep", "frequency", "--omega", "4"][..],
+            "--t-max",
+        ),
+        (&["blocks", "shake", "--omega", "4"][..], "--t-end"),
+    ] {
+        let out = out_dir("span");
+        let mut args: Vec<String> = words.iter().map(ToString::to_string).collect();
+        args.extend(
+            [
+                "--blocks",
+                "2",
+                span,
+                "0.1",
+                "--steps-per-period",
+                "3.6e-309",
+            ]
+            .map(String::from),
+        );
+        args.extend(["--out".to_owned(), out.display().to_string()]);
+        let o = run(&args).unwrap();
+        assert_eq!(o.status, Some(1), "{}: {}", o.line, o.stderr);
+        check(&o, &["--steps-per-period"], "3.6e-309").unwrap();
+        assert!(!o.stderr.contains("--periods"), "{}: {}", o.line, o.stderr);
+        nothing_left(&o, &out).unwrap();
+        let _ = std::fs::remove_dir_all(&out);
+    }
+}
+
 /// Floats at the edges of the representable range: the smallest subnormal and normal,
 /// values whose reciprocal or square overflows, the largest finite ones.
 const EXTREMES: &[&str] = &[

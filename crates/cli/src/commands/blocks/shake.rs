@@ -62,7 +62,8 @@ pub struct ShakeArgs {
 /// or zero), naming the flags that make them in the units typed: the scenario names only
 /// its "dt". `frequency` is the frequency as typed (`--omega 4`); `span` is the flag and
 /// value of a span given in time units (`--t-end`, `--t-max`), else the span is
-/// P·2π/ω.
+/// P·2π/ω. Each message names only the flags its quantity is made of: the step
+/// `--steps-per-period`, the span `--periods` or the span's own flag.
 ///
 /// # Errors
 /// A time step or span that is not a positive finite number.
@@ -79,15 +80,23 @@ pub(super) fn check_stepping(
         );
     }
     let dt = p.period() / p.steps_per_period;
-    let span = span.map_or_else(|| p.duration(), |(_, t)| t);
-    for (what, value) in [("time step 2π/(Nω)", dt), ("span P·2π/ω", span)] {
+    anyhow::ensure!(
+        dt.is_finite() && dt > 0.0,
+        "{frequency} with --steps-per-period {} gives a time step 2π/(Nω) of {}, which \
+         cannot be stepped",
+        input::Short(p.steps_per_period),
+        input::Short(dt)
+    );
+    // A span given in time units was checked above; P is then derived from it, and a
+    // message naming --periods would name a value the user did not type.
+    if span.is_none() {
+        let span = p.duration();
         anyhow::ensure!(
-            value.is_finite() && value > 0.0,
-            "{frequency} with --steps-per-period {} and --periods {} gives a {what} of {}, \
-             which cannot be stepped",
-            input::Short(p.steps_per_period),
+            span.is_finite() && span > 0.0,
+            "{frequency} with --periods {} gives a span P·2π/ω of {}, which cannot be \
+             stepped",
             input::Short(p.periods),
-            input::Short(value)
+            input::Short(span)
         );
     }
     Ok(())
