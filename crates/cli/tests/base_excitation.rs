@@ -46,6 +46,7 @@ fn a_scene_plays_its_record_from_the_scene_files_directory() {
     // The block follows the base: it has moved with the record.
     let x = v["final"][0]["x"].as_f64().unwrap();
     assert!(x.abs() > 1e-6, "{v}");
+    let _ = std::fs::remove_dir_all(&dir);
 }
 
 #[test]
@@ -70,6 +71,7 @@ fn other_components_are_reported() {
     let v = json(&["blocks", "run", &file, "--json"]);
     assert_eq!(v["scene"]["other_motions"]["y"], "pulse", "{v}");
     assert_eq!(v["scene"]["other_motions"]["rotation"], "harmonic", "{v}");
+    let _ = std::fs::remove_dir_all(&dir);
 }
 
 /// The one-line error of `blocks run` on the scene `text` (written beside a record).
@@ -79,6 +81,7 @@ fn error_of(tag: &str, text: &str) -> String {
     let (ok, _, stderr) = run(&["blocks", "run", &file]);
     assert!(!ok);
     assert_eq!(stderr.trim().lines().count(), 1, "{stderr}");
+    let _ = std::fs::remove_dir_all(&dir);
     stderr
 }
 
@@ -135,6 +138,7 @@ fn a_malformed_record_names_its_file_and_line() {
         stderr.contains(&format!("quake.AT2 line {line}: '")) && stderr.contains("is not a number"),
         "{stderr}"
     );
+    let _ = std::fs::remove_dir_all(&dir);
 }
 
 #[test]
@@ -167,4 +171,5 @@ fn a_sweep_scales_the_record() {
     assert!((x[1] / x[0] - 4.0).abs() < 1e-6, "{x:?}");
     let (ok, _, stderr) = run(&["blocks", "sweep", "scene", &file, "--set", "base.y.shape=1"]);
     assert!(!ok && stderr.contains("not a number"), "{stderr}");
+    let _ = std::fs::remove_dir_all(&dir);
 }

@@ -919,6 +919,7 @@ fn explore_files(threads: &str) -> Vec<(String, Vec<u8>)> {
         }
     }
     files.sort();
+    let _ = std::fs::remove_dir_all(&dir);
     files
 }
 
