@@ -280,6 +280,11 @@ impl BandFactors {
         let (n, kl, ku, ld) = (self.n, self.kl, self.ku, self.ld());
         self.pivot.clear();
         self.lower.clear();
+        // Column c's first nonzero entry of U above the pivot is in row c − upper[c]: 0
+        // until the elimination meets one. Rows of U are made in order, so the first
+        // met is the highest.
+        self.upper.clear();
+        self.upper.resize(n, 0);
         // The last column that the interchanges so far reach.
         let mut ju = 0;
         for j in 0..n {
@@ -305,14 +310,16 @@ impl BandFactors {
             // they are): the rows below it are not updated.
             let len = l.iter().rposition(|&x| x != 0.0).map_or(0, |last| last + 1);
             self.lower.push(len);
-            if len == 0 {
-                continue;
-            }
-            // Column c's rows j ..= j + km start at at(j, c) = d + (c − j)(ld − 1).
+            // Row j of U, whose entry in column j + c is at at(j, j + c) = d + c(ld − 1),
+            // updates the rows j + 1 ..= j + len below it.
             for c in 1..=ju - j {
                 let u0 = c * (ld - 1) - 1;
                 let u = rest[u0 - km];
                 if u != 0.0 {
+                    let upper = &mut self.upper[j + c];
+                    if *upper == 0 {
+                        *upper = c;
+                    }
                     let below = &mut rest[u0 - km + 1..=u0 - km + len];
                     below
                         .iter_mut()
@@ -321,22 +328,8 @@ impl BandFactors {
                 }
             }
         }
-        self.upper_envelope();
         self.packed.clear();
         Ok(())
-    }
-
-    /// Finds each column's first nonzero entry of U above the diagonal (`upper`), once
-    /// the elimination has made U.
-    fn upper_envelope(&mut self) {
-        let kv = self.kl + self.ku;
-        self.upper.clear();
-        for j in 0..self.n {
-            let d = self.at(j, j);
-            let u = &self.ab[d - j.min(kv)..d];
-            let first = u.iter().position(|&v| v != 0.0).unwrap_or(u.len());
-            self.upper.push(u.len() - first);
-        }
     }
 
     /// Copies each column's envelope into `packed` (unless it holds them already).
@@ -356,31 +349,38 @@ impl BandFactors {
         self.start.push(self.packed.len());
     }
 
-    /// Column j's entries of U above the diagonal, its pivot and its multipliers of L,
-    /// within its envelope.
-    fn column(&self, j: usize) -> (&[f64], f64, &[f64]) {
+    /// Overwrites `y` with the solution of the factored system, from the packed columns
+    /// when there are.
+    fn substitute(&self, y: &mut [f64]) {
         if self.packed.is_empty() {
-            let d = self.at(j, j);
-            let ab = &self.ab;
-            (
-                &ab[d - self.upper[j]..d],
-                ab[d],
-                &ab[d + 1..=d + self.lower[j]],
-            )
+            self.substitute_by(y, |j| {
+                let (d, ab) = (self.at(j, j), &self.ab);
+                (
+                    &ab[d - self.upper[j]..d],
+                    ab[d],
+                    &ab[d + 1..=d + self.lower[j]],
+                )
+            });
         } else {
-            let (d, end) = (self.diagonal[j], self.start[j + 1]);
-            let p = &self.packed;
-            (&p[self.start[j]..d], p[d], &p[d + 1..end])
+            self.substitute_by(y, |j| {
+                let (d, p) = (self.diagonal[j], &self.packed);
+                (&p[self.start[j]..d], p[d], &p[d + 1..self.start[j + 1]])
+            });
         }
     }
 
-    /// Overwrites `y` with the solution of the factored system.
-    fn substitute(&self, y: &mut [f64]) {
+    /// The substitutions, with `column(j)` giving column j's entries of U above the
+    /// pivot, the pivot, and the multipliers of L, within its envelope.
+    fn substitute_by<'a>(
+        &self,
+        y: &mut [f64],
+        column: impl Fn(usize) -> (&'a [f64], f64, &'a [f64]),
+    ) {
         for j in 0..self.n {
             y.swap(j, self.pivot[j]);
             let yj = y[j];
             if yj != 0.0 {
-                let (_, _, l) = self.column(j);
+                let (_, _, l) = column(j);
                 y[j + 1..=j + l.len()]
                     .iter_mut()
                     .zip(l)
@@ -388,7 +388,7 @@ impl BandFactors {
             }
         }
         for j in (0..self.n).rev() {
-            let (u, pivot, _) = self.column(j);
+            let (u, pivot, _) = column(j);
             y[j] /= pivot;
             let yj = y[j];
             if yj != 0.0 {
