@@ -239,12 +239,11 @@ struct BandFactors {
     /// of U above the diagonal in rows j − upper[j] .. j: outside, the band is zero.
     lower: Vec<usize>,
     upper: Vec<usize>,
-    /// The columns within their envelopes (`BandFactors::pack`), column j in
-    /// `packed[start[j]..start[j + 1]]` with its pivot at `packed[diagonal[j]]`; empty
-    /// until packed.
+    /// The columns within their envelopes (`BandFactors::pack`); empty until packed.
     packed: Vec<f64>,
-    start: Vec<usize>,
-    diagonal: Vec<usize>,
+    /// Per column j, `[first, pivot, end]`: its entries of U above the pivot are at
+    /// `first..pivot` of `ab` (of `packed` once packed), its multipliers at `pivot + 1..end`.
+    spans: Vec<[usize; 3]>,
 }
 
 impl BandFactors {
@@ -328,70 +327,54 @@ impl BandFactors {
                 }
             }
         }
+        self.spans.clear();
+        for j in 0..n {
+            let d = self.at(j, j);
+            let span = [d - self.upper[j], d, d + 1 + self.lower[j]];
+            self.spans.push(span);
+        }
         self.packed.clear();
         Ok(())
     }
 
-    /// Copies each column's envelope into `packed` (unless it holds them already).
+    /// Copies each column's envelope into `packed` (unless it holds them already), and
+    /// points the spans there.
     fn pack(&mut self) {
         if !self.packed.is_empty() || self.n == 0 {
             return;
         }
-        self.start.clear();
-        self.diagonal.clear();
-        for j in 0..self.n {
-            let d = self.at(j, j);
-            self.start.push(self.packed.len());
-            self.diagonal.push(self.packed.len() + self.upper[j]);
-            let column = &self.ab[d - self.upper[j]..=d + self.lower[j]];
-            self.packed.extend_from_slice(column);
+        for span in &mut self.spans {
+            let [first, pivot, end] = *span;
+            let at = self.packed.len();
+            self.packed.extend_from_slice(&self.ab[first..end]);
+            *span = [at, at + pivot - first, at + end - first];
         }
-        self.start.push(self.packed.len());
     }
 
-    /// Overwrites `y` with the solution of the factored system, from the packed columns
-    /// when there are.
+    /// Overwrites `y` with the solution of the factored system, reading the columns
+    /// from `packed` when they are there.
     fn substitute(&self, y: &mut [f64]) {
-        if self.packed.is_empty() {
-            self.substitute_by(y, |j| {
-                let (d, ab) = (self.at(j, j), &self.ab);
-                (
-                    &ab[d - self.upper[j]..d],
-                    ab[d],
-                    &ab[d + 1..=d + self.lower[j]],
-                )
-            });
+        let f = if self.packed.is_empty() {
+            &self.ab
         } else {
-            self.substitute_by(y, |j| {
-                let (d, p) = (self.diagonal[j], &self.packed);
-                (&p[self.start[j]..d], p[d], &p[d + 1..self.start[j + 1]])
-            });
-        }
-    }
-
-    /// The substitutions, with `column(j)` giving column j's entries of U above the
-    /// pivot, the pivot, and the multipliers of L, within its envelope.
-    fn substitute_by<'a>(
-        &self,
-        y: &mut [f64],
-        column: impl Fn(usize) -> (&'a [f64], f64, &'a [f64]),
-    ) {
-        for j in 0..self.n {
+            &self.packed
+        };
+        for (j, &[_, pivot, end]) in self.spans.iter().enumerate() {
             y.swap(j, self.pivot[j]);
             let yj = y[j];
             if yj != 0.0 {
-                let (_, _, l) = column(j);
+                let l = &f[pivot + 1..end];
                 y[j + 1..=j + l.len()]
                     .iter_mut()
                     .zip(l)
                     .for_each(|(yi, li)| *yi -= li * yj);
             }
         }
-        for j in (0..self.n).rev() {
-            let (u, pivot, _) = column(j);
-            y[j] /= pivot;
+        for (j, &[first, pivot, _]) in self.spans.iter().enumerate().rev() {
+            y[j] /= f[pivot];
             let yj = y[j];
             if yj != 0.0 {
+                let u = &f[first..pivot];
                 y[j - u.len()..j]
                     .iter_mut()
                     .zip(u)
@@ -651,11 +634,9 @@ mod tests {
             let d = f.at(j, j);
             let (below, above, lower, upper) =
                 (kl.min(n - 1 - j), j.min(kv), f.lower[j], f.upper[j]);
-            assert_eq!(
-                &f.packed[f.start[j]..f.start[j + 1]],
-                &f.ab[d - upper..=d + lower]
-            );
-            assert_eq!(f.diagonal[j], f.start[j] + upper);
+            let [first, pivot, end] = f.spans[j];
+            assert_eq!(&f.packed[first..end], &f.ab[d - upper..=d + lower]);
+            assert_eq!(pivot, first + upper);
             assert!(f.ab[d + 1 + lower..=d + below].iter().all(|&v| v == 0.0));
             assert!(f.ab[d - above..d - upper].iter().all(|&v| v == 0.0));
             inside += lower + upper;
