@@ -235,8 +235,9 @@ struct BandFactors {
     ab: Vec<f64>,
     /// Row interchanged with row j at step j.
     pivot: Vec<usize>,
-    /// Per column j, the multipliers of L in rows j + 1 ..= j + lower[j] and the entries
-    /// of U above the diagonal in rows j − upper[j] .. j: outside, the band is zero.
+    /// Scratch of the elimination, which `spans` are made from: per column j, the
+    /// multipliers of L in rows j + 1 ..= j + lower[j] and the entries of U above the
+    /// diagonal in rows j − upper[j] .. j; outside, the band is zero.
     lower: Vec<usize>,
     upper: Vec<usize>,
     /// The columns within their envelopes (`BandFactors::pack`); empty until packed.
@@ -340,7 +341,7 @@ impl BandFactors {
     /// Copies each column's envelope into `packed` (unless it holds them already), and
     /// points the spans there.
     fn pack(&mut self) {
-        if !self.packed.is_empty() || self.n == 0 {
+        if !self.packed.is_empty() {
             return;
         }
         for span in &mut self.spans {
