@@ -51,6 +51,7 @@ mod far;
 mod fd_jacobian;
 mod halving;
 mod held;
+mod islands;
 mod iterate;
 mod kinematic;
 mod last_resort;
