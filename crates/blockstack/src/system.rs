@@ -488,12 +488,6 @@ impl System for StackSystem {
         self.evaluate_into(t, q, u, out, &mut StackContacts::for_scene(&self.scene));
     }
 
-    /// A block's (x, y, θ): blocks interact only through contacts (M is diagonal, h is
-    /// gravity, B is a block's own), so blocks scattered over a floor are islands.
-    fn unknowns_per_body(&self) -> Option<usize> {
-        Some(3)
-    }
-
     /// Gravity and the contact laws do not change with time: the stack is autonomous
     /// once its base stands still for good ([`crate::Base::still_from`]).
     fn autonomous_from(&self, t: f64) -> bool {

@@ -97,16 +97,6 @@ pub trait NewtonProblem {
         false
     }
 
-    /// Whether an independent part of the problem has settled into a cycle of its own
-    /// without progress ([`settled_cycle`] on that part's sets and residual), at the
-    /// iterate whose sets are `sets`; called once per iterate of an attempt that gives
-    /// up on settled cycles. Parts that cycle with different periods make a sequence of
-    /// whole sets that does not repeat within [`Tuning::longest_cycle`]. Default: never
-    /// (the problem is one part).
-    fn part_cycles(&mut self, _sets: &Self::Sets, _tuning: &Tuning) -> bool {
-        false
-    }
-
     /// Takes back sets that an evaluation returned and the engine no longer needs (equal
     /// to sets visited already, or those of a damped trial the line search passed over),
     /// so that the problem can reuse their buffers. Default: dropped.
@@ -269,10 +259,7 @@ pub fn solve<P: NewtonProblem>(
         scratch.residuals.push(res);
         let hopeless = match settings.give_up {
             GiveUp::Never => false,
-            GiveUp::SettledCycle => {
-                settled_cycle(&scratch.history, &scratch.residuals, t)
-                    || problem.part_cycles(sets, t)
-            }
+            GiveUp::SettledCycle => settled_cycle(&scratch.history, &scratch.residuals, t),
             GiveUp::Stall => stalled(&scratch.residuals, t),
         };
         let converging = iter > 0

@@ -51,7 +51,6 @@ mod far;
 mod fd_jacobian;
 mod halving;
 mod held;
-mod islands;
 mod iterate;
 mod kinematic;
 mod last_resort;

@@ -401,15 +401,6 @@ pub trait System {
         self.evaluate(t, q, u, out);
     }
 
-    /// How many consecutive velocity unknowns make one body, when bodies interact only
-    /// through the constraints (M, h and B of a body depend on its own coordinates and
-    /// velocities alone). A free Newton attempt then watches each island, the bodies
-    /// that closed contacts join, for a settled cycle of its own (docs/method.md §8.1,
-    /// "Islands cycle on their own"). Default: None (the system is one island).
-    fn unknowns_per_body(&self) -> Option<usize> {
-        None
-    }
-
     /// Whether the system's equations no longer depend on time from `t` on (no
     /// prescribed motion or force changes any more): then a step that leaves the state
     /// at rest leaves it at rest for good, and the stepper holds it there without

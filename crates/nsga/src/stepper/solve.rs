@@ -4,7 +4,6 @@
 
 use super::direction::Refusal;
 use super::held::HeldSets;
-use super::islands::IslandHistory;
 use super::kinematic::KinematicColumns;
 use super::prune::Pruning;
 use super::scheme::Scheme;
@@ -14,7 +13,6 @@ use crate::attempt::{AttemptFailure, AttemptOutcome, RefusedBecause};
 use crate::newton::{self, GiveUp, NewtonProblem, NewtonSettings, Outcome};
 use crate::sets::IndexSets;
 use crate::system::System;
-use crate::Tuning;
 use nalgebra::DMatrix;
 use std::time::Instant;
 
@@ -31,9 +29,6 @@ struct StepProblem<'a, S: System> {
     held: Option<HeldSets>,
     /// Whether this solve continues an attempt after a restart ([`Resumed`]).
     resuming: bool,
-    /// The islands of the attempt and their iterates' sets and residuals, from its
-    /// first iterate on, for systems made of bodies ([`System::unknowns_per_body`]).
-    islands: Option<IslandHistory>,
 }
 
 /// How far an attempt went before a pruned contact closed and asked for a restart: the
@@ -115,25 +110,6 @@ impl<S: System> NewtonProblem for StepProblem<'_, S> {
         let jacobian = work.seconds.jacobian - jacobian_before;
         work.seconds.factorization += started.elapsed().as_secs_f64() - jacobian;
         out
-    }
-
-    /// The islands are those of the attempt's first iterate (the bodies its closed
-    /// contacts join), each watched for a settled cycle of its own sets and rows.
-    fn part_cycles(&mut self, sets: &IndexSets, tuning: &Tuning) -> bool {
-        let st = &*self.stepper;
-        let Some(per_body) = st.system.unknowns_per_body() else {
-            return false;
-        };
-        let islands = self
-            .islands
-            .get_or_insert_with(|| IslandHistory::new(&st.off, per_body, &st.work.eval, &sets.a));
-        islands.record(
-            sets,
-            &st.work.res,
-            &st.off,
-            (&st.law_off, &st.layout.friction),
-        );
-        islands.cycles(tuning)
     }
 
     fn recycle(&mut self, sets: IndexSets) {
@@ -253,7 +229,6 @@ impl<S: System> Stepper<S> {
             closing,
             held,
             resuming,
-            islands: None,
         };
         let outcome = newton::solve(&mut problem, x, &settings, &mut scratch);
         let held = problem.held;
