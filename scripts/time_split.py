@@ -13,21 +13,39 @@ of one evaluation, one exact update and one simplified update. Counts are exact;
 seconds are those of the machine (quote ratios). Takes about a minute on 2 cores.
 """
 import collections
+import itertools
 import json
+import os
 import subprocess
 import sys
 import tempfile
 
-BLOCKS = range(2, 7)
-OMEGAS = [2, 4, 8, 12, 16, 20, 24, 32, 40]
-MUS = [0.2, 0.3, 0.5]
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from reference_workload import MATRIX  # noqa: E402  (the harness's matrix, one source)
+
+
+def matrix_values():
+    """The values of each `--set KEY=VALUES` of the harness's matrix (`a:b:step` or a
+    comma list), and its `--t-end`."""
+    values = {}
+    for flag, value in zip(MATRIX, MATRIX[1:]):
+        if flag == "--set":
+            key, spec = value.split("=")
+            if ":" in spec:
+                first, last, step = (int(v) for v in spec.split(":"))
+                values[key] = list(range(first, last + 1, step))
+            else:
+                values[key] = spec.split(",")
+    return values, MATRIX[MATRIX.index("--t-end") + 1]
 
 
 def row(binary, n, omega, mu, out):
-    """One row's counts and seconds."""
+    """One row's counts and seconds: the matrix's row as one `blocks shake` run."""
+    values, t_end = matrix_values()
     args = [binary, "blocks", "shake", "--blocks", str(n), "--omega", str(omega),
-            "--mu", str(mu), "--amplitude", "0.2", "--steps-per-period", "200",
-            "--t-end", "20", "--json", "--force", "--max-frames", "0", "--out", out]
+            "--mu", str(mu), "--amplitude", "0.2",
+            "--steps-per-period", values["solver.steps_per_period"][0],
+            "--t-end", t_end, "--json", "--force", "--max-frames", "0", "--out", out]
     run = json.loads(subprocess.run(args, capture_output=True, text=True, check=True).stdout)
     work = run["newton_work"]
     c = collections.Counter({
@@ -62,16 +80,18 @@ def main():
     if len(sys.argv) != 2:
         sys.exit(__doc__)
     binary = sys.argv[1]
+    values, _ = matrix_values()
+    blocks = values["blocks.count"]
     total, by_n = collections.Counter(), collections.defaultdict(collections.Counter)
     with tempfile.TemporaryDirectory() as out:
-        for n in BLOCKS:
-            for omega in OMEGAS:
-                for mu in MUS:
-                    c = row(binary, n, omega, mu, out)
-                    total.update(c)
-                    by_n[n].update(c)
+        for n, omega, mu in itertools.product(
+            blocks, values["base.omega"], values["contact.mu"]
+        ):
+            c = row(binary, n, omega, mu, out)
+            total.update(c)
+            by_n[n].update(c)
     show("matrix", total)
-    for n in BLOCKS:
+    for n in blocks:
         show(f"n = {n}", by_n[n])
 
 
