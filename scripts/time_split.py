@@ -39,13 +39,12 @@ def matrix_values():
     return values, MATRIX[MATRIX.index("--t-end") + 1]
 
 
-def row(binary, n, omega, mu, out):
-    """One row's counts and seconds: the matrix's row as one `blocks shake` run."""
-    values, t_end = matrix_values()
+def row(binary, n, omega, mu, solver, out):
+    """One row's counts and seconds: the matrix's row as one `blocks shake` run, with the
+    matrix's `solver` flags (steps per period, t_end)."""
     args = [binary, "blocks", "shake", "--blocks", str(n), "--omega", str(omega),
-            "--mu", str(mu), "--amplitude", "0.2",
-            "--steps-per-period", values["solver.steps_per_period"][0],
-            "--t-end", t_end, "--json", "--force", "--max-frames", "0", "--out", out]
+            "--mu", str(mu), "--amplitude", "0.2", *solver,
+            "--json", "--force", "--max-frames", "0", "--out", out]
     run = json.loads(subprocess.run(args, capture_output=True, text=True, check=True).stdout)
     work = run["newton_work"]
     c = collections.Counter({
@@ -80,14 +79,15 @@ def main():
     if len(sys.argv) != 2:
         sys.exit(__doc__)
     binary = sys.argv[1]
-    values, _ = matrix_values()
+    values, t_end = matrix_values()
+    solver = ["--steps-per-period", values["solver.steps_per_period"][0], "--t-end", t_end]
     blocks = values["blocks.count"]
     total, by_n = collections.Counter(), collections.defaultdict(collections.Counter)
     with tempfile.TemporaryDirectory() as out:
         for n, omega, mu in itertools.product(
             blocks, values["base.omega"], values["contact.mu"]
         ):
-            c = row(binary, n, omega, mu, out)
+            c = row(binary, n, omega, mu, solver, out)
             total.update(c)
             by_n[n].update(c)
     show("matrix", total)
