@@ -194,6 +194,7 @@ impl<S: System> MoreauStepper<S> {
             line_search: 0,
             reuse_factorization: false,
             resume_reuse: false,
+            new_factors: true,
             give_up: GiveUp::Never,
             contracting_extra: 0,
             tuning: crate::Tuning::default(),

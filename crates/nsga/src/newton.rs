@@ -13,6 +13,8 @@
 //! - **simplified Newton updates** ([`NewtonSettings::reuse_factorization`]): the kept
 //!   factors of the last Newton matrix serve while the index sets stay the same and the
 //!   residual contracts by [`Tuning::reuse_contraction`](crate::Tuning::reuse_contraction), at most [`Tuning::max_reuses`](crate::Tuning::max_reuses) times in a row;
+//!   an attempt without [`NewtonSettings::new_factors`] takes only those and stops where
+//!   they no longer serve;
 //! - the **give-up rules** ([`GiveUp`]): an attempt whose index sets settle into a cycle
 //!   without progress, or whose residual stalls with fixed sets, stops before the
 //!   iteration limit, since running on only repeats it; and the other way round, an
@@ -52,6 +54,9 @@ pub struct NewtonSettings {
     /// Whether they may be tried again after a new factorization, once one failed to
     /// contract (otherwise not for the rest of the attempt).
     pub resume_reuse: bool,
+    /// Whether the attempt may factor a Newton matrix of its own. Without, it takes
+    /// simplified updates on the kept factors only and stops where none applies.
+    pub new_factors: bool,
     /// When the attempt gives up early.
     pub give_up: GiveUp,
     /// Updates allowed beyond `max_iter` while the iterates converge: each of them at
@@ -277,6 +282,8 @@ pub fn solve<P: NewtonProblem>(
             may_reuse && reuses < t.max_reuses && problem.kept_direction(x, sets, &mut scratch.dx);
         if reused {
             reuses += 1;
+        } else if !settings.new_factors {
+            break;
         } else {
             reuses = 0;
             if let Err(message) = problem.exact_direction(x, sets, &mut scratch.dx) {
@@ -390,6 +397,7 @@ mod tests {
             line_search,
             reuse_factorization: false,
             resume_reuse: false,
+            new_factors: true,
             give_up: GiveUp::Never,
             contracting_extra: 0,
             tuning: Tuning::default(),
@@ -621,6 +629,62 @@ mod tests {
         };
         let mut scratch = NewtonScratch::default();
         solve(&mut Linear { rate }, &mut [1.0], &settings, &mut scratch)
+    }
+
+    /// [`Linear`] with kept factors that always serve, and none to be made.
+    struct KeptOnly {
+        rate: f64,
+    }
+
+    impl NewtonProblem for KeptOnly {
+        type Sets = ();
+        fn evaluate(&mut self, x: &[f64], _first: bool) -> ((), f64) {
+            ((), x[0].abs())
+        }
+        fn exact_direction(&mut self, _: &[f64], _: &(), _: &mut [f64]) -> Result<(), String> {
+            panic!("an attempt without new factors factored");
+        }
+        fn kept_direction(&mut self, x: &[f64], _: &(), dx: &mut [f64]) -> bool {
+            dx[0] = -(1.0 - self.rate) * x[0];
+            true
+        }
+    }
+
+    /// An attempt that may not factor takes simplified updates on the kept factors and
+    /// stops, not converged, where they no longer serve: at its start when there are
+    /// none, after `max_reuses` of them in a row otherwise.
+    #[test]
+    fn an_attempt_without_new_factors_stops_where_the_kept_ones_do_not_serve() {
+        let settings = NewtonSettings {
+            new_factors: false,
+            reuse_factorization: true,
+            ..plain(1e-10, 10, 0)
+        };
+        let mut scratch = NewtonScratch::default();
+        let out = solve(
+            &mut Linear { rate: 0.01 },
+            &mut [1.0],
+            &settings,
+            &mut scratch,
+        );
+        assert!(matches!(out, Outcome::NotConverged { .. }), "{out:?}");
+        assert_eq!(scratch.evaluations(), 1);
+        let out = solve(
+            &mut KeptOnly { rate: 0.01 },
+            &mut [1.0],
+            &settings,
+            &mut scratch,
+        );
+        assert!(matches!(out, Outcome::NotConverged { .. }), "{out:?}");
+        assert_eq!(scratch.evaluations(), settings.tuning.max_reuses + 1);
+        // With more contraction per update the kept factors suffice.
+        let out = solve(
+            &mut KeptOnly { rate: 1e-3 },
+            &mut [1.0],
+            &settings,
+            &mut scratch,
+        );
+        assert!(matches!(out, Outcome::Converged { .. }), "{out:?}");
     }
 
     #[test]

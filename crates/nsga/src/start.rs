@@ -258,6 +258,7 @@ pub fn consistent_start<S: System>(
         line_search: 0,
         reuse_factorization: false,
         resume_reuse: false,
+        new_factors: true,
         give_up: GiveUp::Never,
         contracting_extra: 0,
         tuning: options.tuning,

@@ -36,7 +36,8 @@ pub(crate) enum Stage {
     /// ([`NewtonOptions::predict_start`](crate::NewtonOptions::predict_start)), with at most
     /// [`Tuning::predicted_start_iterations`](crate::Tuning::predicted_start_iterations) updates, more
     /// while they converge. Where it fails, the first attempt starts again from the
-    /// last solution.
+    /// last solution. Where that attempt is [`Stage::HeldSets`], it factors nothing: it
+    /// takes the kept factors' updates only (docs/method.md §4, "The predicted start").
     Predicted,
     /// The held-sets attempt ([`NewtonOptions::max_openings_per_update`](crate::NewtonOptions::max_openings_per_update)), in a system with
     /// more normal contacts than [`NewtonOptions::max_iter`]: the previous step's sets held,
@@ -189,7 +190,7 @@ pub(super) struct Policy {
     /// The predicted start, when there is one.
     pub(super) prediction: Option<Vec<f64>>,
     /// Whether the held-sets attempt applies.
-    held: bool,
+    pub(super) held: bool,
     /// The ρ∞ retries that follow the first attempt's failure.
     rho_retries: usize,
     /// A converged first attempt, for the flip probe.

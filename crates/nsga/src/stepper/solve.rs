@@ -206,6 +206,7 @@ impl<S: System> Stepper<S> {
             line_search: spec.line_search,
             reuse_factorization: self.options.linear.reuse_factorization,
             resume_reuse: self.quick_updates(&scheme),
+            new_factors: spec.new_factors,
             give_up: if fixed.is_some() {
                 GiveUp::Stall
             } else {

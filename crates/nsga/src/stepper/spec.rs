@@ -77,6 +77,9 @@ pub(super) struct AttemptSpec {
     /// Whether the updates may take the quick forms of a step's first attempt
     /// ([`Scheme::quick_updates`]).
     pub quick_updates: bool,
+    /// Whether the attempt may factor a Newton matrix of its own (false: it takes
+    /// simplified and low-rank updates on the kept factors only).
+    pub new_factors: bool,
 }
 
 impl AttemptSpec {
@@ -134,6 +137,7 @@ impl<S: System> Stepper<S> {
             friction_shift: self.options.friction_percussion_shift,
             line_search,
             quick_updates: false,
+            new_factors: true,
         }
     }
 
@@ -177,6 +181,7 @@ mod tests {
             friction_shift: true,
             line_search: 0,
             quick_updates: false,
+            new_factors: true,
         }
     }
 

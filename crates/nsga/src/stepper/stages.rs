@@ -29,10 +29,15 @@ impl<S: System> Stepper<S> {
                 let x = policy.prediction.take().ok_or(None)?;
                 let budget = (self.options.tuning.predicted_start_iterations)
                     .min(self.options.newton.max_iter);
+                // Where the held-sets attempt follows, a prediction that needs new
+                // factors has met a contact event, which that attempt is for: its free
+                // updates would open the contacts it opens one at a time (docs/method.md
+                // §4, "The predicted start").
                 let from_prediction = AttemptSpec {
                     start: StartAt::Unknowns(x),
                     budget,
                     contracting_extra: self.options.newton.max_iter - budget,
+                    new_factors: !policy.held,
                     ..self.first_spec(SetRule::Free, rho0)
                 };
                 self.attempt(from_prediction).map_err(Some)
