@@ -13,6 +13,7 @@ use crate::attempt::{AttemptFailure, AttemptOutcome, RefusedBecause};
 use crate::newton::{self, GiveUp, NewtonProblem, NewtonSettings, Outcome};
 use crate::sets::IndexSets;
 use crate::system::System;
+use crate::tuning::Tuning;
 use nalgebra::DMatrix;
 use std::time::Instant;
 
@@ -213,7 +214,10 @@ impl<S: System> Stepper<S> {
                 GiveUp::SettledCycle
             },
             contracting_extra: spec.contracting_extra,
-            tuning: self.options.tuning,
+            tuning: Tuning {
+                reuse_contraction: spec.reuse_contraction,
+                ..self.options.tuning
+            },
         };
         self.prepare_step();
         let mut scratch = std::mem::take(&mut self.work.newton);

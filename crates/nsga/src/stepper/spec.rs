@@ -80,6 +80,10 @@ pub(super) struct AttemptSpec {
     /// Whether the attempt may factor a Newton matrix of its own (false: it takes
     /// simplified and low-rank updates on the kept factors only).
     pub new_factors: bool,
+    /// The factor by which each simplified or low-rank update must reduce ‖R‖∞ for the
+    /// kept factors to serve on ([`Tuning::reuse_contraction`](crate::Tuning::reuse_contraction);
+    /// 1 in a held-sets attempt, see [`Stepper::spec`]).
+    pub reuse_contraction: f64,
 }
 
 impl AttemptSpec {
@@ -118,7 +122,8 @@ impl<S: System> Stepper<S> {
     /// sets, [`NewtonOptions::max_iter`](crate::NewtonOptions::max_iter) updates; a held-sets
     /// attempt takes its updates whole (after the release each update changes the sets
     /// of a contact or a few, and halving such updates only delayed the next change;
-    /// docs/method.md §8.2, `Stage::HeldSets` and `Stage::Free`).
+    /// docs/method.md §8.2, `Stage::HeldSets` and `Stage::Free`) and keeps its factors
+    /// while the residual falls.
     pub(super) fn spec(&self, sets: SetRule, rho_inf: f64) -> AttemptSpec {
         let budget = match sets {
             SetRule::Fixed(_) => self.options.newton.max_iter,
@@ -127,6 +132,13 @@ impl<S: System> Stepper<S> {
         let line_search = match sets {
             SetRule::Held { .. } => 0,
             SetRule::Free | SetRule::Fixed(_) => self.options.newton.line_search,
+        };
+        // After the release a held-sets update opens at most a few contacts, which bounds
+        // its progress whatever the factors: an exact update contracts no more than a
+        // simplified one, so the kept factors serve while the residual falls.
+        let reuse_contraction = match sets {
+            SetRule::Held { .. } => 1.0,
+            SetRule::Free | SetRule::Fixed(_) => self.options.tuning.reuse_contraction,
         };
         AttemptSpec {
             start: StartAt::LastSolution,
@@ -138,6 +150,7 @@ impl<S: System> Stepper<S> {
             line_search,
             quick_updates: false,
             new_factors: true,
+            reuse_contraction,
         }
     }
 
@@ -182,7 +195,26 @@ mod tests {
             line_search: 0,
             quick_updates: false,
             new_factors: true,
+            reuse_contraction: 0.1,
         }
+    }
+
+    /// A held-sets attempt keeps its factors while the residual falls; the others ask
+    /// each simplified update to contract it by `Tuning::reuse_contraction`
+    /// (docs/method.md §8.2, "The held-sets attempt").
+    #[test]
+    fn a_held_sets_attempt_keeps_its_factors_while_the_residual_falls() {
+        use crate::systems::chain::Chain;
+        use crate::Options;
+        let chain = Chain::benchmark(2);
+        let q0 = [0.0, chain.height / 2.0, 0.0, 2.0 * chain.height];
+        let s = Stepper::new(chain, 0.0, &q0, &[0.0; 4], Options::default()).unwrap();
+        let previous = IndexSets::empty(s.off.nn, s.layout.friction.len());
+        let held = s.spec(SetRule::Held { previous, most: 1 }, 0.8);
+        assert_eq!(held.reuse_contraction, 1.0);
+        let tuned = s.options.tuning.reuse_contraction;
+        assert!(tuned < 1.0);
+        assert_eq!(s.spec(SetRule::Free, 0.8).reuse_contraction, tuned);
     }
 
     #[test]
