@@ -606,9 +606,12 @@ mod tests {
     }
 
     /// x = 0 solved by updates that take away the fraction `1 − rate` of x (a Newton
-    /// matrix off by a constant factor: simplified Newton's linear convergence).
+    /// matrix off by a constant factor: simplified Newton's linear convergence): exact
+    /// ones, or with `kept` simplified ones on kept factors that always serve, and no
+    /// exact one.
     struct Linear {
         rate: f64,
+        kept: bool,
     }
 
     impl NewtonProblem for Linear {
@@ -617,8 +620,13 @@ mod tests {
             ((), x[0].abs())
         }
         fn exact_direction(&mut self, x: &[f64], _: &(), dx: &mut [f64]) -> Result<(), String> {
+            assert!(!self.kept, "an attempt without new factors factored");
             dx[0] = -(1.0 - self.rate) * x[0];
             Ok(())
+        }
+        fn kept_direction(&mut self, x: &[f64], _: &(), dx: &mut [f64]) -> bool {
+            dx[0] = -(1.0 - self.rate) * x[0];
+            self.kept
         }
     }
 
@@ -628,26 +636,8 @@ mod tests {
             ..plain(1e-10, max_iter, 0)
         };
         let mut scratch = NewtonScratch::default();
-        solve(&mut Linear { rate }, &mut [1.0], &settings, &mut scratch)
-    }
-
-    /// [`Linear`] with kept factors that always serve, and none to be made.
-    struct KeptOnly {
-        rate: f64,
-    }
-
-    impl NewtonProblem for KeptOnly {
-        type Sets = ();
-        fn evaluate(&mut self, x: &[f64], _first: bool) -> ((), f64) {
-            ((), x[0].abs())
-        }
-        fn exact_direction(&mut self, _: &[f64], _: &(), _: &mut [f64]) -> Result<(), String> {
-            panic!("an attempt without new factors factored");
-        }
-        fn kept_direction(&mut self, x: &[f64], _: &(), dx: &mut [f64]) -> bool {
-            dx[0] = -(1.0 - self.rate) * x[0];
-            true
-        }
+        let linear = &mut Linear { rate, kept: false };
+        solve(linear, &mut [1.0], &settings, &mut scratch)
     }
 
     /// An attempt that may not factor takes simplified updates on the kept factors and
@@ -662,7 +652,10 @@ mod tests {
         };
         let mut scratch = NewtonScratch::default();
         let out = solve(
-            &mut Linear { rate: 0.01 },
+            &mut Linear {
+                rate: 0.01,
+                kept: false,
+            },
             &mut [1.0],
             &settings,
             &mut scratch,
@@ -670,7 +663,10 @@ mod tests {
         assert!(matches!(out, Outcome::NotConverged { .. }), "{out:?}");
         assert_eq!(scratch.evaluations(), 1);
         let out = solve(
-            &mut KeptOnly { rate: 0.01 },
+            &mut Linear {
+                rate: 0.01,
+                kept: true,
+            },
             &mut [1.0],
             &settings,
             &mut scratch,
@@ -679,7 +675,10 @@ mod tests {
         assert_eq!(scratch.evaluations(), settings.tuning.max_reuses + 1);
         // With more contraction per update the kept factors suffice.
         let out = solve(
-            &mut KeptOnly { rate: 1e-3 },
+            &mut Linear {
+                rate: 1e-3,
+                kept: true,
+            },
             &mut [1.0],
             &settings,
             &mut scratch,
