@@ -135,7 +135,9 @@ impl<S: System> Stepper<S> {
         };
         // After the release a held-sets update opens at most a few contacts, which bounds
         // its progress whatever the factors: an exact update contracts no more than a
-        // simplified one, so the kept factors serve while the residual falls.
+        // simplified one, so the kept factors serve while the residual falls. The value
+        // holds for the whole attempt, the held solve before the release included, as
+        // measured (docs/method.md §8.2, "The held-sets attempt").
         let reuse_contraction = match sets {
             SetRule::Held { .. } => 1.0,
             SetRule::Free | SetRule::Fixed(_) => self.options.tuning.reuse_contraction,
