@@ -311,7 +311,10 @@ impl<'a> StackWalker<'a> {
         s.linear_solves = self.stepper.linear_solves();
         s.linear_solves_by_stage = self.stepper.solves_by_stage();
         s.newton_work = self.stepper.newton_work();
-        s.resting_steps = self.stepper.run_stats().resting_steps;
+        let stats = self.stepper.run_stats();
+        s.resting_steps = stats.resting_steps;
+        s.held_island_steps = stats.held_island_steps;
+        s.island_wakes = stats.island_wakes;
         s.corner_contacts = self.corners.most_contacts;
         s.redone_steps = self.corners.redone_steps;
         s.deepest = self.rec.deepest;

@@ -299,6 +299,12 @@ pub struct RunSummary {
     /// Steps that repeated a state at rest without solving, once the base stood still
     /// for good ([`nsga::PolicyOptions::rest`], docs/method.md §8.2 "At rest").
     pub resting_steps: u64,
+    /// Steps solved with an island of blocks at rest held out of the solve
+    /// ([`nsga::RunStats::held_island_steps`], docs/method.md §8.2 "Islands at rest").
+    pub held_island_steps: u64,
+    /// Times a held island's rows exceeded the tolerance and it returned to the solve
+    /// ([`nsga::RunStats::island_wakes`]).
+    pub island_wakes: u64,
     /// Why the consistent start failed, where the run started without it and took its
     /// first step by the last resort ([`nsga::Stepper::start_failure`]); `None` after a
     /// consistent start.
@@ -677,6 +683,8 @@ impl RunSummary {
             fallback_residual: 0.0,
             unshifted_steps: 0,
             resting_steps: 0,
+            held_island_steps: 0,
+            island_wakes: 0,
             start_failure: None,
             linear_solves: 0,
             linear_solves_by_stage: nsga::SolvesByStage::default(),
@@ -988,6 +996,13 @@ impl std::fmt::Display for RunReport {
                 f,
                 "\nsteps held at rest without solving (the base standing still): {}",
                 s.resting_steps
+            )?;
+        }
+        if s.held_island_steps > 0 {
+            write!(
+                f,
+                "\nsteps with blocks at rest held out of the solve: {} (woken by a force {} times)",
+                s.held_island_steps, s.island_wakes
             )?;
         }
         if s.fallback_steps > 0 {

@@ -72,7 +72,8 @@ fn a_collapsed_tower_held_at_rest_ends_where_solving_every_step_ends() {
         "{} resting steps",
         held.resting_steps
     );
-    assert_eq!(held.linear_solves, solved.linear_solves);
+    // Its blocks that come to rest before the whole tower does are held as islands.
+    assert!(held.linear_solves <= solved.linear_solves);
     assert!(held.newton_work.evaluations < solved.newton_work.evaluations * 9 / 10);
     let tol = scene.solver.tol;
     assert!(apart(&held, &solved) < tol, "{:e}", apart(&held, &solved));
@@ -110,6 +111,137 @@ fn piles_beside_a_pulsed_base_are_held_only_once_the_pulse_is_over() {
         "{solved} steps solved, the pulse ends at step {pulse_over}"
     );
     assert!(solved <= pulse_over + 10, "{solved} steps solved");
+}
+
+/// Issue 62's resting islands (docs/method.md §8.2, "Islands at rest"): beside a base
+/// that shakes for the whole run, the piles are never at rest as a whole system, but
+/// each pile is an island at rest, held out of the solve from its first steps. Each
+/// step is then one evaluation and no factorization, and the run ends where the run
+/// that solves every step ends, to the solver's tolerance.
+#[test]
+fn piles_beside_a_shaken_base_are_held_as_islands_where_solving_keeps_them() {
+    let toml = pile_with_base_motion("motion = \"harmonic\"\namplitude = 0.2\nomega = 2.0");
+    let scene = Scene::from_toml(&toml).expect("a shaken base beside the piles");
+    let held = simulate(&scene, &RunOptions::default(), |_| {}).unwrap();
+    let solved = simulate(&scene, &solving_every_step(), |_| {}).unwrap();
+    assert_eq!(
+        held.resting_steps, 0,
+        "the base shakes: the system never rests"
+    );
+    let unheld = held.steps - held.held_island_steps as usize;
+    assert!(unheld <= 10, "{unheld} steps without a held island");
+    assert_eq!(held.island_wakes, 0);
+    assert!(
+        held.linear_solves * 10 < solved.linear_solves.max(10),
+        "{} linear solves held, {} solved",
+        held.linear_solves,
+        solved.linear_solves
+    );
+    assert!(
+        (held.newton_work.evaluations as usize) <= held.steps + 20,
+        "{} evaluations in {} steps",
+        held.newton_work.evaluations,
+        held.steps
+    );
+    let tol = scene.solver.tol;
+    assert!(apart(&held, &solved) < tol, "{:e}", apart(&held, &solved));
+}
+
+/// Issue 62's exactness on a pile a collapse leaves: a three-block column shaken at
+/// ω = 8 (a run of the matrix of docs/method.md §8) falls off its base by t ≈ 3; its
+/// blocks come to rest on the floor beside the base, which shakes on, and are held
+/// there as islands. The run ends where the run that solves every step ends, to the
+/// solver's tolerance (measured: 2·10⁻¹¹), with fewer factorizations.
+#[test]
+fn the_pile_a_shaken_column_leaves_is_held_beside_the_base() {
+    let scene = blockstack::scenarios::shaking_column(&blockstack::scenarios::Shaking {
+        blocks: 3,
+        amplitude: 0.2,
+        omega: 8.0,
+        mu: 0.5,
+        steps_per_period: 200.0,
+        periods: 20.0 * 8.0 / std::f64::consts::TAU,
+        start_with_base: false,
+    })
+    .expect("the shaken column");
+    let held = simulate(&scene, &RunOptions::default(), |_| {}).unwrap();
+    let solved = simulate(&scene, &solving_every_step(), |_| {}).unwrap();
+    assert!(
+        held.failure_time.is_some_and(|t| t < 5.0),
+        "the column falls"
+    );
+    assert_eq!(held.failure_time, solved.failure_time);
+    assert!(
+        held.held_island_steps > held.steps as u64 / 2,
+        "{} held",
+        held.held_island_steps
+    );
+    assert!(held.linear_solves < solved.linear_solves);
+    let tol = scene.solver.tol;
+    assert!(apart(&held, &solved) < tol, "{:e}", apart(&held, &solved));
+}
+
+/// A held island wakes where a body reaches it: a block dropped onto the three-block
+/// pile joins its island before it lands, the pile returns to the solve, takes the
+/// impact and comes to rest again. No block sinks into another, and the run ends where
+/// the run that solves every step ends.
+#[test]
+fn a_block_dropped_onto_a_held_pile_wakes_it() {
+    let toml = pile_with_base_motion("motion = \"harmonic\"\namplitude = 0.2\nomega = 2.0")
+        + "\n[[blocks]]\nwidth = 0.2\nheight = 0.4\nx = -1.25\ny = 1.0\ntheta = 1.5707963267948966\n";
+    let scene = Scene::from_toml(&toml).expect("a block above the piles");
+    let held = simulate(&scene, &RunOptions::default(), |_| {}).unwrap();
+    let solved = simulate(&scene, &solving_every_step(), |_| {}).unwrap();
+    assert!(held.held_island_steps > held.steps as u64 / 2);
+    let top = |run: &blockstack::RunSummary| run.final_poses[6].y;
+    assert!(
+        (top(&held) - 0.65).abs() < 1e-6,
+        "the dropped block lies at y = {}",
+        top(&held)
+    );
+    let depth = held.deepest.depth();
+    assert!(depth < 1e-9, "sank by {depth:e}");
+    let tol = scene.solver.tol;
+    assert!(apart(&held, &solved) < tol, "{:e}", apart(&held, &solved));
+}
+
+/// A held island wakes where a force on it changes: a block lying at rest on a base
+/// whose pulse starts at t = 1 s is held until then; at the pulse its contact rows
+/// exceed the tolerance, the island returns to the solve, and the block rides the
+/// pulse as in the run that solves every step, to the solver's tolerance: each step
+/// leaves velocities within tol/m of an exact solution's (the U rows of eq. 127 are
+/// impulses), so over the N steps of the one-second pulse two runs solved to the
+/// tolerance part by at most (tol/m) Δt N²/2 (measured: 8·10⁻¹⁰, of a bound of
+/// 3·10⁻⁹; with the tolerance at 10⁻¹², both runs agree to 10⁻¹⁴).
+#[test]
+fn a_block_held_on_a_base_wakes_when_the_base_moves() {
+    let toml = pile_with_base_motion(
+        "[base.x]\nmotion = \"pulse\"\nshape = \"one-sine\"\namplitude = 0.5\nperiod = 1.0\nstart = 1.0",
+    ) + "\n[[blocks]]\nwidth = 0.2\nheight = 0.4\nx = 0.0\ny = 0.15\ntheta = 1.5707963267948966\n";
+    let scene = Scene::from_toml(&toml).expect("a block on a pulsed base");
+    let held = simulate(&scene, &RunOptions::default(), |_| {}).unwrap();
+    let solved = simulate(&scene, &solving_every_step(), |_| {}).unwrap();
+    assert!(held.island_wakes >= 1, "{} wakes", held.island_wakes);
+    let pulse = (1.0 / scene.solver.dt).floor() as u64;
+    assert!(
+        held.held_island_steps >= pulse - 10,
+        "{} held steps",
+        held.held_island_steps
+    );
+    let rider = |run: &blockstack::RunSummary| run.final_poses[6].x;
+    assert!(
+        rider(&held) > 0.05,
+        "the block rode the pulse to x = {}",
+        rider(&held)
+    );
+    let (tol, dt) = (scene.solver.tol, scene.solver.dt);
+    let (m, n) = (scene.blocks()[6].mass(), 1.0 / dt);
+    let bound = tol / m * dt * n * n / 2.0;
+    assert!(
+        apart(&held, &solved) < bound,
+        "{:e} of {bound:e}",
+        apart(&held, &solved)
+    );
 }
 
 /// The piles' scene with its fixed base's motion replaced by the TOML `lines`.

@@ -420,6 +420,50 @@ fn a_run_whose_consistent_start_fails_goes_on_by_the_last_resort_and_says_so() {
     std::fs::remove_dir_all(dir).unwrap();
 }
 
+/// The blocks a shaken column leaves on the floor are held out of the solve while the
+/// base shakes on (docs/method.md §8.2, "Islands at rest"), and the run says in how many
+/// steps, in its text and as the JSON keys `held_island_steps` and `island_wakes`.
+#[test]
+fn a_run_counts_the_steps_with_islands_held_at_rest() {
+    let dir = temp_dir("islands");
+    let out = dir.to_str().unwrap();
+    let args = [
+        "blocks",
+        "shake",
+        "--blocks",
+        "3",
+        "--omega",
+        "8",
+        "--mu",
+        "0.5",
+        "--amplitude",
+        "0.2",
+        "--steps-per-period",
+        "200",
+        "--t-end",
+        "20",
+        "--max-frames",
+        "0",
+        "--force",
+        "--out",
+        out,
+    ];
+    let (ok, text, stderr) = run(&args);
+    assert!(ok, "{stderr}");
+    let j = json(&[&args[..], &["--json"]].concat());
+    let held = j["held_island_steps"].as_u64().expect("held_island_steps");
+    let wakes = j["island_wakes"].as_u64().expect("island_wakes");
+    assert!(held * 2 > j["steps"].as_u64().unwrap(), "{held} steps held");
+    assert_eq!(j["resting_steps"].as_u64(), Some(0), "the base shakes on");
+    assert!(
+        text.contains(&format!(
+            "steps with blocks at rest held out of the solve: {held} (woken by a force {wakes} times)"
+        )),
+        "{text}"
+    );
+    let _ = std::fs::remove_dir_all(dir);
+}
+
 /// Piles at rest beside a fixed base are held without solving, and the run says how many
 /// steps were held, in its text and as the JSON key `resting_steps`.
 #[test]

@@ -233,6 +233,13 @@ pub struct RunStats {
     /// ([`PolicyOptions::rest`](crate::PolicyOptions::rest)).
     #[serde(default)]
     pub resting_steps: u64,
+    /// Steps that started with an island of bodies at rest held out of the solve
+    /// (docs/method.md §8.2, "Islands at rest").
+    #[serde(default)]
+    pub held_island_steps: u64,
+    /// Times a held island's rows exceeded the tolerance and it returned to the solve.
+    #[serde(default)]
+    pub island_wakes: u64,
 }
 
 impl RunStats {

@@ -20,6 +20,7 @@
 //! - `policy`: the stages of a step, the one transition table between them, and the
 //!   loop of [`Stepper::step`] over them;
 //! - `stages`: what each stage runs;
+//! - `islands`: the islands of bodies at rest, held out of the solve;
 //! - `halving`: a step taken as substeps (the halving stage, [`Stepper::split_step`]);
 //! - `branch`: the fixed-set re-solves and their self-consistent, deduplicated
 //!   candidates (branch points);
@@ -51,6 +52,7 @@ mod far;
 mod fd_jacobian;
 mod halving;
 mod held;
+mod islands;
 mod iterate;
 mod kinematic;
 mod last_resort;
@@ -149,6 +151,8 @@ pub struct Stepper<S: System> {
     moved: rest::Moved,
     /// Whether the last commit kept the index sets of the step before.
     same_sets: bool,
+    /// The islands held at rest (`stepper/islands.rs`).
+    islands: islands::Islands,
 }
 
 /// Buffers reused from iterate to iterate and step to step.
@@ -382,6 +386,7 @@ impl<S: System> Stepper<S> {
             rest: rest::Rest::Moving,
             moved: rest::Moved::Beyond,
             same_sets: false,
+            islands: islands::Islands::default(),
         })
     }
 
@@ -444,6 +449,7 @@ impl<S: System> Stepper<S> {
             rest: rest::Rest::Moving,
             moved: rest::Moved::Beyond,
             same_sets: false,
+            islands: islands::Islands::default(),
         }
     }
     /// Drops the solver's buffers and kept factors (rebuilt at the next step), to hold a
@@ -474,6 +480,7 @@ impl<S: System> Stepper<S> {
         }
         self.options = options;
         self.rest = rest::Rest::Moving;
+        self.islands.release();
         Ok(())
     }
     /// Accumulated statistics.
@@ -571,6 +578,9 @@ impl<S: System> Stepper<S> {
         self.work.spare_visited = trial.visited;
         let mut left = std::mem::replace(&mut self.state, trial.state);
         (self.moved, self.same_sets) = (rest::Moved::between(&left.q, &self.state.q), same_sets);
+        let before = self.last.as_ref().map(|last| &last.sets);
+        let qs = (&left.q[..], &self.state.q[..]);
+        self.islands.committed(qs, before, &trial.stats.sets);
         self.rest = rest::Rest::Moving;
         let x = std::mem::take(&mut left.x);
         self.predictor.record(left.k, self.options.dt, x, same_sets);
@@ -621,8 +631,15 @@ impl<S: System> Stepper<S> {
     }
 
     /// Forgets what the last solutions left for the next steps (the predicted start's
-    /// history, the state's levels): the state was replaced or the system changed.
+    /// history, the state's levels, the islands held at rest): the state was replaced or
+    /// the system changed.
     fn forget_solutions(&mut self) {
+        self.forget_history();
+        self.islands.release();
+    }
+
+    /// [`Stepper::forget_solutions`] but for the islands held at rest.
+    fn forget_history(&mut self) {
         self.predictor.clear();
         self.work.state_levels.forget();
         self.rest = rest::Rest::Moving;
@@ -666,8 +683,11 @@ impl<S: System> Stepper<S> {
             // the state consistently after it.
             self.last_resort()?;
         } else {
+            let holding = !self.islands.held().is_empty();
             self.run_policy()?;
+            self.stats.held_island_steps += u64::from(holding);
             self.rest = self.rest_after_step(before, t0);
+            self.update_islands();
         }
         Ok(self.committed())
     }

@@ -40,8 +40,12 @@ impl<S: System> Stepper<S> {
     /// (`usize::MAX` for pruned) and the reduced size; None when nothing is pruned. The
     /// map is written into the buffer of the last one given back
     /// ([`Stepper::give_back_pruning`]).
+    ///
+    /// The unknowns of the islands held at rest (`stepper/islands.rs`) are left out too,
+    /// at their held values (the state's).
     pub(super) fn open_contacts(&mut self, x: &mut [f64], keep: &[bool]) -> Option<Pruning> {
-        if !self.mark_unclosable(keep) {
+        let unclosable = self.mark_unclosable(keep);
+        if !unclosable && self.islands.held().is_empty() {
             return None;
         }
         let o = self.off;
@@ -54,8 +58,12 @@ impl<S: System> Stepper<S> {
             map[i] = usize::MAX;
             x[i] = 0.0;
         };
+        for &i in self.islands.held() {
+            map[i] = usize::MAX;
+            x[i] = st.x[i];
+        }
         for (k, &pr) in pruned_n.iter().enumerate() {
-            if pr {
+            if pr && unclosable {
                 for base in [o.kn, o.cn, o.ln] {
                     prune_unknown(base + k, &mut map, x);
                 }
@@ -65,7 +73,7 @@ impl<S: System> Stepper<S> {
             let f0 = self.law_off[j];
             let quiet = (0..law.components)
                 .all(|m| st.lambda_f[f0 + m] == 0.0 && st.lambda_f_bar[f0 + m] == 0.0);
-            if quiet && law.normals.iter().all(|&k| pruned_n[k]) {
+            if unclosable && quiet && law.normals.iter().all(|&k| pruned_n[k]) {
                 for m in 0..law.components {
                     prune_unknown(o.cf + f0 + m, &mut map, x);
                     prune_unknown(o.lf + f0 + m, &mut map, x);
@@ -86,7 +94,7 @@ impl<S: System> Stepper<S> {
 
     /// Flags in `work.unclosable` the normal contacts not in `keep` that are open,
     /// force-free and cannot close within the step; returns whether there is one.
-    fn mark_unclosable(&mut self, keep: &[bool]) -> bool {
+    pub(super) fn mark_unclosable(&mut self, keep: &[bool]) -> bool {
         let o = self.off;
         let dt = self.options.dt;
         self.state_levels();

@@ -101,8 +101,11 @@ impl<S: System> Stepper<S> {
             }
         }
         self.work.factored = None;
-        // The forgotten slots' past forces belong to other pairs of bodies.
-        self.forget_solutions();
+        // The forgotten slots' past forces belong to other pairs of bodies. An island
+        // held at rest keeps resting unless one of its contacts is forgotten: a new
+        // pair's contact that reaches it changes its rows, and wakes it.
+        self.forget_history();
+        self.islands.forget_contacts(normals);
         Ok(())
     }
 }

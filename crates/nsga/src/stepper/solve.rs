@@ -72,15 +72,21 @@ impl<S: System> NewtonProblem for StepProblem<'_, S> {
 
     /// A contact pruned as unable to close does close at this iterate: the attempt goes
     /// on from it with that contact kept in the system ([`Resumed`]).
+    ///
+    /// So does an island held at rest whose rows exceed the tolerance: it returns to the
+    /// solve ([`Stepper::held_row_broken`]).
     fn restart(&mut self, sets: &IndexSets) -> bool {
         let Some((map, _)) = self.prune else {
             return false;
         };
-        let o = self.stepper.off;
+        let st = &mut *self.stepper;
+        let o = st.off;
         self.closing.clear();
-        self.closing
-            .extend((0..o.nn).map(|k| map[o.kn + k] == usize::MAX && sets.a[k]));
-        self.closing.iter().any(|&c| c)
+        self.closing.extend(
+            (0..o.nn)
+                .map(|k| map[o.kn + k] == usize::MAX && sets.a[k] && !st.islands.holds_contact(k)),
+        );
+        st.held_row_broken() | self.closing.iter().any(|&c| c)
     }
 
     fn exact_direction(
@@ -132,6 +138,11 @@ impl<S: System> NewtonProblem for StepProblem<'_, S> {
         let kept = self
             .stepper
             .kept_direction(x, sets, &self.params, self.prune, dx);
+        // Factors made before an island was held solve for its unknowns too: it stays
+        // where it rests.
+        for &i in self.stepper.islands.held() {
+            dx[i] = 0.0;
+        }
         self.stepper.newton_work.seconds.simplified += started.elapsed().as_secs_f64();
         if let (true, Some(held)) = (kept, &mut self.held) {
             held.updated(sets);
