@@ -181,8 +181,14 @@ impl<S: System> Stepper<S> {
     pub(super) fn update_islands(&mut self) {
         // Where no coordinate stood still, no island rests (the usual step of a run
         // that moves: its components need not be found).
+        // Nor are islands looked for while the whole system settles or rests (`rest.rs`):
+        // it holds them all.
         let still = &self.islands.still;
-        if !self.holds_islands() || still.len() != self.off.nq || !still.contains(&true) {
+        if !self.holds_islands()
+            || self.rest != super::rest::Rest::Moving
+            || still.len() != self.off.nq
+            || !still.contains(&true)
+        {
             self.islands.release();
             return;
         }
