@@ -578,9 +578,11 @@ impl<S: System> Stepper<S> {
         self.work.spare_visited = trial.visited;
         let mut left = std::mem::replace(&mut self.state, trial.state);
         (self.moved, self.same_sets) = (rest::Moved::between(&left.q, &self.state.q), same_sets);
-        let before = self.last.as_ref().map(|last| &last.sets);
-        let qs = (&left.q[..], &self.state.q[..]);
-        self.islands.committed(qs, before, &trial.stats.sets);
+        if self.holds_islands() {
+            let before = self.last.as_ref().map(|last| &last.sets);
+            let qs = (&left.q[..], &self.state.q[..]);
+            self.islands.committed(qs, before, &trial.stats.sets);
+        }
         self.rest = rest::Rest::Moving;
         let x = std::mem::take(&mut left.x);
         self.predictor.record(left.k, self.options.dt, x, same_sets);

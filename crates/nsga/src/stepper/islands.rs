@@ -32,6 +32,7 @@
 //! and [`NewtonOptions::prune_open_contacts`](crate::NewtonOptions::prune_open_contacts)
 //! switch them on.
 
+use super::rest::{resolution, round_off_rates};
 use super::Stepper;
 use crate::sets::IndexSets;
 use crate::system::System;
@@ -114,7 +115,7 @@ impl Islands {
         before: Option<&IndexSets>,
         after: &IndexSets,
     ) {
-        let resolution = f64::EPSILON * q1.iter().fold(0.0, |m: f64, x| m.max(x.abs()));
+        let resolution = resolution(q1);
         self.still.clear();
         self.still
             .extend(q0.iter().zip(q1).map(|(a, b)| (a - b).abs() <= resolution));
@@ -166,7 +167,7 @@ fn union(parent: &mut [usize], i: usize, j: usize) {
 
 impl<S: System> Stepper<S> {
     /// Whether this stepper holds islands at rest (module docs).
-    fn holds_islands(&self) -> bool {
+    pub(super) fn holds_islands(&self) -> bool {
         let l = &self.layout;
         self.options.policy.rest
             && self.options.newton.prune_open_contacts
@@ -224,9 +225,7 @@ impl<S: System> Stepper<S> {
         is.restless.resize(o.nu, false);
         for &(i, j, m) in &self.work.eval.mass.entries {
             if i == j {
-                let moving = m.abs() * st.u[i].abs() > tol
-                    || dt * m.abs() * st.a[i].abs() > tol
-                    || !is.still[i];
+                let moving = !is.still[i] || !round_off_rates(m, st.u[i], st.a[i], tol, dt);
                 is.restless[is.root[i]] |= moving;
             }
         }

@@ -43,13 +43,26 @@ impl Moved {
         if q0 == q1 {
             return Self::Not;
         }
-        let resolution = f64::EPSILON * q1.iter().fold(0.0, |m: f64, x| m.max(x.abs()));
+        let resolution = resolution(q1);
         if q0.iter().zip(q1).all(|(a, b)| (a - b).abs() <= resolution) {
             Self::RoundOff
         } else {
             Self::Beyond
         }
     }
+}
+
+/// The resolution of the coordinates q: ε max_j |q_j| (ε = `f64::EPSILON`), the most a
+/// coordinate can move by round-off.
+pub(super) fn resolution(q: &[f64]) -> f64 {
+    f64::EPSILON * q.iter().fold(0.0, |m: f64, x| m.max(x.abs()))
+}
+
+/// Whether a velocity `u` and an acceleration `a` of a coordinate whose mass-matrix
+/// diagonal entry is `m` weigh at most the tolerance `tol` in the U and a rows of the
+/// step's residual (eq. 127: M U in impulse units, Δt M a).
+pub(super) fn round_off_rates(m: f64, u: f64, a: f64, tol: f64, dt: f64) -> bool {
+    m.abs() * u.abs() <= tol && dt * m.abs() * a.abs() <= tol
 }
 
 /// Where the stepper stands on the way to a state at rest (module docs).
@@ -87,9 +100,12 @@ impl<S: System> Stepper<S> {
     /// the U and a rows of the step's residual (eq. 127: M U in impulse units, Δt M a).
     fn round_off_motion(&self) -> bool {
         let (tol, dt, st) = (self.options.tol, self.options.dt, &self.state);
-        self.work.eval.mass.entries.iter().all(|&(i, j, m)| {
-            i != j || (m.abs() * st.u[i].abs() <= tol && dt * m.abs() * st.a[i].abs() <= tol)
-        })
+        self.work
+            .eval
+            .mass
+            .entries
+            .iter()
+            .all(|&(i, j, m)| i != j || round_off_rates(m, st.u[i], st.a[i], tol, dt))
     }
 
     /// The stage on the way to rest after a step from time `t0`, taken at stage `before`
