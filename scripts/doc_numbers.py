@@ -20,6 +20,7 @@ build, against the text this script writes. Numbers that record what a change sa
 not rewritten.
 """
 import argparse
+import csv
 import difflib
 import functools
 import json
@@ -109,18 +110,41 @@ def sci(x):
     return f"{mantissa}·10{str(int(exponent)).translate(sup)}"
 
 
+def parting(held_dir, solved_dir, apart=1e-9):
+    """The first time at which two runs' trajectories (trajectory.csv in their --out
+    directories) differ by more than `apart` in a pose, with their largest difference
+    before it; None where they never do."""
+    def rows(d):
+        with open(os.path.join(d, "trajectory.csv")) as f:
+            return list(csv.DictReader(f))
+    before = 0.0
+    for p, q in zip(rows(held_dir), rows(solved_dir)):
+        poses = [k for k in p if k[:1] in ("x", "y") or k.startswith("theta")]
+        d = max(abs(float(p[k]) - float(q[k])) for k in poses)
+        if d > apart:
+            return p["t"], before
+        before = max(before, d)
+    return None
+
+
 def rest_counts(r):
     """method.md §8.2, "At rest": runs held at rest against the same runs solving every
     step (`--tuning policy.rest=false`)."""
     def pair(name, *args):
-        out = [] if args[1] == "lire" else ["--force", "--out", os.path.join(r.tmp, name)]
-        held = r.json(*args, *out, "--json")
-        solved = r.json(*args, *out, "--json", "--tuning", "policy.rest=false")
+        dirs = [os.path.join(r.tmp, f"{name}-{run}") for run in ("held", "solved")]
+        out = [[] if args[1] == "lire" else ["--force", "--out", d] for d in dirs]
+        held = r.json(*args, *out[0], "--json")
+        solved = r.json(*args, *out[1], "--json", "--tuning", "policy.rest=false")
         apart = max(abs(p[k] - q[k]) for p, q in zip(held["final"], solved["final"]) for k in ("x", "y", "theta"))
         evals = f"{held['newton_work']['evaluations']} evaluations instead of {solved['newton_work']['evaluations']}"
         solves = (f"the same {held['linear_solves']} linear solves" if held["linear_solves"] == solved["linear_solves"]
                   else f"{held['linear_solves']} linear solves instead of {solved['linear_solves']}")
         poses = "the same final poses" if apart == 0 else f"final poses within {sci(apart)}"
+        parted = parting(*dirs) if out[0] else None
+        if parted:
+            t, before = parted
+            poses = (f"poses within {sci(before)} until t = {t}, where the two runs' Newton iterations "
+                     f"reach different solutions of one step ({sci(apart)} apart at the end)")
         return held, solved, evals, solves, poses
     pile, _, evals, _, poses = pair("pile", "blocks", "run", "examples/scenes/pile-at-rest.toml")
     _, _, l_evals, l_solves, l_poses = pair("lire", "blocks", "lire", "--perturb", "bottom", "--floor", "--t-end", "30")

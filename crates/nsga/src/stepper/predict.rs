@@ -33,6 +33,16 @@ impl StartPredictor {
         self.history.clear();
     }
 
+    /// Zeroes the entries `forgotten` of every kept solution (contact slots given to
+    /// other pairs of bodies, whose past unknowns belong to the old pair).
+    pub(super) fn forget(&mut self, forgotten: &[usize]) {
+        for (_, _, x) in &mut self.history {
+            for &i in forgotten {
+                x[i] = 0.0;
+            }
+        }
+    }
+
     /// Records the solution `x` of step `k` (Δt `dt`) as the state advances past it;
     /// `same_sets` says whether the step that follows it kept its index sets.
     pub(super) fn record(&mut self, k: u64, dt: f64, x: Vec<f64>, same_sets: bool) {

@@ -14,9 +14,15 @@
 //!   is open by more than the broad phase's margin, so what is forgotten was (up to the
 //!   decay of the generalized-α auxiliary forces) zero already.
 //!
-//! Either way the kept factorization of the Newton matrix is dropped: its rows belong to
-//! the old contacts.
+//! Growth drops the kept factorization of the Newton matrix and the predicted start's
+//! history, whose sizes are the old layout's. Reuse keeps both and zeroes the forgotten
+//! entries of the history: the kept factors only give simplified updates, which each
+//! attempt judges by the residual they leave (docs/method.md §7), and a slot open by the
+//! margin is pruned from the matrix before and after. Dropping them cost the next step
+//! a factorization and its prediction, and a contact beside a teetering block can change
+//! hands every other step (docs/contacts.md, "How the system's size changes").
 
+use super::rest::Rest;
 use super::{Offsets, Stepper, Work};
 use crate::error::StepError;
 use crate::system::System;
@@ -81,6 +87,7 @@ impl<S: System> Stepper<S> {
                 "a contact to forget is out of range".into(),
             ));
         }
+        let mut forgotten = Vec::new();
         let st = &mut self.state;
         for &k in normals {
             st.lambda_n[k] = 0.0;
@@ -88,6 +95,7 @@ impl<S: System> Stepper<S> {
             st.p_n[k] = 0.0;
             for start in [o.kn, o.cn, o.ln] {
                 st.x[start + k] = 0.0;
+                forgotten.push(start + k);
             }
         }
         for &j in laws {
@@ -98,13 +106,16 @@ impl<S: System> Stepper<S> {
                 st.p_f[c] = 0.0;
                 st.x[o.cf + c] = 0.0;
                 st.x[o.lf + c] = 0.0;
+                forgotten.extend([o.cf + c, o.lf + c]);
             }
         }
-        self.work.factored = None;
-        // The forgotten slots' past forces belong to other pairs of bodies. An island
-        // held at rest keeps resting unless one of its contacts is forgotten: a new
-        // pair's contact that reaches it changes its rows, and wakes it.
-        self.forget_history();
+        // The forgotten slots' past unknowns belong to other pairs of bodies; everything
+        // else the last steps left is kept (see the module docs). An island held at rest
+        // keeps resting unless one of its contacts is forgotten: a new pair's contact
+        // that reaches it changes its rows, and wakes it.
+        self.predictor.forget(&forgotten);
+        self.work.state_levels.forget();
+        self.rest = Rest::Moving;
         self.islands.forget_contacts(normals);
         Ok(())
     }
@@ -137,9 +148,11 @@ mod tests {
 
     /// A unit point mass falling onto the ground, with `extra` copies of its ground
     /// contact appended (each with its own friction law): the growth of a layout.
-    #[derive(Debug, Clone)]
+    /// `spring` pulls it horizontally towards x = 0 (its forces then change in time).
+    #[derive(Debug, Clone, Default)]
     struct Falling {
         extra: usize,
+        spring: f64,
     }
 
     impl System for Falling {
@@ -164,6 +177,7 @@ mod tests {
         fn evaluate<T: Scalar>(&self, _t: f64, q: &[T], _u: &[T], out: &mut Evaluation<T>) {
             out.mass.push(0, 0, T::from(1.0));
             out.mass.push(1, 1, T::from(1.0));
+            out.forces[0] = -q[0] * self.spring;
             out.forces[1] = T::from(-9.81);
             // The first contact is the ground; the copies are a wall far away (open).
             out.position[0] = q[1];
@@ -187,8 +201,28 @@ mod tests {
     #[test]
     fn a_grown_layout_gives_the_motion_of_the_layout_built_whole() {
         let (q0, u0) = ([0.0, 0.3], [1.0, 0.0]);
-        let mut grown = Stepper::new(Falling { extra: 0 }, 0.0, &q0, &u0, options()).unwrap();
-        let mut whole = Stepper::new(Falling { extra: 2 }, 0.0, &q0, &u0, options()).unwrap();
+        let mut grown = Stepper::new(
+            Falling {
+                extra: 0,
+                ..Falling::default()
+            },
+            0.0,
+            &q0,
+            &u0,
+            options(),
+        )
+        .unwrap();
+        let mut whole = Stepper::new(
+            Falling {
+                extra: 2,
+                ..Falling::default()
+            },
+            0.0,
+            &q0,
+            &u0,
+            options(),
+        )
+        .unwrap();
         for k in 0..60 {
             if k == 20 {
                 grown.system_mut().extra = 2;
@@ -207,8 +241,17 @@ mod tests {
 
     #[test]
     fn a_shrunk_or_changed_layout_is_refused() {
-        let mut s =
-            Stepper::new(Falling { extra: 2 }, 0.0, &[0.0, 0.3], &[0.0; 2], options()).unwrap();
+        let mut s = Stepper::new(
+            Falling {
+                extra: 2,
+                ..Falling::default()
+            },
+            0.0,
+            &[0.0, 0.3],
+            &[0.0; 2],
+            options(),
+        )
+        .unwrap();
         s.system_mut().extra = 1;
         assert!(s.extend_layout().is_err());
         assert_eq!(s.layout().e_n.len(), 3, "nothing changed");
@@ -216,8 +259,17 @@ mod tests {
 
     #[test]
     fn forgotten_contacts_lose_their_forces() {
-        let mut s =
-            Stepper::new(Falling { extra: 1 }, 0.0, &[0.0, 0.0], &[0.0; 2], options()).unwrap();
+        let mut s = Stepper::new(
+            Falling {
+                extra: 1,
+                ..Falling::default()
+            },
+            0.0,
+            &[0.0, 0.0],
+            &[0.0; 2],
+            options(),
+        )
+        .unwrap();
         s.step().unwrap();
         assert!(s.state().lambda_n[0] > 9.0, "the mass rests on the ground");
         s.forget_contacts(&[0], &[0]).unwrap();
@@ -228,5 +280,41 @@ mod tests {
             (s.state().lambda_n[0] - 9.81).abs() < 1e-8,
             "and gets it back"
         );
+    }
+
+    /// A slot given to another pair while it is open (the broad phase's case) changes
+    /// nothing the next step needs: the step after it is predicted and served by the
+    /// kept factors as in a run without the reuse, and ends where that run ends.
+    #[test]
+    fn forgetting_an_open_slot_keeps_the_factors_and_the_prediction() {
+        // The mass slides on the ground against a spring (its sets the same every step,
+        // its acceleration changing); slot 1, a wall far away, is open throughout.
+        let (q0, u0) = ([0.0, 0.0], [2.0, 0.0]);
+        let system = Falling {
+            extra: 1,
+            spring: 4.0,
+        };
+        let mut opts = options();
+        opts.linear.reuse_factorization = true;
+        opts.linear.low_rank_updates = true;
+        let mut reused = Stepper::new(system.clone(), 0.0, &q0, &u0, opts.clone()).unwrap();
+        let mut kept = Stepper::new(system, 0.0, &q0, &u0, opts).unwrap();
+        for k in 0..10 {
+            if k == 6 {
+                reused.forget_contacts(&[1], &[1]).unwrap();
+            }
+            reused.step().unwrap();
+            kept.step().unwrap();
+        }
+        assert_eq!(reused.linear_solves(), kept.linear_solves());
+        assert_eq!(
+            reused.newton_work().evaluations,
+            kept.newton_work().evaluations
+        );
+        let (a, b) = (reused.state(), kept.state());
+        for (x, y) in a.q.iter().chain(&a.u).zip(b.q.iter().chain(&b.u)) {
+            assert!((x - y).abs() < 1e-12, "{x} vs {y}");
+        }
+        assert!(a.u[0] > 0.5, "still sliding");
     }
 }
