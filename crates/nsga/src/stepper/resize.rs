@@ -149,7 +149,7 @@ mod tests {
     /// A unit point mass falling onto the ground, with `extra` copies of its ground
     /// contact appended (each with its own friction law): the growth of a layout.
     /// `spring` pulls it horizontally towards x = 0 (its forces then change in time).
-    #[derive(Debug, Clone, Default)]
+    #[derive(Debug, Clone)]
     struct Falling {
         extra: usize,
         spring: f64,
@@ -191,6 +191,11 @@ mod tests {
         }
     }
 
+    /// [`Falling`] with `extra` copies of its contact and no spring.
+    fn falling(extra: usize) -> Falling {
+        Falling { extra, spring: 0.0 }
+    }
+
     fn options() -> Options {
         Options {
             dt: 1e-2,
@@ -201,28 +206,8 @@ mod tests {
     #[test]
     fn a_grown_layout_gives_the_motion_of_the_layout_built_whole() {
         let (q0, u0) = ([0.0, 0.3], [1.0, 0.0]);
-        let mut grown = Stepper::new(
-            Falling {
-                extra: 0,
-                ..Falling::default()
-            },
-            0.0,
-            &q0,
-            &u0,
-            options(),
-        )
-        .unwrap();
-        let mut whole = Stepper::new(
-            Falling {
-                extra: 2,
-                ..Falling::default()
-            },
-            0.0,
-            &q0,
-            &u0,
-            options(),
-        )
-        .unwrap();
+        let mut grown = Stepper::new(falling(0), 0.0, &q0, &u0, options()).unwrap();
+        let mut whole = Stepper::new(falling(2), 0.0, &q0, &u0, options()).unwrap();
         for k in 0..60 {
             if k == 20 {
                 grown.system_mut().extra = 2;
@@ -241,17 +226,7 @@ mod tests {
 
     #[test]
     fn a_shrunk_or_changed_layout_is_refused() {
-        let mut s = Stepper::new(
-            Falling {
-                extra: 2,
-                ..Falling::default()
-            },
-            0.0,
-            &[0.0, 0.3],
-            &[0.0; 2],
-            options(),
-        )
-        .unwrap();
+        let mut s = Stepper::new(falling(2), 0.0, &[0.0, 0.3], &[0.0; 2], options()).unwrap();
         s.system_mut().extra = 1;
         assert!(s.extend_layout().is_err());
         assert_eq!(s.layout().e_n.len(), 3, "nothing changed");
@@ -259,17 +234,7 @@ mod tests {
 
     #[test]
     fn forgotten_contacts_lose_their_forces() {
-        let mut s = Stepper::new(
-            Falling {
-                extra: 1,
-                ..Falling::default()
-            },
-            0.0,
-            &[0.0, 0.0],
-            &[0.0; 2],
-            options(),
-        )
-        .unwrap();
+        let mut s = Stepper::new(falling(1), 0.0, &[0.0, 0.0], &[0.0; 2], options()).unwrap();
         s.step().unwrap();
         assert!(s.state().lambda_n[0] > 9.0, "the mass rests on the ground");
         s.forget_contacts(&[0], &[0]).unwrap();
