@@ -33,7 +33,7 @@ impl<S: System> Stepper<S> {
     /// measure every attempt compares with the tolerance (docs/method.md §4, "The
     /// residual's round-off"). Where ‖R‖∞ is within the tolerance it is that norm.
     pub(super) fn residual_norm(&self, sets: &IndexSets) -> f64 {
-        let (o, r, r_pos) = (self.off, &self.work.res[..], &self.work.r_pos);
+        let (o, r) = (self.off, &self.work.res[..]);
         // A residual that is not finite stays so.
         let plain = max_norm(r);
         if plain <= self.options.tol || plain.is_nan() {
@@ -44,20 +44,10 @@ impl<S: System> Stepper<S> {
             .max(max_norm(&r[bilateral.end..contacts.start]))
             .max(max_norm(&r[contacts.end..]));
         let round_off = self.gap_round_off();
-        let beyond = |row: f64, r: f64| row.abs() - r * round_off;
-        let bilateral = r[bilateral]
-            .iter()
-            .zip(r_pos)
-            .map(|(&row, &r)| beyond(row, r));
-        let contacts = (0..o.nn).map(|k| {
-            let row = r[o.kn + k];
-            if sets.a[k] {
-                beyond(row, r_pos[o.ng + k])
-            } else {
-                row.abs()
-            }
-        });
-        bilateral.chain(contacts).fold(others, f64::max)
+        bilateral
+            .chain(contacts)
+            .map(|i| r[i].abs() - self.row_round_off(i, sets, round_off))
+            .fold(others, f64::max)
     }
 
     /// The round-off of a gap at the iterate, ε max|q| times [`GAP_ROUND_OFF`], over Δt
