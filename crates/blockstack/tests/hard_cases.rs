@@ -885,19 +885,19 @@ fn a_bouncier_column_dropped_flat_lands_standing() {
 /// capital on a plinth, Δt = 5 ms) on record 6 of `scripts/synthetic_record.py DIR
 /// --count 20` (kept in tests/data/hard-cases/, apart from the record that `--records
 /// tests/data` examples read), scaled to a peak of 1.6 g. Standing and rocking on its
-/// plinth, it has a step at t = 2.135 that fails at every level of halving, with and
-/// without the friction shift; `Stage::Boundary` runs, finds nothing, and the last
-/// resort takes the step. Trying each visited set with one friction law switched too
-/// (visited × active laws × 3 states, 193 to 631 sets a level) once cost 22 939 linear
-/// solves at such a step (record 7, docs/method.md §8.2). Now the stage re-solves each
-/// visited set once: one fixed-set solve of at most `MAX_NEWTON_ITERATIONS` updates
-/// and one quick check of at most a free attempt's budget (one update per normal
-/// contact), so at most 96 times that. (Record 7's step, drums landing on each other
-/// at t = 9.795, served here until fallen blocks stopped catching on each other's
-/// corners, `a_block_sliding_back_onto_the_base_is_not_caught_at_its_corner`: no stage
-/// after the first attempts' needs it since.)
+/// plinth, it had a step at t = 2.135 that failed at every level of halving, with and
+/// without the friction shift; `Stage::Boundary` ran, found nothing, and the last
+/// resort took the step (976 linear solves to t = 2.14). Diagnosed: the drums' position
+/// rows r g / Δt (r ≈ 200) carry a round-off of 5·10⁻¹¹, half the tolerance, and Newton
+/// stalled there. Measured beyond that round-off (`nsga::GAP_ROUND_OFF`, docs/method.md
+/// §4), the step is taken by halving (323 linear solves). Where `Stage::Boundary` runs
+/// here, it re-solves each visited set once: one fixed-set solve of at most
+/// `MAX_NEWTON_ITERATIONS` updates and one quick check of at most a free attempt's
+/// budget (one update per normal contact), so at most 96 times that (trying each
+/// visited set with one friction law switched too once cost 22 939 linear solves at
+/// such a step, docs/method.md §8.2).
 #[test]
-fn a_column_rocking_on_its_plinth_re_solves_only_its_visited_sets() {
+fn a_column_rocking_on_its_plinth_takes_its_hard_step_without_the_last_resort() {
     use blockstack::system::StackSystem;
     use nsga::System;
     let scene = "[base]\nwidth = 3.0\nheight = 0.3\n\
@@ -919,14 +919,10 @@ fn a_column_rocking_on_its_plinth_re_solves_only_its_visited_sets() {
     let s = simulate(&scene, &options, |_| {}).unwrap();
     assert_eq!(s.error, None, "{:?}", s.error);
     assert!(s.min_gap >= -1e-10, "{}", s.min_gap);
-    assert_eq!(s.fallback_steps, 1, "the last resort took the step");
+    assert_eq!(s.fallback_steps, 0, "no last resort");
+    assert!(s.failed_steps >= 1, "the step at t = 2.135 is still hard");
     let per_set = blockstack::simulation::MAX_NEWTON_ITERATIONS + normal_contacts;
     let boundary = s.linear_solves_by_stage.boundary;
-    assert!(
-        boundary > 0,
-        "the stage ran: {:?}",
-        s.linear_solves_by_stage
-    );
     assert!(
         boundary <= (96 * per_set) as u64,
         "{boundary} boundary solves, {per_set} per set at most"

@@ -142,6 +142,6 @@ pub use report::{
 };
 pub use sets::IndexSets;
 pub use state::{State, SAME_MOTION};
-pub use stepper::{Stepper, NEGLIGIBLE_SLIP, SET_TIE, WILD_UPDATE};
+pub use stepper::{Stepper, GAP_ROUND_OFF, NEGLIGIBLE_SLIP, SET_TIE, WILD_UPDATE};
 pub use system::{Derivatives, Evaluation, FrictionLaw, Layout, Probes, Scalar, System, Triplets};
 pub use tuning::Tuning;

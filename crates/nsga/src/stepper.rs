@@ -74,6 +74,7 @@ mod state_levels;
 mod trial;
 mod unknowns;
 
+pub use assemble::GAP_ROUND_OFF;
 pub use direction::WILD_UPDATE;
 pub use iterate::SET_TIE;
 pub use low_rank::LOW_RANK_ROWS;

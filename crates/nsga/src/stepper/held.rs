@@ -16,7 +16,6 @@
 
 use super::scheme::Scheme;
 use super::Stepper;
-use crate::linalg::max_norm;
 use crate::sets::IndexSets;
 use crate::system::System;
 
@@ -87,7 +86,7 @@ impl<S: System> Stepper<S> {
         // The laws' residual is the update's again if the sets are released here.
         let laws = self.work.res.clone();
         self.residual(x, &held, p);
-        let held_res = max_norm(&self.work.res);
+        let held_res = self.residual_norm(&held);
         progress.evaluations += 1;
         let tuning = &self.options.tuning;
         let stalled =

@@ -349,10 +349,14 @@ impl<S: System> Stepper<S> {
 
     /// Whether a held row of the residual just evaluated exceeds the tolerance; wakes
     /// the islands for the rest of the step when one does.
-    pub(super) fn held_row_broken(&mut self) -> bool {
-        let tol = self.options.tol;
+    pub(super) fn held_row_broken(&mut self, sets: &IndexSets) -> bool {
+        let (tol, round_off) = (self.options.tol, self.gap_round_off());
         let res = &self.work.res;
-        let broken = self.islands.held().iter().any(|&i| res[i].abs() > tol);
+        let broken = self
+            .islands
+            .held()
+            .iter()
+            .any(|&i| res[i].abs() - self.row_round_off(i, sets, round_off) > tol);
         if broken {
             self.stats.island_wakes += 1;
             self.islands.wake();

@@ -86,7 +86,7 @@ impl<S: System> NewtonProblem for StepProblem<'_, S> {
             (0..o.nn)
                 .map(|k| map[o.kn + k] == usize::MAX && sets.a[k] && !st.islands.holds_contact(k)),
         );
-        st.held_row_broken() | self.closing.iter().any(|&c| c)
+        st.held_row_broken(sets) | self.closing.iter().any(|&c| c)
     }
 
     fn exact_direction(
@@ -337,7 +337,7 @@ impl<S: System> Stepper<S> {
             None => self.compute_sets(x, None, update_prox),
         };
         self.residual(x, &sets, p);
-        let res = crate::linalg::max_norm(&self.work.res);
+        let res = self.residual_norm(&sets);
         if let Some(limit) = limit.filter(|_| fixed.is_none() && res > self.options.tol) {
             let limited = self.compute_sets(x, Some(limit), update_prox);
             if limited != sets {
