@@ -400,8 +400,7 @@ impl<S: System> Stepper<S> {
     /// step's solution and evaluates the state again (docs/method.md §7, "Pruned
     /// matrices").
     pub fn system_mut(&mut self) -> &mut S {
-        self.work.state_levels.forget();
-        self.rest = rest::Rest::Moving;
+        self.forget_levels();
         &mut self.system
     }
     /// The layout of the system.
@@ -644,6 +643,13 @@ impl<S: System> Stepper<S> {
     /// [`Stepper::forget_solutions`] but for the islands held at rest.
     fn forget_history(&mut self) {
         self.predictor.clear();
+        self.forget_levels();
+    }
+
+    /// Forgets the constraint levels kept from the last step's solution and any state
+    /// at rest (the next step is solved): the system or the unknowns they describe
+    /// changed.
+    fn forget_levels(&mut self) {
         self.work.state_levels.forget();
         self.rest = rest::Rest::Moving;
     }

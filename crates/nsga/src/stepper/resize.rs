@@ -22,7 +22,6 @@
 //! a factorization and its prediction, and a contact beside a teetering block can change
 //! hands every other step (docs/contacts.md, "How the system's size changes").
 
-use super::rest::Rest;
 use super::{Offsets, Stepper, Work};
 use crate::error::StepError;
 use crate::system::System;
@@ -114,8 +113,7 @@ impl<S: System> Stepper<S> {
         // keeps resting unless one of its contacts is forgotten: a new pair's contact
         // that reaches it changes its rows, and wakes it.
         self.predictor.forget(&forgotten);
-        self.work.state_levels.forget();
-        self.rest = Rest::Moving;
+        self.forget_levels();
         self.islands.forget_contacts(normals);
         Ok(())
     }
