@@ -12,7 +12,7 @@ To measure a constant or a stage, give one binary and a variant per value: each 
 is one or more `NAME=VALUE` assignments of nsga's options (separated by spaces), passed
 to every command as the hidden `--tuning NAME=VALUE` flag (`nsga::Options::set`):
 `--variant tuning.stall_iterations=4`, `--variant policy.max_halvings=0`,
-`--variant "policy.branch_trials=false policy.boundary_resolves=false"`. Or give
+`--variant "policy.branch_trials=false policy.max_halvings=0"`. Or give
 several binaries (a change that is not an option). The runs alternate between the
 configurations, the first (the binary as it is) being the reference; the table gives,
 per workload and configuration, the machine-independent work (linear solves, failed

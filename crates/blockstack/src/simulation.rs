@@ -18,9 +18,7 @@
 //!   sets alternate, re-solves with each distinct set
 //!   fixed, continuing with the first self-consistent candidate (a branch point,
 //!   ERRATA 22); then the step as two half steps with this same policy (up to
-//!   [`MAX_HALVINGS`] times); finally re-solves that accept friction laws sitting
-//!   exactly on their stick–slip bound ([`nsga::PolicyOptions::boundary_resolves`]). These
-//!   re-solves are part of every run's solver: [`RunOptions::explore_branches`] and
+//!   [`MAX_HALVINGS`] times). These re-solves are part of every run's solver: [`RunOptions::explore_branches`] and
 //!   [`RunOptions::branch_rule`] only decide which branch points are recorded, so a
 //!   run's trajectory is the same whatever they are.
 //! - **Redundant contacts**: a toppled column resting on the table edge and on the floor
@@ -314,7 +312,7 @@ pub struct RunSummary {
     /// machine ([`nsga::Stepper::linear_solves`]).
     pub linear_solves: u64,
     /// The same by the stage of the step's policy that made them (first attempt, ρ∞
-    /// retries, branch trials, unshifted, boundary, other;
+    /// retries, branch trials, unshifted, other;
     /// [`nsga::Stepper::solves_by_stage`]).
     pub linear_solves_by_stage: nsga::SolvesByStage,
     /// The Newton work by kind, why exact updates were made, and the seconds of each
@@ -440,7 +438,6 @@ pub fn stepper_options(scene: &Scene, options: &RunOptions) -> Result<Options, B
             // workload (docs/method.md §8.3, "The stages measured").
             rho_inf_retries: Vec::new(),
             max_halvings: MAX_HALVINGS,
-            boundary_resolves: true,
             last_resort: !options.skip_last_resort,
             ..PolicyOptions::default()
         },

@@ -71,7 +71,7 @@ fn the_thesis_preset_sets_what_it_says() {
     }
     assert!(p.branch_trials && p.branch_on_any_failure && p.continue_inconsistent);
     assert_eq!(p.branch_rule, BranchRule::Converged);
-    assert!(!p.retry_without_friction_shift && !p.boundary_resolves && !p.last_resort);
+    assert!(!p.retry_without_friction_shift && !p.last_resort);
     assert_eq!(p.max_halvings, 0);
     assert!(thesis::walk_settings(WalkSettings::default()).stop_at_failure);
 }

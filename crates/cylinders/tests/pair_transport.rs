@@ -141,7 +141,6 @@ fn the_contact_opens_and_closes_again() {
     let options = Options {
         policy: PolicyOptions {
             max_halvings: 2,
-            boundary_resolves: true,
             ..PolicyOptions::default()
         },
         ..Options::default()

@@ -328,10 +328,6 @@ pub struct PolicyOptions {
     /// amount of work per level (only the half that contains it is split again), not
     /// 2^level substeps.
     pub max_halvings: usize,
-    /// After halving fails too, repeat the fixed-set re-solves of the visited sets with a
-    /// consistency test that accepts friction laws sitting exactly on their stick–slip
-    /// bound (docs/method.md §8). Off by default.
-    pub boundary_resolves: bool,
     /// When every attempt above fails, take the step by the last resort: a Moreau–Jean
     /// step whose contact problem Lemke's method solves (it terminates, with a solution
     /// wherever one exists; docs/method.md §8.2). It takes every contact law: bilateral
@@ -448,7 +444,6 @@ impl Default for PolicyOptions {
             retry_without_friction_shift: false,
             rest: true,
             max_halvings: 0,
-            boundary_resolves: false,
             last_resort: true,
             on_failure: FailurePolicy::Error,
         }

@@ -99,8 +99,6 @@ pub struct SolvesByStage {
     pub branch_trials: u64,
     /// The step without the friction percussions' half-step shift (stage `Unshifted`).
     pub unshifted: u64,
-    /// The re-solves at a friction bound, after the halvings (stage `Boundary`).
-    pub boundary: u64,
     /// Everything else: the flip probes of converged steps
     /// ([`PolicyOptions::probe_flips`](crate::PolicyOptions::probe_flips)).
     pub other: u64,
@@ -114,7 +112,6 @@ impl SolvesByStage {
             Stage::RhoRetry(_) => &mut self.rho_retries,
             Stage::BranchTrials => &mut self.branch_trials,
             Stage::Unshifted => &mut self.unshifted,
-            Stage::Boundary => &mut self.boundary,
             Stage::FlipProbe | Stage::AcceptBest | Stage::Halving | Stage::LastResort => return,
         };
         *field += solves;
@@ -122,12 +119,7 @@ impl SolvesByStage {
     /// The sum over the stages.
     #[must_use]
     pub fn total(&self) -> u64 {
-        self.first_attempt
-            + self.rho_retries
-            + self.branch_trials
-            + self.unshifted
-            + self.boundary
-            + self.other
+        self.first_attempt + self.rho_retries + self.branch_trials + self.unshifted + self.other
     }
 }
 

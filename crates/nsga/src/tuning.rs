@@ -61,10 +61,10 @@ pub struct Tuning {
     /// (`scripts/reference_workload.py target/release/rollstack --repeat 1 --variant tuning.held_contraction=0.25`): the matrix 365 193 linear solves against 367 717
     /// (−0.7 %), the other workloads the same.
     pub held_contraction: f64,
-    /// Newton iterations allowed when checking that a fixed-set solution also solves
-    /// the free step, in the boundary re-solves (it converges at once when it does).
-    /// Measured with the harness (`scripts/reference_workload.py target/release/rollstack --repeat 1 --variant tuning.quick_check_iterations=4`): no count of the
-    /// workload changes.
+    /// Newton iterations allowed when the flip probe checks that a fixed-set solution
+    /// also solves the free step (it converges at once when it does; `Stepper::quick_check`).
+    /// The probe is off in the reference workload, so the harness cannot measure it: the
+    /// check only has to see convergence that starts at once.
     pub quick_check_iterations: usize,
     /// Newton updates allowed from a predicted start before the step is solved again
     /// from the last solution with its full budget. A good prediction converges in one

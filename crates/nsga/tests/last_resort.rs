@@ -25,7 +25,6 @@ fn starved(dt: f64, last_resort: bool) -> Options {
             branch_trials: false,
             on_failure: FailurePolicy::Error,
             max_halvings: 0,
-            boundary_resolves: false,
             last_resort,
             ..PolicyOptions::default()
         },

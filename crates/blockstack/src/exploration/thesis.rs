@@ -15,7 +15,7 @@
 //!
 //! rollstack's stages that the author's code lacks are switched off: the predicted
 //! start, the held-sets attempt, the line search, pruning, the kept factors, the step
-//! without the friction shift, halving, the boundary re-solves and the last resort. The
+//! without the friction shift, halving and the last resort. The
 //! regularization of a singular matrix stays (it leaves the solution exact): rollstack's
 //! corner contacts can close redundantly, the thesis's two gaps per interface cannot.
 
@@ -77,7 +77,6 @@ pub fn assignments(rho0: f64) -> Vec<String> {
         "policy.continue_inconsistent=true".into(),
         "policy.retry_without_friction_shift=false".into(),
         "policy.max_halvings=0".into(),
-        "policy.boundary_resolves=false".into(),
     ]
 }
 

@@ -63,8 +63,7 @@ impl PairSettings {
         }
     }
 
-    /// nsga's options for these settings: Δt, ρ∞, up to four halvings and the
-    /// boundary re-solves.
+    /// nsga's options for these settings: Δt, ρ∞ and up to four halvings.
     #[must_use]
     pub fn stepper_options(&self) -> Options {
         Options {
@@ -72,7 +71,6 @@ impl PairSettings {
             rho_inf: self.rho_inf,
             policy: PolicyOptions {
                 max_halvings: 4,
-                boundary_resolves: true,
                 ..PolicyOptions::default()
             },
             ..Options::default()

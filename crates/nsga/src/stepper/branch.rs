@@ -12,19 +12,11 @@
 //! policy's later stages, as under [`BranchRule::SelfConsistent`], carrying the recorded
 //! point to the trial they commit ([`record_unfollowed`]). So the run's trajectory is the
 //! same under either rule.
-//!
-//! Where a friction law sits exactly on its stick–slip bound, round-off decides its set,
-//! so no candidate may pass the strict test although several solve the step; the
-//! boundary re-solves ([`PolicyOptions::boundary_resolves`]) re-solve the visited sets
-//! again and accept such laws on either side.
-//!
-//! [`PolicyOptions::boundary_resolves`]: crate::PolicyOptions::boundary_resolves
 
 use super::enumerate::probe_sets;
-use super::spec::{AttemptSpec, SetRule, StartAt};
+use super::spec::SetRule;
 use super::Stepper;
-use crate::attempt::{AttemptOutcome, Trial};
-use crate::linalg::norm;
+use crate::attempt::Trial;
 use crate::options::BranchRule;
 use crate::report::BranchPoint;
 use crate::sets::IndexSets;
@@ -185,112 +177,6 @@ impl<S: System> Stepper<S> {
         let gap = self.work.state_levels.position[self.off.ng + k];
         gap.abs() <= self.options.start_tol
     }
-
-    /// Fixed-set re-solves for a step whose Newton iterates cycle because a friction law
-    /// sits exactly on the boundary between two states.
-    ///
-    /// When a friction law sits exactly at its stick–slip bound (zero slip and
-    /// ‖λ_F‖ = μ Σλ_N, as happens when a column rotating about the table edge starts to
-    /// slip while the interfaces above it also reach their bound), round-off decides its
-    /// set, so no candidate passes the strict self-consistency test although several
-    /// solve the step. Here each set the iterates `visited` is re-solved once, with the
-    /// sets fixed, and its solution is kept when its recomputed sets differ from the
-    /// fixed ones only in laws on their bound ([`Stepper::at_friction_bounds`]), or else
-    /// when a Newton solve with free sets started from it converges within
-    /// [`Tuning::quick_check_iterations`](crate::Tuning::quick_check_iterations) (then that free solution is kept). The step is
-    /// reported as a branch point (sets tried, distinct solutions), not yet committed.
-    ///
-    /// Only the visited sets: the stage once also tried each of them with one friction
-    /// law switched, until a first solution. Where none exists (a collapsed column whose
-    /// drums land on each other, whose iterates cycle through its contacts' normal sets)
-    /// that search is exhaustive, visited × active laws × 3 states at each level of
-    /// halving where the stage runs (631 sets for one step at Δt), and the reference
-    /// workload never needed it (docs/method.md §8.2).
-    pub(super) fn resolve_at_boundary(&mut self, visited: &[IndexSets]) -> Option<Trial> {
-        let rho = self.options.rho_inf;
-        let mut candidates = Candidates::default();
-        for sets in visited {
-            let Ok(fixed) = self.trial(Some(sets), rho) else {
-                continue;
-            };
-            let recomputed = self.sets_of(&fixed.state.x, rho);
-            let candidate = if self.at_friction_bounds(sets, &recomputed, &fixed.state) {
-                fixed
-            } else {
-                let Ok(free) = self.quick_check(fixed.state.x, rho) else {
-                    continue;
-                };
-                free
-            };
-            let sets = candidate.stats.sets.clone();
-            candidates.offer(&sets, candidate, true);
-        }
-        let mut trial = self.chosen(candidates, visited.len())?;
-        trial.stats.retries = 1 + self.options.policy.rho_inf_retries.len();
-        Some(trial)
-    }
-
-    /// Does a free Newton attempt started from the unknowns `x` of a fixed-set solution
-    /// converge within [`Tuning::quick_check_iterations`](crate::Tuning::quick_check_iterations) updates (or a free attempt's budget of
-    /// [`NewtonOptions::max_iter_per_contact`](crate::NewtonOptions::max_iter_per_contact), when that
-    /// is larger)? The time grid is counted from the step's start from then on, and what
-    /// the last solutions left for the next steps is forgotten, as after any restart
-    /// from a state ([`Stepper::set_state`]).
-    pub(super) fn quick_check(&mut self, x: Vec<f64>, rho: f64) -> AttemptOutcome {
-        self.time_base = (self.state.t, self.state.k);
-        self.forget_solutions();
-        let check = AttemptSpec {
-            start: StartAt::Unknowns(x),
-            budget: self.free_budget_over(self.options.tuning.quick_check_iterations),
-            ..self.spec(SetRule::Free, rho)
-        };
-        let free = self.attempt(check);
-        self.forget_solutions();
-        free
-    }
-
-    /// Whether the sets recomputed from a fixed-set solution differ from the fixed ones
-    /// only in friction laws that sit exactly on their stick–slip bound, where either set
-    /// describes the same solution (paper eqs. 137–142): on velocity level a slip ξ_F = 0
-    /// with ‖P_F‖ = μP̂, on acceleration level γ̇_F = 0 with ‖λ_F‖ = μλ̂ (all within the
-    /// Newton tolerance, velocities and accelerations taken as impulses per unit mass
-    /// over one step). The iterate buffers must hold the evaluation at `st`, as
-    /// [`Stepper::sets_of`] leaves them.
-    fn at_friction_bounds(&self, fixed: &IndexSets, recomputed: &IndexSets, st: &State) -> bool {
-        if fixed == recomputed {
-            return true;
-        }
-        if !fixed.same_normal_sets(recomputed) {
-            return false;
-        }
-        let (tol, dt) = (self.options.tol, self.options.dt);
-        let it = &self.work.it;
-        let nga = self.off.nga;
-        self.layout.friction.iter().enumerate().all(|(j, law)| {
-            let same = fixed.d[j] == recomputed.d[j] && fixed.e[j] == recomputed.e[j];
-            if same {
-                return true;
-            }
-            let c = self.law_off[j]..self.law_off[j] + law.components;
-            let v = nga + c.start..nga + c.end;
-            let p_hat: f64 = law.normals.iter().map(|&k| st.p_n[k]).sum::<f64>().max(0.0);
-            let l_hat: f64 = law
-                .normals
-                .iter()
-                .map(|&k| st.lambda_n[k])
-                .sum::<f64>()
-                .max(0.0);
-            let velocity_ok = fixed.d[j] == recomputed.d[j]
-                || (magnitude(&it.xi_v[v.clone()]) <= tol
-                    && (magnitude(&st.p_f[c.clone()]) - law.mu * p_hat).abs()
-                        <= tol * (1.0 + law.mu * p_hat));
-            let acceleration_ok = fixed.e[j] == recomputed.e[j]
-                || (magnitude(&it.acc_v[v]) * dt <= tol
-                    && (magnitude(&st.lambda_f[c]) - law.mu * l_hat).abs() * dt
-                        <= tol * (1.0 + law.mu * l_hat * dt));
-            velocity_ok && acceleration_ok
-        })
-    }
 }
 
 /// `point` with the converged solves that are not self-consistent appended to its
@@ -333,14 +219,6 @@ pub(super) fn record_unfollowed(mut point: BranchPoint, trial: &mut Trial) {
         }
     };
     trial.stats.branch = Some(point);
-}
-
-/// |v| of a one-component law, ‖v‖ of a two-component one.
-fn magnitude(v: &[f64]) -> f64 {
-    match v {
-        [x] => x.abs(),
-        _ => norm(v),
-    }
 }
 
 /// The sets of a flip probe: for each of the `touching` normal contacts, `sets` with it

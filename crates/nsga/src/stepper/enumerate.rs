@@ -23,7 +23,7 @@
 use super::branch::flipped_sets;
 use super::spec::{AttemptSpec, SetRule, StartAt};
 use super::Stepper;
-use crate::attempt::Trial;
+use crate::attempt::{AttemptOutcome, Trial};
 use crate::sets::IndexSets;
 use crate::system::{FrictionLaw, System};
 
@@ -99,6 +99,25 @@ impl<S: System> Stepper<S> {
             }
         }
         self.quick_check(fixed.state.x, rho0).ok()
+    }
+
+    /// Does a free Newton attempt started from the unknowns `x` of a fixed-set solution
+    /// converge within [`Tuning::quick_check_iterations`](crate::Tuning::quick_check_iterations) updates (or a free attempt's budget of
+    /// [`NewtonOptions::max_iter_per_contact`](crate::NewtonOptions::max_iter_per_contact), when that
+    /// is larger)? The time grid is counted from the step's start from then on, and what
+    /// the last solutions left for the next steps is forgotten, as after any restart
+    /// from a state ([`Stepper::set_state`]).
+    pub(super) fn quick_check(&mut self, x: Vec<f64>, rho: f64) -> AttemptOutcome {
+        self.time_base = (self.state.t, self.state.k);
+        self.forget_solutions();
+        let check = AttemptSpec {
+            start: StartAt::Unknowns(x),
+            budget: self.free_budget_over(self.options.tuning.quick_check_iterations),
+            ..self.spec(SetRule::Free, rho)
+        };
+        let free = self.attempt(check);
+        self.forget_solutions();
+        free
     }
 
     /// The unknowns `x` with the normal multipliers (κ_N, Λ_N, λ_N) of the contacts closed

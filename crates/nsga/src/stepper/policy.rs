@@ -26,8 +26,7 @@ use crate::system::System;
 /// 7. [`Stage::Unshifted`]: the step without the friction percussions' half-step shift.
 /// 8. [`Stage::AcceptBest`]: the best iterate.
 /// 9. [`Stage::Halving`]: the step as two halves, each with this whole policy.
-/// 10. [`Stage::Boundary`]: fixed-set re-solves that accept laws on their friction bound.
-/// 11. [`Stage::LastResort`]: a Moreau–Jean step whose contact problem Lemke's method solves.
+/// 10. [`Stage::LastResort`]: a Moreau–Jean step whose contact problem Lemke's method solves.
 ///
 /// docs/method.md §8.2 shows the same list (a test keeps them in step).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -69,10 +68,6 @@ pub(crate) enum Stage {
     /// Up to [`PolicyOptions::max_halvings`] times: the step as two halves, each with this
     /// whole policy.
     Halving,
-    /// With [`PolicyOptions::boundary_resolves`], when the first attempt's sets cycled:
-    /// fixed-set re-solves that accept friction laws sitting exactly on their stick–slip
-    /// bound.
-    Boundary,
     /// With [`PolicyOptions::last_resort`], at the step's own Δt: a Moreau–Jean step whose
     /// contact problem is solved by Lemke's method, which terminates.
     LastResort,
@@ -81,7 +76,7 @@ pub(crate) enum Stage {
 #[cfg(test)]
 impl Stage {
     /// Every stage, in the order of the policy.
-    pub(crate) const ALL: [Self; 11] = [
+    pub(crate) const ALL: [Self; 10] = [
         Self::Predicted,
         Self::HeldSets,
         Self::Free,
@@ -91,7 +86,6 @@ impl Stage {
         Self::Unshifted,
         Self::AcceptBest,
         Self::Halving,
-        Self::Boundary,
         Self::LastResort,
     ];
 
@@ -107,7 +101,6 @@ impl Stage {
             Self::Unshifted => "Unshifted",
             Self::AcceptBest => "AcceptBest",
             Self::Halving => "Halving",
-            Self::Boundary => "Boundary",
             Self::LastResort => "LastResort",
         }
     }
@@ -131,12 +124,11 @@ pub(super) enum Next {
 
 /// The stages tried, in order, once the attempts from the last solution and the ρ∞
 /// retries failed.
-const LATER: [Stage; 6] = [
+const LATER: [Stage; 5] = [
     Stage::BranchTrials,
     Stage::Unshifted,
     Stage::AcceptBest,
     Stage::Halving,
-    Stage::Boundary,
     Stage::LastResort,
 ];
 
@@ -152,7 +144,6 @@ struct Enabled {
     branch_on_any_failure: bool,
     unshifted: bool,
     accept_best: bool,
-    boundary_resolves: bool,
     last_resort: bool,
 }
 
@@ -167,7 +158,6 @@ impl Enabled {
             branch_on_any_failure: p.branch_on_any_failure,
             unshifted: p.retry_without_friction_shift && o.friction_percussion_shift,
             accept_best: p.on_failure == FailurePolicy::AcceptBest,
-            boundary_resolves: p.boundary_resolves,
             last_resort: p.last_resort,
         }
     }
@@ -273,15 +263,14 @@ impl Policy {
     /// for the stages after it). A failure reports the step from `state`.
     pub(super) fn next(&mut self, stage: Stage, outcome: StageOutcome, state: &State) -> Next {
         use Stage::{
-            AcceptBest, Boundary, BranchTrials, FlipProbe, Free, HeldSets, Predicted, RhoRetry,
-            Unshifted,
+            AcceptBest, BranchTrials, FlipProbe, Free, HeldSets, Predicted, RhoRetry, Unshifted,
         };
         match (stage, outcome) {
             (Predicted | HeldSets | Free, Ok(t)) if self.enabled.probe_flips || self.painleve => {
                 self.converged = Some(t);
                 Next::Run(FlipProbe)
             }
-            (Predicted | HeldSets | Free | FlipProbe | Boundary, Ok(t)) => Next::Commit(t),
+            (Predicted | HeldSets | Free | FlipProbe, Ok(t)) => Next::Commit(t),
             (RhoRetry(_) | BranchTrials | Unshifted | AcceptBest, Ok(mut t)) => {
                 t.stats.retries = self.retries;
                 if stage == AcceptBest {
@@ -382,13 +371,6 @@ impl Policy {
             Stage::Unshifted => e.unshifted,
             Stage::AcceptBest => e.accept_best,
             Stage::Halving => self.halvings > 0,
-            Stage::Boundary => {
-                e.boundary_resolves
-                    && matches!(
-                        self.failure,
-                        Some(StepError::NotConverged { cycling: true, .. })
-                    )
-            }
             // The stepper was refused at setup where the last resort cannot take the
             // system, so the option says whether the stage exists.
             Stage::LastResort => self.top && e.last_resort,
@@ -548,7 +530,6 @@ mod tests {
                 rho_inf_retries: vec![0.8, 0.9],
                 branch_trials: false,
                 retry_without_friction_shift: false,
-                boundary_resolves: false,
                 last_resort: false,
                 max_halvings: 0,
                 ..PolicyOptions::default()
@@ -588,7 +569,6 @@ mod tests {
                 branch_trials: true,
                 retry_without_friction_shift: true,
                 on_failure: FailurePolicy::AcceptBest,
-                boundary_resolves: true,
                 last_resort: true,
                 max_halvings: 1,
                 ..PolicyOptions::default()
@@ -621,7 +601,6 @@ mod tests {
             Stage::Unshifted,
             Stage::AcceptBest,
             Stage::Halving,
-            Stage::Boundary,
             Stage::LastResort,
         ];
         assert_eq!(seen, expected);

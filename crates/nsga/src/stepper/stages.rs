@@ -6,7 +6,6 @@ use super::policy::{Policy, Stage, StageOutcome};
 use super::spec::{AttemptSpec, SetRule, StartAt};
 use super::Stepper;
 use crate::attempt::AttemptOutcome;
-use crate::error::StepError;
 use crate::system::System;
 
 impl<S: System> Stepper<S> {
@@ -75,13 +74,6 @@ impl<S: System> Stepper<S> {
                     .all(|x| x.is_finite());
                 finite.then_some(*best).ok_or(None)
             }
-            Stage::Boundary => match &policy.failure {
-                Some(StepError::NotConverged { visited_sets, .. }) => {
-                    let visited = visited_sets.clone();
-                    self.resolve_at_boundary(&visited).ok_or(None)
-                }
-                _ => Err(None),
-            },
             Stage::Halving | Stage::LastResort => Err(None),
         }
     }
