@@ -71,9 +71,9 @@ pub const PENETRATION_TOL: f64 = 1e-6;
 /// twice as fast as faer's sparse LU, and finds many of the singular ones (redundant
 /// contacts) by their structure, where faer's took longer than a regular factorization:
 /// up to 384 unknowns (its largest size) instead of 200, the 36 columns of 10 to 20
-/// blocks collapsing into piles (docs/method.md §7, "Crossovers") take 14.0 s of solver
-/// time instead of 20.0 s. Above it, the banded matrix of a tall column needs the sparse
-/// solver. Both small solvers detect the singular matrices of redundant contacts by their
+/// blocks collapsing into piles (docs/linear-algebra.md, "Crossovers (measured)") take
+/// 14.0 s of solver time instead of 20.0 s. Above it, the banded matrix of a tall column
+/// needs the sparse solver. Both small solvers detect the singular matrices of redundant contacts by their
 /// pivots (see `nsga::LinearOptions::regularization`).
 pub const SMALL_LU_UP_TO: usize = 384;
 

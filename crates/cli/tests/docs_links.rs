@@ -1,8 +1,10 @@
 //! The documentation holds together: every relative link of README.md and docs/*.md names a
 //! file of the repository, every page of docs/ is reached from the README or from another
-//! page, and a link to a section of a page (`page.md#anchor`) names one of its headings.
+//! page, a link to a section of a page (`page.md#anchor`) names one of its headings, and a
+//! paragraph of docs/method.md cited by name (`docs/method.md §8.2, "At rest"`, in code,
+//! docs or scripts) is in the section the citation gives.
 //!
-//! The pages are read as text; nothing is built or run.
+//! The pages and sources are read as text; nothing is built or run.
 
 use std::collections::BTreeSet;
 use std::fs;
@@ -130,6 +132,156 @@ fn every_page_of_docs_is_reached_from_the_readme_or_another_page() {
         orphans.is_empty(),
         "pages no other page links to: {orphans:?}"
     );
+}
+
+/// The files that may cite docs/method.md: the sources of crates/ (src, tests, benches,
+/// examples), docs/*.md and scripts/, as (path relative to the root, text).
+fn citing_files() -> Vec<(String, String)> {
+    fn walk(dir: &Path, out: &mut Vec<PathBuf>) {
+        let Ok(entries) = fs::read_dir(dir) else {
+            return;
+        };
+        for e in entries.flatten() {
+            let p = e.path();
+            if p.is_dir() {
+                if p.file_name().is_some_and(|n| n != "target" && n != ".venv") {
+                    walk(&p, out);
+                }
+            } else if p
+                .extension()
+                .is_some_and(|e| e == "rs" || e == "md" || e == "py")
+            {
+                out.push(p);
+            }
+        }
+    }
+    let mut paths = Vec::new();
+    for dir in ["crates", "docs", "scripts"] {
+        walk(&root().join(dir), &mut paths);
+    }
+    paths.sort();
+    paths
+        .into_iter()
+        .map(|p| {
+            let name = p
+                .strip_prefix(root())
+                .unwrap()
+                .to_string_lossy()
+                .into_owned();
+            (name, read(&p))
+        })
+        .collect()
+}
+
+/// `text` with its line breaks, and the comment markers that start the next line, made
+/// single spaces: a citation wrapped over two comment lines reads as one.
+fn joined(text: &str) -> String {
+    text.lines()
+        .map(|l| {
+            let l = l.trim_start();
+            ["//!", "///", "//", "#"]
+                .iter()
+                .find_map(|m| l.strip_prefix(m))
+                .unwrap_or(l)
+                .trim()
+        })
+        .collect::<Vec<_>>()
+        .join(" ")
+}
+
+/// The citations `§N, "Name"` (or `§N "Name"`) of `text`, as (N, Name); with `page` only
+/// those that follow the name of that page (`method.md §N, "Name"`, `[method.md](method.md)
+/// §N, "Name"`).
+fn citations(text: &str, page: Option<&str>) -> Vec<(String, String)> {
+    let mut out = Vec::new();
+    for (i, _) in text.match_indices('§') {
+        if let Some(page) = page {
+            let before = text[..i].trim_end().trim_end_matches(')');
+            let before = before.strip_suffix(&format!("]({page}")).unwrap_or(before);
+            if !before.ends_with(page) {
+                continue;
+            }
+        }
+        let rest = &text[i + '§'.len_utf8()..];
+        let number: String = rest
+            .chars()
+            .take_while(|c| c.is_ascii_digit() || *c == '.')
+            .collect();
+        let number = number.trim_end_matches('.').to_owned();
+        let rest = rest[number.len()..].trim_start_matches('.');
+        let rest = rest.strip_prefix(',').unwrap_or(rest).trim_start();
+        let Some(rest) = rest.strip_prefix('"') else {
+            continue;
+        };
+        let Some(end) = rest.find('"') else { continue };
+        if !number.is_empty() {
+            out.push((number, rest[..end].to_owned()));
+        }
+    }
+    out
+}
+
+/// The text of section `number` of a page (`## 3.`, `### 8.2`), to the next heading of
+/// its level or above.
+fn section<'a>(page: &'a str, number: &str) -> Option<&'a str> {
+    let heading = |l: &str| {
+        let level = l.len() - l.trim_start_matches('#').len();
+        let n = l[level..].split_whitespace().next()?.trim_end_matches('.');
+        (level > 0).then(|| (level, n.to_owned()))
+    };
+    let mut start = None;
+    let mut offset = 0;
+    for line in page.split_inclusive('\n') {
+        if let Some((level, n)) = heading(line) {
+            match start {
+                Some((at, l)) if level <= l => return Some(&page[at..offset]),
+                None if n == number => start = Some((offset, level)),
+                _ => {}
+            }
+        }
+        offset += line.len();
+    }
+    start.map(|(at, _)| &page[at..])
+}
+
+#[test]
+fn every_cited_paragraph_of_the_method_is_in_its_section() {
+    let method = read(&root().join("docs/method.md"));
+    let mut broken = Vec::new();
+    for (file, text) in citing_files() {
+        let own = file == "docs/method.md";
+        let page = (!own).then_some("method.md");
+        for (number, name) in citations(&joined(&text), page) {
+            let found = section(&method, &number).is_some_and(|s| {
+                s.lines()
+                    .any(|l| l.starts_with('#') && l.contains(name.as_str()))
+                    || joined(s).contains(&format!("**{name}"))
+            });
+            if !found {
+                broken.push(format!("{file}: §{number}, \"{name}\""));
+            }
+        }
+    }
+    assert!(
+        broken.is_empty(),
+        "cited paragraphs of docs/method.md that are not in their section (a heading or a \
+         bold paragraph title):\n{}",
+        broken.join("\n")
+    );
+}
+
+#[test]
+fn a_citation_is_read_across_a_wrapped_comment() {
+    let text = "/// as in docs/method.md\n/// §8.2, \"At rest\", and §7 \"Pruned matrices\"";
+    assert_eq!(
+        citations(&joined(text), Some("method.md")),
+        [("8.2".to_owned(), "At rest".to_owned())]
+    );
+    assert_eq!(citations(&joined(text), None).len(), 2);
+    let page = "## 7. A\nx\n### 7.1 B\ny\n## 8. C\nz\n";
+    assert_eq!(section(page, "7"), Some("## 7. A\nx\n### 7.1 B\ny\n"));
+    assert_eq!(section(page, "7.1"), Some("### 7.1 B\ny\n"));
+    assert_eq!(section(page, "8"), Some("## 8. C\nz\n"));
 }
 
 #[test]

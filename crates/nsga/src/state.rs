@@ -1,4 +1,4 @@
-//! The state the stepper carries from step to step (docs/method.md §3, "carried over").
+//! The state the stepper carries from step to step (docs/method.md §3, "Carried over").
 
 use crate::linalg::norm;
 
