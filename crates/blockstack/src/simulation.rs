@@ -15,10 +15,10 @@
 //! - **A step that does not converge** goes through nsga's fallback policy
 //!   ([`nsga::Stepper::step`], docs/method.md §8), configured here by
 //!   [`stepper_options`]: no retries with other ρ∞ (they did not pay); when the index
-//!   sets alternate, re-solves with each distinct set
-//!   fixed, continuing with the first self-consistent candidate (a branch point,
-//!   ERRATA 22); then the step as two half steps with this same policy (up to
-//!   [`MAX_HALVINGS`] times). These re-solves are part of every run's solver: [`RunOptions::explore_branches`] and
+//!   sets alternate, re-solves with each distinct set fixed, continuing with the first
+//!   self-consistent candidate (a branch point, ERRATA 22); then the step as two half
+//!   steps with this same policy (up to [`MAX_HALVINGS`] times). These re-solves are
+//!   part of every run's solver: [`RunOptions::explore_branches`] and
 //!   [`RunOptions::branch_rule`] only decide which branch points are recorded, so a
 //!   run's trajectory is the same whatever they are.
 //! - **Redundant contacts**: a toppled column resting on the table edge and on the floor
@@ -73,8 +73,8 @@ pub const PENETRATION_TOL: f64 = 1e-6;
 /// up to 384 unknowns (its largest size) instead of 200, the 36 columns of 10 to 20
 /// blocks collapsing into piles (docs/linear-algebra.md, "Crossovers (measured)") take
 /// 14.0 s of solver time instead of 20.0 s. Above it, the banded matrix of a tall column
-/// needs the sparse solver. Both small solvers detect the singular matrices of redundant contacts by their
-/// pivots (see `nsga::LinearOptions::regularization`).
+/// needs the sparse solver. Both small solvers detect the singular matrices of redundant
+/// contacts by their pivots (see `nsga::LinearOptions::regularization`).
 pub const SMALL_LU_UP_TO: usize = 384;
 
 /// How often a step that fails after every retry and re-solve may be halved (a
