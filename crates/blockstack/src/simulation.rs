@@ -121,9 +121,8 @@ pub struct RunOptions {
     pub prox: Option<Prox>,
     /// Record branch points ([`RunSummary::branch_points`]): the steps whose Newton
     /// iterates cycled and that fixed-set re-solves resolved, with the candidates found.
-    /// Only the record: those re-solves, and the re-solves at a friction bound, are
-    /// stages of every run's solver (the module docs), so the trajectory is the same with
-    /// this on or off. On by default.
+    /// Only the record: those re-solves are a stage of every run's solver (the module
+    /// docs), so the trajectory is the same with this on or off. On by default.
     pub explore_branches: bool,
     /// Which fixed-set solutions a branch point records as candidates (default: the
     /// self-consistent ones; [`nsga::BranchRule::Converged`] adds the other converged
