@@ -138,7 +138,16 @@ impl Clone for StackSystem {
 }
 
 impl StackSystem {
-    /// The system of a (validated) scene.
+    /// The system of a (validated) scene, with its neighbour interfaces and no corner
+    /// contacts.
+    ///
+    /// Step it as a run does, through [`crate::stepping::CornerStepping`] (`start`
+    /// before the stepper is built, then `step`): that adds the corner contacts the
+    /// broad phase finds and decides once per step which interfaces hold their contact
+    /// (docs/contacts.md, "Who holds a neighbour contact"). Stepped bare, the system
+    /// decides the holding at every Newton iterate and has no corner contact to take
+    /// over, so that blocks can sink into each other (a column kicked by its base,
+    /// [`crate::scenarios::shaking_column`], does within its first hundred steps).
     #[must_use]
     pub fn new(scene: Scene) -> Self {
         let laws = scene

@@ -7,12 +7,11 @@
 //! corner opened. Or it can open a band of interfaces higher up. Free Newton finds tension
 //! at a dozen corners after its first update and opens them all. From there each
 //! update moves the band of openings up by one interface, so it reaches the far solution
-//! after a number of updates in proportion to the column's height (263 updates for 300
-//! blocks at commit 6865661; today it cycles there without converging). With the sets
-//! held, the first solution is the previous motion continued. From there, opening the
-//! most tensile corner first opens the base corner, and Newton converges on the solution
-//! in which only that corner has lifted (4 updates for 300 blocks; `cargo run --release
-//! -p blockstack --example tipping_onset`).
+//! after a number of updates in proportion to the column's height (276 updates for 300
+//! blocks, 762 for 1000). With the sets held, the first solution is the previous motion
+//! continued. From there, opening the most tensile corner first opens the base corner,
+//! and Newton converges on the solution in which only that corner has lifted (4 updates
+//! for 300 blocks; `cargo run --release -p blockstack --example tipping_onset`).
 
 use super::scheme::Scheme;
 use super::Stepper;
