@@ -227,14 +227,7 @@ fn tall_column_moving_base(c: &mut Criterion) {
         .chain([("tipping", 300, true, 0.3)])
         .chain([10usize, 1000].map(|n| ("hundred_steps", n, true, 1.0)));
     for (name, n, start_with_base, t_end) in runs {
-        let mut scene = shaking_column(&Shaking {
-            blocks: n,
-            amplitude: 0.001,
-            omega: 2.0,
-            start_with_base,
-            ..Shaking::default()
-        })
-        .unwrap();
+        let mut scene = shaking_column(&Shaking::tall_column(n, start_with_base)).unwrap();
         scene.solver.dt = 0.01;
         let opts = RunOptions {
             t_end: Some(t_end),

@@ -51,15 +51,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let n = argument(1, 100)?;
     let steps = argument(2, 100)?.max(2);
     let trace = std::env::args().nth(3).as_deref() == Some("trace");
-    let scene = shaking_column(&Shaking {
-        blocks: n,
-        omega: 2.0,
-        mu: 0.2,
-        amplitude: 0.001,
-        steps_per_period: 314.0,
-        periods: 1.0,
-        start_with_base: false,
-    })?;
+    let scene = shaking_column(&Shaking::tall_column(n, false))?;
     let options = stepper_options(&scene, &RunOptions::default())?;
     let (q0, u0) = (scene.initial_coordinates(), scene.initial_velocities());
     let mut system = StackSystem::new(scene.clone());

@@ -33,15 +33,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         Some(a) => a.parse().map_err(|e| format!("BLOCKS '{a}': {e}"))?,
         None => 300,
     };
-    let column = Shaking {
-        blocks: n,
-        omega: 2.0,
-        mu: 0.2,
-        amplitude: 0.001,
-        steps_per_period: 314.0,
-        periods: 1.0,
-        start_with_base: true,
-    };
+    let column = Shaking::tall_column(n, true);
     let scene = shaking_column(&column)?;
     let dt = scene.solver.dt;
     // The statics: the base interface lifts a corner once A ω² sin ωt > g w/(h n).

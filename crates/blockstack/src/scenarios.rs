@@ -208,6 +208,24 @@ pub struct Shaking {
 }
 
 impl Shaking {
+    /// A tall column of `blocks` on a base that barely moves, x = 0.001 sin 2t (μ = 0.2,
+    /// Δt = 2π/628, one period): at rest and kicked by the base's velocity at t = 0, or
+    /// moving with the base when `start_with_base` (docs/method.md §8.2, tall columns;
+    /// `rollstack blocks shake --blocks N --omega 2 --amplitude 0.001 --mu 0.2
+    /// --steps-per-period 314`).
+    #[must_use]
+    pub fn tall_column(blocks: usize, start_with_base: bool) -> Self {
+        Self {
+            blocks,
+            amplitude: 0.001,
+            omega: 2.0,
+            periods: 1.0,
+            steps_per_period: 314.0,
+            mu: 0.2,
+            start_with_base,
+        }
+    }
+
     /// The base period 2π/ω.
     #[must_use]
     pub fn period(&self) -> f64 {

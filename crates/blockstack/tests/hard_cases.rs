@@ -301,16 +301,7 @@ fn regularized_matrices_of_blocks_lying_on_a_fast_base_are_solved() {
 /// A column of n blocks at rest on a base that barely moves, x = 0.001 sin 2t (μ = 0.2,
 /// Δt = 2π/628): the base's velocity at t0 kicks it.
 fn kicked_column(blocks: usize) -> blockstack::Scene {
-    shaking_column(&Shaking {
-        blocks,
-        omega: 2.0,
-        mu: 0.2,
-        amplitude: 0.001,
-        steps_per_period: 314.0,
-        periods: 1.0,
-        start_with_base: false,
-    })
-    .unwrap()
+    shaking_column(&Shaking::tall_column(blocks, false)).unwrap()
 }
 
 /// Tall columns on a base that barely moves (x = 0.001 sin 2t, μ = 0.2, Δt = 0.01): the
@@ -539,13 +530,8 @@ fn painleves_inconsistent_start_is_taken_by_the_last_resort() {
 /// a > g w/(h n) (0.2/(0.4 n) in the scene's units, g = 1), first for n > 125.
 fn column_moving_with_its_base(blocks: usize, steps_per_period: f64) -> blockstack::Scene {
     shaking_column(&Shaking {
-        blocks,
-        omega: 2.0,
-        mu: 0.2,
-        amplitude: 0.001,
         steps_per_period,
-        periods: 1.0,
-        start_with_base: true,
+        ..Shaking::tall_column(blocks, true)
     })
     .unwrap()
 }
