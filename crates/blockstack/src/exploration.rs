@@ -208,6 +208,12 @@ impl<'a> StackWalker<'a> {
         })
     }
 
+    /// Stops the steps from here on when `interrupt` asks ([`nsga::Interrupt`]): a step
+    /// in progress ends with [`StepError::Interrupted`].
+    pub(crate) fn set_interrupt(&mut self, interrupt: nsga::Interrupt) {
+        self.stepper.set_interrupt(interrupt);
+    }
+
     /// The stepper's options.
     #[must_use]
     pub fn options(&self) -> &nsga::Options {
@@ -385,7 +391,10 @@ impl Walker for StackWalker<'_> {
                 .step(self.scene, &mut self.stepper, self.summary.penetration_tol);
         self.solver_time += clock.elapsed().as_secs_f64();
         if let Err(e) = stepped {
-            self.summary.failed_steps += 1;
+            // A step the caller stopped did not fail.
+            if !matches!(e, StepError::Interrupted { .. }) {
+                self.summary.failed_steps += 1;
+            }
             return Err(e);
         }
         let stats = self.stepper.last_step().expect("a step was taken");

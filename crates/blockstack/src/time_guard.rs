@@ -97,8 +97,9 @@ pub fn run_cost(scene: &Scene, options: &RunOptions) -> RunCost {
 ///
 /// The trial runs on its own thread, watched for [`CALIBRATION_TIMEOUT_S`]: a scene
 /// whose start and first step take longer is given that time as the cost of one step
-/// (a lower bound) and its trial is cancelled, ending after its current step, so that
-/// the guard never waits on a step of hours.
+/// (a lower bound) and its trial is cancelled, ending within its current step at its
+/// next Newton update ([`nsga::Interrupt`]), so that the guard never waits on a step of
+/// hours and the trial does not go on beside the run.
 #[must_use]
 pub fn measured_rate(scene: &Scene, options: &RunOptions) -> Option<f64> {
     let cancel = Arc::new(AtomicBool::new(false));

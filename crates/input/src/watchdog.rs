@@ -82,8 +82,16 @@ pub struct Overrun {
 
 impl fmt::Display for Overrun {
     /// `the run was projected to take about 2.1e3 s (6 s for 0.29 % of its model time),
-    /// more than 600 s`
+    /// more than 600 s`, or, stopped before its model time moved, `the run spent 600 s
+    /// without getting past t = 0 (its bound: 600 s)`
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        if self.projected_s.is_infinite() {
+            return write!(
+                f,
+                "the run spent {:.0} s without getting past t = {} (its bound: {} s)",
+                self.elapsed_s, self.t, self.bound_s
+            );
+        }
         write!(
             f,
             "the run was projected to take about {:.1e} s ({:.0} s for {:.2} % of its model \
@@ -101,8 +109,9 @@ impl fmt::Display for Overrun {
 /// elapsed / (t − t0) × (t_end − t0), and once [`WATCHDOG_GRACE_S`] have passed, a
 /// projection over the bound stops the run ([`Self::check`] breaks). A run's cost per
 /// step only grows on average as a column collapses, so the projection errs short; but
-/// it never errs past the bound itself, since it is at least the time spent: no watched
-/// run goes on for more than [`TIME_BOUND_S`] and a step.
+/// it never errs past the bound itself, since it is at least the time spent. A step still
+/// in progress at the bound is stopped within it ([`Self::deadline`]): no watched run goes
+/// on for more than [`TIME_BOUND_S`] and one Newton update.
 #[derive(Debug, Clone)]
 pub struct Watchdog<C = WallClock> {
     clock: C,
@@ -111,6 +120,8 @@ pub struct Watchdog<C = WallClock> {
     bound_s: f64,
     grace_s: f64,
     overrun: Option<Overrun>,
+    /// When it was made, on the wall clock: the start of [`Self::deadline`].
+    made: Instant,
 }
 
 impl Watchdog {
@@ -138,6 +149,7 @@ impl<C: Clock> Watchdog<C> {
             bound_s,
             grace_s: WATCHDOG_GRACE_S * (bound_s / TIME_BOUND_S).min(1.0),
             overrun: None,
+            made: Instant::now(),
         }
     }
 
@@ -178,6 +190,30 @@ impl<C: Clock> Watchdog<C> {
             return ControlFlow::Break(());
         }
         ControlFlow::Continue(())
+    }
+
+    /// The wall-clock instant the bound after the watchdog was made (None when
+    /// unbounded; on the wall clock whatever the watchdog's own clock): a step still in
+    /// progress then is stopped within it ([`Self::stop_within_step`]), since
+    /// [`Self::check`] comes only between steps and one step can take hours.
+    #[must_use]
+    pub fn deadline(&self) -> Option<Instant> {
+        let bound = std::time::Duration::try_from_secs_f64(self.bound_s).ok()?;
+        self.made.checked_add(bound)
+    }
+
+    /// Records that the run was stopped at its [`Self::deadline`] within the step from
+    /// model time `t`: its projection is that of the time spent for the model time
+    /// reached (endless when no step was taken).
+    pub fn stop_within_step(&mut self, t: f64) {
+        let elapsed = self.clock.seconds();
+        self.overrun = Some(Overrun {
+            projected_s: self.projection(t, elapsed),
+            elapsed_s: elapsed,
+            t,
+            done: (t - self.t0) / (self.t_end - self.t0),
+            bound_s: self.bound_s,
+        });
     }
 
     /// Why the run was stopped, if it was.

@@ -64,6 +64,8 @@ pub enum AttemptFailure {
         /// The linear solver's message.
         message: String,
     },
+    /// The stepper's [`Interrupt`](crate::Interrupt) asked the attempt to stop.
+    Interrupted,
 }
 
 impl AttemptFailure {
@@ -87,7 +89,9 @@ impl AttemptFailure {
                 best,
             } => (visited, cycling, best),
             Self::Refused { visited, .. } => (visited, false, None),
-            Self::NonFinite | Self::Singular { .. } => (Vec::new(), false, None),
+            Self::NonFinite | Self::Singular { .. } | Self::Interrupted => {
+                (Vec::new(), false, None)
+            }
         }
     }
 
@@ -120,6 +124,10 @@ impl AttemptFailure {
             Self::Singular { message } => StepError::Linear {
                 t: state.t,
                 message,
+                state: Box::new(state.clone()),
+            },
+            Self::Interrupted => StepError::Interrupted {
+                t: state.t,
                 state: Box::new(state.clone()),
             },
         }

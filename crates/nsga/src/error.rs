@@ -52,6 +52,15 @@ pub enum StepError {
         /// The last good state.
         state: Box<State>,
     },
+    /// The caller's [`Interrupt`](crate::Interrupt) stopped the step before it ended
+    /// (a cancelled run, or one past its time bound).
+    #[error("the step from t = {t} was interrupted before it ended")]
+    Interrupted {
+        /// Time at the start of the step.
+        t: f64,
+        /// The state the step started from (the stepper stays there).
+        state: Box<State>,
+    },
     /// The Newton matrix could not be factorised.
     #[error("linear solve in the step from t = {t}: {message}")]
     Linear {
@@ -73,6 +82,7 @@ impl StepError {
             Self::NotConverged { state, .. }
             | Self::NonFinite { state, .. }
             | Self::Linear { state, .. }
+            | Self::Interrupted { state, .. }
             | Self::NoSolution { state, .. } => Some(state),
             Self::InvalidInput(_) | Self::Start { .. } => None,
         }

@@ -103,6 +103,7 @@ pub mod error;
 pub mod explore;
 mod fallback;
 pub mod friction_polygon;
+pub mod interrupt;
 pub mod lcp;
 mod lcp_step;
 mod level;
@@ -128,6 +129,7 @@ pub use error::StepError;
 pub use explore::{
     explore, Branch, BranchEnd, Exploration, ExploreOptions, Fork, Strategy, Walker,
 };
+pub use interrupt::Interrupt;
 pub use linalg::{AutoSolver, BandLu, DenseLu, LinalgError, LinearSolver, MarkowitzLu, SparseLu};
 pub use moreau::{MoreauOptions, MoreauState, MoreauStepper};
 pub use options::{

@@ -211,9 +211,10 @@ impl<S: System> MoreauStepper<S> {
                 Ok(iterations)
             }
             Outcome::Singular(message) => self.by_lemke(&message),
-            Outcome::NotConverged { .. } | Outcome::NonFinite | Outcome::Restart => {
-                self.by_lemke("Moreau–Jean Newton did not converge")
-            }
+            Outcome::NotConverged { .. }
+            | Outcome::NonFinite
+            | Outcome::Restart
+            | Outcome::Interrupted => self.by_lemke("Moreau–Jean Newton did not converge"),
         }
     }
 

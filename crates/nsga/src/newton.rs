@@ -78,6 +78,12 @@ pub trait NewtonProblem {
     /// for the start of the attempt (where, for example, prox parameters are updated).
     fn evaluate(&mut self, x: &[f64], first: bool) -> (Self::Sets, f64);
 
+    /// Whether the caller asked the attempt to stop (the stepper's
+    /// [`Interrupt`](crate::Interrupt)), asked before every update. Default: never.
+    fn interrupted(&self) -> bool {
+        false
+    }
+
     /// Whether the attempt must be restarted at these sets (the stepper: a contact it
     /// left out of the linear solve closes). Default: never.
     fn restart(&mut self, _sets: &Self::Sets) -> bool {
@@ -166,6 +172,8 @@ pub enum Outcome<S> {
     Singular(String),
     /// The problem asked for a restart ([`NewtonProblem::restart`]).
     Restart,
+    /// The caller asked the attempt to stop ([`NewtonProblem::interrupted`]).
+    Interrupted,
 }
 
 /// Reused buffers of the engine.
@@ -273,6 +281,10 @@ pub fn solve<P: NewtonProblem>(
         let extended = converging && iter < settings.max_iter + settings.contracting_extra;
         if (iter >= settings.max_iter && !extended) || hopeless {
             break;
+        }
+        // Asked before the update, which is where an attempt spends its time.
+        if problem.interrupted() {
+            return Outcome::Interrupted;
         }
         // Simplified Newton while it contracts.
         if reused && res > t.reuse_contraction * last_res {

@@ -154,6 +154,8 @@ pub struct Stepper<S: System> {
     same_sets: bool,
     /// The islands held at rest (`stepper/islands.rs`).
     islands: islands::Islands,
+    /// When the step in progress should stop ([`Stepper::set_interrupt`]).
+    interrupt: crate::Interrupt,
 }
 
 /// Buffers reused from iterate to iterate and step to step.
@@ -388,6 +390,7 @@ impl<S: System> Stepper<S> {
             moved: rest::Moved::Beyond,
             same_sets: false,
             islands: islands::Islands::default(),
+            interrupt: crate::Interrupt::default(),
         })
     }
 
@@ -450,6 +453,7 @@ impl<S: System> Stepper<S> {
             moved: rest::Moved::Beyond,
             same_sets: false,
             islands: islands::Islands::default(),
+            interrupt: self.interrupt.clone(),
         }
     }
     /// Drops the solver's buffers and kept factors (rebuilt at the next step), to hold a
@@ -458,6 +462,14 @@ impl<S: System> Stepper<S> {
         let solves = self.work.linear_solves;
         self.work = Work::new(&self.layout, &self.options);
         self.work.linear_solves = solves;
+    }
+
+    /// Stops the steps from here on when `interrupt` asks (a caller's flag, a deadline):
+    /// a step in progress then ends before its next stage or Newton update with
+    /// [`StepError::Interrupted`], the state where the step started
+    /// ([`mod@crate::interrupt`]).
+    pub fn set_interrupt(&mut self, interrupt: crate::Interrupt) {
+        self.interrupt = interrupt;
     }
 
     /// The options.

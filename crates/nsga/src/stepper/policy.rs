@@ -328,7 +328,8 @@ impl Policy {
                     self.best = best;
                 }
             }
-            Some(AttemptFailure::Singular { .. }) | None => {}
+            // An interrupted retry ends the step before the next stage.
+            Some(AttemptFailure::Singular { .. } | AttemptFailure::Interrupted) | None => {}
             Some(AttemptFailure::NonFinite | AttemptFailure::Refused { .. }) => {
                 self.singular = None;
             }
@@ -417,6 +418,9 @@ impl<S: System> Stepper<S> {
         let mut policy = Policy::new(self, self.options.policy.max_halvings, true);
         let mut stage = policy.first();
         loop {
+            if self.interrupt.requested() {
+                return Err(self.interrupted(above));
+            }
             let next = match stage {
                 Stage::Halving => match self.begin_split(2) {
                     Ok(halves) => {
@@ -452,6 +456,18 @@ impl<S: System> Stepper<S> {
                 Resume::At(p, s) => (policy, stage) = (p, s),
                 Resume::Finished(result) => return result,
             }
+        }
+    }
+
+    /// The step stopped by the caller's [`Interrupt`](crate::Interrupt): the levels of
+    /// halving left, the state back where the step started.
+    fn interrupted(&mut self, mut above: Vec<(Policy, Halves)>) -> StepError {
+        while let Some((_, halves)) = above.pop() {
+            self.abort_split(halves);
+        }
+        StepError::Interrupted {
+            t: self.state.t,
+            state: Box::new(self.state.clone()),
         }
     }
 

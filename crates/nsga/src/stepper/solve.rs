@@ -54,6 +54,10 @@ enum Run {
 impl<S: System> NewtonProblem for StepProblem<'_, S> {
     type Sets = IndexSets;
 
+    fn interrupted(&self) -> bool {
+        self.stepper.interrupt.requested()
+    }
+
     fn evaluate(&mut self, x: &[f64], first: bool) -> (IndexSets, f64) {
         let started = Instant::now();
         // A resumed attempt keeps the prox parameters of its start.
@@ -269,6 +273,7 @@ impl<S: System> Stepper<S> {
                 self.converged(x, converged, visited, spec.rho_inf)
             }
             Outcome::NonFinite => Err(AttemptFailure::NonFinite),
+            Outcome::Interrupted => Err(AttemptFailure::Interrupted),
             Outcome::Singular(message) => Err(AttemptFailure::Singular { message }),
             Outcome::NotConverged {
                 visited,
