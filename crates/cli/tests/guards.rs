@@ -23,7 +23,7 @@ fn refused(args: &[&str], words: &[&str]) {
 #[test]
 fn block_counts_over_the_limit_are_refused_before_anything_is_allocated() {
     let billion = "1000000000";
-    let limit = "[1, 1000]";
+    let limit = "[1, 10000]";
     refused(
         &["blocks", "shake", "--blocks", billion],
         &["--blocks", limit],
@@ -75,7 +75,7 @@ fn block_counts_over_the_limit_are_refused_before_anything_is_allocated() {
         refused(&["blocks", "explore", s], &["count", limit]);
     }
     // Two entries whose total is over the limit.
-    let two = toml.replace("count = 4", "count = 600") + "\n";
+    let two = toml.replace("count = 4", "count = 6000") + "\n";
     let second = two[two.find("[[blocks]]").unwrap()..two.find("[contact]").unwrap()].to_owned();
     std::fs::write(
         &scene,
