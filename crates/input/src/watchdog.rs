@@ -178,15 +178,8 @@ impl<C: Clock> Watchdog<C> {
         if elapsed < self.grace_s {
             return ControlFlow::Continue(());
         }
-        let projected = self.projection(t, elapsed);
-        if projected > self.bound_s {
-            self.overrun = Some(Overrun {
-                projected_s: projected,
-                elapsed_s: elapsed,
-                t,
-                done: (t - self.t0) / (self.t_end - self.t0),
-                bound_s: self.bound_s,
-            });
+        if self.projection(t, elapsed) > self.bound_s {
+            self.stop_at(t, elapsed);
             return ControlFlow::Break(());
         }
         ControlFlow::Continue(())
@@ -207,6 +200,11 @@ impl<C: Clock> Watchdog<C> {
     /// reached (endless when no step was taken).
     pub fn stop_within_step(&mut self, t: f64) {
         let elapsed = self.clock.seconds();
+        self.stop_at(t, elapsed);
+    }
+
+    /// Records the run stopped at model time `t` after `elapsed` s.
+    fn stop_at(&mut self, t: f64, elapsed: f64) {
         self.overrun = Some(Overrun {
             projected_s: self.projection(t, elapsed),
             elapsed_s: elapsed,
