@@ -24,6 +24,8 @@ use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 use std::ops::ControlFlow;
 use std::path::PathBuf;
+use std::sync::atomic::AtomicBool;
+use std::sync::Arc;
 
 /// A validated block-stack scene: blocks, base and its motion, contact, solver, floor.
 #[pyclass(module = "rollstack.blocks", name = "Scene", frozen)]
@@ -446,7 +448,9 @@ impl Trajectory {
     }
 }
 
-/// Runs a scene (`simulation::simulate_until`), checking for Ctrl-C after every step.
+/// Runs a scene (`simulation::simulate_until`) on a worker thread with the GIL released,
+/// checking for Ctrl-C every 20 ms: a Ctrl-C ends the run within its current step (its
+/// `cancel` flag, `nsga::Interrupt`), and the trajectory up to there is kept.
 /// Returns a dict: `report_json` (the CLI's JSON of `blocks run`, without files and
 /// notes, as text), `steps`, `failure_time`,
 /// the trajectory arrays, `events` (list of dicts), `error` (message or None) and
@@ -478,19 +482,22 @@ fn blocks_simulate<'py>(
         )?;
         let scenes = std::slice::from_ref(&scene.scene);
         check_time_bound(scenes, &options, force, "shorten t_end")?;
-        let mut trajectory = Trajectory::default();
-        let mut interrupt: Option<PyErr> = None;
-        let summary = simulate_until(&scene.scene, &options, |r| {
-            trajectory.push(r);
-            match py.check_signals() {
-                Ok(()) => ControlFlow::Continue(()),
-                Err(e) => {
-                    interrupt = Some(e);
-                    ControlFlow::Break(())
-                }
-            }
-        })
-        .map_err(value_error)?;
+        let cancel = Arc::new(AtomicBool::new(false));
+        let options = RunOptions {
+            cancel: Some(cancel.clone()),
+            ..options
+        };
+        let run = &scene.scene;
+        let (ran, interrupt) = crate::interruptible_keeping(py, &cancel, || {
+            let mut trajectory = Trajectory::default();
+            let summary = simulate_until(run, &options, |r| {
+                trajectory.push(r);
+                ControlFlow::Continue(())
+            })
+            .map_err(value_error)?;
+            Ok((summary, trajectory))
+        });
+        let (summary, trajectory) = ran?;
         let t_final = trajectory.t.last().copied().unwrap_or(0.0);
         let report = RunReport::new(&summary, &scene.scene, &options, &scene.defaults, t_final);
         let out = PyDict::new(py);

@@ -11,8 +11,9 @@
 //! - reports are handed over as the JSON the command line prints (`--json`), parsed by
 //!   Python's `json` (`json_to_py`), so that a Python result equals the CLI's to the
 //!   last printed digit; trajectories are numpy arrays;
-//! - long runs check for Ctrl-C between steps (`Python::check_signals`) and
-//!   sweeps run on rayon with the GIL released.
+//! - long runs work on a thread of their own with the GIL released while the caller
+//!   checks for Ctrl-C (`interruptible`), and end within the current step on it
+//!   (`nsga::Interrupt`); sweeps run on rayon.
 
 mod block_studies;
 mod blocks;
@@ -61,18 +62,35 @@ pub(crate) fn interruptible<T: Send>(
     cancel: &AtomicBool,
     work: impl FnOnce() -> PyResult<T> + Send,
 ) -> PyResult<T> {
+    match interruptible_keeping(py, cancel, work) {
+        (_, Some(interrupt)) => Err(interrupt),
+        (result, None) => result,
+    }
+}
+
+/// [`interruptible`] that keeps what `work` returns after a Ctrl-C: its result, and the
+/// `KeyboardInterrupt` for the caller to raise once it has kept that result (None when
+/// `work` ended by itself).
+pub(crate) fn interruptible_keeping<T: Send>(
+    py: Python<'_>,
+    cancel: &AtomicBool,
+    work: impl FnOnce() -> PyResult<T> + Send,
+) -> (PyResult<T>, Option<PyErr>) {
     std::thread::scope(|scope| {
         let worker = scope.spawn(|| guard(work));
+        let mut interrupt = None;
         while !worker.is_finished() {
-            if let Err(interrupt) = py.check_signals() {
+            if let Err(e) = py.check_signals() {
                 cancel.store(true, Ordering::Relaxed);
-                py.detach(|| worker.join()).ok();
-                return Err(interrupt);
+                interrupt = Some(e);
+                break;
             }
             py.detach(|| std::thread::sleep(SIGNAL_POLL));
         }
-        py.detach(|| worker.join())
-            .unwrap_or_else(|_| Err(PyRuntimeError::new_err("the worker thread stopped")))
+        let result = py
+            .detach(|| worker.join())
+            .unwrap_or_else(|_| Err(PyRuntimeError::new_err("the worker thread stopped")));
+        (result, interrupt)
     })
 }
 

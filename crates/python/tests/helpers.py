@@ -22,10 +22,10 @@ def strip_timings(value):
     return value
 
 
-def exits_on_sigint(body: str) -> None:
+def exits_on_sigint(body: str, after: float = 1.0) -> None:
     """Runs `body` (which has `blocks` and `nsga` imported and must take far longer than the test)
-    in a child process, sends it SIGINT and checks that it raised KeyboardInterrupt
-    within a second.
+    in a child process, sends it SIGINT `after` seconds after it started and checks that it
+    raised KeyboardInterrupt within a second.
 
     The child installs Python's SIGINT handler itself: a process started in the
     background by a non-interactive shell (`nohup`, a batch job) inherits SIGINT ignored,
@@ -47,7 +47,7 @@ def exits_on_sigint(body: str) -> None:
     ).format(body=body)
     p = subprocess.Popen([sys.executable, "-c", child], stdout=subprocess.PIPE, text=True)
     assert p.stdout.readline().strip() == "started"
-    time.sleep(1.0)
+    time.sleep(after)
     sent = time.monotonic()
     p.send_signal(signal.SIGINT)
     try:

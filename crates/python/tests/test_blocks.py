@@ -236,6 +236,17 @@ def test_ctrl_c_interrupts_a_long_simulation():
     )
 
 
+def test_ctrl_c_interrupts_a_long_step():
+    # A 3000-block column moving with its base starts in a fraction of a second and tips
+    # in its third step, which takes more than a minute (docs/method.md §8.2, tall
+    # columns): three seconds in, Ctrl-C must end the run within that step.
+    exits_on_sigint(
+        "blocks.simulate(blocks.shaking(blocks=3000, omega=2.0, amplitude=0.001, mu=0.2,"
+        " steps_per_period=314.0, periods=1.0, start_with_base=True), force=True)",
+        after=3.0,
+    )
+
+
 def test_ctrl_c_interrupts_a_long_sweep():
     # Two rows of 100000 periods each: the interrupt must end the runs already started,
     # not only keep new rows from starting.

@@ -357,7 +357,8 @@ def simulate(
     Returns a :class:`Result`. Raises ``ValueError`` for bad options (t_end ≤ 0, r ≤ 0),
     :class:`rollstack.SolverError` when the run stops early on a step it cannot resolve
     (its ``result`` attribute holds the :class:`Result` up to that step), and
-    ``KeyboardInterrupt`` on Ctrl-C (checked after every step).
+    ``KeyboardInterrupt`` on Ctrl-C (checked every 20 ms while the run works with the GIL
+    released; the run ends within its current step).
 
     Example::
 
@@ -823,7 +824,7 @@ def converge(
     ``notes``: ``failure`` and ``outcome`` (the verdicts), ``separation``, ``runs`` (each
     run's failure time, outcome, final poses, forks and separation), ``dts``, ...
 
-    Runs in parallel with the GIL released; Ctrl-C stops the runs after their current
+    Runs in parallel with the GIL released; Ctrl-C stops the runs within their current
     step and raises ``KeyboardInterrupt``. Raises ``ValueError`` naming the parameter for
     ``levels`` outside 1..8, ``ensemble`` outside 0..20, a ``t_end`` that is not positive,
     or runs estimated to take longer than ten minutes (the time guard of the command line;
