@@ -215,29 +215,30 @@ fn least_key(keys: &[u32]) -> u32 {
 /// in magnitude `largest`: among the entries passing the threshold test (at least
 /// `threshold` times the largest: [`PIVOT_THRESHOLD`], or 1 for partial pivoting), the
 /// one of least row count, which minimizes Markowitz's (r − 1)(c − 1) within the column;
-/// ties go to the larger entry, then to the first row. None when every entry is zero
-/// (NaN entries fail the test too).
+/// ties go to the larger entry, then to the first row: (row, entry). None when every
+/// entry is zero (NaN entries fail the test too).
 fn pivot_row(
     rows: &[u32],
     values: &[f64],
     largest: f64,
     row_count: &[u32],
     threshold: f64,
-) -> Option<usize> {
+) -> Option<(usize, f64)> {
     let nonzero = largest > 0.0;
     if !nonzero {
         return None;
     }
-    let mut best: Option<(u32, usize, f64)> = None;
-    for (&i, &v) in rows.iter().zip(values) {
-        let (i, v) = (i as usize, v.abs());
+    let mut best: Option<(u32, usize, f64, f64)> = None;
+    for (&i, &value) in rows.iter().zip(values) {
+        let (i, v) = (i as usize, value.abs());
         let r = row_count[i];
-        if v >= threshold * largest && best.is_none_or(|(br, _, bv)| r < br || (r == br && v > bv))
+        if v >= threshold * largest
+            && best.is_none_or(|(br, _, bv, _)| r < br || (r == br && v > bv))
         {
-            best = Some((r, i, v));
+            best = Some((r, i, v, value));
         }
     }
-    best.map(|(_, i, _)| i)
+    best.map(|(_, i, _, value)| (i, value))
 }
 
 impl MarkowitzLu {
@@ -342,7 +343,8 @@ impl MarkowitzLu {
             let mut largest = 0.0_f64;
             for w in 0..W {
                 each_bit(cols[c][w] & active_rows[w], 64 * w, |i| {
-                    let v = a[i * sa + c];
+                    // Read for the last time: the storage is left zeroed as it is read.
+                    let v = std::mem::take(&mut a[i * sa + c]);
                     largest = largest.max(v.abs());
                     column_rows.push(i as u32);
                     column_values.push(v);
@@ -351,7 +353,7 @@ impl MarkowitzLu {
             if column_rows.is_empty() {
                 return Err(Singular::Structurally);
             }
-            let p = pivot_row(column_rows, column_values, largest, row_count, threshold)
+            let (p, pivot) = pivot_row(column_rows, column_values, largest, row_count, threshold)
                 .ok_or(Singular::Numerically)?;
 
             // U row k: the pivot row's active entries, which leave their columns' counts.
@@ -364,12 +366,11 @@ impl MarkowitzLu {
                 u_words[w] = rows[p][w] & active_cols[w];
                 each_bit(u_words[w], 64 * w, |j| {
                     u_cols.push(j as u32);
-                    u_values.push(a[p * sa + j]);
+                    u_values.push(std::mem::take(&mut a[p * sa + j]));
                     keys[j] -= COUNT_ONE;
                 });
             }
             self.u_ptr.push(u_cols.len());
-            let pivot = a[p * sa + c];
             self.pivots.push((p, c));
             self.pivot_value.push(pivot);
             let (u_row_cols, u_row) = (&u_cols[u_start..], &u_values[u_start..]);
@@ -409,7 +410,9 @@ impl MarkowitzLu {
     }
 
     /// Zeroes the entries of `a` the last matrix used: those in the row patterns, which
-    /// cover every entry loaded or filled in.
+    /// cover every entry loaded or filled in. Needed only after an elimination that
+    /// stopped: a whole one reads every entry for the last time as a pivot row or a
+    /// pivot column retires, and zeroes it then.
     fn clear_values(&mut self) {
         let (sa, w) = (self.stride, self.words);
         for (r, row) in self.row_pattern.chunks_exact(w.max(1)).enumerate() {
@@ -455,7 +458,9 @@ impl MarkowitzLu {
     ) -> Result<Result<(), Singular>, LinalgError> {
         self.load::<W>(triplets)?;
         let factored = self.factor::<W>(threshold);
-        self.clear_values();
+        if factored.is_err() {
+            self.clear_values();
+        }
         Ok(factored)
     }
 }

@@ -111,6 +111,27 @@ fn a_reused_solver_solves_like_a_fresh_one() {
 }
 
 #[test]
+fn every_factorization_leaves_the_storage_zeroed() {
+    // A whole elimination zeroes each entry as its pivot row or column retires; one that
+    // stops (a column without entries, a pivot too small, the retry with partial
+    // pivoting above the dense verdict's size) clears what it left.
+    let mut lu = MarkowitzLu::default();
+    let empty_column = [(0, 0, 1.0), (1, 0, 2.0), (2, 2, 1.0)];
+    let cancelled = [(0, 0, 1.0), (0, 1, 1.0), (1, 0, 1.0), (1, 1, 1.0 + 1e-16)];
+    for (n, t) in [
+        (150, saddle(150, 7)),
+        (3, empty_column.to_vec()),
+        (64, saddle(64, 5)),
+        (2, cancelled.to_vec()),
+        (300, saddle(300, 9)),
+    ] {
+        let mut b = vec![1.0; n];
+        let _ = lu.solve(n, &t, &mut b);
+        assert!(lu.a.iter().all(|&v| v == 0.0), "n = {n}");
+    }
+}
+
+#[test]
 fn fill_is_followed() {
     // An arrow matrix eliminated from its dense corner fills completely; the
     // solution must still be exact.
