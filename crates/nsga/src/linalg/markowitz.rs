@@ -78,8 +78,10 @@ pub struct MarkowitzLu {
     words: usize,
     /// The matrix, row-major in the original numbering with row length `stride`,
     /// reduced in place. All zeros between factorizations: entry (i, j) is written only
-    /// where bit j of row i's pattern is set, and [`MarkowitzLu::clear_values`] zeroes
-    /// those, so a matrix costs its nonzeros and fill, not n² stores.
+    /// where bit j of row i's pattern is set, the elimination takes each such entry out
+    /// as it reads it for the last time (a stopped one leaves the rest to
+    /// [`MarkowitzLu::clear_values`]), so a matrix costs its nonzeros and fill, not n²
+    /// stores.
     a: Vec<f64>,
     /// Row length of `a`: the largest n seen.
     stride: usize,

@@ -85,8 +85,8 @@ fn agrees_with_dense_lu_on_sparse_matrices() {
 
 #[test]
 fn a_reused_solver_solves_like_a_fresh_one() {
-    // The storage is cleared by pattern, not zeroed per matrix: sizes that shrink and
-    // grow, a singular matrix and bad input in between must leave nothing behind.
+    // The storage is zeroed entry by entry, not per matrix: sizes that shrink and grow,
+    // a singular matrix and bad input in between must leave nothing behind.
     let mut reused = MarkowitzLu::default();
     let mut b = vec![1.0; 2];
     let cancelled = [(0, 0, 1.0), (0, 1, 1.0), (1, 0, 1.0), (1, 1, 1.0 + 1e-16)];
