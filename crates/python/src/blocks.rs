@@ -787,7 +787,7 @@ fn with_studies(
 }
 
 /// [`crate::parallel_rows`] of block-stack runs with `options`, whose `cancel` flag is
-/// set here: a Ctrl-C ends every run after its current step.
+/// set here: a Ctrl-C ends every run within its current step.
 pub(crate) fn parallel_rows<'py, P: Sync, R: Send + serde::Serialize>(
     py: Python<'py>,
     items: &[P],
