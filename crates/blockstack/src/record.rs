@@ -226,12 +226,21 @@ pub fn write_trajectory_row<W: Write>(
     if !cells.iter().all(|v| v.is_finite()) {
         return Err(TrajectoryError::NonFinite(rec.t));
     }
-    let mut row: Vec<String> = cells.iter().map(|v| number_text(*v)).collect();
+    // Each cell formatted straight into the writer (as `number_text` and
+    // `finite_text` would), not into a string of its own: a row per step.
+    for v in &cells {
+        write!(out, "{v:?},")?;
+    }
     // The minimum gap is +inf when no contact is closed: left empty then.
-    row.push(finite_text(rec.min_gap));
-    row.push(rec.iterations.to_string());
-    row.push(finite_text(rec.energy));
-    writeln!(out, "{}", row.join(","))?;
+    let finite = |v: f64| v.is_finite().then_some(v);
+    if let Some(gap) = finite(rec.min_gap) {
+        write!(out, "{gap:?}")?;
+    }
+    write!(out, ",{},", rec.iterations)?;
+    if let Some(energy) = finite(rec.energy) {
+        write!(out, "{energy:?}")?;
+    }
+    writeln!(out)?;
     Ok(())
 }
 
