@@ -29,6 +29,7 @@ use crate::coordinates::Pose;
 use crate::corners::corners;
 use crate::scene::Scene;
 use crate::simulation::{BlockPose, StepRecord};
+use std::fmt;
 use std::io::Write;
 
 /// The base and block poses of one moment, bottom to top (base first).
@@ -173,20 +174,40 @@ fn header(n: usize, m: usize) -> Vec<String> {
     h
 }
 
+/// A number as the files write it: the shortest text that reads back as the same
+/// number (`0.1`, `2.7755575615628914e-17`). Written straight into a writer or made a
+/// string ([`number_text`]): the one place the format is chosen.
+struct Number(f64);
+
+impl fmt::Display for Number {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "{:?}", self.0)
+    }
+}
+
+/// A finite number as [`Number`], or nothing: never NaN or inf in a file.
+struct Finite(f64);
+
+impl fmt::Display for Finite {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        if self.0.is_finite() {
+            Number(self.0).fmt(f)
+        } else {
+            Ok(())
+        }
+    }
+}
+
 /// Shortest text that reads back as the same number (`0.1`, `2.7755575615628914e-17`).
 #[must_use]
 pub fn number_text(v: f64) -> String {
-    format!("{v:?}")
+    Number(v).to_string()
 }
 
 /// A finite number as [`number_text`], or an empty cell: never NaN or inf in a file.
 #[must_use]
 pub fn finite_text(v: f64) -> String {
-    if v.is_finite() {
-        number_text(v)
-    } else {
-        String::new()
-    }
+    Finite(v).to_string()
 }
 
 /// An optional number as [`finite_text`]; an empty cell when absent.
@@ -226,21 +247,14 @@ pub fn write_trajectory_row<W: Write>(
     if !cells.iter().all(|v| v.is_finite()) {
         return Err(TrajectoryError::NonFinite(rec.t));
     }
-    // Each cell formatted straight into the writer (as `number_text` and
-    // `finite_text` would), not into a string of its own: a row per step.
-    for v in &cells {
-        write!(out, "{v:?},")?;
+    // Each cell formatted straight into the writer, not into a string of its own: a
+    // row per step.
+    for &v in &cells {
+        write!(out, "{},", Number(v))?;
     }
     // The minimum gap is +inf when no contact is closed: left empty then.
-    let finite = |v: f64| v.is_finite().then_some(v);
-    if let Some(gap) = finite(rec.min_gap) {
-        write!(out, "{gap:?}")?;
-    }
-    write!(out, ",{},", rec.iterations)?;
-    if let Some(energy) = finite(rec.energy) {
-        write!(out, "{energy:?}")?;
-    }
-    writeln!(out)?;
+    let (gap, energy) = (Finite(rec.min_gap), Finite(rec.energy));
+    writeln!(out, "{gap},{},{energy}", rec.iterations)?;
     Ok(())
 }
 
