@@ -29,8 +29,7 @@ fn pair_rows<'py, R: Send + serde::Serialize>(
         s.system()
             .map_err(|e| value_error(format!("theta {}: {e}", input::Short(theta))))?;
     }
-    let runs = thetas.len().saturating_mul(runs_per_row);
-    check_pair_time(&settings(thetas[0]), runs, force)?;
+    check_pair_time(&settings(thetas[0]), thetas.len(), runs_per_row, force)?;
     let cancel = AtomicBool::new(false);
     crate::parallel_rows(py, thetas, &cancel, |&theta| row(&settings(theta), &cancel))
 }

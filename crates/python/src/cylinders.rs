@@ -137,13 +137,19 @@ pub(crate) fn check_pair_theta(theta: f64, cylinder: &Cylinder) -> PyResult<()> 
     )))
 }
 
-/// Refuses `runs` runs of `settings` estimated to take longer than the ten-minute time
-/// guard (`studies::pair_cost`, measured on the first steps), unless `force`.
-pub(crate) fn check_pair_time(settings: &PairSettings, runs: usize, force: bool) -> PyResult<()> {
+/// Refuses `rows` rows of `runs_per_row` runs of `settings` (a row's runs one after
+/// another) estimated to take longer than the ten-minute time guard
+/// (`studies::pair_cost`, measured on the first steps), unless `force`.
+pub(crate) fn check_pair_time(
+    settings: &PairSettings,
+    rows: usize,
+    runs_per_row: usize,
+    force: bool,
+) -> PyResult<()> {
     if force {
         return Ok(());
     }
-    match pair_cost(settings, runs, rayon::current_num_threads()) {
+    match pair_cost(settings, rows, runs_per_row, rayon::current_num_threads()) {
         Some(cost) if cost.seconds > TIME_BOUND_S => Err(PyValueError::new_err(format!(
             "{cost}, more than {TIME_BOUND_S} s: take fewer steps or values, or pass force=True"
         ))),
@@ -514,7 +520,7 @@ fn cylinders_pair<'py>(
         };
         check_steps(dt, steps)?;
         check_pair_theta(theta, &settings.cylinder)?;
-        check_pair_time(&settings, 1, force)?;
+        check_pair_time(&settings, 1, 1, force)?;
         // On a worker thread, so that Ctrl-C is seen while it runs: the run stops
         // after its current step.
         let cancel = AtomicBool::new(false);
@@ -582,7 +588,7 @@ fn cylinders_work_precision<'py>(
         }
         check_pair_theta(theta, &study_settings(theta, dts[0]).cylinder)?;
         let cost = study_cost_settings(theta, &dts, reference_factor, repeat);
-        check_pair_time(&cost, 1, force)?;
+        check_pair_time(&cost, 1, 1, force)?;
         let cancel = AtomicBool::new(false);
         let study = crate::interruptible(py, &cancel, || {
             pair_work_precision_until(theta, &dts, reference_factor, repeat, &cancel)

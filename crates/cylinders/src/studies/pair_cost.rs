@@ -41,11 +41,18 @@ impl fmt::Display for PairCost {
     }
 }
 
-/// The cost of `runs` runs of `settings` (each `settings.steps` steps) shared out over
-/// `threads` threads, measured on the first [`TRIAL_STEPS`] steps of one of them; `None`
-/// when there is no run or the trial fails (the run itself then reports why).
+/// The cost of `rows` rows of `runs_per_row` runs of `settings` (each `settings.steps`
+/// steps), the rows shared out over `threads` threads and a row's runs one after another
+/// (a push sweep's pushes), measured on the first [`TRIAL_STEPS`] steps of one run;
+/// `None` when there is no run or the trial fails (the run itself then reports why).
 #[must_use]
-pub fn pair_cost(settings: &PairSettings, runs: usize, threads: usize) -> Option<PairCost> {
+pub fn pair_cost(
+    settings: &PairSettings,
+    rows: usize,
+    runs_per_row: usize,
+    threads: usize,
+) -> Option<PairCost> {
+    let runs = rows.saturating_mul(runs_per_row);
     if runs == 0 {
         return None;
     }
@@ -58,7 +65,7 @@ pub fn pair_cost(settings: &PairSettings, runs: usize, threads: usize) -> Option
     let (per_step, steps, threads) = (
         report.wall_time_s / trial.steps as f64,
         settings.steps as f64 * runs as f64,
-        threads.clamp(1, runs) as f64,
+        threads.clamp(1, rows) as f64,
     );
     Some(PairCost {
         runs,
@@ -84,8 +91,8 @@ mod tests {
             ..short
         };
         let (a, b) = (
-            pair_cost(&short, 1, 1).unwrap(),
-            pair_cost(&long, 4, 2).unwrap(),
+            pair_cost(&short, 1, 1, 1).unwrap(),
+            pair_cost(&long, 4, 1, 2).unwrap(),
         );
         assert_eq!((a.trial_steps, b.trial_steps), (TRIAL_STEPS, TRIAL_STEPS));
         assert_eq!(b.steps, 4e9);
@@ -97,8 +104,15 @@ mod tests {
             b.to_string().starts_with("4 run(s) of 4.0e9 steps in all"),
             "{b}"
         );
-        assert!(pair_cost(&short, 0, 1).is_none());
+        assert!(pair_cost(&short, 0, 1, 1).is_none());
         let bad = PairSettings { dt: -1.0, ..short };
-        assert!(pair_cost(&bad, 1, 1).is_none());
+        assert!(pair_cost(&bad, 1, 1, 1).is_none());
+        // A row's runs go one after another: one row of four runs takes one thread.
+        let row = pair_cost(&long, 1, 4, 2).unwrap();
+        assert_eq!(row.runs, 4);
+        assert!(
+            (row.seconds - row.per_step * 4e9).abs() <= 1e-9 * row.seconds,
+            "{row}"
+        );
     }
 }

@@ -9,17 +9,22 @@ use anyhow::Result;
 use cylinders::studies::pair::PairSettings;
 use cylinders::studies::pair_cost::pair_cost;
 
-/// Refuses `runs` runs of `settings` (each `settings.steps` steps, shared out over the
-/// threads) estimated to take more than [`TIME_BOUND_S`], unless `force`. Nothing is
+/// Refuses `rows` rows of `runs_per_row` runs of `settings` (each `settings.steps`
+/// steps; the rows share out the threads, a row's runs go one after another) estimated to take more than [`TIME_BOUND_S`], unless `force`. Nothing is
 /// written before; a trial that fails is left to the run itself to report.
 ///
 /// # Errors
 /// When the estimate is over the bound and `force` is false.
-pub fn check_time_bound(settings: &PairSettings, runs: usize, force: bool) -> Result<()> {
+pub fn check_time_bound(
+    settings: &PairSettings,
+    rows: usize,
+    runs_per_row: usize,
+    force: bool,
+) -> Result<()> {
     if force {
         return Ok(());
     }
-    let Some(cost) = pair_cost(settings, runs, rayon::current_num_threads()) else {
+    let Some(cost) = pair_cost(settings, rows, runs_per_row, rayon::current_num_threads()) else {
         return Ok(());
     };
     anyhow::ensure!(

@@ -121,7 +121,7 @@ fn sweep_pair(a: &PairSweepArgs) -> Result<()> {
     let thetas = sweep.run.select(&all);
     if let Some(&(_, theta)) = thetas.first() {
         let force = a.force || !a.output.time_guarded();
-        super::guard::check_time_bound(&settings(theta), thetas.len(), force)?;
+        super::guard::check_time_bound(&settings(theta), thetas.len(), 1, force)?;
     }
     let rows = sweep.rows(&thetas, |&theta| pair_sweep_row(&settings(theta)))?;
     if let Some(dir) = &a.output.out {
@@ -182,10 +182,9 @@ fn sweep_push(a: &PushSweepArgs) -> Result<()> {
     )?;
     let thetas = sweep.run.select(&all);
     if let Some(&(_, theta)) = thetas.first() {
-        // Every push of a row may be run: a bound.
-        let runs = thetas.len().saturating_mul(pushes.len());
+        // Every push of a row may be run, one after another: a bound.
         let force = a.force || !a.output.time_guarded();
-        super::guard::check_time_bound(&settings(theta), runs, force)?;
+        super::guard::check_time_bound(&settings(theta), thetas.len(), pushes.len(), force)?;
     }
     let rows = sweep.rows(&thetas, |&theta| {
         push_row(&settings(theta), &pushes).unwrap_or_else(|e| PushRow {

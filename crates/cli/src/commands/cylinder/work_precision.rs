@@ -127,7 +127,7 @@ fn check_time_bound(
         return Ok(());
     }
     let settings = study_cost_settings(theta, dts, reference_factor, repeat);
-    let Some(cost) = pair_cost(&settings, 1, 1) else {
+    let Some(cost) = pair_cost(&settings, 1, 1, 1) else {
         return Ok(());
     };
     anyhow::ensure!(
