@@ -10,8 +10,9 @@ use cylinders::studies::pair::PairSettings;
 use cylinders::studies::pair_cost::pair_cost;
 
 /// Refuses `rows` rows of `runs_per_row` runs of `settings` (each `settings.steps`
-/// steps; the rows share out the threads, a row's runs go one after another) estimated to take more than [`TIME_BOUND_S`], unless `force`. Nothing is
-/// written before; a trial that fails is left to the run itself to report.
+/// steps; the rows share out the threads, a row's runs go one after another) estimated
+/// to take more than [`TIME_BOUND_S`], unless `force`. Nothing is written before; a trial
+/// that fails is left to the run itself to report.
 ///
 /// # Errors
 /// When the estimate is over the bound and `force` is false.
