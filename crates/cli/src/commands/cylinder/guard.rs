@@ -11,8 +11,8 @@ use cylinders::studies::pair_cost::pair_cost;
 
 /// Refuses `rows` rows of `runs_per_row` runs of `settings` (each `settings.steps`
 /// steps; the rows share out the threads, a row's runs go one after another) estimated
-/// to take more than [`TIME_BOUND_S`], unless `force`. Nothing is written before; a trial
-/// that fails is left to the run itself to report.
+/// to take more than [`TIME_BOUND_S`], unless `force`, saying what to change (`advice`).
+/// Nothing is written before; a trial that fails is left to the run itself to report.
 ///
 /// # Errors
 /// When the estimate is over the bound and `force` is false.
@@ -21,6 +21,7 @@ pub fn check_time_bound(
     rows: usize,
     runs_per_row: usize,
     force: bool,
+    advice: &str,
 ) -> Result<()> {
     if force {
         return Ok(());
@@ -30,9 +31,12 @@ pub fn check_time_bound(
     };
     anyhow::ensure!(
         cost.seconds <= TIME_BOUND_S,
-        "{cost}, more than {TIME_BOUND_S} s: take fewer --steps or values, or pass --force"
+        "{cost}, more than {TIME_BOUND_S} s: {advice}, or pass --force"
     );
     Ok(())
 }
+
+/// The advice of the pair's runs and sweeps.
+pub const FEWER_STEPS: &str = "take fewer --steps or values";
 
 pub use input::watchdog::time_bound;

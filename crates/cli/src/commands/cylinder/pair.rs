@@ -89,7 +89,7 @@ pub(super) fn run(a: &PairArgs) -> Result<()> {
     input::non_negative("--mu-floor", a.mu_floor)?;
     input::non_negative("--mu-k", a.mu_k)?;
     super::check_theta(settings.theta, &settings.cylinder)?;
-    super::guard::check_time_bound(&settings, 1, 1, a.force)?;
+    super::guard::check_time_bound(&settings, 1, 1, a.force, super::guard::FEWER_STEPS)?;
     let busy = crate::progress::busy("cylinder pair: solving", !a.json);
     let mut options = settings.stepper_options();
     a.tuning.apply(&mut options)?;

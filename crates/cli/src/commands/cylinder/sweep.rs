@@ -121,7 +121,13 @@ fn sweep_pair(a: &PairSweepArgs) -> Result<()> {
     let thetas = sweep.run.select(&all);
     if let Some(&(_, theta)) = thetas.first() {
         let force = a.force || !a.output.time_guarded();
-        super::guard::check_time_bound(&settings(theta), thetas.len(), 1, force)?;
+        super::guard::check_time_bound(
+            &settings(theta),
+            thetas.len(),
+            1,
+            force,
+            super::guard::FEWER_STEPS,
+        )?;
     }
     let rows = sweep.rows(&thetas, |&theta| pair_sweep_row(&settings(theta)))?;
     if let Some(dir) = &a.output.out {
@@ -184,7 +190,13 @@ fn sweep_push(a: &PushSweepArgs) -> Result<()> {
     if let Some(&(_, theta)) = thetas.first() {
         // Every push of a row may be run, one after another: a bound.
         let force = a.force || !a.output.time_guarded();
-        super::guard::check_time_bound(&settings(theta), thetas.len(), pushes.len(), force)?;
+        super::guard::check_time_bound(
+            &settings(theta),
+            thetas.len(),
+            pushes.len(),
+            force,
+            super::guard::FEWER_STEPS,
+        )?;
     }
     let rows = sweep.rows(&thetas, |&theta| {
         push_row(&settings(theta), &pushes).unwrap_or_else(|e| PushRow {

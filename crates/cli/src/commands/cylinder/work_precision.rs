@@ -2,11 +2,9 @@
 //! touching cylinders spun up (§3.6), NSGA beside Moreau–Jean
 //! ([`cylinders::studies::work_precision`]).
 
-use crate::commands::blocks::TIME_BOUND_S;
 use crate::output::{ensure_dir, print_json, write_csv, write_run_json};
 use anyhow::{Context, Result};
 use clap::Args;
-use cylinders::studies::pair_cost::pair_cost;
 use cylinders::studies::work_precision::{
     pair_work_precision, study_cost_settings, study_settings, PairWorkPrecisionRow, MAX_DT, T_END_S,
 };
@@ -110,9 +108,9 @@ pub fn run(a: &WorkPrecisionArgs) -> Result<()> {
     Ok(())
 }
 
-/// Refuses a study estimated to take more than [`TIME_BOUND_S`], unless `force`: all
-/// its steps at the cost of a step of the reference run, measured on its first steps
-/// ([`study_cost_settings`], [`pair_cost`]).
+/// Refuses a study estimated to take more than ten minutes, unless `force`: all its
+/// steps at the cost of a step of the reference run, measured on its first steps
+/// ([`study_cost_settings`], [`super::guard::check_time_bound`]).
 ///
 /// # Errors
 /// When the estimate is over the bound.
@@ -123,17 +121,12 @@ fn check_time_bound(
     repeat: usize,
     force: bool,
 ) -> Result<()> {
-    if force {
-        return Ok(());
-    }
     let settings = study_cost_settings(theta, dts, reference_factor, repeat);
-    let Some(cost) = pair_cost(&settings, 1, 1, 1) else {
-        return Ok(());
-    };
-    anyhow::ensure!(
-        cost.seconds <= TIME_BOUND_S,
-        "{cost}, more than {TIME_BOUND_S} s: take larger --dts, a smaller --reference-factor \
-         or --repeat, or pass --force"
-    );
-    Ok(())
+    super::guard::check_time_bound(
+        &settings,
+        1,
+        1,
+        force,
+        "take larger --dts, a smaller --reference-factor or --repeat",
+    )
 }
