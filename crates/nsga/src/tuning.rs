@@ -100,6 +100,19 @@ pub struct Tuning {
     /// with the harness (`scripts/reference_workload.py target/release/rollstack --repeat 1 --variant tuning.kept_columns=16`): no count of the workload changes;
     /// the kept columns save triangular solves, whose time is unmeasured.
     pub kept_columns: usize,
+    /// Most rows of the Newton matrix a low-rank update replaces
+    /// ([`crate::LinearOptions::low_rank_updates`]); where the sets differ from the kept
+    /// factors' in more, the matrix is factorized anew. 5 rows: 506 182 linear solves
+    /// over the matrix against 448 027 with 8 (at commit f654c32). With the harness
+    /// (`scripts/reference_workload.py target/release/rollstack --repeat 1 --variant
+    /// tuning.low_rank_rows=16 --variant tuning.low_rank_rows=32`): 16 rows take the
+    /// matrix 303 902 linear solves against 330 444 (−8.0 %, solver time −1.6 %) and the
+    /// Lire collapse 45 against 71, but its landing on a floor 715 against 567 and the
+    /// kicked 30-block column 114 against 78 (+48 % time); 32 rows the matrix 293 137
+    /// (−11 %, time −3.6 %), the floor landing 1271, kicked30 120. The kicked 100-block
+    /// column to t = 1 gains (1294, 937, 852 linear solves at 8, 16, 32 rows; 2.5, 2.1,
+    /// 2.1 s), but no value pays on the whole workload.
+    pub low_rank_rows: usize,
     /// Normal sets of the last plain Newton matrices found singular that are
     /// remembered, to go straight to the regularized matrix. When a collapsing column
     /// lands on a floor, Newton moves among a handful of normal sets and dozens of
@@ -134,6 +147,7 @@ impl Default for Tuning {
             predicted_start_iterations: 2,
             far_correction: 4.0,
             kept_columns: 32,
+            low_rank_rows: crate::stepper::LOW_RANK_ROWS,
             singular_sets_kept: 16,
             prune_margin: 2.0,
         }

@@ -28,8 +28,9 @@ use super::Stepper;
 use crate::sets::IndexSets;
 use crate::system::System;
 
-/// Most rows a low-rank update replaces; where the sets change more, the matrix is
-/// factorized anew.
+/// Most rows a low-rank update replaces by default
+/// ([`Tuning::low_rank_rows`](crate::Tuning::low_rank_rows)); where the sets change more,
+/// the matrix is factorized anew.
 pub const LOW_RANK_ROWS: usize = 8;
 
 /// The kept matrix and the scratch of low-rank updates.
@@ -49,9 +50,17 @@ pub(super) struct LowRank {
     only: ContactRows,
     /// For each reduced row, its place among the changed rows (`usize::MAX`: none).
     slot: Vec<usize>,
-    /// D (k × n, row-major) and y.
+    /// D (k × n, row-major), the columns of its nonzeros by row (`d_nonzero`, row i's
+    /// in `d_ptr[i]..d_ptr[i + 1]`), and y.
     d: Vec<f64>,
+    d_nonzero: Vec<usize>,
+    d_ptr: Vec<usize>,
     y: Vec<f64>,
+    /// The changed rows' places among the kept columns of Z, and the k × k system
+    /// (I + D Z) w = D y.
+    z_at: Vec<usize>,
+    c: Vec<f64>,
+    rhs: Vec<f64>,
 }
 
 impl LowRank {
@@ -67,7 +76,8 @@ impl LowRank {
 /// The rows of the Newton matrix whose form differs between `kept` and `sets`, full
 /// numbering, and their contacts: κ, Λ, λ of a normal contact whose A, B, C membership
 /// differs; both rows of every component of a friction law whose activity (a normal in
-/// A), D or E membership differs. False when there are more than [`LOW_RANK_ROWS`].
+/// A), D or E membership differs. False when there are more than
+/// [`Tuning::low_rank_rows`](crate::Tuning::low_rank_rows).
 fn changed_rows<S: System>(
     stepper: &Stepper<S>,
     kept: &IndexSets,
@@ -104,7 +114,7 @@ fn changed_rows<S: System>(
         }
         only.laws.push(changed);
     }
-    rows.len() <= LOW_RANK_ROWS
+    rows.len() <= stepper.options.tuning.low_rank_rows
 }
 
 /// Solves the k × k system `c` w = `rhs` (row-major) in place by Gaussian elimination
@@ -144,7 +154,8 @@ fn solve_small(k: usize, c: &mut [f64], rhs: &mut [f64]) -> bool {
 
 impl<S: System> Stepper<S> {
     /// The low-rank update (module docs) at `x` for `sets` into `dx`, when the kept
-    /// factors fit but for at most [`LOW_RANK_ROWS`] rows; false otherwise (`dx` then
+    /// factors fit but for at most [`Tuning::low_rank_rows`](crate::Tuning::low_rank_rows)
+    /// rows; false otherwise (`dx` then
     /// holds nothing that counts). `prune` is this attempt's prune map and reduced size,
     /// the kept factors' too.
     pub(super) fn low_rank_direction(
@@ -223,12 +234,12 @@ impl<S: System> Stepper<S> {
             return false;
         }
         // The columns of Z, kept from earlier updates on these factors where they can be.
-        if lr.z_rows.len() + k > self.options.tuning.kept_columns {
+        if lr.z_rows.len() + k > self.options.tuning.kept_columns.max(k) {
             lr.z_rows.clear();
         }
-        let mut z = [0; LOW_RANK_ROWS];
-        for (s, &r) in lr.reduced.iter().enumerate() {
-            z[s] = if let Some(at) = lr.z_rows.iter().position(|&kept| kept == r) {
+        lr.z_at.clear();
+        for &r in &lr.reduced {
+            let at = if let Some(at) = lr.z_rows.iter().position(|&kept| kept == r) {
                 at
             } else {
                 let at = lr.z_rows.len();
@@ -245,23 +256,36 @@ impl<S: System> Stepper<S> {
                 lr.z_rows.push(r);
                 at
             };
+            lr.z_at.push(at);
+        }
+        // The nonzeros of D's rows: a changed row touches a few bodies' unknowns, and
+        // the products below skip only exact zeros, so the sums are the dense ones.
+        lr.d_nonzero.clear();
+        lr.d_ptr.clear();
+        lr.d_ptr.push(0);
+        for d_i in lr.d.chunks_exact(n) {
+            lr.d_nonzero.extend((0..n).filter(|&c| d_i[c] != 0.0));
+            lr.d_ptr.push(lr.d_nonzero.len());
         }
         // (I + D Z) w = D y.
-        let mut c = [0.0; LOW_RANK_ROWS * LOW_RANK_ROWS];
-        let mut rhs = [0.0; LOW_RANK_ROWS];
+        lr.c.clear();
+        lr.c.resize(k * k, 0.0);
+        lr.rhs.clear();
+        lr.rhs.resize(k, 0.0);
         for i in 0..k {
             let d_i = &lr.d[i * n..(i + 1) * n];
-            rhs[i] = d_i.iter().zip(&lr.y).map(|(a, b)| a * b).sum();
+            let cols = &lr.d_nonzero[lr.d_ptr[i]..lr.d_ptr[i + 1]];
+            let dot = |v: &[f64]| cols.iter().map(|&c| d_i[c] * v[c]).sum::<f64>();
+            lr.rhs[i] = dot(&lr.y);
             for j in 0..k {
-                let dz: f64 = d_i.iter().zip(&lr.z_cols[z[j]]).map(|(a, b)| a * b).sum();
-                c[i * k + j] = f64::from(u8::from(i == j)) + dz;
+                lr.c[i * k + j] = f64::from(u8::from(i == j)) + dot(&lr.z_cols[lr.z_at[j]]);
             }
         }
-        if !solve_small(k, &mut c[..k * k], &mut rhs[..k]) {
+        if !solve_small(k, &mut lr.c, &mut lr.rhs) {
             return false;
         }
-        for (j, &wj) in rhs[..k].iter().enumerate() {
-            for (yi, zi) in lr.y.iter_mut().zip(&lr.z_cols[z[j]]) {
+        for (&wj, &at) in lr.rhs.iter().zip(&lr.z_at) {
+            for (yi, zi) in lr.y.iter_mut().zip(&lr.z_cols[at]) {
                 *yi -= zi * wj;
             }
         }
@@ -354,7 +378,18 @@ mod tests {
         }
         s.residual(&x, &sets, &p);
         assert!(!s.low_rank_direction(&x, &sets, &p, None, &mut dx));
-        assert!(s.work.low_rank.rows.len() > LOW_RANK_ROWS);
+        assert!(s.work.low_rank.rows.len() > s.options.tuning.low_rank_rows);
+        // With room for them (`Tuning::low_rank_rows`), the kept factors serve, and the
+        // update is the exact one of the kept iterate for these sets.
+        let (mut s, x, p, _, _) = factored_chain(12);
+        s.options.tuning.low_rank_rows = 16;
+        s.residual(&x, &sets, &p);
+        assert!(s.low_rank_direction(&x, &sets, &p, None, &mut dx));
+        assert_eq!(s.work.low_rank.rows.len(), 15);
+        let mut exact = vec![0.0; x.len()];
+        s.exact_direction(&x, &sets, &p, None, &mut exact).unwrap();
+        let size = exact.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
+        assert!(max_difference(&dx, &exact) <= 1e-10 * size);
     }
 
     #[test]
