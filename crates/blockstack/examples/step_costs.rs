@@ -1,0 +1,108 @@
+//! Where a run's work goes, step by step: how many steps take 0, 1, 2, … linear solves
+//! (factorizations) and Newton evaluations, and how many of the solves are in steps
+//! whose first attempt failed (docs/experiments.md §4). The run is stepped as `rollstack`
+//! steps it ([`CornerStepping`]), so its totals are those of the command's `--json`.
+//!
+//! - `lire N`: the Lire tower of N blocks collapsing onto a floor, to t = 10
+//!   (`rollstack blocks lire --blocks N --perturb bottom --floor`; the peers' `lire10`);
+//! - `shake N OMEGA MU [T_END]`: a run of the shaken-column matrix (`rollstack blocks
+//!   shake --blocks N --omega OMEGA --mu MU --amplitude 0.2 --steps-per-period 200
+//!   --t-end T_END`, default T_END = 20).
+//!
+//! Counts of 20 or more are shown together on the line of 20.
+//!
+//! `cargo run --release -p blockstack --example step_costs -- lire 10`
+
+use blockstack::scenarios::{lire_on_floor, shaking_column, Perturbation, Shaking};
+use blockstack::simulation::stepper_options;
+use blockstack::stepping::CornerStepping;
+use blockstack::system::StackSystem;
+use blockstack::{RunOptions, Scene};
+use nsga::Stepper;
+use std::collections::BTreeMap;
+use std::f64::consts::PI;
+
+/// Steps by their count of something, and that something summed over them.
+#[derive(Default)]
+struct Histogram(BTreeMap<u64, (u64, u64)>);
+
+impl Histogram {
+    fn add(&mut self, count: u64) {
+        let bin = self.0.entry(count.min(20)).or_default();
+        bin.0 += 1;
+        bin.1 += count;
+    }
+
+    fn print(&self, what: &str) {
+        for (count, (steps, total)) in &self.0 {
+            println!("  {count:>3} {what}: {steps:>6} steps, {total:>7} {what} in all");
+        }
+    }
+}
+
+/// The scene and its end time from the command line.
+fn scene_from_args() -> Result<(Scene, f64), Box<dyn std::error::Error>> {
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    let number = |i: usize| -> Result<f64, Box<dyn std::error::Error>> {
+        let a = args
+            .get(i)
+            .ok_or("missing argument (see the example's docs)")?;
+        Ok(a.parse::<f64>().map_err(|e| format!("'{a}': {e}"))?)
+    };
+    let blocks = args.get(1).ok_or("missing block count")?.parse::<usize>()?;
+    match args.first().map(String::as_str) {
+        Some("lire") => Ok((lire_on_floor(blocks, Perturbation::Bottom)?, 10.0)),
+        Some("shake") => {
+            let (omega, mu) = (number(2)?, number(3)?);
+            let t_end = if args.len() > 4 { number(4)? } else { 20.0 };
+            let shaking = Shaking {
+                blocks,
+                amplitude: 0.2,
+                omega,
+                periods: t_end * omega / (2.0 * PI),
+                steps_per_period: 200.0,
+                mu,
+                start_with_base: false,
+            };
+            Ok((shaking_column(&shaking)?, t_end))
+        }
+        _ => Err("the first argument is `lire` or `shake`".into()),
+    }
+}
+
+fn main() -> Result<(), Box<dyn std::error::Error>> {
+    let (scene, t_end) = scene_from_args()?;
+    let options = stepper_options(&scene, &RunOptions::default())?;
+    let (q0, u0) = (scene.initial_coordinates(), scene.initial_velocities());
+    let mut system = StackSystem::new(scene.clone());
+    let mut corners = CornerStepping::default();
+    corners.start(&mut system, &q0, &u0, options.dt);
+    let mut stepper = Stepper::new(system, 0.0, &q0, &u0, options)?;
+    let (mut solves, mut evaluations) = (Histogram::default(), Histogram::default());
+    let (mut steps, mut retried, mut retried_solves) = (0, 0, 0);
+    while stepper.state().t < t_end - 1e-9 {
+        let (solves_before, evaluations_before) =
+            (stepper.linear_solves(), stepper.newton_work().evaluations);
+        if let Err(e) = corners.step(&scene, &mut stepper, 1e-8) {
+            println!("stopped: {e}");
+            break;
+        }
+        let step_solves = stepper.linear_solves() - solves_before;
+        solves.add(step_solves);
+        evaluations.add(stepper.newton_work().evaluations - evaluations_before);
+        steps += 1;
+        if stepper.last_step().is_some_and(|s| s.retries > 0) {
+            retried += 1;
+            retried_solves += step_solves;
+        }
+    }
+    println!(
+        "{steps} steps, {} linear solves, {} evaluations; {retried} steps whose first \
+         attempt failed took {retried_solves} of the linear solves",
+        stepper.linear_solves(),
+        stepper.newton_work().evaluations
+    );
+    solves.print("linear solves");
+    evaluations.print("evaluations");
+    Ok(())
+}
