@@ -17,9 +17,8 @@
 use blockstack::scenarios::{shaking_column, Shaking};
 use blockstack::simulation::stepper_options;
 use blockstack::stepping::CornerStepping;
-use blockstack::system::StackSystem;
 use blockstack::RunOptions;
-use nsga::{IndexSets, Stepper};
+use nsga::IndexSets;
 
 /// The number of entries in which `a` and `b` differ.
 fn changed(a: &[bool], b: &[bool]) -> usize {
@@ -53,11 +52,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let trace = std::env::args().nth(3).as_deref() == Some("trace");
     let scene = shaking_column(&Shaking::tall_column(n, false))?;
     let options = stepper_options(&scene, &RunOptions::default())?;
-    let (q0, u0) = (scene.initial_coordinates(), scene.initial_velocities());
-    let mut system = StackSystem::new(scene.clone());
-    let mut corners = CornerStepping::default();
-    corners.start(&mut system, &q0, &u0, options.dt);
-    let mut stepper = Stepper::new(system, 0.0, &q0, &u0, options)?;
+    let (mut corners, mut stepper) = CornerStepping::start_scene(&scene, options)?;
     // The two gaps of interface k are normal contacts 2k and 2k + 1 (blockstack::stack).
     let lifted = |sets: &IndexSets| {
         (0..n)

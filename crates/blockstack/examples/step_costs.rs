@@ -16,9 +16,7 @@
 use blockstack::scenarios::{lire_on_floor, shaking_column, Perturbation, Shaking};
 use blockstack::simulation::stepper_options;
 use blockstack::stepping::CornerStepping;
-use blockstack::system::StackSystem;
 use blockstack::{RunOptions, Scene};
-use nsga::Stepper;
 use std::collections::BTreeMap;
 use std::f64::consts::PI;
 
@@ -73,11 +71,7 @@ fn scene_from_args() -> Result<(Scene, f64), Box<dyn std::error::Error>> {
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let (scene, t_end) = scene_from_args()?;
     let options = stepper_options(&scene, &RunOptions::default())?;
-    let (q0, u0) = (scene.initial_coordinates(), scene.initial_velocities());
-    let mut system = StackSystem::new(scene.clone());
-    let mut corners = CornerStepping::default();
-    corners.start(&mut system, &q0, &u0, options.dt);
-    let mut stepper = Stepper::new(system, 0.0, &q0, &u0, options)?;
+    let (mut corners, mut stepper) = CornerStepping::start_scene(&scene, options)?;
     let (mut solves, mut evaluations) = (Histogram::default(), Histogram::default());
     let (mut steps, mut retried, mut retried_solves) = (0, 0, 0);
     while stepper.state().t < t_end - 1e-9 {

@@ -172,14 +172,10 @@ impl<'a> StackWalker<'a> {
         record_branches: bool,
     ) -> Result<Self, FailedStart> {
         let clock = Instant::now();
-        let (q0, u0) = (scene.initial_coordinates(), scene.initial_velocities());
-        let mut system = StackSystem::new(scene.clone());
-        let mut corners = CornerStepping::default();
-        corners.start(&mut system, &q0, &u0, options.dt);
-        let started = Stepper::new(system, 0.0, &q0, &u0, options);
+        let started = CornerStepping::start_scene(scene, options);
         let solver_time = clock.elapsed().as_secs_f64();
-        let stepper = started.map_err(|e| (e, solver_time))?;
-        let rec = Recorder::new(scene, &q0);
+        let (corners, stepper) = started.map_err(|e| (e, solver_time))?;
+        let rec = Recorder::new(scene, &scene.initial_coordinates());
         let mut summary = RunSummary::before_the_run(scene, &rec);
         summary.start_failure = stepper.start_failure().map(str::to_owned);
         Ok(Self {

@@ -51,6 +51,24 @@ pub struct CornerStepping {
 }
 
 impl CornerStepping {
+    /// A stepper of `scene` from its initial state at t = 0 with `options`, and the
+    /// corner bookkeeping that steps it as a run does ([`CornerStepping::step`]; the
+    /// commands, [`crate::simulate`]).
+    ///
+    /// # Errors
+    /// As [`Stepper::new`].
+    pub fn start_scene(
+        scene: &Scene,
+        options: nsga::Options,
+    ) -> Result<(Self, Stepper<StackSystem>), StepError> {
+        let (q0, u0) = (scene.initial_coordinates(), scene.initial_velocities());
+        let mut system = StackSystem::new(scene.clone());
+        let mut corners = Self::default();
+        corners.start(&mut system, &q0, &u0, options.dt);
+        let stepper = Stepper::new(system, 0.0, &q0, &u0, options)?;
+        Ok((corners, stepper))
+    }
+
     /// The corner contacts of the initial state (t = 0, q0, u0) put into a system before
     /// its stepper is built; the list also serves the first step.
     pub fn start(&mut self, system: &mut StackSystem, q0: &[f64], u0: &[f64], dt: f64) {

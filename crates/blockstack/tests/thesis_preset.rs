@@ -82,11 +82,7 @@ fn shaken_column() -> Stepper<StackSystem> {
     let scene = thesis_scene("abundance-author");
     let run = thesis::run_options(RunOptions::default(), scene.solver.rho_inf);
     let options = stepper_options(&scene, &run).unwrap();
-    let (q0, u0) = (scene.initial_coordinates(), scene.initial_velocities());
-    let mut system = StackSystem::new(scene.clone());
-    let mut corners = CornerStepping::default();
-    corners.start(&mut system, &q0, &u0, options.dt);
-    let mut stepper = Stepper::new(system, 0.0, &q0, &u0, options).unwrap();
+    let (mut corners, mut stepper) = CornerStepping::start_scene(&scene, options).unwrap();
     for _ in 0..60 {
         corners.step(&scene, &mut stepper, 1e-6).unwrap();
     }
