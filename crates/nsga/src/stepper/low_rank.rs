@@ -155,9 +155,8 @@ fn solve_small(k: usize, c: &mut [f64], rhs: &mut [f64]) -> bool {
 impl<S: System> Stepper<S> {
     /// The low-rank update (module docs) at `x` for `sets` into `dx`, when the kept
     /// factors fit but for at most [`Tuning::low_rank_rows`](crate::Tuning::low_rank_rows)
-    /// rows; false otherwise (`dx` then
-    /// holds nothing that counts). `prune` is this attempt's prune map and reduced size,
-    /// the kept factors' too.
+    /// rows; false otherwise (`dx` then holds nothing that counts). `prune` is this
+    /// attempt's prune map and reduced size, the kept factors' too.
     pub(super) fn low_rank_direction(
         &mut self,
         x: &[f64],
