@@ -1,6 +1,7 @@
 //! Where a run's work goes, step by step: how many steps take 0, 1, 2, … linear solves
-//! (factorizations) and Newton evaluations, and how many of the solves are in steps
-//! whose first attempt failed (docs/experiments.md §4). The run is stepped as `rollstack`
+//! (factorizations) and Newton evaluations, with the solver time of each kind of step,
+//! and how many of the solves are in steps whose first attempt failed
+//! (docs/experiments.md §4). The run is stepped as `rollstack`
 //! steps it ([`CornerStepping`]), so its totals are those of the command's `--json`.
 //!
 //! - `lire N`: the Lire tower of N blocks collapsing onto a floor, to t = 10
@@ -19,21 +20,28 @@ use blockstack::stepping::CornerStepping;
 use blockstack::{RunOptions, Scene};
 use std::collections::BTreeMap;
 use std::f64::consts::PI;
+use std::time::Instant;
 
-/// Steps by their count of something, and that something summed over them.
+/// Steps by their count of something: how many, that something summed over them, and
+/// their solver seconds.
 #[derive(Default)]
-struct Histogram(BTreeMap<u64, (u64, u64)>);
+struct Histogram(BTreeMap<u64, (u64, u64, f64)>);
 
 impl Histogram {
-    fn add(&mut self, count: u64) {
+    fn add(&mut self, count: u64, seconds: f64) {
         let bin = self.0.entry(count.min(20)).or_default();
         bin.0 += 1;
         bin.1 += count;
+        bin.2 += seconds;
     }
 
-    fn print(&self, what: &str) {
-        for (count, (steps, total)) in &self.0 {
-            println!("  {count:>3} {what}: {steps:>6} steps, {total:>7} {what} in all");
+    fn print(&self, what: &str, run_seconds: f64) {
+        for (count, (steps, total, seconds)) in &self.0 {
+            println!(
+                "  {count:>3} {what}: {steps:>6} steps, {total:>7} {what} in all, {:5.1} % of \
+                 the solver time",
+                100.0 * seconds / run_seconds
+            );
         }
     }
 }
@@ -74,16 +82,23 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let (mut corners, mut stepper) = CornerStepping::start_scene(&scene, options)?;
     let (mut solves, mut evaluations) = (Histogram::default(), Histogram::default());
     let (mut steps, mut retried, mut retried_solves) = (0, 0, 0);
+    let mut run_seconds = 0.0;
     while stepper.state().t < t_end - 1e-9 {
         let (solves_before, evaluations_before) =
             (stepper.linear_solves(), stepper.newton_work().evaluations);
+        let clock = Instant::now();
         if let Err(e) = corners.step(&scene, &mut stepper, 1e-8) {
             println!("stopped: {e}");
             break;
         }
+        let seconds = clock.elapsed().as_secs_f64();
+        run_seconds += seconds;
         let step_solves = stepper.linear_solves() - solves_before;
-        solves.add(step_solves);
-        evaluations.add(stepper.newton_work().evaluations - evaluations_before);
+        solves.add(step_solves, seconds);
+        evaluations.add(
+            stepper.newton_work().evaluations - evaluations_before,
+            seconds,
+        );
         steps += 1;
         if stepper.last_step().is_some_and(|s| s.retries > 0) {
             retried += 1;
@@ -91,12 +106,13 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         }
     }
     println!(
-        "{steps} steps, {} linear solves, {} evaluations; {retried} steps whose first \
-         attempt failed took {retried_solves} of the linear solves",
+        "{steps} steps, {} linear solves, {} evaluations, {:.1} µs per step; {retried} steps \
+         whose first attempt failed took {retried_solves} of the linear solves",
         stepper.linear_solves(),
-        stepper.newton_work().evaluations
+        stepper.newton_work().evaluations,
+        1e6 * run_seconds / f64::from(steps.max(1))
     );
-    solves.print("linear solves");
-    evaluations.print("evaluations");
+    solves.print("linear solves", run_seconds);
+    evaluations.print("evaluations", run_seconds);
     Ok(())
 }
