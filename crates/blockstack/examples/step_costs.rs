@@ -1,8 +1,8 @@
 //! Where a run's work goes, step by step: how many steps take 0, 1, 2, … linear solves
 //! (factorizations) and Newton evaluations, with the solver time of each kind of step,
 //! and how many of the solves are in steps whose first attempt failed
-//! (docs/experiments.md §4). The run is stepped as `rollstack`
-//! steps it ([`CornerStepping`]), so its totals are those of the command's `--json`.
+//! (docs/experiments.md §4). The run is stepped as `rollstack` steps it
+//! ([`CornerStepping`]), so its totals are those of the command's `--json`.
 //!
 //! - `lire N`: the Lire tower of N blocks collapsing onto a floor, to t = 10
 //!   (`rollstack blocks lire --blocks N --perturb bottom --floor`; the peers' `lire10`);

@@ -108,7 +108,8 @@ pub fn run(a: &WorkPrecisionArgs) -> Result<()> {
     Ok(())
 }
 
-/// Refuses a study estimated to take more than ten minutes, unless `force`: all its
+/// Refuses a study estimated to take more than
+/// [`TIME_BOUND_S`](crate::commands::blocks::TIME_BOUND_S), unless `force`: all its
 /// steps at the cost of a step of the reference run, measured on its first steps
 /// ([`study_cost_settings`], [`super::guard::check_time_bound`]).
 ///
