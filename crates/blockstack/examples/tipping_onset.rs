@@ -24,9 +24,9 @@
 
 use blockstack::scenarios::{shaking_column, Shaking};
 use blockstack::simulation::stepper_options;
-use blockstack::system::StackSystem;
+use blockstack::stepping::CornerStepping;
 use blockstack::RunOptions;
-use nsga::{IndexSets, Stepper};
+use nsga::IndexSets;
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let n: usize = match std::env::args().nth(1) {
@@ -47,18 +47,14 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let tipping_step = (onset / dt).ceil() as usize;
     let options = stepper_options(&scene, &RunOptions::default())?;
     let rho_inf = options.rho_inf;
-    let mut system = StackSystem::new(scene.clone());
     // The two gaps of interface k are normal contacts 2k and 2k + 1 (blockstack::stack);
     // interface 0 is the base's.
     let base_corners = [0, 1];
-    let (q0, u0) = (scene.initial_coordinates(), scene.initial_velocities());
     // Stepped as a run steps it: the broad phase decides once per step whether each
     // interface holds its contact (docs/contacts.md). A bare system decides it at every
     // Newton iterate instead, and the free iteration of the tipping step then cycles
     // without converging.
-    let mut corners = blockstack::stepping::CornerStepping::default();
-    corners.start(&mut system, &q0, &u0, dt);
-    let mut stepper = Stepper::new(system, 0.0, &q0, &u0, options)?;
+    let (mut corners, mut stepper) = CornerStepping::start_scene(&scene, options)?;
     let mut before = None;
     for _ in 1..tipping_step {
         corners.step(&scene, &mut stepper, 1e-8)?;
