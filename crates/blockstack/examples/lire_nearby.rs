@@ -5,23 +5,30 @@
 //! One collapse's cost depends on round-off-sized luck (it passes an unstable
 //! equilibrium); the mean over the neighbours measures the solver, the single run only
 //! one realisation. Run with
-//! `cargo run --release -p blockstack --example lire_nearby [COUNT] [--floor]` (default
-//! 10 runs).
+//! `cargo run --release -p blockstack --example lire_nearby [COUNT] [--floor] [--tuning
+//! NAME=VALUE]...` (default 10 runs; `--tuning` sets nsga's options by name, as the
+//! commands' hidden flag does, so that a variant of docs/tuning.md is measured over the
+//! neighbours).
 
 use blockstack::scenarios::{nearby_lire_collapses, nearby_lire_landings};
 use blockstack::{simulate, RunOptions};
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
-    let options = RunOptions {
+    let mut options = RunOptions {
         t_end: Some(9.99),
         explore_branches: true,
         ..RunOptions::default()
     };
     let mut count = 10;
     let mut floor = false;
-    for a in std::env::args().skip(1) {
+    let mut args = std::env::args().skip(1);
+    while let Some(a) = args.next() {
         if a == "--floor" {
             floor = true;
+        } else if a == "--tuning" {
+            options
+                .tuning
+                .push(args.next().ok_or("--tuning needs NAME=VALUE")?);
         } else {
             count = a.parse().map_err(|e| format!("COUNT '{a}': {e}"))?;
         }
