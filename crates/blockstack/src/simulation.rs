@@ -417,6 +417,7 @@ pub fn stepper_options(scene: &Scene, options: &RunOptions) -> Result<Options, B
             predict_start: !options.skip_predicted_start,
             line_search: LINE_SEARCH_HALVINGS,
             max_openings_per_update: MAX_OPENINGS_PER_UPDATE,
+            held_factors_follow_sets: true,
         },
         linear: LinearOptions {
             // Markowitz LU for the small scenes of the thesis, faer's sparse LU for tall

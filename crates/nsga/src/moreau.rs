@@ -195,6 +195,7 @@ impl<S: System> MoreauStepper<S> {
             reuse_factorization: false,
             resume_reuse: false,
             new_factors: true,
+            follow_sets: false,
             give_up: GiveUp::Never,
             contracting_extra: 0,
             tuning: crate::Tuning::default(),

@@ -12,9 +12,10 @@
 //!   halvings where the full one overshoots;
 //! - **simplified Newton updates** ([`NewtonSettings::reuse_factorization`]): the kept
 //!   factors of the last Newton matrix serve while the index sets stay the same and the
-//!   residual contracts by [`Tuning::reuse_contraction`](crate::Tuning::reuse_contraction), at most [`Tuning::max_reuses`](crate::Tuning::max_reuses) times in a row;
-//!   an attempt without [`NewtonSettings::new_factors`] takes only those and stops where
-//!   they no longer serve;
+//!   residual contracts by [`Tuning::reuse_contraction`](crate::Tuning::reuse_contraction), at most [`Tuning::max_reuses`](crate::Tuning::max_reuses) times in a row,
+//!   or, with [`NewtonSettings::follow_sets`], on through a rise at sets a low-rank
+//!   update reached first; an attempt without [`NewtonSettings::new_factors`] takes only
+//!   those and stops where they no longer serve;
 //! - the **give-up rules** ([`GiveUp`]): an attempt whose index sets settle into a cycle
 //!   without progress, or whose residual stalls with fixed sets, stops before the
 //!   iteration limit, since running on only repeats it; and the other way round, an
@@ -57,6 +58,14 @@ pub struct NewtonSettings {
     /// Whether the attempt may factor a Newton matrix of its own. Without, it takes
     /// simplified updates on the kept factors only and stops where none applies.
     pub new_factors: bool,
+    /// Whether the kept factors follow the index sets: where a low-rank update
+    /// ([`KeptUpdate::ChangedRows`]) reaches sets the attempt has not visited, its
+    /// residual is not compared with the last iterate's, of other sets, the factors
+    /// serve on, and [`Tuning::max_reuses`](crate::Tuning::max_reuses) counts the updates
+    /// in a row from there. A rise after a simplified update at the factors' own sets, or
+    /// at sets visited before, still retires them. The held-sets attempt's rule
+    /// (docs/method.md §8.2, "The held-sets attempt").
+    pub follow_sets: bool,
     /// When the attempt gives up early.
     pub give_up: GiveUp,
     /// Updates allowed beyond `max_iter` while the iterates converge: each of them at
@@ -103,9 +112,9 @@ pub trait NewtonProblem {
     ) -> Result<(), String>;
 
     /// A simplified Newton update at `x` from kept factors, when the problem has factors
-    /// that fit `sets`; false otherwise. Default: none kept.
-    fn kept_direction(&mut self, _x: &[f64], _sets: &Self::Sets, _dx: &mut [f64]) -> bool {
-        false
+    /// that fit `sets`, and which kind it was. Default: none kept.
+    fn kept_direction(&mut self, _x: &[f64], _sets: &Self::Sets, _dx: &mut [f64]) -> KeptUpdate {
+        KeptUpdate::Refused
     }
 
     /// Takes back sets that an evaluation returned and the engine no longer needs (equal
@@ -128,6 +137,17 @@ pub trait NewtonProblem {
     fn copy_sets(&mut self, sets: &Self::Sets) -> Self::Sets {
         sets.clone()
     }
+}
+
+/// What the kept factors gave for an update ([`NewtonProblem::kept_direction`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum KeptUpdate {
+    /// Nothing: none are kept, or they do not fit the iterate's sets.
+    Refused,
+    /// A simplified update: the factors were made at the iterate's sets.
+    SameSets,
+    /// A low-rank update of the factors for sets that differ from theirs in a few rows.
+    ChangedRows,
 }
 
 /// The best (smallest-residual) iterate of an attempt that did not converge.
@@ -228,9 +248,9 @@ pub fn solve<P: NewtonProblem>(
     let mut best: Option<(f64, usize, usize)> = None;
     // The evaluation the line search left behind, to be used by the next iteration.
     let mut pending: Option<(P::Sets, f64)> = None;
-    // Simplified Newton bookkeeping: whether the last update reused kept factors, how
-    // many in a row did, and the residual before the last update.
-    let (mut reused, mut reuses, mut last_res) = (false, 0, f64::INFINITY);
+    // Simplified Newton bookkeeping: what the kept factors gave for the last update, how
+    // many updates in a row they gave, and the residual before the last update.
+    let (mut kept, mut reuses, mut last_res) = (KeptUpdate::Refused, 0, f64::INFINITY);
     let mut may_reuse = settings.reuse_factorization;
     let t = &settings.tuning;
     for iter in 0..=settings.max_iter + settings.contracting_extra {
@@ -238,14 +258,14 @@ pub fn solve<P: NewtonProblem>(
             Some(e) => e,
             None => problem.evaluate(x, iter == 0),
         };
-        let id = match visited.iter().position(|v| v == &sets) {
+        let (id, new_sets) = match visited.iter().position(|v| v == &sets) {
             Some(i) => {
                 problem.recycle(sets);
-                i
+                (i, false)
             }
             None => {
                 visited.push(sets);
-                visited.len() - 1
+                (visited.len() - 1, true)
             }
         };
         let sets = &visited[id];
@@ -286,13 +306,21 @@ pub fn solve<P: NewtonProblem>(
         if problem.interrupted() {
             return Outcome::Interrupted;
         }
-        // Simplified Newton while it contracts.
-        if reused && res > t.reuse_contraction * last_res {
+        // Simplified Newton while it contracts, or while the factors follow the sets: at
+        // sets a low-rank update reached first, the residual does not compare with the
+        // last one's, and the updates in a row at one sets' residual count afresh.
+        let followed = settings.follow_sets && kept == KeptUpdate::ChangedRows && new_sets;
+        if followed {
+            reuses = 0;
+        } else if kept != KeptUpdate::Refused && res > t.reuse_contraction * last_res {
             may_reuse = false;
         }
-        reused =
-            may_reuse && reuses < t.max_reuses && problem.kept_direction(x, sets, &mut scratch.dx);
-        if reused {
+        kept = if may_reuse && reuses < t.max_reuses {
+            problem.kept_direction(x, sets, &mut scratch.dx)
+        } else {
+            KeptUpdate::Refused
+        };
+        if kept != KeptUpdate::Refused {
             reuses += 1;
         } else if !settings.new_factors {
             break;
@@ -410,6 +438,7 @@ mod tests {
             reuse_factorization: false,
             resume_reuse: false,
             new_factors: true,
+            follow_sets: false,
             give_up: GiveUp::Never,
             contracting_extra: 0,
             tuning: Tuning::default(),
@@ -636,9 +665,13 @@ mod tests {
             dx[0] = -(1.0 - self.rate) * x[0];
             Ok(())
         }
-        fn kept_direction(&mut self, x: &[f64], _: &(), dx: &mut [f64]) -> bool {
+        fn kept_direction(&mut self, x: &[f64], _: &(), dx: &mut [f64]) -> KeptUpdate {
             dx[0] = -(1.0 - self.rate) * x[0];
-            self.kept
+            if self.kept {
+                KeptUpdate::SameSets
+            } else {
+                KeptUpdate::Refused
+            }
         }
     }
 
@@ -696,6 +729,90 @@ mod tests {
             &mut scratch,
         );
         assert!(matches!(out, Outcome::Converged { .. }), "{out:?}");
+    }
+
+    /// Iterates whose index sets and residuals follow a script, whatever the updates.
+    /// The kept factors are those of the last exact update: they give simplified
+    /// updates at its sets and low-rank updates at others. The exact updates are counted.
+    struct Scripted {
+        script: Vec<(u8, f64)>,
+        at: usize,
+        factored_at: Option<u8>,
+        exact: usize,
+    }
+
+    impl NewtonProblem for Scripted {
+        type Sets = u8;
+        fn evaluate(&mut self, _x: &[f64], _first: bool) -> (u8, f64) {
+            self.at += 1;
+            self.script[self.at - 1]
+        }
+        fn exact_direction(&mut self, _: &[f64], sets: &u8, _: &mut [f64]) -> Result<(), String> {
+            self.exact += 1;
+            self.factored_at = Some(*sets);
+            Ok(())
+        }
+        fn kept_direction(&mut self, _: &[f64], sets: &u8, _: &mut [f64]) -> KeptUpdate {
+            match self.factored_at {
+                None => KeptUpdate::Refused,
+                Some(at) if at == *sets => KeptUpdate::SameSets,
+                Some(_) => KeptUpdate::ChangedRows,
+            }
+        }
+    }
+
+    /// The exact updates a held-sets attempt's settings take over `script` (the residual
+    /// must only fall), with kept factors that follow the sets or not.
+    fn exact_updates(script: &[(u8, f64)], follow_sets: bool) -> usize {
+        let settings = NewtonSettings {
+            reuse_factorization: true,
+            resume_reuse: true,
+            follow_sets,
+            tuning: Tuning {
+                reuse_contraction: 1.0,
+                ..Tuning::default()
+            },
+            ..plain(1e-10, 10, 0)
+        };
+        let mut problem = Scripted {
+            script: script.to_vec(),
+            at: 0,
+            factored_at: None,
+            exact: 0,
+        };
+        let out = solve(
+            &mut problem,
+            &mut [0.0],
+            &settings,
+            &mut NewtonScratch::default(),
+        );
+        assert!(matches!(out, Outcome::Converged { .. }), "{out:?}");
+        problem.exact
+    }
+
+    /// Kept factors that follow the sets serve on where a low-rank update reaches sets
+    /// not visited before, its residual higher or not (a corner climbing a column), and
+    /// count the updates in a row afresh from there; a rise after a simplified update at
+    /// the factors' own sets, or at visited sets, retires them as ever (the 10 000-block
+    /// column diverged without the first), and `max_reuses` in a row at one sets do too.
+    #[test]
+    fn kept_factors_that_follow_the_sets_serve_on_only_at_new_sets_after_low_rank_updates() {
+        let max_reuses = Tuning::default().max_reuses;
+        let mut climbing: Vec<(u8, f64)> = (0..=max_reuses + 2)
+            .map(|i| (i as u8, 1.0 - 0.5 / (i + 1) as f64))
+            .collect();
+        climbing.push((255, 0.0));
+        assert_eq!(exact_updates(&climbing, true), 1);
+        assert!(exact_updates(&climbing, false) > 1);
+        let slow: Vec<(u8, f64)> = (0..=max_reuses + 1)
+            .map(|i| (0, 1.0 - 0.1 * i as f64))
+            .chain([(0, 0.0)])
+            .collect();
+        assert_eq!(exact_updates(&slow, true), 2);
+        let same_sets = [(0, 1.0), (0, 0.5), (0, 0.7), (0, 0.0)];
+        assert_eq!(exact_updates(&same_sets, true), 2);
+        let back_to_visited = [(0, 1.0), (1, 0.5), (0, 0.7), (0, 0.0)];
+        assert_eq!(exact_updates(&back_to_visited, true), 2);
     }
 
     #[test]

@@ -182,6 +182,12 @@ pub struct NewtonOptions {
     /// the line search of `line_search`: its updates change the sets of a contact or a
     /// few each, and halving them only delayed the next change.
     pub max_openings_per_update: usize,
+    /// Whether the held-sets attempt's kept factors follow its sets: they serve while
+    /// its residual falls at all, and on through a rise at sets that a low-rank update of
+    /// up to [`Tuning::held_low_rank_rows`](crate::Tuning::held_low_rank_rows) rows
+    /// reached first (docs/method.md §8.2, "The held-sets attempt"). Without, they serve
+    /// as in other attempts. Only with `max_openings_per_update` > 0.
+    pub held_factors_follow_sets: bool,
     /// Start the first attempt at a step from the unknowns predicted by extrapolating a
     /// and λ over the last steps, while their index sets stayed the same (quadratic
     /// through three solutions, linear through two; docs/method.md §4). An attempt from
@@ -409,6 +415,7 @@ impl Default for NewtonOptions {
             max_iter_per_contact: 0,
             line_search: 0,
             max_openings_per_update: 0,
+            held_factors_follow_sets: true,
             predict_start: false,
             prune_open_contacts: false,
         }

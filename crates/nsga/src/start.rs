@@ -259,6 +259,7 @@ pub fn consistent_start<S: System>(
         reuse_factorization: false,
         resume_reuse: false,
         new_factors: true,
+        follow_sets: false,
         give_up: GiveUp::Never,
         contracting_extra: 0,
         tuning: options.tuning,

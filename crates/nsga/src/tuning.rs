@@ -98,7 +98,12 @@ pub struct Tuning {
     pub far_correction: f64,
     /// Columns of Z = J₀⁻¹ E kept per factorization for the low-rank updates. Measured
     /// with the harness (`scripts/reference_workload.py target/release/rollstack --repeat 1 --variant tuning.kept_columns=16`): no count of the workload changes;
-    /// the kept columns save triangular solves, whose time is unmeasured.
+    /// the kept columns save triangular solves. They are dropped when full, and 32 could
+    /// not hold the rows of the held-sets attempt's updates ([`Tuning::held_low_rank_rows`]):
+    /// the kicked 100-block column to t = 1 (`rollstack blocks shake --blocks 100 --omega
+    /// 2 --amplitude 0.001 --mu 0.2 --steps-per-period 314 --t-end 1 --json --tuning
+    /// tuning.kept_columns=32`) spent 2.9 s in simplified updates against 0.87 s with 128
+    /// (3.6 against 1.8 s of solver time, the same 201 linear solves).
     pub kept_columns: usize,
     /// Most rows of the Newton matrix a low-rank update replaces
     /// ([`crate::LinearOptions::low_rank_updates`]); where the sets differ from the kept
@@ -111,8 +116,19 @@ pub struct Tuning {
     /// kicked 30-block column 114 against 78 (+48 % time); 32 rows the matrix 293 137
     /// (−11 %, time −3.6 %), the floor landing 1271, kicked30 120. The kicked 100-block
     /// column to t = 1 gains (1294, 937, 852 linear solves at 8, 16, 32 rows; 2.5, 2.1,
-    /// 2.1 s), but no value pays on the whole workload.
+    /// 2.1 s), but no value pays on the whole workload. A held-sets attempt takes
+    /// [`Tuning::held_low_rank_rows`] instead.
     pub low_rank_rows: usize,
+    /// Most rows a low-rank update replaces in a held-sets attempt, whose kept factors
+    /// follow its sets (docs/method.md §8.2, "The held-sets attempt"). With the harness
+    /// (`scripts/reference_workload.py target/release/rollstack --repeat 1 --variant
+    /// tuning.held_low_rank_rows=K` for K = 8, 16, 32, 128): the kicked 30-block column 77,
+    /// 55, 44 and 35 linear solves against 45 (128 rows: 6 % more time), the matrix
+    /// 331 332, 326 702, 328 653 and 328 683 against 328 683. The kicked 100- and 200-block
+    /// columns to t = 1 (`rollstack blocks shake --blocks N --omega 2 --amplitude 0.001
+    /// --mu 0.2 --steps-per-period 314 --t-end 1 --json --tuning tuning.held_low_rank_rows=K`):
+    /// 630 and 1289 linear solves with 16 rows, 312 and 535 with 32, 201 and 394 with 64.
+    pub held_low_rank_rows: usize,
     /// Normal sets of the last plain Newton matrices found singular that are
     /// remembered, to go straight to the regularized matrix. When a collapsing column
     /// lands on a floor, Newton moves among a handful of normal sets and dozens of
@@ -146,8 +162,9 @@ impl Default for Tuning {
             quick_check_iterations: 8,
             predicted_start_iterations: 2,
             far_correction: 4.0,
-            kept_columns: 32,
+            kept_columns: 128,
             low_rank_rows: crate::stepper::LOW_RANK_ROWS,
+            held_low_rank_rows: 64,
             singular_sets_kept: 16,
             prune_margin: 2.0,
         }

@@ -7,6 +7,7 @@ use super::prune::{expand, keeps_all_of, restrict, Pruning};
 use super::scheme::Scheme;
 use super::{FactoredFor, Stepper};
 use crate::linalg::{equilibrate_rows, max_norm};
+use crate::newton::KeptUpdate;
 use crate::sets::IndexSets;
 use crate::system::System;
 use std::time::Instant;
@@ -145,13 +146,13 @@ impl<S: System> Stepper<S> {
         p: &Scheme,
         prune: Option<&Pruning>,
         dx: &mut [f64],
-    ) -> bool {
+    ) -> KeptUpdate {
         let map = prune.map(|(map, _)| map);
         // A refused update is followed by an exact one, which counts why.
         self.refusal = None;
         let Some(kept) = self.work.factored.take() else {
             self.refusal = Some(Refusal::NoKeptFactors);
-            return false;
+            return KeptUpdate::Refused;
         };
         let same_sets = &kept.sets == sets;
         let kept_map = kept.prune.as_ref().map(|(map, _)| map);
@@ -161,7 +162,7 @@ impl<S: System> Stepper<S> {
         if !fits {
             self.work.factored = Some(kept);
             self.refusal = Some(Refusal::OtherSystem);
-            return false;
+            return KeptUpdate::Refused;
         }
         let taken = if same_sets {
             // With more contacts pruned now than in the kept factors, the extra ones are
@@ -188,11 +189,19 @@ impl<S: System> Stepper<S> {
         };
         let work = &mut self.newton_work;
         match (taken, same_sets) {
-            (false, _) => self.refusal = Some(Refusal::SetsChanged),
-            (true, true) => work.kept_updates += 1,
-            (true, false) => work.low_rank_updates += 1,
+            (false, _) => {
+                self.refusal = Some(Refusal::SetsChanged);
+                KeptUpdate::Refused
+            }
+            (true, true) => {
+                work.kept_updates += 1;
+                KeptUpdate::SameSets
+            }
+            (true, false) => {
+                work.low_rank_updates += 1;
+                KeptUpdate::ChangedRows
+            }
         }
-        taken
     }
 
     /// The Newton update dx = −J⁻¹R from the assembled Jacobian and residual, or with
@@ -333,7 +342,10 @@ mod tests {
         let mut whole = vec![0.0; o.n];
         s.exact_direction(&x, &sets, &p, None, &mut whole).unwrap();
         let mut kept = vec![0.0; o.n];
-        assert!(s.kept_direction(&x, &sets, &p, Some(&prune), &mut kept));
+        assert_eq!(
+            s.kept_direction(&x, &sets, &p, Some(&prune), &mut kept),
+            KeptUpdate::SameSets
+        );
         assert!(pruned.iter().all(|&i| kept[i] == 0.0));
         let mut exact = vec![0.0; o.n];
         s.exact_direction(&x, &sets, &p, Some(&prune), &mut exact)
@@ -344,7 +356,10 @@ mod tests {
         assert!(size > 0.0 && diff <= 1e-12 * size, "{diff} against {size}");
         // The other way round (factors of the pruned system, the whole one asked for)
         // they cannot serve: they lack the contact's unknowns.
-        assert!(!s.kept_direction(&x, &sets, &p, None, &mut kept));
+        assert_eq!(
+            s.kept_direction(&x, &sets, &p, None, &mut kept),
+            KeptUpdate::Refused
+        );
         // New factors are recorded in the buffers of the record they replace (given
         // room to spare here, which a new buffer would not have).
         let room = 4 * o.n;

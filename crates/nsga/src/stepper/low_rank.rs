@@ -50,12 +50,18 @@ pub(super) struct LowRank {
     only: ContactRows,
     /// For each reduced row, its place among the changed rows (`usize::MAX`: none).
     slot: Vec<usize>,
-    /// D (k × n, row-major), the columns of its nonzeros by row (`d_nonzero`, row i's
-    /// in `d_ptr[i]..d_ptr[i + 1]`), and y.
+    /// The terms of D as (changed row, column, value), new rows' then the kept rows'
+    /// negated; D by its nonzeros, row by row (row i's columns and values in
+    /// `d_ptr[i]..d_ptr[i + 1]` of `d_cols` and `d`); and y.
+    d_terms: Vec<(usize, usize, f64)>,
+    d_cols: Vec<usize>,
     d: Vec<f64>,
-    d_nonzero: Vec<usize>,
     d_ptr: Vec<usize>,
     y: Vec<f64>,
+    /// For each column, its place in `d` while a row of D is summed (`usize::MAX`:
+    /// none), and that row's entries, to be put in column order.
+    d_at: Vec<usize>,
+    d_row: Vec<(usize, f64)>,
     /// The changed rows' places among the kept columns of Z, and the k × k system
     /// (I + D Z) w = D y.
     z_at: Vec<usize>,
@@ -64,6 +70,39 @@ pub(super) struct LowRank {
 }
 
 impl LowRank {
+    /// D by its nonzeros from its terms, of `n` columns: the terms of each entry summed
+    /// in the order they were pushed (a dense D summed them so, and the sums are the
+    /// same), the entries of a row by column, exact zeros left out (the products with
+    /// them are). One pass over the terms per row: a row's terms are a few bodies'.
+    fn by_entry(&mut self, n: usize) {
+        self.d_at.clear();
+        self.d_at.resize(n, usize::MAX);
+        self.d_cols.clear();
+        self.d.clear();
+        self.d_ptr.clear();
+        self.d_ptr.push(0);
+        for i in 0..self.reduced.len() {
+            self.d_row.clear();
+            for &(_, c, v) in self.d_terms.iter().filter(|t| t.0 == i) {
+                if self.d_at[c] == usize::MAX {
+                    self.d_at[c] = self.d_row.len();
+                    self.d_row.push((c, 0.0));
+                }
+                self.d_row[self.d_at[c]].1 += v;
+            }
+            // The columns are distinct.
+            self.d_row.sort_unstable_by_key(|&(c, _)| c);
+            for &(c, v) in &self.d_row {
+                self.d_at[c] = usize::MAX;
+                if v != 0.0 {
+                    self.d_cols.push(c);
+                    self.d.push(v);
+                }
+            }
+            self.d_ptr.push(self.d.len());
+        }
+    }
+
     /// New kept factors, of the matrix `kept` (reduced numbering), taken by swapping
     /// buffers: the caller's assembles its next matrix from scratch. (A copy cost a
     /// memcpy of 30 kB per factorization of a six-block pile.)
@@ -76,12 +115,11 @@ impl LowRank {
 /// The rows of the Newton matrix whose form differs between `kept` and `sets`, full
 /// numbering, and their contacts: κ, Λ, λ of a normal contact whose A, B, C membership
 /// differs; both rows of every component of a friction law whose activity (a normal in
-/// A), D or E membership differs. False when there are more than
-/// [`Tuning::low_rank_rows`](crate::Tuning::low_rank_rows).
+/// A), D or E membership differs. False when there are more than `most`.
 fn changed_rows<S: System>(
     stepper: &Stepper<S>,
-    kept: &IndexSets,
-    sets: &IndexSets,
+    (kept, sets): (&IndexSets, &IndexSets),
+    most: usize,
     rows: &mut Vec<usize>,
     only: &mut ContactRows,
 ) -> bool {
@@ -114,7 +152,7 @@ fn changed_rows<S: System>(
         }
         only.laws.push(changed);
     }
-    rows.len() <= stepper.options.tuning.low_rank_rows
+    rows.len() <= most
 }
 
 /// Solves the k × k system `c` w = `rhs` (row-major) in place by Gaussian elimination
@@ -154,8 +192,10 @@ fn solve_small(k: usize, c: &mut [f64], rhs: &mut [f64]) -> bool {
 
 impl<S: System> Stepper<S> {
     /// The low-rank update (module docs) at `x` for `sets` into `dx`, when the kept
-    /// factors fit but for at most [`Tuning::low_rank_rows`](crate::Tuning::low_rank_rows)
-    /// rows; false otherwise (`dx` then holds nothing that counts). `prune` is this
+    /// factors fit but for at most `p.low_rank_rows` rows
+    /// ([`Tuning::low_rank_rows`](crate::Tuning::low_rank_rows), or
+    /// [`Tuning::held_low_rank_rows`](crate::Tuning::held_low_rank_rows) in a held-sets
+    /// attempt); false otherwise (`dx` then holds nothing that counts). `prune` is this
     /// attempt's prune map and reduced size, the kept factors' too.
     pub(super) fn low_rank_direction(
         &mut self,
@@ -170,7 +210,9 @@ impl<S: System> Stepper<S> {
         };
         let mut rows = std::mem::take(&mut self.work.low_rank.rows);
         let mut only = std::mem::take(&mut self.work.low_rank.only);
-        let fits = changed_rows(self, &kept.sets, sets, &mut rows, &mut only) && !rows.is_empty();
+        let pair = (&kept.sets, sets);
+        let fits =
+            changed_rows(self, pair, p.low_rank_rows, &mut rows, &mut only) && !rows.is_empty();
         if fits {
             // The derivative rows are still those of the kept factors' point: only a
             // plain factorization's factors take low-rank updates, and it keeps them
@@ -210,20 +252,22 @@ impl<S: System> Stepper<S> {
         for (s, &r) in lr.reduced.iter().enumerate() {
             lr.slot[r] = s;
         }
-        // D: the new rows minus the kept ones.
-        lr.d.clear();
-        lr.d.resize(k * n, 0.0);
+        // D: the new rows minus the kept ones, by its nonzeros: a changed row touches a
+        // few bodies' unknowns, and a dense k × n D cost 87 MB per update of 64 rows of
+        // a 10 000-block column.
+        lr.d_terms.clear();
         for &(r, c, v) in &w.jac {
             let (r, c) = (reduce(r), reduce(c));
             if r != usize::MAX && c != usize::MAX && lr.slot[r] != usize::MAX {
-                lr.d[lr.slot[r] * n + c] += v;
+                lr.d_terms.push((lr.slot[r], c, v));
             }
         }
         for &(r, c, v) in &lr.kept {
             if lr.slot[r] != usize::MAX {
-                lr.d[lr.slot[r] * n + c] -= v;
+                lr.d_terms.push((lr.slot[r], c, -v));
             }
         }
+        lr.by_entry(n);
         // y = J₀⁻¹ b with b = −R.
         lr.y.clear();
         lr.y.resize(n, 0.0);
@@ -257,24 +301,15 @@ impl<S: System> Stepper<S> {
             };
             lr.z_at.push(at);
         }
-        // The nonzeros of D's rows: a changed row touches a few bodies' unknowns, and
-        // the products below skip only exact zeros, so the sums are the dense ones.
-        lr.d_nonzero.clear();
-        lr.d_ptr.clear();
-        lr.d_ptr.push(0);
-        for d_i in lr.d.chunks_exact(n) {
-            lr.d_nonzero.extend((0..n).filter(|&c| d_i[c] != 0.0));
-            lr.d_ptr.push(lr.d_nonzero.len());
-        }
         // (I + D Z) w = D y.
         lr.c.clear();
         lr.c.resize(k * k, 0.0);
         lr.rhs.clear();
         lr.rhs.resize(k, 0.0);
         for i in 0..k {
-            let d_i = &lr.d[i * n..(i + 1) * n];
-            let cols = &lr.d_nonzero[lr.d_ptr[i]..lr.d_ptr[i + 1]];
-            let dot = |v: &[f64]| cols.iter().map(|&c| d_i[c] * v[c]).sum::<f64>();
+            let row = lr.d_ptr[i]..lr.d_ptr[i + 1];
+            let (cols, d_i) = (&lr.d_cols[row.clone()], &lr.d[row]);
+            let dot = |v: &[f64]| cols.iter().zip(d_i).map(|(&c, d)| d * v[c]).sum::<f64>();
             lr.rhs[i] = dot(&lr.y);
             for j in 0..k {
                 lr.c[i * k + j] = f64::from(u8::from(i == j)) + dot(&lr.z_cols[lr.z_at[j]]);
@@ -377,11 +412,16 @@ mod tests {
         }
         s.residual(&x, &sets, &p);
         assert!(!s.low_rank_direction(&x, &sets, &p, None, &mut dx));
-        assert!(s.work.low_rank.rows.len() > s.options.tuning.low_rank_rows);
-        // With room for them (`Tuning::low_rank_rows`), the kept factors serve, and the
-        // update is the exact one of the kept iterate for these sets.
+        assert!(s.work.low_rank.rows.len() > p.low_rank_rows);
+        // With room for them (a held-sets attempt's `Tuning::held_low_rank_rows`), the
+        // kept factors serve, and the update is the exact one of the kept iterate for
+        // these sets.
         let (mut s, x, p, _, _) = factored_chain(12);
-        s.options.tuning.low_rank_rows = 16;
+        let p = Scheme {
+            low_rank_rows: s.options.tuning.held_low_rank_rows,
+            ..p
+        };
+        assert!(p.low_rank_rows >= 15);
         s.residual(&x, &sets, &p);
         assert!(s.low_rank_direction(&x, &sets, &p, None, &mut dx));
         assert_eq!(s.work.low_rank.rows.len(), 15);
@@ -389,6 +429,23 @@ mod tests {
         s.exact_direction(&x, &sets, &p, None, &mut exact).unwrap();
         let size = exact.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
         assert!(max_difference(&dx, &exact) <= 1e-10 * size);
+    }
+
+    /// D by its nonzeros sums each entry's terms in the order they came, as a dense D
+    /// did, and leaves out the entries that cancel.
+    #[test]
+    fn d_by_its_nonzeros_sums_each_entry_in_order() {
+        let mut lr = LowRank {
+            reduced: vec![4, 7],
+            ..LowRank::default()
+        };
+        let (a, b, c) = (0.1, 0.2, 0.3);
+        lr.d_terms = vec![(1, 5, a), (0, 9, 1.0), (1, 5, b), (0, 2, 2.0), (1, 5, -c)];
+        lr.d_terms.push((0, 9, -1.0));
+        lr.by_entry(10);
+        assert_eq!(lr.d_ptr, [0, 1, 2]);
+        assert_eq!(lr.d_cols, [2, 5]);
+        assert_eq!(lr.d, [2.0, (0.0 + a + b) - c]);
     }
 
     #[test]

@@ -1,7 +1,7 @@
 //! What an attempt's iterates are evaluated and updated with, besides the state: the
 //! generalized-α parameters of its ρ∞ (paper eq. 72), whether the friction percussions
-//! shift the position by half a step (eq. 127), and whether its updates may take the
-//! quick forms of a step's first attempt.
+//! shift the position by half a step (eq. 127), whether its updates may take the quick
+//! forms of a step's first attempt, and how many rows its low-rank updates replace.
 
 use super::Stepper;
 use crate::params::GenAlpha;
@@ -19,6 +19,8 @@ pub(super) struct Scheme {
     /// ([`LinearOptions::low_rank_updates`](crate::LinearOptions::low_rank_updates)) and kept
     /// factors of a regularized matrix: in a step's first attempt only.
     pub quick_updates: bool,
+    /// Most rows a low-rank update replaces (`KeptFactors::low_rank_rows`).
+    pub low_rank_rows: usize,
 }
 
 impl<S: System> Stepper<S> {
@@ -28,6 +30,7 @@ impl<S: System> Stepper<S> {
             alpha: GenAlpha::new(rho_inf),
             friction_shift: self.options.friction_percussion_shift,
             quick_updates: false,
+            low_rank_rows: self.options.tuning.low_rank_rows,
         }
     }
 }

@@ -10,7 +10,7 @@ use super::scheme::Scheme;
 use super::spec::AttemptSpec;
 use super::Stepper;
 use crate::attempt::{AttemptFailure, AttemptOutcome, RefusedBecause};
-use crate::newton::{self, GiveUp, NewtonProblem, NewtonSettings, Outcome};
+use crate::newton::{self, GiveUp, KeptUpdate, NewtonProblem, NewtonSettings, Outcome};
 use crate::sets::IndexSets;
 use crate::system::System;
 use crate::tuning::Tuning;
@@ -137,7 +137,7 @@ impl<S: System> NewtonProblem for StepProblem<'_, S> {
         self.stepper.copy_sets(sets)
     }
 
-    fn kept_direction(&mut self, x: &[f64], sets: &IndexSets, dx: &mut [f64]) -> bool {
+    fn kept_direction(&mut self, x: &[f64], sets: &IndexSets, dx: &mut [f64]) -> KeptUpdate {
         let started = Instant::now();
         let kept = self
             .stepper
@@ -148,7 +148,7 @@ impl<S: System> NewtonProblem for StepProblem<'_, S> {
             dx[i] = 0.0;
         }
         self.stepper.newton_work.seconds.simplified += started.elapsed().as_secs_f64();
-        if let (true, Some(held)) = (kept, &mut self.held) {
+        if let (true, Some(held)) = (kept != KeptUpdate::Refused, &mut self.held) {
             held.updated(sets);
         }
         kept
@@ -228,9 +228,10 @@ impl<S: System> Stepper<S> {
             } else {
                 GiveUp::SettledCycle
             },
+            follow_sets: spec.kept.follow_sets,
             contracting_extra: spec.contracting_extra,
             tuning: Tuning {
-                reuse_contraction: spec.reuse_contraction,
+                reuse_contraction: spec.kept.contraction,
                 ..self.options.tuning
             },
         };

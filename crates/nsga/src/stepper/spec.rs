@@ -80,10 +80,23 @@ pub(super) struct AttemptSpec {
     /// Whether the attempt may factor a Newton matrix of its own (false: it takes
     /// simplified and low-rank updates on the kept factors only).
     pub new_factors: bool,
-    /// The factor by which each simplified or low-rank update must reduce ‖R‖∞ for the
-    /// kept factors to serve on ([`Tuning::reuse_contraction`](crate::Tuning::reuse_contraction);
-    /// 1 in a held-sets attempt, see [`Stepper::spec`]).
-    pub reuse_contraction: f64,
+    /// How long the kept factors serve, and how far their low-rank updates reach.
+    pub kept: KeptFactors,
+}
+
+/// How long an attempt's kept factors serve (docs/method.md §8.1, "Simplified Newton
+/// with kept factors"; §8.2, "The held-sets attempt"): [`Stepper::spec`] sets it by the
+/// set rule.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(super) struct KeptFactors {
+    /// The factor by which each simplified or low-rank update must reduce ‖R‖∞ for them
+    /// to serve on ([`Tuning::reuse_contraction`](crate::Tuning::reuse_contraction)).
+    pub contraction: f64,
+    /// Most rows of the Newton matrix a low-rank update replaces
+    /// ([`Tuning::low_rank_rows`](crate::Tuning::low_rank_rows)).
+    pub low_rank_rows: usize,
+    /// Whether they follow the index sets ([`NewtonSettings::follow_sets`](crate::newton::NewtonSettings::follow_sets)).
+    pub follow_sets: bool,
 }
 
 impl AttemptSpec {
@@ -93,6 +106,7 @@ impl AttemptSpec {
             alpha: GenAlpha::new(self.rho_inf),
             friction_shift: self.friction_shift,
             quick_updates: self.quick_updates,
+            low_rank_rows: self.kept.low_rank_rows,
         }
     }
 
@@ -122,8 +136,8 @@ impl<S: System> Stepper<S> {
     /// sets, [`NewtonOptions::max_iter`](crate::NewtonOptions::max_iter) updates; a held-sets
     /// attempt takes its updates whole (after the release each update changes the sets
     /// of a contact or a few, and halving such updates only delayed the next change;
-    /// docs/method.md §8.2, `Stage::HeldSets` and `Stage::Free`) and keeps its factors
-    /// while the residual falls.
+    /// docs/method.md §8.2, `Stage::HeldSets` and `Stage::Free`) and its kept factors
+    /// follow its sets ([`Stepper::kept_factors`]).
     pub(super) fn spec(&self, sets: SetRule, rho_inf: f64) -> AttemptSpec {
         let budget = match sets {
             SetRule::Fixed(_) => self.options.newton.max_iter,
@@ -133,15 +147,7 @@ impl<S: System> Stepper<S> {
             SetRule::Held { .. } => 0,
             SetRule::Free | SetRule::Fixed(_) => self.options.newton.line_search,
         };
-        // After the release a held-sets update opens at most a few contacts, which bounds
-        // its progress whatever the factors: an exact update contracts no more than a
-        // simplified one, so the kept factors serve while the residual falls. The value
-        // holds for the whole attempt, the held solve before the release included, as
-        // measured (docs/method.md §8.2, "The held-sets attempt").
-        let reuse_contraction = match sets {
-            SetRule::Held { .. } => 1.0,
-            SetRule::Free | SetRule::Fixed(_) => self.options.tuning.reuse_contraction,
-        };
+        let kept = self.kept_factors(&sets);
         AttemptSpec {
             start: StartAt::LastSolution,
             sets,
@@ -152,7 +158,41 @@ impl<S: System> Stepper<S> {
             line_search,
             quick_updates: false,
             new_factors: true,
-            reuse_contraction,
+            kept,
+        }
+    }
+
+    /// How long the kept factors of an attempt with `sets` serve. In most attempts, while
+    /// each update contracts the residual by [`Tuning::reuse_contraction`](crate::Tuning::reuse_contraction),
+    /// at most [`Tuning::max_reuses`](crate::Tuning::max_reuses) in a row. In a held-sets
+    /// attempt they follow its sets: after the release each update opens at most a few
+    /// contacts, which bounds its progress whatever the factors, so they serve while the
+    /// residual falls at all, and on through a rise at sets that a low-rank update of up
+    /// to [`Tuning::held_low_rank_rows`](crate::Tuning::held_low_rank_rows) rows reached
+    /// first, where the count of updates in a row starts afresh: a rocking corner that
+    /// climbs the column one interface every two updates, or a band of corners that open
+    /// one per update, reaches new sets again and again, whose residual does not compare
+    /// with the last one's (docs/method.md §8.2, "The held-sets attempt").
+    pub(super) fn kept_factors(&self, sets: &SetRule) -> KeptFactors {
+        let t = &self.options.tuning;
+        match sets {
+            SetRule::Held { .. } => {
+                let follow_sets = self.options.newton.held_factors_follow_sets;
+                KeptFactors {
+                    contraction: 1.0,
+                    low_rank_rows: if follow_sets {
+                        t.held_low_rank_rows
+                    } else {
+                        t.low_rank_rows
+                    },
+                    follow_sets,
+                }
+            }
+            SetRule::Free | SetRule::Fixed(_) => KeptFactors {
+                contraction: t.reuse_contraction,
+                low_rank_rows: t.low_rank_rows,
+                follow_sets: false,
+            },
         }
     }
 
@@ -197,26 +237,44 @@ mod tests {
             line_search: 0,
             quick_updates: false,
             new_factors: true,
-            reuse_contraction: 0.1,
+            kept: KeptFactors {
+                contraction: 0.1,
+                low_rank_rows: 8,
+                follow_sets: false,
+            },
         }
     }
 
-    /// A held-sets attempt keeps its factors while the residual falls; the others ask
-    /// each simplified update to contract it by `Tuning::reuse_contraction`
+    /// A held-sets attempt's kept factors follow its sets, with low-rank updates of
+    /// `Tuning::held_low_rank_rows` rows, while the residual falls at all; the others ask each
+    /// simplified update to contract the residual by `Tuning::reuse_contraction`
     /// (docs/method.md §8.2, "The held-sets attempt").
     #[test]
-    fn a_held_sets_attempt_keeps_its_factors_while_the_residual_falls() {
+    fn a_held_sets_attempts_kept_factors_follow_its_sets() {
         use crate::systems::chain::Chain;
         use crate::Options;
         let chain = Chain::benchmark(2);
         let q0 = [0.0, chain.height / 2.0, 0.0, 2.0 * chain.height];
         let s = Stepper::new(chain, 0.0, &q0, &[0.0; 4], Options::default()).unwrap();
+        let t = s.options.tuning;
         let previous = IndexSets::empty(s.off.nn, s.layout.friction.len());
         let held = s.spec(SetRule::Held { previous, most: 1 }, 0.8);
-        assert_eq!(held.reuse_contraction, 1.0);
-        let tuned = s.options.tuning.reuse_contraction;
-        assert!(tuned < 1.0);
-        assert_eq!(s.spec(SetRule::Free, 0.8).reuse_contraction, tuned);
+        let following = KeptFactors {
+            contraction: 1.0,
+            low_rank_rows: t.held_low_rank_rows,
+            follow_sets: true,
+        };
+        assert_eq!(held.kept, following);
+        assert_eq!(held.scheme().low_rank_rows, t.held_low_rank_rows);
+        let contracting = KeptFactors {
+            contraction: t.reuse_contraction,
+            low_rank_rows: t.low_rank_rows,
+            follow_sets: false,
+        };
+        assert!(t.reuse_contraction < 1.0 && t.held_low_rank_rows > t.low_rank_rows);
+        assert_eq!(s.spec(SetRule::Free, 0.8).kept, contracting);
+        let fixed = SetRule::Fixed(IndexSets::empty(s.off.nn, s.layout.friction.len()));
+        assert_eq!(s.spec(fixed, 0.8).kept, contracting);
     }
 
     #[test]
