@@ -75,7 +75,7 @@ impl LowRank {
     /// same), the entries of a row by column, exact zeros left out (the products with
     /// them are). One pass over the terms per row: a row's terms are a few bodies'.
     fn by_entry(&mut self, n: usize) {
-        self.d_at.clear();
+        // Every place is reset after its row, so only new columns need one.
         self.d_at.resize(n, usize::MAX);
         self.d_cols.clear();
         self.d.clear();
@@ -118,7 +118,8 @@ impl LowRank {
 /// A), D or E membership differs. False when there are more than `most`.
 fn changed_rows<S: System>(
     stepper: &Stepper<S>,
-    (kept, sets): (&IndexSets, &IndexSets),
+    kept: &IndexSets,
+    sets: &IndexSets,
     most: usize,
     rows: &mut Vec<usize>,
     only: &mut ContactRows,
@@ -210,9 +211,9 @@ impl<S: System> Stepper<S> {
         };
         let mut rows = std::mem::take(&mut self.work.low_rank.rows);
         let mut only = std::mem::take(&mut self.work.low_rank.only);
-        let pair = (&kept.sets, sets);
+        let most = p.low_rank_rows;
         let fits =
-            changed_rows(self, pair, p.low_rank_rows, &mut rows, &mut only) && !rows.is_empty();
+            changed_rows(self, &kept.sets, sets, most, &mut rows, &mut only) && !rows.is_empty();
         if fits {
             // The derivative rows are still those of the kept factors' point: only a
             // plain factorization's factors take low-rank updates, and it keeps them
