@@ -98,8 +98,10 @@ pub struct Tuning {
     pub far_correction: f64,
     /// Columns of Z = J₀⁻¹ E kept per factorization for the low-rank updates. Measured
     /// with the harness (`scripts/reference_workload.py target/release/rollstack --repeat 1 --variant tuning.kept_columns=16`): no count of the workload changes;
-    /// the kept columns save triangular solves. They are dropped when full, and 32 could
-    /// not hold the rows of the held-sets attempt's updates ([`Tuning::held_low_rank_rows`]):
+    /// the kept columns save triangular solves. When an update needs more room, the
+    /// least recently used make it, and 32 could not hold the rows of the held-sets
+    /// attempt's updates ([`Tuning::held_low_rank_rows`]; measured when a full set was
+    /// dropped whole):
     /// the kicked 100-block column to t = 1 (`rollstack blocks shake --blocks 100 --omega
     /// 2 --amplitude 0.001 --mu 0.2 --steps-per-period 314 --t-end 1 --json --tuning
     /// tuning.kept_columns=32`) spent 2.9 s in simplified updates against 0.87 s with 128

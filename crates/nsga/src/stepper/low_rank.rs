@@ -41,9 +41,8 @@ pub(super) struct LowRank {
     /// matrix by row for those rows cost more (`RowMat::build` was 3 % of the matrix's
     /// stick–slip rows in `perf`, at about 1.3 low-rank updates per factorization).
     kept: Vec<(usize, usize, f64)>,
-    /// Columns J₀⁻¹ e_r of the kept factors, for the reduced rows r in `z_rows`.
-    z_rows: Vec<usize>,
-    z_cols: Vec<Vec<f64>>,
+    /// Columns J₀⁻¹ e_r of the kept factors.
+    z: ZColumns,
     /// The changed rows (full numbering, then reduced) and their contacts.
     rows: Vec<usize>,
     reduced: Vec<usize>,
@@ -108,7 +107,92 @@ impl LowRank {
     /// memcpy of 30 kB per factorization of a six-block pile.)
     pub fn factored(&mut self, kept: &mut Vec<(usize, usize, f64)>) {
         std::mem::swap(&mut self.kept, kept);
-        self.z_rows.clear();
+        self.z.clear();
+    }
+}
+
+/// The columns J₀⁻¹ e_r of Z kept with the factors, for the reduced rows r they were
+/// computed for: they depend on nothing else, so a row that changes again on the same
+/// factors costs its substitution once. At most `capacity` are kept; when an update's
+/// rows need more room, the columns least recently used by an update go, never one the
+/// update uses (docs/method.md §7: dropping them all cost tall columns a tenth of
+/// their time).
+#[derive(Debug, Clone, Default)]
+struct ZColumns {
+    /// The row of each kept column, and the update that last used it.
+    rows: Vec<usize>,
+    last_use: Vec<u64>,
+    /// The columns, `rows.len()` of them and spare buffers after them.
+    cols: Vec<Vec<f64>>,
+    /// Updates made since the factors were made.
+    updates: u64,
+    /// Scratch: the kept columns by last use.
+    by_use: Vec<usize>,
+}
+
+impl ZColumns {
+    /// Forgets the columns (new factors).
+    fn clear(&mut self) {
+        self.rows.clear();
+        self.last_use.clear();
+    }
+
+    /// Where the column of row `r` is kept.
+    fn place(&self, r: usize) -> Option<usize> {
+        self.rows.iter().position(|&kept| kept == r)
+    }
+
+    fn column(&self, at: usize) -> &[f64] {
+        &self.cols[at]
+    }
+
+    /// Marks the kept columns of `rows` (one update's) as used now, and drops the least
+    /// recently used others until the columns `rows` lacks fit within `capacity`
+    /// (at least `rows.len()`).
+    fn make_room(&mut self, rows: &[usize], capacity: usize) {
+        self.updates += 1;
+        let mut missing = 0;
+        for &r in rows {
+            match self.place(r) {
+                Some(at) => self.last_use[at] = self.updates,
+                None => missing += 1,
+            }
+        }
+        let excess = (self.rows.len() + missing).saturating_sub(capacity);
+        if excess == 0 {
+            return;
+        }
+        self.by_use.clear();
+        self.by_use.extend(0..self.rows.len());
+        self.by_use.sort_by_key(|&at| self.last_use[at]);
+        // The oldest `excess` are not this update's: its kept columns were marked now,
+        // and there are at most capacity − missing of them. They go from the highest
+        // place down, so that the places still to go stay where they are.
+        self.by_use.truncate(excess);
+        self.by_use.sort_unstable_by(|a, b| b.cmp(a));
+        for &at in &self.by_use {
+            let last = self.rows.len() - 1;
+            self.rows.swap_remove(at);
+            self.last_use.swap_remove(at);
+            self.cols.swap(at, last);
+        }
+    }
+
+    /// A buffer for the next column to be kept.
+    fn spare(&mut self) -> &mut Vec<f64> {
+        let at = self.rows.len();
+        if self.cols.len() == at {
+            self.cols.push(Vec::new());
+        }
+        &mut self.cols[at]
+    }
+
+    /// Keeps the column just computed in [`ZColumns::spare`] as row `r`'s, and returns
+    /// its place.
+    fn push(&mut self, r: usize) -> usize {
+        self.rows.push(r);
+        self.last_use.push(self.updates);
+        self.rows.len() - 1
     }
 }
 
@@ -278,27 +362,21 @@ impl<S: System> Stepper<S> {
             return false;
         }
         // The columns of Z, kept from earlier updates on these factors where they can be.
-        if lr.z_rows.len() + k > self.options.tuning.kept_columns.max(k) {
-            lr.z_rows.clear();
-        }
+        lr.z.make_room(&lr.reduced, self.options.tuning.kept_columns.max(k));
         lr.z_at.clear();
         for &r in &lr.reduced {
-            let at = if let Some(at) = lr.z_rows.iter().position(|&kept| kept == r) {
-                at
-            } else {
-                let at = lr.z_rows.len();
-                if lr.z_cols.len() == at {
-                    lr.z_cols.push(Vec::new());
+            let at = match lr.z.place(r) {
+                Some(at) => at,
+                None => {
+                    let col = lr.z.spare();
+                    col.clear();
+                    col.resize(n, 0.0);
+                    col[r] = 1.0;
+                    if w.solver.solve_again(col).is_err() {
+                        return false;
+                    }
+                    lr.z.push(r)
                 }
-                let col = &mut lr.z_cols[at];
-                col.clear();
-                col.resize(n, 0.0);
-                col[r] = 1.0;
-                if w.solver.solve_again(col).is_err() {
-                    return false;
-                }
-                lr.z_rows.push(r);
-                at
             };
             lr.z_at.push(at);
         }
@@ -313,14 +391,14 @@ impl<S: System> Stepper<S> {
             let dot = |v: &[f64]| cols.iter().zip(d_i).map(|(&c, d)| d * v[c]).sum::<f64>();
             lr.rhs[i] = dot(&lr.y);
             for j in 0..k {
-                lr.c[i * k + j] = f64::from(u8::from(i == j)) + dot(&lr.z_cols[lr.z_at[j]]);
+                lr.c[i * k + j] = f64::from(u8::from(i == j)) + dot(lr.z.column(lr.z_at[j]));
             }
         }
         if !solve_small(k, &mut lr.c, &mut lr.rhs) {
             return false;
         }
         for (&wj, &at) in lr.rhs.iter().zip(&lr.z_at) {
-            for (yi, zi) in lr.y.iter_mut().zip(&lr.z_cols[at]) {
+            for (yi, zi) in lr.y.iter_mut().zip(lr.z.column(at)) {
                 *yi -= zi * wj;
             }
         }
@@ -430,6 +508,82 @@ mod tests {
         s.exact_direction(&x, &sets, &p, None, &mut exact).unwrap();
         let size = exact.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
         assert!(max_difference(&dx, &exact) <= 1e-10 * size);
+    }
+
+    /// Updates on one factorization whose rows need more columns than are kept: the
+    /// least recently used columns make room, and the updates are those that kept every
+    /// column gives, to the bit, and the exact ones of the kept iterate.
+    #[test]
+    fn columns_dropped_for_room_leave_the_updates_as_they_are() {
+        let opened = |contacts: &[usize]| {
+            let (_, _, _, mut sets, _) = factored_chain(12);
+            for &k in contacts {
+                (sets.a[k], sets.b[k], sets.c[k]) = (false, false, false);
+            }
+            sets
+        };
+        let held = |s: &Stepper<Chain>, p: Scheme| Scheme {
+            low_rank_rows: s.options.tuning.held_low_rank_rows,
+            ..p
+        };
+        let (mut few, x, p, _, _) = factored_chain(12);
+        few.options.tuning.kept_columns = 5;
+        let (mut all, _, _, _, _) = factored_chain(12);
+        let p = held(&few, p);
+        // 5 rows each for one contact, 10 for two: the second and third updates drop
+        // columns, the fourth needs some of those dropped again.
+        for contacts in [&[1][..], &[5], &[1, 9], &[5]] {
+            let sets = opened(contacts);
+            let (mut a, mut b) = (vec![0.0; x.len()], vec![0.0; x.len()]);
+            few.residual(&x, &sets, &p);
+            assert!(few.low_rank_direction(&x, &sets, &p, None, &mut a));
+            all.residual(&x, &sets, &p);
+            assert!(all.low_rank_direction(&x, &sets, &p, None, &mut b));
+            let k = few.work.low_rank.reduced.len();
+            assert!(few.work.low_rank.z.rows.len() <= k.max(5), "{contacts:?}");
+            assert_eq!(a, b, "{contacts:?}");
+            let (mut fresh, _, _, _, _) = factored_chain(12);
+            let mut exact = vec![0.0; x.len()];
+            fresh.residual(&x, &sets, &p);
+            fresh
+                .exact_direction(&x, &sets, &p, None, &mut exact)
+                .unwrap();
+            let size = exact.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
+            assert!(max_difference(&a, &exact) <= 1e-10 * size, "{contacts:?}");
+        }
+        assert!(all.work.low_rank.z.rows.len() > 5);
+    }
+
+    /// The kept columns go least recently used first, never one the update needs, and
+    /// each column stays with its row.
+    #[test]
+    fn kept_columns_make_room_least_recently_used_first() {
+        let mut z = ZColumns::default();
+        let update = |z: &mut ZColumns, rows: &[usize]| {
+            z.make_room(rows, 3);
+            for &r in rows {
+                if z.place(r).is_none() {
+                    *z.spare() = vec![r as f64];
+                    z.push(r);
+                }
+            }
+        };
+        update(&mut z, &[1, 2]);
+        update(&mut z, &[3]);
+        // 1 is used again, so 2 (used before 3) makes room for 4.
+        update(&mut z, &[1, 4]);
+        assert_eq!(z.place(2), None);
+        for r in [1, 3, 4] {
+            assert_eq!(z.column(z.place(r).unwrap()), [r as f64], "row {r}");
+        }
+        // Three new rows: all the others go.
+        update(&mut z, &[5, 6, 7]);
+        assert_eq!(z.rows.len(), 3);
+        for r in [5, 6, 7] {
+            assert_eq!(z.column(z.place(r).unwrap()), [r as f64], "row {r}");
+        }
+        z.clear();
+        assert_eq!(z.place(5), None);
     }
 
     /// D by its nonzeros sums each entry's terms in the order they came, as a dense D
