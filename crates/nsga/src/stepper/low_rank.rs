@@ -41,6 +41,11 @@ pub(super) struct LowRank {
     /// matrix by row for those rows cost more (`RowMat::build` was 3 % of the matrix's
     /// stick–slip rows in `perf`, at about 1.3 low-rank updates per factorization).
     kept: Vec<(usize, usize, f64)>,
+    /// `kept` by row ([`group_by_key`]), made at the first update on the factors (empty
+    /// until then): an update reads its k rows, not the whole matrix, which tall columns'
+    /// updates of about 30 rows did at every update.
+    kept_at: Vec<usize>,
+    kept_by_row: Vec<usize>,
     /// Columns J₀⁻¹ e_r of the kept factors.
     z: ZColumns,
     /// The changed rows (full numbering, then reduced) and their contacts.
@@ -53,6 +58,9 @@ pub(super) struct LowRank {
     /// negated; D by its nonzeros, row by row (row i's columns and values in
     /// `d_ptr[i]..d_ptr[i + 1]` of `d_cols` and `d`); and y.
     d_terms: Vec<(usize, usize, f64)>,
+    /// The terms by row ([`group_by_key`]).
+    term_at: Vec<usize>,
+    term_order: Vec<usize>,
     d_cols: Vec<usize>,
     d: Vec<f64>,
     d_ptr: Vec<usize>,
@@ -80,9 +88,13 @@ impl LowRank {
         self.d.clear();
         self.d_ptr.clear();
         self.d_ptr.push(0);
-        for i in 0..self.reduced.len() {
+        let k = self.reduced.len();
+        let rows = self.d_terms.iter().map(|t| t.0);
+        group_by_key(rows, k, &mut self.term_at, &mut self.term_order);
+        for i in 0..k {
             self.d_row.clear();
-            for &(_, c, v) in self.d_terms.iter().filter(|t| t.0 == i) {
+            for &t in &self.term_order[self.term_at[i]..self.term_at[i + 1]] {
+                let (_, c, v) = self.d_terms[t];
                 if self.d_at[c] == usize::MAX {
                     self.d_at[c] = self.d_row.len();
                     self.d_row.push((c, 0.0));
@@ -107,8 +119,52 @@ impl LowRank {
     /// memcpy of 30 kB per factorization of a six-block pile.)
     pub fn factored(&mut self, kept: &mut Vec<(usize, usize, f64)>) {
         std::mem::swap(&mut self.kept, kept);
+        self.kept_at.clear();
         self.z.clear();
     }
+
+    /// Appends the terms −J₀ of the changed rows to D's, row by row, each row's in the
+    /// kept matrix's order (that of its entries' sums, as a pass over it gave), for a
+    /// kept matrix of `n` rows.
+    fn push_kept_rows(&mut self, n: usize) {
+        if self.kept_at.is_empty() {
+            let rows = self.kept.iter().map(|t| t.0);
+            group_by_key(rows, n, &mut self.kept_at, &mut self.kept_by_row);
+        }
+        for (i, &r) in self.reduced.iter().enumerate() {
+            for &t in &self.kept_by_row[self.kept_at[r]..self.kept_at[r + 1]] {
+                let (_, c, v) = self.kept[t];
+                self.d_terms.push((i, c, -v));
+            }
+        }
+    }
+}
+
+/// A stable counting sort of items by key: `order` lists the items' indices by key, each
+/// key's in their order, key r's at `order[at[r]..at[r + 1]]`, for keys below `keys`.
+fn group_by_key(
+    item_keys: impl Iterator<Item = usize> + Clone,
+    keys: usize,
+    at: &mut Vec<usize>,
+    order: &mut Vec<usize>,
+) {
+    at.clear();
+    at.resize(keys + 1, 0);
+    for r in item_keys.clone() {
+        at[r + 1] += 1;
+    }
+    for r in 0..keys {
+        at[r + 1] += at[r];
+    }
+    order.clear();
+    order.resize(at[keys], 0);
+    for (i, r) in item_keys.enumerate() {
+        order[at[r]] = i;
+        at[r] += 1;
+    }
+    // Each at[r] is now the end of key r's items, the start of key r + 1's.
+    at.copy_within(0..keys, 1);
+    at[0] = 0;
 }
 
 /// The columns J₀⁻¹ e_r of Z kept with the factors, for the reduced rows r they were
@@ -347,11 +403,7 @@ impl<S: System> Stepper<S> {
                 lr.d_terms.push((lr.slot[r], c, v));
             }
         }
-        for &(r, c, v) in &lr.kept {
-            if lr.slot[r] != usize::MAX {
-                lr.d_terms.push((lr.slot[r], c, -v));
-            }
-        }
+        lr.push_kept_rows(n);
         lr.by_entry(n);
         // y = J₀⁻¹ b with b = −R.
         lr.y.clear();
@@ -584,6 +636,17 @@ mod tests {
         }
         z.clear();
         assert_eq!(z.place(5), None);
+    }
+
+    /// Items grouped by key keep their order within a key, and keys without items
+    /// get empty ranges.
+    #[test]
+    fn grouping_by_key_is_stable() {
+        let keys = [2, 0, 2, 3, 0, 2];
+        let (mut at, mut order) = (Vec::new(), Vec::new());
+        group_by_key(keys.iter().copied(), 5, &mut at, &mut order);
+        assert_eq!(at, [0, 2, 2, 5, 6, 6]);
+        assert_eq!(order, [1, 4, 0, 2, 5, 3]);
     }
 
     /// D by its nonzeros sums each entry's terms in the order they came, as a dense D
