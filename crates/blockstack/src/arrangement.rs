@@ -185,11 +185,11 @@ fn near_bodies(states: &[BodyState], radius: &[f64], slack: f64) -> Vec<Vec<usiz
             (c.x, c.y)
         }
     };
-    // Round-off must not drop a pair the exact test keeps: a margin far above it. (The
-    // scene's poses are finite.)
-    let reach = |i: usize, j: usize| (radius[i] + radius[j]) * (1.0 + 1e-9) + 2.0 * slack;
-    let largest = (0..radius.len()).fold(0, |m, k| if radius[k] > radius[m] { k } else { m });
-    let largest_r = radius[largest];
+    // Round-off must not drop a pair the exact test keeps: a relative margin far above
+    // it. (The scene's poses are finite.)
+    let grown = |r: f64| r * (1.0 + 1e-9);
+    let reach = |i: usize, j: usize| grown(radius[i] + radius[j]) + 2.0 * slack;
+    let largest = radius.iter().copied().fold(0.0, f64::max);
     let mut order: Vec<usize> = (0..states.len()).collect();
     order.sort_by(|&i, &j| {
         (coordinates(i).0 - radius[i]).total_cmp(&(coordinates(j).0 - radius[j]))
@@ -199,8 +199,11 @@ fn near_bodies(states: &[BodyState], radius: &[f64], slack: f64) -> Vec<Vec<usiz
         let (along_i, across_i) = coordinates(i);
         for &j in &order[at + 1..] {
             let (along_j, across_j) = coordinates(j);
-            // Sorted by the circles' lower ends: no later circle reaches this one.
-            if along_j - radius[j] > along_i + reach(i, largest) - largest_r {
+            // Sorted by the circles' lower ends along the sweep: a circle whose lower
+            // end is this far beyond circle i's centre, and every later one, is out of
+            // its reach (the largest radius bounds the margin's part).
+            let beyond = along_j - radius[j] - along_i;
+            if beyond > grown(radius[i]) + (grown(largest) - largest) + 2.0 * slack {
                 break;
             }
             if (along_j - along_i).abs() <= reach(i, j)

@@ -36,14 +36,13 @@ pub const LOW_RANK_ROWS: usize = 8;
 /// The kept matrix and the scratch of low-rank updates.
 #[derive(Debug, Clone, Default)]
 pub(super) struct LowRank {
-    /// The kept factors' matrix, as factorized (reduced numbering), as triplets. An
-    /// update reads its k changed rows in one pass over them: compressing the whole
-    /// matrix by row for those rows cost more (`RowMat::build` was 3 % of the matrix's
-    /// stick–slip rows in `perf`, at about 1.3 low-rank updates per factorization).
+    /// The kept factors' matrix, as factorized (reduced numbering), as triplets.
     kept: Vec<(usize, usize, f64)>,
     /// `kept` by row ([`group_by_key`]), made at the first update on the factors (empty
-    /// until then): an update reads its k rows, not the whole matrix, which tall columns'
-    /// updates of about 30 rows did at every update.
+    /// until then): an update reads its k rows there, not in a pass over the whole
+    /// matrix, which tall columns' updates of about 30 rows made at every update. (A
+    /// counting sort, not `RowMat::build`, which was 3 % of the matrix's stick–slip rows
+    /// in `perf`, at about 1.3 low-rank updates per factorization.)
     kept_at: Vec<usize>,
     kept_by_row: Vec<usize>,
     /// Columns J₀⁻¹ e_r of the kept factors.
@@ -198,6 +197,7 @@ impl ZColumns {
         self.rows.iter().position(|&kept| kept == r)
     }
 
+    /// The column kept at `at`.
     fn column(&self, at: usize) -> &[f64] {
         &self.cols[at]
     }
