@@ -73,6 +73,7 @@ mod stages;
 mod state_levels;
 mod trial;
 mod unknowns;
+mod z_columns;
 
 pub use assemble::GAP_ROUND_OFF;
 pub use direction::WILD_UPDATE;

@@ -24,6 +24,7 @@ use super::assemble::ContactRows;
 use super::kinematic::KinematicColumns;
 use super::prune::{expand, restrict, Pruning};
 use super::scheme::Scheme;
+use super::z_columns::ZColumns;
 use super::Stepper;
 use crate::sets::IndexSets;
 use crate::system::System;
@@ -164,92 +165,6 @@ fn group_by_key(
     // Each at[r] is now the end of key r's items, the start of key r + 1's.
     at.copy_within(0..keys, 1);
     at[0] = 0;
-}
-
-/// The columns J₀⁻¹ e_r of Z kept with the factors, for the reduced rows r they were
-/// computed for: they depend on nothing else, so a row that changes again on the same
-/// factors costs its substitution once. At most `capacity` are kept; when an update's
-/// rows need more room, the columns least recently used by an update go, never one the
-/// update uses (docs/method.md §7: dropping them all cost tall columns a tenth of
-/// their time).
-#[derive(Debug, Clone, Default)]
-struct ZColumns {
-    /// The row of each kept column, and the update that last used it.
-    rows: Vec<usize>,
-    last_use: Vec<u64>,
-    /// The columns, `rows.len()` of them and spare buffers after them.
-    cols: Vec<Vec<f64>>,
-    /// Updates made since the factors were made.
-    updates: u64,
-    /// Scratch: the kept columns by last use.
-    by_use: Vec<usize>,
-}
-
-impl ZColumns {
-    /// Forgets the columns (new factors).
-    fn clear(&mut self) {
-        self.rows.clear();
-        self.last_use.clear();
-    }
-
-    /// Where the column of row `r` is kept.
-    fn place(&self, r: usize) -> Option<usize> {
-        self.rows.iter().position(|&kept| kept == r)
-    }
-
-    /// The column kept at `at`.
-    fn column(&self, at: usize) -> &[f64] {
-        &self.cols[at]
-    }
-
-    /// Marks the kept columns of `rows` (one update's) as used now, and drops the least
-    /// recently used others until the columns `rows` lacks fit within `capacity`
-    /// (at least `rows.len()`).
-    fn make_room(&mut self, rows: &[usize], capacity: usize) {
-        self.updates += 1;
-        let mut missing = 0;
-        for &r in rows {
-            match self.place(r) {
-                Some(at) => self.last_use[at] = self.updates,
-                None => missing += 1,
-            }
-        }
-        let excess = (self.rows.len() + missing).saturating_sub(capacity);
-        if excess == 0 {
-            return;
-        }
-        self.by_use.clear();
-        self.by_use.extend(0..self.rows.len());
-        self.by_use.sort_by_key(|&at| self.last_use[at]);
-        // The oldest `excess` are not this update's: its kept columns were marked now,
-        // and there are at most capacity − missing of them. They go from the highest
-        // place down, so that the places still to go stay where they are.
-        self.by_use.truncate(excess);
-        self.by_use.sort_unstable_by(|a, b| b.cmp(a));
-        for &at in &self.by_use {
-            let last = self.rows.len() - 1;
-            self.rows.swap_remove(at);
-            self.last_use.swap_remove(at);
-            self.cols.swap(at, last);
-        }
-    }
-
-    /// A buffer for the next column to be kept.
-    fn spare(&mut self) -> &mut Vec<f64> {
-        let at = self.rows.len();
-        if self.cols.len() == at {
-            self.cols.push(Vec::new());
-        }
-        &mut self.cols[at]
-    }
-
-    /// Keeps the column just computed in [`ZColumns::spare`] as row `r`'s, and returns
-    /// its place.
-    fn push(&mut self, r: usize) -> usize {
-        self.rows.push(r);
-        self.last_use.push(self.updates);
-        self.rows.len() - 1
-    }
 }
 
 /// The rows of the Newton matrix whose form differs between `kept` and `sets`, full
@@ -592,7 +507,7 @@ mod tests {
             all.residual(&x, &sets, &p);
             assert!(all.low_rank_direction(&x, &sets, &p, None, &mut b));
             let k = few.work.low_rank.reduced.len();
-            assert!(few.work.low_rank.z.rows.len() <= k.max(5), "{contacts:?}");
+            assert!(few.work.low_rank.z.kept() <= k.max(5), "{contacts:?}");
             assert_eq!(a, b, "{contacts:?}");
             let (mut fresh, _, _, _, _) = factored_chain(12);
             let mut exact = vec![0.0; x.len()];
@@ -603,39 +518,7 @@ mod tests {
             let size = exact.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
             assert!(max_difference(&a, &exact) <= 1e-10 * size, "{contacts:?}");
         }
-        assert!(all.work.low_rank.z.rows.len() > 5);
-    }
-
-    /// The kept columns go least recently used first, never one the update needs, and
-    /// each column stays with its row.
-    #[test]
-    fn kept_columns_make_room_least_recently_used_first() {
-        let mut z = ZColumns::default();
-        let update = |z: &mut ZColumns, rows: &[usize]| {
-            z.make_room(rows, 3);
-            for &r in rows {
-                if z.place(r).is_none() {
-                    *z.spare() = vec![r as f64];
-                    z.push(r);
-                }
-            }
-        };
-        update(&mut z, &[1, 2]);
-        update(&mut z, &[3]);
-        // 1 is used again, so 2 (used before 3) makes room for 4.
-        update(&mut z, &[1, 4]);
-        assert_eq!(z.place(2), None);
-        for r in [1, 3, 4] {
-            assert_eq!(z.column(z.place(r).unwrap()), [r as f64], "row {r}");
-        }
-        // Three new rows: all the others go.
-        update(&mut z, &[5, 6, 7]);
-        assert_eq!(z.rows.len(), 3);
-        for r in [5, 6, 7] {
-            assert_eq!(z.column(z.place(r).unwrap()), [r as f64], "row {r}");
-        }
-        z.clear();
-        assert_eq!(z.place(5), None);
+        assert!(all.work.low_rank.z.kept() > 5);
     }
 
     /// Items grouped by key keep their order within a key, and keys without items
