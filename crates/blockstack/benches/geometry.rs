@@ -1,10 +1,13 @@
 //! Cost of evaluating every contact of a scene once (what a stepper does per Newton
-//! iterate): the Lire tower, and resting columns of 10, 100 and 1000 blocks.
+//! iterate): the Lire tower, and resting columns of 10, 100 and 1000 blocks; and of the
+//! block stack's derivative pass (what an exact Newton update asks of the system,
+//! `StackSystem::derivatives`) on the Lire tower and a tilted, moving 10-block column.
 
 use blockstack::scenarios::{lire_on_floor, Perturbation};
 use blockstack::scene::{ContactParams, SolverParams};
-use blockstack::{Base, BaseMotion, Block, Floor, Scene, StackContacts};
+use blockstack::{Base, BaseMotion, Block, Floor, Scene, StackContacts, StackSystem};
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
+use nsga::{Derivatives, Probes, System};
 use std::hint::black_box;
 
 fn column(n: usize) -> Scene {
@@ -51,6 +54,51 @@ fn bench(c: &mut Criterion) {
         });
     }
     group.finish();
+    derivative_pass(
+        c,
+        "derivatives/lire4",
+        lire_on_floor(4, Perturbation::Bottom).unwrap(),
+    );
+    derivative_pass(c, "derivatives/column10", column(10));
+}
+
+/// `StackSystem::derivatives` at a state with every block tilted and moving (so that no
+/// row vanishes), every constraint used, as an exact Newton update asks for it.
+fn derivative_pass(c: &mut Criterion, name: &str, scene: Scene) {
+    let system = StackSystem::new(scene);
+    let wave = |i: usize, s: f64| s * ((i as f64) * 1.7 + 0.3).sin();
+    let mut q = system.scene().initial_coordinates();
+    for (i, x) in q.iter_mut().enumerate() {
+        *x += wave(i, 1e-3);
+    }
+    let nq = q.len();
+    let layout = system.layout();
+    let (np, nv) = (layout.n_position(), layout.n_velocity());
+    let u: Vec<f64> = (0..nq).map(|i| wave(i + 5, 0.3)).collect();
+    let a: Vec<f64> = (0..nq).map(|i| wave(i + 11, 0.7)).collect();
+    let mp: Vec<f64> = (0..np).map(|i| wave(i + 23, 1.0)).collect();
+    let mv: Vec<f64> = (0..nv).map(|i| wave(i + 29, 1.0)).collect();
+    let probes = Probes {
+        a: &a,
+        u_old: &u,
+        dynamics: [(&u, &mp, &mv), (&a, &mp, &mv), (&u, &mp, &mv)],
+        unused_position: &[],
+        unused_velocity: &[],
+    };
+    let mut out = Derivatives::default();
+    c.bench_function(name, |b| {
+        b.iter(|| {
+            out.clear();
+            system.derivatives(
+                black_box(0.3),
+                black_box(&q),
+                black_box(&u),
+                &probes,
+                &mut out,
+            );
+            black_box(out.position_q.entries.len())
+        });
+    });
 }
 
 criterion_group!(benches, bench);
