@@ -151,7 +151,10 @@ fn piles_beside_a_shaken_base_are_held_as_islands_where_solving_keeps_them() {
 /// ω = 8 (a run of the matrix of docs/method.md §8) falls off its base by t ≈ 3; its
 /// blocks come to rest on the floor beside the base, which shakes on, and are held
 /// there as islands. The run ends where the run that solves every step ends, to the
-/// solver's tolerance (measured: 2·10⁻¹¹), with fewer factorizations.
+/// solver's tolerance (measured: 2·10⁻¹¹). Solved every step, the pile at rest converges
+/// at each step's start, as held it is checked by one evaluation: holding it costs one
+/// factorization more, at the step its islands are first held (the kept factors were
+/// made with them in the solve), and saves evaluations.
 #[test]
 fn the_pile_a_shaken_column_leaves_is_held_beside_the_base() {
     let scene = blockstack::scenarios::shaking_column(&blockstack::scenarios::Shaking {
@@ -176,7 +179,13 @@ fn the_pile_a_shaken_column_leaves_is_held_beside_the_base() {
         "{} held",
         held.held_island_steps
     );
-    assert!(held.linear_solves < solved.linear_solves);
+    assert!(
+        held.linear_solves <= solved.linear_solves + 1,
+        "{} linear solves held, {} solved",
+        held.linear_solves,
+        solved.linear_solves
+    );
+    assert!(held.newton_work.evaluations < solved.newton_work.evaluations);
     let tol = scene.solver.tol;
     assert!(apart(&held, &solved) < tol, "{:e}", apart(&held, &solved));
 }

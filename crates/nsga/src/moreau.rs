@@ -198,6 +198,7 @@ impl<S: System> MoreauStepper<S> {
             follow_sets: false,
             give_up: GiveUp::Never,
             contracting_extra: 0,
+            start_limit: f64::INFINITY,
             tuning: crate::Tuning::default(),
         };
         match newton::solve(

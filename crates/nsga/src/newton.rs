@@ -18,8 +18,9 @@
 //!   those and stops where they no longer serve;
 //! - the **give-up rules** ([`GiveUp`]): an attempt whose index sets settle into a cycle
 //!   without progress, or whose residual stalls with fixed sets, stops before the
-//!   iteration limit, since running on only repeats it; and the other way round, an
-//!   attempt may be allowed updates past its limit while it converges
+//!   iteration limit, since running on only repeats it, and one whose start is farther
+//!   off than its [`NewtonSettings::start_limit`] stops there; and the other way round,
+//!   an attempt may be allowed updates past its limit while it converges
 //!   ([`NewtonSettings::contracting_extra`]);
 //! - the **bookkeeping** a fallback policy needs: the index sets visited in first-visit
 //!   order, whether they cycled, and the best iterate.
@@ -72,6 +73,10 @@ pub struct NewtonSettings {
     /// the same index sets as the iterate before and with its residual at most
     /// [`Tuning::reuse_contraction`](crate::Tuning::reuse_contraction) times that iterate's (0: none).
     pub contracting_extra: usize,
+    /// The attempt gives up at its start, without an update, where ‖R‖∞ there exceeds
+    /// this (∞: never): a start that is not worth iterating from
+    /// ([`Tuning::predicted_start_residual`](crate::Tuning::predicted_start_residual)).
+    pub start_limit: f64,
     /// The measured limits: reuse contraction and count, cycle periods, stall length.
     pub tuning: Tuning,
 }
@@ -290,11 +295,12 @@ pub fn solve<P: NewtonProblem>(
             scratch.best_x.extend_from_slice(x);
         }
         scratch.residuals.push(res);
-        let hopeless = match settings.give_up {
-            GiveUp::Never => false,
-            GiveUp::SettledCycle => settled_cycle(&scratch.history, &scratch.residuals, t),
-            GiveUp::Stall => stalled(&scratch.residuals, t),
-        };
+        let hopeless = (iter == 0 && res > settings.start_limit)
+            || match settings.give_up {
+                GiveUp::Never => false,
+                GiveUp::SettledCycle => settled_cycle(&scratch.history, &scratch.residuals, t),
+                GiveUp::Stall => stalled(&scratch.residuals, t),
+            };
         let converging = iter > 0
             && res <= t.reuse_contraction * last_res
             && scratch.history[scratch.history.len() - 2] == id;
@@ -441,6 +447,7 @@ mod tests {
             follow_sets: false,
             give_up: GiveUp::Never,
             contracting_extra: 0,
+            start_limit: f64::INFINITY,
             tuning: Tuning::default(),
         }
     }
@@ -683,6 +690,30 @@ mod tests {
         let mut scratch = NewtonScratch::default();
         let linear = &mut Linear { rate, kept: false };
         solve(linear, &mut [1.0], &settings, &mut scratch)
+    }
+
+    /// An attempt whose start is farther off than its `start_limit` gives up there,
+    /// after one evaluation and no update; one that starts within it iterates as ever
+    /// (the predicted attempt's rule, `Tuning::predicted_start_residual`).
+    #[test]
+    fn an_attempt_gives_up_at_a_start_beyond_its_limit() {
+        let limited = |start_limit| NewtonSettings {
+            start_limit,
+            ..plain(1e-10, 10, 0)
+        };
+        let mut scratch = NewtonScratch::default();
+        let linear = &mut Linear {
+            rate: 0.01,
+            kept: false,
+        };
+        let out = solve(linear, &mut [1e-3], &limited(1e-6), &mut scratch);
+        assert!(matches!(out, Outcome::NotConverged { .. }), "{out:?}");
+        assert_eq!(scratch.evaluations(), 1);
+        let out = solve(linear, &mut [1e-7], &limited(1e-6), &mut scratch);
+        assert!(
+            matches!(out, Outcome::Converged { iterations: 2, .. }),
+            "{out:?}"
+        );
     }
 
     /// An attempt that may not factor takes simplified updates on the kept factors and

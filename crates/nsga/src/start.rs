@@ -262,6 +262,7 @@ pub fn consistent_start<S: System>(
         follow_sets: false,
         give_up: GiveUp::Never,
         contracting_extra: 0,
+        start_limit: f64::INFINITY,
         tuning: options.tuning,
     };
     let mut y = vec![0.0; problem.level.n()];

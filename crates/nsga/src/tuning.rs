@@ -84,6 +84,20 @@ pub struct Tuning {
     /// (`scripts/reference_workload.py target/release/rollstack --repeat 1 --variant tuning.predicted_start_iterations=4`): the matrix 359 137 linear solves against
     /// 367 717 (−2.3 %), but the floor landing 1269 against 567.
     pub predicted_start_iterations: usize,
+    /// The predicted attempt ([`crate::NewtonOptions::predict_start`]) is given up at its
+    /// start, without an update, where ‖R‖∞ at the prediction exceeds this: the step
+    /// then starts from the last solution, as after any failed prediction. A smooth
+    /// step's prediction is off by the extrapolation's truncation error (10⁻¹⁰ to 10⁻⁸
+    /// in the matrix's sliding rows); one that exceeds 10⁻⁶ has met a contact event (an
+    /// impact, a stick–slip change), which the past solutions do not foresee. There the
+    /// prediction is no better a start than the last solution (in the sliding rows the
+    /// two first residuals agree to 10⁻³, and the attempt from the last solution retook
+    /// the predicted attempt's updates, residual for residual; docs/experiments.md §4),
+    /// so its updates and factorizations were spent twice. With the harness
+    /// (`scripts/reference_workload.py target/release/rollstack --repeat 3 --variant
+    /// tuning.predicted_start_residual=1e300`, the rule off): the matrix 328 683 → 277 555
+    /// linear solves (−15.6 %), see docs/method.md §4 for the times and the neighbours.
+    pub predicted_start_residual: f64,
     /// Largest ratio of the position correction to the step's motion,
     ///
     /// ‖Q‖ / (Δt(‖u_n‖ + ‖u_{n+1}‖) + Δt²(‖ā_n‖ + ‖ā_{n+1}‖ + ‖M⁻¹h‖)),   ‖v‖ = maxᵢ √Mᵢᵢ |vᵢ|,
@@ -163,6 +177,7 @@ impl Default for Tuning {
             held_contraction: 0.5,
             quick_check_iterations: 8,
             predicted_start_iterations: 2,
+            predicted_start_residual: 1e-6,
             far_correction: 4.0,
             kept_columns: 128,
             low_rank_rows: crate::stepper::LOW_RANK_ROWS,
@@ -184,6 +199,7 @@ impl Tuning {
             ("held_contraction", self.held_contraction),
             ("far_correction", self.far_correction),
             ("prune_margin", self.prune_margin),
+            ("predicted_start_residual", self.predicted_start_residual),
         ];
         match factors.iter().find(|(_, v)| !(v.is_finite() && *v >= 0.0)) {
             Some((name, v)) => Err(format!("tuning.{name} = {v} must be finite and >= 0")),

@@ -34,8 +34,10 @@ pub(crate) enum Stage {
     /// Free Newton from the unknowns the last steps' solutions extrapolate to
     /// ([`NewtonOptions::predict_start`](crate::NewtonOptions::predict_start)), with at most
     /// [`Tuning::predicted_start_iterations`](crate::Tuning::predicted_start_iterations) updates, more
-    /// while they converge. Where it fails, the first attempt starts again from the
-    /// last solution. Where that attempt is [`Stage::HeldSets`], it factors nothing: it
+    /// while they converge, and none where the prediction is off by more than
+    /// [`Tuning::predicted_start_residual`](crate::Tuning::predicted_start_residual) (a
+    /// contact event, which the extrapolation does not foresee). Where it fails, the
+    /// first attempt starts again from the last solution. Where that attempt is [`Stage::HeldSets`], it factors nothing: it
     /// takes the kept factors' updates only (docs/method.md §4, "The predicted start").
     Predicted,
     /// The held-sets attempt ([`NewtonOptions::max_openings_per_update`](crate::NewtonOptions::max_openings_per_update)), in a system with

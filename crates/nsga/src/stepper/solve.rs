@@ -230,6 +230,7 @@ impl<S: System> Stepper<S> {
             },
             follow_sets: spec.kept.follow_sets,
             contracting_extra: spec.contracting_extra,
+            start_limit: spec.start_limit,
             tuning: Tuning {
                 reuse_contraction: spec.kept.contraction,
                 ..self.options.tuning

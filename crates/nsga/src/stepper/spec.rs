@@ -69,6 +69,9 @@ pub(super) struct AttemptSpec {
     /// Updates allowed beyond `budget` while the iterates converge
     /// (`NewtonSettings::contracting_extra`).
     pub contracting_extra: usize,
+    /// The attempt gives up at its start where ‖R‖∞ there exceeds this
+    /// (`NewtonSettings::start_limit`; ∞: never).
+    pub start_limit: f64,
     /// Whether the friction percussions shift the position by half a step
     /// ([`Options::friction_percussion_shift`](crate::Options::friction_percussion_shift)).
     pub friction_shift: bool,
@@ -154,6 +157,7 @@ impl<S: System> Stepper<S> {
             rho_inf,
             budget,
             contracting_extra: 0,
+            start_limit: f64::INFINITY,
             friction_shift: self.options.friction_percussion_shift,
             line_search,
             quick_updates: false,
@@ -233,6 +237,7 @@ mod tests {
             rho_inf: 0.8,
             budget: 10,
             contracting_extra: 0,
+            start_limit: f64::INFINITY,
             friction_shift: true,
             line_search: 0,
             quick_updates: false,

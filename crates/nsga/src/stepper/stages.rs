@@ -36,6 +36,7 @@ impl<S: System> Stepper<S> {
                     start: StartAt::Unknowns(x),
                     budget,
                     contracting_extra: self.options.newton.max_iter - budget,
+                    start_limit: self.options.tuning.predicted_start_residual,
                     new_factors: !policy.held,
                     ..self.first_spec(SetRule::Free, rho0)
                 };
