@@ -37,8 +37,9 @@ pub(crate) enum Stage {
     /// while they converge, and none where the prediction is off by more than
     /// [`Tuning::predicted_start_residual`](crate::Tuning::predicted_start_residual) (a
     /// contact event, which the extrapolation does not foresee). Where it fails, the
-    /// first attempt starts again from the last solution. Where that attempt is [`Stage::HeldSets`], it factors nothing: it
-    /// takes the kept factors' updates only (docs/method.md §4, "The predicted start").
+    /// first attempt starts again from the last solution. Where that attempt is
+    /// [`Stage::HeldSets`], it factors nothing: it takes the kept factors' updates only
+    /// (docs/method.md §4, "The predicted start").
     Predicted,
     /// The held-sets attempt ([`NewtonOptions::max_openings_per_update`](crate::NewtonOptions::max_openings_per_update)), in a system with
     /// more normal contacts than [`NewtonOptions::max_iter`]: the previous step's sets held,
