@@ -12,7 +12,13 @@
 //!
 //! Counts of 20 or more are shown together on the line of 20.
 //!
+//! With `--hard N` after the scene, every step of N linear solves or more is listed
+//! first, with its solves by stage of the step's policy (docs/method.md §8.2), its
+//! retries and whether it was halved or taken without the friction shift:
+//! where a run's hard steps go (docs/experiments.md §8.2).
+//!
 //! `cargo run --release -p blockstack --example step_costs -- lire 10`
+//! `cargo run --release -p blockstack --example step_costs -- shake 6 2 0.3 --hard 20`
 
 use blockstack::scenarios::{lire_on_floor, shaking_column, Perturbation, Shaking};
 use blockstack::simulation::stepper_options;
@@ -46,9 +52,52 @@ impl Histogram {
     }
 }
 
-/// The scene and its end time from the command line.
-fn scene_from_args() -> Result<(Scene, f64), Box<dyn std::error::Error>> {
-    let args: Vec<String> = std::env::args().skip(1).collect();
+/// The value of `--hard N` (steps of N linear solves or more are listed), taken out of
+/// `args`.
+fn hard_from_args(args: &mut Vec<String>) -> Result<Option<u64>, Box<dyn std::error::Error>> {
+    let Some(i) = args.iter().position(|a| a == "--hard") else {
+        return Ok(None);
+    };
+    let n = args
+        .get(i + 1)
+        .ok_or("--hard needs a number of linear solves")?;
+    let n = n.parse::<u64>().map_err(|e| format!("--hard '{n}': {e}"))?;
+    args.drain(i..i + 2);
+    Ok(Some(n))
+}
+
+/// One hard step: its times, its solves by stage (`before` the step's, `after`), its
+/// evaluations and what its policy did (docs/method.md §8.2).
+fn print_hard_step(
+    t0: f64,
+    stats: &nsga::StepStats,
+    before: nsga::SolvesByStage,
+    after: nsga::SolvesByStage,
+    evaluations: u64,
+) {
+    let halved = if stats.substeps > 1 {
+        format!(", halved into {} substeps", stats.substeps)
+    } else {
+        String::new()
+    };
+    let unshifted = if stats.unshifted { ", unshifted" } else { "" };
+    println!(
+        "  t = {t0:.4} → {:.4}: {} linear solves (first attempt {}, fixed-set re-solves {}, \
+         unshifted {}, ρ∞ retries {}, flip probes {}), {evaluations} evaluations, {} retries \
+         (`StepStats::retries`){halved}{unshifted}",
+        stats.t,
+        after.total() - before.total(),
+        after.first_attempt - before.first_attempt,
+        after.branch_trials - before.branch_trials,
+        after.unshifted - before.unshifted,
+        after.rho_retries - before.rho_retries,
+        after.other - before.other,
+        stats.retries,
+    );
+}
+
+/// The scene and its end time from the command line `args`.
+fn scene_from_args(args: &[String]) -> Result<(Scene, f64), Box<dyn std::error::Error>> {
     let number = |i: usize| -> Result<f64, Box<dyn std::error::Error>> {
         let a = args
             .get(i)
@@ -77,7 +126,12 @@ fn scene_from_args() -> Result<(Scene, f64), Box<dyn std::error::Error>> {
 }
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
-    let (scene, t_end) = scene_from_args()?;
+    let mut args: Vec<String> = std::env::args().skip(1).collect();
+    let hard = hard_from_args(&mut args)?;
+    let (scene, t_end) = scene_from_args(&args)?;
+    if let Some(n) = hard {
+        println!("steps of {n} linear solves or more:");
+    }
     let options = stepper_options(&scene, &RunOptions::default())?;
     let (mut corners, mut stepper) = CornerStepping::start_scene(&scene, options)?;
     let (mut solves, mut evaluations) = (Histogram::default(), Histogram::default());
@@ -86,6 +140,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     while stepper.state().t < t_end - 1e-9 {
         let (solves_before, evaluations_before) =
             (stepper.linear_solves(), stepper.newton_work().evaluations);
+        let (t0, by_stage_before) = (stepper.state().t, stepper.solves_by_stage());
         let clock = Instant::now();
         if let Err(e) = corners.step(&scene, &mut stepper, 1e-8) {
             println!("stopped: {e}");
@@ -94,11 +149,15 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         let seconds = clock.elapsed().as_secs_f64();
         run_seconds += seconds;
         let step_solves = stepper.linear_solves() - solves_before;
+        let step_evaluations = stepper.newton_work().evaluations - evaluations_before;
         solves.add(step_solves, seconds);
-        evaluations.add(
-            stepper.newton_work().evaluations - evaluations_before,
-            seconds,
-        );
+        evaluations.add(step_evaluations, seconds);
+        if let (Some(n), Some(stats)) = (hard, stepper.last_step()) {
+            if step_solves >= n {
+                let after = stepper.solves_by_stage();
+                print_hard_step(t0, stats, by_stage_before, after, step_evaluations);
+            }
+        }
         steps += 1;
         if stepper.last_step().is_some_and(|s| s.retries > 0) {
             retried += 1;
