@@ -144,7 +144,7 @@ def rest_counts(r):
         parted = parting(*dirs) if out[0] else None
         if parted:
             t, before = parted
-            poses = (f"poses within {sci(before)} until t = {t}, where the two runs' Newton iterations "
+            poses = (f"poses within {sci(before)} until t = {float(t):.10g}, where the two runs' Newton iterations "
                      f"reach different solutions of one step ({sci(apart)} apart at the end)")
         return held, solved, evals, solves, poses
     pile, _, evals, _, poses = pair("pile", "blocks", "run", "examples/scenes/pile-at-rest.toml")
