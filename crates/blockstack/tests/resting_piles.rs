@@ -152,9 +152,13 @@ fn piles_beside_a_shaken_base_are_held_as_islands_where_solving_keeps_them() {
 /// blocks come to rest on the floor beside the base, which shakes on, and are held
 /// there as islands. The run ends where the run that solves every step ends, to the
 /// solver's tolerance (measured: 2·10⁻¹¹). Solved every step, the pile at rest converges
-/// at each step's start, as held it is checked by one evaluation: holding it costs one
-/// factorization more, at the step its islands are first held (the kept factors were
-/// made with them in the solve), and saves evaluations.
+/// at each step's start, as held it is checked by one evaluation: holding it costs at
+/// most one factorization more, at the step its islands are first held (the kept
+/// factors were made with them in the solve), and no evaluation more. (Measured with
+/// `rollstack blocks shake --blocks 3 --omega 8 --mu 0.5 --amplitude 0.2
+/// --steps-per-period 200 --t-end 20 --json`, with and without `--tuning
+/// policy.rest=false`: 462 linear solves and 10 871 evaluations both ways.) Where
+/// holding saves the solves and evaluations of a pile, the test above asserts it.
 #[test]
 fn the_pile_a_shaken_column_leaves_is_held_beside_the_base() {
     let scene = blockstack::scenarios::shaking_column(&blockstack::scenarios::Shaking {
@@ -185,7 +189,12 @@ fn the_pile_a_shaken_column_leaves_is_held_beside_the_base() {
         held.linear_solves,
         solved.linear_solves
     );
-    assert!(held.newton_work.evaluations < solved.newton_work.evaluations);
+    assert!(
+        held.newton_work.evaluations <= solved.newton_work.evaluations,
+        "{} evaluations held, {} solved",
+        held.newton_work.evaluations,
+        solved.newton_work.evaluations
+    );
     let tol = scene.solver.tol;
     assert!(apart(&held, &solved) < tol, "{:e}", apart(&held, &solved));
 }

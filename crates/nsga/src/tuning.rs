@@ -18,11 +18,19 @@
 #[serde(default)]
 pub struct Tuning {
     /// Residual reduction a simplified Newton update must reach; below it the next
-    /// update is exact (see [`crate::LinearOptions::reuse_factorization`]). A callgrind
-    /// sweep of 0.1–0.5 on the Lire collapse: none 3 % better. With the harness
-    /// (`scripts/reference_workload.py target/release/rollstack --repeat 1 --variant tuning.reuse_contraction=0.2`): the 135-run matrix takes 344 099 linear solves
-    /// against 367 717 (−6.4 %), the Lire collapse 56 against 71, but on a floor 1147
-    /// against 567.
+    /// update is exact (see [`crate::LinearOptions::reuse_factorization`]). With the
+    /// harness at commit 2eadf80 (`scripts/reference_workload.py
+    /// target/release/rollstack --repeat 2 --variant tuning.reuse_contraction=0.15
+    /// --variant tuning.reuse_contraction=0.3`, and 0.1 against 0.2), 0.2 takes the
+    /// 135-run matrix 267 140 linear solves against 277 555 with 0.1 (−3.8 %, time
+    /// 0.961), the Lire collapse 51 against 69, its landing on a floor 668 against 997
+    /// and the kicked 30-block column 47 both; 0.15 leaves 2 last-resort steps, 0.3 the
+    /// matrix 264 450 (time 0.973) but the landing 727. Over the landing's 100
+    /// neighbours (`cargo run --release -p blockstack --example lire_nearby 100 --floor
+    /// --tuning tuning.reuse_contraction=V`) 0.1, 0.2, 0.3 take 1069, 1008 and 1015
+    /// linear solves per run, and the collapse's neighbours 62, 48 and 42. (Measured
+    /// against 367 717 linear solves on the matrix, 0.2 had lost on the landing, 1147
+    /// against 567, and 0.1 was kept.)
     pub reuse_contraction: f64,
     /// Simplified Newton updates in a row before an exact one (see
     /// [`crate::LinearOptions::reuse_factorization`]). 4 or 8 on the Lire collapse: none
@@ -168,7 +176,7 @@ pub struct Tuning {
 impl Default for Tuning {
     fn default() -> Self {
         Self {
-            reuse_contraction: 0.1,
+            reuse_contraction: 0.2,
             max_reuses: 4,
             longest_cycle: 12,
             long_cycle: 6,
