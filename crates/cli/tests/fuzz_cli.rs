@@ -426,7 +426,10 @@ const FORMERLY_UNNAMED: &[(&str, &str)] = &[
 /// refusal in one line `error: …` (status 1; `warning: …` lines of a run may come before
 /// it) or clap's usage (status 2) that names one of `names`; no NaN
 /// printed by a run that succeeded. `typed` is the hostile value, which an error may quote
-/// verbatim, newlines and all: it counts as one word.
+/// verbatim, newlines and all: it counts as one word. clap writes its errors through
+/// anstream, which drops control characters and escape sequences from what it quotes but
+/// keeps newlines, so the value counts as one word in that form too (`--set "=a\nb,\u{7}"`
+/// split clap's error over two lines whose first names no flag).
 fn check(o: &Outcome, names: &[&str], typed: &str) -> Result<(), TestCaseError> {
     let line = &o.line;
     let stderr = &o.stderr;
@@ -435,7 +438,13 @@ fn check(o: &Outcome, names: &[&str], typed: &str) -> Result<(), TestCaseError> 
         "{line}: a panic: {stderr}"
     );
     let quoted = if typed.contains(['\n', '\r']) {
-        stderr.replace(typed, "VALUE")
+        let stripped = anstream::adapter::strip_str(typed).to_string();
+        let quoted = stderr.replace(typed, "VALUE");
+        if stripped.is_empty() {
+            quoted
+        } else {
+            quoted.replace(&stripped, "VALUE")
+        }
     } else {
         stderr.clone()
     };
