@@ -66,7 +66,12 @@ proptest! {
         // Reduce the generator's rectangle to the planner's ranges: ϑ mod 2π, and
         // φ1 into [φ2 − 2π, φ2].
         let theta = r.theta.rem_euclid(TAU);
-        prop_assume!(theta > 1e-6 && (theta - PI).abs() > 1e-6);
+        // Near ϑ = 0 and π (mod 2π: 2π is 0 again) the holonomy depends on φ only to
+        // second order in the distance, and φ is found only to ε over its square: at
+        // ϑ = 4π − 2.2e-5 a plan of error 1e-15 had φ2 8e-7 off the generator's. The
+        // generator's own margin from ϑ = 0, 1e-3, applies to every degenerate angle.
+        let off = theta.rem_euclid(PI);
+        prop_assume!(off.min(PI - off) > 1e-3);
         let low = r.phi2 - TAU;
         let phi1 = low + (r.phi1 - low).rem_euclid(TAU);
         let found = plans.iter().any(|p| p.rectangle.direction == r.direction
