@@ -129,7 +129,8 @@ impl<S: System> Stepper<S> {
                     .sum::<f64>()
                     .max(0.0);
             let dirs = active.then(|| {
-                SlidingDirections::of_law(it, x, rl, (sets.d[j], sets.e[j]), (vs, o.lf, f0, nc))
+                let law = (rl, law, self.options.interval_sign_from_prox);
+                SlidingDirections::of_law(it, x, law, (sets.d[j], sets.e[j]), (vs, o.lf, f0))
             });
             for m in 0..nc {
                 let c = f0 + m;
@@ -278,6 +279,7 @@ impl<S: System> Stepper<S> {
             at: &mut at,
             scale: &mut scale,
             radius: &mut radius,
+            interval_sign_from_prox: self.options.interval_sign_from_prox,
         };
         // The rows no set changes, left out of a low-rank update's rows.
         if only.is_none() {
@@ -349,6 +351,8 @@ struct Assembly<'a> {
     scale: &'a mut Vec<EpsScale>,
     /// The columns of a sliding row's friction radius, rewritten for each such row.
     radius: &'a mut Vec<(usize, f64)>,
+    /// [`Options::interval_sign_from_prox`](crate::Options::interval_sign_from_prox).
+    interval_sign_from_prox: bool,
 }
 
 impl Assembly<'_> {
@@ -505,7 +509,8 @@ impl Assembly<'_> {
             return;
         }
         let (it, rl) = (&w.it, w.r_law[j]);
-        let dirs = SlidingDirections::of_law(it, x, rl, (sets.d[j], sets.e[j]), (vs, o.lf, f0, nc));
+        let signs = (rl, law, self.interval_sign_from_prox);
+        let dirs = SlidingDirections::of_law(it, x, signs, (sets.d[j], sets.e[j]), (vs, o.lf, f0));
         let law_at = LawAt {
             law,
             f0,

@@ -4,6 +4,7 @@
 use super::iterate::Iterate;
 use super::rows::RowMat;
 use crate::linalg::norm;
+use crate::system::FrictionLaw;
 
 /// Below this ratio r‖ξ‖ / ‖r ξ − P_F‖ the slip velocity ξ of a two-component law outside
 /// D carries no direction (it is round-off around a rolling contact): the law's sliding
@@ -11,19 +12,27 @@ use crate::linalg::norm;
 /// §3).
 pub const NEGLIGIBLE_SLIP: f64 = 1e-9;
 
-/// The vector whose direction one sliding row of a friction law takes: its own vector
-/// (ξ_F, γ_F or γ̇_F as in eqs. 139–142) while that has a direction, the prox argument of
-/// the law's level when a disk law's own vector is negligible against it
-/// (r‖own‖ ≤ [`NEGLIGIBLE_SLIP`] ‖argument‖).
+/// The vector whose direction one sliding row of a friction law takes (docs/method.md
+/// §3): its own vector (ξ_F, γ_F or γ̇_F as in eqs. 139–142) while that has a direction,
+/// and the prox argument of the law's level where a disk law's (two components) own
+/// vector is negligible against it (r‖own‖ ≤ [`NEGLIGIBLE_SLIP`] ‖argument‖), or for an
+/// interval law (one component) under
+/// [`Options::interval_sign_from_prox`](crate::Options::interval_sign_from_prox).
 ///
 /// Outside D, a = r ξ − P_F has ‖a‖ > μP̂ ≥ 0, so it always has a direction; and at a
 /// solution outside D, P_F = −μP̂ a/‖a‖ gives r ξ = a (1 − μP̂/‖a‖), so ξ ∥ a and both
-/// forms agree (likewise b = r γ̇ − λ_F outside E). A sliding row written with ξ/‖ξ‖
-/// when ‖ξ‖ is round-off has derivatives of order P̂/‖ξ‖ (measured 1e31 at the start of
-/// a cylinder's spin-up, whose floor contact rolls; and with γ̇ at a contact held on its
-/// stick–slip bound) and makes the Newton matrix numerically singular; with a/‖a‖ they
-/// stay of order 1. An interval law (one component) has no such blow-up, its projector
-/// 1 − d d being zero, and keeps the paper's rows.
+/// forms agree (likewise b = r γ̇ − λ_F outside E): the solutions are the same, the
+/// Newton iterates are not.
+///
+/// - A disk law's sliding row written with ξ/‖ξ‖ when ‖ξ‖ is round-off has derivatives
+///   of order P̂/‖ξ‖ (measured 1e31 at the start of a cylinder's spin-up, whose floor
+///   contact rolls; and with γ̇ at a contact held on its stick–slip bound) and makes the
+///   Newton matrix numerically singular; with a/‖a‖ they stay of order 1.
+/// - An interval law has no such blow-up (its projector 1 − d d is zero), but its sign
+///   d = ξ/|ξ| jumps where ξ crosses zero, inside the sliding region: a law held on its
+///   stick–slip bound slides at a slip of round-off size, the sign follows the
+///   round-off, and the row jumps by 2μP̂. The prox argument's sign changes only at
+///   a = 0, inside D, where the row is r ξ.
 pub(super) struct GuardedDirection {
     n: usize,
     vector: [f64; 2],
@@ -32,14 +41,18 @@ pub(super) struct GuardedDirection {
 }
 
 impl GuardedDirection {
-    fn new(r: f64, own: &[f64], argument: &[f64; 2]) -> Self {
+    /// The direction of `own`, or of `argument` where `own` is negligible against it or
+    /// `from_prox` (an interval law under the prox-sign rule) asks for it.
+    fn new(r: f64, own: &[f64], argument: &[f64; 2], from_prox: bool) -> Self {
         let n = own.len().min(2);
-        let tiny = if n == 2 {
-            NEGLIGIBLE_SLIP * norm(&argument[..n])
-        } else {
-            0.0
+        let projected = from_prox || {
+            let tiny = if n == 2 {
+                NEGLIGIBLE_SLIP * norm(&argument[..n])
+            } else {
+                0.0
+            };
+            tiny > 0.0 && r * norm(own) <= tiny
         };
-        let projected = tiny > 0.0 && r * norm(own) <= tiny;
         let mut vector = *argument;
         if !projected {
             vector[..n].copy_from_slice(&own[..n]);
@@ -73,10 +86,16 @@ pub(super) struct SlidingDirections {
 }
 
 impl SlidingDirections {
-    /// For sets (in D, in E), with ξ_F and P_F, (γ_F, γ̇_F) and λ_F of the law.
+    /// For sets (in D, in E), with ξ_F and P_F, (γ_F, γ̇_F) and λ_F of the law;
+    /// `prox_sign`: an interval law under
+    /// [`Options::interval_sign_from_prox`](crate::Options::interval_sign_from_prox), whose
+    /// rows then take the prox arguments' signs: a on velocity level, and outside D on
+    /// acceleration level too where ξ_F is γ_F (no tangential restitution, `e_f` = 0:
+    /// with it a solution's γ_F need not have a's sign), b in D ∖ E.
     pub(super) fn new(
         r: f64,
         (d, e): (bool, bool),
+        (prox_sign, e_f): (bool, f64),
         xi: &[f64],
         p_f: &[f64],
         (v, acc): (&[f64], &[f64]),
@@ -84,32 +103,36 @@ impl SlidingDirections {
     ) -> Self {
         let a = (!d).then(|| prox_argument(r, xi, p_f));
         Self {
-            velocity: a.map(|a| GuardedDirection::new(r, xi, &a)),
+            velocity: a.map(|a| GuardedDirection::new(r, xi, &a, prox_sign)),
             acceleration: match a {
-                Some(a) => Some(GuardedDirection::new(r, v, &a)),
+                Some(a) => Some(GuardedDirection::new(r, v, &a, prox_sign && e_f == 0.0)),
                 None if !e => Some(GuardedDirection::new(
                     r,
                     acc,
                     &prox_argument(r, acc, lambda_f),
+                    prox_sign,
                 )),
                 None => None,
             },
         }
     }
 
-    /// [`Self::new`] for the law whose `nc` components start at `f0`, at iterate `it`
-    /// and unknowns `x`: its velocities are rows `vs..` of the iterate, its λ_F the
-    /// unknowns `lf + f0..`.
+    /// [`Self::new`] for `law`, whose components start at `f0`, at iterate `it` and
+    /// unknowns `x`: its velocities are rows `vs..` of the iterate, its λ_F the unknowns
+    /// `lf + f0..`; `interval_prox_sign`: the option
+    /// [`Options::interval_sign_from_prox`](crate::Options::interval_sign_from_prox).
     pub(super) fn of_law(
         it: &Iterate,
         x: &[f64],
-        r: f64,
+        (r, law, interval_prox_sign): (f64, &FrictionLaw, bool),
         sets: (bool, bool),
-        (vs, lf, f0, nc): (usize, usize, usize, usize),
+        (vs, lf, f0): (usize, usize, usize),
     ) -> Self {
+        let nc = law.components;
         Self::new(
             r,
             sets,
+            (interval_prox_sign && nc == 1, law.e_f),
             &it.xi_v[vs..vs + nc],
             &it.p_f[f0..f0 + nc],
             (&it.v[vs..vs + nc], &it.acc_v[vs..vs + nc]),
@@ -189,6 +212,75 @@ pub(crate) fn slip_row(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A law held on its friction bound slides at a round-off slip whose sign each
+    /// update may flip (the leaning block of the matrix's worst run, docs/method.md §3).
+    /// An interval law's sliding rows take the prox argument's sign on either side of
+    /// zero, so its rows do not jump there; the paper's ξ/|ξ| jumped by 2μP̂.
+    #[test]
+    fn an_interval_law_keeps_its_sign_where_its_slip_crosses_zero() {
+        let (r, p_f, lambda_f) = (0.7, [7.85e-3], [0.5]);
+        for slip in [-1e-10, -1e-13, 0.0, 1e-13, 1e-10] {
+            let xi = [slip / r];
+            let outside_d = SlidingDirections::new(
+                r,
+                (false, false),
+                (true, 0.0),
+                &xi,
+                &p_f,
+                (&xi, &[0.0]),
+                &lambda_f,
+            );
+            let velocity = outside_d.velocity.expect("slides on velocity level");
+            let acceleration = outside_d
+                .acceleration
+                .expect("slides on acceleration level");
+            // a = r ξ − P_F < 0 on both sides: the row is P_F − μP̂.
+            assert_eq!(direction(velocity.vector(), 0), -1.0, "slip {slip:e}");
+            assert_eq!(direction(acceleration.vector(), 0), -1.0, "slip {slip:e}");
+            // In D ∖ E: b = r γ̇ − λ_F < 0 on both sides of a round-off γ̇.
+            let in_d = SlidingDirections::new(
+                r,
+                (true, false),
+                (true, 0.0),
+                &xi,
+                &p_f,
+                (&xi, &xi),
+                &lambda_f,
+            );
+            let b = in_d.acceleration.expect("slides on acceleration level");
+            assert_eq!(direction(b.vector(), 0), -1.0, "slip {slip:e}");
+            // The paper's rows follow the slip's own sign, 0 where it is zero.
+            let paper = SlidingDirections::new(
+                r,
+                (false, false),
+                (false, 0.0),
+                &xi,
+                &p_f,
+                (&xi, &[0.0]),
+                &lambda_f,
+            );
+            let own = direction(paper.velocity.expect("slides").vector(), 0);
+            assert_eq!(
+                own,
+                if slip == 0.0 { 0.0 } else { slip.signum() },
+                "slip {slip:e}"
+            );
+        }
+        // With tangential restitution ξ_F need not have γ_F's sign: the acceleration row
+        // keeps γ_F's own.
+        let (xi, v) = ([-0.02], [0.01]);
+        let restituted = SlidingDirections::new(
+            r,
+            (false, false),
+            (true, 0.5),
+            &xi,
+            &p_f,
+            (&v, &[0.0]),
+            &lambda_f,
+        );
+        assert_eq!(direction(restituted.acceleration.unwrap().vector(), 0), 1.0);
+    }
 
     /// A one-component (interval) law sliding at a round-off slip, down to where its
     /// square is subnormal: the row is μ d ∂S alone, d = ±1, since the projector 1 − d²
