@@ -220,66 +220,30 @@ mod tests {
     #[test]
     fn an_interval_law_keeps_its_sign_where_its_slip_crosses_zero() {
         let (r, p_f, lambda_f) = (0.7, [7.85e-3], [0.5]);
+        // The law's directions for sets (in D, in E), the prox-sign rule or the paper's,
+        // e_F, ξ_F and (γ_F, γ̇_F).
+        let directions = |sets, rule: (bool, f64), xi: &[f64], (v, acc): (&[f64], &[f64])| {
+            SlidingDirections::new(r, sets, rule, xi, &p_f, (v, acc), &lambda_f)
+        };
+        let sign = |d: Option<GuardedDirection>| direction(d.expect("slides").vector(), 0);
         for slip in [-1e-10, -1e-13, 0.0, 1e-13, 1e-10] {
             let xi = [slip / r];
-            let outside_d = SlidingDirections::new(
-                r,
-                (false, false),
-                (true, 0.0),
-                &xi,
-                &p_f,
-                (&xi, &[0.0]),
-                &lambda_f,
-            );
-            let velocity = outside_d.velocity.expect("slides on velocity level");
-            let acceleration = outside_d
-                .acceleration
-                .expect("slides on acceleration level");
+            let outside_d = directions((false, false), (true, 0.0), &xi, (&xi, &[0.0]));
             // a = r ξ − P_F < 0 on both sides: the row is P_F − μP̂.
-            assert_eq!(direction(velocity.vector(), 0), -1.0, "slip {slip:e}");
-            assert_eq!(direction(acceleration.vector(), 0), -1.0, "slip {slip:e}");
+            assert_eq!(sign(outside_d.velocity), -1.0, "slip {slip:e}");
+            assert_eq!(sign(outside_d.acceleration), -1.0, "slip {slip:e}");
             // In D ∖ E: b = r γ̇ − λ_F < 0 on both sides of a round-off γ̇.
-            let in_d = SlidingDirections::new(
-                r,
-                (true, false),
-                (true, 0.0),
-                &xi,
-                &p_f,
-                (&xi, &xi),
-                &lambda_f,
-            );
-            let b = in_d.acceleration.expect("slides on acceleration level");
-            assert_eq!(direction(b.vector(), 0), -1.0, "slip {slip:e}");
+            let in_d = directions((true, false), (true, 0.0), &xi, (&xi, &xi));
+            assert_eq!(sign(in_d.acceleration), -1.0, "slip {slip:e}");
             // The paper's rows follow the slip's own sign, 0 where it is zero.
-            let paper = SlidingDirections::new(
-                r,
-                (false, false),
-                (false, 0.0),
-                &xi,
-                &p_f,
-                (&xi, &[0.0]),
-                &lambda_f,
-            );
-            let own = direction(paper.velocity.expect("slides").vector(), 0);
-            assert_eq!(
-                own,
-                if slip == 0.0 { 0.0 } else { slip.signum() },
-                "slip {slip:e}"
-            );
+            let paper = directions((false, false), (false, 0.0), &xi, (&xi, &[0.0]));
+            let own = if slip == 0.0 { 0.0 } else { slip.signum() };
+            assert_eq!(sign(paper.velocity), own, "slip {slip:e}");
         }
         // With tangential restitution ξ_F need not have γ_F's sign: the acceleration row
         // keeps γ_F's own.
-        let (xi, v) = ([-0.02], [0.01]);
-        let restituted = SlidingDirections::new(
-            r,
-            (false, false),
-            (true, 0.5),
-            &xi,
-            &p_f,
-            (&v, &[0.0]),
-            &lambda_f,
-        );
-        assert_eq!(direction(restituted.acceleration.unwrap().vector(), 0), 1.0);
+        let restituted = directions((false, false), (true, 0.5), &[-0.02], (&[0.01], &[0.0]));
+        assert_eq!(sign(restituted.acceleration), 1.0);
     }
 
     /// A one-component (interval) law sliding at a round-off slip, down to where its
