@@ -140,8 +140,7 @@ pub struct Options {
     /// Measured with the harness: the matrix 21.9 % fewer linear solves and 11 % less
     /// solver time, the Lire collapse 10 % less time and its landing on a floor 41 %, the
     /// kicked 30-block column twice the time. Off by default and in the block stack: a
-    /// symmetric column dropped flat tips at a landing under it (docs/method.md §3,
-    /// "What keeps it off").
+    /// symmetric column dropped flat tips at a landing under it (docs/experiments.md §3).
     #[serde(default)]
     pub interval_sign_from_prox: bool,
     /// The Newton iteration of one attempt.
